@@ -1,0 +1,96 @@
+"""The ``sixdof`` command: parses arguments, calls the library, prints tables, writes under outputs/."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import traceback
+
+from .errors import InputError
+
+EXIT_BAD_INPUT = 2
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``sixdof`` command. Returns the process exit status."""
+    parser = _parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.command(args)
+    except InputError as exc:
+        if args.debug:
+            traceback.print_exc()
+        print(f"sixdof: error: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="sixdof", description="Vibration of a rigid body with six degrees of freedom on elastic mounts."
+    )
+    parser.add_argument("--debug", action="store_true", help="show the traceback of errors")
+    commands = parser.add_subparsers(required=True, metavar="COMMAND")
+
+    modes = commands.add_parser("modes", help="natural frequencies, mode shapes, statics of a scenario")
+    modes.add_argument("scenario", help="scenario file (TOML)")
+    modes.add_argument("--json", action="store_true", help="print one JSON object instead of tables")
+    modes.set_defaults(command=_modes)
+    return parser
+
+
+def _modes(args) -> int:
+    from . import report
+    from .damping import modal_damping_ratios
+    from .dofs import DOFS
+    from .modal import modal_analysis
+    from .scenario import load_scenario
+    from .statics import gravity_statics
+
+    scenario = load_scenario(args.scenario)
+    system = scenario.system
+    modes = modal_analysis(system.M, system.K)
+    statics = gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
+    zeta = modal_damping_ratios(system.C, modes)
+    if args.json:
+        print(json.dumps(_modes_json(scenario, modes, statics, zeta, DOFS)))
+        return 0
+    print(f"{scenario.name}: {scenario.description}\n")
+    print(report.modes_table(modes, zeta if system.C.any() else None))
+    print("\nKinetic energy distribution [%] (share of each mode's kinetic energy in each DOF):")
+    print(report.ke_table(modes))
+    print()
+    print(report.subsystems_text(modes))
+    print(f"\nStatics under gravity ({scenario.statics.gravity} m/s^2 along {list(scenario.statics.direction)}):")
+    print(report.statics_table(statics, system.mount_names))
+    if statics.uplift:
+        print(f"\nWARNING: mounts in tension (uplift): {', '.join(statics.uplift)}")
+    return 0
+
+
+def _modes_json(scenario, modes, statics, zeta, dofs) -> dict:
+    def finite(values):
+        return [None if v != v else float(v) for v in values]  # NaN (rigid-body mode) -> null
+
+    return {
+        "name": scenario.name,
+        "dofs": list(dofs),
+        "frequencies_hz": modes.frequency_hz.tolist(),
+        "omega_rad_s": modes.omega.tolist(),
+        "eigenvalues": modes.eigenvalues.tolist(),
+        "shapes": modes.shapes.tolist(),
+        "dominant_dof": list(modes.dominant_dof),
+        "ke_distribution": modes.ke_distribution.tolist(),
+        "effective_mass": modes.effective_mass.tolist(),
+        "damping_ratios": finite(zeta),
+        "subsystems": [list(s) for s in modes.subsystems],
+        "zero_modes": list(modes.zero_modes),
+        "free_dofs": list(modes.free_dofs),
+        "statics": {
+            "q": statics.q.tolist(),
+            "mounts": list(scenario.system.mount_names),
+            "mount_forces_n": statics.mount_forces.tolist(),
+            "support_n": statics.support.tolist(),
+            "uplift": list(statics.uplift),
+        },
+    }

@@ -1,0 +1,62 @@
+"""Exceptions raised by sixdof: bad input names its field, failed numerics say what failed."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+class InputError(ValueError):
+    """A value given by the user is not acceptable.
+
+    Parameters
+    ----------
+    field : str
+        Path of the offending field, for example ``"mounts[2].stiffness"``.
+    expected : str
+        What was expected, with its unit where it has one.
+    got : object
+        The value received; shown with :func:`describe`.
+    """
+
+    def __init__(self, field: str, expected: str, got: object) -> None:
+        self.field = field
+        self.expected = expected
+        self.got = got
+        where = f"{field}: " if field else ""
+        super().__init__(f"{where}expected {expected}, got {describe(got)}")
+
+    def within(self, prefix: str) -> InputError:
+        """The same error with ``prefix`` (a parent field path) put before its field."""
+        joined = prefix if not self.field else (
+            f"{prefix}{self.field}" if self.field.startswith("[") else f"{prefix}.{self.field}"
+        )
+        return InputError(joined, self.expected, self.got)
+
+
+class ScenarioError(InputError):
+    """An :class:`InputError` found in a scenario file; the message starts with the file name."""
+
+    def __init__(self, file: str, error: InputError) -> None:
+        self.file = file
+        ValueError.__init__(self, f"{file}: {error}")
+        self.field, self.expected, self.got = error.field, error.expected, error.got
+
+
+class SolverError(RuntimeError):
+    """A numerical solve failed (diverged, hit its step limit, or produced non-finite values)."""
+
+
+class Plain(str):
+    """A received "value" that is really a description (``Plain("nothing")``): shown without quotes."""
+
+
+def describe(value: object) -> str:
+    """Short, readable rendering of a received value for error messages."""
+    if isinstance(value, Plain):
+        return str(value)
+    if isinstance(value, str):
+        return repr(value)
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    text = repr(value)
+    return text if len(text) <= 120 else text[:117] + "..."

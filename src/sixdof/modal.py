@@ -1,0 +1,156 @@
+"""Undamped modal analysis (section 2 of the seed paper): frequencies, mass-normalized shapes,
+kinetic-energy distribution, effective masses and the decoupled subsystems."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg
+
+from .dofs import DOFS
+
+#: A mode is rigid (zero frequency) when its eigenvalue is below this fraction of the largest.
+ZERO_MODE_RTOL = 1e-10
+#: Two DOFs are coupled when their scaled coupling term exceeds this fraction of the matrix scale.
+COUPLING_RTOL = 1e-9
+
+
+@dataclass(frozen=True, eq=False)
+class Modes:
+    """Result of :func:`modal_analysis`.
+
+    Attributes
+    ----------
+    eigenvalues : ndarray, shape (6,)
+        ``omega**2`` ascending [rad^2/s^2] (the seed paper's lambda).
+    omega : ndarray, shape (6,)
+        Natural circular frequencies [rad/s] (the paper's eigenpulsations p).
+    frequency_hz : ndarray, shape (6,)
+        Natural frequencies [Hz].
+    shapes : ndarray, shape (6, 6)
+        Column j is mode j, mass-normalized (``shapes.T @ M @ shapes = I``); each column's
+        largest-magnitude entry is positive.
+    ke_distribution : ndarray, shape (6, 6)
+        ``[i, j]`` = share of mode j's kinetic energy in DOF i; each column sums to 1.
+    dominant_dof : tuple of str
+        The DOF holding the largest kinetic-energy share of each mode.
+    effective_mass : ndarray, shape (6, 6)
+        ``[i, j]`` = modal effective mass of mode j in DOF i [kg for x, y, z; kg m^2 for rx, ry, rz];
+        each row sums to the diagonal of M.
+    subsystems : tuple of tuple of str
+        Groups of DOFs coupled through M or K (connected components), in DOF order.
+    zero_modes : tuple of int
+        Indices of rigid-body (zero-frequency) modes: DOFs the mounts leave unrestrained.
+    free_dofs : tuple of str
+        DOFs taking part in the zero-frequency modes.
+    """
+
+    eigenvalues: np.ndarray
+    omega: np.ndarray
+    frequency_hz: np.ndarray
+    shapes: np.ndarray
+    ke_distribution: np.ndarray
+    dominant_dof: tuple[str, ...]
+    effective_mass: np.ndarray
+    subsystems: tuple[tuple[str, ...], ...]
+    zero_modes: tuple[int, ...]
+    free_dofs: tuple[str, ...]
+
+
+def modal_analysis(M: np.ndarray, K: np.ndarray) -> Modes:
+    """Natural frequencies and mode shapes of ``M q'' + K q = 0`` (eqs. 2-5 of the seed paper).
+
+    Solved as the symmetric generalized eigenproblem ``K v = lambda M v``, which is better
+    conditioned than the paper's ``D = M^-1 K`` and gives mass-normalized shapes directly.
+
+    Parameters
+    ----------
+    M : array_like, shape (6, 6)
+        Mass matrix [kg, kg m^2], symmetric positive definite.
+    K : array_like, shape (6, 6)
+        Stiffness matrix [N/m, N, N m/rad], symmetric positive semi-definite.
+
+    Returns
+    -------
+    Modes
+    """
+    M = np.asarray(M, dtype=float)
+    K = np.asarray(K, dtype=float)
+    eigenvalues, shapes = scipy.linalg.eigh(K, M)
+    # Round-off makes the eigenvalues of unrestrained DOFs tiny and of either sign: they are zero.
+    scale = max(float(np.max(np.abs(eigenvalues))), np.finfo(float).tiny)
+    zero = np.abs(eigenvalues) <= ZERO_MODE_RTOL * scale
+    eigenvalues = np.where(zero, 0.0, eigenvalues)
+    order = np.argsort(eigenvalues, kind="stable")
+    eigenvalues, shapes = eigenvalues[order], shapes[:, order]
+    zero = zero[order]
+    # Deterministic sign: the largest-magnitude entry of each mode is positive.
+    largest = shapes[np.argmax(np.abs(shapes), axis=0), np.arange(6)]
+    shapes = shapes * np.sign(largest)
+
+    omega = np.sqrt(eigenvalues)
+    ke = shapes * (M @ shapes)  # phi_ij (M phi_j)_i; phi_j' M phi_j = 1
+    effective = (shapes.T @ M).T ** 2  # participation Gamma_ij = phi_j' M e_i
+
+    zero_modes = tuple(int(j) for j in np.flatnonzero(zero))
+    if zero_modes:
+        null = shapes[:, list(zero_modes)]
+        weight = np.sum(ke[:, list(zero_modes)], axis=1)
+        free_dofs = tuple(d for d, w, row in zip(DOFS, weight, null) if w > 1e-6 and np.any(row))
+    else:
+        free_dofs = ()
+
+    return Modes(
+        eigenvalues=_readonly(eigenvalues),
+        omega=_readonly(omega),
+        frequency_hz=_readonly(omega / (2 * np.pi)),
+        shapes=_readonly(shapes),
+        ke_distribution=_readonly(ke),
+        dominant_dof=tuple(DOFS[i] for i in np.argmax(ke, axis=0)),
+        effective_mass=_readonly(effective),
+        subsystems=coupled_subsystems(M, K),
+        zero_modes=zero_modes,
+        free_dofs=free_dofs,
+    )
+
+
+def coupled_subsystems(M: np.ndarray, K: np.ndarray, rtol: float = COUPLING_RTOL):
+    """Groups of DOFs coupled through M or K (section 4 of the seed paper).
+
+    Both matrices are scaled by the mass diagonal (``D^-1/2 X D^-1/2`` with ``D = diag(M)``) so that
+    translations and rotations compare on one scale [1 and 1/s^2]; an off-diagonal term couples two
+    DOFs when it exceeds ``rtol`` times the largest diagonal term of its scaled matrix.
+
+    Returns
+    -------
+    tuple of tuple of str
+        Connected components of the coupling graph, each in DOF order, ordered by first DOF.
+    """
+    d = 1.0 / np.sqrt(np.diag(np.asarray(M, dtype=float)))
+    coupled = np.zeros((6, 6), dtype=bool)
+    for matrix in (M, K):
+        scaled = np.abs(d[:, None] * np.asarray(matrix, dtype=float) * d[None, :])
+        threshold = rtol * max(float(np.max(np.diag(scaled))), np.finfo(float).tiny)
+        coupled |= scaled > threshold
+    group = list(range(6))
+
+    def root(i: int) -> int:
+        while group[i] != i:
+            i = group[i]
+        return i
+
+    for i in range(6):
+        for j in range(i + 1, 6):
+            if coupled[i, j]:
+                group[root(j)] = root(i)
+    components: dict[int, list[str]] = {}
+    for i in range(6):
+        components.setdefault(root(i), []).append(DOFS[i])
+    return tuple(tuple(c) for c in sorted(components.values(), key=lambda c: DOFS.index(c[0])))
+
+
+def _readonly(array: np.ndarray) -> np.ndarray:
+    array = np.array(array, dtype=float)
+    array.flags.writeable = False
+    return array

@@ -1,0 +1,406 @@
+"""The rigid body, its mounts, and the assembly of the 6x6 mass, stiffness and damping matrices.
+
+Coordinates ``q = [x, y, z, rx, ry, rz]`` (see :mod:`sixdof.dofs`): translations of the centre of
+gravity (CG) in m and small rotations about the central body axes in rad. Every position is measured
+from the CG in body axes.
+
+The assembly functions are pure functions of arrays written with ``jax.numpy``, so that they run under
+``jax.jit``, ``jax.vmap`` and ``jax.grad`` (batches of design variants, gradients with respect to mount
+parameters). The model objects hold validated NumPy arrays and are immutable.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+
+from ._jax import jnp
+from .errors import InputError
+
+# Relative tolerances for "physically possible" checks on user input.
+_ORTHONORMAL_TOL = 1e-6
+_TRIANGLE_TOL = 1e-9
+
+
+# ----------------------------------------------------------------------------------------------------
+# Pure array functions (jax.numpy): usable under jit, vmap and grad.
+# ----------------------------------------------------------------------------------------------------
+
+
+def skew(r):
+    """Cross-product matrix: ``skew(r) @ v == cross(r, v)``. ``r`` shape (..., 3) -> (..., 3, 3)."""
+    r = jnp.asarray(r)
+    zero = jnp.zeros_like(r[..., 0])
+    x, y, z = r[..., 0], r[..., 1], r[..., 2]
+    return jnp.stack(
+        [
+            jnp.stack([zero, -z, y], axis=-1),
+            jnp.stack([z, zero, -x], axis=-1),
+            jnp.stack([-y, x, zero], axis=-1),
+        ],
+        axis=-2,
+    )
+
+
+def point_map(r):
+    """Map from ``q`` to the displacement of the body point ``r``: ``u = point_map(r) @ q``.
+
+    Parameters
+    ----------
+    r : array_like, shape (..., 3)
+        Point position from the CG in body axes [m].
+
+    Returns
+    -------
+    jax.Array, shape (..., 3, 6)
+        ``[I, -skew(r)]``: small-rotation kinematics ``u = u_cg + theta x r``. The same map takes
+        velocities and accelerations of ``q`` to those of the point (rigid body, small rotations).
+    """
+    r = jnp.asarray(r, dtype=float)
+    eye = jnp.broadcast_to(jnp.eye(3), r.shape[:-1] + (3, 3))
+    return jnp.concatenate([eye, -skew(r)], axis=-1)
+
+
+def load_vector(point, force, moment=None):
+    """Generalized force (6,) of a force [N] at ``point`` [m] plus an optional moment [N m].
+
+    The transpose of :func:`point_map`: ``Q = [F, r x F + M]`` (virtual work).
+    """
+    force = jnp.asarray(force, dtype=float)
+    moment = jnp.zeros(3) if moment is None else jnp.asarray(moment, dtype=float)
+    return jnp.concatenate([force, jnp.cross(jnp.asarray(point, dtype=float), force) + moment])
+
+
+def mass_matrix(mass, inertia):
+    """Inertia matrix about the CG (eq. 6 of the seed paper, full tensor allowed).
+
+    Parameters
+    ----------
+    mass : float
+        Body mass [kg].
+    inertia : array_like, shape (3, 3)
+        Inertia tensor about the CG in body axes [kg m^2].
+
+    Returns
+    -------
+    jax.Array, shape (6, 6)
+        ``blockdiag(m I3, J)`` in SI units.
+    """
+    top = jnp.concatenate([mass * jnp.eye(3), jnp.zeros((3, 3))], axis=1)
+    bottom = jnp.concatenate([jnp.zeros((3, 3)), jnp.asarray(inertia, dtype=float)], axis=1)
+    return jnp.concatenate([top, bottom], axis=0)
+
+
+def mount_matrix(positions, coefficients, axes):
+    """Assemble a 6x6 matrix from triaxial mount elements (eqs. 7-10 of the seed paper, generalized).
+
+    Each mount j acts at ``positions[j]`` with coefficients ``coefficients[j]`` (stiffness [N/m] for
+    K, viscous damping [N s/m] for C, or any triaxial property) along its own axes ``axes[j]``, whose
+    rows are the mount's unit axes expressed in body axes. The mount's tensor in body axes is
+    ``A.T diag(c) A`` and its contribution ``T.T A.T diag(c) A T`` with ``T = point_map(position)``.
+
+    Parameters
+    ----------
+    positions : array_like, shape (n, 3)
+        Mount points from the CG in body axes [m].
+    coefficients : array_like, shape (n, 3)
+        Coefficients along each mount's own axes.
+    axes : array_like, shape (n, 3, 3)
+        Rows are each mount's axes in body axes (orthonormal).
+
+    Returns
+    -------
+    jax.Array, shape (6, 6)
+        Symmetric matrix; for diagonal axes it reproduces eqs. (7)-(10) term by term.
+    """
+    t = point_map(positions)  # (n, 3, 6)
+    a = jnp.asarray(axes, dtype=float)
+    local = jnp.einsum("nij,njk->nik", a, t)  # mount-axis motion per q: (n, 3, 6)
+    return jnp.einsum("nia,ni,nib->ab", local, jnp.asarray(coefficients, dtype=float), local)
+
+
+# ----------------------------------------------------------------------------------------------------
+# Validated, immutable model objects.
+# ----------------------------------------------------------------------------------------------------
+
+
+def _vector(value, field_name: str, expected: str, size: int = 3) -> np.ndarray:
+    try:
+        array = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(field_name, expected, value) from None
+    if array.shape != (size,) or not np.all(np.isfinite(array)):
+        raise InputError(field_name, expected, value)
+    array.flags.writeable = False
+    return array
+
+
+def _inertia_tensor(value) -> np.ndarray:
+    expected = "3 principal moments [Jxx, Jyy, Jzz] or a symmetric 3x3 tensor in kg m^2"
+    try:
+        array = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError("inertia", expected, value) from None
+    if array.shape == (3,):
+        array = np.diag(array)
+    if array.shape != (3, 3) or not np.all(np.isfinite(array)):
+        raise InputError("inertia", expected, value)
+    scale = np.max(np.abs(array))
+    if not np.allclose(array, array.T, rtol=0.0, atol=1e-12 * scale):
+        raise InputError("inertia", "a symmetric 3x3 tensor in kg m^2", value)
+    principal = np.linalg.eigvalsh(array)
+    if principal[0] <= 0.0:
+        raise InputError("inertia", "a positive definite tensor (all principal moments > 0)", value)
+    # A real body's principal moments obey J1 + J2 >= J3 (equality for a flat plate).
+    if principal[0] + principal[1] < principal[2] * (1.0 - _TRIANGLE_TOL):
+        raise InputError(
+            "inertia",
+            "principal moments that a real body can have (J1 + J2 >= J3; "
+            f"here {principal[0]:.6g} + {principal[1]:.6g} < {principal[2]:.6g})",
+            value,
+        )
+    array = 0.5 * (array + array.T)
+    array.flags.writeable = False
+    return array
+
+
+@dataclass(frozen=True, eq=False)
+class RigidBody:
+    """A rigid body described about its centre of gravity.
+
+    Parameters
+    ----------
+    mass : float
+        Mass [kg], > 0.
+    inertia : array_like, shape (3,) or (3, 3)
+        Principal moments ``[Jxx, Jyy, Jzz]`` or the full inertia tensor about the CG in body axes
+        [kg m^2]. Must be symmetric, positive definite and physically possible (triangle inequality
+        of the principal moments).
+    dimensions : array_like, shape (3,), optional
+        Size of the box drawn for the body in figures, along x, y, z [m]. Not used in the numerics.
+    """
+
+    mass: float
+    inertia: np.ndarray
+    dimensions: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        try:
+            mass = float(self.mass)
+        except (TypeError, ValueError):
+            raise InputError("mass", "a positive number in kg", self.mass) from None
+        if not np.isfinite(mass) or mass <= 0.0:
+            raise InputError("mass", "a positive number in kg", self.mass)
+        object.__setattr__(self, "mass", mass)
+        object.__setattr__(self, "inertia", _inertia_tensor(self.inertia))
+        if self.dimensions is not None:
+            dims = _vector(self.dimensions, "dimensions", "3 positive lengths [Lx, Ly, Lz] in m")
+            if np.any(dims <= 0):
+                raise InputError("dimensions", "3 positive lengths [Lx, Ly, Lz] in m", self.dimensions)
+            object.__setattr__(self, "dimensions", dims)
+
+
+@dataclass(frozen=True, eq=False)
+class Mount:
+    """A triaxial visco-elastic mount (bearing, isolator) attached to the body.
+
+    Parameters
+    ----------
+    name : str
+        Label used in tables, files and figures.
+    position : array_like, shape (3,)
+        Attachment point from the CG in body axes [m].
+    stiffness : array_like, shape (3,)
+        Stiffness along the mount's own axes [N/m], each >= 0 and not all zero.
+    damping : array_like, shape (3,), optional
+        Viscous damping along the mount's own axes [N s/m], each >= 0. Default zero.
+    axes : array_like, shape (3, 3), optional
+        Rows are the mount's axes expressed in body axes; must be orthonormal. Default: body axes.
+    loss_factor : array_like, shape (3,), optional
+        Hysteretic loss factor per axis (complex stiffness ``k (1 + i eta)``), used by frequency
+        responses only. Default zero.
+    """
+
+    name: str
+    position: np.ndarray
+    stiffness: np.ndarray
+    damping: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    axes: np.ndarray = field(default_factory=lambda: np.eye(3))
+    loss_factor: np.ndarray = field(default_factory=lambda: np.zeros(3))
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name:
+            raise InputError("name", "a non-empty string", self.name)
+        object.__setattr__(
+            self, "position", _vector(self.position, "position", "3 coordinates [x, y, z] in m")
+        )
+        stiffness = _vector(self.stiffness, "stiffness", "3 values >= 0 in N/m, not all zero")
+        if np.any(stiffness < 0) or not np.any(stiffness > 0):
+            raise InputError("stiffness", "3 values >= 0 in N/m, not all zero", self.stiffness)
+        object.__setattr__(self, "stiffness", stiffness)
+        damping = _vector(self.damping, "damping", "3 values >= 0 in N s/m")
+        if np.any(damping < 0):
+            raise InputError("damping", "3 values >= 0 in N s/m", self.damping)
+        object.__setattr__(self, "damping", damping)
+        eta = _vector(self.loss_factor, "loss_factor", "3 loss factors >= 0 (dimensionless)")
+        if np.any(eta < 0):
+            raise InputError("loss_factor", "3 loss factors >= 0 (dimensionless)", self.loss_factor)
+        object.__setattr__(self, "loss_factor", eta)
+        expected_axes = "3 orthonormal rows (the mount's axes in body axes)"
+        try:
+            axes = np.array(self.axes, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError("axes", expected_axes, self.axes) from None
+        if axes.shape != (3, 3) or not np.all(np.isfinite(axes)):
+            raise InputError("axes", expected_axes, self.axes)
+        if not np.allclose(axes @ axes.T, np.eye(3), rtol=0.0, atol=_ORTHONORMAL_TOL):
+            raise InputError("axes", expected_axes + "; normalize the rows", self.axes)
+        axes.flags.writeable = False
+        object.__setattr__(self, "axes", axes)
+
+
+@dataclass(frozen=True)
+class Rayleigh:
+    """Rayleigh damping ``C = alpha M + beta K``.
+
+    Parameters
+    ----------
+    alpha : float
+        Mass-proportional coefficient [1/s], >= 0.
+    beta : float
+        Stiffness-proportional coefficient [s], >= 0.
+    """
+
+    alpha: float
+    beta: float
+
+    def __post_init__(self) -> None:
+        for name in ("alpha", "beta"):
+            value = getattr(self, name)
+            if not isinstance(value, (int, float)) or not np.isfinite(value) or value < 0:
+                raise InputError(name, "a finite number >= 0", value)
+            object.__setattr__(self, name, float(value))
+
+    @classmethod
+    def from_ratio(cls, zeta: float, f_hz: tuple[float, float]) -> Rayleigh:
+        """Rayleigh coefficients giving damping ratio ``zeta`` at the two frequencies ``f_hz`` [Hz].
+
+        Solves ``zeta = alpha / (2 w) + beta w / 2`` at both ``w = 2 pi f``.
+        """
+        if not isinstance(zeta, (int, float)) or not 0 <= zeta < 1:
+            raise InputError("zeta", "a damping ratio in [0, 1)", zeta)
+        f = np.asarray(f_hz, dtype=float) if np.ndim(f_hz) == 1 else np.array([np.nan])
+        if f.shape != (2,) or not np.all(np.isfinite(f)) or np.any(f <= 0) or f[0] == f[1]:
+            raise InputError("f_hz", "two different positive frequencies in Hz", f_hz)
+        w1, w2 = 2 * np.pi * f
+        return cls(alpha=float(2 * zeta * w1 * w2 / (w1 + w2)), beta=float(2 * zeta / (w1 + w2)))
+
+
+@dataclass(frozen=True, eq=False)
+class System:
+    """A rigid body on mounts, with optional global damping models.
+
+    The damping matrix is the sum of the mounts' dashpots, the Rayleigh term and the modal term
+    (see :func:`sixdof.damping.damping_matrix`).
+
+    Parameters
+    ----------
+    body : RigidBody
+    mounts : sequence of Mount
+        At least one mount; names must be unique.
+    rayleigh : Rayleigh, optional
+    modal_damping : float or sequence of 6 floats, optional
+        Modal damping ratio for every mode, or one per mode in ascending frequency order.
+    """
+
+    body: RigidBody
+    mounts: tuple[Mount, ...]
+    rayleigh: Rayleigh | None = None
+    modal_damping: float | tuple[float, ...] | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.body, RigidBody):
+            raise InputError("body", "a RigidBody", self.body)
+        mounts = tuple(self.mounts)
+        if not mounts:
+            raise InputError("mounts", "at least one mount", self.mounts)
+        for i, mount in enumerate(mounts):
+            if not isinstance(mount, Mount):
+                raise InputError(f"mounts[{i}]", "a Mount", mount)
+        names = [m.name for m in mounts]
+        duplicated = sorted({n for n in names if names.count(n) > 1})
+        if duplicated:
+            raise InputError("mounts", "unique mount names", f"{', '.join(duplicated)} repeated")
+        object.__setattr__(self, "mounts", mounts)
+        if self.rayleigh is not None and not isinstance(self.rayleigh, Rayleigh):
+            raise InputError("damping.rayleigh", "a Rayleigh", self.rayleigh)
+        if self.modal_damping is not None:
+            ratios = np.atleast_1d(np.asarray(self.modal_damping, dtype=float))
+            if ratios.shape not in ((1,), (6,)) or np.any(~np.isfinite(ratios)) or np.any(
+                (ratios < 0) | (ratios >= 1)
+            ):
+                raise InputError(
+                    "damping.modal", "one damping ratio in [0, 1) or 6 of them", self.modal_damping
+                )
+            value = float(ratios[0]) if ratios.shape == (1,) else tuple(float(r) for r in ratios)
+            object.__setattr__(self, "modal_damping", value)
+
+    # Arrays of mount parameters, stacked for the pure assembly functions.
+    @cached_property
+    def mount_names(self) -> tuple[str, ...]:
+        return tuple(m.name for m in self.mounts)
+
+    @cached_property
+    def positions(self) -> np.ndarray:
+        """Mount positions, shape (n, 3) [m]."""
+        return np.stack([m.position for m in self.mounts])
+
+    @cached_property
+    def stiffnesses(self) -> np.ndarray:
+        """Mount stiffnesses along their own axes, shape (n, 3) [N/m]."""
+        return np.stack([m.stiffness for m in self.mounts])
+
+    @cached_property
+    def dampings(self) -> np.ndarray:
+        """Mount viscous damping along their own axes, shape (n, 3) [N s/m]."""
+        return np.stack([m.damping for m in self.mounts])
+
+    @cached_property
+    def loss_factors(self) -> np.ndarray:
+        """Mount hysteretic loss factors, shape (n, 3)."""
+        return np.stack([m.loss_factor for m in self.mounts])
+
+    @cached_property
+    def axes(self) -> np.ndarray:
+        """Mount axes (rows, in body axes), shape (n, 3, 3)."""
+        return np.stack([m.axes for m in self.mounts])
+
+    @cached_property
+    def M(self) -> np.ndarray:
+        """Mass matrix (6, 6) [kg, kg m^2]."""
+        return _frozen(mass_matrix(self.body.mass, self.body.inertia))
+
+    @cached_property
+    def K(self) -> np.ndarray:
+        """Stiffness matrix (6, 6) [N/m, N, N m/rad]."""
+        return _frozen(mount_matrix(self.positions, self.stiffnesses, self.axes))
+
+    @cached_property
+    def C_mounts(self) -> np.ndarray:
+        """Damping matrix of the mounts' dashpots alone (6, 6) [N s/m, N s, N m s/rad]."""
+        return _frozen(mount_matrix(self.positions, self.dampings, self.axes))
+
+    @cached_property
+    def C(self) -> np.ndarray:
+        """Total viscous damping matrix (6, 6): dashpots + Rayleigh + modal."""
+        from .damping import damping_matrix
+
+        return _frozen(damping_matrix(self))
+
+
+def _frozen(array) -> np.ndarray:
+    out = np.array(array, dtype=float)
+    out.flags.writeable = False
+    return out

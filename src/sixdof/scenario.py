@@ -1,0 +1,400 @@
+"""Scenario files: declarative TOML read into frozen, validated objects.
+
+Every error names the file, the field path (``mounts[2].stiffness``), what was expected and what was
+received. Unknown keys are rejected with the closest valid key suggested. Numerics never see the raw
+dictionaries: each table becomes a frozen object of the library here, at the edge.
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import difflib
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .errors import InputError, Plain, ScenarioError
+from .model import Mount, Rayleigh, RigidBody, System
+
+_MISSING = object()
+
+
+@dataclass(frozen=True)
+class Point:
+    """A named body point whose motion is reported. ``position`` from the CG in body axes [m]."""
+
+    name: str
+    position: tuple[float, float, float]
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name:
+            raise InputError("name", "a non-empty string", self.name)
+        position = np.asarray(self.position, dtype=float) if _is_numeric_list(self.position, 3) else None
+        if position is None or not np.all(np.isfinite(position)):
+            raise InputError("position", "3 coordinates [x, y, z] in m", self.position)
+        object.__setattr__(self, "position", tuple(float(v) for v in position))
+
+
+@dataclass(frozen=True)
+class StaticsSettings:
+    """Gravity for the static deflection: ``gravity`` [m/s^2] along ``direction`` (body axes)."""
+
+    gravity: float = 9.80665
+    direction: tuple[float, float, float] = (0.0, 0.0, -1.0)
+
+    def __post_init__(self) -> None:
+        if not _is_number(self.gravity) or self.gravity <= 0:
+            raise InputError("gravity", "a positive acceleration in m/s^2", self.gravity)
+        if not _is_numeric_list(self.direction, 3) or not np.any(np.asarray(self.direction, float)):
+            raise InputError("direction", "a non-zero 3-vector in body axes", self.direction)
+        object.__setattr__(self, "gravity", float(self.gravity))
+        object.__setattr__(self, "direction", tuple(float(v) for v in self.direction))
+
+
+@dataclass(frozen=True)
+class FrfSettings:
+    """Frequency grid of the frequency responses: ``points`` frequencies over ``f_hz`` [Hz]."""
+
+    f_hz: tuple[float, float] = (0.1, 100.0)
+    points: int = 2000
+    spacing: str = "log"
+
+    def __post_init__(self) -> None:
+        expected = "two frequencies [low, high] in Hz with 0 <= low < high"
+        if not _is_numeric_list(self.f_hz, 2):
+            raise InputError("f_hz", expected, self.f_hz)
+        low, high = (float(v) for v in self.f_hz)
+        if not (np.isfinite(high) and 0 <= low < high):
+            raise InputError("f_hz", expected, self.f_hz)
+        if isinstance(self.points, bool) or not isinstance(self.points, int) or self.points < 2:
+            raise InputError("points", "an integer >= 2", self.points)
+        if self.spacing not in ("log", "linear"):
+            raise InputError("spacing", "'log' or 'linear'", self.spacing)
+        if self.spacing == "log" and low == 0:
+            raise InputError("f_hz", "a positive low frequency for log spacing", self.f_hz)
+        object.__setattr__(self, "f_hz", (low, high))
+
+    def grid(self) -> np.ndarray:
+        """The frequencies [Hz], shape (points,)."""
+        low, high = self.f_hz
+        if self.spacing == "log":
+            return np.geomspace(low, high, self.points)
+        return np.linspace(low, high, self.points)
+
+
+@dataclass(frozen=True, eq=False)
+class Scenario:
+    """A validated scenario: one system, the excitations acting together, and what to compute.
+
+    Attributes
+    ----------
+    name, description : str
+    system : sixdof.model.System
+    excitation : sixdof.excitation.Excitation or None
+        Loads, ground motion and initial conditions; ``None`` when the file has none.
+    simulation : sixdof.direct.SimulationSettings or None
+        Present when the file has a ``[simulation]`` table.
+    frf : FrfSettings or None
+    points : tuple of Point
+    statics : StaticsSettings
+    text : str
+        The file's text (stored in results for provenance).
+    path : pathlib.Path or None
+    """
+
+    name: str
+    description: str
+    system: System
+    excitation: Any
+    simulation: Any
+    frf: FrfSettings | None
+    points: tuple[Point, ...]
+    statics: StaticsSettings
+    text: str
+    path: Path | None
+
+
+# ----------------------------------------------------------------------------------------------------
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Read and validate a scenario file.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        A TOML scenario file. Relative file references inside it (tabulated signals) are resolved
+        against its folder.
+
+    Raises
+    ------
+    ScenarioError
+        (a ``ValueError``) naming the file, the field, what was expected and what was received.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ScenarioError(str(path), InputError("", "an existing scenario file", str(path))) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ScenarioError(str(path), InputError("", "a readable UTF-8 text file", str(exc))) from None
+    return parse_scenario(text, source=str(path), base_dir=path.parent)
+
+
+def parse_scenario(text: str, source: str = "<string>", base_dir: str | Path = ".") -> Scenario:
+    """Validate scenario text (TOML). See :func:`load_scenario`."""
+    try:
+        raw = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioError(source, InputError("", "valid TOML", str(exc))) from None
+    try:
+        return _scenario(raw, text, Path(base_dir), source)
+    except InputError as exc:
+        raise ScenarioError(source, exc) from None
+
+
+def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
+    top = _Table(raw, "", _TOP_LEVEL_KEYS)
+    name = top.string("name")
+    description = top.string("description", default="")
+    body = _build(RigidBody, top.table("body"), "body")
+    mounts = [_build(Mount, t, f"mounts[{i}]") for i, t in enumerate(top.tables("mounts", required=True))]
+    rayleigh, modal = _damping(top.table("damping", default={}))
+    system = _make(System, "", body=body, mounts=mounts, rayleigh=rayleigh, modal_damping=modal)
+
+    loads = tuple(_load(t, f"loads[{i}]", base_dir) for i, t in enumerate(top.tables("loads")))
+    ground = top.table("ground", default=None)
+    ground = None if ground is None else _ground(ground, base_dir)
+    initial = top.table("initial", default=None)
+    initial = None if initial is None else _initial(initial)
+    excitation = None
+    if loads or ground is not None or initial is not None:
+        from .excitation import Excitation
+
+        excitation = _make(Excitation, "", loads=loads, ground=ground, initial=initial)
+    simulation = top.table("simulation", default=None)
+    if simulation is not None:
+        from .direct import SimulationSettings
+
+        simulation = _build(SimulationSettings, simulation, "simulation")
+    frf = top.table("frf", default=None)
+    frf = None if frf is None else _build(FrfSettings, frf, "frf")
+    points = tuple(_build(Point, t, f"points[{i}]") for i, t in enumerate(top.tables("points")))
+    _unique([p.name for p in points], "points")
+    statics = _build(StaticsSettings, top.table("statics", default={}), "statics")
+    return Scenario(
+        name=name,
+        description=description,
+        system=system,
+        excitation=excitation,
+        simulation=simulation,
+        frf=frf,
+        points=points,
+        statics=statics,
+        text=text,
+        path=Path(source) if source != "<string>" else None,
+    )
+
+
+def _damping(table: dict) -> tuple[Rayleigh | None, Any]:
+    damping = _Table(table, "damping", ("rayleigh", "modal"))
+    rayleigh = damping.table("rayleigh", default=None)
+    if rayleigh is not None:
+        keys = set(rayleigh)
+        if keys <= {"zeta", "f_hz"} and keys:
+            r = _Table(rayleigh, "damping.rayleigh", ("zeta", "f_hz"))
+            zeta, f_hz = r.value("zeta"), r.value("f_hz")
+            rayleigh = _make(Rayleigh.from_ratio, "damping.rayleigh", zeta=zeta, f_hz=f_hz)
+        elif keys <= {"alpha", "beta"} and keys:
+            rayleigh = _build(Rayleigh, rayleigh, "damping.rayleigh")
+        else:
+            raise InputError(
+                "damping.rayleigh", "either {zeta, f_hz} or {alpha, beta}", sorted(rayleigh)
+            )
+    modal = damping.value("modal", default=None)
+    return rayleigh, modal
+
+
+def _load(table: dict, path: str, base_dir: Path):
+    from .excitation import LOAD_KINDS
+
+    table = dict(table)
+    kind = table.pop("kind", "force")
+    if kind not in LOAD_KINDS:
+        raise InputError(f"{path}.kind", f"one of {_choices(LOAD_KINDS)}", kind)
+    return _build(LOAD_KINDS[kind], _with_signal(table, path, base_dir), path)
+
+
+def _ground(table: dict, base_dir: Path):
+    from .excitation import GroundMotion
+
+    return _build(GroundMotion, _with_signal(table, "ground", base_dir), "ground")
+
+
+def _initial(table: dict):
+    from .excitation import InitialState, ModeRelease
+
+    if "mode" in table or "amplitude" in table:
+        return _build(ModeRelease, table, "initial")
+    return _build(InitialState, table, "initial")
+
+
+def _with_signal(table: dict, path: str, base_dir: Path) -> dict:
+    """The table with its ``signal`` sub-table replaced by a signal object."""
+    if "signal" not in table:
+        return table
+    return {**table, "signal": _signal(table["signal"], f"{path}.signal", base_dir)}
+
+
+def _signal(table: Any, path: str, base_dir: Path):
+    from .excitation import SIGNAL_KINDS
+
+    if not isinstance(table, dict):
+        raise InputError(path, "a table such as { kind = \"harmonic\", f_hz = 5.0 }", table)
+    table = dict(table)
+    kind = table.pop("kind", _MISSING)
+    if kind is _MISSING:
+        raise InputError(f"{path}.kind", f"one of {_choices(SIGNAL_KINDS)}", Plain("nothing"))
+    if kind not in SIGNAL_KINDS:
+        raise InputError(f"{path}.kind", f"one of {_choices(SIGNAL_KINDS)}", kind)
+    if "file" in table:
+        file = table.pop("file")
+        if "t" in table or "values" in table:
+            raise InputError(f"{path}.file", "either a file or inline t and values, not both", file)
+        table["t"], table["values"] = read_table_csv(file, base_dir, f"{path}.file")
+    return _build(SIGNAL_KINDS[kind], table, path)
+
+
+def read_table_csv(file: Any, base_dir: Path, field: str) -> tuple[list[float], list[float]]:
+    """Read a two-column CSV (time [s], value) with an optional header line."""
+    if not isinstance(file, str) or not file:
+        raise InputError(field, "a CSV file name (relative to the scenario file)", file)
+    full = (base_dir / file).resolve()
+    try:
+        with full.open(newline="", encoding="utf-8") as handle:
+            rows = [row for row in csv.reader(handle) if row and not row[0].lstrip().startswith("#")]
+    except OSError:
+        raise InputError(field, "an existing, readable CSV file", str(full)) from None
+    t, values = [], []
+    for number, row in enumerate(rows, start=1):
+        try:
+            ti, vi = float(row[0]), float(row[1])
+        except (ValueError, IndexError):
+            if number == 1:  # a header line
+                continue
+            raise InputError(
+                field, "rows of two numbers: time in s, value", f"line {number} of {file}: {row}"
+            ) from None
+        t.append(ti)
+        values.append(vi)
+    if len(t) < 2:
+        raise InputError(field, "at least 2 rows of time, value", f"{len(t)} rows in {file}")
+    return t, values
+
+
+# ----------------------------------------------------------------------------------------------------
+# Generic table handling.
+# ----------------------------------------------------------------------------------------------------
+
+
+_TOP_LEVEL_KEYS = (
+    "name", "description", "body", "mounts", "damping", "loads", "ground", "initial", "simulation",
+    "frf", "points", "statics",
+)
+
+
+class _Table:
+    """Reads the keys of one TOML table, tracking its path; unknown keys are rejected up front."""
+
+    def __init__(self, raw: Any, path: str, keys: tuple[str, ...]) -> None:
+        if not isinstance(raw, dict):
+            raise InputError(path or "(top level)", "a table", raw)
+        _reject_unknown(raw, keys, path)
+        self.raw = raw
+        self.path = path
+
+    def _field(self, key: str) -> str:
+        return f"{self.path}.{key}" if self.path else key
+
+    def value(self, key: str, default: Any = _MISSING) -> Any:
+        if key in self.raw:
+            return self.raw[key]
+        if default is _MISSING:
+            raise InputError(self._field(key), "a value (required key)", Plain("nothing"))
+        return default
+
+    def string(self, key: str, default: Any = _MISSING) -> str:
+        value = self.value(key, default)
+        if not isinstance(value, str) or (default is _MISSING and not value):
+            raise InputError(self._field(key), "a non-empty string", value)
+        return value
+
+    def table(self, key: str, default: Any = _MISSING) -> Any:
+        value = self.value(key, default)
+        if value is not default and not isinstance(value, dict):
+            raise InputError(self._field(key), f"a table [{key}]", value)
+        return value
+
+    def tables(self, key: str, required: bool = False) -> list[dict]:
+        value = self.value(key, _MISSING if required else [])
+        if not isinstance(value, list) or any(not isinstance(v, dict) for v in value):
+            raise InputError(self._field(key), f"an array of tables [[{key}]]", value)
+        if required and not value:
+            raise InputError(self._field(key), f"at least one [[{key}]] table", value)
+        return value
+
+
+def _reject_unknown(raw: dict, known, path: str) -> None:
+    for key in raw:
+        if key not in known:
+            close = difflib.get_close_matches(key, list(known), n=1)
+            hint = f"; did you mean {close[0]!r}?" if close else ""
+            where = f"{path}.{key}" if path else key
+            raise InputError(where, f"one of the keys {_choices(known)}", Plain(f"an unknown key{hint}"))
+
+
+def _build(cls, table: Any, path: str):
+    """``cls(**table)`` for a frozen dataclass whose field names are the table's keys."""
+    if not isinstance(table, dict):
+        raise InputError(path, "a table", table)
+    fields = {f.name: f for f in dataclasses.fields(cls)}
+    _reject_unknown(table, fields, path)
+    for name, f in fields.items():
+        required = f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
+        if required and name not in table:
+            raise InputError(f"{path}.{name}", "a value (required key)", Plain("nothing"))
+    return _make(cls, path, **table)
+
+
+def _make(factory, path: str, **kwargs):
+    """Call a constructor, putting ``path`` before the field of any :class:`InputError`."""
+    try:
+        return factory(**kwargs)
+    except InputError as exc:
+        raise exc.within(path) if path else exc from None
+
+
+def _unique(names: list[str], path: str) -> None:
+    repeated = sorted({n for n in names if names.count(n) > 1})
+    if repeated:
+        raise InputError(path, "unique names", f"{', '.join(repeated)} repeated")
+
+
+def _choices(keys) -> str:
+    return ", ".join(sorted(keys))
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and np.isfinite(value)
+
+
+def _is_numeric_list(value: Any, size: int) -> bool:
+    return (
+        isinstance(value, (list, tuple))
+        and len(value) == size
+        and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
+    )

@@ -1,0 +1,89 @@
+"""Static deflection under gravity and the force each mount carries."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import InputError
+from .model import point_map
+
+STANDARD_GRAVITY = 9.80665  # m/s^2
+
+
+@dataclass(frozen=True, eq=False)
+class Statics:
+    """Result of :func:`gravity_statics`.
+
+    Attributes
+    ----------
+    gravity : ndarray, shape (3,)
+        Gravity acceleration vector in body axes [m/s^2].
+    q : ndarray, shape (6,)
+        Static deflection of the CG [m] and rotation [rad] from the unloaded state.
+    mount_forces : ndarray, shape (n_mounts, 3)
+        Force each mount exerts on the body, in body axes [N].
+    mount_forces_local : ndarray, shape (n_mounts, 3)
+        The same forces along each mount's own axes [N].
+    support : ndarray, shape (n_mounts,)
+        Component of each mount's force against gravity [N]: positive in compression (the mount
+        carries the body), negative in tension.
+    uplift : tuple of str
+        Names of the mounts in tension (uplift): they would have to pull the body down.
+    """
+
+    gravity: np.ndarray
+    q: np.ndarray
+    mount_forces: np.ndarray
+    mount_forces_local: np.ndarray
+    support: np.ndarray
+    uplift: tuple[str, ...]
+
+
+def gravity_statics(system, g: float = STANDARD_GRAVITY, direction=(0.0, 0.0, -1.0)) -> Statics:
+    """Static equilibrium of the body on its mounts under its own weight.
+
+    Parameters
+    ----------
+    system : sixdof.model.System
+    g : float
+        Gravity acceleration [m/s^2], > 0.
+    direction : array_like, shape (3,)
+        Direction of gravity in body axes (normalized here). Default ``-z``.
+
+    Returns
+    -------
+    Statics
+
+    Raises
+    ------
+    InputError
+        If ``g`` or ``direction`` is invalid, or the mounts cannot carry the weight (the body is free
+        to move along gravity).
+    """
+    if not isinstance(g, (int, float)) or not np.isfinite(g) or g <= 0:
+        raise InputError("statics.gravity", "a positive acceleration in m/s^2", g)
+    d = np.asarray(direction, dtype=float)
+    if d.shape != (3,) or not np.all(np.isfinite(d)) or np.linalg.norm(d) == 0:
+        raise InputError("statics.direction", "a non-zero 3-vector", direction)
+    gravity = g * d / np.linalg.norm(d)
+    Q = np.concatenate([system.body.mass * gravity, np.zeros(3)])  # weight acts at the CG
+    K = np.asarray(system.K)
+    q, *_ = np.linalg.lstsq(K, Q, rcond=None)
+    residual = np.linalg.norm(K @ q - Q)
+    if residual > 1e-8 * np.linalg.norm(Q):
+        raise InputError(
+            "mounts",
+            "mounts that can carry the body's weight along gravity",
+            "a layout with no stiffness against gravity (the body would fall freely)",
+        )
+    t = np.asarray(point_map(system.positions))  # (n, 3, 6)
+    local_deflection = np.einsum("nij,njk,k->ni", system.axes, t, q)
+    local = -system.stiffnesses * local_deflection
+    forces = np.einsum("nji,nj->ni", system.axes, local)
+    support = -forces @ (gravity / g)
+    # Round-off can leave a mount carrying nothing with a tiny negative value: not uplift.
+    uplift_tol = 1e-9 * system.body.mass * g
+    uplift = tuple(n for n, s in zip(system.mount_names, support) if s < -uplift_tol)
+    return Statics(gravity, q, forces, local, support, uplift)

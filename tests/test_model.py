@@ -1,0 +1,190 @@
+"""Assembly of M and K against closed forms and invariants (issue 2)."""
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from sixdof._jax import jax, jnp
+from sixdof.errors import InputError
+from sixdof.modal import modal_analysis
+from sixdof.model import Mount, RigidBody, System, load_vector, mount_matrix, point_map
+from sixdof.statics import gravity_statics
+from tolerances import RTOL_FREQUENCY, RTOL_LINALG, RTOL_ZERO_ENTRY
+
+
+def four_mount(m=500.0, J=(40.0, 60.0, 80.0), a=0.4, b=0.6, h=0.3, k=(2e5, 3e5, 8e5)):
+    """Body on four identical mounts at (+-a, +-b, -h): doubly symmetric."""
+    body = RigidBody(m, J)
+    mounts = [
+        Mount(f"m{i}", [sx * a, sy * b, -h], k)
+        for i, (sx, sy) in enumerate([(-1, -1), (1, -1), (1, 1), (-1, 1)])
+    ]
+    return System(body, mounts)
+
+
+def random_system(rng, n=4, axes=True):
+    J = rng.uniform(1.0, 3.0, 3)
+    R = Rotation.random(random_state=rng).as_matrix()
+    mounts = [
+        Mount(
+            str(i),
+            rng.uniform(-1, 1, 3),
+            rng.uniform(1e4, 1e6, 3),
+            damping=rng.uniform(0, 1e3, 3),
+            axes=Rotation.random(random_state=rng).as_matrix() if axes else np.eye(3),
+        )
+        for i in range(n)
+    ]
+    return System(RigidBody(rng.uniform(10, 100), R @ np.diag(J) @ R.T), mounts)
+
+
+def test_symmetric_four_mount_layout_closed_forms():
+    m, (Jx, Jy, Jz), a, b, h, (kx, ky, kz) = 500.0, (40.0, 60.0, 80.0), 0.4, 0.6, 0.3, (2e5, 3e5, 8e5)
+    system = four_mount()
+    modes = modal_analysis(system.M, system.K)
+    vertical = 4 * kz / m
+    yaw = 4 * (kx * b**2 + ky * a**2) / Jz
+
+    def rocking(k_t, k_r, J):
+        # Translation-rocking pair [m 0; 0 J] with [4k, -4kh; -4kh, 4(k h^2 + kz d^2)].
+        K2 = np.array([[4 * k_t, -4 * k_t * h], [-4 * k_t * h, 4 * (k_t * h**2 + kz * k_r**2)]])
+        tr = K2[0, 0] / m + K2[1, 1] / J
+        det = np.linalg.det(K2) / (m * J)
+        disc = np.sqrt(tr**2 - 4 * det)
+        return [(tr - disc) / 2, (tr + disc) / 2]
+
+    expected = sorted([vertical, yaw, *rocking(kx, a, Jy), *rocking(ky, b, Jx)])
+    assert modes.eigenvalues == pytest.approx(expected, rel=RTOL_FREQUENCY)
+    assert modes.subsystems == (("x", "ry"), ("y", "rx"), ("z",), ("rz",))
+
+
+def test_two_spring_bounce_pitch_and_free_dofs():
+    # Vertical springs k1 at y = -l1 and k2 at y = l2: the classic bounce-pitch pair; every other DOF
+    # is unrestrained and must come out as a zero-frequency mode, named, not as an error.
+    m, J, k1, k2, l1, l2 = 1200.0, 1800.0, 3e4, 4e4, 1.2, 1.5
+    system = System(
+        RigidBody(m, [J, J, 2 * J]),
+        [Mount("front", [0, -l1, 0], [0, 0, k1]), Mount("rear", [0, l2, 0], [0, 0, k2])],
+    )
+    modes = modal_analysis(system.M, system.K)
+    a, b = (k1 + k2) / m, (k1 * l1**2 + k2 * l2**2) / J
+    c = (k2 * l2 - k1 * l1) ** 2 / (m * J)
+    bounce_pitch = [(a + b - np.sqrt((a - b) ** 2 + 4 * c)) / 2, (a + b + np.sqrt((a - b) ** 2 + 4 * c)) / 2]
+    assert modes.zero_modes == (0, 1, 2, 3)
+    assert np.all(modes.frequency_hz[:4] == 0.0)
+    assert modes.eigenvalues[4:] == pytest.approx(bounce_pitch, rel=RTOL_FREQUENCY)
+    assert set(modes.free_dofs) == {"x", "y", "ry", "rz"}
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_stiffness_symmetric_positive_semidefinite_and_rotation_invariant(seed):
+    rng = np.random.default_rng(seed)
+    system = random_system(rng)
+    K = system.K
+    scale = np.abs(K).max()
+    assert np.allclose(K, K.T, rtol=0, atol=RTOL_ZERO_ENTRY * scale)
+    assert np.linalg.eigvalsh(K).min() >= -1e-12 * scale
+    # Rotate the whole layout: inertia tensor, mount positions and mount axes.
+    R = Rotation.random(random_state=rng).as_matrix()
+    rotated = System(
+        RigidBody(system.body.mass, R @ system.body.inertia @ R.T),
+        [Mount(m.name, R @ m.position, m.stiffness, axes=m.axes @ R.T) for m in system.mounts],
+    )
+    f0 = modal_analysis(system.M, system.K).frequency_hz
+    f1 = modal_analysis(rotated.M, rotated.K).frequency_hz
+    assert f1 == pytest.approx(f0, rel=1e-9)
+
+
+def test_rotated_mount_equals_its_stiffness_tensor():
+    rng = np.random.default_rng(7)
+    A = Rotation.random(random_state=rng).as_matrix()
+    k, r = np.array([1e5, 3e5, 9e5]), np.array([0.3, -0.2, 0.5])
+    tensor = A.T @ np.diag(k) @ A  # stiffness in body axes
+    T = np.hstack([np.eye(3), -np.array([[0, -r[2], r[1]], [r[2], 0, -r[0]], [-r[1], r[0], 0]])])
+    expected = T.T @ tensor @ T
+    K = np.asarray(mount_matrix(r[None], k[None], A[None]))
+    assert np.allclose(K, expected, rtol=0, atol=RTOL_LINALG * np.abs(expected).max())
+
+
+def test_kinematics_and_virtual_work():
+    # u_point = T q with T = [I, -skew(r)]; a force F at r gives Q = T' F (virtual work).
+    rng = np.random.default_rng(3)
+    r, q, F, Mo = rng.normal(size=3), rng.normal(size=6), rng.normal(size=3), rng.normal(size=3)
+    u = np.asarray(point_map(r)) @ q
+    assert u == pytest.approx(q[:3] + np.cross(q[3:], r), rel=RTOL_LINALG)
+    Q = np.asarray(load_vector(r, F, Mo))
+    assert Q @ q == pytest.approx(F @ u + Mo @ q[3:], rel=RTOL_LINALG)
+
+
+def test_plane_of_symmetry_gives_the_papers_block_structure():
+    # Mirror-symmetric in x (pairs at +-x with equal stiffness), unequal ends in y: eqs. (11)-(12).
+    system = System(
+        RigidBody(900.0, [120.0, 30.0, 140.0]),
+        [
+            Mount("1", [-0.3, -1.0, -0.4], [1e5, 2e5, 6e5]),
+            Mount("2", [0.3, -1.0, -0.4], [1e5, 2e5, 6e5]),
+            Mount("3", [0.3, 1.4, -0.4], [3e5, 1e5, 9e5]),
+            Mount("4", [-0.3, 1.4, -0.4], [3e5, 1e5, 9e5]),
+        ],
+    )
+    K = system.K
+    sub1, sub2 = [0, 4, 5], [1, 2, 3]
+    assert np.abs(K[np.ix_(sub1, sub2)]).max() <= RTOL_ZERO_ENTRY * np.abs(K).max()
+    assert modal_analysis(system.M, K).subsystems == (("x", "ry", "rz"), ("y", "z", "rx"))
+
+
+def test_assembly_runs_under_jit_vmap_and_grad():
+    system = four_mount()
+    args = (system.positions, system.stiffnesses, system.axes)
+    K = np.asarray(jax.jit(mount_matrix)(*args))
+    assert K == pytest.approx(system.K, rel=RTOL_LINALG)
+    factors = jnp.linspace(0.5, 2.0, 7)
+    batch = jax.vmap(lambda f: mount_matrix(args[0], args[1] * f, args[2]))(factors)
+    assert batch.shape == (7, 6, 6)
+    assert np.asarray(batch[-1]) == pytest.approx(2.0 * system.K, rel=RTOL_LINALG)
+    # d K_zz / d kz of mount 0 = 1 (K_zz = sum of vertical stiffnesses).
+    grad = jax.grad(lambda k: mount_matrix(args[0], k, args[2])[2, 2])(jnp.asarray(args[1]))
+    assert np.asarray(grad)[:, 2] == pytest.approx(np.ones(4))
+    assert np.asarray(K).dtype == np.float64
+
+
+def test_statics_closed_form_and_uplift():
+    system = four_mount()
+    statics = gravity_statics(system)
+    assert statics.q[2] == pytest.approx(-500 * 9.80665 / (4 * 8e5), rel=RTOL_LINALG)
+    assert statics.support == pytest.approx(np.full(4, 500 * 9.80665 / 4), rel=RTOL_LINALG)
+    assert statics.uplift == ()
+    # CG beyond the first support: lever rule gives F1 = 1.5 W and F2 = -0.5 W (uplift).
+    W = 100 * 9.81
+    overhang = System(
+        RigidBody(100.0, [5.0, 5.0, 5.0]),
+        [Mount("near", [0, 0.5, 0], [1e5, 1e5, 1e6]), Mount("far", [0, 1.5, 0], [1e5, 1e5, 1e6])],
+    )
+    statics = gravity_statics(overhang, g=9.81)
+    assert statics.support == pytest.approx([1.5 * W, -0.5 * W], rel=1e-9)
+    assert statics.uplift == ("far",)
+
+
+def test_statics_refuses_a_body_that_cannot_carry_its_weight():
+    system = System(RigidBody(1.0, [1.0, 1.0, 1.0]), [Mount("side", [0, 0, 0], [1e3, 1e3, 0])])
+    with pytest.raises(InputError, match="no stiffness against gravity"):
+        gravity_statics(system)
+
+
+@pytest.mark.parametrize(
+    "make, match",
+    [
+        (lambda: RigidBody(0.0, [1, 1, 1]), r"mass: expected a positive number in kg, got 0.0"),
+        (lambda: RigidBody(1.0, [1, 1, 3]), r"inertia: expected principal moments that a real body can have"),
+        (lambda: RigidBody(1.0, [[1, 0.5, 0], [0, 1, 0], [0, 0, 1]]), r"inertia: expected a symmetric 3x3"),
+        (lambda: RigidBody(1.0, [1, -1, 1]), r"inertia: expected a positive definite tensor"),
+        (lambda: Mount("a", [0, 0], [1, 1, 1]), r"position: expected 3 coordinates \[x, y, z\] in m, got \[0, 0\]"),
+        (lambda: Mount("a", [0, 0, 0], [1, -1, 1]), r"stiffness: expected 3 values >= 0 in N/m"),
+        (lambda: Mount("a", [0, 0, 0], [1, 1, 1], axes=[[1, 0, 0], [0, 2, 0], [0, 0, 1]]), r"axes: expected 3 orthonormal rows"),
+        (lambda: Mount("a", [0, 0, 0], [1, 1, 1], damping=[0, 0, -1]), r"damping: expected 3 values >= 0 in N s/m"),
+        (lambda: System(RigidBody(1.0, [1, 1, 1]), []), r"mounts: expected at least one mount"),
+    ],
+)
+def test_model_errors_name_the_field(make, match):
+    with pytest.raises(InputError, match=match):
+        make()

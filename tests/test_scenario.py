@@ -1,0 +1,136 @@
+"""Scenario files: the bundled ones load, and every mistake gets a message naming what to fix."""
+
+import numpy as np
+import pytest
+
+from sixdof.errors import ScenarioError
+from sixdof.scenario import load_scenario, parse_scenario
+
+BASE = """
+name = "case"
+description = "a machine on four mounts"
+
+[body]
+mass = 500.0
+inertia = [40.0, 60.0, 80.0]
+dimensions = [1.0, 1.5, 0.8]
+
+[[mounts]]
+name = "a"
+position = [-0.4, -0.6, -0.3]
+stiffness = [2e5, 3e5, 8e5]
+
+[[mounts]]
+name = "b"
+position = [0.4, 0.6, -0.3]
+stiffness = [2e5, 3e5, 8e5]
+damping = [100.0, 100.0, 400.0]
+
+[damping]
+rayleigh = { zeta = 0.02, f_hz = [1.0, 30.0] }
+
+[frf]
+f_hz = [0.5, 50.0]
+points = 100
+
+[[points]]
+name = "corner"
+position = [0.5, 0.75, 0.4]
+
+[statics]
+gravity = 9.81
+"""
+
+
+def mutate(old: str, new: str) -> str:
+    assert old in BASE, old
+    return BASE.replace(old, new, 1)
+
+
+def test_base_scenario_is_valid():
+    scenario = parse_scenario(BASE, "case.toml")
+    assert scenario.name == "case"
+    assert scenario.system.mount_names == ("a", "b")
+    assert scenario.frf.grid()[[0, -1]] == pytest.approx([0.5, 50.0])
+    assert scenario.points[0].position == (0.5, 0.75, 0.4)
+    # Rayleigh from two target ratios: zeta = alpha / 2w + beta w / 2 at both frequencies.
+    r = scenario.system.rayleigh
+    for f in (1.0, 30.0):
+        w = 2 * np.pi * f
+        assert r.alpha / (2 * w) + r.beta * w / 2 == pytest.approx(0.02, rel=1e-12)
+
+
+def test_bundled_bridge_scenario_is_the_seed_data():
+    system = load_scenario("scenarios/bridge_beam.toml").system
+    assert system.body.mass == 83e3
+    assert np.diag(system.body.inertia) == pytest.approx([11.105e6, 0.0491e6, 11.064e6])
+    assert system.positions[2] == pytest.approx([0.195, 19.55, -1.031])
+    assert system.stiffnesses[:, 2] == pytest.approx([312e6, 312e6, 496e6, 496e6])
+
+
+BAD = [
+    # (id, (old, new) replacement in BASE or a whole text, message that must appear)
+    ("toml syntax", ("mass = 500.0", "mass = = 500"), r"case.toml: expected valid TOML"),
+    ("missing name", ('name = "case"', ""), r"case.toml: name: expected a value \(required key\), got nothing"),
+    ("empty name", ('name = "case"', 'name = ""'), r"name: expected a non-empty string, got ''"),
+    ("name not a string", ('name = "case"', "name = 3"), r"name: expected a non-empty string, got 3"),
+    ("unknown top-level key", ("[statics]", "[static]"), r"static: expected one of the keys .*got an unknown key; did you mean 'statics'\?"),
+    ("missing body", ("[body]\nmass = 500.0\ninertia = [40.0, 60.0, 80.0]\ndimensions = [1.0, 1.5, 0.8]\n", ""), r"body: expected a value \(required key\)"),
+    ("body not a table", ("[body]\nmass = 500.0\ninertia = [40.0, 60.0, 80.0]\ndimensions = [1.0, 1.5, 0.8]\n", 'body = "heavy"\n'), r"body: expected a table \[body\], got 'heavy'"),
+    ("negative mass", ("mass = 500.0", "mass = -500.0"), r"body.mass: expected a positive number in kg, got -500.0"),
+    ("mass as text", ("mass = 500.0", 'mass = "500 kg"'), r"body.mass: expected a positive number in kg, got '500 kg'"),
+    ("infinite mass", ("mass = 500.0", "mass = inf"), r"body.mass: expected a positive number in kg, got inf"),
+    ("missing mass", ("mass = 500.0\n", ""), r"body.mass: expected a value \(required key\), got nothing"),
+    ("inertia of 2 values", ("inertia = [40.0, 60.0, 80.0]", "inertia = [40.0, 60.0]"), r"body.inertia: expected 3 principal moments .* or a symmetric 3x3 tensor in kg m\^2, got \[40.0, 60.0\]"),
+    ("impossible inertia", ("inertia = [40.0, 60.0, 80.0]", "inertia = [10.0, 20.0, 80.0]"), r"body.inertia: expected principal moments that a real body can have \(J1 \+ J2 >= J3; here 10 \+ 20 < 80\)"),
+    ("negative inertia", ("inertia = [40.0, 60.0, 80.0]", "inertia = [40.0, -60.0, 80.0]"), r"body.inertia: expected a positive definite tensor"),
+    ("asymmetric tensor", ("inertia = [40.0, 60.0, 80.0]", "inertia = [[40.0, 1.0, 0.0], [0.0, 60.0, 0.0], [0.0, 0.0, 80.0]]"), r"body.inertia: expected a symmetric 3x3 tensor"),
+    ("zero dimension", ("dimensions = [1.0, 1.5, 0.8]", "dimensions = [1.0, 0.0, 0.8]"), r"body.dimensions: expected 3 positive lengths"),
+    ("unknown body key", ("mass = 500.0", "mass = 500.0\nmas = 2.0"), r"body.mas: expected one of the keys dimensions, inertia, mass, got an unknown key; did you mean 'mass'\?"),
+    ("no mounts", None, r"mounts: expected a value \(required key\), got nothing"),
+    ("mount typo", ("position = [0.4, 0.6, -0.3]", "positon = [0.4, 0.6, -0.3]"), r"mounts\[1\].positon: expected one of the keys .*did you mean 'position'\?"),
+    ("mount missing stiffness", ("stiffness = [2e5, 3e5, 8e5]\n\n[[mounts]]", "\n[[mounts]]"), r"mounts\[0\].stiffness: expected a value \(required key\), got nothing"),
+    ("negative stiffness", ("stiffness = [2e5, 3e5, 8e5]\ndamping", "stiffness = [2e5, -3e5, 8e5]\ndamping"), r"mounts\[1\].stiffness: expected 3 values >= 0 in N/m, not all zero, got \[200000.0, -300000.0, 800000.0\]"),
+    ("zero stiffness", ("stiffness = [2e5, 3e5, 8e5]\ndamping", "stiffness = [0, 0, 0]\ndamping"), r"mounts\[1\].stiffness: expected 3 values >= 0 in N/m, not all zero"),
+    ("position of 2", ("position = [-0.4, -0.6, -0.3]", "position = [-0.4, -0.6]"), r"mounts\[0\].position: expected 3 coordinates \[x, y, z\] in m, got \[-0.4, -0.6\]"),
+    ("negative damping", ("damping = [100.0, 100.0, 400.0]", "damping = [100.0, -1.0, 400.0]"), r"mounts\[1\].damping: expected 3 values >= 0 in N s/m"),
+    ("axes not orthonormal", ("damping = [100.0, 100.0, 400.0]", "axes = [[1, 1, 0], [0, 1, 0], [0, 0, 1]]"), r"mounts\[1\].axes: expected 3 orthonormal rows .*normalize the rows"),
+    ("duplicate mount names", ('name = "b"', 'name = "a"'), r"mounts: expected unique mount names, got 'a repeated'"),
+    ("mount name empty", ('name = "b"', 'name = ""'), r"mounts\[1\].name: expected a non-empty string"),
+    ("negative loss factor", ("damping = [100.0, 100.0, 400.0]", "loss_factor = [0.1, -0.1, 0.1]"), r"mounts\[1\].loss_factor: expected 3 loss factors >= 0"),
+    ("rayleigh mixed keys", ("rayleigh = { zeta = 0.02, f_hz = [1.0, 30.0] }", "rayleigh = { zeta = 0.02, beta = 0.001 }"), r"damping.rayleigh: expected either \{zeta, f_hz\} or \{alpha, beta\}, got \['beta', 'zeta'\]"),
+    ("rayleigh equal frequencies", ("f_hz = [1.0, 30.0]", "f_hz = [30.0, 30.0]"), r"damping.rayleigh.f_hz: expected two different positive frequencies in Hz, got \[30.0, 30.0\]"),
+    ("rayleigh zeta too big", ("zeta = 0.02", "zeta = 1.5"), r"damping.rayleigh.zeta: expected a damping ratio in \[0, 1\), got 1.5"),
+    ("negative alpha", ("rayleigh = { zeta = 0.02, f_hz = [1.0, 30.0] }", "rayleigh = { alpha = -0.1, beta = 0.001 }"), r"damping.rayleigh.alpha: expected a finite number >= 0, got -0.1"),
+    ("modal ratios of 4", ("rayleigh = { zeta = 0.02, f_hz = [1.0, 30.0] }", "modal = [0.01, 0.02, 0.03, 0.04]"), r"damping.modal: expected one damping ratio in \[0, 1\) or 6 of them"),
+    ("unknown damping key", ("rayleigh = {", "raleigh = {"), r"damping.raleigh: expected one of the keys modal, rayleigh, got an unknown key; did you mean 'rayleigh'\?"),
+    ("frf reversed range", ("f_hz = [0.5, 50.0]", "f_hz = [50.0, 0.5]"), r"frf.f_hz: expected two frequencies \[low, high\] in Hz with 0 <= low < high, got \[50.0, 0.5\]"),
+    ("frf points fractional", ("points = 100", "points = 10.5"), r"frf.points: expected an integer >= 2, got 10.5"),
+    ("frf log from zero", ("f_hz = [0.5, 50.0]", "f_hz = [0.0, 50.0]"), r"frf.f_hz: expected a positive low frequency for log spacing"),
+    ("frf spacing", ("points = 100", 'points = 100\nspacing = "octave"'), r"frf.spacing: expected 'log' or 'linear', got 'octave'"),
+    ("point without position", ('position = [0.5, 0.75, 0.4]', ""), r"points\[0\].position: expected a value \(required key\), got nothing"),
+    ("negative gravity", ("gravity = 9.81", "gravity = -9.81"), r"statics.gravity: expected a positive acceleration in m/s\^2, got -9.81"),
+    ("zero gravity direction", ("gravity = 9.81", "gravity = 9.81\ndirection = [0, 0, 0]"), r"statics.direction: expected a non-zero 3-vector in body axes, got \[0, 0, 0\]"),
+]
+
+
+def bad_text(change):
+    if change is None:  # remove every mount
+        return BASE.split("[[mounts]]")[0] + "[damping]" + BASE.split("[damping]")[1]
+    return mutate(*change)
+
+
+@pytest.mark.parametrize("change, message", [b[1:] for b in BAD], ids=[b[0] for b in BAD])
+def test_bad_input_names_file_field_expectation_and_value(change, message):
+    with pytest.raises(ScenarioError, match=message) as info:
+        parse_scenario(bad_text(change), "case.toml")
+    assert str(info.value).startswith("case.toml: ")
+
+
+def test_missing_file_and_unreadable_file(tmp_path):
+    with pytest.raises(ScenarioError, match=r"nope.toml: expected an existing scenario file"):
+        load_scenario(tmp_path / "nope.toml")
+    binary = tmp_path / "binary.toml"
+    binary.write_bytes(b"\xff\xfe\x00")
+    with pytest.raises(ScenarioError, match=r"binary.toml: expected a readable UTF-8 text file"):
+        load_scenario(binary)

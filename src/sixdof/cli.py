@@ -36,6 +36,12 @@ def _parser() -> argparse.ArgumentParser:
     modes.add_argument("scenario", help="scenario file (TOML)")
     modes.add_argument("--json", action="store_true", help="print one JSON object instead of tables")
     modes.set_defaults(command=_modes)
+
+    run = commands.add_parser("run", help="simulate a scenario; write results, figures and a summary")
+    run.add_argument("scenario", help="scenario file (TOML)")
+    run.add_argument("--out", default="outputs", help="results go to OUT/<scenario name>/ (default: outputs)")
+    run.add_argument("--quiet", action="store_true", help="no progress bar")
+    run.set_defaults(command=_run)
     return parser
 
 
@@ -65,6 +71,32 @@ def _modes(args) -> int:
     print(report.statics_table(statics, system.mount_names))
     if statics.uplift:
         print(f"\nWARNING: mounts in tension (uplift): {', '.join(statics.uplift)}")
+    return 0
+
+
+def _run(args) -> int:
+    import warnings
+
+    from . import report
+    from .run import AgreementWarning, SamplingWarning, run_scenario
+    from .scenario import load_scenario
+
+    scenario = load_scenario(args.scenario)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", SamplingWarning)
+        warnings.simplefilter("always", AgreementWarning)
+        outcome = run_scenario(scenario, args.out, progress=not args.quiet, command_line=" ".join(sys.argv))
+    print(f"{scenario.name}: {scenario.description}\n")
+    print(report.modes_table(outcome.modes, outcome.damping_ratios))
+    if outcome.agreement is not None:
+        print(f"\nDirect solve vs modal superposition ({outcome.superposition.method} modes): {outcome.agreement}")
+        stats = outcome.response.stats
+        print(f"Solver {stats.solver}: {stats.num_accepted} steps, {stats.num_rejected} rejected, {stats.wall_time_s:.2f} s")
+    if outcome.frf is not None:
+        print(f"FRF direct vs modal: {outcome.frf.max_relative_difference:.1e} (worst relative difference)")
+    for warning in caught:
+        print(f"WARNING: {warning.message}", file=sys.stderr)
+    print(f"\nWrote {outcome.results_path}, {len(outcome.figures)} figures and {outcome.summary_path}")
     return 0
 
 

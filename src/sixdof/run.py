@@ -1,0 +1,253 @@
+"""One run of a scenario, end to end: modal analysis and statics, the time response by the direct
+solver cross-checked by modal superposition, frequency responses; results, figures and a summary
+written under ``<out>/<scenario name>/``.
+
+Everything is written into a staging folder beside the target and moved into place only when complete:
+a failed or interrupted run leaves the previous results (or nothing) behind, never a partial set.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+import uuid
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .damping import modal_damping_ratios
+from .errors import InputError
+from .modal import modal_analysis
+from .statics import gravity_statics
+
+#: Fewest samples per period of the highest natural frequency or excitation frequency: below it the
+#: sampled peaks of a sine are off by more than 5 % (1 - cos(pi / 10)).
+MIN_SAMPLES_PER_PERIOD = 10
+
+
+class SamplingWarning(UserWarning):
+    """The output sample rate is too low for the frequencies in the response."""
+
+
+class AgreementWarning(UserWarning):
+    """The direct solve and modal superposition disagree by more than the tolerance."""
+
+
+@dataclass(frozen=True, eq=False)
+class RunOutcome:
+    """What :func:`run_scenario` computed and where it wrote it.
+
+    Attributes
+    ----------
+    directory : pathlib.Path
+        ``<out>/<scenario name>``.
+    results_path : pathlib.Path
+        The HDF5 results file.
+    figures : tuple of pathlib.Path
+    summary_path : pathlib.Path
+    modes, statics, damping_ratios, response, superposition, agreement, frf :
+        The computed objects (``None`` for parts the scenario does not ask for).
+    warnings : tuple of str
+        Warnings raised during the run (sampling, agreement), also shown in the summary.
+    """
+
+    directory: Path
+    results_path: Path
+    figures: tuple[Path, ...]
+    summary_path: Path
+    modes: object
+    statics: object
+    damping_ratios: np.ndarray
+    response: object
+    superposition: object
+    agreement: object
+    frf: object
+    warnings: tuple[str, ...]
+
+
+def check_output_root(out_root: str | Path) -> Path:
+    """Make sure results can be written under ``out_root`` before any computing starts.
+
+    Raises
+    ------
+    InputError
+        If the folder cannot be created or written.
+    """
+    root = Path(out_root)
+    try:
+        root.mkdir(parents=True, exist_ok=True)
+        probe = root / f".write-test-{uuid.uuid4().hex}"
+        probe.write_bytes(b"")
+        probe.unlink()
+    except OSError as exc:
+        raise InputError("--out", "a folder where results can be written", f"{root} ({exc.strerror})") from None
+    return root
+
+
+def sampling_warnings(scenario, modes) -> list[str]:
+    """Messages for frequencies the output sample rate cannot resolve (see MIN_SAMPLES_PER_PERIOD)."""
+    if scenario.simulation is None:
+        return []
+    rate = scenario.simulation.sample_rate_hz
+    wanted = [("highest natural frequency", float(modes.frequency_hz.max()))]
+    wanted += excitation_frequencies(scenario.excitation)
+    messages = []
+    for label, f in wanted:
+        if f > 0 and rate < MIN_SAMPLES_PER_PERIOD * f:
+            messages.append(
+                f"simulation.sample_rate_hz: {rate:g} Hz gives {rate / f:.1f} samples per period of the "
+                f"{label} ({f:.4g} Hz); use at least {MIN_SAMPLES_PER_PERIOD * f:.4g} Hz to resolve it"
+                + (" (below 2 per period it aliases)" if rate < 2 * f else "")
+            )
+    return messages
+
+
+def excitation_frequencies(excitation) -> list[tuple[str, float]]:
+    """Highest frequency [Hz] of each signal of the excitation that has one, with a label."""
+    if excitation is None:
+        return []
+    found = []
+    sources = [(f"loads[{i}] ({load.name})", load) for i, load in enumerate(excitation.loads)]
+    if excitation.ground is not None:
+        sources.append(("ground motion", excitation.ground))
+    for label, source in sources:
+        if getattr(source, "kind", None) == "unbalance":
+            speed_hz = source.f_hz if source.f_hz is not None else source.speed_rpm / 60.0
+            found.append((f"{label} rotation", float(speed_hz)))
+            continue
+        signal = getattr(source, "signal", None)
+        kind = getattr(signal, "kind", None)
+        if kind == "harmonic":
+            found.append((f"{label} harmonic", float(signal.f_hz)))
+        elif kind == "sweep":
+            found.append((f"{label} sweep", float(max(signal.f0_hz, signal.f1_hz))))
+        elif kind == "random":
+            found.append((f"{label} random band", float(signal.f_hz[1])))
+        elif kind in ("half_sine", "haversine"):
+            # A pulse of duration d carries its energy below about 1/d.
+            found.append((f"{label} {kind} pulse (1/duration)", 1.0 / float(signal.duration)))
+    return found
+
+
+def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool = True,
+                 log=print, command_line: str | None = None) -> RunOutcome:
+    """Run everything a scenario asks for and write results, figures and summary.
+
+    Parameters
+    ----------
+    scenario : sixdof.scenario.Scenario
+    out_root : str or pathlib.Path
+        Results go to ``out_root/<scenario.name>/`` (replaced as a whole when the run succeeds).
+    progress : bool
+        Show the solver's progress (long runs).
+    log : callable
+        Receives the text printed along the way (tables, agreement, warnings).
+    command_line : str, optional
+        Stored as provenance.
+
+    Returns
+    -------
+    RunOutcome
+    """
+    from . import plots, store, summary
+    from .superposition import compare, superpose
+
+    root = check_output_root(out_root)
+    system = scenario.system
+    modes = modal_analysis(system.M, system.K)
+    statics = gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
+    zeta = modal_damping_ratios(system.C, modes)
+    notes = sampling_warnings(scenario, modes)
+    for note in notes:
+        warnings.warn(note, SamplingWarning, stacklevel=2)
+
+    response = superposition = agreement = forces = points = None
+    if scenario.simulation is not None:
+        from .direct import simulate
+        from .excitation import Excitation
+        from .response import mount_forces, points_motion
+
+        excitation = scenario.excitation if scenario.excitation is not None else Excitation()
+        response = simulate(system, excitation, scenario.simulation, progress=progress or None)
+        superposition = superpose(system, excitation, response.t)
+        direct_q = response.q if superposition.frame == "absolute" else response.q_relative
+        # Rotations are judged beside translations through the body's size (quiet DOFs).
+        agreement = compare(direct_q, superposition.q, length=_body_length(system))
+        if not agreement.ok:
+            note = (
+                f"direct and modal superposition disagree: worst DOF {agreement.worst_dof} at "
+                f"{agreement.worst:.3g} of its peak (tolerance {agreement.tolerance:.0e})"
+            )
+            notes.append(note)
+            warnings.warn(note, AgreementWarning, stacklevel=2)
+        forces = mount_forces(system, response)
+        points = points_motion(response, {p.name: p.position for p in scenario.points}) if scenario.points else None
+
+    frf = None
+    if scenario.frf is not None:
+        from .frf import cross_check
+
+        frf = cross_check(system, scenario.frf.grid())
+
+    target = root / scenario.name
+    stage = Path(tempfile.mkdtemp(prefix=f".{scenario.name}.partial-", dir=root))
+    try:
+        results = store.write_results(
+            stage / "results.h5",
+            system=system,
+            modes=modes,
+            damping_ratios=zeta,
+            response=response,
+            mount_forces=forces,
+            points=points,
+            superposition=superposition,
+            agreement=agreement,
+            frf=frf,
+            scenario_text=scenario.text,
+            name=scenario.name,
+            description=scenario.description,
+            command_line=command_line,
+        )
+        figures = plots.save_all(results, stage)
+        summary_text = summary.summary_markdown(scenario, modes, statics, zeta, response, forces,
+                                                agreement, superposition, frf, figures, notes)
+        (stage / "summary.md").write_text(summary_text, encoding="utf-8")
+        _replace_directory(stage, target)
+    except BaseException:
+        shutil.rmtree(stage, ignore_errors=True)
+        raise
+    return RunOutcome(
+        directory=target,
+        results_path=target / "results.h5",
+        figures=tuple(target / p.name for p in figures),
+        summary_path=target / "summary.md",
+        modes=modes,
+        statics=statics,
+        damping_ratios=zeta,
+        response=response,
+        superposition=superposition,
+        agreement=agreement,
+        frf=frf,
+        warnings=tuple(notes),
+    )
+
+
+def _body_length(system) -> float:
+    """A length [m] for the body: half its box diagonal, else the farthest mount from the CG."""
+    if system.body.dimensions is not None:
+        return float(np.linalg.norm(system.body.dimensions) / 2)
+    return float(max(np.linalg.norm(system.positions, axis=1).max(), 1e-3))
+
+
+def _replace_directory(stage: Path, target: Path) -> None:
+    """Move the complete staging folder to ``target``, replacing a previous run's folder."""
+    old = None
+    if target.exists():
+        old = target.with_name(f".{target.name}.old-{uuid.uuid4().hex}")
+        os.replace(target, old)
+    os.replace(stage, target)
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)

@@ -42,6 +42,18 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--out", default="outputs", help="results go to OUT/<scenario name>/ (default: outputs)")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
     run.set_defaults(command=_run)
+
+    check = commands.add_parser(
+        "validate", help="check modal frequencies, damping and FRFs against simulated time histories"
+    )
+    check.add_argument("scenario", help="scenario file (TOML)")
+    check.add_argument("--out", default="outputs", help="results go to OUT/<name>_validation/ (default: outputs)")
+    check.set_defaults(command=_validate)
+
+    plot = commands.add_parser("plot", help="redraw every figure from a results file, without re-running")
+    plot.add_argument("results", help="results file (results.h5 of a run)")
+    plot.add_argument("--out", help="folder for the PNG files (default: beside the results file)")
+    plot.set_defaults(command=_plot)
     return parser
 
 
@@ -97,6 +109,30 @@ def _run(args) -> int:
     for warning in caught:
         print(f"WARNING: {warning.message}", file=sys.stderr)
     print(f"\nWrote {outcome.results_path}, {len(outcome.figures)} figures and {outcome.summary_path}")
+    return 0
+
+
+def _validate(args) -> int:
+    from .run import validate_scenario
+    from .scenario import load_scenario
+
+    scenario = load_scenario(args.scenario)
+    report, directory = validate_scenario(scenario, args.out, command_line=" ".join(sys.argv))
+    print(report.format())
+    print(f"\nWrote {directory}")
+    return 0
+
+
+def _plot(args) -> int:
+    from pathlib import Path
+
+    from .plots import save_all
+    from .store import load_results
+
+    results = load_results(args.results)
+    figures = save_all(results, Path(args.out) if args.out else Path(args.results).parent)
+    for figure in figures:
+        print(figure)
     return 0
 
 

@@ -192,14 +192,15 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
 
         frf = cross_check(system, scenario.frf.grid())
 
-    target = root / scenario.name
-    stage = Path(tempfile.mkdtemp(prefix=f".{scenario.name}.partial-", dir=root))
-    try:
+    figures = []
+
+    def write(stage: Path) -> None:
         results = store.write_results(
             stage / "results.h5",
             system=system,
             modes=modes,
             damping_ratios=zeta,
+            statics=statics,
             response=response,
             mount_forces=forces,
             points=points,
@@ -211,14 +212,12 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
             description=scenario.description,
             command_line=command_line,
         )
-        figures = plots.save_all(results, stage)
-        summary_text = summary.summary_markdown(scenario, modes, statics, zeta, response, forces,
-                                                agreement, superposition, frf, figures, notes)
-        (stage / "summary.md").write_text(summary_text, encoding="utf-8")
-        _replace_directory(stage, target)
-    except BaseException:
-        shutil.rmtree(stage, ignore_errors=True)
-        raise
+        figures.extend(plots.save_all(results, stage))
+        text = summary.summary_markdown(scenario, modes, statics, zeta, response, forces, agreement,
+                                        superposition, frf, figures, notes)
+        (stage / "summary.md").write_text(text, encoding="utf-8")
+
+    target = write_all_or_nothing(root / scenario.name, write)
     return RunOutcome(
         directory=target,
         results_path=target / "results.h5",
@@ -240,6 +239,56 @@ def _body_length(system) -> float:
     if system.body.dimensions is not None:
         return float(np.linalg.norm(system.body.dimensions) / 2)
     return float(max(np.linalg.norm(system.positions, axis=1).max(), 1e-3))
+
+
+def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_line: str | None = None):
+    """Validate a scenario's modal results against simulated time histories (issue 5).
+
+    Runs :func:`sixdof.validate.validate` (free decays released from each mode shape, random-force
+    runs with H1 estimates) and writes ``results.h5``, figures and ``validation.md`` to
+    ``out_root/<name>_validation/``, all or nothing.
+
+    Returns
+    -------
+    tuple of (sixdof.validate.ValidationReport, pathlib.Path)
+        The report and the folder written.
+    """
+    from . import plots, store
+    from .validate import validate
+
+    root = check_output_root(out_root)
+    system = scenario.system
+    modes = modal_analysis(system.M, system.K)
+    report = validate(system)
+
+    def write(stage: Path) -> None:
+        results = store.write_results(
+            stage / "results.h5", system=system, modes=modes,
+            damping_ratios=modal_damping_ratios(system.C, modes), validation=report,
+            scenario_text=scenario.text, name=scenario.name, description=scenario.description,
+            command_line=command_line,
+        )
+        figures = plots.save_all(results, stage)
+        links = "\n".join(f"![{p.stem}]({p.name})" for p in figures)
+        text = f"# {scenario.name}: modal results against time histories\n\n```\n{report.format()}\n```\n\n{links}\n"
+        (stage / "validation.md").write_text(text, encoding="utf-8")
+
+    return report, write_all_or_nothing(root / f"{scenario.name}_validation", write)
+
+
+def write_all_or_nothing(target: Path, write) -> Path:
+    """Call ``write(stage)`` on a fresh staging folder beside ``target``, then put it in place.
+
+    On any failure or interruption the staging folder is removed and ``target`` is left as it was.
+    """
+    stage = Path(tempfile.mkdtemp(prefix=f".{target.name}.partial-", dir=target.parent))
+    try:
+        write(stage)
+        _replace_directory(stage, target)
+    except BaseException:
+        shutil.rmtree(stage, ignore_errors=True)
+        raise
+    return target
 
 
 def _replace_directory(stage: Path, target: Path) -> None:

@@ -1,0 +1,810 @@
+"""Frequency-response functions of the mounted rigid body, by direct solution and by modal summation.
+
+Everything here is a pure function of a :class:`~sixdof.model.System` and an array of frequencies in
+Hz, returning a frozen result object. Steady-state harmonic motion ``q(t) = Re(q_hat e^{i w t})`` of
+
+    (K + i K_h - w^2 M + i w C) q_hat = Q_hat                      (w = 2 pi f [rad/s], f >= 0)
+
+where ``K_h`` is the hysteretic stiffness: every mount's stiffness times its loss factor, assembled
+like ``K`` (complex stiffness ``k (1 + i eta)``, frequency independent; defined for ``f >= 0``).
+``C`` is the total viscous damping (mount dashpots + Rayleigh + modal, :attr:`System.C`).
+
+Two independent computations of the 6x6 receptance ``H = Z^-1``:
+
+* ``method="direct"``: a batched LU solve of the dynamic stiffness at every frequency (LAPACK through
+  NumPy; no Python loop per frequency).
+* ``method="modal"``: summation over modes. When both ``C`` and ``K_h`` are diagonal in the undamped
+  mass-normalized modes (classical damping: Rayleigh, modal, or proportional dashpots) the sum runs
+  over the real modes, ``H = sum_r phi_r phi_r' / (w_r^2 (1 + i eta_r) - w^2 + i w c_r)``; otherwise
+  over the complex modes of the first-order state-space system (complex ``K + i K_h`` included), with
+  left eigenvectors from the inverse of the eigenvector matrix. Rigid-body (zero-frequency) modes
+  contribute their mass line ``-phi phi' / w^2`` (or their damped form when ``C`` acts on them).
+
+:func:`cross_check` computes both and reports their largest relative difference.
+
+Zero frequency: ``f_hz = 0`` gives the static compliance ``(K + i K_h)^-1`` (mobility and accelerance
+0) when every DOF is restrained. When the mounts leave a DOF unrestrained (zero-frequency modes), the
+static response is unbounded and ``f_hz = 0`` raises :class:`~sixdof.errors.InputError`; every
+positive frequency works, with either method.
+
+Units: receptance entry ``[i, j]`` is DOF i's unit per generalized force j's unit (m/N, rad/(N m),
+m/(N m) = 1/N, rad/N); :meth:`FRF.units` spells them out. Mobility multiplies by ``i w`` (per s),
+accelerance by ``-w^2`` (per s^2).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg
+
+from .dofs import DOF_UNITS, FORCE_UNITS
+from .errors import InputError, SolverError
+from .modal import modal_analysis
+from .model import mount_matrix, point_map
+
+__all__ = [
+    "FRF",
+    "FRFCrossCheck",
+    "ForceTransmissibility",
+    "GroundTransmissibility",
+    "PointFRF",
+    "QUANTITIES",
+    "cross_check",
+    "dynamic_stiffness",
+    "force_transmissibility",
+    "frf_difference",
+    "ground_transmissibility",
+    "hysteretic_stiffness",
+    "point_frf",
+    "receptance",
+]
+
+#: FRF quantities and the power of ``i w`` that turns receptance into each.
+QUANTITIES: dict[str, int] = {"receptance": 0, "mobility": 1, "accelerance": 2}
+_QUANTITY_SUFFIX = {"receptance": "", "mobility": "/s", "accelerance": "/s^2"}
+
+#: Modal damping or hysteresis counts as classical (real modes) when its largest off-diagonal term in
+#: the mass-normalized modal basis is below this fraction of its largest term.
+CLASSICAL_RTOL = 1e-12
+#: A rigid-body mode counts as undamped when its modal damping is below this fraction of the
+#: system's frequency scale (largest natural circular frequency or modal damping term).
+RIGID_DAMPING_RTOL = 1e-12
+#: The complex-mode sum is refused when the eigenvector matrix is this badly conditioned (a nearly
+#: defective state matrix, e.g. a critically damped mode): the direct method is then the one to use.
+MAX_EIGVEC_CONDITION = 1e10
+
+
+# ----------------------------------------------------------------------------------------------------
+# Result objects.
+# ----------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class FRF:
+    """Generalized 6x6 receptance of a system at a set of frequencies (from :func:`receptance`).
+
+    Attributes
+    ----------
+    f_hz : ndarray, shape (nf,)
+        Frequencies [Hz], >= 0.
+    H : ndarray, shape (nf, 6, 6), complex
+        Receptance ``q_hat / Q_hat``: ``H[k, i, j]`` is DOF i (``x .. rz``, m or rad) per unit
+        generalized force j (N or N m) at ``f_hz[k]``; see :meth:`units`.
+    method : str
+        ``"direct"`` or ``"modal"``.
+    basis : str
+        ``"dynamic stiffness"`` for the direct method, ``"real modes"`` or ``"complex modes"`` for the
+        modal one.
+    """
+
+    f_hz: np.ndarray
+    H: np.ndarray
+    method: str
+    basis: str
+
+    @property
+    def omega(self) -> np.ndarray:
+        """Circular frequencies [rad/s], shape (nf,)."""
+        return 2.0 * np.pi * self.f_hz
+
+    def quantity(self, name: str = "receptance") -> np.ndarray:
+        """Receptance, mobility (``i w H``) or accelerance (``-w^2 H``), shape (nf, 6, 6)."""
+        power = _quantity_power(name)
+        return (1j * self.omega)[:, None, None] ** power * self.H
+
+    def mobility(self) -> np.ndarray:
+        """Mobility ``i w H``, shape (nf, 6, 6): velocity per generalized force [m/(s N), ...]."""
+        return self.quantity("mobility")
+
+    def accelerance(self) -> np.ndarray:
+        """Accelerance ``-w^2 H``, shape (nf, 6, 6): acceleration per force [m/(s^2 N), ...]."""
+        return self.quantity("accelerance")
+
+    def units(self, name: str = "receptance") -> np.ndarray:
+        """Unit of each entry of the (6, 6) matrix for ``name``, e.g. ``"m/N"``, ``"rad/(N m)/s"``."""
+        suffix = _QUANTITY_SUFFIX[_check_quantity(name)]
+        return np.array(
+            [[_ratio_unit(DOF_UNITS[i], FORCE_UNITS[j]) + suffix for j in range(6)] for i in range(6)]
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class FRFCrossCheck:
+    """Direct and modal receptances of one system and their agreement (from :func:`cross_check`).
+
+    Attributes
+    ----------
+    direct, modal : FRF
+    relative_difference : ndarray, shape (6, 6)
+        Per entry, ``max_f |H_direct - H_modal| / scale_ij`` with ``scale_ij = max_f sqrt(|H_ii|
+        |H_jj|)`` (each entry measured against its own size; dimensionally consistent).
+    max_relative_difference : float
+        The largest entry of ``relative_difference``.
+    """
+
+    direct: FRF
+    modal: FRF
+    relative_difference: np.ndarray
+    max_relative_difference: float
+
+
+@dataclass(frozen=True, eq=False)
+class PointFRF:
+    """Response at one point and direction per unit load at another (from :func:`point_frf`).
+
+    Attributes
+    ----------
+    f_hz : ndarray, shape (nf,)
+        Frequencies [Hz].
+    values : ndarray, shape (nf,), complex
+        The FRF in ``unit``.
+    quantity : str
+        ``"receptance"``, ``"mobility"`` or ``"accelerance"``.
+    unit : str
+        For example ``"m/N"`` (force in, translation out), ``"rad/(N m)/s"`` (moment in, rotational
+        velocity out).
+    load_point, load_direction, response_point, response_direction : ndarray, shape (3,)
+        Points [m] from the CG in body axes; unit direction vectors in body axes.
+    load_kind, response_kind : str
+        ``"force"`` or ``"moment"``; ``"translation"`` or ``"rotation"``.
+    method : str
+        Method of the underlying receptance.
+    """
+
+    f_hz: np.ndarray
+    values: np.ndarray
+    quantity: str
+    unit: str
+    load_point: np.ndarray
+    load_direction: np.ndarray
+    response_point: np.ndarray
+    response_direction: np.ndarray
+    load_kind: str
+    response_kind: str
+    method: str
+
+    @property
+    def magnitude(self) -> np.ndarray:
+        """``|values|`` in ``unit``, shape (nf,)."""
+        return np.abs(self.values)
+
+    @property
+    def phase_deg(self) -> np.ndarray:
+        """Phase of the response relative to the load [deg] in (-180, 180], shape (nf,)."""
+        return np.degrees(np.angle(self.values))
+
+
+@dataclass(frozen=True, eq=False)
+class ForceTransmissibility:
+    """Forces the mounts pass to the foundation per unit applied load (from
+    :func:`force_transmissibility`).
+
+    A mount's force is the one it exerts on the foundation, ``A' diag(k (1 + i eta) + i w c) A u``,
+    with ``u`` the displacement of its attachment point and ``A`` its axes: stiffness, hysteretic and
+    dashpot parts. Global damping models (Rayleigh, modal) are not mount elements and carry no force
+    here.
+
+    Attributes
+    ----------
+    f_hz : ndarray, shape (nf,)
+        Frequencies [Hz].
+    mount_names : tuple of str
+    mount_forces : ndarray, shape (nf, n_mounts, 3), complex
+        Each mount's force on the foundation in body axes, per unit applied load [N/N, or N/(N m)
+        for an applied moment].
+    total : ndarray, shape (nf, 6), complex
+        Resultant of all mount forces on the foundation: force [N/N] and moment about the CG's rest
+        position [N m/N], in body axes (``sum_j T_j' F_j``).
+    load_point, load_direction : ndarray, shape (3,)
+    load_kind : str
+        ``"force"`` or ``"moment"``.
+    method : str
+    """
+
+    f_hz: np.ndarray
+    mount_names: tuple[str, ...]
+    mount_forces: np.ndarray
+    total: np.ndarray
+    load_point: np.ndarray
+    load_direction: np.ndarray
+    load_kind: str
+    method: str
+
+    @property
+    def total_force(self) -> np.ndarray:
+        """Resultant foundation force per unit load, shape (nf, 3), complex [N/N]."""
+        return self.total[:, :3]
+
+    @property
+    def transmissibility(self) -> np.ndarray:
+        """Force transmissibility ``|F_total|`` (Euclidean norm of the complex resultant) per unit
+        applied force, shape (nf,) [N/N]; 1 at f = 0 for a restrained system."""
+        return np.sqrt(np.sum(np.abs(self.total_force) ** 2, axis=-1))
+
+    @property
+    def along_load(self) -> np.ndarray:
+        """Resultant foundation force along the load direction per unit load, shape (nf,), complex."""
+        return self.total_force @ self.load_direction
+
+
+@dataclass(frozen=True, eq=False)
+class GroundTransmissibility:
+    """Body motion per unit rigid translation of the ground under every mount (from
+    :func:`ground_transmissibility`).
+
+    The ground (foundation) translates rigidly by ``u_g = d`` (unit vector); every mount's relative
+    displacement is that of its body point minus ``d``. All damping (dashpots, Rayleigh, modal,
+    hysteretic) acts on the motion relative to the ground, the usual base-excitation convention:
+    ``Z(w) q_hat = (K + i K_h + i w C) q_g`` with ``q_g = [d, 0, 0, 0]``.
+
+    Attributes
+    ----------
+    f_hz : ndarray, shape (nf,)
+        Frequencies [Hz].
+    q : ndarray, shape (nf, 6), complex
+        Absolute generalized motion per unit ground displacement [m/m, rad/m].
+    absolute : ndarray, shape (nf, 3), complex
+        Absolute displacement of the response point in body axes per unit ground displacement
+        [m/m] (the same ratio holds for velocities and accelerations).
+    relative : ndarray, shape (nf, 3), complex
+        Displacement of the response point relative to the ground, ``absolute - d`` [m/m].
+    ground_direction, response_point : ndarray, shape (3,)
+    method : str
+    """
+
+    f_hz: np.ndarray
+    q: np.ndarray
+    absolute: np.ndarray
+    relative: np.ndarray
+    ground_direction: np.ndarray
+    response_point: np.ndarray
+    method: str
+
+    @property
+    def transmissibility(self) -> np.ndarray:
+        """Absolute motion transmissibility along the ground direction, ``|d . u_abs|``, (nf,)."""
+        return np.abs(self.absolute @ self.ground_direction)
+
+
+# ----------------------------------------------------------------------------------------------------
+# Input checks.
+# ----------------------------------------------------------------------------------------------------
+
+
+def _frequencies(f_hz) -> np.ndarray:
+    expected = "finite frequencies >= 0 in Hz (a number or a 1-D array)"
+    try:
+        f = np.array(f_hz, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError("f_hz", expected, f_hz) from None
+    if f.ndim > 1 or f.size == 0 or not np.all(np.isfinite(f)) or np.any(f < 0):
+        raise InputError("f_hz", expected, f_hz)
+    f = np.atleast_1d(f)
+    f.flags.writeable = False
+    return f
+
+
+def _check_zero_frequency(system, f: np.ndarray) -> None:
+    if np.any(f == 0.0):
+        modes = modal_analysis(system.M, system.K)
+        if modes.zero_modes:
+            raise InputError(
+                "f_hz",
+                "frequencies > 0 Hz: the mounts leave "
+                f"{', '.join(modes.free_dofs) or 'some DOFs'} unrestrained, so the static "
+                "response (f = 0) is unbounded",
+                f.tolist(),
+            )
+
+
+def _check_quantity(name) -> str:
+    if name not in QUANTITIES:
+        raise InputError("quantity", f"one of {', '.join(map(repr, QUANTITIES))}", name)
+    return name
+
+
+def _quantity_power(name) -> int:
+    return QUANTITIES[_check_quantity(name)]
+
+
+def _check_method(method) -> str:
+    if method not in ("direct", "modal"):
+        raise InputError("method", "'direct' or 'modal'", method)
+    return method
+
+
+def _point(value, field: str) -> np.ndarray:
+    expected = "3 coordinates [x, y, z] in m from the CG in body axes"
+    try:
+        p = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(field, expected, value) from None
+    if p.shape != (3,) or not np.all(np.isfinite(p)):
+        raise InputError(field, expected, value)
+    return p
+
+
+_AXIS = {"x": 0, "y": 1, "z": 2}
+
+
+def _direction(value, field: str, rotations: bool = True) -> tuple[np.ndarray, bool]:
+    """Unit vector in body axes and whether it is rotational ('rx', 'ry', 'rz')."""
+    names = "'x', 'y', 'z', 'rx', 'ry', 'rz'" if rotations else "'x', 'y', 'z'"
+    expected = f"one of {names} or a nonzero 3-vector in body axes"
+    if isinstance(value, str):
+        rotational = rotations and value in ("rx", "ry", "rz")
+        axis = value[1:] if rotational else value
+        if axis not in _AXIS:
+            raise InputError(field, expected, value)
+        e = np.zeros(3)
+        e[_AXIS[axis]] = 1.0
+        return e, rotational
+    try:
+        d = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(field, expected, value) from None
+    if d.shape != (3,) or not np.all(np.isfinite(d)) or not np.any(d != 0):
+        raise InputError(field, expected, value)
+    return d / np.linalg.norm(d), False
+
+
+def _ratio_unit(numerator: str, denominator: str) -> str:
+    return f"{numerator}/({denominator})" if " " in denominator else f"{numerator}/{denominator}"
+
+
+# ----------------------------------------------------------------------------------------------------
+# Matrices.
+# ----------------------------------------------------------------------------------------------------
+
+
+def hysteretic_stiffness(system) -> np.ndarray:
+    """Hysteretic stiffness ``K_h`` (6, 6) [N/m, N, N m/rad]: mount stiffness times loss factor.
+
+    The complex stiffness of the mounts is ``K + i K_h``.
+    """
+    kh = mount_matrix(system.positions, system.stiffnesses * system.loss_factors, system.axes)
+    return np.array(kh, dtype=float)
+
+
+def dynamic_stiffness(system, f_hz) -> np.ndarray:
+    """Dynamic stiffness ``Z = K + i K_h - w^2 M + i w C`` at every frequency, (nf, 6, 6) complex.
+
+    Parameters
+    ----------
+    system : System
+    f_hz : array_like, shape (nf,)
+        Frequencies [Hz], >= 0.
+    """
+    f = _frequencies(f_hz)
+    return _dynamic_stiffness(system, 2.0 * np.pi * f)
+
+
+def _dynamic_stiffness(system, omega: np.ndarray) -> np.ndarray:
+    static = np.asarray(system.K, dtype=complex) + 1j * hysteretic_stiffness(system)
+    w = omega[:, None, None]
+    return static[None] - w**2 * np.asarray(system.M)[None] + (1j * w) * np.asarray(system.C)[None]
+
+
+# ----------------------------------------------------------------------------------------------------
+# Receptance.
+# ----------------------------------------------------------------------------------------------------
+
+
+def receptance(system, f_hz, method: str = "direct", basis: str = "auto") -> FRF:
+    """Generalized 6x6 receptance ``H(w) = (K + i K_h - w^2 M + i w C)^-1``.
+
+    Parameters
+    ----------
+    system : System
+    f_hz : array_like, shape (nf,)
+        Frequencies [Hz], finite and >= 0 (> 0 for a system with unrestrained DOFs).
+    method : {"direct", "modal"}
+        Batched solve of the dynamic stiffness, or summation over modes.
+    basis : {"auto", "real", "complex"}
+        Modal method only: ``"auto"`` uses real modes when damping and hysteresis are classical and
+        complex modes otherwise; ``"complex"`` forces complex modes (always exact); ``"real"``
+        insists on real modes and raises if damping is not classical.
+
+    Returns
+    -------
+    FRF
+        ``H`` (nf, 6, 6) complex [m/N, rad/(N m), 1/N]; see :meth:`FRF.units`.
+
+    Raises
+    ------
+    InputError
+        Bad frequencies (negative, non-finite; zero for an unrestrained system), method or basis.
+    SolverError
+        The dynamic stiffness is singular at a requested frequency (an undamped resonance hit
+        exactly), or the complex modes are nearly defective.
+    """
+    f = _frequencies(f_hz)
+    _check_method(method)
+    if basis not in ("auto", "real", "complex"):
+        raise InputError("basis", "'auto', 'real' or 'complex'", basis)
+    _check_zero_frequency(system, f)
+    omega = 2.0 * np.pi * f
+    if method == "direct":
+        H, used = _direct(system, omega), "dynamic stiffness"
+    else:
+        H, used = _modal(system, omega, basis)
+    if not np.all(np.isfinite(H)):
+        raise SolverError(
+            f"receptance ({method}): non-finite values; a requested frequency sits exactly on an "
+            "undamped natural frequency"
+        )
+    H.flags.writeable = False
+    return FRF(f_hz=f, H=H, method=method, basis=used)
+
+
+def _direct(system, omega: np.ndarray) -> np.ndarray:
+    Z = _dynamic_stiffness(system, omega)
+    try:
+        # Batched LAPACK LU (getrf/getri) with partial pivoting: one call for all frequencies.
+        return np.linalg.inv(Z)
+    except np.linalg.LinAlgError:
+        raise SolverError(
+            "receptance (direct): the dynamic stiffness is singular at a requested frequency "
+            "(an undamped natural frequency hit exactly)"
+        ) from None
+
+
+@dataclass(frozen=True, eq=False)
+class _ModalTerms:
+    """``H(w) = sum_r R_r / (a_r + i w b_r - w^2) + sum_k S_k / (i w - lambda_k)``.
+
+    Real-mode terms (residues ``R`` (nr, 6, 6), ``a_r = w_r^2 + i phi_r' K_h phi_r`` [rad^2/s^2],
+    ``b_r = phi_r' C phi_r`` [1/s]) and complex-mode terms (residues ``S`` (nc, 6, 6), eigenvalues
+    ``lambda_k`` [rad/s]) of the first-order system.
+    """
+
+    basis: str
+    real_residues: np.ndarray
+    a: np.ndarray
+    b: np.ndarray
+    complex_residues: np.ndarray
+    eigenvalues: np.ndarray
+
+    def evaluate(self, omega: np.ndarray) -> np.ndarray:
+        w = omega[:, None]
+        # One (nf, nr) x (nr, 36) product per group: no Python loop over frequencies.
+        weights = 1.0 / (self.a[None, :] + 1j * w * self.b[None, :] - w**2)
+        H = weights @ self.real_residues.reshape(-1, 36)
+        if self.eigenvalues.size:
+            H = H + (1.0 / (1j * w - self.eigenvalues[None, :])) @ self.complex_residues.reshape(
+                -1, 36
+            )
+        return H.reshape(-1, 6, 6)
+
+
+def _modal(system, omega: np.ndarray, basis: str) -> tuple[np.ndarray, str]:
+    terms = _modal_terms(system, basis)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        H = terms.evaluate(omega)
+    return H, terms.basis
+
+
+def _modal_terms(system, basis: str) -> _ModalTerms:
+    M, K, C = (np.asarray(a, dtype=float) for a in (system.M, system.K, system.C))
+    Kh = hysteretic_stiffness(system)
+    modes = modal_analysis(M, K)
+    phi = np.array(modes.shapes)
+    lam = np.array(modes.eigenvalues)
+    rigid = list(modes.zero_modes)
+    if len(rigid) > 1:
+        # Rotate the rigid-body subspace so that C is diagonal on it: this separates the undamped
+        # rigid combinations (exact mass lines, decoupled from everything because C and K_h are
+        # positive semi-definite) from the damped ones.
+        _, rot = np.linalg.eigh(phi[:, rigid].T @ C @ phi[:, rigid])
+        phi[:, rigid] = phi[:, rigid] @ rot
+    cm = phi.T @ C @ phi
+    khm = phi.T @ Kh @ phi
+    km = phi.T @ K @ phi
+    # Rayleigh quotients: the eigen-solver's eigenvalues carry absolute errors ~eps * lambda_max,
+    # large at the low, lightly damped modes' peaks; the quotients are accurate to ~eps * lambda_r.
+    lam = np.where(lam > 0, np.diag(km), 0.0)
+    scale = max(float(np.max(modes.omega)), float(np.max(np.abs(cm))), np.finfo(float).tiny)
+    undamped_rigid = [r for r in rigid if cm[r, r] <= RIGID_DAMPING_RTOL * scale]
+    rest = [r for r in range(6) if r not in undamped_rigid]
+
+    def classical(a: np.ndarray) -> bool:
+        off = np.abs(a - np.diag(np.diag(a)))
+        return bool(np.max(off) <= CLASSICAL_RTOL * np.max(np.abs(a)))
+
+    is_classical = classical(cm) and classical(khm)
+    if basis == "real" and not is_classical:
+        raise InputError(
+            "basis",
+            "'auto' or 'complex' (damping or hysteresis is not diagonal in the real modes, so real "
+            "modes cannot represent it)",
+            basis,
+        )
+    empty = np.zeros((0, 6, 6), dtype=complex)
+    if is_classical and basis != "complex":
+        return _ModalTerms(
+            basis="real modes",
+            real_residues=np.einsum("ir,jr->rij", phi, phi).astype(complex),
+            a=lam + 1j * np.diag(khm),
+            b=np.diag(cm).copy(),
+            complex_residues=empty,
+            eigenvalues=np.zeros(0, dtype=complex),
+        )
+
+    # Complex modes of x' = A x, x = [eta, eta'], in the modal coordinates of the modes in `rest`.
+    # Undamped rigid-body modes stay as real mass lines -phi phi'/w^2: in A they would form Jordan
+    # blocks (a double zero eigenvalue with one eigenvector), which no eigenvector sum represents.
+    # The state is scaled, x = [S eta, eta'] with S = diag(w_r) (1 for rigid modes), so that every
+    # block of A is of size ~w_max rather than w_max^2: the eigenvalues' absolute errors, ~eps ||A||,
+    # then stay small beside the low modes' distance from the imaginary axis.
+    n = len(rest)
+    ix = np.ix_(rest, rest)
+    s = np.where(lam[rest] > 0, np.sqrt(lam[rest]), 1.0)
+    stiff = (np.where(lam[rest] > 0, km[ix], 0.0) + 1j * khm[ix]) / s[None, :]
+    A = np.block([[np.zeros((n, n)), np.diag(s)], [-stiff, -cm[ix]]])
+    eigenvalues, V = scipy.linalg.eig(A)
+    condition = np.linalg.cond(V)
+    if not np.isfinite(condition) or condition > MAX_EIGVEC_CONDITION:
+        raise SolverError(
+            "receptance (modal): the complex modes are nearly defective (eigenvector condition "
+            f"number {condition:.3g}), e.g. a critically damped mode; use method='direct'"
+        )
+    W = np.linalg.inv(V)  # rows: left eigenvectors, normalized so that W V = I
+    phi_s = phi[:, rest]
+    out = phi_s @ (V[:n, :] / s[:, None])  # (6, 2n): q per unit state-mode amplitude
+    inp = W[:, n:] @ phi_s.T  # (2n, 6): the generalized force drives eta'' (lower block of x')
+    u = phi[:, undamped_rigid]
+    return _ModalTerms(
+        basis="complex modes",
+        real_residues=np.einsum("ir,jr->rij", u, u).astype(complex),
+        a=np.zeros(len(undamped_rigid), dtype=complex),
+        b=np.zeros(len(undamped_rigid)),
+        complex_residues=np.einsum("ik,kj->kij", out, inp),
+        eigenvalues=eigenvalues,
+    )
+
+
+# ----------------------------------------------------------------------------------------------------
+# Cross-check of the two methods.
+# ----------------------------------------------------------------------------------------------------
+
+
+def frf_difference(a: FRF, b: FRF) -> np.ndarray:
+    """Relative difference of two receptances of one system, per entry, shape (6, 6).
+
+    ``max_f |a_ij - b_ij| / max_f sqrt(|a_ii| |a_jj|)``: every entry is measured against the size of
+    the responses it connects (translations ~1e-4 m and rotations ~1e-7 rad each on their own
+    scale), and entries that vanish by symmetry do not divide by their own round-off.
+
+    Raises
+    ------
+    InputError
+        If the two were computed at different frequencies.
+    """
+    if a.f_hz.shape != b.f_hz.shape or not np.array_equal(a.f_hz, b.f_hz):
+        raise InputError("f_hz", "the same frequencies for both FRFs", b.f_hz.tolist())
+    diag = np.abs(np.diagonal(a.H, axis1=1, axis2=2))  # (nf, 6)
+    scale = np.max(np.sqrt(diag[:, :, None] * diag[:, None, :]), axis=0)
+    scale = np.where(scale > 0, scale, np.finfo(float).tiny)
+    return np.max(np.abs(a.H - b.H), axis=0) / scale
+
+
+def cross_check(system, f_hz) -> FRFCrossCheck:
+    """Receptance by both methods and their largest relative difference (see :func:`frf_difference`).
+
+    Parameters
+    ----------
+    system : System
+    f_hz : array_like, shape (nf,)
+        Frequencies [Hz].
+
+    Returns
+    -------
+    FRFCrossCheck
+    """
+    direct = receptance(system, f_hz, method="direct")
+    modal = receptance(system, f_hz, method="modal")
+    diff = frf_difference(direct, modal)
+    diff.flags.writeable = False
+    return FRFCrossCheck(
+        direct=direct, modal=modal, relative_difference=diff, max_relative_difference=float(diff.max())
+    )
+
+
+# ----------------------------------------------------------------------------------------------------
+# Point FRFs and transmissibilities.
+# ----------------------------------------------------------------------------------------------------
+
+
+def _load(point: np.ndarray, direction: np.ndarray, moment: bool) -> np.ndarray:
+    """Generalized force (6,) of a unit force (or unit moment) at ``point`` along ``direction``."""
+    if moment:
+        return np.concatenate([np.zeros(3), direction])
+    return np.concatenate([direction, np.cross(point, direction)])
+
+
+def _response_row(point: np.ndarray, direction: np.ndarray, rotation: bool) -> np.ndarray:
+    """Row (6,) taking ``q`` to the point's motion (or the body's rotation) along ``direction``."""
+    if rotation:
+        return np.concatenate([np.zeros(3), direction])
+    return direction @ np.asarray(point_map(point))
+
+
+def point_frf(
+    system,
+    f_hz,
+    load_point,
+    load_direction,
+    response_point,
+    response_direction,
+    quantity: str = "receptance",
+    method: str = "direct",
+) -> PointFRF:
+    """FRF between a load at one body point and the motion of another.
+
+    Parameters
+    ----------
+    system : System
+    f_hz : array_like, shape (nf,)
+        Frequencies [Hz].
+    load_point : array_like, shape (3,)
+        Where the load acts, from the CG in body axes [m].
+    load_direction : str or array_like, shape (3,)
+        ``"x"``, ``"y"``, ``"z"`` or a nonzero 3-vector (normalized): a unit force along it; or
+        ``"rx"``, ``"ry"``, ``"rz"``: a unit moment about that body axis.
+    response_point : array_like, shape (3,)
+        Where the motion is observed, from the CG in body axes [m].
+    response_direction : str or array_like, shape (3,)
+        ``"x"``, ``"y"``, ``"z"`` or a 3-vector: the point's translation along it; or ``"rx"``,
+        ``"ry"``, ``"rz"``: the body's rotation about that axis (the same at every point).
+    quantity : {"receptance", "mobility", "accelerance"}
+        Displacement, velocity or acceleration per load.
+    method : {"direct", "modal"}
+
+    Returns
+    -------
+    PointFRF
+        ``values`` in m/N, m/(s N), m/(s^2 N) for force in, translation out (``unit`` says which).
+    """
+    _check_quantity(quantity)
+    lp = _point(load_point, "load_point")
+    ld, moment = _direction(load_direction, "load_direction")
+    rp = _point(response_point, "response_point")
+    rd, rotation = _direction(response_direction, "response_direction")
+    frf = receptance(system, f_hz, method=method)
+    values = (frf.quantity(quantity) @ _load(lp, ld, moment)) @ _response_row(rp, rd, rotation)
+    values.flags.writeable = False
+    unit = _ratio_unit("rad" if rotation else "m", "N m" if moment else "N") + _QUANTITY_SUFFIX[quantity]
+    return PointFRF(
+        f_hz=frf.f_hz,
+        values=values,
+        quantity=quantity,
+        unit=unit,
+        load_point=lp,
+        load_direction=ld,
+        response_point=rp,
+        response_direction=rd,
+        load_kind="moment" if moment else "force",
+        response_kind="rotation" if rotation else "translation",
+        method=method,
+    )
+
+
+def _mount_impedances(system, omega: np.ndarray) -> np.ndarray:
+    """Complex mount stiffness in body axes, ``A' diag(k (1 + i eta) + i w c) A``, (nf, n, 3, 3)."""
+    local = (
+        system.stiffnesses * (1.0 + 1j * system.loss_factors)
+    )[None] + 1j * omega[:, None, None] * system.dampings[None]
+    return np.einsum("nai,fna,naj->fnij", system.axes, local, system.axes)
+
+
+def force_transmissibility(
+    system, f_hz, load_point, load_direction, method: str = "direct"
+) -> ForceTransmissibility:
+    """Forces passed to the foundation by each mount, and their resultant, per unit applied load.
+
+    Parameters
+    ----------
+    system : System
+    f_hz : array_like, shape (nf,)
+        Frequencies [Hz].
+    load_point : array_like, shape (3,)
+        Where the load acts, from the CG in body axes [m].
+    load_direction : str or array_like, shape (3,)
+        ``"x"``, ``"y"``, ``"z"`` or a nonzero 3-vector (unit force), or ``"rx"``, ``"ry"``,
+        ``"rz"`` (unit moment).
+    method : {"direct", "modal"}
+        How the body's receptance is computed.
+
+    Returns
+    -------
+    ForceTransmissibility
+        Mount forces (nf, n_mounts, 3) and resultant (nf, 6) per unit load, complex; the mounts'
+        stiffness, loss factor and dashpots carry force, global (Rayleigh, modal) damping does not.
+    """
+    lp = _point(load_point, "load_point")
+    ld, moment = _direction(load_direction, "load_direction")
+    frf = receptance(system, f_hz, method=method)
+    q = frf.H @ _load(lp, ld, moment)  # (nf, 6)
+    t = np.asarray(point_map(system.positions))  # (n, 3, 6)
+    u = np.einsum("nij,fj->fni", t, q)  # mount point displacements (nf, n, 3)
+    forces = np.einsum("fnij,fnj->fni", _mount_impedances(system, frf.omega), u)
+    total = np.einsum("nia,fni->fa", t, forces)
+    forces.flags.writeable = False
+    total.flags.writeable = False
+    return ForceTransmissibility(
+        f_hz=frf.f_hz,
+        mount_names=system.mount_names,
+        mount_forces=forces,
+        total=total,
+        load_point=lp,
+        load_direction=ld,
+        load_kind="moment" if moment else "force",
+        method=method,
+    )
+
+
+def ground_transmissibility(
+    system, f_hz, ground_direction, response_point, method: str = "direct"
+) -> GroundTransmissibility:
+    """Motion of a body point per unit rigid translation of the ground under every mount.
+
+    Parameters
+    ----------
+    system : System
+    f_hz : array_like, shape (nf,)
+        Frequencies [Hz].
+    ground_direction : str or array_like, shape (3,)
+        ``"x"``, ``"y"``, ``"z"`` or a nonzero 3-vector (normalized): the ground's translation.
+    response_point : array_like, shape (3,)
+        Body point observed, from the CG in body axes [m].
+    method : {"direct", "modal"}
+
+    Returns
+    -------
+    GroundTransmissibility
+        Absolute and relative point motion per unit ground motion [m/m] (also the ratio of
+        velocities or of accelerations), and the generalized motion ``q`` per unit ground motion.
+    """
+    d, _ = _direction(ground_direction, "ground_direction", rotations=False)
+    rp = _point(response_point, "response_point")
+    frf = receptance(system, f_hz, method=method)
+    qg = np.concatenate([d, np.zeros(3)])
+    # All damping acts on the motion relative to the ground: Z q = (K + i K_h + i w C) q_g.
+    static = (np.asarray(system.K) + 1j * hysteretic_stiffness(system)) @ qg
+    drive = static[None, :] + 1j * frf.omega[:, None] * (np.asarray(system.C) @ qg)[None, :]
+    q = np.einsum("fij,fj->fi", frf.H, drive)
+    absolute = q @ np.asarray(point_map(rp)).T
+    relative = absolute - d[None, :]
+    for a in (q, absolute, relative):
+        a.flags.writeable = False
+    return GroundTransmissibility(
+        f_hz=frf.f_hz,
+        q=q,
+        absolute=absolute,
+        relative=relative,
+        ground_direction=d,
+        response_point=rp,
+        method=method,
+    )

@@ -1,0 +1,367 @@
+"""Frequency-response functions (sixdof.frf) against closed forms, identities, python-control, an
+independent ODE integration, and each other (direct solve vs modal summation)."""
+
+import numpy as np
+import pytest
+import scipy.integrate
+
+from sixdof import frf
+from sixdof.errors import InputError
+from sixdof.model import Mount, Rayleigh, RigidBody, System
+from tolerances import (
+    RTOL_FRF_CLOSED_FORM,
+    RTOL_FRF_IDENTITY,
+    RTOL_FRF_METHODS,
+    RTOL_STEADY_STATE,
+)
+
+BRIDGE_POSITIONS = [(-0.195, -19.55, -1.031), (0.195, -19.55, -1.031), (0.195, 19.55, -1.031),
+                    (-0.195, 19.55, -1.031)]
+BRIDGE_STIFFNESS = [[0.26e6, 0.26e6, 312e6]] * 2 + [[0.51e6, 0.51e6, 496e6]] * 2
+BRIDGE_BODY = RigidBody(83e3, [11.105e6, 0.0491e6, 11.064e6])
+# Log-spaced across all six bridge modes (0.625 .. 38 Hz), dense enough to sample every peak.
+F_BRIDGE = np.geomspace(0.05, 200.0, 4001)
+
+
+def bridge(rayleigh=None, modal_damping=None, **mount_kw):
+    mounts = [Mount(str(i + 1), p, k, **mount_kw)
+              for i, (p, k) in enumerate(zip(BRIDGE_POSITIONS, BRIDGE_STIFFNESS))]
+    return System(BRIDGE_BODY, mounts, rayleigh=rayleigh, modal_damping=modal_damping)
+
+
+def skewed():
+    """Full inertia tensor, rotated mount axes, dashpots and loss factors: everything coupled."""
+    rot = np.array([[np.cos(0.3), np.sin(0.3), 0.0], [-np.sin(0.3), np.cos(0.3), 0.0], [0, 0, 1.0]])
+    body = RigidBody(250.0, [[12.0, 1.5, -0.7], [1.5, 9.0, 0.4], [-0.7, 0.4, 15.0]])
+    mounts = [
+        Mount("a", [0.4, 0.3, -0.2], [2e5, 3e5, 8e5], damping=[40.0, 60.0, 300.0], axes=rot,
+              loss_factor=[0.02, 0.0, 0.08]),
+        Mount("b", [-0.5, 0.35, -0.25], [1e5, 1e5, 6e5], damping=[10.0, 90.0, 150.0]),
+        Mount("c", [0.1, -0.45, -0.3], [3e5, 2e5, 9e5], axes=rot.T, loss_factor=[0.05, 0.05, 0.0]),
+    ]
+    return System(body, mounts)
+
+
+def sdof(mass=120.0, k=4.0e5, c=0.0, eta=0.0):
+    """One mount at the CG, stiff only along z: z decouples as m z'' + c z' + k (1 + i eta) z = F;
+    the five other DOFs are unrestrained (zero-frequency modes)."""
+    mount = Mount("m", [0.0, 0.0, 0.0], [0.0, 0.0, k], damping=[0.0, 0.0, c],
+                  loss_factor=[0.0, 0.0, eta])
+    return System(RigidBody(mass, [3.0, 4.0, 5.0]), [mount])
+
+
+CASES = {
+    "rayleigh (real modes)": lambda: bridge(rayleigh=Rayleigh.from_ratio(0.02, (0.6, 38.0))),
+    "modal damping (real modes)": lambda: bridge(modal_damping=(0.01, 0.02, 0.02, 0.03, 0.05, 0.05)),
+    "dashpots (complex modes)": lambda: bridge(damping=[520.0, 520.0, 0.62e6]),
+    "hysteretic (complex modes)": lambda: bridge(loss_factor=[0.05, 0.05, 0.1]),
+    "hysteretic + dashpots + rayleigh": lambda: bridge(
+        rayleigh=Rayleigh(0.01, 1e-4), damping=[520.0, 520.0, 0.62e6], loss_factor=[0.0, 0.1, 0.1]),
+    "undamped": lambda: bridge(),
+    "skewed, coupled": skewed,
+}
+
+
+# ----------------------------------------------------------------------------------------------------
+# Identities and the cross-check of the two methods.
+# ----------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("method", ["direct", "modal"])
+@pytest.mark.parametrize("case", ["dashpots (complex modes)", "hysteretic + dashpots + rayleigh",
+                                  "skewed, coupled"])
+def test_dynamic_stiffness_times_receptance_is_identity(case, method):
+    system = CASES[case]()
+    f = F_BRIDGE[::10]
+    Z = frf.dynamic_stiffness(system, f)
+    H = frf.receptance(system, f, method=method).H
+    # Mass-scaled, D^-1 Z D^-1 and D H D with D = diag(M)^(1/2), both are dimensionless per entry
+    # ([1/s^2] and [s^2]) and their product is I entry by entry, translations and rotations alike.
+    d = np.sqrt(np.diag(system.M))
+    residual = (Z / np.outer(d, d)) @ (H * np.outer(d, d)) - np.eye(6)
+    assert np.max(np.abs(residual)) <= RTOL_FRF_IDENTITY
+
+
+@pytest.mark.parametrize("case", list(CASES))
+def test_direct_and_modal_receptances_agree(case):
+    system = CASES[case]()
+    f = F_BRIDGE if case != "undamped" else F_BRIDGE + 1e-3  # keep off the undamped poles exactly
+    check = frf.cross_check(system, f)
+    assert check.max_relative_difference <= RTOL_FRF_METHODS
+    expected_basis = "real modes" if ("real" in case or case == "undamped") else "complex modes"
+    assert check.modal.basis == expected_basis
+
+
+@pytest.mark.parametrize("case", ["rayleigh (real modes)", "modal damping (real modes)"])
+def test_complex_modes_reproduce_real_modes_for_classical_damping(case):
+    system = CASES[case]()
+    real = frf.receptance(system, F_BRIDGE, method="modal", basis="real")
+    cplx = frf.receptance(system, F_BRIDGE, method="modal", basis="complex")
+    assert cplx.basis == "complex modes"
+    assert np.max(frf.frf_difference(real, cplx)) <= RTOL_FRF_METHODS
+
+
+def test_unrestrained_dofs_with_damped_rigid_modes():
+    # x is unrestrained (zero stiffness) but damped: a damped rigid-body mode, whose complex modes
+    # are 0 and -c/m; rz is unrestrained and undamped: a pure mass line.
+    mounts = [Mount(str(i), p, [0.0, 2e5, 5e5], damping=[80.0, 30.0, 100.0])
+              for i, p in enumerate([(1.0, 1.0, -0.3), (-1.0, 1.0, -0.3), (0.0, -1.0, -0.3)])]
+    system = System(RigidBody(300.0, [40.0, 50.0, 60.0]), mounts)
+    check = frf.cross_check(system, np.geomspace(0.01, 100.0, 2001))
+    assert check.modal.basis == "complex modes"
+    assert check.max_relative_difference <= RTOL_FRF_METHODS
+
+
+def test_receptance_is_symmetric_and_readonly():
+    result = frf.receptance(CASES["skewed, coupled"](), F_BRIDGE[::50])
+    scale = np.max(np.abs(result.H), axis=0)
+    assert np.max(np.abs(result.H - np.swapaxes(result.H, 1, 2)) / scale) <= RTOL_FRF_IDENTITY
+    with pytest.raises(ValueError):
+        result.H[0, 0, 0] = 1.0
+
+
+def test_static_receptance_of_a_restrained_system():
+    system = bridge(loss_factor=[0.05, 0.05, 0.1], damping=[520.0, 520.0, 0.62e6])
+    result = frf.receptance(system, [0.0, 1.0])
+    expected = np.linalg.inv(system.K + 1j * frf.hysteretic_stiffness(system))
+    d = np.abs(np.diag(expected))
+    assert np.max(np.abs(result.H[0] - expected) / np.sqrt(np.outer(d, d))) <= RTOL_FRF_CLOSED_FORM
+    assert np.all(result.mobility()[0] == 0) and np.all(result.accelerance()[0] == 0)
+
+
+def test_units_of_entries():
+    units = frf.receptance(bridge(), [1.0]).units("accelerance")
+    assert units[2, 2] == "m/N/s^2"
+    assert units[3, 3] == "rad/(N m)/s^2"
+    assert frf.receptance(bridge(), [1.0]).units()[0, 4] == "m/(N m)"
+
+
+# ----------------------------------------------------------------------------------------------------
+# Single-DOF closed forms.
+# ----------------------------------------------------------------------------------------------------
+
+F_SDOF = np.geomspace(0.1, 1000.0, 3001)
+
+
+@pytest.mark.parametrize("method", ["direct", "modal"])
+@pytest.mark.parametrize("c, eta", [(0.0, 0.0), (350.0, 0.0), (0.0, 0.12), (200.0, 0.07)])
+def test_sdof_receptance_closed_form(method, c, eta):
+    m, k = 120.0, 4.0e5
+    f = F_SDOF + 1e-3 if c == eta == 0 else F_SDOF
+    w = 2 * np.pi * f
+    result = frf.receptance(sdof(m, k, c, eta), f, method=method)
+    expected = 1.0 / (k * (1 + 1j * eta) - m * w**2 + 1j * c * w)
+    assert np.max(np.abs(result.H[:, 2, 2] / expected - 1)) <= RTOL_FRF_CLOSED_FORM
+    # The unrestrained DOFs are mass lines: -1/(m w^2), -1/(J w^2).
+    mass_line = -1.0 / (np.array([m, m, 3.0, 4.0, 5.0])[None, :] * w[:, None] ** 2)
+    free = [0, 1, 3, 4, 5]
+    assert np.max(np.abs(result.H[:, free, free] / mass_line - 1)) <= RTOL_FRF_CLOSED_FORM
+    # The point FRF at the CG along z, as accelerance, is -w^2 times the same.
+    acc = frf.point_frf(sdof(m, k, c, eta), f, [0, 0, 0], "z", [0, 0, 0], [0, 0, 2.0],
+                        quantity="accelerance", method=method)
+    assert acc.unit == "m/N/s^2"
+    assert np.max(np.abs(acc.values / (-(w**2) * expected) - 1)) <= RTOL_FRF_CLOSED_FORM
+
+
+@pytest.mark.parametrize("method", ["direct", "modal"])
+@pytest.mark.parametrize("zeta", [0.0, 0.05, 0.3])
+def test_sdof_viscous_transmissibility(method, zeta):
+    m, k = 120.0, 4.0e5
+    wn = np.sqrt(k / m)
+    c = 2 * zeta * m * wn
+    f = F_SDOF + 1e-3 if zeta == 0 else F_SDOF
+    r = 2 * np.pi * f / wn
+    expected = np.sqrt(1 + (2 * zeta * r) ** 2) / np.sqrt((1 - r**2) ** 2 + (2 * zeta * r) ** 2)
+    system = sdof(m, k, c=c)
+    force = frf.force_transmissibility(system, f, [0, 0, 0], "z", method=method)
+    assert np.max(np.abs(force.transmissibility / expected - 1)) <= RTOL_FRF_CLOSED_FORM
+    ground = frf.ground_transmissibility(system, f, "z", [0, 0, 0], method=method)
+    assert np.max(np.abs(ground.transmissibility / expected - 1)) <= RTOL_FRF_CLOSED_FORM
+    # Relative motion per ground motion: r^2 / sqrt((1 - r^2)^2 + (2 zeta r)^2).
+    relative = r**2 / np.sqrt((1 - r**2) ** 2 + (2 * zeta * r) ** 2)
+    assert np.max(np.abs(np.abs(ground.relative[:, 2]) / relative - 1)) <= RTOL_FRF_CLOSED_FORM
+
+
+@pytest.mark.parametrize("method", ["direct", "modal"])
+@pytest.mark.parametrize("eta", [0.02, 0.25])
+def test_sdof_hysteretic_transmissibility(method, eta):
+    m, k = 120.0, 4.0e5
+    r = 2 * np.pi * F_SDOF / np.sqrt(k / m)
+    expected = np.sqrt(1 + eta**2) / np.sqrt((1 - r**2) ** 2 + eta**2)
+    system = sdof(m, k, eta=eta)
+    force = frf.force_transmissibility(system, F_SDOF, [0, 0, 0], "z", method=method)
+    assert np.max(np.abs(force.transmissibility / expected - 1)) <= RTOL_FRF_CLOSED_FORM
+    ground = frf.ground_transmissibility(system, F_SDOF, [0, 0, 1], [0, 0, 0], method=method)
+    assert np.max(np.abs(ground.transmissibility / expected - 1)) <= RTOL_FRF_CLOSED_FORM
+
+
+# ----------------------------------------------------------------------------------------------------
+# Point FRFs and transmissibility of the coupled bridge.
+# ----------------------------------------------------------------------------------------------------
+
+
+def test_point_frf_reciprocity_and_quantities():
+    system = CASES["hysteretic + dashpots + rayleigh"]()
+    a, b = [0.3, 19.0, 1.0], [-0.6, -10.0, -1.0]
+    ab = frf.point_frf(system, F_BRIDGE, a, [0, 1, 1], b, "x")
+    ba = frf.point_frf(system, F_BRIDGE, b, "x", a, [0, 1, 1])
+    assert np.max(np.abs(ab.values - ba.values)) <= RTOL_FRF_IDENTITY * np.max(np.abs(ab.values))
+    w = 2 * np.pi * F_BRIDGE
+    mob = frf.point_frf(system, F_BRIDGE, a, [0, 1, 1], b, "x", quantity="mobility", method="modal")
+    assert mob.unit == "m/N/s"
+    assert np.max(np.abs(mob.values - 1j * w * ab.values)) <= RTOL_FRF_METHODS * np.max(
+        np.abs(mob.values))
+    # A moment in, a rotation out: the generalized receptance entry itself.
+    rot = frf.point_frf(system, F_BRIDGE, a, "rx", b, "rz")
+    assert rot.unit == "rad/(N m)" and rot.load_kind == "moment" and rot.response_kind == "rotation"
+    H = frf.receptance(system, F_BRIDGE).H
+    assert np.array_equal(rot.values, H[:, 5, 3])
+
+
+@pytest.mark.parametrize("case", ["dashpots (complex modes)", "hysteretic (complex modes)",
+                                  "skewed, coupled"])
+def test_foundation_load_balances_applied_load_and_inertia(case):
+    # Mount by mount, the forces on the foundation sum to the applied load minus the body's inertia
+    # force, Q + w^2 M q (no global damping in these cases): an independent path through the
+    # mount-level assembly.
+    system = CASES[case]()
+    point, direction = np.array([0.2, 5.0, 1.0]), np.array([0.3, -0.2, 1.0])
+    result = frf.force_transmissibility(system, F_BRIDGE, point, direction)
+    d = direction / np.linalg.norm(direction)
+    Q = np.concatenate([d, np.cross(point, d)])
+    q = frf.receptance(system, F_BRIDGE).H @ Q
+    w = 2 * np.pi * F_BRIDGE
+    expected = Q[None, :] + (w**2)[:, None] * (q @ system.M.T)
+    scale = np.max(np.abs(expected), axis=0)
+    assert np.max(np.abs(result.total - expected) / scale) <= RTOL_FRF_IDENTITY
+    assert result.mount_forces.shape == (F_BRIDGE.size, len(system.mounts), 3)
+    # Static load: everything applied goes to the foundation, force and moment.
+    static = frf.force_transmissibility(system, [0.0], point, direction)
+    assert np.max(np.abs(static.total[0] - Q) / np.abs(Q).max()) <= RTOL_FRF_CLOSED_FORM
+    assert static.transmissibility[0] == pytest.approx(1.0, rel=RTOL_FRF_CLOSED_FORM)
+
+
+def test_ground_transmissibility_absolute_and_relative():
+    system = CASES["hysteretic + dashpots + rayleigh"]()
+    point = [0.5, 19.0, 1.0]
+    result = frf.ground_transmissibility(system, F_BRIDGE, "y", point, method="modal")
+    # Relative coordinates: Z q_rel = w^2 M q_g (the ground's inertial load).
+    qg = np.array([0, 1.0, 0, 0, 0, 0])
+    w = 2 * np.pi * F_BRIDGE
+    q_rel = frf.receptance(system, F_BRIDGE).H @ (system.M @ qg) * (w**2)[:, None]
+    # y ground motion drives the symmetric bridge's (y, z, rx) subsystem, each DOF measured on its
+    # own scale; (x, ry, rz) stay at round-off beside the translations and rotations that move.
+    coupled, decoupled = [1, 2, 3], [0, 4, 5]
+    scale = np.max(np.abs(result.q), axis=0)
+    error = np.abs(result.q - qg - q_rel)
+    assert np.max(error[:, coupled] / scale[coupled]) <= RTOL_FRF_METHODS
+    assert np.max(np.abs(result.q[:, decoupled]) / scale[[1, 3, 3]]) <= RTOL_FRF_METHODS
+    assert np.allclose(result.relative, result.absolute - [0, 1.0, 0], rtol=0, atol=1e-15)
+    # Static ground motion carries the body along rigidly; fast ground motion leaves it behind.
+    ends = frf.ground_transmissibility(system, [0.0, 1e3], "y", point)
+    assert np.allclose(ends.absolute[0], [0, 1.0, 0], rtol=0, atol=RTOL_FRF_CLOSED_FORM)
+    assert ends.transmissibility[1] < 1e-3
+
+
+# ----------------------------------------------------------------------------------------------------
+# Peer library and time domain.
+# ----------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("case", ["dashpots (complex modes)", "skewed, coupled no hysteresis"])
+def test_receptance_matches_python_control_state_space(case):
+    control = pytest.importorskip("control")
+    if case == "skewed, coupled no hysteresis":
+        base = skewed()
+        system = System(base.body, [Mount(m.name, m.position, m.stiffness, damping=m.damping,
+                                          axes=m.axes) for m in base.mounts])
+    else:
+        system = CASES[case]()
+    M, K, C = system.M, system.K, system.C
+    Minv = np.linalg.inv(M)
+    A = np.block([[np.zeros((6, 6)), np.eye(6)], [-Minv @ K, -Minv @ C]])
+    B = np.vstack([np.zeros((6, 6)), Minv])
+    Cout = np.hstack([np.eye(6), np.zeros((6, 6))])
+    sys = control.ss(A, B, Cout, np.zeros((6, 6)))
+    f = F_BRIDGE[::20]
+    peer = control.frequency_response(sys, 2 * np.pi * f, squeeze=False).complex  # (6, 6, nf)
+    ours = frf.receptance(system, f, method="modal")
+    peer_frf = frf.FRF(f_hz=ours.f_hz, H=np.moveaxis(peer, -1, 0), method="control", basis="")
+    assert np.max(frf.frf_difference(ours, peer_frf)) <= RTOL_FRF_CLOSED_FORM
+
+
+def test_harmonic_steady_state_matches_frf():
+    # Started exactly on the steady state the FRF predicts, an independent integration of
+    # M q'' + C q' + K q = Re(Q e^{iwt}) must stay on it: any error in H leaves a free transient.
+    system = bridge(rayleigh=Rayleigh.from_ratio(0.02, (0.6, 38.0)), damping=[520.0, 520.0, 0.62e6])
+    f0 = 0.9  # between the low modes: every DOF responds
+    w = 2 * np.pi * f0
+    point, force = np.array([0.3, 12.0, 1.0]), np.array([2e3, 5e3, -1e4])
+    Q = np.concatenate([force, np.cross(point, force)])
+    q_hat = frf.receptance(system, [f0]).H[0] @ Q
+    M, C, K = system.M, system.C, system.K
+    Minv = np.linalg.inv(M)
+
+    def rhs(t, x):
+        q, v = x[:6], x[6:]
+        return np.concatenate([v, Minv @ (Q * np.cos(w * t) - C @ v - K @ q)])
+
+    t = np.linspace(0.0, 4.0 / f0, 201)
+    x0 = np.concatenate([q_hat.real, (1j * w * q_hat).real])
+    amp = np.abs(q_hat)
+    sol = scipy.integrate.solve_ivp(rhs, (0.0, t[-1]), x0, method="DOP853", t_eval=t,
+                                    rtol=1e-11, atol=np.concatenate([amp, w * amp]) * 1e-12)
+    assert sol.success
+    expected = (q_hat[:, None] * np.exp(1j * w * t)[None, :]).real
+    assert np.max(np.abs(sol.y[:6] - expected) / amp[:, None]) <= RTOL_STEADY_STATE
+
+
+# ----------------------------------------------------------------------------------------------------
+# Bad input.
+# ----------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("f_hz", [[-1.0, 2.0], [1.0, np.nan], [[1.0, 2.0]], [], "abc"])
+def test_bad_frequencies(f_hz):
+    with pytest.raises(InputError, match=r"^f_hz: expected finite frequencies >= 0 in Hz"):
+        frf.receptance(bridge(), f_hz)
+
+
+def test_zero_frequency_of_an_unrestrained_system():
+    with pytest.raises(InputError, match=r"^f_hz: expected frequencies > 0 Hz: the mounts leave "
+                                         r"x, y, rx, ry, rz unrestrained"):
+        frf.receptance(sdof(), [0.0, 1.0], method="modal")
+
+
+def test_bad_method_basis_quantity():
+    system = bridge(damping=[520.0, 520.0, 0.62e6])
+    with pytest.raises(InputError, match=r"^method: expected 'direct' or 'modal', got 'exact'"):
+        frf.receptance(system, [1.0], method="exact")
+    with pytest.raises(InputError, match=r"^basis: expected 'auto', 'real' or 'complex', got 'x'"):
+        frf.receptance(system, [1.0], method="modal", basis="x")
+    with pytest.raises(InputError, match=r"^basis: expected 'auto' or 'complex' \(damping"):
+        frf.receptance(system, [1.0], method="modal", basis="real")
+    with pytest.raises(InputError, match=r"^quantity: expected one of 'receptance', 'mobility', "
+                                         r"'accelerance', got 'velocity'"):
+        frf.point_frf(system, [1.0], [0, 0, 0], "z", [0, 0, 0], "z", quantity="velocity")
+
+
+@pytest.mark.parametrize("field, kwargs", [
+    ("load_direction", dict(load_direction="w")),
+    ("load_direction", dict(load_direction=[0, 0, 0])),
+    ("response_direction", dict(response_direction=[1, 2])),
+    ("load_point", dict(load_point=[0, np.inf, 0])),
+    ("response_point", dict(response_point="top")),
+])
+def test_bad_points_and_directions(field, kwargs):
+    args = dict(load_point=[0, 0, 0], load_direction="z", response_point=[0, 1, 0],
+                response_direction="z")
+    args.update(kwargs)
+    with pytest.raises(InputError, match=rf"^{field}: expected "):
+        frf.point_frf(bridge(), [1.0], **args)
+
+
+def test_ground_direction_must_be_a_translation():
+    with pytest.raises(InputError, match=r"^ground_direction: expected one of 'x', 'y', 'z' or a "
+                                         r"nonzero 3-vector in body axes, got 'rx'"):
+        frf.ground_transmissibility(bridge(), [1.0], "rx", [0, 0, 0])

@@ -1,0 +1,226 @@
+"""Figures: each function draws from a Results tree (live or loaded), labels axes with units, and
+the whole set is written by save_all without pyplot."""
+
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+
+from sixdof import plots
+from sixdof.errors import InputError
+from sixdof.modal import modal_analysis
+from sixdof.store import Dataset, build_results, load_results, write_results
+from store_cases import bridge, run_parts
+
+UNIT_WORDS = ("[m]", "[kg^1/2 m]", "[mm]", "[µm]", "[mrad]", "[µrad]", "[s]", "[Hz]", "[kN]", "[N]", "[deg]", "[%]",
+              "[m/N]", "[rad/(N m)]", "[1]", "[N/N]", "[m/m]", "[m/N/s^2]")
+
+
+@pytest.fixture(scope="module")
+def results(tmp_path_factory):
+    """The full bridge run, written and read back: figures are drawn from the stored file."""
+    path = tmp_path_factory.mktemp("plots") / "results.h5"
+    write_results(path, **run_parts())
+    return load_results(path)
+
+
+@pytest.fixture(scope="module")
+def modal_only():
+    system = bridge()
+    return build_results(system=system, modes=modal_analysis(system.M, system.K), name="bridge_beam")
+
+
+def labelled_axes(fig: Figure, categorical=()):
+    """Every axes has x and y labels (3-D: and z) with a unit in brackets, except the ``categorical``
+    labels (axes of names, which have no unit); shared x axes are labelled once, at the bottom."""
+    for ax in fig.axes:
+        if ax.get_label() == "<colorbar>":
+            assert any(w in ax.get_ylabel() for w in UNIT_WORDS), ax.get_ylabel()
+            continue
+        labels = [ax.get_ylabel()]
+        if ax.get_xlabel() or not ax.get_shared_x_axes().get_siblings(ax)[1:]:
+            labels.append(ax.get_xlabel())
+        if hasattr(ax, "get_zlabel"):
+            labels.append(ax.get_zlabel())
+        for label in labels:
+            assert label, ax.get_title()
+            if label not in categorical:
+                assert "[" in label and "]" in label.split("[", 1)[1], (label, ax.get_title())
+    return True
+
+
+def test_mode_shapes(results):
+    fig = plots.plot_mode_shapes(results)
+    assert isinstance(fig, Figure)
+    assert len(fig.axes) == 6 and all(ax.name == "3d" for ax in fig.axes)
+    assert labelled_axes(fig)
+    freqs = results.array("modal/frequency_hz")
+    for j, ax in enumerate(fig.axes):
+        title = ax.get_title()
+        assert f"Mode {j + 1}: {freqs[j]:.4g} Hz" in title
+        assert f"dominant {results.array('modal/dominant_dof')[j]}" in title
+    assert [ax.get_xlabel() for ax in fig.axes[:1]] == ["x [m]"]
+
+
+def test_mode_drawing_scales_translations_and_caps_rotations():
+    points = np.array([[1.0, 2.0, 3.0], [-1.0, 0.0, 0.5]])
+    translation = np.array([0.0, 0.0, 2e-3, 0.0, 0.0, 0.0])
+    moved = plots._drawn_mode(points, translation, largest=10.0)
+    np.testing.assert_allclose(moved - points, [[0, 0, plots.MODE_SCALE * 10.0]] * 2, rtol=1e-12)
+    rotation = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 1e-3])
+    moved = plots._drawn_mode(points, rotation, largest=1000.0)  # 15 % of 1000 m would need 60 rad
+    angle = np.arctan2(moved[0, 1], moved[0, 0]) - np.arctan2(points[0, 1], points[0, 0])
+    assert angle == pytest.approx(plots.MAX_DRAWN_ROTATION, rel=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(moved, axis=1), np.linalg.norm(points, axis=1), rtol=1e-12)
+
+
+def test_body_box_falls_back_to_the_mount_extents():
+    system = bridge(dimensions=None)
+    results = build_results(system=system)
+    largest = 2 * 19.55
+    np.testing.assert_allclose(plots.body_box(results), [0.39, largest, 2.062], rtol=1e-12)
+    planar = build_results(system=bridge(dimensions=None), extra_attrs={})
+    positions = planar.array("model/mount_position") * [1.0, 1.0, 0.0]  # every mount at the CG's height
+    planar = build_results(system=bridge(dimensions=None), extra={
+        "model/mount_position": Dataset(positions, "m", ("mount", "axis"))})
+    np.testing.assert_allclose(plots.body_box(planar), [0.39, largest, plots.FLAT_SIDE * largest], rtol=1e-12)
+    with_dims = build_results(system=bridge())
+    np.testing.assert_array_equal(plots.body_box(with_dims), [1.2, 40.0, 2.0])
+    fig = plots.plot_mode_shapes(build_results(system=system, modes=modal_analysis(system.M, system.K)))
+    assert len(fig.axes) == 6
+
+
+def test_ke_distribution_annotates_percentages(results):
+    fig = plots.plot_ke_distribution(results)
+    assert labelled_axes(fig, categorical=("degree of freedom",))
+    ax = fig.axes[0]
+    ke = 100 * results.array("modal/ke_distribution")
+    texts = {(round(t.get_position()[1]), round(t.get_position()[0])): t.get_text() for t in ax.texts}
+    assert len(texts) == 36
+    for (i, j), text in texts.items():
+        assert float(text) == pytest.approx(ke[i, j], abs=0.5 if ke[i, j] >= 9.95 else 0.05)
+        assert not text.startswith("-")
+    assert [t.get_text() for t in ax.get_yticklabels()] == ["x", "y", "z", "rx", "ry", "rz"]
+
+
+def test_time_histories_use_readable_units_per_dof(results):
+    fig = plots.plot_time_histories(results)
+    assert labelled_axes(fig)
+    q = results.array("time/q")
+    factors = {"mm": 1e3, "µm": 1e6, "mrad": 1e3, "µrad": 1e6}
+    by_label = {ax.get_ylabel().split(" ")[0]: ax for ax in fig.axes}
+    for i, dof in enumerate(results.dofs):
+        ax = by_label[dof]
+        unit = ax.get_ylabel().split("[")[1].rstrip("]")
+        assert unit in (("mm", "µm") if i < 3 else ("mrad", "µrad"))
+        np.testing.assert_allclose(ax.lines[0].get_ydata(), factors[unit] * q[:, i], rtol=1e-15)
+        assert 0.01 <= np.max(np.abs(ax.lines[0].get_ydata())) < 1e4
+
+
+def test_superposition_overlay_and_difference(results):
+    fig = plots.plot_superposition(results)
+    assert labelled_axes(fig)
+    assert len(fig.axes) == 12
+    attrs = results.attrs["time/superposition"]
+    assert f"{attrs['agreement_worst']:.2e}" in fig.get_suptitle()
+    direct, modal = results.array("time/q"), results.array("time/superposition/q")
+    for i in range(6):
+        right = fig.axes[2 * i + 1]
+        relative = right.lines[0].get_ydata()
+        # The plotted curve's peak is the stored agreement of that DOF (no DOF is quiet here).
+        assert np.max(np.abs(relative)) == pytest.approx(attrs["agreement_per_dof"][i], rel=1e-12)
+        np.testing.assert_allclose(relative * np.max(np.abs(direct[:, i])), modal[:, i] - direct[:, i], rtol=1e-12)
+
+
+def test_bode_marks_natural_frequencies(results):
+    fig = plots.plot_bode(results)
+    assert labelled_axes(fig)
+    magnitude = fig.axes[0]
+    assert magnitude.get_yscale() == "log" and magnitude.get_xscale() == "log"
+    marked = sorted({round(line.get_xdata()[0], 9) for line in magnitude.lines if line.get_linestyle() == ":"})
+    np.testing.assert_allclose(marked, results.array("modal/frequency_hz"), rtol=1e-9)
+    H = results.array("frf/receptance")
+    np.testing.assert_array_equal(magnitude.lines[0].get_ydata(), np.abs(H[:, 0, 0]))
+
+
+def test_point_frfs(results):
+    fig = plots.plot_point_frfs(results)
+    assert labelled_axes(fig)
+    assert len(fig.axes) == 6
+
+
+def test_mount_forces(results):
+    fig = plots.plot_mount_forces(results)
+    assert labelled_axes(fig)
+    forces = results.array("time/mount_force")
+    for c, ax in enumerate(fig.axes):
+        unit = ax.get_ylabel().split("[")[1].rstrip("]")
+        factor = {"kN": 1e-3, "N": 1.0}[unit]
+        for k in range(forces.shape[0]):
+            np.testing.assert_allclose(ax.lines[k].get_ydata(), factor * forces[k, :, c], rtol=1e-15)
+        np.testing.assert_allclose(ax.lines[-1].get_ydata(), factor * results.array("time/foundation_force")[:, c],
+                                   rtol=1e-15)
+
+
+def test_validation_figures(results):
+    fig = plots.plot_validation_frf(results)
+    assert labelled_axes(fig)
+    assert len(fig.axes) == 12
+    fig = plots.plot_free_decays(results)
+    assert labelled_axes(fig)
+    assert [ax.get_title().split(":")[0] for ax in fig.axes] == [f"mode {r}" for r in range(1, 7)]
+    for r, ax in enumerate(fig.axes, start=1):
+        np.testing.assert_array_equal(ax.lines[0].get_ydata(), results.array(f"validation/decay/mode_{r}/eta"))
+
+
+def test_mount_forces_from_a_stored_history(modal_only):
+    t = np.linspace(0.0, 1.0, 101)
+    forces = np.stack([np.stack([5.0 * np.sin(t), 8.0 * np.sin(t), 1e5 * (k + 1) * np.cos(t)], axis=-1)
+                       for k in range(4)])
+    extra = {"time/t": Dataset(t, "s", ("t",)),
+             "time/mount": Dataset(np.array(["1", "2", "3", "4"]), "", ("mount",)),
+             "time/axis": Dataset(np.array(["x", "y", "z"]), "", ("axis",)),
+             "time/mount_force": Dataset(forces, "N", ("mount", "t", "axis"))}
+    results = build_results(system=bridge(), extra=extra)
+    fig = plots.plot_mount_forces(results)
+    assert labelled_axes(fig)
+    assert [ax.get_ylabel() for ax in fig.axes] == ["Fx [N]", "Fy [N]", "Fz [kN]"]
+    np.testing.assert_allclose(fig.axes[2].lines[3].get_ydata(), 4e2 * np.cos(t), rtol=1e-15)
+
+
+def test_missing_data_is_named(modal_only):
+    with pytest.raises(InputError, match=r"results: expected datasets /time/t, /time/q, got results without them"):
+        plots.plot_time_histories(modal_only)
+    with pytest.raises(InputError, match=r"results: expected a sixdof.store.Results"):
+        plots.plot_ke_distribution({"modal": None})
+
+
+def test_save_all_draws_what_the_results_hold(results, modal_only, tmp_path):
+    written = plots.save_all(results, tmp_path / "full", dpi=30)  # low resolution: only the files matter
+    assert [p.name for p in written] == ["mode_shapes.png", "ke_distribution.png", "time_dofs.png",
+                                         "mount_forces.png", "superposition.png", "bode.png", "point_frfs.png",
+                                         "validation_frf.png", "free_decays.png"]
+    for path in written:
+        assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert [p.name for p in plots.save_all(modal_only, tmp_path / "modal", dpi=30)] == ["mode_shapes.png",
+                                                                                "ke_distribution.png"]
+
+
+def test_plot_from_a_file_never_loads_pyplot(modal_only, tmp_path):
+    path = tmp_path / "results.h5"
+    from sixdof.store import save_results
+
+    save_results(modal_only, path)
+    code = (
+        "import sys\n"
+        "from sixdof import plots, store\n"
+        f"files = plots.save_all(store.load_results({str(path)!r}), {str(tmp_path / 'png')!r})\n"
+        "assert len(files) == 2, files\n"
+        "assert 'matplotlib.pyplot' not in sys.modules\n"
+    )
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                            env={**os.environ, "MPLBACKEND": ""})
+    assert result.returncode == 0, result.stderr

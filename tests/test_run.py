@@ -1,0 +1,151 @@
+"""``sixdof run`` / ``run_scenario`` end to end: what is written, and that failures leave nothing behind."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+from sixdof import run as run_module
+from sixdof.cli import main
+from sixdof.errors import InputError
+from sixdof.run import SamplingWarning, run_scenario, sampling_warnings
+from sixdof.modal import modal_analysis
+from sixdof.scenario import parse_scenario
+from sixdof.store import load_results
+
+SCENARIO = """
+name = "small"
+description = "compressor on two inclined and two plain isolators"
+
+[body]
+mass = 300.0
+inertia = [20.0, 30.0, 25.0]
+dimensions = [0.8, 1.0, 0.6]
+
+[[mounts]]
+name = "a"
+position = [-0.3, -0.4, -0.3]
+stiffness = [1e5, 1e5, 4e5]
+damping = [150.0, 150.0, 500.0]
+axes = [[0.8, 0.0, 0.6], [0.0, 1.0, 0.0], [-0.6, 0.0, 0.8]]
+
+[[mounts]]
+name = "b"
+position = [0.3, -0.4, -0.3]
+stiffness = [1e5, 1e5, 4e5]
+damping = [150.0, 150.0, 500.0]
+axes = [[0.8, 0.0, -0.6], [0.0, 1.0, 0.0], [0.6, 0.0, 0.8]]
+
+[[mounts]]
+name = "c"
+position = [0.3, 0.4, -0.3]
+stiffness = [1.2e5, 1.2e5, 5e5]
+damping = [100.0, 100.0, 300.0]
+
+[[mounts]]
+name = "d"
+position = [-0.3, 0.4, -0.3]
+stiffness = [1.2e5, 1.2e5, 5e5]
+damping = [100.0, 100.0, 300.0]
+
+[[loads]]
+name = "hit"
+point = [0.4, 0.5, 0.3]
+force = [200.0, -300.0, 1000.0]
+signal = { kind = "half_sine", start = 0.05, duration = 0.02 }
+
+[simulation]
+duration = 0.6
+sample_rate_hz = 1000.0
+
+[frf]
+f_hz = [1.0, 100.0]
+points = 50
+
+[[points]]
+name = "top"
+position = [0.4, 0.5, 0.3]
+"""
+
+
+@pytest.fixture(scope="module")
+def scenario():
+    return parse_scenario(SCENARIO, "small.toml")
+
+
+@pytest.fixture(scope="module")
+def outcome(scenario, tmp_path_factory):
+    return run_scenario(scenario, tmp_path_factory.mktemp("out"), progress=False)
+
+
+def test_run_writes_results_figures_and_summary(outcome):
+    assert sorted(p.name for p in outcome.directory.iterdir()) == sorted(
+        ["results.h5", "summary.md", *(f.name for f in outcome.figures)]
+    )
+    assert not [p for p in outcome.directory.parent.iterdir() if p.name.startswith(".")]
+    results = load_results(outcome.results_path)
+    q = results.array("time/q")
+    assert q.shape == (601, 6)
+    assert results.array("time/superposition/q").shape == (601, 6)
+    assert results.attrs["time/superposition"]["agreement_worst"] == pytest.approx(outcome.agreement.worst)
+    assert outcome.agreement.ok
+    assert results.array("statics/support").sum() == pytest.approx(300 * 9.80665, rel=1e-9)
+    assert results.array("frf/receptance").shape == (50, 6, 6)
+    summary = outcome.summary_path.read_text()
+    for text in ["## Natural frequencies", "## Kinetic energy distribution", "Peak mount forces",
+                 "Direct solve vs modal superposition", "![mode_shapes](mode_shapes.png)"]:
+        assert text in summary
+
+
+def test_unwritable_output_is_an_error_before_any_computing(scenario, tmp_path, monkeypatch):
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    monkeypatch.setattr(run_module, "modal_analysis", lambda *a: pytest.fail("computed anyway"))
+    with pytest.raises(InputError, match=r"--out: expected a folder where results can be written"):
+        run_scenario(scenario, blocker / "out", progress=False)
+
+
+@pytest.mark.parametrize("error", [KeyboardInterrupt, OSError])
+def test_interrupted_run_keeps_the_previous_results_and_leaves_no_partial_output(outcome, scenario, monkeypatch, error):
+    before = {p.name: p.read_bytes() for p in outcome.directory.iterdir()}
+
+    def interrupted(*args, **kwargs):
+        raise error("disk full" if error is OSError else None)
+
+    monkeypatch.setattr("sixdof.plots.save_all", interrupted)
+    with pytest.raises(error):
+        run_scenario(scenario, outcome.directory.parent, progress=False)
+    after = {p.name: p.read_bytes() for p in outcome.directory.iterdir()}
+    assert after == before
+    assert not [p for p in outcome.directory.parent.iterdir() if p.name.startswith(".")]
+
+
+def test_sample_rate_too_low_is_warned_with_the_numbers(scenario):
+    slow = parse_scenario(SCENARIO.replace("sample_rate_hz = 1000.0", "sample_rate_hz = 100.0"), "slow.toml")
+    modes = modal_analysis(slow.system.M, slow.system.K)
+    messages = sampling_warnings(slow, modes)
+    top = modes.frequency_hz.max()
+    assert any(f"100 Hz gives {100 / top:.1f} samples per period of the highest natural frequency ({top:.4g} Hz)" in m for m in messages)
+    # The 20 ms half-sine carries energy up to about 50 Hz: 2 samples per period.
+    assert any("half_sine pulse" in m and "2.0 samples per period" in m for m in messages)
+    assert sampling_warnings(scenario, modal_analysis(scenario.system.M, scenario.system.K)) == []
+
+
+def test_cli_run_and_plot(tmp_path, capsys):
+    path = tmp_path / "small.toml"
+    path.write_text(SCENARIO.replace("duration = 0.6", "duration = 0.2"))
+    assert main(["run", str(path), "--out", str(tmp_path / "out"), "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert "Direct solve vs modal superposition" in out and "ok" in out
+    results = tmp_path / "out" / "small" / "results.h5"
+    assert results.exists()
+    assert main(["plot", str(results), "--out", str(tmp_path / "figures")]) == 0
+    assert (tmp_path / "figures" / "mode_shapes.png").exists()
+
+
+def test_cli_bad_input_writes_nothing(tmp_path, capsys):
+    path = tmp_path / "bad.toml"
+    path.write_text(SCENARIO.replace("duration = 0.6", "duration = -1.0"))
+    assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 2
+    assert "simulation.duration" in capsys.readouterr().err
+    assert not (tmp_path / "out").exists()

@@ -1,0 +1,382 @@
+"""The results file: layout, units, labelled axes, provenance, round trip and atomic writes."""
+
+import datetime as dt
+import os
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+import pytest
+
+from sixdof import store
+from sixdof.dofs import DOFS
+from sixdof.errors import InputError
+from sixdof.modal import modal_analysis
+from sixdof.store import Dataset, Results, build_results, load_results, save_results, write_results
+from store_cases import SCENARIO_TEXT, bridge, run_parts
+
+
+@pytest.fixture(scope="module")
+def parts():
+    return run_parts()
+
+
+@pytest.fixture(scope="module")
+def written(parts, tmp_path_factory):
+    path = tmp_path_factory.mktemp("run") / "bridge_beam" / "results.h5"
+    return write_results(path, **parts)
+
+
+@pytest.fixture(scope="module")
+def loaded(written):
+    return load_results(written.path)
+
+
+def assert_same(a: Results, b: Results):
+    assert list(a.datasets) == list(b.datasets)
+    for path, x in a.datasets.items():
+        y = b[path]
+        assert x.data.dtype.kind == y.data.dtype.kind, path
+        np.testing.assert_array_equal(x.data, y.data, err_msg=path)
+        assert (x.units, x.dims) == (y.units, y.dims), path
+        assert_attrs_equal(x.attrs, y.attrs, path)
+    assert list(a.attrs) == list(b.attrs)
+    for group in a.attrs:
+        assert_attrs_equal(a.attrs[group], b.attrs[group], group or "/")
+
+
+def assert_attrs_equal(x, y, where):
+    assert sorted(x) == sorted(y), where
+    for key in x:
+        assert type(x[key]) is type(y[key]), (where, key, type(x[key]), type(y[key]))
+        if isinstance(x[key], np.ndarray):
+            np.testing.assert_array_equal(x[key], y[key], err_msg=f"{where}@{key}")
+        elif isinstance(x[key], float) and np.isnan(x[key]):
+            assert np.isnan(y[key])
+        else:
+            assert x[key] == y[key], (where, key)
+
+
+# ----------------------------------------------------------------------------------------------------
+# Round trip and layout.
+# ----------------------------------------------------------------------------------------------------
+
+
+def test_round_trip_returns_everything_written(written, loaded):
+    assert loaded.path == written.path
+    assert_same(written, loaded)
+
+
+def test_round_trip_values_equal_the_library_objects(parts, loaded):
+    system, modes, response = parts["system"], parts["modes"], parts["response"]
+    for name in ("M", "C", "K"):
+        np.testing.assert_array_equal(loaded.array(f"model/{name}"), getattr(system, name))
+    np.testing.assert_array_equal(loaded.array("modal/frequency_hz"), modes.frequency_hz)
+    np.testing.assert_array_equal(loaded.array("modal/shapes"), modes.shapes)
+    np.testing.assert_array_equal(loaded.array("modal/ke_distribution"), modes.ke_distribution)
+    np.testing.assert_array_equal(loaded.array("modal/effective_mass"), modes.effective_mass)
+    assert tuple(loaded.array("modal/dominant_dof")) == modes.dominant_dof
+    np.testing.assert_array_equal(loaded.array("modal/damping_ratio"), parts["damping_ratios"])
+    assert loaded.attrs["modal"]["subsystems"] == tuple(",".join(s) for s in modes.subsystems)
+    for key in ("t", "q", "qd", "qdd", "Q"):
+        np.testing.assert_array_equal(loaded.array(f"time/{key}"), getattr(response, key))
+    assert loaded.attrs["time"]["solver_num_steps"] == response.stats.num_steps
+    assert loaded.attrs["time"]["solver"] == response.stats.solver
+    np.testing.assert_array_equal(loaded.array("time/superposition/q"), parts["superposition"].q)
+    agreement = parts["agreement"]
+    attrs = loaded.attrs["time/superposition"]
+    np.testing.assert_array_equal(attrs["agreement_per_dof"], agreement.per_dof)
+    assert attrs["agreement_worst_dof"] == agreement.worst_dof
+    assert attrs["agreement_worst"] == agreement.worst
+    assert attrs["agreement_tolerance"] == agreement.tolerance
+    assert attrs["agreement_ok"] == int(agreement.ok)
+    assert attrs["method"] == parts["superposition"].method
+    frf = parts["frf"]
+    np.testing.assert_array_equal(loaded.array("frf/f_hz"), frf.direct.f_hz)
+    np.testing.assert_array_equal(loaded.array("frf/receptance"), frf.direct.H)
+    assert loaded.array("frf/receptance").dtype == np.complex128
+    assert loaded.attrs["frf"]["cross_check_max_relative_difference"] == frf.max_relative_difference
+    extras = parts["frf_extras"]
+    np.testing.assert_array_equal(loaded.array("frf/point/deck_vertical/values"), extras["deck_vertical"].values)
+    assert loaded["frf/point/deck_vertical/values"].units == extras["deck_vertical"].unit == "m/N/s^2"
+    np.testing.assert_array_equal(
+        loaded.array("frf/force_transmissibility/vertical_load/mount_forces"), extras["vertical_load"].mount_forces
+    )
+    np.testing.assert_array_equal(
+        loaded.array("frf/ground_transmissibility/ground_y/transmissibility"), extras["ground_y"].transmissibility
+    )
+
+
+def test_round_trip_of_responses_and_validation(parts, loaded):
+    forces = parts["mount_forces"]
+    np.testing.assert_array_equal(loaded.array("time/mount_force"), forces.total)
+    assert loaded["time/mount_force"].dims == ("mount", "t", "axis")
+    assert tuple(loaded.array("time/mount")) == forces.names
+    np.testing.assert_array_equal(loaded.array("time/mount_force_local"), forces.local)
+    np.testing.assert_array_equal(loaded.array("time/foundation_force"), forces.foundation_force)
+    np.testing.assert_array_equal(loaded.array("time/foundation_moment"), forces.foundation_moment)
+    points = parts["points"]
+    assert tuple(loaded.array("time/point")) == tuple(points)
+    for k, motion in enumerate(points.values()):
+        np.testing.assert_array_equal(loaded.array("time/point_acceleration")[k], motion.acceleration)
+        np.testing.assert_array_equal(loaded.array("time/point_position")[k], motion.position)
+    report = parts["validation"]
+    np.testing.assert_array_equal(loaded.array("validation/mode"), [r.mode for r in report.rows])
+    np.testing.assert_array_equal(loaded.array("validation/zeta_estimated"), [r.zeta_estimated for r in report.rows])
+    run = report.random_runs[4]
+    np.testing.assert_array_equal(loaded.array("validation/random/mode_5/H1"), run.estimated.H1[:, 0])
+    np.testing.assert_array_equal(loaded.array("validation/random/mode_5/model"), run.model[:, 0])
+    np.testing.assert_array_equal(loaded.attrs["validation/random/mode_5"]["band_hz"], run.band_hz)
+    for field in ("f_damped_estimated_hz", "h1_error_at_peak", "dominant_dof"):
+        assert tuple(loaded.array(f"validation/{field}")) == tuple(getattr(r, field) for r in report.rows)
+    decay = report.decays[2]
+    np.testing.assert_array_equal(loaded.array("validation/decay/mode_3/eta"), decay.eta)
+    np.testing.assert_array_equal(loaded.array("validation/decay/mode_3/extrema_t"), decay.estimate.extrema_t)
+    assert loaded.attrs["validation/decay/mode_3"]["zeta"] == decay.estimate.zeta
+    assert loaded.attrs["validation"]["notes"] == report.notes
+
+
+def test_no_ground_motion_means_no_relative_datasets(loaded):
+    assert "time/q_relative" not in loaded.datasets and "time/ground_acceleration" not in loaded.datasets
+
+
+def test_fixed_names_shapes_and_labels(loaded):
+    shapes = {
+        "model/M": (6, 6), "model/C": (6, 6), "model/K": (6, 6),
+        "modal/frequency_hz": (6,), "modal/shapes": (6, 6),
+        "time/t": (401,), "time/q": (401, 6), "time/qd": (401, 6), "time/qdd": (401, 6),
+        "time/superposition/q": (401, 6),
+        "frf/f_hz": (300,), "frf/receptance": (300, 6, 6),
+    }
+    for path, shape in shapes.items():
+        assert loaded[path].data.shape == shape, path
+    assert loaded.dofs == DOFS
+    assert loaded.mount_names == ("1", "2", "3", "4")
+    assert loaded.name == "bridge_beam"
+    assert loaded["time/q"].dims == ("t", "dof")
+    assert loaded["time/superposition/q"].dims == ("t", "dof")
+    assert loaded["modal/shapes"].dims == ("dof", "mode")
+    assert loaded["frf/receptance"].dims == ("f_hz", "dof", "load")
+    assert loaded["model/mount_stiffness"].dims == ("mount", "mount_axis")
+    assert np.all(np.diff(loaded.array("modal/frequency_hz")) > 0)
+    assert loaded["time/q"].units == "m (x, y, z); rad (rx, ry, rz)"
+    assert loaded["time/q"].attrs["dof_units"] == ("m", "m", "m", "rad", "rad", "rad")
+    assert loaded["time/qdd"].attrs["dof_units"] == ("m/s^2",) * 3 + ("rad/s^2",) * 3
+    assert loaded["modal/frequency_hz"].units == "Hz"
+    assert loaded["time/t"].units == "s"
+
+
+def test_every_dataset_in_the_file_has_units_and_named_axes(written):
+    seen = []
+
+    def visit(name, node):
+        if isinstance(node, h5py.Dataset):
+            seen.append(name)
+            assert "units" in node.attrs, name
+            assert isinstance(node.attrs["units"], str), name
+            if node.is_scale:
+                return
+            for axis in range(node.ndim):
+                assert len(node.dims[axis]) == 1, (name, axis)  # exactly one dimension scale
+
+    with h5py.File(written.path, "r") as f:
+        f.visititems(visit)
+    assert len(seen) == len(written.datasets) > 40
+
+
+def test_provenance(loaded):
+    root = loaded.attrs[""]
+    assert root["scenario_text"] == SCENARIO_TEXT
+    assert root["command_line"] == "sixdof run scenarios/bridge_beam.toml"
+    assert root["format"] == "sixdof-results" and root["format_version"] == store.FORMAT_VERSION
+    created = dt.datetime.fromisoformat(root["created_utc"])
+    assert created.utcoffset() == dt.timedelta(0)
+    assert abs(dt.datetime.now(dt.timezone.utc) - created) < dt.timedelta(hours=1)
+    for package in ("sixdof", "numpy", "scipy", "jax", "diffrax", "h5py"):
+        assert root[f"version_{package}"] == __import__("importlib.metadata").metadata.version(package)
+    assert root["version_numpy"] == np.__version__
+
+
+def test_modal_only_run_has_no_time_group(tmp_path):
+    system = bridge()
+    results = write_results(tmp_path / "r.h5", system=system, modes=modal_analysis(system.M, system.K))
+    loaded = load_results(tmp_path / "r.h5")
+    assert "time" not in loaded and "frf" not in loaded and "modal" in loaded
+    assert_same(results, loaded)
+    assert "model/body_dimensions" in loaded.datasets
+
+
+def test_body_without_dimensions_stores_none(tmp_path):
+    system = bridge(dimensions=None)
+    write_results(tmp_path / "r.h5", system=system)
+    assert load_results(tmp_path / "r.h5").body_dimensions is None
+
+
+def test_superposition_without_direct_response_is_refused(parts):
+    with pytest.raises(InputError, match=r"superposition: expected a direct response to compare with, got none"):
+        build_results(superposition=parts["superposition"])
+
+
+# ----------------------------------------------------------------------------------------------------
+# netCDF view (xarray through h5netcdf).
+# ----------------------------------------------------------------------------------------------------
+
+
+def test_xarray_opens_time_with_labelled_axes(written, parts):
+    xr = pytest.importorskip("xarray")
+    pytest.importorskip("h5netcdf")
+    with xr.open_dataset(written.path, group="time", engine="h5netcdf") as ds:
+        assert ds["q"].dims == ("t", "dof")
+        assert list(ds["dof"].values) == list(DOFS)
+        np.testing.assert_array_equal(ds["t"].values, parts["response"].t)
+        np.testing.assert_array_equal(ds["q"].sel(dof="rz").values, parts["response"].q[:, 5])
+        assert ds["q"].attrs["units"] == "m (x, y, z); rad (rx, ry, rz)"
+        assert ds.attrs["solver"] == "Tsit5"
+    with xr.open_dataset(written.path, group="time/superposition", engine="h5netcdf") as ds:
+        assert ds["q"].dims == ("t", "dof")
+
+
+def test_xarray_opens_every_group_and_reads_complex(written, parts):
+    xr = pytest.importorskip("xarray")
+    pytest.importorskip("h5netcdf")
+    for group in written.groups[1:]:
+        with xr.open_dataset(written.path, group=group, engine="h5netcdf") as ds:
+            for name, variable in ds.variables.items():
+                expected = written.get(f"{group}/{name}")
+                assert expected is not None, (group, name)
+                assert variable.dims == expected.dims, (group, name)
+    with xr.open_dataset(written.path, group="frf", engine="h5netcdf") as ds:
+        H = ds["receptance"]
+        assert H.dtype == np.complex128 and H.dims == ("f_hz", "dof", "load")
+        np.testing.assert_array_equal(H.sel(dof="z", load="Fz").values, parts["frf"].direct.H[:, 2, 2])
+    with xr.open_dataset(written.path, group="modal", engine="h5netcdf") as ds:
+        assert list(ds["mode"].values) == [1, 2, 3, 4, 5, 6]
+        np.testing.assert_array_equal(ds["shapes"].values, parts["modes"].shapes)
+
+
+# ----------------------------------------------------------------------------------------------------
+# Atomic writes.
+# ----------------------------------------------------------------------------------------------------
+
+
+def _failing_after(n, exception):
+    real = store._write_dataset
+    calls = {"n": 0}
+
+    def failing(f, path, dataset):
+        calls["n"] += 1
+        if calls["n"] > n:
+            raise exception
+        return real(f, path, dataset)
+
+    return failing
+
+
+@pytest.mark.parametrize("exception", [RuntimeError("disk on fire"), KeyboardInterrupt()])
+def test_failed_write_leaves_no_file_and_no_temporary(written, tmp_path, monkeypatch, exception):
+    monkeypatch.setattr(store, "_write_dataset", _failing_after(5, exception))
+    target = tmp_path / "results.h5"
+    with pytest.raises(type(exception)):
+        save_results(written, target)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_failed_write_does_not_clobber_an_existing_file(written, tmp_path, monkeypatch):
+    target = tmp_path / "results.h5"
+    save_results(written, target)
+    before = target.read_bytes()
+    monkeypatch.setattr(store, "_write_dataset", _failing_after(10, KeyboardInterrupt()))
+    with pytest.raises(KeyboardInterrupt):
+        save_results(written, target)
+    assert target.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["results.h5"]
+    assert_same(written, load_results(target))
+
+
+def test_successful_write_replaces_the_old_file(written, tmp_path):
+    target = tmp_path / "results.h5"
+    target.write_bytes(b"an older, different file")
+    save_results(written, target)
+    assert_same(written, load_results(target))
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["results.h5"]
+
+
+# ----------------------------------------------------------------------------------------------------
+# Bad input and the generic tree.
+# ----------------------------------------------------------------------------------------------------
+
+
+def test_load_missing_file(tmp_path):
+    with pytest.raises(InputError, match=r"results: expected an existing results file \(\.h5\), got '.*nope\.h5'"):
+        load_results(tmp_path / "nope.h5")
+
+
+def test_load_foreign_files(tmp_path):
+    text = tmp_path / "text.h5"
+    text.write_text("not hdf5")
+    with pytest.raises(InputError, match=r"results: expected an HDF5 results file written by sixdof, got .*text\.h5 \("):
+        load_results(text)
+    foreign = tmp_path / "foreign.h5"
+    with h5py.File(foreign, "w") as f:
+        f["x"] = 1.0
+    with pytest.raises(InputError, match=r"results: expected an HDF5 file with format = 'sixdof-results', got .*foreign\.h5 without it"):
+        load_results(foreign)
+
+
+def test_dataset_checks():
+    with pytest.raises(InputError, match=r"dims: expected 2 non-empty axis names for shape \(3, 2\), got \('t',\)"):
+        Dataset(np.zeros((3, 2)), "m", ("t",))
+    with pytest.raises(InputError, match=r"units: expected a string, got 3"):
+        Dataset(np.zeros(3), 3, ("t",))
+    with pytest.raises(InputError, match=r"attrs: expected attribute names other than units and HDF5's own, got 'units'"):
+        Dataset(np.zeros(3), "m", ("t",), {"units": "s"})
+    for bad in ({"a": 1}, [1, "a"], [1j]):
+        with pytest.raises(InputError, match=r"attrs\['bad'\]: expected a string, a number or an array of numbers"):
+            Dataset(np.zeros(3), "m", ("t",), {"bad": bad})
+
+
+def test_axis_without_a_dimension_scale_is_refused():
+    with pytest.raises(InputError, match=r"time/q\.dims\[0\]: expected the name of a dimension-scale dataset 't'"):
+        Results({"time/q": Dataset(np.zeros((3, 6)), "m", ("t", "dof")),
+                 "time/dof": Dataset(np.array(DOFS), "", ("dof",))}, {})
+    with pytest.raises(InputError, match=r"time/q\.dims\[0\]: expected scale 'time/t' of length 3, got \(4,\)"):
+        Results({"time/q": Dataset(np.zeros((3, 6)), "m", ("t", "dof")),
+                 "time/t": Dataset(np.zeros(4), "s", ("t",)),
+                 "time/dof": Dataset(np.array(DOFS), "", ("dof",))}, {})
+
+
+def test_extra_datasets_and_attributes_round_trip(tmp_path):
+    system = bridge()
+    extra = {"statics/q": Dataset(np.arange(6.0), "m (x, y, z); rad (rx, ry, rz)", ("dof",), {"gravity": 9.81}),
+             "statics/dof": Dataset(np.array(DOFS), "", ("dof",)),
+             "statics/flag": Dataset(np.array([True, False]), "1", ("dof2",)),
+             "statics/dof2": Dataset(np.array([0, 1]), "1", ("dof2",))}
+    results = write_results(tmp_path / "r.h5", system=system, extra=extra,
+                            extra_attrs={"statics": {"uplift": ("1", "2"), "ok": True, "none": None, "empty": ()}})
+    loaded = load_results(tmp_path / "r.h5")
+    assert_same(results, loaded)
+    assert loaded.attrs["statics"]["uplift"] == ("1", "2")
+    assert loaded.attrs["statics"]["ok"] == 1 and loaded.attrs["statics"]["empty"] == ()
+    assert "none" not in loaded.attrs["statics"]
+    assert loaded["statics/flag"].data.dtype == np.int8
+
+
+def test_results_are_read_only(loaded):
+    with pytest.raises(ValueError):
+        loaded.array("time/q")[0, 0] = 1.0
+    with pytest.raises(TypeError):
+        loaded.datasets["time/q"] = None
+    with pytest.raises(KeyError, match="no dataset 'time/nothing'"):
+        loaded["time/nothing"]
+
+
+def test_import_sixdof_does_not_load_h5py_or_pyplot():
+    code = (
+        "import sys, sixdof, sixdof.store\n"
+        "heavy = [m for m in ('h5py', 'matplotlib.pyplot') if m in sys.modules]\n"
+        "assert not heavy, heavy\n"
+    )
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                            env={**os.environ, "PYTHONWARNINGS": ""})
+    assert result.returncode == 0, result.stderr

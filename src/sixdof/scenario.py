@@ -361,7 +361,7 @@ def _build(cls, table: Any, path: str):
     """``cls(**table)`` for a frozen dataclass whose field names are the table's keys."""
     if not isinstance(table, dict):
         raise InputError(path, "a table", table)
-    fields = {f.name: f for f in dataclasses.fields(cls)}
+    fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
     _reject_unknown(table, fields, path)
     for name, f in fields.items():
         required = f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING

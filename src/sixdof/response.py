@@ -1,0 +1,179 @@
+"""Derived responses of a simulation: motion of body points, mount forces, forces on the foundation.
+
+Rigid body, small rotations: a body point ``p`` (from the CG, body axes) moves by
+``u_p = u_cg + theta x p`` (:func:`sixdof.model.point_map`); the same map takes velocities and
+accelerations. A mount deforms by the motion of its body point *relative to the ground* (the
+foundation translates rigidly under every mount), and carries ``k delta + c delta'`` along its own
+axes. Every force here is the dynamic part about static equilibrium (add the static deflection's
+forces from :mod:`sixdof.statics` for totals).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .direct import TimeResponse
+from .errors import InputError
+
+
+@dataclass(frozen=True, eq=False)
+class PointMotion:
+    """Motion of one body point. Arrays of shape (n, 3) in body axes.
+
+    Attributes
+    ----------
+    position : ndarray, shape (3,)
+        The point, from the CG in body axes [m].
+    displacement, velocity, acceleration : ndarray, shape (n, 3)
+        [m, m/s, m/s^2]; absolute, or relative to the ground when ``relative``.
+    relative : bool
+    """
+
+    position: np.ndarray
+    displacement: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+    relative: bool
+
+
+def _point_matrix(position: np.ndarray) -> np.ndarray:
+    """(3, 6) map ``[I, -skew(p)]``: ``u = u_cg + theta x p`` (NumPy twin of model.point_map)."""
+    x, y, z = position
+    return np.array([
+        [1.0, 0.0, 0.0, 0.0, z, -y],
+        [0.0, 1.0, 0.0, -z, 0.0, x],
+        [0.0, 0.0, 1.0, y, -x, 0.0],
+    ])
+
+
+def _position(value, field: str) -> np.ndarray:
+    try:
+        p = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(field, "3 coordinates [x, y, z] in m", value) from None
+    if p.shape != (3,) or not np.all(np.isfinite(p)):
+        raise InputError(field, "3 coordinates [x, y, z] in m", value)
+    return p
+
+
+def point_motion(response: TimeResponse, position, *, relative: bool = False) -> PointMotion:
+    """Displacement, velocity and acceleration of a body point.
+
+    Parameters
+    ----------
+    response : TimeResponse
+    position : array_like, shape (3,)
+        Point from the CG in body axes [m].
+    relative : bool, optional
+        Relative to the ground instead of absolute. Default False.
+
+    Returns
+    -------
+    PointMotion
+    """
+    p = _position(position, "position")
+    T = _point_matrix(p)
+    if relative:
+        q, qd, qdd = response.q_relative, response.qd_relative, response.qdd_relative
+    else:
+        q, qd, qdd = response.q, response.qd, response.qdd
+    return PointMotion(position=_ro(p), displacement=_ro(q @ T.T), velocity=_ro(qd @ T.T),
+                       acceleration=_ro(qdd @ T.T), relative=relative)
+
+
+def points_motion(response: TimeResponse, points, *, relative: bool = False) -> dict[str, PointMotion]:
+    """:func:`point_motion` of named points: ``{name: PointMotion}``.
+
+    ``points`` is a mapping ``name -> position`` or a sequence of objects with ``name`` and
+    ``position`` attributes (the scenario's ``[[points]]``).
+    """
+    items = points.items() if isinstance(points, dict) else ((p.name, p.position) for p in points)
+    return {name: point_motion(response, pos, relative=relative) for name, pos in items}
+
+
+@dataclass(frozen=True, eq=False)
+class MountForces:
+    """Forces carried by the mounts over time (dynamic part).
+
+    Sign: every force is the one the mount exerts *on the foundation* (the body receives its
+    negative): positive along an axis when the body has moved, relative to the ground, along it.
+
+    Attributes
+    ----------
+    names : tuple of str
+        Mount names, in the system's order (m mounts).
+    deformation : ndarray, shape (m, n, 3)
+        Mount point's displacement relative to the ground, body axes [m].
+    elastic, damping, total : ndarray, shape (m, n, 3)
+        Spring force ``A' diag(k) A delta``, dashpot force ``A' diag(c) A delta'`` and their sum,
+        in body axes [N].
+    local : ndarray, shape (m, n, 3)
+        ``total`` along each mount's own axes [N].
+    other_damping : ndarray, shape (n, 6)
+        Generalized force of the Rayleigh and modal damping, ``(C - C_mounts) q_rel'``
+        [N, N m]: not attributable to one mount, transmitted to the foundation all the same.
+    foundation_force : ndarray, shape (n, 3)
+        Total force on the foundation, body axes [N]: the mounts' plus ``other_damping``'s.
+    foundation_moment : ndarray, shape (n, 3)
+        Total moment on the foundation about the body's CG, body axes [N m].
+    """
+
+    names: tuple[str, ...]
+    deformation: np.ndarray
+    elastic: np.ndarray
+    damping: np.ndarray
+    total: np.ndarray
+    local: np.ndarray
+    other_damping: np.ndarray
+    foundation_force: np.ndarray
+    foundation_moment: np.ndarray
+
+
+def mount_forces(system, response: TimeResponse) -> MountForces:
+    """Each mount's force and the total force and moment on the foundation.
+
+    Parameters
+    ----------
+    system : sixdof.model.System
+        The system that was simulated.
+    response : TimeResponse
+
+    Returns
+    -------
+    MountForces
+    """
+    z, zd = response.q_relative, response.qd_relative
+    deformation, rate = [], []
+    for position in system.positions:
+        T = _point_matrix(np.asarray(position))
+        deformation.append(z @ T.T)
+        rate.append(zd @ T.T)
+    deformation, rate = np.array(deformation), np.array(rate)  # (m, n, 3)
+    A = np.asarray(system.axes)  # (m, 3, 3): rows are the mount's axes
+    local_elastic = np.einsum("mij,mnj->mni", A, deformation) * system.stiffnesses[:, None, :]
+    local_damping = np.einsum("mij,mnj->mni", A, rate) * system.dampings[:, None, :]
+    elastic = np.einsum("mji,mnj->mni", A, local_elastic)
+    damping = np.einsum("mji,mnj->mni", A, local_damping)
+    total = elastic + damping
+    if system.rayleigh is None and system.modal_damping is None:
+        other = np.zeros_like(zd)  # exactly: C and C_mounts differ only by round-off then
+    else:
+        other = zd @ (np.asarray(system.C) - np.asarray(system.C_mounts)).T
+    force = total.sum(axis=0) + other[:, :3]
+    moment = np.cross(system.positions[:, None, :], total).sum(axis=0) + other[:, 3:]
+    return MountForces(
+        names=tuple(system.mount_names), deformation=_ro(deformation), elastic=_ro(elastic),
+        damping=_ro(damping), total=_ro(total), local=_ro(local_elastic + local_damping),
+        other_damping=_ro(other), foundation_force=_ro(force), foundation_moment=_ro(moment),
+    )
+
+
+def _ro(array) -> np.ndarray:
+    out = np.array(array, dtype=float)
+    out.flags.writeable = False
+    return out
+
+
+__all__ = ["PointMotion", "MountForces", "point_motion", "points_motion", "mount_forces"]

@@ -7,9 +7,11 @@ import json
 import sys
 import traceback
 
-from .errors import InputError
+from .errors import InputError, SolverError
 
 EXIT_BAD_INPUT = 2
+EXIT_FAILED = 1
+EXIT_INTERRUPTED = 130
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -19,10 +21,18 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return args.command(args)
     except InputError as exc:
-        if args.debug:
-            traceback.print_exc()
-        print(f"sixdof: error: {exc}", file=sys.stderr)
-        return EXIT_BAD_INPUT
+        return _fail(args, f"error: {exc}", EXIT_BAD_INPUT)
+    except SolverError as exc:
+        return _fail(args, f"the solve failed, nothing was written: {exc}", EXIT_FAILED)
+    except KeyboardInterrupt:
+        return _fail(args, "interrupted, nothing was written", EXIT_INTERRUPTED)
+
+
+def _fail(args, message: str, status: int) -> int:
+    if args.debug:
+        traceback.print_exc()
+    print(f"sixdof: {message}", file=sys.stderr)
+    return status
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -63,12 +73,12 @@ def _modes(args) -> int:
     from .dofs import DOFS
     from .modal import modal_analysis
     from .scenario import load_scenario
-    from .statics import gravity_statics
+    from .statics import try_gravity_statics
 
     scenario = load_scenario(args.scenario)
     system = scenario.system
     modes = modal_analysis(system.M, system.K)
-    statics = gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
+    statics, no_statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
     zeta = modal_damping_ratios(system.C, modes)
     if args.json:
         print(json.dumps(_modes_json(scenario, modes, statics, zeta, DOFS)))
@@ -80,6 +90,9 @@ def _modes(args) -> int:
     print()
     print(report.subsystems_text(modes))
     print(f"\nStatics under gravity ({scenario.statics.gravity} m/s^2 along {list(scenario.statics.direction)}):")
+    if statics is None:
+        print(no_statics)
+        return 0
     print(report.statics_table(statics, system.mount_names))
     if statics.uplift:
         print(f"\nWARNING: mounts in tension (uplift): {', '.join(statics.uplift)}")
@@ -154,7 +167,7 @@ def _modes_json(scenario, modes, statics, zeta, dofs) -> dict:
         "subsystems": [list(s) for s in modes.subsystems],
         "zero_modes": list(modes.zero_modes),
         "free_dofs": list(modes.free_dofs),
-        "statics": {
+        "statics": None if statics is None else {
             "q": statics.q.tolist(),
             "mounts": list(scenario.system.mount_names),
             "mount_forces_n": statics.mount_forces.tolist(),

@@ -21,7 +21,7 @@ import numpy as np
 from .damping import modal_damping_ratios
 from .errors import InputError
 from .modal import modal_analysis
-from .statics import gravity_statics
+from .statics import try_gravity_statics
 
 #: Fewest samples per period of the highest natural frequency or excitation frequency: below it the
 #: sampled peaks of a sine are off by more than 5 % (1 - cos(pi / 10)).
@@ -158,9 +158,14 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
     root = check_output_root(out_root)
     system = scenario.system
     modes = modal_analysis(system.M, system.K)
-    statics = gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
+    statics, no_statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
     zeta = modal_damping_ratios(system.C, modes)
     notes = sampling_warnings(scenario, modes)
+    if no_statics:
+        notes.append(no_statics)
+    if modes.zero_modes:
+        notes.append(f"the mounts leave the body unrestrained: {len(modes.zero_modes)} zero-frequency "
+                     f"mode(s), free DOFs {', '.join(modes.free_dofs)}")
     for note in notes:
         warnings.warn(note, SamplingWarning, stacklevel=2)
 

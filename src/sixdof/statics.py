@@ -41,6 +41,24 @@ class Statics:
     uplift: tuple[str, ...]
 
 
+def try_gravity_statics(system, g: float = STANDARD_GRAVITY, direction=(0.0, 0.0, -1.0)):
+    """:func:`gravity_statics`, or ``(None, reason)`` when the mounts cannot carry the weight.
+
+    A layout that leaves the body free along gravity still has modes worth reporting: callers that
+    report everything use this and print the reason instead of failing.
+
+    Returns
+    -------
+    tuple of (Statics or None, str or None)
+    """
+    try:
+        return gravity_statics(system, g, direction), None
+    except InputError as exc:
+        if exc.field != "mounts":
+            raise
+        return None, f"no static equilibrium under gravity: {exc.got}"
+
+
 def gravity_statics(system, g: float = STANDARD_GRAVITY, direction=(0.0, 0.0, -1.0)) -> Statics:
     """Static equilibrium of the body on its mounts under its own weight.
 

@@ -21,7 +21,8 @@ def summary_markdown(scenario, modes, statics, damping_ratios, response, forces,
     parts += ["## Natural frequencies", "", report.modes_table(modes, damping_ratios), ""]
     parts += ["## Kinetic energy distribution [%]", "", report.ke_table(modes), ""]
     parts += [report.subsystems_text(modes).replace("\n  ", "\n- ").replace(":\n", ":\n\n", 1), ""]
-    parts += ["## Statics under gravity", "", report.statics_table(statics, scenario.system.mount_names), ""]
+    if statics is not None:
+        parts += ["## Statics under gravity", "", report.statics_table(statics, scenario.system.mount_names), ""]
     if response is not None:
         parts += ["## Time response", "", _peaks_table(response), ""]
         parts += [f"Solver: {_stats_line(response.stats)}", ""]

@@ -1,0 +1,1075 @@
+"""Modal superposition in time: an independent path that cross-checks every direct solve.
+
+The response of ``M q'' + C q' + K q = Q(t)`` is computed in modal coordinates, with no ODE solver:
+
+1. the undamped modes ``Phi`` (mass-normalized, :func:`sixdof.modal.modal_analysis`) transform the
+   equations to ``eta'' + D eta' + Omega^2 eta = Phi' Q(t)`` with ``D = Phi' C Phi``;
+2. when ``D`` is diagonal (classical damping: Rayleigh, modal ratios, any C the real modes
+   diagonalize) each mode is a single-degree-of-freedom oscillator (method ``"real"``); otherwise
+   (mount dashpots) the coupled modes are solved through the complex modes of the first-order system
+   ``y' = [[0, I], [-Omega^2, -D]] y + [0, Phi' Q]`` (method ``"complex"``), exact for any viscous C;
+3. every decoupled equation is advanced by its exact state-transition recursion
+   ``z(t + h) = e^{A h} z(t) + int_0^h e^{A (h - s)} b g(t + s) ds``, the Duhamel integral being
+   evaluated by Gauss-Legendre quadrature on intervals split at every breakpoint of the excitation
+   (where a signal or its derivatives jump): spectrally accurate for smooth signals, exact to
+   round-off for piecewise-polynomial ones (tables, steps, ramps). The recursion over intervals is
+   a parallel (associative) scan, vectorized across modes and intervals with NumPy;
+4. modes may be truncated (by count or frequency) with a static residual-flexibility correction for
+   the modes left out.
+
+:func:`compare` measures the agreement of two time histories DOF by DOF.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import partial
+
+import numpy as np
+
+from ._jax import jax
+from .dofs import DOFS
+from .errors import InputError, SolverError
+from .modal import modal_analysis
+
+#: Damping is classical when every off-diagonal coupling ``|D_ij| / sqrt(D_ii D_jj)`` of the
+#: modal damping matrix is below this (round-off of the modal transform is ~1e-12).
+CLASSICAL_RTOL = 1e-8
+#: Default Gauss-Legendre nodes per interval.
+QUADRATURE_NODES = 16
+#: Largest phase ``(|lambda| + omega_signal) h`` [rad] an interval may span: with 16 nodes the
+#: quadrature error of ``int e^{i theta s}`` over 4 rad is far below round-off.
+PHASE_PER_INTERVAL = 4.0
+#: Two modes are degenerate (any basis of their eigenspace is a set of modes) when their
+#: eigenvalues differ by less than this fraction of the largest eigenvalue.
+DEGENERATE_RTOL = 1e-9
+#: The complex-mode eigenvector matrix must be better conditioned than this (a near-defective
+#: system, e.g. exactly critically damped coupled modes, cannot be diagonalized reliably).
+MAX_EIGENVECTOR_CONDITION = 1e10
+#: Default tolerance of :func:`compare`.
+AGREEMENT_TOLERANCE = 1e-6
+#: In :func:`compare`, a DOF whose peak is below this fraction of the largest peak (rotations
+#: converted to lengths) is "quiet": its error is measured against the largest peak instead.
+QUIET_RTOL = 1e-6
+
+METHODS = ("auto", "real", "complex")
+_CHUNK = 4096  # intervals processed at once: bounds memory to a few tens of MB
+
+
+# ----------------------------------------------------------------------------------------------------
+# Result objects
+# ----------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class Agreement:
+    """Agreement of two time histories of ``q``, DOF by DOF (result of :func:`compare`).
+
+    Attributes
+    ----------
+    per_dof : ndarray, shape (6,)
+        ``max_t |q_ref - q_other| / peak_t |q_ref|`` for each DOF (dimensionless). For a quiet DOF
+        (see ``quiet``) the denominator is the largest peak of all DOFs instead, rotations being
+        converted to lengths with ``length``.
+    worst_dof : str
+        Name of the DOF with the largest value of ``per_dof``.
+    worst : float
+        That value.
+    tolerance : float
+        Largest acceptable value of ``worst``.
+    ok : bool
+        ``worst <= tolerance``.
+    peak : ndarray, shape (6,)
+        ``peak_t |q_ref|`` of each DOF [m, rad].
+    quiet : tuple of str
+        DOFs whose response is negligible (peak below ``quiet_rtol`` times the largest): they are
+        judged against the largest peak, since their own peak is round-off.
+    length : float
+        Length [m] converting rotations to displacements when DOFs are compared with each other.
+    """
+
+    per_dof: np.ndarray
+    worst_dof: str
+    worst: float
+    tolerance: float
+    ok: bool
+    peak: np.ndarray
+    quiet: tuple[str, ...]
+    length: float
+
+    def __str__(self) -> str:
+        values = ", ".join(f"{d} {v:.2e}" for d, v in zip(DOFS, self.per_dof))
+        verdict = "ok" if self.ok else "OVER TOLERANCE"
+        return (
+            f"worst {self.worst:.2e} ({self.worst_dof}) vs tolerance {self.tolerance:.0e}: "
+            f"{verdict}; per DOF: {values}"
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class ModalResponse:
+    """Time response by modal superposition (result of :func:`superpose` / :func:`modal_solve`).
+
+    Attributes
+    ----------
+    t : ndarray, shape (n,)
+        Output times [s].
+    q, qd, qdd : ndarray, shape (n, 6)
+        Displacement [m, rad], velocity [m/s, rad/s] and acceleration [m/s^2, rad/s^2] of the CG.
+        With truncation, ``q`` includes the static residual correction; ``qd`` and ``qdd`` include
+        it too when the force's time derivatives are known (``residual_rates``).
+    method : str
+        ``"real"`` (decoupled undamped modes) or ``"complex"`` (complex modes of the first-order
+        system).
+    reason : str
+        Why that method was used (automatic choice, or forced by the caller, and what it neglects).
+    coupling : float
+        Largest damping coupling ``|D_ij| / sqrt(D_ii D_jj)`` between distinct real modes (0 for
+        classical damping, up to 1).
+    modes_kept : tuple of int
+        Indices (ascending frequency order of :func:`sixdof.modal.modal_analysis`) of the modes used.
+    frequency_hz : ndarray, shape (len(modes_kept),)
+        Undamped natural frequencies of the kept modes [Hz].
+    eigenvalues : ndarray of complex, shape (2 len(modes_kept),)
+        Eigenvalues of the first-order system actually solved [1/s]: ``-zeta w +- i w_d`` per mode
+        for ``"real"``, the complex modes for ``"complex"``.
+    residual : bool
+        Whether the static residual correction for the dropped modes was added.
+    residual_rates : bool
+        Whether that correction also entered ``qd`` and ``qdd``.
+    truncation : Agreement or None
+        This response against the same computation with all modes kept (None when all are kept).
+    approximation : Agreement or None
+        When ``method="real"`` was forced on non-classical damping: this response against the
+        exact complex-mode one, so the error of neglecting the coupling is reported. Else None.
+    n_intervals : int
+        Number of quadrature intervals (output steps split at breakpoints and for accuracy).
+    quadrature_nodes : int
+        Gauss-Legendre nodes per interval.
+    frame : str
+        What ``q`` measures: ``"absolute"``, the motion in the fixed frame, like
+        :attr:`sixdof.direct.TimeResponse.q` (with ground motion too).
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    method: str
+    reason: str
+    coupling: float
+    modes_kept: tuple[int, ...]
+    frequency_hz: np.ndarray
+    eigenvalues: np.ndarray
+    residual: bool
+    residual_rates: bool
+    truncation: Agreement | None
+    approximation: Agreement | None
+    n_intervals: int
+    quadrature_nodes: int
+    frame: str = "absolute"
+
+
+# ----------------------------------------------------------------------------------------------------
+# Cross-check
+# ----------------------------------------------------------------------------------------------------
+
+
+def compare(
+    direct_q,
+    modal_q,
+    tolerance: float = AGREEMENT_TOLERANCE,
+    *,
+    length: float = 1.0,
+    quiet_rtol: float = QUIET_RTOL,
+) -> Agreement:
+    """Agreement of a modal-superposition history with a reference (direct) one, DOF by DOF.
+
+    For each DOF i: ``max_t |q_ref_i - q_i| / peak_t |q_ref_i|``, each DOF relative to its own peak,
+    so that rotations (~1e-7 rad) and translations (~1e-4 m) are each judged on their own scale.
+
+    A DOF that hardly moves cannot be judged on its own peak (its peak is round-off, or a remote
+    coupling): when ``peak_i * s_i < quiet_rtol * max_j(peak_j * s_j)``, with ``s`` = 1 for
+    translations and ``length`` [m/rad] for rotations, DOF i is *quiet* and its error is divided by
+    ``max_j(peak_j * s_j) / s_i`` instead (the largest response expressed in its unit). When the
+    reference is identically zero, the error is ``0`` if the histories are identical, else ``inf``.
+
+    Parameters
+    ----------
+    direct_q, modal_q : array_like, shape (n, 6), or objects with a ``q`` attribute
+        Reference and compared histories of q [m, rad] on the same time grid.
+    tolerance : float
+        Largest acceptable relative error (default 1e-6).
+    length : float
+        Length [m] converting rotations into displacements for the quiet test (e.g. the body's
+        half-size); default 1 m.
+    quiet_rtol : float
+        Relative size below which a DOF is quiet (default 1e-6).
+
+    Returns
+    -------
+    Agreement
+
+    Raises
+    ------
+    InputError
+        If the shapes differ or are not (n, 6), or a value is not finite, or ``tolerance`` /
+        ``length`` is not positive.
+    """
+    ref = _history(direct_q, "direct_q")
+    other = _history(modal_q, "modal_q")
+    if ref.shape != other.shape:
+        raise InputError("modal_q", f"shape {ref.shape} like direct_q", f"shape {other.shape}")
+    for name, value in (("tolerance", tolerance), ("length", length), ("quiet_rtol", quiet_rtol)):
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0 \
+                or not np.isfinite(value):
+            raise InputError(name, "a positive number", value)
+    scale = np.array([1.0, 1.0, 1.0, length, length, length])
+    peak = np.max(np.abs(ref), axis=0)
+    error = np.max(np.abs(ref - other), axis=0)
+    largest = float(np.max(peak * scale))
+    quiet = peak * scale < quiet_rtol * largest
+    denominator = np.where(quiet, largest / scale, peak)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        per_dof = np.where(denominator > 0, error / denominator, np.where(error > 0, np.inf, 0.0))
+    worst_index = int(np.argmax(per_dof))
+    worst = float(per_dof[worst_index])
+    return Agreement(
+        per_dof=_readonly(per_dof),
+        worst_dof=DOFS[worst_index],
+        worst=worst,
+        tolerance=float(tolerance),
+        ok=bool(worst <= tolerance),
+        peak=_readonly(peak),
+        quiet=tuple(d for d, flag in zip(DOFS, quiet) if flag and largest > 0),
+        length=float(length),
+    )
+
+
+def _history(value, name: str) -> np.ndarray:
+    value = getattr(value, "q", value)
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(name, "an array of shape (n, 6) in m and rad", value) from None
+    if array.ndim != 2 or array.shape[1] != 6 or array.shape[0] < 1:
+        raise InputError(name, "an array of shape (n, 6) in m and rad", f"shape {array.shape}")
+    if not np.all(np.isfinite(array)):
+        raise InputError(name, "finite values", "non-finite values")
+    return array
+
+
+# ----------------------------------------------------------------------------------------------------
+# Entry point on model objects
+# ----------------------------------------------------------------------------------------------------
+
+
+def superpose(
+    system,
+    excitation,
+    t,
+    *,
+    method: str = "auto",
+    n_modes: int | None = None,
+    f_max_hz: float | None = None,
+    residual: bool = True,
+    **options,
+) -> ModalResponse:
+    """Time response of a system to an excitation by modal superposition.
+
+    The same response as :func:`sixdof.direct.simulate` computed independently: modal transform,
+    exact recursion of the decoupled modal equations with the Duhamel integral by Gauss-Legendre
+    quadrature between the excitation's breakpoints, transform back (see :func:`modal_solve`).
+
+    ``q`` is absolute (motion in the fixed frame), like the direct solver's: ground motion enters as
+    ``K r u_g + C r v_g`` (mount springs and all viscous damping acting on the body's motion
+    relative to the ground), with ``u_g, v_g`` integrated exactly from a velocity or acceleration
+    signal, the ground starting at rest at zero displacement at ``t[0]`` (see
+    :class:`GroundInput`).
+
+    Parameters
+    ----------
+    system : sixdof.model.System
+    excitation : sixdof.excitation.Excitation or None
+        Loads, ground motion and initial state (None: at rest, no load).
+    t : array_like, shape (n,)
+        Output times [s], strictly increasing; the initial state is applied at ``t[0]``.
+    method : {"auto", "real", "complex"}
+        See :func:`modal_solve`.
+    n_modes : int, optional
+        Number of modes kept, lowest first.
+    f_max_hz : float, optional
+        Highest natural frequency kept [Hz].
+    residual : bool
+        Static residual correction for the dropped modes (default True).
+    **options
+        Passed to :func:`modal_solve` (``quadrature_nodes``, ``max_step``, ``classical_rtol``).
+
+    Returns
+    -------
+    ModalResponse
+
+    Raises
+    ------
+    InputError
+        On bad times or options.
+    SolverError
+        If the complex modes cannot be computed reliably.
+    """
+    components = () if excitation is None else tuple(excitation.components())
+    ground_motion = None if excitation is None else excitation.ground
+    breakpoints = () if excitation is None else tuple(excitation.breakpoints)
+    if excitation is None:
+        q0 = qd0 = np.zeros(6)
+    else:
+        q0, qd0 = excitation.initial_state(system)
+
+    force = force_rates = None
+    if components:
+        vectors = np.stack([np.asarray(vector, dtype=float) for vector, _ in components])
+        signals = [signal for _, signal in components]
+
+        def combine(evaluate):
+            def function(times):
+                values = np.stack([_padded(lambda x, s=s: evaluate(s, x), times) for s in signals])
+                return values.T @ vectors
+            return function
+
+        force = combine(lambda s, times: _signal_values(s, times, 0))
+        force_rates = (combine(lambda s, times: _signal_values(s, times, 1)),
+                       combine(lambda s, times: _signal_values(s, times, 2)))
+
+    ground = None
+    omegas = [_signal_omega(s) for _, s in components]
+    if ground_motion is not None:
+        r = np.asarray(ground_motion.rigid_vector, dtype=float)
+        scale = float(ground_motion.scale)
+        signal = ground_motion.signal
+        ground = GroundInput(
+            quantity=ground_motion.quantity,
+            signal=lambda times: scale * _padded(lambda x: _signal_values(signal, x, 0), times),
+            rate=lambda times: scale * _padded(lambda x: _signal_values(signal, x, 1), times),
+            k_g=np.asarray(system.K) @ r,
+            c_g=np.asarray(system.C) @ r,
+        )
+        omegas.append(_signal_omega(signal))
+        force_rates = None  # the residual's rates would need the ground's too: q only
+
+    return modal_solve(
+        system.M, system.C, system.K, t, force, breakpoints, q0, qd0,
+        method=method, n_modes=n_modes, f_max_hz=f_max_hz, residual=residual,
+        force_rates=force_rates, signal_omega=max(omegas, default=0.0), ground=ground, **options,
+    )
+
+
+def _signal_values(signal, times, order):
+    """A signal (order 0) or its first or second derivative at ``times``, compiled: signals are
+    JAX pytrees, so this compiles once per signal kind and array length (see :func:`_padded`)."""
+    return _compiled_signal(signal, times, order)
+
+
+@partial(jax.jit, static_argnums=2)
+def _compiled_signal(signal, times, order):
+    return signal(times) if order == 0 else signal.derivative(times, order)
+
+
+def _padded(function, times):
+    """``function(times)`` for a jax function of a 1-D array, evaluated on a length padded to a
+    power of two: JAX compiles its eager operations once per array shape, so a few fixed lengths
+    keep repeated calls (new grids, new signals of a kind) from compiling again."""
+    n = times.size
+    size = max(1024, 1 << (n - 1).bit_length())
+    padded = np.concatenate([times, np.full(size - n, times[-1] if n else 0.0)])
+    return np.asarray(function(padded), dtype=float)[:n]
+
+
+def _signal_omega(signal) -> float:
+    """Highest circular frequency [rad/s] of a signal, from its parameters (0 when unknown)."""
+    f = []
+    for name in ("f_hz", "f0_hz", "f1_hz"):
+        value = getattr(signal, name, None)
+        if value is not None:
+            f.extend(np.atleast_1d(np.asarray(value, dtype=float)).tolist())
+    omega = 2 * np.pi * max(f, default=0.0)
+    kind = getattr(signal, "kind", "")
+    if kind in ("half_sine", "haversine"):
+        omega = max(omega, 2 * np.pi / float(signal.duration))
+    return float(omega)
+
+
+# ----------------------------------------------------------------------------------------------------
+# Core: modal superposition on matrices and a force callable
+# ----------------------------------------------------------------------------------------------------
+
+
+def modal_solve(
+    M,
+    C,
+    K,
+    t,
+    force=None,
+    breakpoints=(),
+    q0=None,
+    qd0=None,
+    *,
+    method: str = "auto",
+    n_modes: int | None = None,
+    f_max_hz: float | None = None,
+    residual: bool = True,
+    force_rates=None,
+    max_step: float | None = None,
+    signal_omega: float = 0.0,
+    quadrature_nodes: int = QUADRATURE_NODES,
+    classical_rtol: float = CLASSICAL_RTOL,
+    ground=None,
+) -> ModalResponse:
+    """Response of ``M q'' + C q' + K q = Q(t)`` by modal superposition.
+
+    Parameters
+    ----------
+    M, C, K : array_like, shape (6, 6)
+        Mass [kg, kg m^2], viscous damping [N s/m, ...] (symmetric positive semi-definite) and
+        stiffness [N/m, ...] (symmetric positive semi-definite) matrices.
+    t : array_like, shape (n,)
+        Output times [s], strictly increasing, n >= 2. The initial state is given at ``t[0]``.
+    force : callable, optional
+        ``force(times)`` for a 1-D array of times [s] returns the generalized force, shape
+        (len(times), 6) [N, N m]. Default: no force (free response).
+    breakpoints : sequence of float
+        Times [s] where the force or one of its derivatives jumps; the quadrature never straddles
+        them.
+    q0, qd0 : array_like, shape (6,), optional
+        Initial displacement [m, rad] and velocity [m/s, rad/s] at ``t[0]``. Default zero.
+    method : {"auto", "real", "complex"}
+        ``"auto"`` uses real modes when the damping is classical, complex modes otherwise.
+        Forcing ``"real"`` on non-classical damping neglects the modal coupling; the resulting
+        error is reported in ``approximation``.
+    n_modes : int, optional
+        Keep only the ``n_modes`` lowest modes (rigid-body modes must all be kept).
+    f_max_hz : float, optional
+        Keep only the modes with natural frequency <= ``f_max_hz`` [Hz].
+    residual : bool
+        Add the static residual correction ``R Q(t)``, ``R = sum_dropped phi phi' / omega^2``, for
+        the dropped modes (residual flexibility).
+    force_rates : tuple of two callables, optional
+        ``(dQ/dt, d2Q/dt2)`` with the signature of ``force``: the residual correction then enters
+        ``qd`` and ``qdd`` as well.
+    max_step : float, optional
+        Longest quadrature interval [s]. By default intervals are the output steps split at the
+        breakpoints and further so that ``(|lambda|_max + signal_omega) h <= 4`` rad.
+    signal_omega : float
+        Highest circular frequency [rad/s] in the force (0 when unknown); bounds the interval.
+    quadrature_nodes : int
+        Gauss-Legendre nodes per interval (default 16).
+    classical_rtol : float
+        Threshold of the damping-coupling index below which damping is classical.
+    ground : GroundInput, optional
+        Motion of the foundation, adding ``Q_g = k_g u_g(t) + c_g v_g(t)`` to the force, with the
+        ground displacement and velocity obtained from the signal exactly on the quadrature grid
+        (see :class:`GroundInput`).
+
+    Returns
+    -------
+    ModalResponse
+
+    Raises
+    ------
+    InputError
+        On malformed arrays, times, options or a truncation that drops rigid-body modes.
+    SolverError
+        If the complex modes cannot be computed reliably or the result is not finite.
+    """
+    M, C, K = (_matrix(m, name) for m, name in ((M, "M"), (C, "C"), (K, "K")))
+    t = _times(t)
+    if method not in METHODS:
+        raise InputError("method", "one of 'auto', 'real', 'complex'", method)
+    if isinstance(quadrature_nodes, bool) or not isinstance(quadrature_nodes, int) \
+            or not 1 <= quadrature_nodes <= 64:
+        raise InputError("quadrature_nodes", "an integer in [1, 64]", quadrature_nodes)
+    q0 = _state(q0, "q0")
+    qd0 = _state(qd0, "qd0")
+    breakpoints = _breakpoints(breakpoints)
+
+    basis, omega2 = _modes(M, K, C)
+    D = basis.T @ C @ basis
+    D = 0.5 * (D + D.T)
+    coupling_matrix = _coupling(D)
+    coupling = float(np.max(coupling_matrix)) if coupling_matrix.size else 0.0
+    classical = coupling <= classical_rtol
+    kept = _select(omega2, n_modes, f_max_hz)
+
+    if method == "auto":
+        chosen = "real" if classical else "complex"
+        reason = (
+            f"auto: damping is classical (largest modal coupling {coupling:.1e} <= "
+            f"{classical_rtol:.0e}): real modes"
+            if classical
+            else f"auto: damping couples the real modes (largest coupling |D_ij|/sqrt(D_ii D_jj) = "
+            f"{coupling:.2e} > {classical_rtol:.0e}, non-proportional damping): complex modes"
+        )
+    elif method == "real":
+        chosen = "real"
+        reason = (
+            f"forced real modes; damping is classical (coupling {coupling:.1e})"
+            if classical
+            else f"forced real modes on non-classical damping (coupling {coupling:.2e}): the "
+            "off-diagonal modal damping is neglected, the result is approximate (see approximation)"
+        )
+    else:
+        chosen = "complex"
+        reason = f"forced complex modes (damping coupling {coupling:.1e})"
+
+    grid = _Grid(t, breakpoints, quadrature_nodes)
+    # |lambda| <= omega + d for every kept mode: bounds the phase an interval may span.
+    fastest = float(np.sqrt(np.max(omega2[kept], initial=0.0))
+                    + np.max(np.diag(D)[kept], initial=0.0))
+    grid.refine(max_step, PHASE_PER_INTERVAL / max(fastest + signal_omega, 1e-300))
+    Q_nodes = _evaluate(force, grid.quadrature_times(), "force")  # (n_int, n_g, 6)
+    Q_out = _evaluate(force, t[:, None], "force")[:, 0, :]  # (n, 6)
+    if ground is not None:
+        u_nodes, v_nodes, u_out, v_out = ground.motion(grid)
+        Q_nodes = Q_nodes + u_nodes[..., None] * ground.k_g + v_nodes[..., None] * ground.c_g
+        Q_out = Q_out + u_out[:, None] * ground.k_g + v_out[:, None] * ground.c_g
+
+    def run(kept_modes, solve_method):
+        return _superpose_kept(
+            basis, omega2, D, kept_modes, solve_method, grid, Q_nodes, Q_out, M, q0, qd0,
+            classical_rtol, all_complex=method == "complex",
+        )
+
+    eta, eta_d, eta_dd, eigenvalues = run(kept, chosen)
+    Bk = basis[:, kept]
+    q, qd, qdd = eta @ Bk.T, eta_d @ Bk.T, eta_dd @ Bk.T
+
+    dropped = np.setdiff1d(np.arange(6), kept)
+    residual_rates = False
+    if dropped.size and residual:
+        Bd = basis[:, dropped]
+        R = Bd @ np.diag(1.0 / omega2[dropped]) @ Bd.T  # static flexibility of the dropped modes
+        q = q + Q_out @ R.T
+        if force_rates is not None and force is not None:
+            rate, acceleration = force_rates
+            qd = qd + _evaluate(rate, t[:, None], "force_rates[0]")[:, 0, :] @ R.T
+            qdd = qdd + _evaluate(acceleration, t[:, None], "force_rates[1]")[:, 0, :] @ R.T
+            residual_rates = True
+
+    truncation = None
+    approximation = None
+    if dropped.size or (chosen == "real" and not classical):
+        full = np.arange(6)
+        if dropped.size:
+            eta_f, *_ = run(full, chosen)
+            truncation = compare(eta_f @ basis.T, q)
+        if chosen == "real" and not classical:
+            eta_x, *_ = run(full, "complex")
+            eta_r = eta_f if dropped.size else eta
+            approximation = compare(eta_x @ basis.T, eta_r @ basis.T)
+
+    for name, value in (("q", q), ("qd", qd), ("qdd", qdd)):
+        if not np.all(np.isfinite(value)):
+            raise SolverError(f"modal superposition produced non-finite values in {name}")
+
+    return ModalResponse(
+        t=_readonly(t),
+        q=_readonly(q),
+        qd=_readonly(qd),
+        qdd=_readonly(qdd),
+        method=chosen,
+        reason=reason,
+        coupling=coupling,
+        modes_kept=tuple(int(i) for i in kept),
+        frequency_hz=_readonly(np.sqrt(omega2[kept]) / (2 * np.pi)),
+        eigenvalues=_readonly(eigenvalues),
+        residual=bool(residual and dropped.size > 0),
+        residual_rates=residual_rates,
+        truncation=truncation,
+        approximation=approximation,
+        n_intervals=grid.n_intervals,
+        quadrature_nodes=quadrature_nodes,
+    )
+
+
+# ----------------------------------------------------------------------------------------------------
+# Modal basis and truncation
+# ----------------------------------------------------------------------------------------------------
+
+
+def _modes(M, K, C):
+    """Mass-normalized real modes, with degenerate eigenspaces rotated to diagonalize the damping.
+
+    Within a group of equal frequencies (repeated modes, or the rigid-body modes) any orthonormal
+    basis is a set of modes; choosing the one that diagonalizes ``Phi' C Phi`` there makes the
+    classical-damping test exact for every C that some set of real modes diagonalizes.
+    """
+    modes = modal_analysis(M, K)
+    basis = np.array(modes.shapes)
+    omega2 = np.array(modes.eigenvalues)
+    scale = max(float(np.max(omega2)), np.finfo(float).tiny)
+    start = 0
+    while start < 6:
+        stop = start + 1
+        while stop < 6 and omega2[stop] - omega2[start] <= DEGENERATE_RTOL * scale:
+            stop += 1
+        if stop - start > 1:
+            block = basis[:, start:stop]
+            _, rotation = np.linalg.eigh(block.T @ C @ block)
+            basis[:, start:stop] = block @ rotation
+            omega2[start:stop] = np.mean(omega2[start:stop])
+        start = stop
+    return basis, omega2
+
+
+def _coupling(D):
+    """``|D_ij| / sqrt(D_ii D_jj)`` for i != j (0 on the diagonal and where both are undamped)."""
+    d = np.sqrt(np.clip(np.diag(D), 0.0, None))
+    product = np.outer(d, d)
+    tiny = np.finfo(float).tiny
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(product > tiny, np.abs(D) / np.where(product > tiny, product, 1.0),
+                         np.where(np.abs(D) > 1e-14 * max(float(np.max(np.abs(D))), tiny), 1.0, 0.0))
+    np.fill_diagonal(ratio, 0.0)
+    return np.minimum(ratio, 1.0)
+
+
+def _select(omega2, n_modes, f_max_hz):
+    keep = np.ones(6, dtype=bool)
+    n_rigid = int(np.sum(omega2 == 0.0))
+    if n_modes is not None:
+        if isinstance(n_modes, bool) or not isinstance(n_modes, (int, np.integer)) \
+                or not 1 <= n_modes <= 6:
+            raise InputError("n_modes", "an integer from 1 to 6", n_modes)
+        if n_modes < n_rigid:
+            raise InputError(
+                "n_modes", f"at least {n_rigid} (the rigid-body modes have no static residual)",
+                n_modes,
+            )
+        keep &= np.arange(6) < n_modes
+    if f_max_hz is not None:
+        if isinstance(f_max_hz, bool) or not isinstance(f_max_hz, (int, float)) \
+                or not np.isfinite(f_max_hz) or f_max_hz <= 0:
+            raise InputError("f_max_hz", "a positive frequency in Hz", f_max_hz)
+        keep &= np.sqrt(omega2) / (2 * np.pi) <= f_max_hz
+        if not np.any(keep):
+            raise InputError(
+                "f_max_hz",
+                f"at least the lowest natural frequency ({np.sqrt(omega2[0]) / (2 * np.pi):.4g} Hz)",
+                f_max_hz,
+            )
+    return np.flatnonzero(keep)
+
+
+# ----------------------------------------------------------------------------------------------------
+# Solving the kept modes
+# ----------------------------------------------------------------------------------------------------
+
+
+def _superpose_kept(basis, omega2, D, kept, method, grid, Q_nodes, Q_out, M, q0, qd0, rtol,
+                    all_complex=False):
+    """Modal coordinates of the kept modes: ``eta, eta', eta''`` (n, m) and the eigenvalues.
+
+    With ``method="complex"``, coordinates that damping does not couple to any other are solved as
+    single oscillators (exact, and robust for critically damped ones), unless ``all_complex``
+    (complex modes forced by the caller), when only the undamped rigid-body ones are (their
+    first-order form is a defective Jordan block that no eigenvector basis represents).
+    """
+    B = basis[:, kept]
+    w2 = omega2[kept]
+    Dk = D[np.ix_(kept, kept)]
+    g_nodes = Q_nodes @ B  # modal forces at the quadrature nodes (n_int, n_g, m)
+    g_out = Q_out @ B
+    eta0 = B.T @ (M @ q0)  # Phi^-1 = Phi' M for mass-normalized modes
+    etad0 = B.T @ (M @ qd0)
+    m = len(kept)
+    eta = np.zeros((grid.n_out, m))
+    eta_d = np.zeros((grid.n_out, m))
+
+    if method == "real":
+        single = np.arange(m)
+        coupled = np.arange(0)
+        D_used = np.diag(np.diag(Dk))
+    else:
+        # Coordinates not coupled to any other by damping are exact single oscillators (this covers
+        # undamped rigid-body modes, whose first-order form is a defective Jordan block).
+        c = _coupling(Dk)
+        isolated = np.all(c <= rtol, axis=1)
+        if all_complex:
+            isolated &= (w2 == 0.0) & (np.diag(Dk) <= rtol * max(float(np.max(np.diag(Dk))), 0.0))
+        single = np.flatnonzero(isolated)
+        coupled = np.flatnonzero(~isolated)
+        D_used = Dk.copy()
+        D_used[np.ix_(single, coupled)] = 0.0
+        D_used[np.ix_(coupled, single)] = 0.0
+
+    eigenvalues = []
+    if single.size:
+        d = np.diag(Dk)[single]
+        x, xd = _oscillators(w2[single], d, grid, g_nodes[..., single], eta0[single], etad0[single])
+        eta[:, single], eta_d[:, single] = x, xd
+        disc = np.sqrt((d**2 / 4 - w2[single]).astype(complex))
+        eigenvalues += list(-d / 2 + disc) + list(-d / 2 - disc)
+    if coupled.size:
+        x, xd, lam = _complex_modes(
+            w2[coupled], D_used[np.ix_(coupled, coupled)], grid, g_nodes[..., coupled],
+            eta0[coupled], etad0[coupled],
+        )
+        eta[:, coupled], eta_d[:, coupled] = x, xd
+        eigenvalues += list(lam)
+    eta_dd = g_out - eta_d @ D_used.T - eta * w2
+    eigenvalues = np.array(eigenvalues, dtype=complex)
+    eigenvalues = eigenvalues[np.lexsort((eigenvalues.imag, np.abs(eigenvalues)))]
+    return eta, eta_d, eta_dd, eigenvalues
+
+
+def _oscillators(w2, d, grid, g, x0, v0):
+    """Exact recursion of decoupled oscillators ``x'' + d x' + w2 x = g(t)``: x, x' (n, m)."""
+    transition = _sdof_transition(w2, d, grid.h[:, None])  # (n_int, m, 2, 2)
+    increments = np.zeros((grid.n_intervals, len(w2), 2))
+    sigma = -0.5 * d
+    for lo, hi in _chunks(grid.n_intervals):
+        # Response to a unit impulse of g at each node, seen at the interval's end: column 1 of
+        # exp(A tau), i.e. e^{sigma tau} [S, C + sigma S].
+        cosh, sinhc, decay = _sdof_functions(w2, d, grid.tau[lo:hi, :, None])  # (c, n_g, m)
+        weighted = grid.weights[lo:hi, :, None] * g[lo:hi] * decay
+        increments[lo:hi, :, 0] = np.sum(sinhc * weighted, axis=1)
+        increments[lo:hi, :, 1] = np.sum((cosh + sigma * sinhc) * weighted, axis=1)
+    states = _scan(transition, increments, np.stack([x0, v0], axis=-1))
+    states = grid.at_outputs(states, np.stack([x0, v0], axis=-1))
+    return states[..., 0], states[..., 1]
+
+
+def _sdof_functions(w2, d, tau):
+    """``cosh(mu tau)``, ``sinh(mu tau)/mu`` and ``e^{sigma tau}`` with ``sigma = -d/2`` and
+    ``mu^2 = sigma^2 - w2``: cos / sin for under-damped, cosh / sinh for over-damped modes, and the
+    limits ``1``, ``tau`` for critical damping and undamped rigid modes. ``w2``, ``d`` (m,); ``tau``
+    broadcastable to (..., m). Returns three arrays (..., m).
+    """
+    sigma = -0.5 * d
+    mu2 = sigma**2 - w2
+    shape = np.broadcast_shapes(np.shape(tau), w2.shape)
+    tau = np.broadcast_to(tau, shape)
+    cosh = np.ones(shape)
+    sinhc = np.array(tau, dtype=float)
+    under = np.flatnonzero(mu2 < 0)
+    over = np.flatnonzero(mu2 > 0)
+    if under.size:
+        wd = np.sqrt(-mu2[under])
+        x = tau[..., under] * wd
+        cosh[..., under] = np.cos(x)
+        sinhc[..., under] = np.sin(x) / wd
+    if over.size:
+        m = np.sqrt(mu2[over])
+        x = tau[..., over] * m
+        cosh[..., over] = np.cosh(x)
+        sinhc[..., over] = np.sinh(x) / m
+    return cosh, sinhc, np.exp(sigma * tau)
+
+
+def _sdof_transition(w2, d, tau):
+    """``exp(A tau)`` of ``A = [[0, 1], [-w2, -d]]`` for any damping (under-, over-, critically
+    damped, rigid): ``e^{sigma tau} (cosh(mu tau) I + sinh(mu tau)/mu (A - sigma I))`` with
+    ``sigma = -d/2``, ``mu^2 = sigma^2 - w2`` (Cayley-Hamilton: ``(A - sigma I)^2 = mu^2 I``).
+
+    Shapes: ``w2``, ``d`` (m,), ``tau`` broadcastable to (..., m). Returns (..., m, 2, 2).
+    """
+    sigma = -0.5 * d
+    cosh, sinhc, decay = _sdof_functions(w2, d, tau)
+    out = np.empty(cosh.shape + (2, 2))
+    out[..., 0, 0] = decay * (cosh - sigma * sinhc)
+    out[..., 0, 1] = decay * sinhc
+    out[..., 1, 0] = -decay * w2 * sinhc
+    out[..., 1, 1] = decay * (cosh + sigma * sinhc)
+    return out
+
+
+def _complex_modes(w2, D, grid, g, x0, v0):
+    """Coupled coordinates through the complex modes of ``y' = [[0, I], [-W2, -D]] y + [0, g]``.
+
+    Returns x, x' (n, p) and the 2p eigenvalues. Only one eigenvalue of each conjugate pair is
+    propagated: ``y = sum_real v z + 2 Re sum_{Im > 0} v z``.
+    """
+    p = len(w2)
+    A = np.block([[np.zeros((p, p)), np.eye(p)], [-np.diag(w2), -D]])
+    lam, V = np.linalg.eig(A)
+    condition = np.linalg.cond(V)
+    if not np.isfinite(condition) or condition > MAX_EIGENVECTOR_CONDITION:
+        raise SolverError(
+            f"complex modes: eigenvector matrix condition number {condition:.2e} exceeds "
+            f"{MAX_EIGENVECTOR_CONDITION:.0e} (a nearly defective, e.g. critically damped, "
+            "coupled system); use method='real' only if the damping is classical"
+        )
+    Vinv = np.linalg.inv(V)
+    # dgeev returns real eigenvalues with exactly zero imaginary part and exact conjugate pairs.
+    real = np.flatnonzero(lam.imag == 0)
+    upper = np.flatnonzero(lam.imag > 0)
+    if len(real) + 2 * len(upper) != 2 * p:
+        raise SolverError("complex modes: eigenvalues are not in conjugate pairs")
+    use = np.concatenate([real, upper])
+    weight = np.concatenate([np.ones(len(real)), 2.0 * np.ones(len(upper))])
+    lam_u = lam[use]
+    W = Vinv[use][:, p:]  # modal participation of the forces (r, p)
+    z0 = Vinv[use] @ np.concatenate([x0, v0])
+
+    transition = np.exp(lam_u * grid.h[:, None])[..., None, None]  # (n_int, r, 1, 1)
+    increments = np.zeros((grid.n_intervals, len(use), 1), dtype=complex)
+    for lo, hi in _chunks(grid.n_intervals):
+        kernel = np.exp(lam_u * grid.tau[lo:hi, :, None])  # (c, n_g, r)
+        forcing = (grid.weights[lo:hi, :, None] * g[lo:hi]) @ W.T  # (c, n_g, r)
+        increments[lo:hi, :, 0] = np.sum(kernel * forcing, axis=1)
+    z = _scan(transition, increments, z0[:, None])
+    z = grid.at_outputs(z, z0[:, None])[..., 0]  # (n, r)
+    y = ((z * weight) @ V[:, use].T).real
+    return y[:, :p], y[:, p:], lam
+
+
+def _scan(a, d, z0):
+    """States after each interval of ``z_{i+1} = a_i z_i + d_i``: shape (n_int, m, k).
+
+    ``a`` (n_int, m, k, k), ``d`` (n_int, m, k), ``z0`` (m, k), k = 1 or 2. A Hillis-Steele parallel
+    scan of the affine maps (log2 n vectorized passes instead of n Python steps); every product of
+    transition matrices is itself a transition matrix, so nothing overflows for stable modes.
+    """
+    a = a.copy()
+    d = d.copy()
+    n = a.shape[0]
+    offset = 1
+    while offset < n:
+        later, earlier = slice(offset, None), slice(None, -offset)
+        d[later] = _matvec(a[later], d[earlier]) + d[later]
+        a[later] = _matmul(a[later], a[earlier])
+        offset *= 2
+    return _matvec(a, np.broadcast_to(z0, d.shape)) + d
+
+
+def _matmul(a, b):
+    """Batched product of 1x1 or 2x2 matrices, written out (einsum is slow on tiny matrices)."""
+    if a.shape[-1] == 1:
+        return a * b
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape), dtype=np.result_type(a, b))
+    for i in range(2):
+        for j in range(2):
+            out[..., i, j] = a[..., i, 0] * b[..., 0, j] + a[..., i, 1] * b[..., 1, j]
+    return out
+
+
+def _matvec(a, v):
+    if a.shape[-1] == 1:
+        return a[..., 0] * v
+    out = np.empty(np.broadcast_shapes(a.shape[:-1], v.shape), dtype=np.result_type(a, v))
+    for i in range(2):
+        out[..., i] = a[..., i, 0] * v[..., 0] + a[..., i, 1] * v[..., 1]
+    return out
+
+
+# ----------------------------------------------------------------------------------------------------
+# Time grid and quadrature
+# ----------------------------------------------------------------------------------------------------
+
+
+class _Grid:
+    """Quadrature intervals: the output steps, split at breakpoints and to a longest length."""
+
+    def __init__(self, t, breakpoints, n_nodes):
+        self.t = t
+        self.n_out = len(t)
+        inside = breakpoints[(breakpoints > t[0]) & (breakpoints < t[-1])]
+        self.nodes = np.union1d(t, inside)
+        self.x, w = np.polynomial.legendre.leggauss(n_nodes)
+        self.w = w
+        self._build()
+
+    def refine(self, max_step, phase_step):
+        longest = phase_step if max_step is None else min(max_step, phase_step)
+        if max_step is not None and (not np.isfinite(max_step) or max_step <= 0):
+            raise InputError("max_step", "a positive duration in s", max_step)
+        h = np.diff(self.nodes)
+        parts = np.maximum(np.ceil(h / longest).astype(np.int64), 1)
+        if np.all(parts == 1):
+            return
+        if int(np.sum(parts)) > 50_000_000:
+            raise InputError("max_step", "a step giving at most 5e7 intervals", max_step)
+        start = np.repeat(self.nodes[:-1], parts)
+        step = np.repeat(h / parts, parts)
+        index = np.arange(len(start)) - np.repeat(np.cumsum(parts) - parts, parts)
+        self.nodes = np.append(start + index * step, self.nodes[-1])
+        self._build()
+
+    def _build(self):
+        self.h = np.diff(self.nodes)
+        self.n_intervals = len(self.h)
+        s = 0.5 * (1.0 + self.x)  # node position as a fraction of the interval
+        self.offset = self.h[:, None] * s  # (n_int, n_g)
+        self.tau = self.h[:, None] * (1.0 - s)  # time left to the interval's end
+        self.weights = 0.5 * self.h[:, None] * self.w
+        self.output_index = np.searchsorted(self.nodes, self.t)  # exact: t is a subset of nodes
+
+    def integrate(self, values, initial):
+        """Running integral from ``t[0]`` of a function known at the quadrature nodes.
+
+        ``values`` (n_int, n_g). Returns the integral at every node (n_int, n_g) and at every
+        interval's end (n_int,), starting from ``initial`` at the first node of the grid.
+        """
+        to_nodes, to_end = _integration_matrices(len(self.x))
+        half = 0.5 * self.h[:, None]
+        within = half * (values @ to_nodes.T)  # from each interval's start to its nodes
+        across = half[:, 0] * (values @ to_end)
+        ends = initial + np.cumsum(across)
+        starts = np.concatenate([[initial], ends[:-1]])
+        return starts[:, None] + within, ends
+
+    def quadrature_times(self):
+        return self.nodes[:-1, None] + self.offset
+
+    def at_outputs(self, states, initial):
+        """States at the output times from states after each interval and the initial state."""
+        full = np.concatenate([initial[None], states], axis=0)
+        return full[self.output_index]
+
+
+@dataclass(frozen=True, eq=False)
+class GroundInput:
+    """Rigid ground translation ``u_g(t)`` entering as the force ``k_g u_g + c_g v_g``.
+
+    The mounts act on the body's motion relative to the ground, so in absolute coordinates the
+    ground adds ``K r u_g + C_g r v_g`` (``r``: the generalized coordinates of a unit ground
+    translation). ``u_g`` and ``v_g = u_g'`` come from the signal ``s`` (vectorized, [m], [m/s] or
+    [m/s^2] per ``quantity``):
+
+    - ``"displacement"``: ``u_g = s``, ``v_g = s'`` (``rate``, exact derivative);
+    - ``"velocity"``: ``v_g = s``, ``u_g = int_{t0}^t s`` (zero at the first output time);
+    - ``"acceleration"``: ``v_g = int s``, ``u_g = int int s`` (ground at rest at ``t0``).
+
+    The integrals are exact on the quadrature grid: on each interval (never straddling a
+    breakpoint) the integrand is interpolated at the Gauss-Legendre nodes (a degree n_g - 1
+    polynomial, spectrally accurate for a smooth piece, exact for a polynomial one) and integrated
+    analytically to every node and to the interval's end; the interval contributions are summed.
+
+    Parameters
+    ----------
+    quantity : {"displacement", "velocity", "acceleration"}
+    signal : callable
+        ``signal(times)`` -> (len(times),) [m, m/s or m/s^2].
+    rate : callable or None
+        ``d signal / dt`` with the same signature; needed for ``"displacement"`` only.
+    k_g, c_g : ndarray, shape (6,)
+        ``K r`` [N/m, N] and ``C_g r`` [N s/m, N s]: generalized force per unit ground
+        displacement and velocity.
+    """
+
+    quantity: str
+    signal: object
+    rate: object
+    k_g: np.ndarray
+    c_g: np.ndarray
+
+    def motion(self, grid):
+        """``u_g, v_g`` at the quadrature nodes (n_int, n_g) and at the output times (n,)."""
+        s_nodes = _scalar(self.signal, grid.quadrature_times())
+        s_out = _scalar(self.signal, grid.t)
+        if self.quantity == "displacement":
+            return (s_nodes, _scalar(self.rate, grid.quadrature_times()), s_out,
+                    _scalar(self.rate, grid.t))
+        if self.quantity == "velocity":
+            u_nodes, u_ends = grid.integrate(s_nodes, 0.0)
+            return u_nodes, s_nodes, grid.at_outputs(u_ends, np.zeros(())), s_out
+        v_nodes, v_ends = grid.integrate(s_nodes, 0.0)
+        u_nodes, u_ends = grid.integrate(v_nodes, 0.0)
+        zero = np.zeros(())
+        return u_nodes, v_nodes, grid.at_outputs(u_ends, zero), grid.at_outputs(v_ends, zero)
+
+
+def _scalar(function, times):
+    times = np.asarray(times, dtype=float)
+    value = np.asarray(function(times.reshape(-1)), dtype=float)
+    if value.shape != (times.size,):
+        raise InputError("ground.signal", f"a callable returning shape ({times.size},)",
+                         f"shape {value.shape}")
+    if not np.all(np.isfinite(value)):
+        raise SolverError("ground.signal returned non-finite values")
+    return value.reshape(times.shape)
+
+
+def _integration_matrices(n):
+    """Matrices mapping values at the n Gauss-Legendre nodes of [-1, 1] to the integral of their
+    interpolating polynomial from -1 to each node (n, n) and to 1 (n,)."""
+    x, _ = np.polynomial.legendre.leggauss(n)
+    vandermonde = np.polynomial.legendre.legvander(x, n - 1)  # P_k(x_j)
+    to_coefficients = np.linalg.inv(vandermonde)
+    antiderivatives = np.stack(
+        [np.polynomial.legendre.legint(np.eye(n)[k], lbnd=-1.0) for k in range(n)], axis=1
+    )  # column k: Legendre coefficients of int_{-1}^x P_k
+    at_nodes = np.polynomial.legendre.legvander(x, n) @ antiderivatives
+    at_end = np.polynomial.legendre.legvander(np.array([1.0]), n)[0] @ antiderivatives
+    return at_nodes @ to_coefficients, at_end @ to_coefficients
+
+
+def _chunks(n):
+    for lo in range(0, n, _CHUNK):
+        yield lo, min(lo + _CHUNK, n)
+
+
+def _evaluate(function, times, name):
+    """``function`` on an array of times of any shape: returns times.shape + (6,)."""
+    if function is None:
+        return np.zeros(times.shape + (6,))
+    flat = times.reshape(-1)
+    value = np.asarray(function(flat), dtype=float)
+    if value.shape != (flat.size, 6):
+        raise InputError(name, f"a callable returning shape ({flat.size}, 6)",
+                         f"shape {value.shape}")
+    if not np.all(np.isfinite(value)):
+        raise SolverError(f"{name} returned non-finite values")
+    return value.reshape(times.shape + (6,))
+
+
+# ----------------------------------------------------------------------------------------------------
+# Validation helpers
+# ----------------------------------------------------------------------------------------------------
+
+
+def _matrix(value, name):
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(name, "a 6x6 matrix", value) from None
+    if array.shape != (6, 6) or not np.all(np.isfinite(array)):
+        raise InputError(name, "a finite 6x6 matrix", f"shape {array.shape}")
+    return array
+
+
+def _times(t):
+    try:
+        array = np.asarray(t, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError("t", "a 1-D array of strictly increasing times in s", t) from None
+    if array.ndim != 1 or array.size < 2 or not np.all(np.isfinite(array)) \
+            or np.any(np.diff(array) <= 0):
+        raise InputError("t", "a 1-D array of at least 2 strictly increasing times in s", t)
+    return array
+
+
+def _state(value, name):
+    if value is None:
+        return np.zeros(6)
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(name, "6 finite values", value) from None
+    if array.shape != (6,) or not np.all(np.isfinite(array)):
+        raise InputError(name, "6 finite values", value)
+    return array
+
+
+def _breakpoints(value):
+    try:
+        array = np.asarray(tuple(value), dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise InputError("breakpoints", "a sequence of times in s", value) from None
+    if not np.all(np.isfinite(array)):
+        raise InputError("breakpoints", "finite times in s", value)
+    return np.unique(array)
+
+
+def _readonly(array):
+    array = np.array(array)
+    array.flags.writeable = False
+    return array

@@ -1,0 +1,543 @@
+"""Modal superposition (sixdof.superposition) against independent answers.
+
+- The exact response of the state-space system: the matrix exponential (scipy.linalg.expm) of the
+  first-order system augmented with the linear generator of each signal piece (a sine is the
+  output of a 2-state oscillator, a polynomial of a nilpotent chain), piece by piece.
+- Closed forms for rigid-body (zero-frequency) modes.
+- The direct solver (sixdof.direct.simulate, diffrax) for every signal kind and damping model.
+"""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+import scipy.linalg
+
+from sixdof.errors import InputError
+from sixdof.model import Mount, Rayleigh, RigidBody, System
+from sixdof.superposition import (
+    Agreement,
+    ModalResponse,
+    compare,
+    modal_solve,
+    superpose,
+)
+from tolerances import (
+    MODAL_DAMPING_COUPLING_MIN,
+    RTOL_MODAL_DIRECT,
+    RTOL_MODAL_EXACT,
+    MODAL_RESIDUAL_GAIN,
+)
+
+# The seed paper's bridge beam: mounts 1, 2 and 3, 4 differ, so every mode couples several DOFs.
+POSITIONS = [(-0.195, -19.55, -1.031), (0.195, -19.55, -1.031), (0.195, 19.55, -1.031),
+             (-0.195, 19.55, -1.031)]
+STIFFNESS = [[0.26e6, 0.26e6, 312e6]] * 2 + [[0.51e6, 0.51e6, 496e6]] * 2
+BODY = RigidBody(83e3, [11.105e6, 0.0491e6, 11.064e6])
+DASHPOTS = [[520.0, 520.0, 0.62e6], [520.0, 520.0, 0.62e6], [1040.0, 1040.0, 0.4e6],
+            [1040.0, 1040.0, 0.4e6]]
+
+
+def bridge(dampers=None, **damping) -> System:
+    mounts = [
+        Mount(str(i + 1), p, k, damping=np.zeros(3) if dampers is None else dampers[i])
+        for i, (p, k) in enumerate(zip(POSITIONS, STIFFNESS))
+    ]
+    return System(BODY, mounts, **damping)
+
+
+SYSTEMS = {
+    "rayleigh": bridge(rayleigh=Rayleigh.from_ratio(0.02, (0.6, 38.0))),
+    "modal": bridge(modal_damping=(0.01, 0.02, 0.03, 0.02, 0.05, 0.02)),
+    "dashpots": bridge(DASHPOTS),
+    "combined": bridge(DASHPOTS, rayleigh=Rayleigh(0.05, 1e-4), modal_damping=0.01),
+    # Over-damped low modes (zeta ~ 6 at 0.6 Hz): the real recursion's cosh/sinh branch.
+    "overdamped": bridge(rayleigh=Rayleigh(50.0, 0.0)),
+}
+CLASSICAL = ("rayleigh", "modal", "overdamped")
+
+# A load at a corner of the beam: it excites every DOF.
+LOAD = np.array([2e3, -1e3, -8e4, 0.0, 0.0, 0.0])
+LOAD[3:] = np.cross([0.4, 15.0, 1.0], LOAD[:3]) + [1e3, 2e3, -3e3]
+
+
+# ----------------------------------------------------------------------------------------------------
+# Exact reference: matrix exponential of the state-space system augmented with signal generators.
+# ----------------------------------------------------------------------------------------------------
+
+
+def sine(w, phase=0.0, amplitude=1.0):
+    """``amplitude sin(w tau + phase)`` as the output of ``s' = S s`` (tau from the piece's start)."""
+    S = np.array([[0.0, w], [-w, 0.0]])  # s = [sin, cos] of the angle
+    return S, amplitude * np.array([1.0, 0.0]), np.array([np.sin(phase), np.cos(phase)])
+
+
+def line(a, b=0.0):
+    """``a + b tau``."""
+    return np.array([[0.0, 1.0], [0.0, 0.0]]), np.array([1.0, 0.0]), np.array([a, b])
+
+
+def exact_response(system, t, pieces, q0=np.zeros(6), qd0=np.zeros(6)):
+    """q (n, 6) of ``M q'' + C q' + K q = LOAD s(t)`` by matrix exponentials, on a uniform grid t.
+
+    ``pieces``: list of ``(start, end, generators)``; on ``[start, end)`` the signal is the sum of
+    the generators' outputs ``c' e^{S (t - start)} s0``; zero where no piece is active. By
+    superposition each piece's response is the free response after ``end`` of the state it leaves.
+    """
+    M, C, K = system.M, system.C, system.K
+    Minv = np.linalg.inv(M)
+    A = np.block([[np.zeros((6, 6)), np.eye(6)], [-Minv @ K, -Minv @ C]])
+    b = np.concatenate([np.zeros(6), Minv @ LOAD])
+    h = t[1] - t[0]
+    assert np.allclose(np.diff(t), h, rtol=1e-12, atol=0)
+
+    def march(matrix, x, origin, where):
+        """``expm(matrix (t - origin)) x`` at the times ``t[where]`` (consecutive, after origin):
+        one exponential to the first, then the one-step exponential (round-off ~ steps x eps)."""
+        index = np.flatnonzero(where)
+        out = np.empty((index.size, len(x)))
+        if index.size:
+            out[0] = scipy.linalg.expm(matrix * (t[index[0]] - origin)) @ x
+            step = scipy.linalg.expm(matrix * h)
+            for j in range(1, index.size):
+                out[j] = step @ out[j - 1]
+        return out
+
+    q = march(A, np.concatenate([q0, qd0]), t[0], np.ones(t.size, bool))[:, :6]
+    for start, end, generators in pieces:
+        for S, c, s0 in generators:
+            k = len(s0)
+            aug = np.block([[A, np.outer(b, c)], [np.zeros((k, 12)), S]])
+            x0 = np.concatenate([np.zeros(12), s0])
+            inside = (t > start) & (t <= end)
+            q[inside] += march(aug, x0, start, inside)[:, :6]
+            later = t > end
+            if np.any(later):
+                x_end = (scipy.linalg.expm(aug * (end - start)) @ x0)[:12]
+                q[later] += march(A, x_end, end, later)[:, :6]
+    return q
+
+
+def pieces_signal(pieces):
+    """The same signal as a vectorized function of time (dimensionless), and its breakpoints."""
+
+    def signal(times):
+        out = np.zeros_like(times)
+        for start, end, generators in pieces:
+            inside = (times >= start) & (times < end)
+            tau = times[inside] - start
+            for S, c, s0 in generators:
+                out[inside] += _generator_value(S, c, s0, tau)
+        return out
+
+    breakpoints = sorted({x for start, end, _ in pieces for x in (start, end) if np.isfinite(x)})
+    return signal, breakpoints
+
+
+def _generator_value(S, c, s0, tau):
+    # Closed forms of the two generator kinds above (the reference itself uses expm).
+    if S[0, 0] == 0 and S[1, 0] == 0:  # line
+        return c[0] * (s0[0] + s0[1] * tau)
+    w = S[0, 1]
+    return c[0] * (s0[0] * np.cos(w * tau) + s0[1] * np.sin(w * tau))
+
+
+T = np.linspace(0.0, 1.0, 1001)
+INF = np.inf
+CASES = {
+    "harmonic": [(0.0, INF, [sine(2 * np.pi * 5.0, 0.3)])],
+    "harmonic_late_start": [(0.3217, INF, [sine(2 * np.pi * 21.0)])],  # near the 21.3 Hz mode
+    "step": [(0.1234, INF, [line(1.0)])],
+    "ramp": [(0.05, 0.35, [line(0.0, 1 / 0.3)]), (0.35, INF, [line(1.0)])],
+    "half_sine": [(0.2005, 0.2505, [sine(np.pi / 0.05)])],
+    "haversine": [(0.1, 0.4, [line(0.5), sine(2 * np.pi / 0.3, np.pi / 2, -0.5)])],
+    # A table (piecewise linear) whose knots are off the output grid.
+    "table": [(0.0105, 0.2, [line(0.0, 1.0 / 0.1895)]), (0.2, 0.51, [line(1.0, -2.0 / 0.31)]),
+              (0.51, 0.9003, [line(-1.0, 1.0 / 0.3903)])],
+}
+
+
+@pytest.fixture(scope="module")
+def references():
+    """Exact responses, computed once per (system, case)."""
+    cache = {}
+
+    def get(system_name, case):
+        key = (system_name, case)
+        if key not in cache:
+            cache[key] = exact_response(SYSTEMS[system_name], T, CASES[case])
+        return cache[key]
+
+    return get
+
+
+def solve(system, pieces, **options):
+    signal, breakpoints = pieces_signal(pieces)
+    return modal_solve(system.M, system.C, system.K, T, lambda times: signal(times)[:, None] * LOAD,
+                       breakpoints, **options)
+
+
+@pytest.mark.parametrize("system_name", list(SYSTEMS))
+@pytest.mark.parametrize("case", list(CASES))
+def test_matches_exact_response(references, system_name, case):
+    result = solve(SYSTEMS[system_name], CASES[case])
+    agreement = compare(references(system_name, case), result)
+    assert agreement.worst < RTOL_MODAL_EXACT, str(agreement)
+    assert result.method == ("real" if system_name in CLASSICAL else "complex")
+
+
+@pytest.mark.parametrize("system_name", ["rayleigh", "dashpots"])
+def test_initial_conditions_and_mode_release(system_name):
+    system = SYSTEMS[system_name]
+    q0 = np.array([1e-3, -2e-3, 5e-4, 1e-6, -3e-5, 2e-6])
+    qd0 = np.array([-1e-2, 0.0, 3e-3, 0.0, 1e-4, -1e-5])
+    result = modal_solve(system.M, system.C, system.K, T, q0=q0, qd0=qd0)
+    assert compare(exact_response(system, T, [], q0, qd0), result).worst < RTOL_MODAL_EXACT
+    # The initial state goes through the modal transform and back: round-off only.
+    np.testing.assert_allclose(result.q[0], q0, rtol=RTOL_MODAL_EXACT, atol=0)
+    np.testing.assert_allclose(result.qd[0], qd0, rtol=RTOL_MODAL_EXACT,
+                               atol=RTOL_MODAL_EXACT * np.max(np.abs(qd0[qd0 != 0])))
+
+
+def test_mode_release_stays_in_its_mode_under_classical_damping():
+    system = SYSTEMS["rayleigh"]
+    from sixdof.modal import modal_analysis
+
+    modes = modal_analysis(system.M, system.K)
+    phi = modes.shapes[:, 3]
+    result = modal_solve(system.M, system.C, system.K, T, q0=1e-3 * phi)
+    # Classical damping: q(t) = eta(t) phi with eta the damped SDOF free response.
+    zeta = (system.rayleigh.alpha / modes.omega[3] + system.rayleigh.beta * modes.omega[3]) / 2
+    wd = modes.omega[3] * np.sqrt(1 - zeta**2)
+    eta = 1e-3 * np.exp(-zeta * modes.omega[3] * T) * (
+        np.cos(wd * T) + zeta * modes.omega[3] / wd * np.sin(wd * T)
+    )
+    assert compare(np.outer(eta, phi), result).worst < RTOL_MODAL_EXACT
+
+
+def test_accelerations_satisfy_equation_of_motion():
+    system = SYSTEMS["combined"]
+    result = solve(system, CASES["haversine"])
+    signal, _ = pieces_signal(CASES["haversine"])
+    Q = signal(T)[:, None] * LOAD
+    residual = result.qdd @ system.M + result.qd @ system.C + result.q @ system.K - Q
+    scale = np.abs(result.qdd @ system.M).max(axis=0) + np.abs(Q).max(axis=0)
+    assert np.max(np.abs(residual) / scale) < RTOL_MODAL_EXACT
+
+
+# ----------------------------------------------------------------------------------------------------
+# Method choice and the real-mode approximation of non-proportional damping
+# ----------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("system_name", list(SYSTEMS))
+def test_automatic_method_is_reported(system_name):
+    result = solve(SYSTEMS[system_name], CASES["step"])
+    if system_name in CLASSICAL:
+        assert result.method == "real" and result.reason.startswith("auto: damping is classical")
+        assert result.coupling < 1e-10
+        assert len(result.eigenvalues) == 12
+    else:
+        assert result.method == "complex" and "non-proportional" in result.reason
+        assert result.coupling > MODAL_DAMPING_COUPLING_MIN
+    assert result.approximation is None
+
+
+def test_real_modes_on_nonproportional_damping_disagree_measurably(references):
+    result = solve(SYSTEMS["dashpots"], CASES["half_sine"], method="real")
+    exact = references("dashpots", "half_sine")
+    agreement = compare(exact, result)
+    assert agreement.worst > MODAL_DAMPING_COUPLING_MIN and not agreement.ok
+    assert result.method == "real" and "approximate" in result.reason
+    # The result reports that error itself, against the exact complex-mode computation.
+    assert result.approximation is not None and not result.approximation.ok
+    assert result.approximation.worst == pytest.approx(agreement.worst, rel=1e-6)
+
+
+def test_forced_complex_on_classical_damping_agrees(references):
+    result = solve(SYSTEMS["rayleigh"], CASES["table"], method="complex")
+    assert result.method == "complex"
+    assert compare(references("rayleigh", "table"), result).worst < RTOL_MODAL_EXACT
+
+
+def test_classical_damping_detected_within_repeated_modes():
+    # A symmetric body on a symmetric mount layout: x/y translations and rx/ry rotations have equal
+    # frequencies. Modal damping built on a rotated basis of those pairs is classical, but is
+    # diagonal only in that basis: the detection must rotate within repeated modes.
+    from sixdof.modal import modal_analysis
+
+    mounts = [Mount(str(i), p, [1e6, 1e6, 4e6]) for i, p in
+              enumerate([(1.0, 1.0, -0.5), (-1.0, 1.0, -0.5), (-1.0, -1.0, -0.5), (1.0, -1.0, -0.5)])]
+    system = System(RigidBody(1e3, [400.0, 400.0, 600.0]), mounts)
+    M, K = system.M, system.K
+    modes = modal_analysis(M, K)
+    f = modes.frequency_hz
+    pairs = [(i, i + 1) for i in range(5) if abs(f[i + 1] - f[i]) < 1e-9 * f[-1]]
+    assert len(pairs) == 2  # (x, ry) and (y, rx) coupled pairs, each repeated
+    shapes = np.array(modes.shapes)
+    c, s_ = np.cos(0.5), np.sin(0.5)
+    for i, j in pairs:
+        shapes[:, [i, j]] = shapes[:, [i, j]] @ np.array([[c, -s_], [s_, c]])
+    zeta = np.array([0.01, 0.05, 0.02, 0.08, 0.03, 0.04])
+    C = M @ shapes @ np.diag(2 * zeta * modes.omega) @ shapes.T @ M
+    result = modal_solve(M, C, K, T, lambda t: np.sin(20 * t)[:, None] * LOAD)
+    assert result.method == "real" and result.coupling < 1e-10
+    reference = exact_response(SimpleNamespace(M=M, C=C, K=K), T, [(0.0, INF, [sine(20.0)])])
+    assert compare(reference, result).worst < RTOL_MODAL_EXACT
+
+
+# ----------------------------------------------------------------------------------------------------
+# Truncation and residual flexibility
+# ----------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("system_name", ["rayleigh", "dashpots"])
+def test_residual_correction_beats_plain_truncation(system_name):
+    system = SYSTEMS[system_name]
+    # A slow load (2 Hz, smooth start) under the dropped 21 and 38 Hz modes: they respond almost
+    # statically, which is what the residual flexibility represents.
+    pieces = [(0.0, 0.5, [line(0.5), sine(2 * np.pi / 1.0, np.pi / 2, -0.5)]),
+              (0.5, INF, [line(1.0)])]
+    exact = exact_response(system, T, pieces)
+    with_residual = solve(system, pieces, n_modes=4)
+    without = solve(system, pieces, n_modes=4, residual=False)
+    error_with = compare(exact, with_residual).worst
+    error_without = compare(exact, without).worst
+    assert error_with < MODAL_RESIDUAL_GAIN * error_without
+    assert with_residual.modes_kept == (0, 1, 2, 3) and with_residual.residual
+    assert not without.residual
+    # The reported truncation error is the error against the full set of modes.
+    assert with_residual.truncation.worst == pytest.approx(error_with, rel=1e-3)
+    assert without.truncation.worst == pytest.approx(error_without, rel=1e-3)
+
+
+def test_truncation_by_frequency():
+    system = SYSTEMS["rayleigh"]
+    result = solve(system, CASES["step"], f_max_hz=10.0)
+    assert result.modes_kept == (0, 1, 2, 3)
+    assert np.all(result.frequency_hz <= 10.0)
+    full = solve(system, CASES["step"])
+    assert full.truncation is None and full.modes_kept == tuple(range(6))
+
+
+# ----------------------------------------------------------------------------------------------------
+# Rigid-body (zero-frequency) modes
+# ----------------------------------------------------------------------------------------------------
+
+
+def free_floating(horizontal_damping=0.0, **damping):
+    """Mounts stiff only vertically: x, y and rz are rigid-body (zero-frequency) modes."""
+    mounts = [
+        Mount(str(i + 1), p, [0.0, 0.0, 3e8],
+              damping=[horizontal_damping, horizontal_damping, 1e5 * (1 + i)])
+        for i, p in enumerate(POSITIONS)
+    ]
+    return System(BODY, mounts, **damping)
+
+
+def test_rigid_body_modes_undamped_move_as_free_mass():
+    system = free_floating()
+    force = np.array([100.0, -50.0, 0.0, 0.0, 0.0, 0.0])
+    t = np.linspace(0.0, 5.0, 501)
+    result = modal_solve(system.M, system.C, system.K, t, lambda s: np.ones((s.size, 1)) * force,
+                         qd0=[1e-3, 0, 0, 0, 0, 0])
+    expected_x = 1e-3 * t + force[0] / BODY.mass * t**2 / 2
+    expected_y = force[1] / BODY.mass * t**2 / 2
+    np.testing.assert_allclose(result.q[:, 0], expected_x, rtol=RTOL_MODAL_EXACT, atol=0)
+    np.testing.assert_allclose(result.q[1:, 1], expected_y[1:], rtol=RTOL_MODAL_EXACT, atol=0)
+    assert result.method == "complex"  # the vertical dashpots are not proportional
+
+
+@pytest.mark.parametrize("method", ["real", "complex"])
+def test_rigid_body_modes_with_mass_proportional_damping(method):
+    # eta'' + alpha eta' = F/m from rest: x(t) = F/(m alpha) (t - (1 - e^{-alpha t}) / alpha).
+    alpha = 0.8
+    mounts = [Mount(str(i + 1), p, [0.0, 0.0, 3e8]) for i, p in enumerate(POSITIONS)]
+    system = System(BODY, mounts, rayleigh=Rayleigh(alpha, 0.0))
+    t = np.linspace(0.0, 5.0, 501)
+    force = np.array([100.0, 0.0, 0.0, 0.0, 0.0, 0.0])
+    result = modal_solve(system.M, system.C, system.K, t, lambda s: np.ones((s.size, 1)) * force,
+                         method=method)
+    expected = force[0] / (BODY.mass * alpha) * (t - (1 - np.exp(-alpha * t)) / alpha)
+    np.testing.assert_allclose(result.q[1:, 0], expected[1:], rtol=RTOL_MODAL_EXACT, atol=0)
+    assert result.method == method
+
+
+def test_rigid_body_modes_with_horizontal_dashpots_match_exact():
+    system = free_floating(horizontal_damping=2e4)
+    pieces = CASES["half_sine"]
+    result = solve(system, pieces)
+    assert result.method == "complex"
+    assert compare(exact_response(system, T, pieces), result).worst < RTOL_MODAL_EXACT
+
+
+def test_truncation_must_keep_rigid_body_modes():
+    system = free_floating()
+    with pytest.raises(InputError, match=r"n_modes: expected at least 3 \(the rigid-body modes"):
+        modal_solve(system.M, system.C, system.K, T, n_modes=2)
+
+
+# ----------------------------------------------------------------------------------------------------
+# compare
+# ----------------------------------------------------------------------------------------------------
+
+
+def test_compare_each_dof_on_its_own_scale():
+    t = np.linspace(0, 1, 101)
+    ref = np.stack([1e-4 * np.sin(7 * t), 2e-4 * np.cos(3 * t), 1e-3 * t, 1e-7 * t, 3e-6 * t**2,
+                    -2e-7 * np.sin(t)], axis=1)
+    other = ref.copy()
+    other[:, 3] += 1e-14  # 1e-7 of the rx peak (1e-7 rad): invisible next to x, visible on rx
+    agreement = compare(ref, other, tolerance=1e-6)
+    assert isinstance(agreement, Agreement)
+    assert agreement.worst_dof == "rx"
+    assert agreement.worst == pytest.approx(1e-7, rel=1e-6)
+    assert agreement.ok and agreement.quiet == ()
+    np.testing.assert_array_equal(agreement.per_dof[[0, 1, 2, 4, 5]], 0.0)
+    assert not compare(ref, other, tolerance=1e-8).ok
+
+
+def test_compare_judges_quiet_dofs_against_the_largest_response():
+    t = np.linspace(0, 1, 101)
+    ref = np.zeros((101, 6))
+    ref[:, 2] = 1e-3 * np.sin(5 * t)  # only z moves
+    other = ref.copy()
+    other[:, 0] = 1e-18  # round-off in a DOF that does not move
+    other[:, 4] = 1e-18  # ry (rad): 1 m lever arm by default
+    agreement = compare(ref, other)
+    assert agreement.quiet == ("x", "y", "rx", "ry", "rz")
+    assert agreement.per_dof[0] == pytest.approx(1e-18 / np.abs(ref[:, 2]).max())
+    assert agreement.per_dof[4] == pytest.approx(1e-18 / np.abs(ref[:, 2]).max())
+    assert agreement.ok
+    assert compare(np.zeros((3, 6)), np.zeros((3, 6))).worst == 0.0
+    assert compare(np.zeros((3, 6)), np.full((3, 6), 1e-30)).worst == np.inf
+
+
+def test_compare_errors():
+    with pytest.raises(InputError, match=r"modal_q: expected shape \(10, 6\) like direct_q, got "
+                                         r"'shape \(9, 6\)'"):
+        compare(np.zeros((10, 6)), np.zeros((9, 6)))
+    with pytest.raises(InputError, match=r"direct_q: expected an array of shape \(n, 6\)"):
+        compare(np.zeros((10, 3)), np.zeros((10, 3)))
+    with pytest.raises(InputError, match="tolerance: expected a positive number, got -1"):
+        compare(np.zeros((10, 6)), np.zeros((10, 6)), tolerance=-1)
+
+
+def test_input_errors():
+    system = SYSTEMS["rayleigh"]
+    args = (system.M, system.C, system.K)
+    with pytest.raises(InputError, match="method: expected one of 'auto', 'real', 'complex', got 'x'"):
+        modal_solve(*args, T, method="x")
+    with pytest.raises(InputError, match="t: expected a 1-D array of at least 2 strictly increasing"):
+        modal_solve(*args, [0.0, 1.0, 0.5])
+    with pytest.raises(InputError, match="n_modes: expected an integer from 1 to 6, got 7"):
+        modal_solve(*args, T, n_modes=7)
+    with pytest.raises(InputError, match=r"f_max_hz: expected at least the lowest natural frequency"):
+        modal_solve(*args, T, f_max_hz=0.1)
+    with pytest.raises(InputError, match=r"force: expected a callable returning shape \(\d+, 6\)"):
+        modal_solve(*args, T, lambda s: np.zeros((s.size, 3)))
+    with pytest.raises(InputError, match="q0: expected 6 finite values"):
+        modal_solve(*args, T, q0=[1.0, 2.0])
+
+
+def test_result_is_frozen():
+    result = solve(SYSTEMS["rayleigh"], CASES["step"])
+    assert isinstance(result, ModalResponse)
+    with pytest.raises(AttributeError):
+        result.method = "complex"
+    with pytest.raises(ValueError):
+        result.q[0, 0] = 1.0
+
+
+# ----------------------------------------------------------------------------------------------------
+# Against the direct solver (diffrax): every damping model, every signal kind
+# ----------------------------------------------------------------------------------------------------
+
+from sixdof import excitation as ex  # noqa: E402
+from sixdof.direct import SimulationSettings, simulate  # noqa: E402
+
+SETTINGS = SimulationSettings(duration=1.0, sample_rate_hz=1000.0)
+POINT, FORCE, MOMENT = [0.4, 15.0, 1.0], [2e3, -1e3, -8e4], [1e3, 2e3, -3e3]
+
+
+def _loads(*signals):
+    """One load per signal, at different points and in different directions, of similar size."""
+    points = ([0.4, 15.0, 1.0], [-0.5, -12.0, 0.8], [0.3, 5.0, -1.0], [0.0, -18.0, 0.5])
+    forces = ([2e3, -1e3, -8e4], [-1e4, 3e3, 6e4], [5e3, 1e4, -5e4], [-3e3, -2e3, 7e4])
+    return ex.Excitation(loads=[
+        ex.Load(f"load{k}", points[k], forces[k], MOMENT, signal=signal)
+        for k, signal in enumerate(signals)
+    ])
+
+
+# The direct solver compiles once per combination of signal kinds, so the kinds are grouped a few
+# per excitation (each load of similar size, so that none hides another's error); every kind is
+# also checked alone against the exact matrix exponential above.
+EXCITATIONS = {
+    "harmonic_step_half_sine": _loads(
+        ex.Harmonic(f_hz=5.0, phase_deg=20.0), ex.Step(start=0.1234),
+        ex.HalfSine(start=0.1003, duration=0.05)),
+    "sweeps_ramp": _loads(
+        ex.Sweep(f0_hz=0.5, f1_hz=40.0, duration=0.9, start=0.05),
+        ex.Sweep(f0_hz=0.5, f1_hz=40.0, duration=0.9, law="log"), ex.Ramp(duration=0.3, start=0.05)),
+    "haversine_table_random_unbalance": ex.Excitation(loads=_loads(
+        ex.Haversine(start=0.1, duration=0.3),
+        ex.Table(t=[0.0105, 0.2, 0.51, 0.9003], values=[0.0, 1.0, -1.0, 0.0]),
+        ex.Random(f_hz=(0.5, 50.0), rms=0.3, seed=3)).loads + (
+        ex.Unbalance("rotor", POINT, unbalance=5.0, f_hz=12.0, axis=[0.0, 1.0, 0.0], start=0.05),)),
+    "ground_displacement": ex.Excitation(ground=ex.GroundMotion(
+        "displacement", [1.0, 0.2, 0.0], ex.Table(t=[0.1, 0.3, 0.6, 0.9],
+                                                  values=[0.0, 0.01, -0.005, 0.0]))),
+    "ground_velocity": ex.Excitation(ground=ex.GroundMotion(
+        "velocity", [0.0, 0.3, 1.0], ex.HalfSine(start=0.1, duration=0.2), scale=0.1)),
+    "ground_acceleration": ex.Excitation(ground=ex.GroundMotion(
+        "acceleration", [0.3, 1.0, 0.2], ex.Random(f_hz=(0.5, 20.0), rms=1.0, seed=1), scale=0.5)),
+    "initial_state": ex.Excitation(initial=ex.InitialState(
+        q=[1e-3, -2e-3, 5e-4, 1e-6, -3e-5, 2e-6], qd=[-1e-2, 0.0, 3e-3, 0.0, 1e-4, -1e-5])),
+    "mode_release": ex.Excitation(initial=ex.ModeRelease(mode=2, amplitude=1e-3)),
+}
+DIRECT_SYSTEMS = ("rayleigh", "modal", "dashpots", "combined")
+
+
+@pytest.fixture(scope="module")
+def direct():
+    """Direct solutions, computed once per (system, excitation); compiled once per signal kind."""
+    cache = {}
+
+    def get(system_name, kind):
+        if (system_name, kind) not in cache:
+            cache[system_name, kind] = simulate(SYSTEMS[system_name], EXCITATIONS[kind], SETTINGS)
+        return cache[system_name, kind]
+
+    return get
+
+
+@pytest.mark.parametrize("system_name", DIRECT_SYSTEMS)
+@pytest.mark.parametrize("kind", list(EXCITATIONS))
+def test_agrees_with_direct_solver(direct, system_name, kind):
+    reference = direct(system_name, kind)
+    result = superpose(SYSTEMS[system_name], EXCITATIONS[kind], reference.t)
+    agreement = compare(reference, result, tolerance=RTOL_MODAL_DIRECT)
+    assert agreement.ok, str(agreement)
+    assert result.method == ("real" if system_name in CLASSICAL else "complex")
+
+
+def test_real_modes_on_dashpots_disagree_with_direct_solver(direct):
+    reference = direct("dashpots", "harmonic_step_half_sine")
+    result = superpose(SYSTEMS["dashpots"], EXCITATIONS["harmonic_step_half_sine"], reference.t,
+                       method="real")
+    agreement = compare(reference, result, tolerance=RTOL_MODAL_DIRECT)
+    assert agreement.worst > MODAL_DAMPING_COUPLING_MIN and not agreement.ok
+    assert not result.approximation.ok
+
+
+def test_truncated_superposition_reports_error_against_full_set(direct):
+    reference = direct("combined", "sweeps_ramp")
+    truncated = superpose(SYSTEMS["combined"], EXCITATIONS["sweeps_ramp"], reference.t, n_modes=5)
+    actual = compare(reference, truncated).worst
+    # The reported truncation error (against the full modal set) is the error against the direct
+    # solution, up to the direct solver's own error.
+    assert truncated.truncation.worst == pytest.approx(actual, rel=1e-3)
+    assert truncated.truncation.worst > RTOL_MODAL_DIRECT

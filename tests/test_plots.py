@@ -135,6 +135,33 @@ def test_superposition_overlay_and_difference(results):
         np.testing.assert_allclose(relative * np.max(np.abs(direct[:, i])), modal[:, i] - direct[:, i], rtol=1e-12)
 
 
+def test_superposition_difference_of_a_quiet_dof_is_the_stored_agreement():
+    # A load along x through the CG of a symmetric body: y, z, rx, rz stay at round-off ("quiet")
+    # and the agreement judges them against the largest peak; the figure must plot the same number.
+    from sixdof.direct import SimulationSettings, simulate
+    from sixdof.excitation import Excitation, HalfSine, Load
+    from sixdof.model import Mount, RigidBody, System
+    from sixdof.store import build_results
+    from sixdof.superposition import compare, superpose
+
+    system = System(
+        RigidBody(100.0, [5.0, 6.0, 7.0], [1.0, 1.0, 1.0]),
+        [Mount(str(i), [sx * 0.4, sy * 0.4, -0.3], [1e5, 1e5, 3e5], damping=[50.0, 50.0, 80.0])
+         for i, (sx, sy) in enumerate([(-1, -1), (1, -1), (1, 1), (-1, 1)])],
+    )
+    excitation = Excitation(loads=(Load("push", [0.0, 0.0, 0.0], force=[100.0, 0.0, 0.0],
+                                        signal=HalfSine(start=0.01, duration=0.02)),))
+    response = simulate(system, excitation, SimulationSettings(duration=0.3, sample_rate_hz=1000.0))
+    modal = superpose(system, excitation, response.t)
+    agreement = compare(response.q, modal.q, length=0.5)
+    assert set(agreement.quiet) >= {"y", "z", "rx", "rz"}
+    fig = plots.plot_superposition(build_results(system=system, response=response, superposition=modal,
+                                                 agreement=agreement))
+    for i in range(6):
+        relative = fig.axes[2 * i + 1].lines[0].get_ydata()
+        assert np.max(np.abs(relative)) == pytest.approx(agreement.per_dof[i], rel=1e-9)
+
+
 def test_bode_marks_natural_frequencies(results):
     fig = plots.plot_bode(results)
     assert labelled_axes(fig)

@@ -353,19 +353,20 @@ def plot_superposition(results: Results) -> Figure:
         left.plot(t, factor * modal[:, i], color="tab:orange", linewidth=1.0, linestyle="--",
                   label="modal superposition")
         left.set_ylabel(f"{results.dofs[i]} [{label}]")
-        # The difference relative to the DOF's own peak: the quantity the agreement measures, readable
-        # at a glance for DOFs whose sizes differ by decades.
-        peak = float(np.max(np.abs(direct[:, i])))
-        relative = (modal[:, i] - direct[:, i]) / peak if peak > 0 else modal[:, i] - direct[:, i]
+        # The difference relative to the quantity the agreement divides by: the DOF's own peak,
+        # or for a quiet DOF (round-off only) the largest peak of all DOFs.
+        denominator, against = _agreement_denominator(direct, attrs, i)
+        relative = (modal[:, i] - direct[:, i]) / denominator if denominator > 0 else modal[:, i] - direct[:, i]
         right.plot(t, relative, color="tab:purple", linewidth=0.9)
-        right.set_ylabel(f"Δ{results.dofs[i]} / peak [1]")
+        right.set_ylabel(f"Δ{results.dofs[i]} / {against} [1]")
         right.ticklabel_format(axis="y", style="sci", scilimits=(-2, 2))
         # Tolerance lines only where they do not flatten the curve into a line.
         if "agreement_tolerance" in attrs and np.max(np.abs(relative)) > 0.1 * attrs["agreement_tolerance"]:
             for sign in (-1, 1):
                 right.axhline(sign * attrs["agreement_tolerance"], color="tab:red", linestyle="--", linewidth=0.8)
         if per_dof is not None:
-            right.set_title(f"{results.dofs[i]}: max|Δ| / peak = {per_dof[i]:.2e}", fontsize=9)
+            quiet = " (quiet DOF: round-off only)" if against != "peak" else ""
+            right.set_title(f"{results.dofs[i]}: max|Δ| / {against} = {per_dof[i]:.2e}{quiet}", fontsize=9)
         for ax in (left, right):
             ax.grid(True, alpha=0.3)
             ax.set_xlim(t[0], t[-1])
@@ -376,6 +377,21 @@ def plot_superposition(results: Results) -> Figure:
     axes[-1, 0].set_xlabel("time t [s]")
     axes[-1, 1].set_xlabel("time t [s]")
     return fig
+
+
+def _agreement_denominator(direct: np.ndarray, attrs, i: int) -> tuple[float, str]:
+    """What the stored agreement divides DOF ``i``'s difference by, and its name.
+
+    A quiet DOF (listed in ``agreement_quiet``) is measured against the largest peak of all DOFs,
+    rotations converted to lengths with ``agreement_length`` (see sixdof.superposition.compare).
+    """
+    peaks = np.max(np.abs(direct), axis=0)
+    if DOFS[i] not in tuple(attrs.get("agreement_quiet", ())):
+        return float(peaks[i]), "peak"
+    length = float(attrs.get("agreement_length", 1.0))
+    as_length = peaks * np.array([1.0, 1.0, 1.0, length, length, length])
+    largest = float(np.max(as_length))
+    return (largest / length if i >= 3 else largest), "largest peak"
 
 
 def plot_mount_forces(results: Results) -> Figure:

@@ -14,13 +14,20 @@ import numpy as np
 
 from sixdof import frf as frf_module
 from sixdof.damping import modal_damping_ratios
-from sixdof.modal import modal_analysis
-from sixdof.response import mount_forces, points_motion
-from sixdof.model import Mount, RigidBody, System, load_vector
 from sixdof.direct import SimulationSettings, simulate
 from sixdof.excitation import Excitation, Harmonic, Load
+from sixdof.modal import modal_analysis
+from sixdof.model import Mount, RigidBody, System, load_vector
+from sixdof.response import mount_forces, points_motion
 from sixdof.superposition import compare, modal_solve
-from sixdof.validate import FreeDecay, ModeCheck, RandomRun, ValidationReport, decay_estimate, estimate_frf
+from sixdof.validate import (
+    FreeDecay,
+    ModeCheck,
+    RandomRun,
+    ValidationReport,
+    decay_estimate,
+    estimate_frf,
+)
 
 POSITIONS = [(-0.195, -19.55, -1.031), (0.195, -19.55, -1.031), (0.195, 19.55, -1.031), (-0.195, 19.55, -1.031)]
 STIFF_12 = [0.26e6, 0.26e6, 312e6]

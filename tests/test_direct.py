@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 import scipy.integrate
 import scipy.linalg
-
 from exact_lti import (
     FREE,
     bridge,
@@ -19,6 +18,8 @@ from exact_lti import (
     skewed_machine,
     table_pieces,
 )
+from tolerances import RTOL_DIRECT_EXACT, RTOL_ENERGY_BALANCE
+
 from sixdof.direct import SOLVERS, SimulationSettings, simulate, state_scale
 from sixdof.errors import InputError, SolverError
 from sixdof.excitation import (
@@ -34,7 +35,6 @@ from sixdof.excitation import (
     Table,
 )
 from sixdof.modal import modal_analysis
-from tolerances import RTOL_DIRECT_EXACT, RTOL_ENERGY_BALANCE
 
 # An off-centre load with all three force components: every DOF of the bridge responds.
 POINT = np.array([0.3, 10.0, 1.0])

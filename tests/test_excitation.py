@@ -4,8 +4,9 @@ import math
 
 import numpy as np
 import pytest
-
 from exact_lti import bridge
+from tolerances import RTOL_SIGNAL
+
 from sixdof._jax import jax
 from sixdof.errors import InputError
 from sixdof.excitation import (
@@ -29,7 +30,6 @@ from sixdof.excitation import (
     make_signal,
 )
 from sixdof.modal import modal_analysis
-from tolerances import RTOL_SIGNAL
 
 T = np.linspace(-0.5, 3.0, 701)
 

@@ -4,16 +4,16 @@ independent ODE integration, and each other (direct solve vs modal summation).""
 import numpy as np
 import pytest
 import scipy.integrate
-
-from sixdof import frf
-from sixdof.errors import InputError
-from sixdof.model import Mount, Rayleigh, RigidBody, System
 from tolerances import (
     RTOL_FRF_CLOSED_FORM,
     RTOL_FRF_IDENTITY,
     RTOL_FRF_METHODS,
     RTOL_STEADY_STATE,
 )
+
+from sixdof import frf
+from sixdof.errors import InputError
+from sixdof.model import Mount, Rayleigh, RigidBody, System
 
 BRIDGE_POSITIONS = [(-0.195, -19.55, -1.031), (0.195, -19.55, -1.031), (0.195, 19.55, -1.031),
                     (-0.195, 19.55, -1.031)]

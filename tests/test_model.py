@@ -3,13 +3,13 @@
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
+from tolerances import RTOL_FREQUENCY, RTOL_LINALG, RTOL_ZERO_ENTRY
 
 from sixdof._jax import jax, jnp
 from sixdof.errors import InputError
 from sixdof.modal import modal_analysis
 from sixdof.model import Mount, RigidBody, System, load_vector, mount_matrix, point_map
 from sixdof.statics import gravity_statics
-from tolerances import RTOL_FREQUENCY, RTOL_LINALG, RTOL_ZERO_ENTRY
 
 
 def four_mount(m=500.0, J=(40.0, 60.0, 80.0), a=0.4, b=0.6, h=0.3, k=(2e5, 3e5, 8e5)):

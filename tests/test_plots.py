@@ -8,12 +8,12 @@ import sys
 import numpy as np
 import pytest
 from matplotlib.figure import Figure
+from store_cases import bridge, run_parts
 
 from sixdof import plots
 from sixdof.errors import InputError
 from sixdof.modal import modal_analysis
 from sixdof.store import Dataset, build_results, load_results, write_results
-from store_cases import bridge, run_parts
 
 UNIT_WORDS = ("[m]", "[kg^1/2 m]", "[mm]", "[µm]", "[mrad]", "[µrad]", "[s]", "[Hz]", "[kN]", "[N]", "[deg]", "[%]",
               "[m/N]", "[rad/(N m)]", "[1]", "[N/N]", "[m/m]", "[m/N/s^2]")

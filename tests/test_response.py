@@ -6,13 +6,20 @@ they reuse its compiled solvers.
 
 import numpy as np
 import pytest
-
 from exact_lti import bridge, skewed_machine
+from tolerances import RTOL_DIRECT_EXACT, RTOL_LINALG
+
 from sixdof.direct import SimulationSettings, simulate
 from sixdof.errors import InputError
-from sixdof.excitation import Excitation, GroundMotion, Harmonic, InitialState, Load, Step
+from sixdof.excitation import (
+    Excitation,
+    GroundMotion,
+    Harmonic,
+    InitialState,
+    Load,
+    Step,
+)
 from sixdof.response import mount_forces, point_motion, points_motion
-from tolerances import RTOL_DIRECT_EXACT, RTOL_LINALG
 
 HARMONIC = SimulationSettings(duration=3.0, sample_rate_hz=500.0)
 POINT = np.array([0.3, 10.0, 1.0])

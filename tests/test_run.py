@@ -1,15 +1,13 @@
 """``sixdof run`` / ``run_scenario`` end to end: what is written, and that failures leave nothing behind."""
 
-import warnings
 
-import numpy as np
 import pytest
 
 from sixdof import run as run_module
 from sixdof.cli import main
 from sixdof.errors import InputError
-from sixdof.run import SamplingWarning, run_scenario, sampling_warnings
 from sixdof.modal import modal_analysis
+from sixdof.run import run_scenario, sampling_warnings
 from sixdof.scenario import parse_scenario
 from sixdof.store import load_results
 

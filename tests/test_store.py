@@ -8,13 +8,20 @@ import sys
 import h5py
 import numpy as np
 import pytest
+from store_cases import SCENARIO_TEXT, bridge, run_parts
 
 from sixdof import store
 from sixdof.dofs import DOFS
 from sixdof.errors import InputError
 from sixdof.modal import modal_analysis
-from sixdof.store import Dataset, Results, build_results, load_results, save_results, write_results
-from store_cases import SCENARIO_TEXT, bridge, run_parts
+from sixdof.store import (
+    Dataset,
+    Results,
+    build_results,
+    load_results,
+    save_results,
+    write_results,
+)
 
 
 @pytest.fixture(scope="module")

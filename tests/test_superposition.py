@@ -14,6 +14,12 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 import scipy.linalg
+from tolerances import (
+    MODAL_DAMPING_COUPLING_MIN,
+    MODAL_RESIDUAL_GAIN,
+    RTOL_MODAL_DIRECT,
+    RTOL_MODAL_EXACT,
+)
 
 from sixdof.errors import InputError
 from sixdof.model import Mount, Rayleigh, RigidBody, System
@@ -23,12 +29,6 @@ from sixdof.superposition import (
     compare,
     modal_solve,
     superpose,
-)
-from tolerances import (
-    MODAL_DAMPING_COUPLING_MIN,
-    RTOL_MODAL_DIRECT,
-    RTOL_MODAL_EXACT,
-    MODAL_RESIDUAL_GAIN,
 )
 
 # The seed paper's bridge beam: mounts 1, 2 and 3, 4 differ, so every mode couples several DOFs.

@@ -4,6 +4,13 @@ error, free-decay estimation against closed forms, and the whole validation on a
 import numpy as np
 import pytest
 import scipy.signal
+from tolerances import (
+    H1_MAX_SIGMAS,
+    H1_MEDIAN_SIGMAS,
+    H1_SIGMA_CALIBRATION,
+    RTOL_DECAY,
+    RTOL_DIRECT_STEADY_STATE,
+)
 
 from sixdof import frf
 from sixdof.direct import SimulationSettings, simulate
@@ -18,13 +25,6 @@ from sixdof.validate import (
     h1_random_error,
     peak_frequency,
     validate,
-)
-from tolerances import (
-    H1_MAX_SIGMAS,
-    H1_MEDIAN_SIGMAS,
-    H1_SIGMA_CALIBRATION,
-    RTOL_DECAY,
-    RTOL_DIRECT_STEADY_STATE,
 )
 
 

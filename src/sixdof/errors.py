@@ -42,6 +42,27 @@ class ScenarioError(InputError):
         self.field, self.expected, self.got = error.field, error.expected, error.got
 
 
+def finite_array(value: object, field: str, expected: str, shape: tuple[int, ...]) -> np.ndarray:
+    """``value`` as a read-only float64 array of ``shape`` with finite entries.
+
+    The one check behind every "3 coordinates in m" / "6 finite values" field of the library.
+
+    Raises
+    ------
+    InputError
+        Naming ``field`` and ``expected`` when ``value`` is not numeric, has another shape, or holds
+        a NaN or an infinity.
+    """
+    try:
+        array = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(field, expected, value) from None
+    if array.shape != tuple(shape) or not np.all(np.isfinite(array)):
+        raise InputError(field, expected, value)
+    array.flags.writeable = False
+    return array
+
+
 class SolverError(RuntimeError):
     """A numerical solve failed (diverged, hit its step limit, or produced non-finite values)."""
 

@@ -38,7 +38,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ._jax import jax, jnp
-from .errors import InputError, Plain
+from .errors import InputError, Plain, finite_array
 
 # A ground displacement that jumps needs an infinite force: breakpoints of a displacement signal
 # may not change its value by more than this fraction of its peak.
@@ -63,14 +63,7 @@ def _number(value: Any, name: str, expected: str, *, low: float | None = None, s
 
 
 def _vector3(value: Any, name: str, expected: str) -> np.ndarray:
-    try:
-        array = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(name, expected, value) from None
-    if array.shape != (3,) or not np.all(np.isfinite(array)):
-        raise InputError(name, expected, value)
-    array.flags.writeable = False
-    return array
+    return finite_array(value, name, expected, (3,))
 
 
 def _integer(value: Any, name: str, expected: str, low: int) -> int:
@@ -802,14 +795,7 @@ class GroundMotion:
 
 
 def _six(value: Any, name: str, expected: str) -> np.ndarray:
-    try:
-        array = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(name, expected, value) from None
-    if array.shape != (6,) or not np.all(np.isfinite(array)):
-        raise InputError(name, expected, value)
-    array.flags.writeable = False
-    return array
+    return finite_array(value, name, expected, (6,))
 
 
 @dataclass(frozen=True, eq=False)

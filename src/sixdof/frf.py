@@ -40,7 +40,7 @@ import numpy as np
 import scipy.linalg
 
 from .dofs import DOF_UNITS, FORCE_UNITS
-from .errors import InputError, SolverError
+from .errors import InputError, SolverError, finite_array
 from .modal import modal_analysis
 from .model import mount_matrix, point_map
 
@@ -336,14 +336,7 @@ def _check_method(method) -> str:
 
 
 def _point(value, field: str) -> np.ndarray:
-    expected = "3 coordinates [x, y, z] in m from the CG in body axes"
-    try:
-        p = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(field, expected, value) from None
-    if p.shape != (3,) or not np.all(np.isfinite(p)):
-        raise InputError(field, expected, value)
-    return p
+    return finite_array(value, field, "3 coordinates [x, y, z] in m from the CG in body axes", (3,))
 
 
 _AXIS = {"x": 0, "y": 1, "z": 2}

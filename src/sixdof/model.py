@@ -17,7 +17,7 @@ from functools import cached_property
 import numpy as np
 
 from ._jax import jnp
-from .errors import InputError
+from .errors import InputError, finite_array
 
 # Relative tolerances for "physically possible" checks on user input.
 _ORTHONORMAL_TOL = 1e-6
@@ -126,17 +126,6 @@ def mount_matrix(positions, coefficients, axes):
 # ----------------------------------------------------------------------------------------------------
 
 
-def _vector(value, field_name: str, expected: str, size: int = 3) -> np.ndarray:
-    try:
-        array = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(field_name, expected, value) from None
-    if array.shape != (size,) or not np.all(np.isfinite(array)):
-        raise InputError(field_name, expected, value)
-    array.flags.writeable = False
-    return array
-
-
 def _inertia_tensor(value) -> np.ndarray:
     expected = "3 principal moments [Jxx, Jyy, Jzz] or a symmetric 3x3 tensor in kg m^2"
     try:
@@ -196,7 +185,7 @@ class RigidBody:
         object.__setattr__(self, "mass", mass)
         object.__setattr__(self, "inertia", _inertia_tensor(self.inertia))
         if self.dimensions is not None:
-            dims = _vector(self.dimensions, "dimensions", "3 positive lengths [Lx, Ly, Lz] in m")
+            dims = finite_array(self.dimensions, "dimensions", "3 positive lengths [Lx, Ly, Lz] in m", (3,))
             if np.any(dims <= 0):
                 raise InputError("dimensions", "3 positive lengths [Lx, Ly, Lz] in m", self.dimensions)
             object.__setattr__(self, "dimensions", dims)
@@ -234,17 +223,17 @@ class Mount:
         if not isinstance(self.name, str) or not self.name:
             raise InputError("name", "a non-empty string", self.name)
         object.__setattr__(
-            self, "position", _vector(self.position, "position", "3 coordinates [x, y, z] in m")
+            self, "position", finite_array(self.position, "position", "3 coordinates [x, y, z] in m", (3,))
         )
-        stiffness = _vector(self.stiffness, "stiffness", "3 values >= 0 in N/m, not all zero")
+        stiffness = finite_array(self.stiffness, "stiffness", "3 values >= 0 in N/m, not all zero", (3,))
         if np.any(stiffness < 0) or not np.any(stiffness > 0):
             raise InputError("stiffness", "3 values >= 0 in N/m, not all zero", self.stiffness)
         object.__setattr__(self, "stiffness", stiffness)
-        damping = _vector(self.damping, "damping", "3 values >= 0 in N s/m")
+        damping = finite_array(self.damping, "damping", "3 values >= 0 in N s/m", (3,))
         if np.any(damping < 0):
             raise InputError("damping", "3 values >= 0 in N s/m", self.damping)
         object.__setattr__(self, "damping", damping)
-        eta = _vector(self.loss_factor, "loss_factor", "3 loss factors >= 0 (dimensionless)")
+        eta = finite_array(self.loss_factor, "loss_factor", "3 loss factors >= 0 (dimensionless)", (3,))
         if np.any(eta < 0):
             raise InputError("loss_factor", "3 loss factors >= 0 (dimensionless)", self.loss_factor)
         object.__setattr__(self, "loss_factor", eta)

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .direct import TimeResponse
-from .errors import InputError
+from .errors import finite_array
 
 
 @dataclass(frozen=True, eq=False)
@@ -49,13 +49,7 @@ def _point_matrix(position: np.ndarray) -> np.ndarray:
 
 
 def _position(value, field: str) -> np.ndarray:
-    try:
-        p = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(field, "3 coordinates [x, y, z] in m", value) from None
-    if p.shape != (3,) or not np.all(np.isfinite(p)):
-        raise InputError(field, "3 coordinates [x, y, z] in m", value)
-    return p
+    return finite_array(value, field, "3 coordinates [x, y, z] in m", (3,))
 
 
 def point_motion(response: TimeResponse, position, *, relative: bool = False) -> PointMotion:

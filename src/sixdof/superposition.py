@@ -29,7 +29,7 @@ import numpy as np
 
 from ._jax import jax
 from .dofs import DOFS
-from .errors import InputError, SolverError
+from .errors import InputError, SolverError, finite_array
 from .modal import modal_analysis
 
 #: Damping is classical when every off-diagonal coupling ``|D_ij| / sqrt(D_ii D_jj)`` of the
@@ -1050,13 +1050,7 @@ def _times(t):
 def _state(value, name):
     if value is None:
         return np.zeros(6)
-    try:
-        array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(name, "6 finite values", value) from None
-    if array.shape != (6,) or not np.all(np.isfinite(array)):
-        raise InputError(name, "6 finite values", value)
-    return array
+    return finite_array(value, name, "6 finite values", (6,))
 
 
 def _breakpoints(value):

@@ -37,12 +37,14 @@ from dataclasses import dataclass
 from functools import partial
 from typing import Any
 
-import diffrax  # noqa: E402  (after ._jax: float64 must be on first)
 import numpy as np
 
 from ._jax import jax, jnp
 from .errors import InputError, Plain, SolverError
 from .excitation import Excitation
+
+# isort: split
+import diffrax  # noqa: E402  (after ._jax: float64 must be on first)
 
 #: Explicit Runge-Kutta solvers (the problem is not stiff) and, for comparison, implicit ones.
 SOLVERS: dict[str, type] = {

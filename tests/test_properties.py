@@ -69,10 +69,14 @@ def toml_literal(value):
     return str(value)
 
 
-KEYS = ["mass", "inertia", "dimensions", "position", "stiffness", "damping", "name", "points", "f_hz", "gravity", "zeta"]
+KEYS = [
+    "mass", "inertia", "dimensions", "position", "stiffness", "damping", "name", "points", "f_hz",
+    "gravity", "zeta", "kind", "start", "duration", "point", "force", "unbalance", "speed_rpm", "axis",
+    "quantity", "direction", "q", "sample_rate_hz",
+]
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=300, deadline=None)
 @given(st.sampled_from(KEYS), toml_values, st.data())
 def test_malformed_scenarios_end_in_a_scenario_error(key, value, data):
     lines = BASE.splitlines()

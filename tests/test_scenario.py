@@ -39,6 +39,32 @@ position = [0.5, 0.75, 0.4]
 
 [statics]
 gravity = 9.81
+
+[[loads]]
+name = "shaker"
+point = [0.2, 0.3, 0.4]
+force = [0.0, 0.0, 500.0]
+signal = { kind = "half_sine", start = 0.1, duration = 0.02 }
+
+[[loads]]
+kind = "unbalance"
+name = "rotor"
+point = [0.0, 0.0, 0.2]
+unbalance = 0.01
+speed_rpm = 1500.0
+axis = [1.0, 0.0, 0.0]
+
+[ground]
+quantity = "acceleration"
+direction = [1.0, 0.0, 0.0]
+signal = { kind = "table", t = [0.0, 0.1, 0.2], values = [0.0, 1.0, 0.0] }
+
+[initial]
+q = [0.0, 0.0, 0.001, 0.0, 0.0, 0.0]
+
+[simulation]
+duration = 1.0
+sample_rate_hz = 500.0
 """
 
 
@@ -109,6 +135,22 @@ BAD = [
     ("frf log from zero", ("f_hz = [0.5, 50.0]", "f_hz = [0.0, 50.0]"), r"frf.f_hz: expected a positive low frequency for log spacing"),
     ("frf spacing", ("points = 100", 'points = 100\nspacing = "octave"'), r"frf.spacing: expected 'log' or 'linear', got 'octave'"),
     ("point without position", ('position = [0.5, 0.75, 0.4]', ""), r"points\[0\].position: expected a value \(required key\), got nothing"),
+    ("signal without kind", ('signal = { kind = "half_sine", start = 0.1', 'signal = { start = 0.1'), r"loads\[0\].signal.kind: expected one of half_sine, harmonic, .*, got nothing"),
+    ("unknown signal kind", ('kind = "half_sine"', 'kind = "half-sine"'), r"loads\[0\].signal.kind: expected one of .*got 'half-sine'"),
+    ("negative pulse duration", ("duration = 0.02", "duration = -0.02"), r"loads\[0\].signal.duration: expected"),
+    ("signal key typo", ("start = 0.1, duration", "strat = 0.1, duration"), r"loads\[0\].signal.strat: expected one of the keys .*did you mean 'start'\?"),
+    ("load kind unknown", ('kind = "unbalance"', 'kind = "imbalance"'), r"loads\[1\].kind: expected one of force, unbalance, got 'imbalance'"),
+    ("load point of 2", ("point = [0.2, 0.3, 0.4]", "point = [0.2, 0.3]"), r"loads\[0\].point: expected 3 coordinates"),
+    ("unbalance negative", ("unbalance = 0.01", "unbalance = -0.01"), r"loads\[1\].unbalance: expected"),
+    ("ground quantity", ('quantity = "acceleration"', 'quantity = "jerk"'), r"ground.quantity: expected .*displacement.*got 'jerk'"),
+    ("ground direction zero", ("direction = [1.0, 0.0, 0.0]\nsignal", "direction = [0.0, 0.0, 0.0]\nsignal"), r"ground.direction: expected"),
+    ("table times not increasing", ("t = [0.0, 0.1, 0.2]", "t = [0.0, 0.2, 0.1]"), r"ground.signal.t: expected"),
+    ("table file missing", ("signal = { kind = \"table\", t = [0.0, 0.1, 0.2], values = [0.0, 1.0, 0.0] }", "signal = { kind = \"table\", file = \"nope.csv\" }"), r"ground.signal.file: expected an existing, readable CSV file"),
+    ("initial q of 3", ("q = [0.0, 0.0, 0.001, 0.0, 0.0, 0.0]", "q = [0.0, 0.0, 0.001]"), r"initial.q: expected"),
+    ("initial mode 7", ("q = [0.0, 0.0, 0.001, 0.0, 0.0, 0.0]", "mode = 7\namplitude = 0.001"), r"initial.mode: expected"),
+    ("zero duration", ("duration = 1.0", "duration = 0.0"), r"simulation.duration: expected"),
+    ("negative sample rate", ("sample_rate_hz = 500.0", "sample_rate_hz = -500.0"), r"simulation.sample_rate_hz: expected"),
+    ("unknown solver", ("sample_rate_hz = 500.0", 'sample_rate_hz = 500.0\nsolver = "Euler2"'), r"simulation.solver: expected one of .*Tsit5.*got 'Euler2'"),
     ("negative gravity", ("gravity = 9.81", "gravity = -9.81"), r"statics.gravity: expected a positive acceleration in m/s\^2, got -9.81"),
     ("zero gravity direction", ("gravity = 9.81", "gravity = 9.81\ndirection = [0, 0, 0]"), r"statics.direction: expected a non-zero 3-vector in body axes, got \[0, 0, 0\]"),
 ]
@@ -134,3 +176,14 @@ def test_missing_file_and_unreadable_file(tmp_path):
     binary.write_bytes(b"\xff\xfe\x00")
     with pytest.raises(ScenarioError, match=r"binary.toml: expected a readable UTF-8 text file"):
         load_scenario(binary)
+
+
+def test_unparsable_csv_names_the_line(tmp_path):
+    (tmp_path / "record.csv").write_text("t,value\n0.0,1.0\n0.1,oops\n")
+    text = BASE.replace(
+        'signal = { kind = "table", t = [0.0, 0.1, 0.2], values = [0.0, 1.0, 0.0] }',
+        'signal = { kind = "table", file = "record.csv" }',
+    )
+    (tmp_path / "case.toml").write_text(text)
+    with pytest.raises(ScenarioError, match=r"ground.signal.file: expected rows of two numbers: time in s, value, got .line 3 of record.csv: \['0.1', 'oops'\]"):
+        load_scenario(tmp_path / "case.toml")

@@ -280,8 +280,8 @@ class Rayleigh:
         """
         if not isinstance(zeta, (int, float)) or not 0 <= zeta < 1:
             raise InputError("zeta", "a damping ratio in [0, 1)", zeta)
-        f = np.asarray(f_hz, dtype=float) if np.ndim(f_hz) == 1 else np.array([np.nan])
-        if f.shape != (2,) or not np.all(np.isfinite(f)) or np.any(f <= 0) or f[0] == f[1]:
+        f = finite_array(f_hz, "f_hz", "two different positive frequencies in Hz", (2,))
+        if np.any(f <= 0) or f[0] == f[1]:
             raise InputError("f_hz", "two different positive frequencies in Hz", f_hz)
         w1, w2 = 2 * np.pi * f
         return cls(alpha=float(2 * zeta * w1 * w2 / (w1 + w2)), beta=float(2 * zeta / (w1 + w2)))

@@ -224,7 +224,7 @@ def _load(table: dict, path: str, base_dir: Path):
 
     table = dict(table)
     kind = table.pop("kind", "force")
-    if kind not in LOAD_KINDS:
+    if not isinstance(kind, str) or kind not in LOAD_KINDS:
         raise InputError(f"{path}.kind", f"one of {_choices(LOAD_KINDS)}", kind)
     return _build(LOAD_KINDS[kind], _with_signal(table, path, base_dir), path)
 
@@ -259,7 +259,7 @@ def _signal(table: Any, path: str, base_dir: Path):
     kind = table.pop("kind", _MISSING)
     if kind is _MISSING:
         raise InputError(f"{path}.kind", f"one of {_choices(SIGNAL_KINDS)}", Plain("nothing"))
-    if kind not in SIGNAL_KINDS:
+    if not isinstance(kind, str) or kind not in SIGNAL_KINDS:
         raise InputError(f"{path}.kind", f"one of {_choices(SIGNAL_KINDS)}", kind)
     if "file" in table:
         file = table.pop("file")

@@ -110,7 +110,9 @@ def _run(args) -> int:
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", SamplingWarning)
         warnings.simplefilter("always", AgreementWarning)
-        outcome = run_scenario(scenario, args.out, progress=not args.quiet, command_line=" ".join(sys.argv))
+        # A progress bar only where someone watches: redirected to a log it would be noise.
+        show_progress = not args.quiet and sys.stderr.isatty()
+        outcome = run_scenario(scenario, args.out, progress=show_progress, command_line=" ".join(sys.argv))
     print(f"{scenario.name}: {scenario.description}\n")
     print(report.modes_table(outcome.modes, outcome.damping_ratios))
     if outcome.agreement is not None:

@@ -4,6 +4,8 @@
 import pytest
 
 from sixdof import run as run_module
+import numpy as np
+
 from sixdof.cli import main
 from sixdof.errors import InputError
 from sixdof.modal import modal_analysis
@@ -60,6 +62,19 @@ sample_rate_hz = 1000.0
 f_hz = [1.0, 100.0]
 points = 50
 
+[[frf.point]]
+name = "drive"
+load_point = [0.4, 0.5, 0.3]
+load_direction = "z"
+response_point = [0.4, 0.5, 0.3]
+response_direction = "z"
+quantity = "mobility"
+
+[[frf.force_transmissibility]]
+name = "to_floor"
+load_point = [0.4, 0.5, 0.3]
+load_direction = [0.0, 0.0, 1.0]
+
 [[points]]
 name = "top"
 position = [0.4, 0.5, 0.3]
@@ -89,6 +104,13 @@ def test_run_writes_results_figures_and_summary(outcome):
     assert outcome.agreement.ok
     assert results.array("statics/support").sum() == pytest.approx(300 * 9.80665, rel=1e-9)
     assert results.array("frf/receptance").shape == (50, 6, 6)
+    # The requested point FRF is the receptance seen through the point maps, times i w (mobility).
+    H = results.array("frf/receptance")
+    T = np.hstack([np.eye(3), -np.array([[0, -0.3, 0.5], [0.3, 0, -0.4], [-0.5, 0.4, 0]])])
+    w = 2 * np.pi * results.array("frf/f_hz")
+    expected = 1j * w * np.einsum("i,fij,j->f", T[2], H, T[2])
+    np.testing.assert_allclose(results.array("frf/point/drive/values"), expected, rtol=1e-10)
+    assert "frf/force_transmissibility/to_floor/total" in results.datasets
     summary = outcome.summary_path.read_text()
     for text in ["## Natural frequencies", "## Kinetic energy distribution", "Peak mount forces",
                  "Direct solve vs modal superposition", "![mode_shapes](mode_shapes.png)"]:

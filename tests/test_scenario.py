@@ -33,6 +33,13 @@ rayleigh = { zeta = 0.02, f_hz = [1.0, 30.0] }
 f_hz = [0.5, 50.0]
 points = 100
 
+[[frf.point]]
+name = "drive"
+load_point = [0.5, 0.75, 0.4]
+load_direction = "z"
+response_point = [0.5, 0.75, 0.4]
+response_direction = "rx"
+
 [[points]]
 name = "corner"
 position = [0.5, 0.75, 0.4]
@@ -134,6 +141,10 @@ BAD = [
     ("frf points fractional", ("points = 100", "points = 10.5"), r"frf.points: expected an integer >= 2, got 10.5"),
     ("frf log from zero", ("f_hz = [0.5, 50.0]", "f_hz = [0.0, 50.0]"), r"frf.f_hz: expected a positive low frequency for log spacing"),
     ("frf spacing", ("points = 100", 'points = 100\nspacing = "octave"'), r"frf.spacing: expected 'log' or 'linear', got 'octave'"),
+    ("frf point direction", ('load_direction = "z"', 'load_direction = "up"'), r"frf.point\[0\].load_direction: expected one of 'x', 'y', 'z', 'rx', 'ry', 'rz' or a nonzero 3-vector in body axes, got 'up'"),
+    ("frf point quantity", ('response_direction = "rx"', 'response_direction = "rx"\nquantity = "compliance"'), r"frf.point\[0\].quantity: expected 'receptance', 'mobility' or 'accelerance', got 'compliance'"),
+    ("frf point missing", ('response_point = [0.5, 0.75, 0.4]\n', ""), r"frf.point\[0\].response_point: expected a value \(required key\)"),
+    ("frf point bad point", ("load_point = [0.5, 0.75, 0.4]", "load_point = [0.5, 0.75]"), r"frf.point\[0\].load_point: expected 3 coordinates"),
     ("point without position", ('position = [0.5, 0.75, 0.4]', ""), r"points\[0\].position: expected a value \(required key\), got nothing"),
     ("signal without kind", ('signal = { kind = "half_sine", start = 0.1', 'signal = { start = 0.1'), r"loads\[0\].signal.kind: expected one of half_sine, harmonic, .*, got nothing"),
     ("unknown signal kind", ('kind = "half_sine"', 'kind = "half-sine"'), r"loads\[0\].signal.kind: expected one of .*got 'half-sine'"),

@@ -342,7 +342,7 @@ def _point(value, field: str) -> np.ndarray:
 _AXIS = {"x": 0, "y": 1, "z": 2}
 
 
-def _direction(value, field: str, rotations: bool = True) -> tuple[np.ndarray, bool]:
+def parse_direction(value, field: str, rotations: bool = True) -> tuple[np.ndarray, bool]:
     """Unit vector in body axes and whether it is rotational ('rx', 'ry', 'rz')."""
     names = "'x', 'y', 'z', 'rx', 'ry', 'rz'" if rotations else "'x', 'y', 'z'"
     expected = f"one of {names} or a nonzero 3-vector in body axes"
@@ -682,9 +682,9 @@ def point_frf(
     """
     _check_quantity(quantity)
     lp = _point(load_point, "load_point")
-    ld, moment = _direction(load_direction, "load_direction")
+    ld, moment = parse_direction(load_direction, "load_direction")
     rp = _point(response_point, "response_point")
-    rd, rotation = _direction(response_direction, "response_direction")
+    rd, rotation = parse_direction(response_direction, "response_direction")
     frf = receptance(system, f_hz, method=method)
     values = (frf.quantity(quantity) @ _load(lp, ld, moment)) @ _response_row(rp, rd, rotation)
     values.flags.writeable = False
@@ -737,7 +737,7 @@ def force_transmissibility(
         stiffness, loss factor and dashpots carry force, global (Rayleigh, modal) damping does not.
     """
     lp = _point(load_point, "load_point")
-    ld, moment = _direction(load_direction, "load_direction")
+    ld, moment = parse_direction(load_direction, "load_direction")
     frf = receptance(system, f_hz, method=method)
     q = frf.H @ _load(lp, ld, moment)  # (nf, 6)
     t = np.asarray(point_map(system.positions))  # (n, 3, 6)
@@ -780,7 +780,7 @@ def ground_transmissibility(
         Absolute and relative point motion per unit ground motion [m/m] (also the ratio of
         velocities or of accelerations), and the generalized motion ``q`` per unit ground motion.
     """
-    d, _ = _direction(ground_direction, "ground_direction", rotations=False)
+    d, _ = parse_direction(ground_direction, "ground_direction", rotations=False)
     rp = _point(response_point, "response_point")
     frf = receptance(system, f_hz, method=method)
     qg = np.concatenate([d, np.zeros(3)])

@@ -192,10 +192,19 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         points = points_motion(response, {p.name: p.position for p in scenario.points}) if scenario.points else None
 
     frf = None
+    frf_extras = {}
     if scenario.frf is not None:
-        from .frf import cross_check
+        from .frf import cross_check, force_transmissibility, ground_transmissibility, point_frf
 
-        frf = cross_check(system, scenario.frf.grid())
+        f_hz = scenario.frf.grid()
+        frf = cross_check(system, f_hz)
+        for r in scenario.frf.point:
+            frf_extras[r.name] = point_frf(system, f_hz, r.load_point, r.load_direction, r.response_point,
+                                           r.response_direction, quantity=r.quantity)
+        for r in scenario.frf.force_transmissibility:
+            frf_extras[r.name] = force_transmissibility(system, f_hz, r.load_point, r.load_direction)
+        for r in scenario.frf.ground_transmissibility:
+            frf_extras[r.name] = ground_transmissibility(system, f_hz, r.ground_direction, r.response_point)
 
     figures = []
 
@@ -212,6 +221,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
             superposition=superposition,
             agreement=agreement,
             frf=frf,
+            frf_extras=frf_extras,
             scenario_text=scenario.text,
             name=scenario.name,
             description=scenario.description,

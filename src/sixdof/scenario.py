@@ -55,13 +55,100 @@ class StaticsSettings:
         object.__setattr__(self, "direction", tuple(float(v) for v in self.direction))
 
 
+def _checked_direction(value: Any, field: str, rotations: bool = True):
+    from .frf import parse_direction
+
+    parse_direction(value, field, rotations)  # raises InputError naming the field
+    return tuple(value) if isinstance(value, list) else value
+
+
+def _checked_point(value: Any, field: str) -> tuple[float, float, float]:
+    if not _is_numeric_list(value, 3) or not np.all(np.isfinite(np.asarray(value, float))):
+        raise InputError(field, "3 coordinates [x, y, z] in m from the CG", value)
+    return tuple(float(v) for v in value)
+
+
+@dataclass(frozen=True)
+class PointFrfRequest:
+    """A point FRF to compute and store (``[[frf.point]]``): the response at ``response_point``
+    along ``response_direction`` per unit load at ``load_point`` along ``load_direction``.
+    Directions are ``"x"`` .. ``"rz"`` (``r*``: a moment in, a rotation out) or 3-vectors.
+    ``quantity`` is ``"receptance"``, ``"mobility"`` or ``"accelerance"``."""
+
+    name: str
+    load_point: tuple[float, float, float]
+    load_direction: Any
+    response_point: tuple[float, float, float]
+    response_direction: Any
+    quantity: str = "receptance"
+
+    def __post_init__(self) -> None:
+        _check_name(self.name)
+        object.__setattr__(self, "load_point", _checked_point(self.load_point, "load_point"))
+        object.__setattr__(self, "response_point", _checked_point(self.response_point, "response_point"))
+        object.__setattr__(self, "load_direction", _checked_direction(self.load_direction, "load_direction"))
+        object.__setattr__(
+            self, "response_direction", _checked_direction(self.response_direction, "response_direction")
+        )
+        if self.quantity not in ("receptance", "mobility", "accelerance"):
+            raise InputError("quantity", "'receptance', 'mobility' or 'accelerance'", self.quantity)
+
+
+@dataclass(frozen=True)
+class ForceTransmissibilityRequest:
+    """Forces passed to the foundation per unit load at ``load_point`` along ``load_direction``
+    (``[[frf.force_transmissibility]]``)."""
+
+    name: str
+    load_point: tuple[float, float, float]
+    load_direction: Any
+
+    def __post_init__(self) -> None:
+        _check_name(self.name)
+        object.__setattr__(self, "load_point", _checked_point(self.load_point, "load_point"))
+        object.__setattr__(self, "load_direction", _checked_direction(self.load_direction, "load_direction"))
+
+
+@dataclass(frozen=True)
+class GroundTransmissibilityRequest:
+    """Motion of ``response_point`` per unit ground translation along ``ground_direction``
+    (``[[frf.ground_transmissibility]]``)."""
+
+    name: str
+    ground_direction: Any
+    response_point: tuple[float, float, float]
+
+    def __post_init__(self) -> None:
+        _check_name(self.name)
+        object.__setattr__(
+            self, "ground_direction", _checked_direction(self.ground_direction, "ground_direction", False)
+        )
+        object.__setattr__(self, "response_point", _checked_point(self.response_point, "response_point"))
+
+
+_FRF_REQUESTS = {
+    "point": PointFrfRequest,
+    "force_transmissibility": ForceTransmissibilityRequest,
+    "ground_transmissibility": GroundTransmissibilityRequest,
+}
+
+
+def _check_name(name: Any) -> None:
+    if not isinstance(name, str) or not name or "/" in name:
+        raise InputError("name", "a non-empty string without '/'", name)
+
+
 @dataclass(frozen=True)
 class FrfSettings:
-    """Frequency grid of the frequency responses: ``points`` frequencies over ``f_hz`` [Hz]."""
+    """Frequency grid of the frequency responses: ``points`` frequencies over ``f_hz`` [Hz], and
+    the point FRFs and transmissibilities to compute beside the 6x6 receptance."""
 
     f_hz: tuple[float, float] = (0.1, 100.0)
     points: int = 2000
     spacing: str = "log"
+    point: tuple[PointFrfRequest, ...] = ()
+    force_transmissibility: tuple[ForceTransmissibilityRequest, ...] = ()
+    ground_transmissibility: tuple[GroundTransmissibilityRequest, ...] = ()
 
     def __post_init__(self) -> None:
         expected = "two frequencies [low, high] in Hz with 0 <= low < high"
@@ -182,7 +269,7 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
 
         simulation = _build(SimulationSettings, simulation, "simulation")
     frf = top.table("frf", default=None)
-    frf = None if frf is None else _build(FrfSettings, frf, "frf")
+    frf = None if frf is None else _frf(frf)
     points = tuple(_build(Point, t, f"points[{i}]") for i, t in enumerate(top.tables("points")))
     _unique([p.name for p in points], "points")
     statics = _build(StaticsSettings, top.table("statics", default={}), "statics")
@@ -198,6 +285,16 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
         text=text,
         path=Path(source) if source != "<string>" else None,
     )
+
+
+def _frf(table: dict) -> FrfSettings:
+    requests = {}
+    for key, cls in _FRF_REQUESTS.items():
+        items = _Table(table, "frf", tuple(table)).tables(key)
+        requests[key] = tuple(_build(cls, t, f"frf.{key}[{i}]") for i, t in enumerate(items))
+    names = [r.name for group in requests.values() for r in group]
+    _unique(names, "frf")
+    return _build(FrfSettings, {**table, **requests}, "frf")
 
 
 def _damping(table: dict) -> tuple[Rayleigh | None, Any]:

@@ -44,7 +44,7 @@ import scipy.signal
 
 from .damping import modal_damping_ratios
 from .errors import InputError, SolverError
-from .frf import _direction, _load, _point, receptance
+from .frf import parse_direction, _load, _point, receptance
 from .modal import modal_analysis
 
 __all__ = [
@@ -625,7 +625,7 @@ def validate(system, settings: ValidationSettings | None = None) -> ValidationRe
     # segment resolves the mode's half-power bandwidth.
     lp = _point(settings.load_point if settings.load_point is not None else system.positions[0],
                 "load_point")
-    ld, _ = _direction(settings.load_direction, "load_direction", rotations=False)
+    ld, _ = parse_direction(settings.load_direction, "load_direction", rotations=False)
     Q = _load(lp, ld, False)
     nperseg = settings.segment_samples
     n = nperseg + (settings.averages - 1) * (nperseg - nperseg // 2)

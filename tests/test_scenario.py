@@ -162,6 +162,9 @@ BAD = [
     ("zero duration", ("duration = 1.0", "duration = 0.0"), r"simulation.duration: expected"),
     ("negative sample rate", ("sample_rate_hz = 500.0", "sample_rate_hz = -500.0"), r"simulation.sample_rate_hz: expected"),
     ("unknown solver", ("sample_rate_hz = 500.0", 'sample_rate_hz = 500.0\nsolver = "Euler2"'), r"simulation.solver: expected one of .*Tsit5.*got 'Euler2'"),
+    ("truncation both ways", ("[statics]", "[superposition]\nn_modes = 3\nf_max_hz = 10.0\n\n[statics]"), r"superposition.n_modes: expected either n_modes or f_max_hz, not both"),
+    ("truncation of 7 modes", ("[statics]", "[superposition]\nn_modes = 7\n\n[statics]"), r"superposition.n_modes: expected an integer from 1 to 6, got 7"),
+    ("superposition method", ("[statics]", '[superposition]\nmethod = "modal"\n\n[statics]'), r"superposition.method: expected 'auto', 'real' or 'complex', got 'modal'"),
     ("negative gravity", ("gravity = 9.81", "gravity = -9.81"), r"statics.gravity: expected a positive acceleration in m/s\^2, got -9.81"),
     ("zero gravity direction", ("gravity = 9.81", "gravity = 9.81\ndirection = [0, 0, 0]"), r"statics.direction: expected a non-zero 3-vector in body axes, got \[0, 0, 0\]"),
 ]

@@ -60,6 +60,16 @@ def _parser() -> argparse.ArgumentParser:
     check.add_argument("--out", default="outputs", help="results go to OUT/<name>_validation/ (default: outputs)")
     check.set_defaults(command=_validate)
 
+    sweep = commands.add_parser(
+        "sweep", help="run many mount variants of a scenario; store frequency and peak distributions"
+    )
+    sweep.add_argument("scenario", help="scenario file (TOML)")
+    sweep.add_argument("--spec", required=True, help="variation spec (TOML; see the README)")
+    sweep.add_argument("--out", default="outputs", help="results go to OUT/<name>_sweep/ (default: outputs)")
+    sweep.add_argument("--chunk-size", type=int, default=None,
+                       help="variants integrated together (default: bounded by memory)")
+    sweep.set_defaults(command=_sweep)
+
     plot = commands.add_parser("plot", help="redraw every figure from a results file, without re-running")
     plot.add_argument("results", help="results file (results.h5 of a run)")
     plot.add_argument("--out", help="folder for the PNG files (default: beside the results file)")
@@ -106,6 +116,7 @@ def _run(args) -> int:
     from .run import AgreementWarning, SamplingWarning, run_scenario
     from .scenario import load_scenario
 
+    _compile_cache()
     scenario = load_scenario(args.scenario)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", SamplingWarning)
@@ -117,6 +128,10 @@ def _run(args) -> int:
     print(report.modes_table(outcome.modes, outcome.damping_ratios))
     if outcome.agreement is not None:
         print(f"\nDirect solve vs modal superposition ({outcome.superposition.method} modes): {outcome.agreement}")
+        truncation = outcome.superposition.truncation
+        if truncation is not None:
+            kept = ", ".join(str(j + 1) for j in outcome.superposition.modes_kept)
+            print(f"Truncated to modes {kept}; against all modes: {truncation}")
         stats = outcome.response.stats
         print(f"Solver {stats.solver}: {stats.num_accepted} steps, {stats.num_rejected} rejected, {stats.wall_time_s:.2f} s")
     if outcome.frf is not None:
@@ -131,11 +146,42 @@ def _validate(args) -> int:
     from .run import validate_scenario
     from .scenario import load_scenario
 
+    _compile_cache()
     scenario = load_scenario(args.scenario)
     report, directory = validate_scenario(scenario, args.out, command_line=" ".join(sys.argv))
     print(report.format())
     print(f"\nWrote {directory}")
     return 0
+
+
+def _sweep(args) -> int:
+    from .batch import load_sweep_spec, summary_table, sweep
+    from .run import check_output_root, write_all_or_nothing
+    from .scenario import load_scenario
+    from .store import write_sweep
+
+    _compile_cache()
+    scenario = load_scenario(args.scenario)
+    spec = load_sweep_spec(args.spec)
+    root = check_output_root(args.out)
+    result = sweep(scenario, spec, chunk_size=args.chunk_size)
+    directory = write_all_or_nothing(
+        root / f"{scenario.name}_sweep",
+        lambda stage: write_sweep(stage / "sweep.h5", result, system=scenario.system,
+                                  scenario_text=scenario.text, name=scenario.name,
+                                  description=scenario.description),
+    )
+    print(f"{scenario.name}: {scenario.description}\n")
+    print(summary_table(result))
+    print(f"\nWrote {directory / 'sweep.h5'} ({result.wall_time_s:.2f} s)")
+    return 0
+
+
+def _compile_cache() -> None:
+    """Reuse compiled solvers across runs (JAX's persistent cache; SIXDOF_JAX_CACHE=off disables)."""
+    from ._jax import enable_compilation_cache
+
+    enable_compilation_cache()
 
 
 def _plot(args) -> int:

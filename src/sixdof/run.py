@@ -177,7 +177,10 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
 
         excitation = scenario.excitation if scenario.excitation is not None else Excitation()
         response = simulate(system, excitation, scenario.simulation, progress=progress or None)
-        superposition = superpose(system, excitation, response.t)
+        options = scenario.superposition
+        superposition = superpose(system, excitation, response.t, method=options.method,
+                                  n_modes=options.n_modes, f_max_hz=options.f_max_hz,
+                                  residual=options.residual)
         direct_q = response.q if superposition.frame == "absolute" else response.q_relative
         # Rotations are judged beside translations through the body's size (quiet DOFs).
         agreement = compare(direct_q, superposition.q, length=_body_length(system))

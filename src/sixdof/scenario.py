@@ -173,6 +173,36 @@ class FrfSettings:
         return np.linspace(low, high, self.points)
 
 
+@dataclass(frozen=True)
+class SuperpositionSettings:
+    """How ``sixdof run`` computes its modal-superposition cross-check (``[superposition]``).
+
+    ``method`` is ``"auto"`` (real modes for classical damping, complex otherwise), ``"real"`` or
+    ``"complex"``; ``n_modes`` or ``f_max_hz`` [Hz] truncate the modal basis, with the static
+    ``residual`` correction for the modes left out. Truncation is for studying which modes carry a
+    response: the cross-check then measures the truncation error, and warns when it is over 1e-6.
+    """
+
+    method: str = "auto"
+    n_modes: int | None = None
+    f_max_hz: float | None = None
+    residual: bool = True
+
+    def __post_init__(self) -> None:
+        if self.method not in ("auto", "real", "complex"):
+            raise InputError("method", "'auto', 'real' or 'complex'", self.method)
+        if self.n_modes is not None and (
+            isinstance(self.n_modes, bool) or not isinstance(self.n_modes, int) or not 1 <= self.n_modes <= 6
+        ):
+            raise InputError("n_modes", "an integer from 1 to 6", self.n_modes)
+        if self.f_max_hz is not None and (not _is_number(self.f_max_hz) or self.f_max_hz <= 0):
+            raise InputError("f_max_hz", "a positive frequency in Hz", self.f_max_hz)
+        if self.n_modes is not None and self.f_max_hz is not None:
+            raise InputError("n_modes", "either n_modes or f_max_hz, not both", self.n_modes)
+        if not isinstance(self.residual, bool):
+            raise InputError("residual", "true or false", self.residual)
+
+
 @dataclass(frozen=True, eq=False)
 class Scenario:
     """A validated scenario: one system, the excitations acting together, and what to compute.
@@ -186,6 +216,7 @@ class Scenario:
     simulation : sixdof.direct.SimulationSettings or None
         Present when the file has a ``[simulation]`` table.
     frf : FrfSettings or None
+    superposition : SuperpositionSettings
     points : tuple of Point
     statics : StaticsSettings
     text : str
@@ -199,6 +230,7 @@ class Scenario:
     excitation: Any
     simulation: Any
     frf: FrfSettings | None
+    superposition: SuperpositionSettings
     points: tuple[Point, ...]
     statics: StaticsSettings
     text: str
@@ -270,6 +302,7 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
         simulation = _build(SimulationSettings, simulation, "simulation")
     frf = top.table("frf", default=None)
     frf = None if frf is None else _frf(frf)
+    superposition = _build(SuperpositionSettings, top.table("superposition", default={}), "superposition")
     points = tuple(_build(Point, t, f"points[{i}]") for i, t in enumerate(top.tables("points")))
     _unique([p.name for p in points], "points")
     statics = _build(StaticsSettings, top.table("statics", default={}), "statics")
@@ -280,6 +313,7 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
         excitation=excitation,
         simulation=simulation,
         frf=frf,
+        superposition=superposition,
         points=points,
         statics=statics,
         text=text,
@@ -400,7 +434,7 @@ def read_table_csv(file: Any, base_dir: Path, field: str) -> tuple[list[float], 
 
 _TOP_LEVEL_KEYS = (
     "name", "description", "body", "mounts", "damping", "loads", "ground", "initial", "simulation",
-    "frf", "points", "statics",
+    "frf", "superposition", "points", "statics",
 )
 
 

@@ -68,7 +68,17 @@ def _agreement_table(agreement, superposition) -> str:
         report.table(["DOF", "max |q_direct - q_modal| / peak |q_direct|"], rows)
         + f"\n\nWorst: {agreement.worst:.2e} ({agreement.worst_dof}), {verdict} the tolerance "
         f"{agreement.tolerance:.0e}. Superposition used {superposition.method} modes: {superposition.reason}"
+        + _truncation_line(superposition)
     )
+
+
+def _truncation_line(superposition) -> str:
+    if superposition.truncation is None:
+        return ""
+    kept = ", ".join(str(j + 1) for j in superposition.modes_kept)
+    return (f"\n\nTruncated to modes {kept} (residual correction: {superposition.residual}); "
+            f"error against all modes: worst {superposition.truncation.worst:.2e} "
+            f"({superposition.truncation.worst_dof}).")
 
 
 def _stats_line(stats) -> str:

@@ -1,0 +1,123 @@
+"""1000 mount-stiffness variants of the bridge beam in one vectorized call against a scipy loop.
+
+sixdof.batch.run_batch (vmapped assembly + eigh + vmapped diffrax solve in memory-bounded chunks,
+keeping only peaks and frequencies) against scipy DOP853 at the tuned tolerance of bench_direct.py
+(equal per-DOF accuracy) looped over variants: the loop is timed on a subset and extrapolated.
+Peak memory: the batch alone runs again in a subprocess (python bench_batch.py --memory) that
+reports its peak resident set size (VmHWM) (XLA's buffers included; tracemalloc would not see them).
+Run: python benchmarks/bench_batch.py [--count 1000] [--scipy 20]
+"""
+
+from __future__ import annotations
+
+import json
+import resource
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+import common
+
+TARGET_THROUGHPUT = 100.0  # batch at least 100x the scipy loop's variants per second
+TARGET_MEMORY_GB = 2.0
+
+
+def variants_for(system, count, seed=1):
+    from sixdof.batch import make_variants
+
+    rng = np.random.default_rng(seed)
+    # Every mount, every axis: an independent factor in [0.7, 1.3].
+    return make_variants(system, stiffness_factor=rng.uniform(0.7, 1.3, (count, len(system.mounts), 3)))
+
+
+def _high_water_mb():
+    """Peak resident memory of this process [MB]: VmHWM (Linux), else ru_maxrss.
+
+    ru_maxrss of a child started by subprocess can report the parent's size at fork time on
+    Linux; VmHWM belongs to the child's own address space.
+    """
+    try:
+        for line in open("/proc/self/status"):
+            if line.startswith("VmHWM:"):
+                return int(line.split()[1]) / 1024
+    except OSError:
+        pass
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
+def memory_run(count):
+    from sixdof.batch import run_batch
+
+    system, excitation, settings = common.bridge_system(), common.excitation(), common.settings()
+    before = _high_water_mb()
+    start = time.perf_counter()
+    result = run_batch(system, variants_for(system, count), excitation, settings)
+    wall = time.perf_counter() - start
+    peak = _high_water_mb()
+    print(json.dumps({"maxrss_mb": peak, "before_batch_mb": before, "wall_s": wall,
+                      "chunk_size": result.chunk_size}))
+
+
+def main(argv):
+    count = int(argv[argv.index("--count") + 1]) if "--count" in argv else 1000
+    if "--memory" in argv:
+        memory_run(count)
+        return
+    n_scipy = int(argv[argv.index("--scipy") + 1]) if "--scipy" in argv else 20
+    from sixdof.batch import run_batch, variant_system
+    from sixdof.direct import state_scale
+
+    system, excitation, settings = common.bridge_system(), common.excitation(), common.settings()
+    variants = variants_for(system, count)
+
+    # Compile on one chunk (same shape as every chunk), then time the whole batch.
+    from sixdof.batch import default_chunk_size, make_variants
+
+    chunk = default_chunk_size(settings.times.size)
+    warm = make_variants(system, stiffness_factor=variants.stiffness_factor[:chunk])
+    start = time.perf_counter()
+    run_batch(system, warm, excitation, settings)
+    first_chunk = time.perf_counter() - start
+    start = time.perf_counter()
+    result = run_batch(system, variants, excitation, settings)
+    batch_s = time.perf_counter() - start
+    compile_s = max(first_chunk - batch_s * chunk / count, 0.0)
+    print(f"sixdof batch: {count} variants in {batch_s:.2f} s (chunk {result.chunk_size}), "
+          f"compile ~{compile_s:.1f} s", flush=True)
+
+    tol_file = common.RESULTS / "tuned_tolerances.json"
+    tol = json.loads(tol_file.read_text())["DOP853"] if tol_file.exists() else 3e-10
+    t = settings.times
+    errors = []
+    start = time.perf_counter()
+    for i in range(n_scipy):
+        one = variant_system(system, variants, i)
+        M, C, K = (np.asarray(a) for a in (one.M, one.C, one.K))
+        scale = state_scale(one, excitation, settings)[:12]
+        q, _ = common.scipy_solve(M, C, K, t, "DOP853", tol, scale)
+        peak = np.max(np.abs(q), axis=0)
+        errors.append(float(np.max(np.abs(peak - result.peak_q[i]) / peak)))
+    scipy_s = (time.perf_counter() - start) / n_scipy
+    throughput_ratio = (count / batch_s) / (1.0 / scipy_s)
+    print(f"scipy DOP853 loop: {scipy_s:.3f} s per variant (on {n_scipy}); batch throughput "
+          f"{throughput_ratio:.0f}x; peak agreement {max(errors):.2g}", flush=True)
+
+    mem = subprocess.run([sys.executable, __file__, "--memory", "--count", str(count)],
+                         capture_output=True, text=True, check=True)
+    memory = json.loads(mem.stdout.strip().splitlines()[-1])
+    print(f"peak memory (subprocess, maxrss): {memory['maxrss_mb']:.0f} MB", flush=True)
+    path = common.save("batch", {
+        "count": count, "chunk_size": result.chunk_size, "batch_s": batch_s, "compile_s": compile_s,
+        "batch_per_variant_s": batch_s / count, "scipy_subset": n_scipy, "scipy_per_variant_s": scipy_s,
+        "scipy_extrapolated_s": scipy_s * count, "throughput_ratio": throughput_ratio,
+        "target_throughput": TARGET_THROUGHPUT, "max_steps_in_batch": int(result.num_steps.max()),
+        "peak_agreement_vs_scipy": max(errors), "scipy_tol": tol, "memory": memory,
+        "target_memory_gb": TARGET_MEMORY_GB,
+    })
+    print(f"-> {path}")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

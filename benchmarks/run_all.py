@@ -1,0 +1,14 @@
+"""Run every benchmark (each in its own process, one after another) and write results.md.
+
+Run: python benchmarks/run_all.py   (about 5 minutes on 2 cores)
+"""
+
+import subprocess
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+
+for script in ("bench_direct.py", "bench_frf.py", "bench_batch.py", "bench_cli.py", "make_table.py"):
+    print(f"== {script}", flush=True)
+    subprocess.run([sys.executable, str(HERE / script), *sys.argv[1:]], check=True)

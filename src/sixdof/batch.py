@@ -1,0 +1,695 @@
+"""Many design variants in one vectorized computation, and the ``sixdof sweep`` command.
+
+A batch varies the mounts of one system: stiffness factors, damping factors and position offsets,
+per variant, per mount and per mount axis (:class:`Variants`). :func:`run_batch` assembles every
+variant's M, K, C and its natural frequencies in one ``jax.vmap`` of the pure assembly functions of
+:mod:`sixdof.model` (``jnp.linalg.eigh`` of the mass-scaled stiffness), then integrates all variants
+together with ``jax.vmap`` of one diffrax solve, in chunks of variants that bound memory, keeping only
+what is asked for: the peak of ``|q|`` and ``|q''|`` per DOF at the output samples, and the full
+:class:`~sixdof.direct.TimeResponse` of a few chosen variants.
+
+The solve uses the same settings as :func:`sixdof.direct.simulate`: solver, ``rtol``/``atol`` on the
+state divided by the per-component scale of :func:`sixdof.direct.state_scale` (the *nominal*
+system's scale for every variant: it only weights the error control), ``jump_ts`` at every
+breakpoint of the loads, ``max_steps``, output times. It is not ``direct._solve`` itself: that one
+returns every sample of the 14-value state, the loads and the ground motion per variant (about
+4.6 MB per variant for 20 s at 1 kHz) and evaluates eq. (1) as three 6x6 products per stage; here
+the first-order matrix ``A`` (12x12) of each variant is built once and only ``q`` and ``q''`` are
+kept per sample, which halves the time per variant and the memory per chunk. Ground motion and
+mode-release initial states (which depend on each variant's modes) are not batched yet: they raise
+:class:`~sixdof.errors.InputError`; run those variants through :func:`sixdof.direct.simulate`.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import tomllib
+from dataclasses import dataclass
+from functools import partial
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ._jax import jax, jnp
+from .errors import InputError, Plain, ScenarioError, SolverError
+from .model import Mount, System, mount_matrix
+
+#: Memory allowed for the samples kept per chunk of variants [bytes] (``q`` and ``q''``, float64).
+CHUNK_BYTES = 256 * 2**20
+#: Largest chunk of variants integrated together (beyond it vectorizing gains nothing on CPU).
+MAX_CHUNK = 256
+#: A mode is rigid (zero frequency) below this fraction of the largest eigenvalue (as modal.py).
+_ZERO_MODE_RTOL = 1e-10
+
+PARAMETERS = ("stiffness", "damping", "position")
+DISTRIBUTIONS = ("uniform", "normal", "grid")
+_MOUNT_AXES = ("u", "v", "w")
+
+
+# ----------------------------------------------------------------------------------------------------
+# Variants and results.
+# ----------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class Variants:
+    """Parameter variants of a system's mounts, one row per variant.
+
+    Build with :func:`make_variants` (which broadcasts and validates).
+
+    Attributes
+    ----------
+    stiffness_factor : ndarray, shape (nv, n_mounts, 3)
+        Multiplies each mount's stiffness along its own axes (> 0).
+    damping_factor : ndarray, shape (nv, n_mounts, 3)
+        Multiplies each mount's dashpot along its own axes (>= 0).
+    position_offset : ndarray, shape (nv, n_mounts, 3)
+        Added to each mount's position, body axes [m].
+    """
+
+    stiffness_factor: np.ndarray
+    damping_factor: np.ndarray
+    position_offset: np.ndarray
+
+    @property
+    def count(self) -> int:
+        """Number of variants ``nv``."""
+        return int(self.stiffness_factor.shape[0])
+
+
+@dataclass(frozen=True, eq=False)
+class BatchResult:
+    """Result of :func:`run_batch`.
+
+    Attributes
+    ----------
+    variants : Variants
+    frequency_hz : ndarray, shape (nv, 6)
+        Undamped natural frequencies of each variant, ascending [Hz].
+    peak_q : ndarray, shape (nv, 6) or None
+        ``max |q|`` over the output samples per DOF [m, rad]; ``None`` without a simulation.
+    peak_qdd : ndarray, shape (nv, 6) or None
+        ``max |q''|`` over the output samples per DOF [m/s^2, rad/s^2].
+    num_steps, num_rejected : ndarray, shape (nv,), int, or None
+        Solver steps attempted and rejected per variant.
+    histories : dict of int to sixdof.direct.TimeResponse
+        Full time responses of the variants asked for (by index).
+    settings : sixdof.direct.SimulationSettings or None
+    chunk_size : int
+        Variants integrated together.
+    wall_time_s : float
+        Wall-clock time of the whole batch [s], compilation included when it happened.
+    """
+
+    variants: Variants
+    frequency_hz: np.ndarray
+    peak_q: np.ndarray | None
+    peak_qdd: np.ndarray | None
+    num_steps: np.ndarray | None
+    num_rejected: np.ndarray | None
+    histories: dict
+    settings: Any
+    chunk_size: int
+    wall_time_s: float
+
+
+def make_variants(system: System, *, stiffness_factor=None, damping_factor=None,
+                  position_offset=None, count: int | None = None) -> Variants:
+    """Broadcast per-variant parameters to :class:`Variants` of ``system``.
+
+    Parameters
+    ----------
+    system : System
+    stiffness_factor, damping_factor : array_like, optional
+        Shape (nv,) (every mount and axis), (nv, n_mounts) (every axis of a mount) or
+        (nv, n_mounts, 3). Default 1.
+    position_offset : array_like, optional
+        Shape (nv, 3) (every mount moves alike) or (nv, n_mounts, 3) [m]. Default 0.
+    count : int, optional
+        Number of variants when no parameter gives it.
+
+    Raises
+    ------
+    InputError
+        Inconsistent counts, wrong shapes, stiffness factors <= 0, damping factors < 0, non-finite
+        values.
+    """
+    n = len(system.mounts)
+    arrays = {}
+    for name, value in (("stiffness_factor", stiffness_factor), ("damping_factor", damping_factor)):
+        if value is None:
+            continue
+        a = _float_array(value, name)
+        if a.ndim == 1:
+            a = np.broadcast_to(a[:, None, None], (a.shape[0], n, 3))
+        elif a.ndim == 2 and a.shape[1] == n:
+            a = np.broadcast_to(a[:, :, None], (a.shape[0], n, 3))
+        elif not (a.ndim == 3 and a.shape[1:] == (n, 3)):
+            raise InputError(name, f"shape (nv,), (nv, {n}) or (nv, {n}, 3)", Plain(f"shape {a.shape}"))
+        arrays[name] = a
+    if position_offset is not None:
+        a = _float_array(position_offset, "position_offset")
+        if a.ndim == 2 and a.shape[1] == 3:
+            a = np.broadcast_to(a[:, None, :], (a.shape[0], n, 3))
+        elif not (a.ndim == 3 and a.shape[1:] == (n, 3)):
+            raise InputError("position_offset", f"shape (nv, 3) or (nv, {n}, 3) in m",
+                             Plain(f"shape {a.shape}"))
+        arrays["position_offset"] = a
+    counts = {a.shape[0] for a in arrays.values()}
+    if count is not None:
+        if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 1:
+            raise InputError("count", "a positive integer", count)
+        counts.add(int(count))
+    if len(counts) != 1:
+        raise InputError("variants", "one number of variants for every parameter",
+                         Plain("counts " + ", ".join(str(c) for c in sorted(counts)) if counts else "none"))
+    nv = counts.pop()
+    if nv < 1:
+        raise InputError("variants", "at least one variant", Plain("none"))
+    ones = np.ones((nv, n, 3))
+    k = np.array(arrays.get("stiffness_factor", ones), dtype=float)
+    d = np.array(arrays.get("damping_factor", ones), dtype=float)
+    x = np.array(arrays.get("position_offset", np.zeros((nv, n, 3))), dtype=float)
+    if np.any(k <= 0):
+        raise InputError("stiffness_factor", "factors > 0", Plain(f"min {k.min():.6g}"))
+    if np.any(d < 0):
+        raise InputError("damping_factor", "factors >= 0", Plain(f"min {d.min():.6g}"))
+    for a in (k, d, x):
+        a.flags.writeable = False
+    return Variants(stiffness_factor=k, damping_factor=d, position_offset=x)
+
+
+def _float_array(value, name: str) -> np.ndarray:
+    try:
+        a = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(name, "an array of finite numbers", value) from None
+    if a.ndim == 0 or a.shape[0] == 0 or not np.all(np.isfinite(a)):
+        raise InputError(name, "an array of finite numbers, one row per variant", value)
+    return a
+
+
+def variant_system(system: System, variants: Variants, index: int) -> System:
+    """The :class:`~sixdof.model.System` of variant ``index`` (same body and global damping)."""
+    if not 0 <= index < variants.count:
+        raise InputError("index", f"a variant index in [0, {variants.count})", index)
+    mounts = [
+        Mount(m.name, m.position + variants.position_offset[index, j],
+              m.stiffness * variants.stiffness_factor[index, j],
+              m.damping * variants.damping_factor[index, j], m.axes, m.loss_factor)
+        for j, m in enumerate(system.mounts)
+    ]
+    return System(system.body, mounts, system.rayleigh, system.modal_damping)
+
+
+# ----------------------------------------------------------------------------------------------------
+# Vectorized assembly.
+# ----------------------------------------------------------------------------------------------------
+
+
+@partial(jax.jit, static_argnames=("modal",))
+def _assemble(M, positions, stiffness, damping, axes, alpha, beta, zeta, *, modal):
+    """K, C (nv, 6, 6) and eigenvalues omega^2 (nv, 6) of every variant (vmapped model functions)."""
+    chol = jnp.linalg.cholesky(M)
+    chol_inv = jnp.linalg.inv(chol)
+
+    def one(pos, k, d):
+        K = mount_matrix(pos, k, axes)
+        C = mount_matrix(pos, d, axes) + alpha * M + beta * K
+        Kt = chol_inv @ K @ chol_inv.T
+        lam, V = jnp.linalg.eigh(0.5 * (Kt + Kt.T))
+        lam = jnp.where(jnp.abs(lam) <= _ZERO_MODE_RTOL * jnp.max(jnp.abs(lam)), 0.0, lam)
+        if modal:
+            mphi = chol @ V  # M phi for mass-normalized phi = L^-T V
+            C = C + (mphi * (2.0 * zeta * jnp.sqrt(jnp.maximum(lam, 0.0)))[None, :]) @ mphi.T
+        return K, 0.5 * (C + C.T), lam
+
+    return jax.vmap(one)(positions, stiffness, damping)
+
+
+def _matrices(system: System, variants: Variants):
+    modal = system.modal_damping is not None
+    zeta = np.broadcast_to(np.asarray(system.modal_damping if modal else 0.0, dtype=float), (6,))
+    alpha = system.rayleigh.alpha if system.rayleigh is not None else 0.0
+    beta = system.rayleigh.beta if system.rayleigh is not None else 0.0
+    K, C, lam = _assemble(
+        np.asarray(system.M), system.positions[None] + variants.position_offset,
+        system.stiffnesses[None] * variants.stiffness_factor,
+        system.dampings[None] * variants.damping_factor, system.axes, alpha, beta, zeta, modal=modal,
+    )
+    return np.asarray(K), np.asarray(C), np.asarray(lam)
+
+
+def batch_frequencies(system: System, variants: Variants) -> np.ndarray:
+    """Undamped natural frequencies of every variant, shape (nv, 6), ascending [Hz]."""
+    _, _, lam = _matrices(system, variants)
+    return _ro(np.sqrt(lam) / (2.0 * np.pi))
+
+
+# ----------------------------------------------------------------------------------------------------
+# Vectorized time integration.
+# ----------------------------------------------------------------------------------------------------
+
+
+@partial(jax.jit, static_argnames=("solver", "max_steps"))
+def _solve_chunk(A, B, x0, sigma, signals, ts, t0, t1, jump_ts, rtol, atol, *, solver, max_steps):
+    """Peaks of |q| and |q''| at ``ts`` for a chunk of variants: A (nb, 12, 12), B (nb, 12, nc)."""
+    import diffrax
+
+    from .direct import SOLVERS
+
+    def source(t):
+        if not signals:
+            return jnp.zeros(0)
+        return jnp.stack([s(t) for s in signals])
+
+    def one(A, B, x0):
+        # Scaled state xs = x / sigma: A and B are pre-scaled, so the field is one 12x12 product.
+        As = A * sigma[None, :] / sigma[:, None]
+        Bs = B / sigma[:, None]
+
+        def field(t, xs, args):
+            return As @ xs + Bs @ source(t)
+
+        def keep(t, xs, args):
+            rate = (A @ (xs * sigma) + B @ source(t))[6:]
+            return jnp.concatenate([xs[:6] * sigma[:6], rate])
+
+        controller = diffrax.ClipStepSizeController(
+            diffrax.PIDController(rtol=rtol, atol=atol), jump_ts=jump_ts
+        )
+        sol = diffrax.diffeqsolve(
+            diffrax.ODETerm(field), SOLVERS[solver](), t0, t1, None, x0 / sigma,
+            saveat=diffrax.SaveAt(ts=ts, fn=keep), stepsize_controller=controller,
+            max_steps=max_steps, throw=False,
+        )
+        peaks = jnp.max(jnp.abs(sol.ys), axis=0)
+        ok = sol.result == diffrax.RESULTS.successful
+        return peaks, ok, sol.stats["num_steps"], sol.stats["num_rejected_steps"]
+
+    return jax.vmap(one)(A, B, x0)
+
+
+def default_chunk_size(n_samples: int) -> int:
+    """Variants per chunk so that the kept samples stay within :data:`CHUNK_BYTES`."""
+    return int(max(1, min(MAX_CHUNK, CHUNK_BYTES // (max(n_samples, 1) * 12 * 8))))
+
+
+def run_batch(system: System, variants: Variants, excitation=None, settings=None, *,
+              histories=(), chunk_size: int | None = None) -> BatchResult:
+    """Natural frequencies and peak responses of many variants of ``system`` in one vectorized call.
+
+    Parameters
+    ----------
+    system : System
+        The nominal system; :class:`Variants` scale and move its mounts.
+    variants : Variants
+        From :func:`make_variants` (or :func:`load_sweep_spec`).
+    excitation : sixdof.excitation.Excitation, optional
+        Loads and an optional :class:`~sixdof.excitation.InitialState` (no ground motion, no mode
+        release). Without it (or without ``settings``) only frequencies are computed.
+    settings : sixdof.direct.SimulationSettings, optional
+        The same settings as :func:`sixdof.direct.simulate`.
+    histories : sequence of int, optional
+        Indices of variants whose full :class:`~sixdof.direct.TimeResponse` is wanted (computed
+        with :func:`sixdof.direct.simulate` on :func:`variant_system`).
+    chunk_size : int, optional
+        Variants integrated together; default :func:`default_chunk_size` (memory bound).
+
+    Returns
+    -------
+    BatchResult
+
+    Raises
+    ------
+    InputError
+        Unsupported excitation (ground motion, mode release), bad ``histories`` or ``chunk_size``.
+    SolverError
+        When the solve of any variant fails (its index is named) or gives non-finite values.
+    """
+    from .direct import SimulationSettings, _bucket, simulate, state_scale
+    from .excitation import Excitation, ModeRelease
+
+    if not isinstance(variants, Variants):
+        raise InputError("variants", "a Variants (see make_variants)", variants)
+    if variants.stiffness_factor.shape[1] != len(system.mounts):
+        raise InputError("variants", f"parameters for {len(system.mounts)} mounts",
+                         Plain(f"{variants.stiffness_factor.shape[1]} mounts"))
+    histories = tuple(histories)
+    for i in histories:
+        if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not 0 <= i < variants.count:
+            raise InputError("histories", f"variant indices in [0, {variants.count})", list(histories))
+    start = time.perf_counter()
+    K, C, lam = _matrices(system, variants)
+    frequency = _ro(np.sqrt(lam) / (2.0 * np.pi))
+    simulate_it = excitation is not None and settings is not None
+    if not simulate_it:
+        return BatchResult(variants, frequency, None, None, None, None, {}, settings, 0,
+                           time.perf_counter() - start)
+    if not isinstance(excitation, Excitation):
+        raise InputError("excitation", "an Excitation", excitation)
+    if not isinstance(settings, SimulationSettings):
+        raise InputError("settings", "a SimulationSettings", settings)
+    if excitation.ground is not None:
+        raise InputError("excitation.ground", "no ground motion in a batch (not supported yet; "
+                         "use sixdof.direct.simulate per variant)", Plain("a ground motion"))
+    if isinstance(excitation.initial, ModeRelease):
+        raise InputError("excitation.initial", "an InitialState in a batch (a mode release depends "
+                         "on each variant's modes)", Plain("a ModeRelease"))
+    ts = settings.times
+    if chunk_size is None:
+        chunk_size = default_chunk_size(ts.size)
+    if isinstance(chunk_size, bool) or not isinstance(chunk_size, (int, np.integer)) or chunk_size < 1:
+        raise InputError("chunk_size", "a positive integer", chunk_size)
+    chunk_size = int(min(chunk_size, variants.count))
+
+    M = np.asarray(system.M, dtype=float)
+    Minv = np.linalg.inv(M)
+    components = excitation.components()
+    vectors = np.array([v for v, _ in components]).reshape(len(components), 6)
+    signals = tuple(s for _, s in components)
+    nv = variants.count
+    A = np.zeros((nv, 12, 12))
+    A[:, :6, 6:] = np.eye(6)
+    A[:, 6:, :6] = -Minv[None] @ K
+    A[:, 6:, 6:] = -Minv[None] @ C
+    B = np.zeros((nv, 12, len(components)))
+    B[:, 6:, :] = (Minv @ vectors.T)[None]
+    q0, qd0 = excitation.initial_state(system)
+    x0 = np.broadcast_to(np.concatenate([q0, qd0]), (nv, 12))
+    sigma = state_scale(system, excitation, settings)[:12]
+    t0, t1 = settings.start, settings.start + settings.duration
+    jumps = np.array(sorted(b for b in excitation.breakpoints if t0 < b < t1), dtype=float)
+    padded = np.concatenate([jumps, t1 + 1.0 + np.arange(_bucket(jumps.size) - jumps.size)])
+
+    peaks, ok, steps, rejected = [], [], [], []
+    for first in range(0, nv, chunk_size):
+        index = np.arange(first, first + chunk_size)
+        index = np.minimum(index, nv - 1)  # pad the last chunk: one compiled shape for all chunks
+        out = _solve_chunk(A[index], B[index], x0[index], sigma, signals, ts, t0, t1, padded,
+                           settings.rtol, settings.atol, solver=settings.solver,
+                           max_steps=settings.max_steps)
+        keep = slice(0, min(chunk_size, nv - first))
+        peaks.append(np.asarray(out[0])[keep])
+        ok.append(np.asarray(out[1])[keep])
+        steps.append(np.asarray(out[2])[keep])
+        rejected.append(np.asarray(out[3])[keep])
+    peaks, ok = np.concatenate(peaks), np.concatenate(ok)
+    if not np.all(ok):
+        bad = np.flatnonzero(~ok)
+        raise SolverError(
+            f"batch solve with {settings.solver} (rtol={settings.rtol:g}, atol={settings.atol:g}, "
+            f"max_steps={settings.max_steps}) failed for {bad.size} of {nv} variants "
+            f"(first: index {int(bad[0])})"
+        )
+    if not np.all(np.isfinite(peaks)):
+        bad = np.flatnonzero(~np.all(np.isfinite(peaks), axis=1))
+        raise SolverError(f"batch solve produced non-finite values for variant {int(bad[0])}")
+    kept = {int(i): simulate(variant_system(system, variants, int(i)), excitation, settings)
+            for i in histories}
+    return BatchResult(
+        variants=variants, frequency_hz=frequency, peak_q=_ro(peaks[:, :6]),
+        peak_qdd=_ro(peaks[:, 6:]), num_steps=_ro(np.concatenate(steps), int),
+        num_rejected=_ro(np.concatenate(rejected), int), histories=kept, settings=settings,
+        chunk_size=chunk_size, wall_time_s=time.perf_counter() - start,
+    )
+
+
+def _ro(array, dtype=float) -> np.ndarray:
+    out = np.array(array, dtype=dtype)
+    out.flags.writeable = False
+    return out
+
+
+# ----------------------------------------------------------------------------------------------------
+# Sweep specification (TOML) and the `sixdof sweep` command.
+# ----------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Vary:
+    """One varied parameter of a sweep (a ``[[vary]]`` table of the spec).
+
+    Parameters
+    ----------
+    parameter : {"stiffness", "damping", "position"}
+        Stiffness and damping are multiplied by the drawn factor; ``position`` gets the drawn offset
+        added [m].
+    distribution : {"uniform", "normal", "grid"}
+        ``uniform`` on ``[low, high]``; ``normal`` with ``mean`` and ``std``; ``grid`` over ``values``
+        (grids combine as a full factorial design).
+    mounts : tuple of str
+        Names of the mounts varied; empty: all.
+    axes : tuple of str
+        Axes varied: the mount's own ``u, v, w`` for stiffness and damping, body ``x, y, z`` for
+        positions; empty: all three.
+    independent : bool
+        ``True``: one draw per mount and axis; ``False`` (default): one draw per variant shared by
+        every selected mount and axis.
+    low, high, mean, std : float
+    values : tuple of float
+    """
+
+    parameter: str
+    distribution: str
+    mounts: tuple[str, ...] = ()
+    axes: tuple[str, ...] = ()
+    independent: bool = False
+    low: float | None = None
+    high: float | None = None
+    mean: float | None = None
+    std: float | None = None
+    values: tuple[float, ...] = ()
+
+
+@dataclass(frozen=True)
+class SweepSpec:
+    """A validated sweep specification (see :func:`parse_sweep_spec`).
+
+    Attributes
+    ----------
+    count : int
+        Number of random variants (the product of the grid sizes when there are grids).
+    seed : int
+        Seed of :func:`numpy.random.default_rng`.
+    vary : tuple of Vary
+    chunk_size : int or None
+    """
+
+    count: int
+    seed: int
+    vary: tuple[Vary, ...]
+    chunk_size: int | None = None
+
+    def variants(self, system: System) -> Variants:
+        """Draw the variants for ``system`` (deterministic for a given seed)."""
+        names = system.mount_names
+        n = len(names)
+        rng = np.random.default_rng(self.seed)
+        k, d, x = np.ones((self.count, n, 3)), np.ones((self.count, n, 3)), np.zeros((self.count, n, 3))
+        target = {"stiffness": k, "damping": d, "position": x}
+        grids = [i for i, v in enumerate(self.vary) if v.distribution == "grid"]
+        grid_index = (np.indices([len(self.vary[i].values) for i in grids]).reshape(len(grids), -1)
+                      if grids else np.zeros((0, self.count), dtype=int))
+        for i, v in enumerate(self.vary):
+            field = f"vary[{i}]"
+            for m in v.mounts:
+                if m not in names:
+                    raise InputError(f"{field}.mounts", f"mount names among {', '.join(names)}", m)
+            mounts = [names.index(m) for m in v.mounts] if v.mounts else list(range(n))
+            labels = ("x", "y", "z") if v.parameter == "position" else _MOUNT_AXES
+            for a in v.axes:
+                if a not in labels:
+                    raise InputError(f"{field}.axes", f"axes among {', '.join(labels)}", a)
+            axes = [labels.index(a) for a in v.axes] if v.axes else [0, 1, 2]
+            shape = (self.count, len(mounts), len(axes)) if v.independent else (self.count, 1, 1)
+            if v.distribution == "uniform":
+                draw = rng.uniform(v.low, v.high, shape)
+            elif v.distribution == "normal":
+                draw = rng.normal(v.mean, v.std, shape)
+            else:
+                g = grids.index(i)
+                draw = np.asarray(v.values)[grid_index[g]][:, None, None]
+            block = np.broadcast_to(draw, (self.count, len(mounts), len(axes)))
+            sub = target[v.parameter][:, mounts][:, :, axes]
+            sub = sub + block if v.parameter == "position" else sub * block
+            target[v.parameter][np.ix_(range(self.count), mounts, axes)] = sub
+            if v.parameter == "stiffness" and np.any(sub <= 0):
+                raise InputError(field, "stiffness factors > 0 (narrow the distribution)",
+                                 Plain(f"a draw of {sub.min():.6g}"))
+            if v.parameter == "damping" and np.any(sub < 0):
+                raise InputError(field, "damping factors >= 0 (narrow the distribution)",
+                                 Plain(f"a draw of {sub.min():.6g}"))
+        return make_variants(system, stiffness_factor=k, damping_factor=d, position_offset=x)
+
+
+_SPEC_KEYS = ("count", "seed", "chunk_size", "vary")
+_VARY_KEYS = ("parameter", "distribution", "mounts", "axes", "independent", "low", "high", "mean",
+              "std", "values")
+_NEEDS = {"uniform": ("low", "high"), "normal": ("mean", "std"), "grid": ("values",)}
+
+
+def parse_sweep_spec(text: str, source: str = "<string>") -> SweepSpec:
+    """Validate a sweep specification (TOML).
+
+    Example::
+
+        count = 1000                 # random variants (grids: the product of their sizes)
+        seed = 1
+        [[vary]]
+        parameter = "stiffness"      # stiffness | damping | position
+        distribution = "uniform"     # uniform (low, high) | normal (mean, std) | grid (values)
+        low = 0.7
+        high = 1.3
+        mounts = ["1", "2"]          # optional, default all
+        axes = ["w"]                 # optional: u, v, w (mount axes) or x, y, z (positions)
+        independent = true           # one draw per mount and axis (default: one shared draw)
+
+    Raises
+    ------
+    InputError
+        ``field: expected ..., got ...`` prefixed with ``source``.
+    """
+    try:
+        raw = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioError(source, InputError("", "valid TOML", str(exc))) from None
+    try:
+        return _spec(raw)
+    except InputError as exc:
+        raise ScenarioError(source, exc) from None
+
+
+def load_sweep_spec(path: str | Path) -> SweepSpec:
+    """Read and validate a sweep specification file (see :func:`parse_sweep_spec`)."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError:
+        raise InputError("spec", "an existing, readable sweep specification (TOML)", str(path)) from None
+    return parse_sweep_spec(text, str(path))
+
+
+def _unknown(raw: dict, known, path: str) -> None:
+    for key in raw:
+        if key not in known:
+            raise InputError(f"{path}.{key}" if path else key, f"one of the keys {', '.join(known)}",
+                             Plain("an unknown key"))
+
+
+def _spec(raw: dict) -> SweepSpec:
+    _unknown(raw, _SPEC_KEYS, "")
+    vary_raw = raw.get("vary")
+    if not isinstance(vary_raw, list) or not vary_raw or not all(isinstance(v, dict) for v in vary_raw):
+        raise InputError("vary", "at least one [[vary]] table", vary_raw if vary_raw is not None
+                         else Plain("nothing"))
+    vary = tuple(_vary(v, f"vary[{i}]") for i, v in enumerate(vary_raw))
+    seed = raw.get("seed", 0)
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise InputError("seed", "an integer >= 0", seed)
+    chunk = raw.get("chunk_size")
+    if chunk is not None and (isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1):
+        raise InputError("chunk_size", "a positive integer", chunk)
+    grid_count = math.prod(len(v.values) for v in vary if v.distribution == "grid")
+    has_grid = any(v.distribution == "grid" for v in vary)
+    count = raw.get("count")
+    if count is None:
+        if not has_grid:
+            raise InputError("count", "a positive integer (number of random variants)", Plain("nothing"))
+        count = grid_count
+    if isinstance(count, bool) or not isinstance(count, int) or count < 1:
+        raise InputError("count", "a positive integer", count)
+    if has_grid and count != grid_count:
+        raise InputError("count", f"the product of the grid sizes, {grid_count} (or no count)", count)
+    return SweepSpec(count=count, seed=seed, vary=vary, chunk_size=chunk)
+
+
+def _vary(raw: dict, path: str) -> Vary:
+    _unknown(raw, _VARY_KEYS, path)
+    parameter = raw.get("parameter")
+    if parameter not in PARAMETERS:
+        raise InputError(f"{path}.parameter", f"one of {', '.join(PARAMETERS)}",
+                         parameter if parameter is not None else Plain("nothing"))
+    distribution = raw.get("distribution")
+    if distribution not in DISTRIBUTIONS:
+        raise InputError(f"{path}.distribution", f"one of {', '.join(DISTRIBUTIONS)}",
+                         distribution if distribution is not None else Plain("nothing"))
+    for key in _VARY_KEYS[5:]:
+        if key in raw and key not in _NEEDS[distribution]:
+            raise InputError(f"{path}.{key}", f"only {', '.join(_NEEDS[distribution])} with a "
+                             f"{distribution} distribution", raw[key])
+    numbers = {}
+    for key in _NEEDS[distribution]:
+        if key not in raw:
+            raise InputError(f"{path}.{key}", "a value (required key)", Plain("nothing"))
+        value = raw[key]
+        if key == "values":
+            if (not isinstance(value, list) or not value
+                    or not all(_finite(v) for v in value)):
+                raise InputError(f"{path}.values", "a non-empty list of finite numbers", value)
+            numbers[key] = tuple(float(v) for v in value)
+        elif not _finite(value):
+            raise InputError(f"{path}.{key}", "a finite number", value)
+        else:
+            numbers[key] = float(value)
+    if distribution == "uniform" and not numbers["low"] < numbers["high"]:
+        raise InputError(f"{path}.high", f"a number > low = {numbers['low']:g}", raw["high"])
+    if distribution == "normal" and not numbers["std"] > 0:
+        raise InputError(f"{path}.std", "a standard deviation > 0", raw["std"])
+    for key in ("mounts", "axes"):
+        value = raw.get(key, [])
+        if not isinstance(value, list) or not all(isinstance(v, str) and v for v in value):
+            raise InputError(f"{path}.{key}", "a list of names", value)
+    independent = raw.get("independent", False)
+    if not isinstance(independent, bool):
+        raise InputError(f"{path}.independent", "true or false", independent)
+    if independent and distribution == "grid":
+        raise InputError(f"{path}.independent", "false for a grid (one grid value per variant)",
+                         independent)
+    return Vary(parameter=parameter, distribution=distribution, mounts=tuple(raw.get("mounts", [])),
+                axes=tuple(raw.get("axes", [])), independent=independent, **numbers)
+
+
+def _finite(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def sweep(scenario, spec: SweepSpec, *, chunk_size: int | None = None) -> BatchResult:
+    """Run a scenario's variants: frequencies always, peak responses when it has a simulation.
+
+    Parameters
+    ----------
+    scenario : sixdof.scenario.Scenario
+    spec : SweepSpec
+
+    Returns
+    -------
+    BatchResult
+    """
+    variants = spec.variants(scenario.system)
+    return run_batch(scenario.system, variants, scenario.excitation, scenario.simulation,
+                     chunk_size=chunk_size or spec.chunk_size)
+
+
+def summary_table(result: BatchResult) -> str:
+    """Percentiles (5, 50, 95 %) of each frequency and each DOF's peak, as text."""
+    from .dofs import DOF_UNITS, DOFS
+
+    lines = [f"{result.variants.count} variants", "", "quantity          p5           p50          p95"]
+    for j in range(6):
+        p = np.percentile(result.frequency_hz[:, j], [5, 50, 95])
+        lines.append(f"f{j + 1} [Hz]      " + "  ".join(f"{v:11.5g}" for v in p))
+    if result.peak_q is not None:
+        for j, (dof, unit) in enumerate(zip(DOFS, DOF_UNITS)):
+            p = np.percentile(result.peak_q[:, j], [5, 50, 95])
+            lines.append(f"peak {dof:<2} [{unit:<3}] " + "  ".join(f"{v:11.4g}" for v in p))
+    return "\n".join(lines)
+
+
+__all__ = [
+    "BatchResult", "SweepSpec", "Vary", "Variants", "batch_frequencies", "default_chunk_size",
+    "load_sweep_spec", "make_variants", "parse_sweep_spec", "run_batch", "summary_table", "sweep",
+    "variant_system",
+]

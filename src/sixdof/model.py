@@ -6,7 +6,8 @@ from the CG in body axes.
 
 The assembly functions are pure functions of arrays written with ``jax.numpy``, so that they run under
 ``jax.jit``, ``jax.vmap`` and ``jax.grad`` (batches of design variants, gradients with respect to mount
-parameters). The model objects hold validated NumPy arrays and are immutable.
+parameters). They are jitted themselves: called on plain arrays each compiles once per shape, instead of
+once per primitive operation. The model objects hold validated NumPy arrays and are immutable.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ from functools import cached_property
 
 import numpy as np
 
-from ._jax import jnp
+from ._jax import jax, jnp
 from .errors import InputError, finite_array
 
 # Relative tolerances for "physically possible" checks on user input.
@@ -44,6 +45,7 @@ def skew(r):
     )
 
 
+@jax.jit
 def point_map(r):
     """Map from ``q`` to the displacement of the body point ``r``: ``u = point_map(r) @ q``.
 
@@ -63,6 +65,7 @@ def point_map(r):
     return jnp.concatenate([eye, -skew(r)], axis=-1)
 
 
+@jax.jit
 def load_vector(point, force, moment=None):
     """Generalized force (6,) of a force [N] at ``point`` [m] plus an optional moment [N m].
 
@@ -73,6 +76,7 @@ def load_vector(point, force, moment=None):
     return jnp.concatenate([force, jnp.cross(jnp.asarray(point, dtype=float), force) + moment])
 
 
+@jax.jit
 def mass_matrix(mass, inertia):
     """Inertia matrix about the CG (eq. 6 of the seed paper, full tensor allowed).
 
@@ -93,6 +97,7 @@ def mass_matrix(mass, inertia):
     return jnp.concatenate([top, bottom], axis=0)
 
 
+@jax.jit
 def mount_matrix(positions, coefficients, axes):
     """Assemble a 6x6 matrix from triaxial mount elements (eqs. 7-10 of the seed paper, generalized).
 

@@ -35,6 +35,7 @@ accelerance by ``-w^2`` (per s^2).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import scipy.linalg
@@ -42,7 +43,7 @@ import scipy.linalg
 from .dofs import DOF_UNITS, FORCE_UNITS
 from .errors import InputError, SolverError, finite_array
 from .modal import modal_analysis
-from .model import mount_matrix, point_map
+from .model import point_map
 
 __all__ = [
     "FRF",
@@ -377,8 +378,22 @@ def hysteretic_stiffness(system) -> np.ndarray:
 
     The complex stiffness of the mounts is ``K + i K_h``.
     """
-    kh = mount_matrix(system.positions, system.stiffnesses * system.loss_factors, system.axes)
-    return np.array(kh, dtype=float)
+    eta = system.loss_factors
+    if not np.any(eta):
+        return np.zeros((6, 6))  # no hysteresis (the common case): exactly zero
+    # The formula of :func:`sixdof.model.mount_matrix` in NumPy: a JAX dispatch costs ~1 ms, a third
+    # of the fast receptance's budget, for a 6x6 matrix.
+    r = np.asarray(system.positions, dtype=float)
+    t = np.zeros((r.shape[0], 3, 6))
+    t[:, :, :3] = np.eye(3)
+    x, y, z = r[:, 0], r[:, 1], r[:, 2]
+    # -skew(r): u = u_cg + theta x r = u_cg - r x theta
+    t[:, 0, 4], t[:, 0, 5] = z, -y
+    t[:, 1, 3], t[:, 1, 5] = -z, x
+    t[:, 2, 3], t[:, 2, 4] = y, -x
+    local = np.einsum("nij,njk->nik", np.asarray(system.axes, dtype=float), t)
+    kh = np.einsum("nia,ni,nib->ab", local, system.stiffnesses * eta, local)
+    return 0.5 * (kh + kh.T)
 
 
 def dynamic_stiffness(system, f_hz) -> np.ndarray:
@@ -480,16 +495,53 @@ class _ModalTerms:
     complex_residues: np.ndarray
     eigenvalues: np.ndarray
 
+    @cached_property
+    def _stacked(self) -> np.ndarray:
+        """Residues as one real (2 P, 72) matrix, P = nr + nc, for :meth:`evaluate`.
+
+        With ``g = g' + i g''`` the (nf, P) pole factors and ``S = S' + i S''`` the (P, 36) residues,
+        ``H = g S`` is ``Re H = g' S' - g'' S''``, ``Im H = g' S'' + g'' S'``: the real product
+        ``[g', g''] @ [[S', S''], [-S'', S']]`` with the columns of ``Re`` and ``Im`` interleaved, which
+        is NumPy's memory layout of the complex (nf, 36) result.
+        """
+        S = np.concatenate([self.real_residues.reshape(-1, 36), self.complex_residues.reshape(-1, 36)])
+        p = S.shape[0]
+        out = np.empty((2 * p, 36, 2))
+        out[:p, :, 0], out[:p, :, 1] = S.real, S.imag
+        out[p:, :, 0], out[p:, :, 1] = -S.imag, S.real
+        return out.reshape(2 * p, 72)
+
     def evaluate(self, omega: np.ndarray) -> np.ndarray:
-        w = omega[:, None]
-        # One (nf, nr) x (nr, 36) product per group: no Python loop over frequencies.
-        weights = 1.0 / (self.a[None, :] + 1j * w * self.b[None, :] - w**2)
-        H = weights @ self.real_residues.reshape(-1, 36)
-        if self.eigenvalues.size:
-            H = H + (1.0 / (1j * w - self.eigenvalues[None, :])) @ self.complex_residues.reshape(
-                -1, 36
-            )
-        return H.reshape(-1, 6, 6)
+        """Receptance (nf, 6, 6) complex at circular frequencies ``omega`` [rad/s].
+
+        One real (nf, 2 P) x (2 P, 72) matrix product (P poles, P <= 12) that writes the complex
+        result in place: no complex division, no Python loop over frequencies, no temporary of the
+        result's size.
+        """
+        w = np.asarray(omega, dtype=float)[:, None]
+        nr, nc = self.a.size, self.eigenvalues.size
+        p = nr + nc
+        g = np.empty((w.shape[0], 2 * p))
+        # Every pole factor is 1 / (x + i y), computed as (x - i y) / (x^2 + y^2): real arithmetic on
+        # (nf, P) arrays (NumPy's complex division scales against overflow, at ~8x the cost; these
+        # denominators are products of frequencies and eigenvalues far from overflow).
+        x = np.empty((w.shape[0], p))
+        y = np.empty((w.shape[0], p))
+        if nr:
+            # a_r - w^2 + i (Im a_r + w b_r)
+            np.subtract(self.a.real[None, :], w * w, out=x[:, :nr])
+            np.multiply(w, self.b[None, :], out=y[:, :nr])
+            y[:, :nr] += self.a.imag[None, :]
+        if nc:
+            # i w - lambda_k
+            x[:, nr:] = -self.eigenvalues.real[None, :]
+            np.subtract(w, self.eigenvalues.imag[None, :], out=y[:, nr:])
+        d = x * x
+        d += y * y
+        np.divide(x, d, out=g[:, :p])
+        np.divide(y, d, out=g[:, p:])
+        np.negative(g[:, p:], out=g[:, p:])
+        return (g @ self._stacked).view(complex).reshape(-1, 6, 6)
 
 
 def _modal(system, omega: np.ndarray, basis: str) -> tuple[np.ndarray, str]:

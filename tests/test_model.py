@@ -188,3 +188,32 @@ def test_statics_refuses_a_body_that_cannot_carry_its_weight():
 def test_model_errors_name_the_field(make, match):
     with pytest.raises(InputError, match=match):
         make()
+
+
+def test_damping_models_give_their_ratios():
+    from sixdof.damping import modal_damping_ratios
+    from sixdof.model import Rayleigh
+
+    base = four_mount()
+    body, mounts = base.body, base.mounts
+    modes = modal_analysis(base.M, base.K)
+    w = modes.omega
+    # Modal: exactly the ratio asked for, one for all or one per mode.
+    per_mode = (0.01, 0.02, 0.03, 0.04, 0.05, 0.06)
+    for zeta in (0.03, per_mode):
+        system = System(body, mounts, modal_damping=zeta)
+        assert modal_damping_ratios(system.C, modes) == pytest.approx(np.broadcast_to(zeta, 6), rel=1e-12)
+    # Rayleigh: zeta = alpha / (2 w) + beta w / 2, and from_ratio hits the target at both frequencies.
+    r = Rayleigh(alpha=0.8, beta=2e-4)
+    system = System(body, mounts, rayleigh=r)
+    assert modal_damping_ratios(system.C, modes) == pytest.approx(0.8 / (2 * w) + 2e-4 * w / 2, rel=1e-12)
+    r = Rayleigh.from_ratio(0.02, (modes.frequency_hz[0], modes.frequency_hz[-1]))
+    zeta = modal_damping_ratios(System(body, mounts, rayleigh=r).C, modes)
+    assert zeta[[0, -1]] == pytest.approx([0.02, 0.02], rel=1e-12)
+    assert np.all(zeta[1:-1] < 0.02)  # Rayleigh damps less between its two frequencies
+    # Models add up: dashpots + Rayleigh + modal.
+    damped = [Mount(m.name, m.position, m.stiffness, damping=[100.0, 200.0, 300.0]) for m in mounts]
+    combined = System(body, damped, rayleigh=r, modal_damping=0.01)
+    expected = System(body, damped).C + r.alpha * base.M + r.beta * base.K
+    expected += base.M @ modes.shapes @ np.diag(2 * 0.01 * w) @ modes.shapes.T @ base.M
+    assert combined.C == pytest.approx(expected, rel=1e-12, abs=1e-9 * np.abs(expected).max())

@@ -112,6 +112,19 @@ def test_unrestrained_dofs_with_damped_rigid_modes():
     assert check.max_relative_difference <= RTOL_FRF_METHODS
 
 
+def test_hysteretic_stiffness_is_the_mount_assembly():
+    # frf assembles K_h in NumPy (speed); model.mount_matrix is the reference assembly (JAX).
+    from sixdof.model import mount_matrix
+
+    system = skewed()
+    expected = np.asarray(mount_matrix(system.positions, system.stiffnesses * system.loss_factors,
+                                       system.axes))
+    got = frf.hysteretic_stiffness(system)
+    d = np.abs(np.diag(expected))
+    assert np.max(np.abs(got - expected) / np.sqrt(np.outer(d, d))) <= RTOL_FRF_IDENTITY
+    assert np.array_equal(frf.hysteretic_stiffness(bridge()), np.zeros((6, 6)))
+
+
 def test_receptance_is_symmetric_and_readonly():
     result = frf.receptance(CASES["skewed, coupled"](), F_BRIDGE[::50])
     scale = np.max(np.abs(result.H), axis=0)

@@ -19,6 +19,11 @@ Two independent computations of the 6x6 receptance ``H = Z^-1``:
   over the complex modes of the first-order state-space system (complex ``K + i K_h`` included), with
   left eigenvectors from the inverse of the eigenvector matrix. Rigid-body (zero-frequency) modes
   contribute their mass line ``-phi phi' / w^2`` (or their damped form when ``C`` acts on them).
+  This is the fast path: once the (at most 12) poles and residues are known, all frequencies take
+  one real matrix product of the (nf, 2 P) pole factors with the (2 P, 72) residues, ~5x faster
+  than the direct method at 10,000 frequencies. It refuses (SolverError) nearly defective complex
+  modes, e.g. a critically damped mode, which the direct method handles; so ``"direct"`` stays the
+  default and the reference.
 
 :func:`cross_check` computes both and reports their largest relative difference.
 
@@ -75,6 +80,8 @@ RIGID_DAMPING_RTOL = 1e-12
 #: The complex-mode sum is refused when the eigenvector matrix is this badly conditioned (a nearly
 #: defective state matrix, e.g. a critically damped mode): the direct method is then the one to use.
 MAX_EIGVEC_CONDITION = 1e10
+#: Multiply-adds per row block of the modal sum's matrix product (see :meth:`_ModalTerms.evaluate`).
+_BLOCK_MACS = 200_000
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -429,7 +436,9 @@ def receptance(system, f_hz, method: str = "direct", basis: str = "auto") -> FRF
     f_hz : array_like, shape (nf,)
         Frequencies [Hz], finite and >= 0 (> 0 for a system with unrestrained DOFs).
     method : {"direct", "modal"}
-        Batched solve of the dynamic stiffness, or summation over modes.
+        Batched solve of the dynamic stiffness (the reference; works for every system), or
+        summation over modes (the fast path, ~5x faster at many frequencies; raises SolverError
+        for nearly defective complex modes, e.g. a critically damped mode).
     basis : {"auto", "real", "complex"}
         Modal method only: ``"auto"`` uses real modes when damping and hysteresis are classical and
         complex modes otherwise; ``"complex"`` forces complex modes (always exact); ``"real"``
@@ -458,7 +467,7 @@ def receptance(system, f_hz, method: str = "direct", basis: str = "auto") -> FRF
         H, used = _direct(system, omega), "dynamic stiffness"
     else:
         H, used = _modal(system, omega, basis)
-    if not np.all(np.isfinite(H)):
+    if not np.isfinite(H.view(float)).all():  # the float view: half the cost of complex isfinite
         raise SolverError(
             f"receptance ({method}): non-finite values; a requested frequency sits exactly on an "
             "undamped natural frequency"
@@ -520,28 +529,41 @@ class _ModalTerms:
         """
         w = np.asarray(omega, dtype=float)[:, None]
         nr, nc = self.a.size, self.eigenvalues.size
-        p = nr + nc
-        g = np.empty((w.shape[0], 2 * p))
-        # Every pole factor is 1 / (x + i y), computed as (x - i y) / (x^2 + y^2): real arithmetic on
-        # (nf, P) arrays (NumPy's complex division scales against overflow, at ~8x the cost; these
-        # denominators are products of frequencies and eigenvalues far from overflow).
-        x = np.empty((w.shape[0], p))
-        y = np.empty((w.shape[0], p))
+        # g[:, 0] + i g[:, 1]: every pole factor 1 / (x + i y) = (x - i y) / (x^2 + y^2), in real
+        # arithmetic on contiguous (nf, P) temporaries: NumPy's complex division (which rescales
+        # against overflow) costs several times more, and these denominators, products of
+        # frequencies and eigenvalues, are far from overflow.
+        g = np.empty((w.shape[0], 2, nr + nc))
         if nr:
-            # a_r - w^2 + i (Im a_r + w b_r)
-            np.subtract(self.a.real[None, :], w * w, out=x[:, :nr])
-            np.multiply(w, self.b[None, :], out=y[:, :nr])
-            y[:, :nr] += self.a.imag[None, :]
+            x = self.a.real - w * w  # x + i y = a_r - w^2 + i w b_r
+            y = w * self.b
+            y += self.a.imag
+            _reciprocal(x, y, g[:, 0, :nr], g[:, 1, :nr])
         if nc:
-            # i w - lambda_k
-            x[:, nr:] = -self.eigenvalues.real[None, :]
-            np.subtract(w, self.eigenvalues.imag[None, :], out=y[:, nr:])
-        d = x * x
-        d += y * y
-        np.divide(x, d, out=g[:, :p])
-        np.divide(y, d, out=g[:, p:])
-        np.negative(g[:, p:], out=g[:, p:])
-        return (g @ self._stacked).view(complex).reshape(-1, 6, 6)
+            x = np.broadcast_to(-self.eigenvalues.real, (w.shape[0], nc))  # x + i y = i w - lambda_k
+            y = w - self.eigenvalues.imag
+            _reciprocal(x, y, g[:, 0, nr:], g[:, 1, nr:])
+        g = g.reshape(w.shape[0], -1)
+        stacked = self._stacked
+        out = np.empty((g.shape[0], 72))
+        # Row blocks of <= _BLOCK_MACS multiply-adds: each product stays on one BLAS thread (below
+        # OpenBLAS's threading threshold) and in cache. A threaded product this small (~0.5 ms)
+        # gains little and, on a busy 2-core machine, waits a scheduler tick (~4 ms) for its second
+        # thread: measured 8 ms instead of 2 ms for whole benchmark runs.
+        step = max(1, _BLOCK_MACS // stacked.size)
+        for start in range(0, g.shape[0], step):
+            np.matmul(g[start : start + step], stacked, out=out[start : start + step])
+        return out.view(complex).reshape(-1, 6, 6)
+
+
+def _reciprocal(x: np.ndarray, y: np.ndarray, re: np.ndarray, im: np.ndarray) -> None:
+    """Write ``1 / (x + i y)`` into ``re + i im`` (real arrays of one shape)."""
+    inv = x * x
+    inv += y * y
+    np.divide(1.0, inv, out=inv)
+    np.multiply(x, inv, out=re)
+    np.multiply(y, inv, out=im)
+    np.negative(im, out=im)
 
 
 def _modal(system, omega: np.ndarray, basis: str) -> tuple[np.ndarray, str]:

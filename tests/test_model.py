@@ -217,3 +217,28 @@ def test_damping_models_give_their_ratios():
     expected = System(body, damped).C + r.alpha * base.M + r.beta * base.K
     expected += base.M @ modes.shapes @ np.diag(2 * 0.01 * w) @ modes.shapes.T @ base.M
     assert combined.C == pytest.approx(expected, rel=1e-12, abs=1e-9 * np.abs(expected).max())
+
+
+def test_exact_damping_ratios_of_non_proportional_damping():
+    from sixdof.damping import damping_ratios, modal_damping_ratios
+    from sixdof.model import Rayleigh
+
+    base = four_mount()
+    modes = modal_analysis(base.M, base.K)
+    # Classical damping: the exact ratios are the diagonal ones.
+    classical = System(base.body, base.mounts, rayleigh=Rayleigh(alpha=0.5, beta=3e-4))
+    assert damping_ratios(classical.M, classical.C, classical.K, modes) == pytest.approx(
+        modal_damping_ratios(classical.C, modes), rel=1e-9)
+    # Dashpots on two mounts only: non-proportional. The exact ratios are -Re(lambda)/|lambda| of
+    # the six oscillating roots of det(lambda^2 M + lambda C + K) = 0, one per mode.
+    damped = [Mount(m.name, m.position, m.stiffness, damping=[900.0, 600.0, 3000.0] if i < 2 else [0, 0, 0])
+              for i, m in enumerate(base.mounts)]
+    system = System(base.body, damped)
+    zeta = damping_ratios(system.M, system.C, system.K, modes)
+    approx = modal_damping_ratios(system.C, modes)
+    assert not np.allclose(zeta, approx, rtol=1e-3)  # the coupling matters here
+    assert zeta == pytest.approx(approx, rel=0.2)    # ... but only as a correction
+    roots = np.linalg.eigvals(np.block([[np.zeros((6, 6)), np.eye(6)],
+                                        [-np.linalg.solve(system.M, system.K), -np.linalg.solve(system.M, system.C)]]))
+    from_roots = np.sort(-roots.real[roots.imag > 0] / np.abs(roots[roots.imag > 0]))
+    assert np.sort(zeta) == pytest.approx(from_roots, rel=1e-9)

@@ -79,7 +79,7 @@ def _parser() -> argparse.ArgumentParser:
 
 def _modes(args) -> int:
     from . import report
-    from .damping import modal_damping_ratios
+    from .damping import damping_ratios
     from .dofs import DOFS
     from .modal import modal_analysis
     from .scenario import load_scenario
@@ -89,7 +89,7 @@ def _modes(args) -> int:
     system = scenario.system
     modes = modal_analysis(system.M, system.K)
     statics, no_statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
-    zeta = modal_damping_ratios(system.C, modes)
+    zeta = damping_ratios(system.M, system.C, system.K, modes)
     if args.json:
         print(json.dumps(_modes_json(scenario, modes, statics, zeta, DOFS)))
         return 0

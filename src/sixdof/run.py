@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .damping import modal_damping_ratios
+from .damping import damping_ratios
 from .errors import InputError
 from .modal import modal_analysis
 from .statics import try_gravity_statics
@@ -159,7 +159,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
     system = scenario.system
     modes = modal_analysis(system.M, system.K)
     statics, no_statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
-    zeta = modal_damping_ratios(system.C, modes)
+    zeta = damping_ratios(system.M, system.C, system.K, modes)
     notes = sampling_warnings(scenario, modes)
     if no_statics:
         notes.append(no_statics)
@@ -282,7 +282,7 @@ def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_lin
     def write(stage: Path) -> None:
         results = store.write_results(
             stage / "results.h5", system=system, modes=modes,
-            damping_ratios=modal_damping_ratios(system.C, modes), validation=report,
+            damping_ratios=damping_ratios(system.M, system.C, system.K, modes), validation=report,
             scenario_text=scenario.text, name=scenario.name, description=scenario.description,
             command_line=command_line,
         )

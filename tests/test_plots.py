@@ -52,6 +52,36 @@ def labelled_axes(fig: Figure, categorical=()):
     return True
 
 
+def assert_drawn_from(line, t, y, rtol=1e-15):
+    """The line is the series (t, y) itself or its envelope: every drawn point is a sample (same
+    time, same value) in time order, and the series' extrema are drawn exactly."""
+    x, drawn = line.get_xdata(), line.get_ydata()
+    k = np.searchsorted(t, x)
+    assert np.all(np.diff(k) > 0)
+    np.testing.assert_array_equal(t[k], x)
+    np.testing.assert_allclose(drawn, y[k], rtol=rtol)
+    assert np.max(drawn) == pytest.approx(np.max(y), rel=rtol) and np.min(drawn) == pytest.approx(np.min(y), rel=rtol)
+    assert len(drawn) <= plots.MAX_POINTS + 2
+
+
+def test_envelope_keeps_each_slices_extrema():
+    rng = np.random.default_rng(7)
+    values = rng.standard_normal(20_001)
+    values[12_345] = 50.0  # a one-sample spike must survive
+    keep = plots.envelope_indices(values, max_points=400)
+    assert len(keep) <= 402 and keep[0] == 0 and keep[-1] == len(values) - 1
+    assert np.all(np.diff(keep) > 0)
+    assert 12_345 in keep
+    width = -(-len(values) // 200)
+    kept = set(keep.tolist())
+    for start in range(0, len(values), width):
+        piece = values[start:start + width]
+        assert start + int(np.argmin(piece)) in kept and start + int(np.argmax(piece)) in kept
+    # Short series are drawn whole; a constant one keeps its ends.
+    np.testing.assert_array_equal(plots.envelope_indices(values[:400], max_points=400), np.arange(400))
+    assert set(plots.envelope_indices(np.ones(1001), max_points=10).tolist()) >= {0, 1000}
+
+
 def test_mode_shapes(results):
     fig = plots.plot_mode_shapes(results)
     assert isinstance(fig, Figure)
@@ -116,7 +146,7 @@ def test_time_histories_use_readable_units_per_dof(results):
         ax = by_label[dof]
         unit = ax.get_ylabel().split("[")[1].rstrip("]")
         assert unit in (("mm", "µm") if i < 3 else ("mrad", "µrad"))
-        np.testing.assert_allclose(ax.lines[0].get_ydata(), factors[unit] * q[:, i], rtol=1e-15)
+        assert_drawn_from(ax.lines[0], results.array("time/t"), factors[unit] * q[:, i])
         assert 0.01 <= np.max(np.abs(ax.lines[0].get_ydata())) < 1e4
 
 
@@ -126,13 +156,13 @@ def test_superposition_overlay_and_difference(results):
     assert len(fig.axes) == 12
     attrs = results.attrs["time/superposition"]
     assert f"{attrs['agreement_worst']:.2e}" in fig.get_suptitle()
-    direct, modal = results.array("time/q"), results.array("time/superposition/q")
+    t, direct, modal = results.array("time/t"), results.array("time/q"), results.array("time/superposition/q")
     for i in range(6):
         right = fig.axes[2 * i + 1]
         relative = right.lines[0].get_ydata()
         # The plotted curve's peak is the stored agreement of that DOF (no DOF is quiet here).
         assert np.max(np.abs(relative)) == pytest.approx(attrs["agreement_per_dof"][i], rel=1e-12)
-        np.testing.assert_allclose(relative * np.max(np.abs(direct[:, i])), modal[:, i] - direct[:, i], rtol=1e-12)
+        assert_drawn_from(right.lines[0], t, (modal[:, i] - direct[:, i]) / np.max(np.abs(direct[:, i])), rtol=1e-12)
 
 
 def test_superposition_difference_of_a_quiet_dof_is_the_stored_agreement():
@@ -182,14 +212,13 @@ def test_point_frfs(results):
 def test_mount_forces(results):
     fig = plots.plot_mount_forces(results)
     assert labelled_axes(fig)
-    forces = results.array("time/mount_force")
+    t, forces = results.array("time/t"), results.array("time/mount_force")
     for c, ax in enumerate(fig.axes):
         unit = ax.get_ylabel().split("[")[1].rstrip("]")
         factor = {"kN": 1e-3, "N": 1.0}[unit]
         for k in range(forces.shape[0]):
-            np.testing.assert_allclose(ax.lines[k].get_ydata(), factor * forces[k, :, c], rtol=1e-15)
-        np.testing.assert_allclose(ax.lines[-1].get_ydata(), factor * results.array("time/foundation_force")[:, c],
-                                   rtol=1e-15)
+            assert_drawn_from(ax.lines[k], t, factor * forces[k, :, c])
+        assert_drawn_from(ax.lines[-1], t, factor * results.array("time/foundation_force")[:, c])
 
 
 def test_validation_figures(results):
@@ -200,7 +229,8 @@ def test_validation_figures(results):
     assert labelled_axes(fig)
     assert [ax.get_title().split(":")[0] for ax in fig.axes] == [f"mode {r}" for r in range(1, 7)]
     for r, ax in enumerate(fig.axes, start=1):
-        np.testing.assert_array_equal(ax.lines[0].get_ydata(), results.array(f"validation/decay/mode_{r}/eta"))
+        assert_drawn_from(ax.lines[0], results.array(f"validation/decay/mode_{r}/t"),
+                          results.array(f"validation/decay/mode_{r}/eta"))
 
 
 def test_mount_forces_from_a_stored_history(modal_only):
@@ -216,6 +246,26 @@ def test_mount_forces_from_a_stored_history(modal_only):
     assert labelled_axes(fig)
     assert [ax.get_ylabel() for ax in fig.axes] == ["Fx [N]", "Fy [N]", "Fz [kN]"]
     np.testing.assert_allclose(fig.axes[2].lines[3].get_ydata(), 4e2 * np.cos(t), rtol=1e-15)
+
+
+def test_long_histories_are_drawn_through_their_envelope():
+    # 20001 samples (20 s at 1 kHz) with one-sample spikes: drawn decimated, spikes and extrema kept.
+    t = np.linspace(0.0, 20.0, 20_001)
+    forces = np.stack([np.stack([np.sin(7 * t + k), np.cos(3 * t), 1e4 * np.sin(40 * t + k)], axis=-1)
+                       for k in range(4)])
+    forces[2, 9_876, 0] = 5.0
+    forces[1, 15_001, 2] = -3e4
+    extra = {"time/t": Dataset(t, "s", ("t",)),
+             "time/mount": Dataset(np.array(["1", "2", "3", "4"]), "", ("mount",)),
+             "time/axis": Dataset(np.array(["x", "y", "z"]), "", ("axis",)),
+             "time/mount_force": Dataset(forces, "N", ("mount", "t", "axis"))}
+    fig = plots.plot_mount_forces(build_results(system=bridge(), extra=extra))
+    for c, ax in enumerate(fig.axes):
+        factor = {"kN": 1e-3, "N": 1.0}[ax.get_ylabel().split("[")[1].rstrip("]")]
+        for k in range(4):
+            assert len(ax.lines[k].get_xdata()) < len(t) // 4
+            assert_drawn_from(ax.lines[k], t, factor * forces[k, :, c])
+    assert 5.0 in fig.axes[0].lines[2].get_ydata() and -30.0 in fig.axes[2].lines[1].get_ydata()
 
 
 def test_missing_data_is_named(modal_only):

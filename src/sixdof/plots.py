@@ -124,8 +124,8 @@ def _margins(fig: Figure, left: float, right: float, top: float, bottom: float, 
     width, height = fig.get_size_inches()
     cell_w = (width - left - right - (columns - 1) * wspace) / columns
     cell_h = (height - top - bottom - (rows - 1) * hspace) / rows
-    params = dict(left=left / width, right=1 - right / width, top=1 - top / height, bottom=bottom / height,
-                  wspace=wspace / cell_w, hspace=hspace / cell_h)
+    params = {"left": left / width, "right": 1 - right / width, "top": 1 - top / height, "bottom": bottom / height,
+              "wspace": wspace / cell_w, "hspace": hspace / cell_h}
     if target is None:
         fig.subplots_adjust(**params)
     else:
@@ -205,6 +205,21 @@ def _drawn_mode(points: np.ndarray, shape: np.ndarray, largest: float) -> np.nda
     return q[:3] + points @ _rotation(q[3:]).T
 
 
+def _panel_zoom(aspect: np.ndarray, elev: float, azim: float) -> float:
+    """Zoom of a 3-D panel that keeps the drawn box and its labels inside the panel's cell.
+
+    matplotlib scales the box to a fixed diagonal, so a tall box projects higher than a flat or long
+    one; with fixed margins (no layout engine) it must be zoomed out to fit, and a flat one may be
+    zoomed in. 0.85 and 1.0 are the projected height and width (fractions of the diagonal) that fit
+    a 5 x 4.6 inch cell at zoom 1, found by eye; 1.15 is the largest zoom wanted.
+    """
+    unit = np.asarray(aspect, dtype=float) / np.linalg.norm(aspect)
+    el, az = np.radians(elev), np.radians(azim)
+    height = unit[2] * np.cos(el) + (unit[0] * abs(np.sin(az)) + unit[1] * abs(np.cos(az))) * np.sin(el)
+    width = unit[0] * abs(np.cos(az)) + unit[1] * abs(np.sin(az))
+    return float(min(1.15, 0.85 / height, 1.0 / width))
+
+
 def plot_mode_shapes(results: Results) -> Figure:
     """The body (a box) on its mounts, undeformed and deformed in each mode, one panel per mode.
 
@@ -242,7 +257,7 @@ def plot_mode_shapes(results: Results) -> Figure:
     rows = -(-n // columns)
     fig = Figure(figsize=(5.0 * columns, 4.6 * rows))
     fig.suptitle(_title(results, "mode shapes (displacements scaled for visibility)"), fontsize=13)
-    _margins(fig, left=0.1, right=0.1, top=0.45, bottom=0.1, wspace=0.2, hspace=0.35, columns=columns, rows=rows)
+    _margins(fig, left=0.1, right=0.1, top=0.85, bottom=0.15, wspace=0.2, hspace=0.75, columns=columns, rows=rows)
     drawn = [_drawn_mode(points, shapes[:, j], largest) for j in range(n)]
     # One set of limits for every panel, equal scales on the three axes (nothing distorted) except
     # that MIN_ASPECT keeps slender bodies visible.
@@ -274,9 +289,10 @@ def plot_mode_shapes(results: Results) -> Figure:
                     ax.text(*p, f" {name}", fontsize=8, color="black")
         for axis, label in enumerate("xyz"):
             getattr(ax, f"set_{label}lim")(-aspect[axis], aspect[axis])
-            getattr(ax, f"set_{label}label")(f"{label} [m]", labelpad=-2)
-        ax.set_box_aspect(aspect.copy(), zoom=1.15)  # matplotlib normalizes the array it is given in place
-        ax.tick_params(labelsize=7, pad=0)
+            getattr(ax, f"set_{label}label")(f"{label} [m]", labelpad=1)
+        # matplotlib normalizes the array it is given in place
+        ax.set_box_aspect(aspect.copy(), zoom=_panel_zoom(aspect, ax.elev, ax.azim))
+        ax.tick_params(labelsize=7, pad=2)  # pad 0 puts a tick mark over a label's minus sign
         for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
             axis.set_major_locator(MaxNLocator(4, symmetric=True))
         share = ""
@@ -368,7 +384,7 @@ def plot_time_histories(results: Results, key: str = "q") -> Figure:
     quantity = {"q": "displacement", "qd": "velocity", "qdd": "acceleration"}.get(key, key)
     fig = Figure(figsize=(12, 8))
     fig.suptitle(_title(results, f"{quantity} of the centre of gravity ({key})"), fontsize=13)
-    _margins(fig, left=0.8, right=0.15, top=0.55, bottom=0.55, wspace=1.0, hspace=0.55, columns=2, rows=3)
+    _margins(fig, left=0.8, right=0.15, top=0.7, bottom=0.55, wspace=1.0, hspace=0.55, columns=2, rows=3)
     relative = results.get(f"time/{key}_relative")  # present when the ground moves
     for i, ax in enumerate(_dof_grid(fig, t)):
         shown = values[:, i] if relative is None else np.concatenate([values[:, i], relative.data[:, i]])
@@ -550,7 +566,7 @@ def plot_bode(results: Results) -> Figure:
     H = results.array("frf/receptance")
     dofs = results.dofs
     fig = Figure(figsize=(13, 8))
-    _margins(fig, left=0.85, right=0.15, top=0.6, bottom=0.55, wspace=1.05, hspace=0.15, columns=2, rows=2)
+    _margins(fig, left=0.85, right=0.15, top=0.7, bottom=0.55, wspace=1.05, hspace=0.15, columns=2, rows=2)
     heading = "receptance H_ii (response of each DOF to its own generalized force)"
     if "modal/frequency_hz" in results.datasets:
         heading += "; dotted: natural frequencies (mode numbers)"

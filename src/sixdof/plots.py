@@ -253,8 +253,7 @@ def plot_mode_shapes(results: Results) -> Figure:
     largest = float(np.max(size))
 
     n = shapes.shape[1]
-    columns = 3 if n > 4 else n
-    rows = -(-n // columns)
+    columns, rows = _panel_grid(n)
     fig = Figure(figsize=(5.0 * columns, 4.6 * rows))
     fig.suptitle(_title(results, "mode shapes (displacements scaled for visibility)"), fontsize=13)
     _margins(fig, left=0.1, right=0.1, top=0.85, bottom=0.15, wspace=0.2, hspace=0.75, columns=columns, rows=rows)
@@ -465,6 +464,12 @@ def plot_superposition(results: Results) -> Figure:
     axes[-1, 0].set_xlabel("time t [s]")
     axes[-1, 1].set_xlabel("time t [s]")
     return fig
+
+
+def _panel_grid(n: int) -> tuple[int, int]:
+    """Columns and rows for ``n`` per-mode panels: one row up to 4, else 3 columns."""
+    columns = 3 if n > 4 else n
+    return columns, -(-n // columns)
 
 
 def _agreement_denominator(direct: np.ndarray, attrs, i: int) -> tuple[float, str]:
@@ -709,8 +714,7 @@ def plot_validation_frf(results: Results) -> Figure:
         raise InputError("results", "random-run FRFs under /validation/random", Plain("none"))
     rows = _validation_rows(results)
     n = len(groups)
-    columns = 3 if n > 4 else n
-    grid = -(-n // columns)
+    columns, grid = _panel_grid(n)
     fig = Figure(figsize=(5.0 * columns, 4.6 * grid))
     fig.suptitle(_title(results, "modal FRFs: H1 estimate from a random force vs the model"), fontsize=12)
     cells = fig.add_gridspec(grid, columns)
@@ -789,8 +793,7 @@ def plot_free_decays(results: Results) -> Figure:
         raise InputError("results", "free decays under /validation/decay", Plain("none"))
     rows = _validation_rows(results)
     n = len(groups)
-    columns = 3 if n > 4 else n
-    grid = -(-n // columns)
+    columns, grid = _panel_grid(n)
     fig = Figure(figsize=(5.0 * columns, 3.6 * grid))
     fig.suptitle(_title(results, "free decay from each mode shape: modal coordinate eta_r = phi_r' M q"),
                  fontsize=12)

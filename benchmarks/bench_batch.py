@@ -1,6 +1,6 @@
 """1000 mount-stiffness variants of the bridge beam in one vectorized call against a scipy loop.
 
-sixdof.batch.run_batch (vmapped assembly + eigh + vmapped diffrax solve in memory-bounded chunks,
+sixdof.analysis.batch.run_batch (vmapped assembly + eigh + vmapped diffrax solve in memory-bounded chunks,
 keeping only peaks and frequencies) against scipy DOP853 at the tuned tolerance of bench_direct.py
 (equal per-DOF accuracy) looped over variants: the loop is timed on a subset and extrapolated.
 Peak memory: the batch alone runs again in a subprocess (python bench_batch.py --memory) that
@@ -25,7 +25,7 @@ TARGET_MEMORY_GB = 2.0
 
 
 def variants_for(system, count, seed=1):
-    from sixdof.batch import make_variants
+    from sixdof.analysis.batch import make_variants
 
     rng = np.random.default_rng(seed)
     # Every mount, every axis: an independent factor in [0.7, 1.3].
@@ -48,7 +48,7 @@ def _high_water_mb():
 
 
 def memory_run(count):
-    from sixdof.batch import run_batch
+    from sixdof.analysis.batch import run_batch
 
     system, excitation, settings = common.bridge_system(), common.excitation(), common.settings()
     before = _high_water_mb()
@@ -66,14 +66,14 @@ def main(argv):
         memory_run(count)
         return
     n_scipy = int(argv[argv.index("--scipy") + 1]) if "--scipy" in argv else 20
-    from sixdof.batch import run_batch, variant_system
-    from sixdof.direct import state_scale
+    from sixdof.analysis.batch import run_batch, variant_system
+    from sixdof.analysis.direct import state_scale
 
     system, excitation, settings = common.bridge_system(), common.excitation(), common.settings()
     variants = variants_for(system, count)
 
     # Compile on one chunk (same shape as every chunk), then time the whole batch.
-    from sixdof.batch import default_chunk_size, make_variants
+    from sixdof.analysis.batch import default_chunk_size, make_variants
 
     chunk = default_chunk_size(settings.times.size)
     warm = make_variants(system, stiffness_factor=variants.stiffness_factor[:chunk])

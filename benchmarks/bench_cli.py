@@ -44,8 +44,8 @@ def main(argv):
     with_cache = {**base, "JAX_COMPILATION_CACHE_DIR": str(cache), "EQX_ON_ERROR": "nan",
                   "JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS": "0",
                   "JAX_PERSISTENT_CACHE_MIN_ENTRY_SIZE_BYTES": "0"}
-    imp = min(timed([sys.executable, "-c", "import sixdof.direct, sixdof.run"], base, work) for _ in range(3))
-    print(f"import sixdof.direct + sixdof.run: {imp:.2f} s", flush=True)
+    imp = min(timed([sys.executable, "-c", "import sixdof.analysis.direct, sixdof.workflows"], base, work) for _ in range(3))
+    print(f"import sixdof.analysis.direct + sixdof.workflows: {imp:.2f} s", flush=True)
     cold = timed(run, base, work)
     print(f"cold, no cache: {cold:.2f} s", flush=True)
     cold_cache = timed(run, with_cache, work)

@@ -38,7 +38,7 @@ def tune(method, M, C, K, t, scale, q_ref, target, start):
 def main(argv):
     retune = "--retune" in argv
     t_import = time.perf_counter()
-    from sixdof.direct import simulate, state_scale
+    from sixdof.analysis.direct import simulate, state_scale
     t_import = time.perf_counter() - t_import
 
     system, excitation, settings = common.bridge_system(), common.excitation(), common.settings()
@@ -66,7 +66,7 @@ def main(argv):
             tol = tune(method, M, C, K, t, scale, q_ref, err_sixdof, 1e-9)
             cached[method] = tol
         best_s, median_s, (q, nfev) = common.best(
-            lambda: common.scipy_solve(M, C, K, t, method, tol, scale), repeat)
+            lambda method=method, tol=tol: common.scipy_solve(M, C, K, t, method, tol, scale), repeat)
         err = common.worst_dof_error(q, q_ref)
         print(f"scipy {method}: {best_s * 1e3:.0f} ms at tol {tol:.3g}, nfev {nfev}, worst error {err:.3g}",
               flush=True)

@@ -31,7 +31,7 @@ IMPACT = dict(point=[0.4, 19.55, 0.5], force=[2e4, -5e4, 3e4])
 
 def bridge_system():
     """The seed's bridge beam on bearings with non-proportional dashpots (as the traffic scenario)."""
-    from sixdof.scenario import load_scenario
+    from sixdof.io.scenario import load_scenario
 
     return load_scenario(SCENARIO).system
 
@@ -46,7 +46,7 @@ def excitation():
 
 
 def settings(**kw):
-    from sixdof.direct import SimulationSettings
+    from sixdof.analysis.direct import SimulationSettings
 
     return SimulationSettings(duration=DURATION, sample_rate_hz=RATE, **kw)
 

@@ -48,7 +48,7 @@ def main():
     b = load("batch")
     if b:
         mem = b["memory"]
-        lines += ["## 1000 mount-stiffness variants (sixdof.batch.run_batch)", "",
+        lines += ["## 1000 mount-stiffness variants (sixdof.analysis.batch.run_batch)", "",
                   "Every mount and axis stiffness times an independent factor in [0.7, 1.3]; same loads "
                   "and settings as above; kept: natural frequencies and peak |q|, |q''| per DOF. The "
                   f"scipy loop (DOP853 at the tuned tol) was timed on {b['scipy_subset']} variants and "
@@ -74,7 +74,7 @@ def main():
     f = load("frf")
     if f:
         r = f["rows"]
-        lines += ["## FRF: full 6x6 receptance at 10,000 frequencies (sixdof.frf.receptance)", "",
+        lines += ["## FRF: full 6x6 receptance at 10,000 frequencies (sixdof.analysis.frf.receptance)", "",
                   "| method | best | median |", "|---|---|---|",
                   f"| direct (batched LU inverse) | {r['direct']['best_ms']:.1f} ms | {r['direct']['median_ms']:.1f} ms |",
                   f"| modal ({r['modal']['basis']}) | {r['modal']['best_ms']:.1f} ms | {r['modal']['median_ms']:.1f} ms |",

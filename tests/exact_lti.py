@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from sixdof.model import Mount, RigidBody, System
+from sixdof.model.system import Mount, RigidBody, System
 
 FREE = (np.zeros((1, 1)), np.zeros(1), np.zeros(1))  # no forcing on a piece
 

@@ -8,19 +8,19 @@ what ``sixdof run`` hands them.
 from __future__ import annotations
 
 import dataclasses
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 
-from sixdof import frf as frf_module
-from sixdof.damping import modal_damping_ratios
-from sixdof.direct import SimulationSettings, simulate
+from sixdof.analysis import frf as frf_module
+from sixdof.analysis.direct import SimulationSettings, simulate
+from sixdof.analysis.modal import modal_analysis
+from sixdof.analysis.response import mount_forces, points_motion
+from sixdof.analysis.superposition import compare, modal_solve
 from sixdof.excitation import Excitation, Harmonic, Load
-from sixdof.modal import modal_analysis
-from sixdof.model import Mount, RigidBody, System, load_vector
-from sixdof.response import mount_forces, points_motion
-from sixdof.superposition import compare, modal_solve
-from sixdof.validate import (
+from sixdof.model.damping import modal_damping_ratios
+from sixdof.model.system import Mount, RigidBody, System, load_vector
+from sixdof.validation import (
     FreeDecay,
     ModeCheck,
     RandomRun,
@@ -46,7 +46,7 @@ def bridge(dimensions=(1.2, 40.0, 2.0)) -> System:
     return System(body, mounts)
 
 
-@lru_cache(maxsize=None)
+@cache
 def run_parts(dimensions=(1.2, 40.0, 2.0)) -> dict:
     """Keyword arguments of ``build_results`` for a full run (cached: built once per session)."""
     system = bridge(dimensions)
@@ -91,7 +91,7 @@ def run_parts(dimensions=(1.2, 40.0, 2.0)) -> dict:
 
 def validation_report(modes, zeta) -> ValidationReport:
     """A ValidationReport built from the real result types on synthetic signals (fast: running
-    :func:`sixdof.validate.validate` takes tens of seconds; its numbers are tested in its own tests)."""
+    :func:`sixdof.validation.validate` takes tens of seconds; its numbers are tested in its own tests)."""
     rng = np.random.default_rng(1)
     decays, rows, runs = [], [], []
     for r in range(6):

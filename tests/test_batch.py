@@ -1,16 +1,15 @@
-"""Batches of design variants (sixdof.batch) against the one-at-a-time library calls.
+"""Batches of design variants (sixdof.analysis.batch) against the one-at-a-time library calls.
 
 The batch is an independent code path (vmapped assembly, batched eigh, a vmapped 12-state solve):
 its frequencies are compared with scipy's eigh through modal_analysis, its peaks with
-sixdof.direct.simulate run on each variant's own System, per DOF relative to that DOF's own peak.
+sixdof.analysis.direct.simulate run on each variant's own System, per DOF relative to that DOF's own peak.
 """
 
 import numpy as np
 import pytest
-from exact_lti import bridge
-from tolerances import RTOL_BATCH_DIRECT, RTOL_BATCH_FREQUENCY, RTOL_BATCH_MATRIX
 
-from sixdof.batch import (
+from exact_lti import bridge
+from sixdof.analysis.batch import (
     _matrices,
     batch_frequencies,
     make_variants,
@@ -19,7 +18,8 @@ from sixdof.batch import (
     sweep,
     variant_system,
 )
-from sixdof.direct import SimulationSettings, simulate
+from sixdof.analysis.direct import SimulationSettings, simulate
+from sixdof.analysis.modal import modal_analysis
 from sixdof.errors import InputError, SolverError
 from sixdof.excitation import (
     Excitation,
@@ -29,9 +29,9 @@ from sixdof.excitation import (
     Load,
     ModeRelease,
 )
-from sixdof.modal import modal_analysis
-from sixdof.model import Rayleigh, System
-from sixdof.scenario import parse_scenario
+from sixdof.io.scenario import parse_scenario
+from sixdof.model.system import Rayleigh, System
+from tolerances import RTOL_BATCH_DIRECT, RTOL_BATCH_FREQUENCY, RTOL_BATCH_MATRIX
 
 # Loads that move all six DOFs: an off-centre harmonic force and a pulse near one end.
 EXCITATION = Excitation(loads=(
@@ -203,7 +203,7 @@ axes = ["x"]
 
 
 def test_sweep_of_a_scenario_and_its_file(tmp_path, beam):
-    from sixdof.store import load_results, write_sweep
+    from sixdof.io.store import load_results, write_sweep
 
     scenario = parse_scenario(SCENARIO)
     spec = parse_sweep_spec(SPEC)

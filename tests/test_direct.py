@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 import scipy.integrate
 import scipy.linalg
+
 from exact_lti import (
     FREE,
     bridge,
@@ -18,9 +19,8 @@ from exact_lti import (
     skewed_machine,
     table_pieces,
 )
-from tolerances import RTOL_DIRECT_EXACT, RTOL_ENERGY_BALANCE
-
-from sixdof.direct import SOLVERS, SimulationSettings, simulate, state_scale
+from sixdof.analysis.direct import SOLVERS, SimulationSettings, simulate, state_scale
+from sixdof.analysis.modal import modal_analysis
 from sixdof.errors import InputError, SolverError
 from sixdof.excitation import (
     Excitation,
@@ -34,7 +34,7 @@ from sixdof.excitation import (
     Step,
     Table,
 )
-from sixdof.modal import modal_analysis
+from tolerances import RTOL_DIRECT_EXACT, RTOL_ENERGY_BALANCE
 
 # An off-centre load with all three force components: every DOF of the bridge responds.
 POINT = np.array([0.3, 10.0, 1.0])

@@ -4,10 +4,10 @@ import math
 
 import numpy as np
 import pytest
-from exact_lti import bridge
-from tolerances import RTOL_SIGNAL
 
+from exact_lti import bridge
 from sixdof._jax import jax
+from sixdof.analysis.modal import modal_analysis
 from sixdof.errors import InputError
 from sixdof.excitation import (
     LOAD_KINDS,
@@ -29,7 +29,7 @@ from sixdof.excitation import (
     generalized_force,
     make_signal,
 )
-from sixdof.modal import modal_analysis
+from tolerances import RTOL_SIGNAL
 
 T = np.linspace(-0.5, 3.0, 701)
 

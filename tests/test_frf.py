@@ -1,19 +1,19 @@
-"""Frequency-response functions (sixdof.frf) against closed forms, identities, python-control, an
+"""Frequency-response functions (sixdof.analysis.frf) against closed forms, identities, python-control, an
 independent ODE integration, and each other (direct solve vs modal summation)."""
 
 import numpy as np
 import pytest
 import scipy.integrate
+
+from sixdof.analysis import frf
+from sixdof.errors import InputError
+from sixdof.model.system import Mount, Rayleigh, RigidBody, System
 from tolerances import (
     RTOL_FRF_CLOSED_FORM,
     RTOL_FRF_IDENTITY,
     RTOL_FRF_METHODS,
     RTOL_STEADY_STATE,
 )
-
-from sixdof import frf
-from sixdof.errors import InputError
-from sixdof.model import Mount, Rayleigh, RigidBody, System
 
 BRIDGE_POSITIONS = [(-0.195, -19.55, -1.031), (0.195, -19.55, -1.031), (0.195, 19.55, -1.031),
                     (-0.195, 19.55, -1.031)]
@@ -114,7 +114,7 @@ def test_unrestrained_dofs_with_damped_rigid_modes():
 
 def test_hysteretic_stiffness_is_the_mount_assembly():
     # frf assembles K_h in NumPy (speed); model.mount_matrix is the reference assembly (JAX).
-    from sixdof.model import mount_matrix
+    from sixdof.model.system import mount_matrix
 
     system = skewed()
     expected = np.asarray(mount_matrix(system.positions, system.stiffnesses * system.loss_factors,

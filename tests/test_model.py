@@ -3,13 +3,13 @@
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
-from tolerances import RTOL_FREQUENCY, RTOL_LINALG, RTOL_ZERO_ENTRY
 
 from sixdof._jax import jax, jnp
+from sixdof.analysis.modal import modal_analysis
+from sixdof.analysis.statics import gravity_statics
 from sixdof.errors import InputError
-from sixdof.modal import modal_analysis
-from sixdof.model import Mount, RigidBody, System, load_vector, mount_matrix, point_map
-from sixdof.statics import gravity_statics
+from sixdof.model.system import Mount, RigidBody, System, load_vector, mount_matrix, point_map
+from tolerances import RTOL_FREQUENCY, RTOL_LINALG, RTOL_ZERO_ENTRY
 
 
 def four_mount(m=500.0, J=(40.0, 60.0, 80.0), a=0.4, b=0.6, h=0.3, k=(2e5, 3e5, 8e5)):
@@ -191,8 +191,8 @@ def test_model_errors_name_the_field(make, match):
 
 
 def test_damping_models_give_their_ratios():
-    from sixdof.damping import modal_damping_ratios
-    from sixdof.model import Rayleigh
+    from sixdof.model.damping import modal_damping_ratios
+    from sixdof.model.system import Rayleigh
 
     base = four_mount()
     body, mounts = base.body, base.mounts
@@ -220,8 +220,8 @@ def test_damping_models_give_their_ratios():
 
 
 def test_exact_damping_ratios_of_non_proportional_damping():
-    from sixdof.damping import damping_ratios, modal_damping_ratios
-    from sixdof.model import Rayleigh
+    from sixdof.model.damping import damping_ratios, modal_damping_ratios
+    from sixdof.model.system import Rayleigh
 
     base = four_mount()
     modes = modal_analysis(base.M, base.K)

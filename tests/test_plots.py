@@ -8,12 +8,12 @@ import sys
 import numpy as np
 import pytest
 from matplotlib.figure import Figure
-from store_cases import bridge, run_parts
 
 from sixdof import plots
+from sixdof.analysis.modal import modal_analysis
 from sixdof.errors import InputError
-from sixdof.modal import modal_analysis
-from sixdof.store import Dataset, build_results, load_results, write_results
+from sixdof.io.store import Dataset, build_results, load_results, write_results
+from store_cases import bridge, run_parts
 
 UNIT_WORDS = ("[m]", "[kg^1/2 m]", "[mm]", "[µm]", "[mrad]", "[µrad]", "[s]", "[Hz]", "[kN]", "[N]", "[deg]", "[%]",
               "[m/N]", "[rad/(N m)]", "[1]", "[N/N]", "[m/m]", "[m/N/s^2]")
@@ -168,11 +168,11 @@ def test_superposition_overlay_and_difference(results):
 def test_superposition_difference_of_a_quiet_dof_is_the_stored_agreement():
     # A load along x through the CG of a symmetric body: y, z, rx, rz stay at round-off ("quiet")
     # and the agreement judges them against the largest peak; the figure must plot the same number.
-    from sixdof.direct import SimulationSettings, simulate
+    from sixdof.analysis.direct import SimulationSettings, simulate
+    from sixdof.analysis.superposition import compare, superpose
     from sixdof.excitation import Excitation, HalfSine, Load
-    from sixdof.model import Mount, RigidBody, System
-    from sixdof.store import build_results
-    from sixdof.superposition import compare, superpose
+    from sixdof.io.store import build_results
+    from sixdof.model.system import Mount, RigidBody, System
 
     system = System(
         RigidBody(100.0, [5.0, 6.0, 7.0], [1.0, 1.0, 1.0]),
@@ -271,7 +271,7 @@ def test_long_histories_are_drawn_through_their_envelope():
 def test_missing_data_is_named(modal_only):
     with pytest.raises(InputError, match=r"results: expected datasets /time/t, /time/q, got results without them"):
         plots.plot_time_histories(modal_only)
-    with pytest.raises(InputError, match=r"results: expected a sixdof.store.Results"):
+    with pytest.raises(InputError, match=r"results: expected a sixdof.io.store.Results"):
         plots.plot_ke_distribution({"modal": None})
 
 
@@ -288,12 +288,12 @@ def test_save_all_draws_what_the_results_hold(results, modal_only, tmp_path):
 
 def test_plot_from_a_file_never_loads_pyplot(modal_only, tmp_path):
     path = tmp_path / "results.h5"
-    from sixdof.store import save_results
+    from sixdof.io.store import save_results
 
     save_results(modal_only, path)
     code = (
         "import sys\n"
-        "from sixdof import plots, store\n"
+        "from sixdof import plots\nfrom sixdof.io import store\n"
         f"files = plots.save_all(store.load_results({str(path)!r}), {str(tmp_path / 'png')!r})\n"
         "assert len(files) == 2, files\n"
         "assert 'matplotlib.pyplot' not in sys.modules\n"

@@ -5,12 +5,12 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
-from test_scenario import BASE
 
+from sixdof.analysis.modal import modal_analysis
 from sixdof.errors import ScenarioError
-from sixdof.modal import modal_analysis
-from sixdof.model import Mount, RigidBody, System
-from sixdof.scenario import parse_scenario
+from sixdof.io.scenario import parse_scenario
+from sixdof.model.system import Mount, RigidBody, System
+from test_scenario import BASE
 
 finite = st.floats(-2.0, 2.0, allow_nan=False)
 positive = st.floats(1e3, 1e7, allow_nan=False)

@@ -6,10 +6,10 @@ they reuse its compiled solvers.
 
 import numpy as np
 import pytest
-from exact_lti import bridge, skewed_machine
-from tolerances import RTOL_DIRECT_EXACT, RTOL_LINALG
 
-from sixdof.direct import SimulationSettings, simulate
+from exact_lti import bridge, skewed_machine
+from sixdof.analysis.direct import SimulationSettings, simulate
+from sixdof.analysis.response import mount_forces, point_motion, points_motion
 from sixdof.errors import InputError
 from sixdof.excitation import (
     Excitation,
@@ -19,7 +19,7 @@ from sixdof.excitation import (
     Load,
     Step,
 )
-from sixdof.response import mount_forces, point_motion, points_motion
+from tolerances import RTOL_DIRECT_EXACT, RTOL_LINALG
 
 HARMONIC = SimulationSettings(duration=3.0, sample_rate_hz=500.0)
 POINT = np.array([0.3, 10.0, 1.0])

@@ -1,17 +1,16 @@
 """``sixdof run`` / ``run_scenario`` end to end: what is written, and that failures leave nothing behind."""
 
 
+import numpy as np
 import pytest
 
-from sixdof import run as run_module
-import numpy as np
-
+from sixdof import workflows as run_module
+from sixdof.analysis.modal import modal_analysis
 from sixdof.cli import main
 from sixdof.errors import InputError
-from sixdof.modal import modal_analysis
-from sixdof.run import run_scenario, sampling_warnings
-from sixdof.scenario import parse_scenario
-from sixdof.store import load_results
+from sixdof.io.scenario import parse_scenario
+from sixdof.io.store import load_results
+from sixdof.workflows import run_scenario, sampling_warnings
 
 SCENARIO = """
 name = "small"
@@ -172,7 +171,7 @@ def test_cli_bad_input_writes_nothing(tmp_path, capsys):
 
 
 def test_truncated_superposition_reports_its_error_and_warns(tmp_path):
-    from sixdof.run import AgreementWarning
+    from sixdof.workflows import AgreementWarning
 
     text = SCENARIO + "\n[superposition]\nn_modes = 3\n"
     scenario = parse_scenario(text.replace("duration = 0.6", "duration = 0.2"), "trunc.toml")

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from sixdof.errors import ScenarioError
-from sixdof.scenario import load_scenario, parse_scenario
+from sixdof.io.scenario import load_scenario, parse_scenario
 
 BASE = """
 name = "case"

@@ -7,10 +7,10 @@ the assertions are always on sixdof's values, never on a misprint. docs/case_stu
 
 import numpy as np
 import pytest
-from tolerances import RTOL_LINALG, printed_ulp
 
-from sixdof.modal import modal_analysis
-from sixdof.scenario import load_scenario
+from sixdof.analysis.modal import modal_analysis
+from sixdof.io.scenario import load_scenario
+from tolerances import RTOL_LINALG, printed_ulp
 
 SUB1 = [0, 4, 5]  # (x, ry, rz)
 SUB2 = [1, 2, 3]  # (y, z, rx)

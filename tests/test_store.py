@@ -8,13 +8,12 @@ import sys
 import h5py
 import numpy as np
 import pytest
-from store_cases import SCENARIO_TEXT, bridge, run_parts
 
-from sixdof import store
+from sixdof.analysis.modal import modal_analysis
 from sixdof.dofs import DOFS
 from sixdof.errors import InputError
-from sixdof.modal import modal_analysis
-from sixdof.store import (
+from sixdof.io import store
+from sixdof.io.store import (
     Dataset,
     Results,
     build_results,
@@ -22,6 +21,7 @@ from sixdof.store import (
     save_results,
     write_results,
 )
+from store_cases import SCENARIO_TEXT, bridge, run_parts
 
 
 @pytest.fixture(scope="module")
@@ -199,7 +199,7 @@ def test_provenance(loaded):
     assert root["format"] == "sixdof-results" and root["format_version"] == store.FORMAT_VERSION
     created = dt.datetime.fromisoformat(root["created_utc"])
     assert created.utcoffset() == dt.timedelta(0)
-    assert abs(dt.datetime.now(dt.timezone.utc) - created) < dt.timedelta(hours=1)
+    assert abs(dt.datetime.now(dt.UTC) - created) < dt.timedelta(hours=1)
     for package in ("sixdof", "numpy", "scipy", "jax", "diffrax", "h5py"):
         assert root[f"version_{package}"] == __import__("importlib.metadata").metadata.version(package)
     assert root["version_numpy"] == np.__version__
@@ -380,7 +380,7 @@ def test_results_are_read_only(loaded):
 
 def test_import_sixdof_does_not_load_h5py_or_pyplot():
     code = (
-        "import sys, sixdof, sixdof.store\n"
+        "import sys, sixdof, sixdof.io.store\n"
         "heavy = [m for m in ('h5py', 'matplotlib.pyplot') if m in sys.modules]\n"
         "assert not heavy, heavy\n"
     )

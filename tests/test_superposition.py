@@ -1,10 +1,10 @@
-"""Modal superposition (sixdof.superposition) against independent answers.
+"""Modal superposition (sixdof.analysis.superposition) against independent answers.
 
 - The exact response of the state-space system: the matrix exponential (scipy.linalg.expm) of the
   first-order system augmented with the linear generator of each signal piece (a sine is the
   output of a 2-state oscillator, a polynomial of a nilpotent chain), piece by piece.
 - Closed forms for rigid-body (zero-frequency) modes.
-- The direct solver (sixdof.direct.simulate, diffrax) for every signal kind and damping model.
+- The direct solver (sixdof.analysis.direct.simulate, diffrax) for every signal kind and damping model.
 """
 
 from __future__ import annotations
@@ -14,21 +14,21 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 import scipy.linalg
-from tolerances import (
-    MODAL_DAMPING_COUPLING_MIN,
-    MODAL_RESIDUAL_GAIN,
-    RTOL_MODAL_DIRECT,
-    RTOL_MODAL_EXACT,
-)
 
-from sixdof.errors import InputError
-from sixdof.model import Mount, Rayleigh, RigidBody, System
-from sixdof.superposition import (
+from sixdof.analysis.superposition import (
     Agreement,
     ModalResponse,
     compare,
     modal_solve,
     superpose,
+)
+from sixdof.errors import InputError
+from sixdof.model.system import Mount, Rayleigh, RigidBody, System
+from tolerances import (
+    MODAL_DAMPING_COUPLING_MIN,
+    MODAL_RESIDUAL_GAIN,
+    RTOL_MODAL_DIRECT,
+    RTOL_MODAL_EXACT,
 )
 
 # The seed paper's bridge beam: mounts 1, 2 and 3, 4 differ, so every mode couples several DOFs.
@@ -203,7 +203,7 @@ def test_initial_conditions_and_mode_release(system_name):
 
 def test_mode_release_stays_in_its_mode_under_classical_damping():
     system = SYSTEMS["rayleigh"]
-    from sixdof.modal import modal_analysis
+    from sixdof.analysis.modal import modal_analysis
 
     modes = modal_analysis(system.M, system.K)
     phi = modes.shapes[:, 3]
@@ -266,7 +266,7 @@ def test_classical_damping_detected_within_repeated_modes():
     # A symmetric body on a symmetric mount layout: x/y translations and rx/ry rotations have equal
     # frequencies. Modal damping built on a rotated basis of those pairs is classical, but is
     # diagonal only in that basis: the detection must rotate within repeated modes.
-    from sixdof.modal import modal_analysis
+    from sixdof.analysis.modal import modal_analysis
 
     mounts = [Mount(str(i), p, [1e6, 1e6, 4e6]) for i, p in
               enumerate([(1.0, 1.0, -0.5), (-1.0, 1.0, -0.5), (-1.0, -1.0, -0.5), (1.0, -1.0, -0.5)])]
@@ -456,7 +456,7 @@ def test_result_is_frozen():
 # ----------------------------------------------------------------------------------------------------
 
 from sixdof import excitation as ex  # noqa: E402
-from sixdof.direct import SimulationSettings, simulate  # noqa: E402
+from sixdof.analysis.direct import SimulationSettings, simulate  # noqa: E402
 
 SETTINGS = SimulationSettings(duration=1.0, sample_rate_hz=1000.0)
 POINT, FORCE, MOMENT = [0.4, 15.0, 1.0], [2e3, -1e3, -8e4], [1e3, 2e3, -3e3]

@@ -1,23 +1,16 @@
-"""Modal results against time histories (sixdof.validate): H1 estimation against its statistical
+"""Modal results against time histories (sixdof.validation): H1 estimation against its statistical
 error, free-decay estimation against closed forms, and the whole validation on a small system."""
 
 import numpy as np
 import pytest
 import scipy.signal
-from tolerances import (
-    H1_MAX_SIGMAS,
-    H1_MEDIAN_SIGMAS,
-    H1_SIGMA_CALIBRATION,
-    RTOL_DECAY,
-    RTOL_DIRECT_STEADY_STATE,
-)
 
-from sixdof import frf
-from sixdof.direct import SimulationSettings, simulate
+from sixdof.analysis import frf
+from sixdof.analysis.direct import SimulationSettings, simulate
 from sixdof.errors import InputError
 from sixdof.excitation import Excitation, Harmonic, InitialState, Load
-from sixdof.model import Mount, Rayleigh, RigidBody, System
-from sixdof.validate import (
+from sixdof.model.system import Mount, Rayleigh, RigidBody, System
+from sixdof.validation import (
     ValidationSettings,
     decay_estimate,
     effective_averages,
@@ -25,6 +18,13 @@ from sixdof.validate import (
     h1_random_error,
     peak_frequency,
     validate,
+)
+from tolerances import (
+    H1_MAX_SIGMAS,
+    H1_MEDIAN_SIGMAS,
+    H1_SIGMA_CALIBRATION,
+    RTOL_DECAY,
+    RTOL_DIRECT_STEADY_STATE,
 )
 
 

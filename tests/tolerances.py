@@ -69,11 +69,11 @@ H1_MEDIAN_SIGMAS = 2.5
 # Free-decay damped frequency and damping ratio (extrema by parabolic interpolation at ~64 samples
 # per cycle, least squares over 16 extrema): measured ~7e-7 on the bridge.
 RTOL_DECAY = 1e-5
-# sixdof.direct.simulate (defaults rtol = atol = 1e-8 per DOF scale) against the FRF's steady state.
+# sixdof.analysis.direct.simulate (defaults rtol = atol = 1e-8 per DOF scale) against the FRF's steady state.
 RTOL_DIRECT_STEADY_STATE = 1e-6
 
 # --- batches of variants (tests/test_batch.py) ---
-# Vectorized batch peaks against sixdof.direct.simulate run one by one, per DOF relative to that
+# Vectorized batch peaks against sixdof.analysis.direct.simulate run one by one, per DOF relative to that
 # DOF's own peak (issue 7): both solves are ~1e-8 from exact; measured ~1e-9.
 RTOL_BATCH_DIRECT = 1e-6
 # Batched jnp.linalg.eigh of the mass-scaled stiffness against scipy's eigh(K, M) per variant:

@@ -6,12 +6,12 @@ are imported on first use, so ``import sixdof`` stays quick and never loads pypl
 
 from importlib import import_module
 
-from .dofs import DOF_UNITS, DOFS
-from .errors import InputError, ScenarioError, SolverError
-from .modal import Modes, modal_analysis
-from .model import Mount, Rayleigh, RigidBody, System
-from .scenario import Scenario, load_scenario, parse_scenario
-from .statics import Statics, gravity_statics
+from sixdof.analysis.modal import Modes, modal_analysis
+from sixdof.analysis.statics import Statics, gravity_statics
+from sixdof.dofs import DOF_UNITS, DOFS
+from sixdof.errors import InputError, ScenarioError, SolverError
+from sixdof.io.scenario import Scenario, load_scenario, parse_scenario
+from sixdof.model.system import Mount, Rayleigh, RigidBody, System
 
 __version__ = "0.1.0"
 
@@ -24,21 +24,29 @@ _LAZY = {
     "InitialState": "excitation",
     "ModeRelease": "excitation",
     "SIGNAL_KINDS": "excitation",
-    "SimulationSettings": "direct",
-    "TimeResponse": "direct",
-    "simulate": "direct",
-    "mount_forces": "response",
-    "point_motion": "response",
-    "superpose": "superposition",
-    "compare": "superposition",
-    "receptance": "frf",
-    "point_frf": "frf",
-    "force_transmissibility": "frf",
-    "ground_transmissibility": "frf",
-    "validate": "validate",
-    "run_scenario": "run",
-    "load_results": "store",
-    "write_results": "store",
+    "HalfSine": "excitation",
+    "Harmonic": "excitation",
+    "Haversine": "excitation",
+    "Ramp": "excitation",
+    "Random": "excitation",
+    "Step": "excitation",
+    "Sweep": "excitation",
+    "Table": "excitation",
+    "SimulationSettings": "analysis.direct",
+    "TimeResponse": "analysis.direct",
+    "simulate": "analysis.direct",
+    "mount_forces": "analysis.response",
+    "point_motion": "analysis.response",
+    "superpose": "analysis.superposition",
+    "compare": "analysis.superposition",
+    "receptance": "analysis.frf",
+    "point_frf": "analysis.frf",
+    "force_transmissibility": "analysis.frf",
+    "ground_transmissibility": "analysis.frf",
+    "validate": "validation",
+    "run_scenario": "workflows",
+    "load_results": "io.store",
+    "write_results": "io.store",
 }
 
 __all__ = [

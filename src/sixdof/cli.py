@@ -7,7 +7,7 @@ import json
 import sys
 import traceback
 
-from .errors import InputError, SolverError
+from sixdof.errors import InputError, SolverError
 
 EXIT_BAD_INPUT = 2
 EXIT_FAILED = 1
@@ -78,12 +78,12 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _modes(args) -> int:
-    from . import report
-    from .damping import damping_ratios
-    from .dofs import DOFS
-    from .modal import modal_analysis
-    from .scenario import load_scenario
-    from .statics import try_gravity_statics
+    from sixdof.analysis.modal import modal_analysis
+    from sixdof.analysis.statics import try_gravity_statics
+    from sixdof.dofs import DOFS
+    from sixdof.io import report
+    from sixdof.io.scenario import load_scenario
+    from sixdof.model.damping import damping_ratios
 
     scenario = load_scenario(args.scenario)
     system = scenario.system
@@ -112,9 +112,9 @@ def _modes(args) -> int:
 def _run(args) -> int:
     import warnings
 
-    from . import report
-    from .run import AgreementWarning, SamplingWarning, run_scenario
-    from .scenario import load_scenario
+    from sixdof.io import report
+    from sixdof.io.scenario import load_scenario
+    from sixdof.workflows import AgreementWarning, SamplingWarning, run_scenario
 
     _compile_cache()
     scenario = load_scenario(args.scenario)
@@ -133,7 +133,8 @@ def _run(args) -> int:
             kept = ", ".join(str(j + 1) for j in outcome.superposition.modes_kept)
             print(f"Truncated to modes {kept}; against all modes: {truncation}")
         stats = outcome.response.stats
-        print(f"Solver {stats.solver}: {stats.num_accepted} steps, {stats.num_rejected} rejected, {stats.wall_time_s:.2f} s")
+        print(f"Solver {stats.solver}: {stats.num_accepted} steps, {stats.num_rejected} rejected, "
+              f"{stats.wall_time_s:.2f} s")
     if outcome.frf is not None:
         print(f"FRF direct vs modal: {outcome.frf.max_relative_difference:.1e} (worst relative difference)")
     for warning in caught:
@@ -143,8 +144,8 @@ def _run(args) -> int:
 
 
 def _validate(args) -> int:
-    from .run import validate_scenario
-    from .scenario import load_scenario
+    from sixdof.io.scenario import load_scenario
+    from sixdof.workflows import validate_scenario
 
     _compile_cache()
     scenario = load_scenario(args.scenario)
@@ -155,10 +156,10 @@ def _validate(args) -> int:
 
 
 def _sweep(args) -> int:
-    from .batch import load_sweep_spec, summary_table, sweep
-    from .run import check_output_root, write_all_or_nothing
-    from .scenario import load_scenario
-    from .store import write_sweep
+    from sixdof.analysis.batch import load_sweep_spec, summary_table, sweep
+    from sixdof.io.scenario import load_scenario
+    from sixdof.io.store import write_sweep
+    from sixdof.workflows import check_output_root, write_all_or_nothing
 
     _compile_cache()
     scenario = load_scenario(args.scenario)
@@ -179,7 +180,7 @@ def _sweep(args) -> int:
 
 def _compile_cache() -> None:
     """Reuse compiled solvers across runs (JAX's persistent cache; SIXDOF_JAX_CACHE=off disables)."""
-    from ._jax import enable_compilation_cache
+    from sixdof._jax import enable_compilation_cache
 
     enable_compilation_cache()
 
@@ -187,8 +188,8 @@ def _compile_cache() -> None:
 def _plot(args) -> int:
     from pathlib import Path
 
-    from .plots import save_all
-    from .store import load_results
+    from sixdof.io.store import load_results
+    from sixdof.plots import save_all
 
     results = load_results(args.results)
     figures = save_all(results, Path(args.out) if args.out else Path(args.results).parent)

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import math
+from typing import Any
+
 import numpy as np
 
 
@@ -61,6 +64,53 @@ def finite_array(value: object, field: str, expected: str, shape: tuple[int, ...
         raise InputError(field, expected, value)
     array.flags.writeable = False
     return array
+
+
+def readonly(value: Any, dtype: Any = float) -> np.ndarray:
+    """A read-only copy of ``value`` as an array of ``dtype`` (``None``: keep the dtype): what every
+    result object holds, so that no caller can change a result in place."""
+    array = np.array(value, dtype=dtype)
+    array.flags.writeable = False
+    return array
+
+
+def number(value: Any, field: str, expected: str, *, low: float | None = None, strict: bool = False,
+           allow_inf: bool = False) -> float:
+    """``value`` as a float: a real number (not a bool, not a string), not NaN, finite unless
+    ``allow_inf``, and ``>= low`` (``> low`` when ``strict``).
+
+    Raises
+    ------
+    InputError
+        Naming ``field`` and ``expected``.
+    """
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise InputError(field, expected, value)
+    x = float(value)
+    if math.isnan(x) or (math.isinf(x) and not allow_inf):
+        raise InputError(field, expected, value)
+    if low is not None and (x < low or (strict and x == low)):
+        raise InputError(field, expected, value)
+    return x
+
+
+def integer(value: Any, field: str, expected: str, low: int) -> int:
+    """``value`` as an int ``>= low`` (a real integer: not a bool, not a float)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
+        raise InputError(field, expected, value)
+    return int(value)
+
+
+def label(value: Any, field: str = "name") -> str:
+    """``value`` as a non-empty string (a name used in tables, files and figures)."""
+    if not isinstance(value, str) or not value:
+        raise InputError(field, "a non-empty string", value)
+    return value
+
+
+def vector3(value: Any, field: str, expected: str) -> np.ndarray:
+    """``value`` as a read-only (3,) float array of finite entries."""
+    return finite_array(value, field, expected, (3,))
 
 
 class SolverError(RuntimeError):

@@ -1,7 +1,7 @@
-"""Every figure of sixdof, drawn from a :class:`~sixdof.store.Results` tree.
+"""Every figure of sixdof, drawn from a :class:`~sixdof.io.store.Results` tree.
 
-A live run and a stored file give the same tree (:func:`sixdof.store.write_results` returns what it
-wrote, :func:`sixdof.store.load_results` reads it back), so ``sixdof run`` and ``sixdof plot
+A live run and a stored file give the same tree (:func:`sixdof.io.store.write_results` returns what it
+wrote, :func:`sixdof.io.store.load_results` reads it back), so ``sixdof run`` and ``sixdof plot
 RESULTS.h5`` draw their figures through the same code.
 
 Figures are built as :class:`matplotlib.figure.Figure` objects without pyplot: no backend, no display
@@ -19,9 +19,9 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
-from .dofs import DOFS
-from .errors import InputError, Plain
-from .store import Results
+from sixdof.dofs import DOFS
+from sixdof.errors import InputError, Plain
+from sixdof.io.store import Results
 
 #: Largest displacement of the drawn body in a mode-shape panel, as a fraction of its largest size.
 MODE_SCALE = 0.15
@@ -134,7 +134,7 @@ def _margins(fig: Figure, left: float, right: float, top: float, bottom: float, 
 
 def _require(results: Results, *paths: str) -> None:
     if not isinstance(results, Results):
-        raise InputError("results", "a sixdof.store.Results (from write_results or load_results)", results)
+        raise InputError("results", "a sixdof.io.store.Results (from write_results or load_results)", results)
     missing = [p for p in paths if p not in results.datasets]
     if missing:
         raise InputError("results", f"datasets {', '.join('/' + p for p in missing)}", Plain("results without them"))
@@ -476,7 +476,7 @@ def _agreement_denominator(direct: np.ndarray, attrs, i: int) -> tuple[float, st
     """What the stored agreement divides DOF ``i``'s difference by, and its name.
 
     A quiet DOF (listed in ``agreement_quiet``) is measured against the largest peak of all DOFs,
-    rotations converted to lengths with ``agreement_length`` (see sixdof.superposition.compare).
+    rotations converted to lengths with ``agreement_length`` (see sixdof.analysis.superposition.compare).
     """
     peaks = np.max(np.abs(direct), axis=0)
     if DOFS[i] not in tuple(attrs.get("agreement_quiet", ())):
@@ -613,8 +613,10 @@ def _point_items(results: Results) -> list[tuple[str, str, np.ndarray, np.ndarra
         attrs = results.attrs[group]
         if kind == "point" and f"{group}/values" in results.datasets:
             values = results[f"{group}/values"]
-            load = f"{attrs.get('load_kind', 'load')} {_vector_text(attrs.get('load_direction'))} at {_vector_text(attrs.get('load_point'))} m"
-            response = f"{attrs.get('response_kind', 'response')} {_vector_text(attrs.get('response_direction'))} at {_vector_text(attrs.get('response_point'))} m"
+            load = (f"{attrs.get('load_kind', 'load')} {_vector_text(attrs.get('load_direction'))} "
+                    f"at {_vector_text(attrs.get('load_point'))} m")
+            response = (f"{attrs.get('response_kind', 'response')} {_vector_text(attrs.get('response_direction'))} "
+                        f"at {_vector_text(attrs.get('response_point'))} m")
             items.append((f"{name}: {attrs.get('quantity', 'FRF')}, {response} per {load}", kind,
                           np.abs(values.data), values.data, values.units))
         elif kind == "force_transmissibility" and f"{group}/transmissibility" in results.datasets:
@@ -853,7 +855,7 @@ def save_all(results: Results, directory: str | Path, dpi: int = DPI) -> list[Pa
     Parameters
     ----------
     results : Results
-        From :func:`sixdof.store.write_results` (live run) or :func:`sixdof.store.load_results`.
+        From :func:`sixdof.io.store.write_results` (live run) or :func:`sixdof.io.store.load_results`.
     directory : str or pathlib.Path
         Created when missing.
     dpi : int

@@ -6,7 +6,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .dofs import DOF_UNITS, DOFS
+from sixdof.dofs import DOF_UNITS, DOFS
 
 
 def table(headers: Sequence[str], rows: Sequence[Sequence[object]], align: str | None = None) -> str:

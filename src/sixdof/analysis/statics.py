@@ -6,8 +6,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError
-from .model import point_map
+from sixdof.errors import InputError
+from sixdof.model.system import point_map
 
 STANDARD_GRAVITY = 9.80665  # m/s^2
 
@@ -64,7 +64,7 @@ def gravity_statics(system, g: float = STANDARD_GRAVITY, direction=(0.0, 0.0, -1
 
     Parameters
     ----------
-    system : sixdof.model.System
+    system : sixdof.model.system.System
     g : float
         Gravity acceleration [m/s^2], > 0.
     direction : array_like, shape (3,)

@@ -6,15 +6,15 @@ from pathlib import Path
 
 import numpy as np
 
-from . import report
-from .dofs import DOF_UNITS, DOFS
+from sixdof.dofs import DOF_UNITS, DOFS
+from sixdof.io import report
 
 _DISPLAY = {"m": (1e3, "mm"), "rad": (1e3, "mrad")}
 
 
 def summary_markdown(scenario, modes, statics, damping_ratios, response, forces, agreement,
                      superposition, frf, figures, notes) -> str:
-    """The run summary as Markdown text (see :func:`sixdof.run.run_scenario`)."""
+    """The run summary as Markdown text (see :func:`sixdof.workflows.run_scenario`)."""
     parts = [f"# {scenario.name}", "", scenario.description, ""]
     if notes:
         parts += ["## Warnings", "", *(f"- {n}" for n in notes), ""]

@@ -18,10 +18,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .damping import damping_ratios
-from .errors import InputError
-from .modal import modal_analysis
-from .statics import try_gravity_statics
+from sixdof.analysis.modal import modal_analysis
+from sixdof.analysis.statics import try_gravity_statics
+from sixdof.errors import InputError
+from sixdof.model.damping import damping_ratios
 
 #: Fewest samples per period of the highest natural frequency or excitation frequency: below it the
 #: sampled peaks of a sine are off by more than 5 % (1 - cos(pi / 10)).
@@ -138,7 +138,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
 
     Parameters
     ----------
-    scenario : sixdof.scenario.Scenario
+    scenario : sixdof.io.scenario.Scenario
     out_root : str or pathlib.Path
         Results go to ``out_root/<scenario.name>/`` (replaced as a whole when the run succeeds).
     progress : bool
@@ -152,8 +152,9 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
     -------
     RunOutcome
     """
-    from . import plots, store, summary
-    from .superposition import compare, superpose
+    from sixdof import plots
+    from sixdof.analysis.superposition import compare, superpose
+    from sixdof.io import store, summary
 
     root = check_output_root(out_root)
     system = scenario.system
@@ -171,9 +172,9 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
 
     response = superposition = agreement = forces = points = None
     if scenario.simulation is not None:
-        from .direct import simulate
-        from .excitation import Excitation
-        from .response import mount_forces, points_motion
+        from sixdof.analysis.direct import simulate
+        from sixdof.analysis.response import mount_forces, points_motion
+        from sixdof.excitation import Excitation
 
         excitation = scenario.excitation if scenario.excitation is not None else Excitation()
         response = simulate(system, excitation, scenario.simulation, progress=progress or None)
@@ -197,7 +198,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
     frf = None
     frf_extras = {}
     if scenario.frf is not None:
-        from .frf import cross_check, force_transmissibility, ground_transmissibility, point_frf
+        from sixdof.analysis.frf import cross_check, force_transmissibility, ground_transmissibility, point_frf
 
         f_hz = scenario.frf.grid()
         frf = cross_check(system, f_hz)
@@ -262,17 +263,18 @@ def _body_length(system) -> float:
 def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_line: str | None = None):
     """Validate a scenario's modal results against simulated time histories (issue 5).
 
-    Runs :func:`sixdof.validate.validate` (free decays released from each mode shape, random-force
+    Runs :func:`sixdof.validation.validate` (free decays released from each mode shape, random-force
     runs with H1 estimates) and writes ``results.h5``, figures and ``validation.md`` to
     ``out_root/<name>_validation/``, all or nothing.
 
     Returns
     -------
-    tuple of (sixdof.validate.ValidationReport, pathlib.Path)
+    tuple of (sixdof.validation.ValidationReport, pathlib.Path)
         The report and the folder written.
     """
-    from . import plots, store
-    from .validate import validate
+    from sixdof import plots
+    from sixdof.io import store
+    from sixdof.validation import validate
 
     root = check_output_root(out_root)
     system = scenario.system

@@ -17,8 +17,8 @@ from functools import cached_property
 
 import numpy as np
 
-from ._jax import jax, jnp
-from .errors import InputError, finite_array
+from sixdof._jax import jax, jnp
+from sixdof.errors import InputError, finite_array, readonly
 
 # Relative tolerances for "physically possible" checks on user input.
 _ORTHONORMAL_TOL = 1e-6
@@ -297,7 +297,7 @@ class System:
     """A rigid body on mounts, with optional global damping models.
 
     The damping matrix is the sum of the mounts' dashpots, the Rayleigh term and the modal term
-    (see :func:`sixdof.damping.damping_matrix`).
+    (see :func:`sixdof.model.damping.damping_matrix`).
 
     Parameters
     ----------
@@ -374,27 +374,21 @@ class System:
     @cached_property
     def M(self) -> np.ndarray:
         """Mass matrix (6, 6) [kg, kg m^2]."""
-        return _frozen(mass_matrix(self.body.mass, self.body.inertia))
+        return readonly(mass_matrix(self.body.mass, self.body.inertia))
 
     @cached_property
     def K(self) -> np.ndarray:
         """Stiffness matrix (6, 6) [N/m, N, N m/rad]."""
-        return _frozen(mount_matrix(self.positions, self.stiffnesses, self.axes))
+        return readonly(mount_matrix(self.positions, self.stiffnesses, self.axes))
 
     @cached_property
     def C_mounts(self) -> np.ndarray:
         """Damping matrix of the mounts' dashpots alone (6, 6) [N s/m, N s, N m s/rad]."""
-        return _frozen(mount_matrix(self.positions, self.dampings, self.axes))
+        return readonly(mount_matrix(self.positions, self.dampings, self.axes))
 
     @cached_property
     def C(self) -> np.ndarray:
         """Total viscous damping matrix (6, 6): dashpots + Rayleigh + modal."""
-        from .damping import damping_matrix
+        from sixdof.model.damping import damping_matrix
 
-        return _frozen(damping_matrix(self))
-
-
-def _frozen(array) -> np.ndarray:
-    out = np.array(array, dtype=float)
-    out.flags.writeable = False
-    return out
+        return readonly(damping_matrix(self))

@@ -5,14 +5,14 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from .modal import modal_analysis
+from sixdof.analysis.modal import modal_analysis
 
 #: Damping is classical (the real modes decouple it) when Phi' C Phi is diagonal to this fraction.
 CLASSICAL_RTOL = 1e-9
 
 
 def damping_matrix(system) -> np.ndarray:
-    """Total damping matrix of a :class:`~sixdof.model.System` (6, 6) [N s/m, N s, N m s/rad].
+    """Total damping matrix of a :class:`~sixdof.model.system.System` (6, 6) [N s/m, N s, N m s/rad].
 
     ``C = C_mounts + alpha M + beta K + M Phi diag(2 zeta_r omega_r) Phi' M``: the mounts'
     dashpots, the Rayleigh term and the modal term, each optional, summed. The modal term gives mode
@@ -54,7 +54,7 @@ def damping_ratios(M: np.ndarray, C: np.ndarray, K: np.ndarray, modes) -> np.nda
     ----------
     M, C, K : array_like, shape (6, 6)
         Mass [kg, kg m^2], damping [N s/m ...] and stiffness [N/m ...] matrices.
-    modes : sixdof.modal.Modes
+    modes : sixdof.analysis.modal.Modes
         The undamped modes of (M, K).
 
     Returns

@@ -1,6 +1,6 @@
 """Frequency-response functions of the mounted rigid body, by direct solution and by modal summation.
 
-Everything here is a pure function of a :class:`~sixdof.model.System` and an array of frequencies in
+Everything here is a pure function of a :class:`~sixdof.model.system.System` and an array of frequencies in
 Hz, returning a frozen result object. Steady-state harmonic motion ``q(t) = Re(q_hat e^{i w t})`` of
 
     (K + i K_h - w^2 M + i w C) q_hat = Q_hat                      (w = 2 pi f [rad/s], f >= 0)
@@ -45,10 +45,10 @@ from functools import cached_property
 import numpy as np
 import scipy.linalg
 
-from .dofs import DOF_UNITS, FORCE_UNITS
-from .errors import InputError, SolverError, finite_array
-from .modal import modal_analysis
-from .model import point_map
+from sixdof.analysis.modal import modal_analysis
+from sixdof.dofs import DOF_UNITS, FORCE_UNITS
+from sixdof.errors import InputError, SolverError, finite_array
+from sixdof.model.system import point_map
 
 __all__ = [
     "FRF",
@@ -388,7 +388,7 @@ def hysteretic_stiffness(system) -> np.ndarray:
     eta = system.loss_factors
     if not np.any(eta):
         return np.zeros((6, 6))  # no hysteresis (the common case): exactly zero
-    # The formula of :func:`sixdof.model.mount_matrix` in NumPy: a JAX dispatch costs ~1 ms, a third
+    # The formula of :func:`sixdof.model.system.mount_matrix` in NumPy: a JAX dispatch costs ~1 ms, a third
     # of the fast receptance's budget, for a 6x6 matrix.
     r = np.asarray(system.positions, dtype=float)
     t = np.zeros((r.shape[0], 3, 6))

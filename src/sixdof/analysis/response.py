@@ -1,11 +1,11 @@
 """Derived responses of a simulation: motion of body points, mount forces, forces on the foundation.
 
 Rigid body, small rotations: a body point ``p`` (from the CG, body axes) moves by
-``u_p = u_cg + theta x p`` (:func:`sixdof.model.point_map`); the same map takes velocities and
+``u_p = u_cg + theta x p`` (:func:`sixdof.model.system.point_map`); the same map takes velocities and
 accelerations. A mount deforms by the motion of its body point *relative to the ground* (the
 foundation translates rigidly under every mount), and carries ``k delta + c delta'`` along its own
 axes. Every force here is the dynamic part about static equilibrium (add the static deflection's
-forces from :mod:`sixdof.statics` for totals).
+forces from :mod:`sixdof.analysis.statics` for totals).
 """
 
 from __future__ import annotations
@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .direct import TimeResponse
-from .errors import finite_array
+from sixdof.analysis.direct import TimeResponse
+from sixdof.errors import finite_array, readonly
 
 
 @dataclass(frozen=True, eq=False)
@@ -73,8 +73,8 @@ def point_motion(response: TimeResponse, position, *, relative: bool = False) ->
         q, qd, qdd = response.q_relative, response.qd_relative, response.qdd_relative
     else:
         q, qd, qdd = response.q, response.qd, response.qdd
-    return PointMotion(position=_ro(p), displacement=_ro(q @ T.T), velocity=_ro(qd @ T.T),
-                       acceleration=_ro(qdd @ T.T), relative=relative)
+    return PointMotion(position=readonly(p), displacement=readonly(q @ T.T), velocity=readonly(qd @ T.T),
+                       acceleration=readonly(qdd @ T.T), relative=relative)
 
 
 def points_motion(response: TimeResponse, points, *, relative: bool = False) -> dict[str, PointMotion]:
@@ -130,7 +130,7 @@ def mount_forces(system, response: TimeResponse) -> MountForces:
 
     Parameters
     ----------
-    system : sixdof.model.System
+    system : sixdof.model.system.System
         The system that was simulated.
     response : TimeResponse
 
@@ -158,16 +158,10 @@ def mount_forces(system, response: TimeResponse) -> MountForces:
     force = total.sum(axis=0) + other[:, :3]
     moment = np.cross(system.positions[:, None, :], total).sum(axis=0) + other[:, 3:]
     return MountForces(
-        names=tuple(system.mount_names), deformation=_ro(deformation), elastic=_ro(elastic),
-        damping=_ro(damping), total=_ro(total), local=_ro(local_elastic + local_damping),
-        other_damping=_ro(other), foundation_force=_ro(force), foundation_moment=_ro(moment),
+        names=tuple(system.mount_names), deformation=readonly(deformation), elastic=readonly(elastic),
+        damping=readonly(damping), total=readonly(total), local=readonly(local_elastic + local_damping),
+        other_damping=readonly(other), foundation_force=readonly(force), foundation_moment=readonly(moment),
     )
-
-
-def _ro(array) -> np.ndarray:
-    out = np.array(array, dtype=float)
-    out.flags.writeable = False
-    return out
 
 
 __all__ = ["PointMotion", "MountForces", "point_motion", "points_motion", "mount_forces"]

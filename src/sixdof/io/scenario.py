@@ -17,8 +17,8 @@ from typing import Any
 
 import numpy as np
 
-from .errors import InputError, Plain, ScenarioError
-from .model import Mount, Rayleigh, RigidBody, System
+from sixdof.errors import InputError, Plain, ScenarioError
+from sixdof.model.system import Mount, Rayleigh, RigidBody, System
 
 _MISSING = object()
 
@@ -56,7 +56,7 @@ class StaticsSettings:
 
 
 def _checked_direction(value: Any, field: str, rotations: bool = True):
-    from .frf import parse_direction
+    from sixdof.analysis.frf import parse_direction
 
     parse_direction(value, field, rotations)  # raises InputError naming the field
     return tuple(value) if isinstance(value, list) else value
@@ -210,10 +210,10 @@ class Scenario:
     Attributes
     ----------
     name, description : str
-    system : sixdof.model.System
+    system : sixdof.model.system.System
     excitation : sixdof.excitation.Excitation or None
         Loads, ground motion and initial conditions; ``None`` when the file has none.
-    simulation : sixdof.direct.SimulationSettings or None
+    simulation : sixdof.analysis.direct.SimulationSettings or None
         Present when the file has a ``[simulation]`` table.
     frf : FrfSettings or None
     superposition : SuperpositionSettings
@@ -292,12 +292,12 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     initial = None if initial is None else _initial(initial)
     excitation = None
     if loads or ground is not None or initial is not None:
-        from .excitation import Excitation
+        from sixdof.excitation import Excitation
 
         excitation = _make(Excitation, "", loads=loads, ground=ground, initial=initial)
     simulation = top.table("simulation", default=None)
     if simulation is not None:
-        from .direct import SimulationSettings
+        from sixdof.analysis.direct import SimulationSettings
 
         simulation = _build(SimulationSettings, simulation, "simulation")
     frf = top.table("frf", default=None)
@@ -351,7 +351,7 @@ def _damping(table: dict) -> tuple[Rayleigh | None, Any]:
 
 
 def _load(table: dict, path: str, base_dir: Path):
-    from .excitation import LOAD_KINDS
+    from sixdof.excitation import LOAD_KINDS
 
     table = dict(table)
     kind = table.pop("kind", "force")
@@ -361,13 +361,13 @@ def _load(table: dict, path: str, base_dir: Path):
 
 
 def _ground(table: dict, base_dir: Path):
-    from .excitation import GroundMotion
+    from sixdof.excitation import GroundMotion
 
     return _build(GroundMotion, _with_signal(table, "ground", base_dir), "ground")
 
 
 def _initial(table: dict):
-    from .excitation import InitialState, ModeRelease
+    from sixdof.excitation import InitialState, ModeRelease
 
     if "mode" in table or "amplitude" in table:
         return _build(ModeRelease, table, "initial")
@@ -382,7 +382,7 @@ def _with_signal(table: dict, path: str, base_dir: Path) -> dict:
 
 
 def _signal(table: Any, path: str, base_dir: Path):
-    from .excitation import SIGNAL_KINDS
+    from sixdof.excitation import SIGNAL_KINDS
 
     if not isinstance(table, dict):
         raise InputError(path, "a table such as { kind = \"harmonic\", f_hz = 5.0 }", table)

@@ -2,7 +2,7 @@
 
 The response of ``M q'' + C q' + K q = Q(t)`` is computed in modal coordinates, with no ODE solver:
 
-1. the undamped modes ``Phi`` (mass-normalized, :func:`sixdof.modal.modal_analysis`) transform the
+1. the undamped modes ``Phi`` (mass-normalized, :func:`sixdof.analysis.modal.modal_analysis`) transform the
    equations to ``eta'' + D eta' + Omega^2 eta = Phi' Q(t)`` with ``D = Phi' C Phi``;
 2. when ``D`` is diagonal (classical damping: Rayleigh, modal ratios, any C the real modes
    diagonalize) each mode is a single-degree-of-freedom oscillator (method ``"real"``); otherwise
@@ -27,10 +27,10 @@ from functools import partial
 
 import numpy as np
 
-from ._jax import jax
-from .dofs import DOFS
-from .errors import InputError, SolverError, finite_array
-from .modal import modal_analysis
+from sixdof._jax import jax
+from sixdof.analysis.modal import modal_analysis
+from sixdof.dofs import DOFS
+from sixdof.errors import InputError, SolverError, finite_array, readonly
 
 #: Damping is classical when every off-diagonal coupling ``|D_ij| / sqrt(D_ii D_jj)`` of the
 #: modal damping matrix is below this (round-off of the modal transform is ~1e-12).
@@ -127,7 +127,7 @@ class ModalResponse:
         Largest damping coupling ``|D_ij| / sqrt(D_ii D_jj)`` between distinct real modes (0 for
         classical damping, up to 1).
     modes_kept : tuple of int
-        Indices (ascending frequency order of :func:`sixdof.modal.modal_analysis`) of the modes used.
+        Indices (ascending frequency order of :func:`sixdof.analysis.modal.modal_analysis`) of the modes used.
     frequency_hz : ndarray, shape (len(modes_kept),)
         Undamped natural frequencies of the kept modes [Hz].
     eigenvalues : ndarray of complex, shape (2 len(modes_kept),)
@@ -148,7 +148,7 @@ class ModalResponse:
         Gauss-Legendre nodes per interval.
     frame : str
         What ``q`` measures: ``"absolute"``, the motion in the fixed frame, like
-        :attr:`sixdof.direct.TimeResponse.q` (with ground motion too).
+        :attr:`sixdof.analysis.direct.TimeResponse.q` (with ground motion too).
     """
 
     t: np.ndarray
@@ -235,12 +235,12 @@ def compare(
     worst_index = int(np.argmax(per_dof))
     worst = float(per_dof[worst_index])
     return Agreement(
-        per_dof=_readonly(per_dof),
+        per_dof=readonly(per_dof),
         worst_dof=DOFS[worst_index],
         worst=worst,
         tolerance=float(tolerance),
         ok=bool(worst <= tolerance),
-        peak=_readonly(peak),
+        peak=readonly(peak),
         quiet=tuple(d for d, flag in zip(DOFS, quiet) if flag and largest > 0),
         length=float(length),
     )
@@ -277,7 +277,7 @@ def superpose(
 ) -> ModalResponse:
     """Time response of a system to an excitation by modal superposition.
 
-    The same response as :func:`sixdof.direct.simulate` computed independently: modal transform,
+    The same response as :func:`sixdof.analysis.direct.simulate` computed independently: modal transform,
     exact recursion of the decoupled modal equations with the Duhamel integral by Gauss-Legendre
     quadrature between the excitation's breakpoints, transform back (see :func:`modal_solve`).
 
@@ -289,7 +289,7 @@ def superpose(
 
     Parameters
     ----------
-    system : sixdof.model.System
+    system : sixdof.model.system.System
     excitation : sixdof.excitation.Excitation or None
         Loads, ground motion and initial state (None: at rest, no load).
     t : array_like, shape (n,)
@@ -570,16 +570,16 @@ def modal_solve(
             raise SolverError(f"modal superposition produced non-finite values in {name}")
 
     return ModalResponse(
-        t=_readonly(t),
-        q=_readonly(q),
-        qd=_readonly(qd),
-        qdd=_readonly(qdd),
+        t=readonly(t),
+        q=readonly(q),
+        qd=readonly(qd),
+        qdd=readonly(qdd),
         method=chosen,
         reason=reason,
         coupling=coupling,
         modes_kept=tuple(int(i) for i in kept),
-        frequency_hz=_readonly(np.sqrt(omega2[kept]) / (2 * np.pi)),
-        eigenvalues=_readonly(eigenvalues),
+        frequency_hz=readonly(np.sqrt(omega2[kept]) / (2 * np.pi)),
+        eigenvalues=readonly(eigenvalues, complex),
         residual=bool(residual and dropped.size > 0),
         residual_rates=residual_rates,
         truncation=truncation,
@@ -1061,9 +1061,3 @@ def _breakpoints(value):
     if not np.all(np.isfinite(array)):
         raise InputError("breakpoints", "finite times in s", value)
     return np.unique(array)
-
-
-def _readonly(array):
-    array = np.array(array)
-    array.flags.writeable = False
-    return array

@@ -38,8 +38,8 @@ from typing import Any
 
 import numpy as np
 
-from .dofs import DOF_UNITS, DOFS
-from .errors import InputError, Plain
+from sixdof.dofs import DOF_UNITS, DOFS
+from sixdof.errors import InputError, Plain
 
 #: Identifies the file layout; bump FORMAT_VERSION when a fixed name changes meaning.
 FORMAT = "sixdof-results"
@@ -288,29 +288,29 @@ def build_results(
 
     Parameters
     ----------
-    system : sixdof.model.System, optional
+    system : sixdof.model.system.System, optional
         Gives ``/model``: M, C, K (6, 6), the mounts (names, positions [m], stiffness [N/m],
         damping [N s/m], loss factors, axes) and the body (mass [kg], box dimensions [m]).
-    modes : sixdof.modal.Modes, optional
+    modes : sixdof.analysis.modal.Modes, optional
         Gives ``/modal``.
     damping_ratios : array_like, shape (6,), optional
         Modal damping ratio of each mode (``nan`` for rigid-body modes), ``/modal/damping_ratio``.
-    statics : sixdof.statics.Statics, optional
+    statics : sixdof.analysis.statics.Statics, optional
         Gives ``/statics``: deflection under gravity and each mount's force (needs ``system``).
-    response : sixdof.direct.TimeResponse, optional
+    response : sixdof.analysis.direct.TimeResponse, optional
         Gives ``/time``.
-    superposition : sixdof.superposition.ModalResponse, optional
+    superposition : sixdof.analysis.superposition.ModalResponse, optional
         Gives ``/time/superposition``.
-    agreement : sixdof.superposition.Agreement, optional
+    agreement : sixdof.analysis.superposition.Agreement, optional
         Stored as attributes of ``/time/superposition``.
-    frf : sixdof.frf.FRF or sixdof.frf.FRFCrossCheck, optional
+    frf : sixdof.analysis.frf.FRF or sixdof.analysis.frf.FRFCrossCheck, optional
         Gives ``/frf``: frequencies and the 6x6 receptance (the direct one of a cross-check, whose
         differences go beside it).
     frf_extras : mapping of str to PointFRF, ForceTransmissibility or GroundTransmissibility
         Named point FRFs and transmissibilities on the same frequencies, under
         ``/frf/point/<name>``, ``/frf/force_transmissibility/<name>``,
         ``/frf/ground_transmissibility/<name>``.
-    validation : sixdof.validate.ValidationReport, optional
+    validation : sixdof.validation.ValidationReport, optional
         Gives ``/validation``.
     scenario_text, name, description : str, optional
         The scenario file's text, name and description (root attributes).
@@ -363,7 +363,7 @@ def build_results(
         _validation(tree, validation)
     for path, dataset in (extra or {}).items():
         if not isinstance(dataset, Dataset):
-            raise InputError(f"extra[{path!r}]", "a sixdof.store.Dataset", dataset)
+            raise InputError(f"extra[{path!r}]", "a sixdof.io.store.Dataset", dataset)
         tree.datasets[path.strip("/")] = dataset
     for group, attrs in (extra_attrs or {}).items():
         tree.set_attrs(group.strip("/"), **attrs)
@@ -374,7 +374,7 @@ def _provenance(tree: _Tree, text, name, description, command_line, created_utc)
     if command_line is None:
         command_line = shlex.join([Path(sys.argv[0]).name, *sys.argv[1:]]) if sys.argv else ""
     if created_utc is None:
-        created_utc = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+        created_utc = _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds")
     tree.set_attrs(
         "",
         format=FORMAT,
@@ -558,7 +558,7 @@ def _fields(obj) -> dict[str, Any]:
 
 
 def _agreement_attrs(prefix: str, agreement) -> dict[str, Any]:
-    """Attributes of a :class:`sixdof.superposition.Agreement`, names starting with ``prefix``."""
+    """Attributes of a :class:`sixdof.analysis.superposition.Agreement`, names starting with ``prefix``."""
     if agreement is None:
         return {}
     values = {
@@ -630,7 +630,8 @@ def _frf_extra(tree: _Tree, g: str, name: str, item, nf: int) -> None:
     if "/" in name or not name:
         raise InputError(f"frf_extras[{name!r}]", "a name without '/'", name)
     if len(item.f_hz) != nf or not np.array_equal(item.f_hz, tree.datasets[f"{g}/f_hz"].data):
-        raise InputError(f"frf_extras[{name!r}].f_hz", "the frequencies of the receptance", Plain(f"{len(item.f_hz)} other frequencies"))
+        raise InputError(f"frf_extras[{name!r}].f_hz", "the frequencies of the receptance",
+                             Plain(f"{len(item.f_hz)} other frequencies"))
     kind = type(item).__name__
     if hasattr(item, "values"):  # PointFRF
         sub = f"{g}/point/{name}"
@@ -982,13 +983,13 @@ def _read_attributes(attrs) -> dict[str, Any]:
 
 
 # ----------------------------------------------------------------------------------------------------
-# Sweeps of design variants (sixdof.batch), ``outputs/<name>/sweep.h5``.
+# Sweeps of design variants (sixdof.analysis.batch), ``outputs/<name>/sweep.h5``.
 # ----------------------------------------------------------------------------------------------------
 
 
 def write_sweep(path: str | os.PathLike, result, *, system=None, scenario_text: str | None = None,
                 name: str | None = None, description: str | None = None) -> Results:
-    """Write a :class:`sixdof.batch.BatchResult` atomically under ``/sweep`` (and ``/model``).
+    """Write a :class:`sixdof.analysis.batch.BatchResult` atomically under ``/sweep`` (and ``/model``).
 
     Layout: ``/sweep/frequency_hz`` (variant, mode) [Hz]; ``/sweep/stiffness_factor`` and
     ``/sweep/damping_factor`` (variant, mount, mount_axis) [1]; ``/sweep/position_offset``

@@ -39,9 +39,9 @@ from typing import Any
 
 import numpy as np
 
-from ._jax import jax, jnp
-from .errors import InputError, Plain, SolverError
-from .excitation import Excitation
+from sixdof._jax import jax, jnp
+from sixdof.errors import InputError, Plain, SolverError, readonly
+from sixdof.excitation import Excitation
 
 # isort: split
 import diffrax  # noqa: E402  (after ._jax: float64 must be on first)
@@ -236,7 +236,7 @@ def state_scale(system, excitation: Excitation | None, settings: SimulationSetti
     ndarray, shape (14,)
         ``[z (6) m, rad; w (6) m/s, rad/s; u_g m; v_g m/s]``, all > 0.
     """
-    from .modal import modal_analysis
+    from sixdof.analysis.modal import modal_analysis
 
     M, K = np.asarray(system.M), np.asarray(system.K)
     modes = modal_analysis(M, K)
@@ -386,7 +386,7 @@ def simulate(system, excitation: Excitation | None, settings: SimulationSettings
 
     Parameters
     ----------
-    system : sixdof.model.System
+    system : sixdof.model.system.System
         Provides ``M``, ``C`` (all damping) and ``K``.
     excitation : Excitation or None
         Loads, ground motion, initial state. ``None``: at rest, nothing happens.
@@ -468,25 +468,19 @@ def simulate(system, excitation: Excitation | None, settings: SimulationSettings
     n_steps, n_accepted, n_rejected = (int(s) for s in stats)
     direction = r[:3]
     return TimeResponse(
-        t=_ro(ts), q=_ro(q), qd=_ro(w), qdd=_ro(qdd),
-        q_relative=_ro(z), qd_relative=_ro(w - np.outer(v_g, r)), qdd_relative=_ro(qdd_relative),
-        ground_displacement=_ro(np.outer(u_g, direction)),
-        ground_velocity=_ro(np.outer(v_g, direction)),
-        ground_acceleration=_ro(np.outer(a_g, direction)),
-        Q=_ro(Q),
+        t=readonly(ts), q=readonly(q), qd=readonly(w), qdd=readonly(qdd),
+        q_relative=readonly(z), qd_relative=readonly(w - np.outer(v_g, r)), qdd_relative=readonly(qdd_relative),
+        ground_displacement=readonly(np.outer(u_g, direction)),
+        ground_velocity=readonly(np.outer(v_g, direction)),
+        ground_acceleration=readonly(np.outer(a_g, direction)),
+        Q=readonly(Q),
         stats=SolverStats(
-            solver=settings.solver, rtol=settings.rtol, atol=settings.atol, scale=_ro(sigma),
+            solver=settings.solver, rtol=settings.rtol, atol=settings.atol, scale=readonly(sigma),
             num_steps=n_steps, num_accepted=n_accepted, num_rejected=n_rejected,
             max_steps=settings.max_steps, num_jumps=int(jumps.size), wall_time_s=wall,
             compiled=_solve._cache_size() > cache_before,
         ),
     )
-
-
-def _ro(array) -> np.ndarray:
-    out = np.array(array, dtype=float)
-    out.flags.writeable = False
-    return out
 
 
 def _is_number(value: Any) -> bool:

@@ -3,13 +3,13 @@
 A batch varies the mounts of one system: stiffness factors, damping factors and position offsets,
 per variant, per mount and per mount axis (:class:`Variants`). :func:`run_batch` assembles every
 variant's M, K, C and its natural frequencies in one ``jax.vmap`` of the pure assembly functions of
-:mod:`sixdof.model` (``jnp.linalg.eigh`` of the mass-scaled stiffness), then integrates all variants
+:mod:`sixdof.model.system` (``jnp.linalg.eigh`` of the mass-scaled stiffness), then integrates all variants
 together with ``jax.vmap`` of one diffrax solve, in chunks of variants that bound memory, keeping only
 what is asked for: the peak of ``|q|`` and ``|q''|`` per DOF at the output samples, and the full
-:class:`~sixdof.direct.TimeResponse` of a few chosen variants.
+:class:`~sixdof.analysis.direct.TimeResponse` of a few chosen variants.
 
-The solve uses the same settings as :func:`sixdof.direct.simulate`: solver, ``rtol``/``atol`` on the
-state divided by the per-component scale of :func:`sixdof.direct.state_scale` (the *nominal*
+The solve uses the same settings as :func:`sixdof.analysis.direct.simulate`: solver, ``rtol``/``atol`` on the
+state divided by the per-component scale of :func:`sixdof.analysis.direct.state_scale` (the *nominal*
 system's scale for every variant: it only weights the error control), ``jump_ts`` at every
 breakpoint of the loads, ``max_steps``, output times. It is not ``direct._solve`` itself: that one
 returns every sample of the 14-value state, the loads and the ground motion per variant (about
@@ -17,7 +17,7 @@ returns every sample of the 14-value state, the loads and the ground motion per 
 the first-order matrix ``A`` (12x12) of each variant is built once and only ``q`` and ``q''`` are
 kept per sample, which halves the time per variant and the memory per chunk. Ground motion and
 mode-release initial states (which depend on each variant's modes) are not batched yet: they raise
-:class:`~sixdof.errors.InputError`; run those variants through :func:`sixdof.direct.simulate`.
+:class:`~sixdof.errors.InputError`; run those variants through :func:`sixdof.analysis.direct.simulate`.
 """
 
 from __future__ import annotations
@@ -32,9 +32,9 @@ from typing import Any
 
 import numpy as np
 
-from ._jax import jax, jnp
-from .errors import InputError, Plain, ScenarioError, SolverError
-from .model import Mount, System, mount_matrix
+from sixdof._jax import jax, jnp
+from sixdof.errors import InputError, Plain, ScenarioError, SolverError, readonly
+from sixdof.model.system import Mount, System, mount_matrix
 
 #: Memory allowed for the samples kept per chunk of variants [bytes] (``q`` and ``q''``, float64).
 CHUNK_BYTES = 256 * 2**20
@@ -94,9 +94,9 @@ class BatchResult:
         ``max |q''|`` over the output samples per DOF [m/s^2, rad/s^2].
     num_steps, num_rejected : ndarray, shape (nv,), int, or None
         Solver steps attempted and rejected per variant.
-    histories : dict of int to sixdof.direct.TimeResponse
+    histories : dict of int to sixdof.analysis.direct.TimeResponse
         Full time responses of the variants asked for (by index).
-    settings : sixdof.direct.SimulationSettings or None
+    settings : sixdof.analysis.direct.SimulationSettings or None
     chunk_size : int
         Variants integrated together.
     wall_time_s : float
@@ -192,7 +192,7 @@ def _float_array(value, name: str) -> np.ndarray:
 
 
 def variant_system(system: System, variants: Variants, index: int) -> System:
-    """The :class:`~sixdof.model.System` of variant ``index`` (same body and global damping)."""
+    """The :class:`~sixdof.model.system.System` of variant ``index`` (same body and global damping)."""
     if not 0 <= index < variants.count:
         raise InputError("index", f"a variant index in [0, {variants.count})", index)
     mounts = [
@@ -245,7 +245,7 @@ def _matrices(system: System, variants: Variants):
 def batch_frequencies(system: System, variants: Variants) -> np.ndarray:
     """Undamped natural frequencies of every variant, shape (nv, 6), ascending [Hz]."""
     _, _, lam = _matrices(system, variants)
-    return _ro(np.sqrt(lam) / (2.0 * np.pi))
+    return readonly(np.sqrt(lam) / (2.0 * np.pi))
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -258,7 +258,7 @@ def _solve_chunk(A, B, x0, sigma, signals, ts, t0, t1, jump_ts, rtol, atol, *, s
     """Peaks of |q| and |q''| at ``ts`` for a chunk of variants: A (nb, 12, 12), B (nb, 12, nc)."""
     import diffrax
 
-    from .direct import SOLVERS
+    from sixdof.analysis.direct import SOLVERS
 
     def source(t):
         if not signals:
@@ -310,11 +310,11 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     excitation : sixdof.excitation.Excitation, optional
         Loads and an optional :class:`~sixdof.excitation.InitialState` (no ground motion, no mode
         release). Without it (or without ``settings``) only frequencies are computed.
-    settings : sixdof.direct.SimulationSettings, optional
-        The same settings as :func:`sixdof.direct.simulate`.
+    settings : sixdof.analysis.direct.SimulationSettings, optional
+        The same settings as :func:`sixdof.analysis.direct.simulate`.
     histories : sequence of int, optional
-        Indices of variants whose full :class:`~sixdof.direct.TimeResponse` is wanted (computed
-        with :func:`sixdof.direct.simulate` on :func:`variant_system`).
+        Indices of variants whose full :class:`~sixdof.analysis.direct.TimeResponse` is wanted (computed
+        with :func:`sixdof.analysis.direct.simulate` on :func:`variant_system`).
     chunk_size : int, optional
         Variants integrated together; default :func:`default_chunk_size` (memory bound).
 
@@ -329,8 +329,8 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     SolverError
         When the solve of any variant fails (its index is named) or gives non-finite values.
     """
-    from .direct import SimulationSettings, _bucket, simulate, state_scale
-    from .excitation import Excitation, ModeRelease
+    from sixdof.analysis.direct import SimulationSettings, _bucket, simulate, state_scale
+    from sixdof.excitation import Excitation, ModeRelease
 
     if not isinstance(variants, Variants):
         raise InputError("variants", "a Variants (see make_variants)", variants)
@@ -343,7 +343,7 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
             raise InputError("histories", f"variant indices in [0, {variants.count})", list(histories))
     start = time.perf_counter()
     K, C, lam = _matrices(system, variants)
-    frequency = _ro(np.sqrt(lam) / (2.0 * np.pi))
+    frequency = readonly(np.sqrt(lam) / (2.0 * np.pi))
     simulate_it = excitation is not None and settings is not None
     if not simulate_it:
         return BatchResult(variants, frequency, None, None, None, None, {}, settings, 0,
@@ -354,7 +354,7 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
         raise InputError("settings", "a SimulationSettings", settings)
     if excitation.ground is not None:
         raise InputError("excitation.ground", "no ground motion in a batch (not supported yet; "
-                         "use sixdof.direct.simulate per variant)", Plain("a ground motion"))
+                         "use sixdof.analysis.direct.simulate per variant)", Plain("a ground motion"))
     if isinstance(excitation.initial, ModeRelease):
         raise InputError("excitation.initial", "an InitialState in a batch (a mode release depends "
                          "on each variant's modes)", Plain("a ModeRelease"))
@@ -410,17 +410,11 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     kept = {int(i): simulate(variant_system(system, variants, int(i)), excitation, settings)
             for i in histories}
     return BatchResult(
-        variants=variants, frequency_hz=frequency, peak_q=_ro(peaks[:, :6]),
-        peak_qdd=_ro(peaks[:, 6:]), num_steps=_ro(np.concatenate(steps), int),
-        num_rejected=_ro(np.concatenate(rejected), int), histories=kept, settings=settings,
+        variants=variants, frequency_hz=frequency, peak_q=readonly(peaks[:, :6]),
+        peak_qdd=readonly(peaks[:, 6:]), num_steps=readonly(np.concatenate(steps), int),
+        num_rejected=readonly(np.concatenate(rejected), int), histories=kept, settings=settings,
         chunk_size=chunk_size, wall_time_s=time.perf_counter() - start,
     )
-
-
-def _ro(array, dtype=float) -> np.ndarray:
-    out = np.array(array, dtype=dtype)
-    out.flags.writeable = False
-    return out
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -661,7 +655,7 @@ def sweep(scenario, spec: SweepSpec, *, chunk_size: int | None = None) -> BatchR
 
     Parameters
     ----------
-    scenario : sixdof.scenario.Scenario
+    scenario : sixdof.io.scenario.Scenario
     spec : SweepSpec
 
     Returns
@@ -675,7 +669,7 @@ def sweep(scenario, spec: SweepSpec, *, chunk_size: int | None = None) -> BatchR
 
 def summary_table(result: BatchResult) -> str:
     """Percentiles (5, 50, 95 %) of each frequency and each DOF's peak, as text."""
-    from .dofs import DOF_UNITS, DOFS
+    from sixdof.dofs import DOF_UNITS, DOFS
 
     lines = [f"{result.variants.count} variants", "", "quantity          p5           p50          p95"]
     for j in range(6):

@@ -8,7 +8,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from .dofs import DOFS
+from sixdof.dofs import DOFS
+from sixdof.errors import readonly
 
 #: A mode is rigid (zero frequency) when its eigenvalue is below this fraction of the largest.
 ZERO_MODE_RTOL = 1e-10
@@ -102,13 +103,13 @@ def modal_analysis(M: np.ndarray, K: np.ndarray) -> Modes:
         free_dofs = ()
 
     return Modes(
-        eigenvalues=_readonly(eigenvalues),
-        omega=_readonly(omega),
-        frequency_hz=_readonly(omega / (2 * np.pi)),
-        shapes=_readonly(shapes),
-        ke_distribution=_readonly(ke),
+        eigenvalues=readonly(eigenvalues),
+        omega=readonly(omega),
+        frequency_hz=readonly(omega / (2 * np.pi)),
+        shapes=readonly(shapes),
+        ke_distribution=readonly(ke),
         dominant_dof=tuple(DOFS[i] for i in np.argmax(ke, axis=0)),
-        effective_mass=_readonly(effective),
+        effective_mass=readonly(effective),
         subsystems=coupled_subsystems(M, K),
         zero_modes=zero_modes,
         free_dofs=free_dofs,
@@ -148,9 +149,3 @@ def coupled_subsystems(M: np.ndarray, K: np.ndarray, rtol: float = COUPLING_RTOL
     for i in range(6):
         components.setdefault(root(i), []).append(DOFS[i])
     return tuple(tuple(c) for c in sorted(components.values(), key=lambda c: DOFS.index(c[0])))
-
-
-def _readonly(array: np.ndarray) -> np.ndarray:
-    array = np.array(array, dtype=float)
-    array.flags.writeable = False
-    return array

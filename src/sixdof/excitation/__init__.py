@@ -1,0 +1,33 @@
+"""What acts on the body: time signals (:mod:`.signals`) and loads, ground motion and initial state
+(:mod:`.loads`)."""
+
+from sixdof.excitation.loads import (
+    GROUND_QUANTITIES,
+    LOAD_KINDS,
+    Excitation,
+    GroundMotion,
+    InitialState,
+    Load,
+    ModeRelease,
+    Unbalance,
+    generalized_force,
+)
+from sixdof.excitation.signals import (
+    SIGNAL_KINDS,
+    HalfSine,
+    Harmonic,
+    Haversine,
+    Ramp,
+    Random,
+    Signal,
+    Step,
+    Sweep,
+    Table,
+    make_signal,
+)
+
+__all__ = [
+    "SIGNAL_KINDS", "LOAD_KINDS", "GROUND_QUANTITIES", "Signal", "Harmonic", "Sweep", "HalfSine",
+    "Haversine", "Step", "Ramp", "Table", "Random", "make_signal", "Load", "Unbalance",
+    "GroundMotion", "InitialState", "ModeRelease", "Excitation", "generalized_force",
+]

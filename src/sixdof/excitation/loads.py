@@ -1,0 +1,398 @@
+"""What acts on the body: point loads, rotating unbalance, ground motion and the initial state.
+
+:class:`Load` (a force at a body point plus a moment, times a signal) and :class:`Unbalance`
+(a rotating force ``m e Omega^2``) each expand into *components*: pairs of a constant generalized
+force vector (6,) and a signal, ``Q(t) = sum_k Q_k s_k(t)``. :class:`GroundMotion` prescribes a rigid
+translation of the foundation under every mount; :class:`InitialState` and :class:`ModeRelease` give
+``q(0), q'(0)``. :class:`Excitation` holds them all.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
+
+import numpy as np
+
+from sixdof.errors import InputError, Plain, finite_array, integer, label, number, vector3
+from sixdof.excitation.signals import Harmonic, Signal, _signal_field
+
+# A ground displacement that jumps needs an infinite force: breakpoints of a displacement signal
+# may not change its value by more than this fraction of its peak.
+_CONTINUITY_RTOL = 1e-6
+
+
+
+
+# ----------------------------------------------------------------------------------------------------
+# Loads.
+# ----------------------------------------------------------------------------------------------------
+
+
+def _generalized(point: np.ndarray, force: np.ndarray, moment: np.ndarray) -> np.ndarray:
+    """``[F, r x F + M]`` (6,): the virtual-work transpose of the point map (as model.load_vector)."""
+    q = np.concatenate([force, np.cross(point, force) + moment])
+    q.flags.writeable = False
+    return q
+
+
+@dataclass(frozen=True, eq=False)
+class Load:
+    """A force at a body point plus a moment, both scaled by a signal: ``F(t) = force s(t)``.
+
+    Parameters
+    ----------
+    name : str
+        Label for tables and files.
+    point : array_like, shape (3,)
+        Point of application from the CG in body axes [m].
+    force : array_like, shape (3,), optional
+        Force amplitude in body axes [N]. Default zero.
+    moment : array_like, shape (3,), optional
+        Moment amplitude in body axes [N m]. Default zero. ``force`` and ``moment`` are not both zero.
+    signal : Signal or mapping
+        The time signal (a mapping with a ``kind`` key is built with :func:`make_signal`).
+    """
+
+    kind: ClassVar[str] = "force"
+    name: str
+    point: np.ndarray
+    force: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    moment: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    signal: Signal | None = None
+
+    def __post_init__(self) -> None:
+        label(self.name)
+        object.__setattr__(self, "point", vector3(self.point, "point", "3 coordinates [x, y, z] in m"))
+        object.__setattr__(self, "force", vector3(self.force, "force", "3 force components in N"))
+        object.__setattr__(self, "moment", vector3(self.moment, "moment",
+                                                    "3 moment components in N m"))
+        if not (np.any(self.force) or np.any(self.moment)):
+            raise InputError("force", "a non-zero force or moment (N, N m)", self.force)
+        object.__setattr__(self, "signal", _signal_field(self.signal))
+
+    def components(self) -> tuple[tuple[np.ndarray, Signal], ...]:
+        """``((Q, signal),)``: the generalized force (6,) [N, N m] multiplied by the signal."""
+        return ((_generalized(self.point, self.force, self.moment), self.signal),)
+
+
+def _plane_basis(axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Unit vectors ``u, v`` spanning the plane normal to ``axis`` with ``u x v = axis``.
+
+    ``u`` is the body axis (x, then y, then z on ties) least aligned with ``axis``, made normal to it.
+    """
+    e = np.eye(3)[int(np.argmin(np.abs(axis)))]
+    u = e - np.dot(e, axis) * axis
+    u /= np.linalg.norm(u)
+    return u, np.cross(axis, u)
+
+
+@dataclass(frozen=True, eq=False)
+class Unbalance:
+    """A rotating unbalance: the force ``m e Omega^2`` turning at constant speed in a plane.
+
+    ``F(t) = m e Omega^2 (cos(theta) u + sin(theta) v)``, ``theta = Omega (t - start) + phase``,
+    zero before ``start``. ``u, v`` span the plane normal to ``axis`` with ``u x v = axis`` (the
+    rotation is positive about ``axis``); ``u`` is the body axis least aligned with ``axis``
+    (x first on ties) made normal to it: for ``axis = z``, ``u = x`` and ``v = y``; for
+    ``axis = x``, ``u = y, v = z``; for ``axis = y``, ``u = x, v = -z``.
+
+    Parameters
+    ----------
+    name : str
+    point : array_like, shape (3,)
+        Centre of the rotor's plane of unbalance from the CG in body axes [m].
+    unbalance : float
+        ``m e`` [kg m], > 0.
+    f_hz : float, optional
+        Rotation frequency [Hz]; give this or ``speed_rpm``.
+    speed_rpm : float, optional
+        Rotation speed [rev/min].
+    axis : array_like, shape (3,), optional
+        Spin axis in body axes (normalized here). Default ``[0, 0, 1]``.
+    phase_deg : float, optional
+        Angle of the force from ``u`` at ``start`` [deg]. Default 0.
+    start : float, optional
+        Time the rotor is at speed from [s]. Default 0.
+    """
+
+    kind: ClassVar[str] = "unbalance"
+    name: str
+    point: np.ndarray
+    unbalance: float
+    f_hz: float | None = None
+    speed_rpm: float | None = None
+    axis: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, 1.0]))
+    phase_deg: float = 0.0
+    start: float = 0.0
+
+    def __post_init__(self) -> None:
+        label(self.name)
+        object.__setattr__(self, "point", vector3(self.point, "point", "3 coordinates [x, y, z] in m"))
+        object.__setattr__(self, "unbalance", number(self.unbalance, "unbalance",
+                                                      "a positive m e in kg m", low=0.0, strict=True))
+        if (self.f_hz is None) == (self.speed_rpm is None):
+            raise InputError("f_hz", "either f_hz (Hz) or speed_rpm (rev/min), exactly one",
+                             Plain("both" if self.f_hz is not None else "neither"))
+        if self.f_hz is not None:
+            object.__setattr__(self, "f_hz", number(
+                self.f_hz, "f_hz", "a positive rotation frequency in Hz", low=0.0, strict=True))
+        else:
+            object.__setattr__(self, "speed_rpm", number(
+                self.speed_rpm, "speed_rpm", "a positive speed in rev/min", low=0.0, strict=True))
+        axis = vector3(self.axis, "axis", "a non-zero 3-vector (spin axis, body axes)")
+        if not np.any(axis):
+            raise InputError("axis", "a non-zero 3-vector (spin axis, body axes)", self.axis)
+        axis = axis / np.linalg.norm(axis)
+        axis.flags.writeable = False
+        object.__setattr__(self, "axis", axis)
+        object.__setattr__(self, "phase_deg", number(self.phase_deg, "phase_deg",
+                                                      "a finite phase in degrees"))
+        object.__setattr__(self, "start", number(self.start, "start", "a finite time in s"))
+
+    @property
+    def frequency_hz(self) -> float:
+        """Rotation frequency [Hz]."""
+        return self.f_hz if self.f_hz is not None else self.speed_rpm / 60.0
+
+    @property
+    def force_amplitude(self) -> float:
+        """``m e Omega^2`` [N]."""
+        return self.unbalance * (2 * np.pi * self.frequency_hz) ** 2
+
+    def components(self) -> tuple[tuple[np.ndarray, Signal], ...]:
+        """Two components: ``u`` times ``cos(theta)`` and ``v`` times ``sin(theta)`` (see class doc)."""
+        u, v = _plane_basis(self.axis)
+        amplitude = self.force_amplitude
+        zero = np.zeros(3)
+        cos = Harmonic(f_hz=self.frequency_hz, phase_deg=self.phase_deg + 90.0, start=self.start)
+        sin = Harmonic(f_hz=self.frequency_hz, phase_deg=self.phase_deg, start=self.start)
+        return (
+            (_generalized(self.point, amplitude * u, zero), cos),
+            (_generalized(self.point, amplitude * v, zero), sin),
+        )
+
+
+#: TOML ``kind`` of a load -> its class (``"force"`` when the key is absent).
+LOAD_KINDS: dict[str, type] = {"force": Load, "unbalance": Unbalance}
+
+
+# ----------------------------------------------------------------------------------------------------
+# Ground motion and initial conditions.
+# ----------------------------------------------------------------------------------------------------
+
+GROUND_QUANTITIES = ("displacement", "velocity", "acceleration")
+
+
+@dataclass(frozen=True, eq=False)
+class GroundMotion:
+    """Rigid translation of the foundation under every mount: ``scale s(t)`` along ``direction``.
+
+    The foundation moves as one rigid block (no rotation); every mount's lower end follows it. The
+    mount springs and dashpots then act on the body's motion *relative to the ground*.
+    ``velocity`` and ``acceleration`` grounds start at rest at zero displacement at the start of a
+    simulation and are integrated with the body. A ``displacement`` signal must be continuous (a
+    jump would need an infinite force); its slope may jump.
+
+    Parameters
+    ----------
+    quantity : {"displacement", "velocity", "acceleration"}
+        What ``scale s(t)`` is: m, m/s or m/s^2.
+    direction : array_like, shape (3,)
+        Direction in body axes (normalized here).
+    signal : Signal or mapping
+        Shape in time (for an accelerogram: ``{kind = "table", file = "record.csv"}``).
+    scale : float, optional
+        Multiplies the signal [m, m/s or m/s^2 per signal unit]: ``9.81`` for a record in g.
+        Default 1.
+    """
+
+    quantity: str
+    direction: np.ndarray
+    signal: Signal | None = None
+    scale: float = 1.0
+
+    def __post_init__(self) -> None:
+        if self.quantity not in GROUND_QUANTITIES:
+            raise InputError("quantity", "'displacement', 'velocity' or 'acceleration'", self.quantity)
+        direction = vector3(self.direction, "direction", "a non-zero 3-vector in body axes")
+        if not np.any(direction):
+            raise InputError("direction", "a non-zero 3-vector in body axes", self.direction)
+        direction = direction / np.linalg.norm(direction)
+        direction.flags.writeable = False
+        object.__setattr__(self, "direction", direction)
+        object.__setattr__(self, "signal", _signal_field(self.signal))
+        object.__setattr__(self, "scale", number(self.scale, "scale", "a finite non-zero number",))
+        if self.scale == 0.0:
+            raise InputError("scale", "a finite non-zero number", self.scale)
+        if self.quantity == "displacement":
+            self._check_continuous()
+
+    def _check_continuous(self) -> None:
+        points = np.array(self.signal.breakpoints, dtype=float)
+        if points.size == 0:
+            return
+        # Look just left of each breakpoint (far enough not to be flushed as a denormal) and
+        # extrapolate with the slope there, so that a steep but continuous signal passes.
+        gap = np.min(np.diff(points)) / 2 if points.size > 1 else np.inf
+        eps = np.minimum(1e-9 * np.maximum(1.0, np.abs(points)), gap)
+        left = points - eps
+        predicted = np.asarray(self.signal(left)) + np.asarray(self.signal.derivative(left)) * eps
+        after = np.asarray(self.signal(points))
+        jump = np.abs(after - predicted) > _CONTINUITY_RTOL * self.signal.peak
+        if np.any(jump):
+            i = int(np.flatnonzero(jump)[0])
+            raise InputError(
+                "signal",
+                "a continuous signal for a ground displacement (a jump needs an infinite force; "
+                "use quantity = 'velocity' or 'acceleration')",
+                Plain(f"a {self.signal.kind} signal jumping by {after[i] - predicted[i]:.6g} at "
+                      f"t = {points[i]:.6g} s"),
+            )
+
+    @property
+    def rigid_vector(self) -> np.ndarray:
+        """``r`` (6,): the generalized coordinates of a unit ground translation (no rotation)."""
+        return np.concatenate([self.direction, np.zeros(3)])
+
+
+def _six(value: Any, name: str, expected: str) -> np.ndarray:
+    return finite_array(value, name, expected, (6,))
+
+
+@dataclass(frozen=True, eq=False)
+class InitialState:
+    """Initial displacement and velocity of the body (absolute: in the fixed frame).
+
+    Parameters
+    ----------
+    q : array_like, shape (6,), optional
+        ``q(start)`` [m, m, m, rad, rad, rad]. Default zero (static equilibrium).
+    qd : array_like, shape (6,), optional
+        ``q'(start)`` [m/s, rad/s]. Default zero.
+    """
+
+    q: np.ndarray = field(default_factory=lambda: np.zeros(6))
+    qd: np.ndarray = field(default_factory=lambda: np.zeros(6))
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "q", _six(self.q, "q", "6 values [x, y, z, rx, ry, rz] in m and rad"))
+        object.__setattr__(self, "qd", _six(self.qd, "qd",
+                                            "6 values [x, y, z, rx, ry, rz] in m/s and rad/s"))
+
+    def state(self, system) -> tuple[np.ndarray, np.ndarray]:
+        """``(q0, qd0)``, each (6,) [m, rad; m/s, rad/s]."""
+        return np.array(self.q), np.array(self.qd)
+
+
+@dataclass(frozen=True, eq=False)
+class ModeRelease:
+    """Free vibration: release from rest in one undamped mode shape.
+
+    ``q(0) = amplitude phi / phi[d]`` with ``phi`` the mode's shape and ``d`` its dominant DOF (the
+    DOF holding the largest share of the mode's kinetic energy, :attr:`sixdof.analysis.modal.Modes.dominant_dof`),
+    so ``amplitude`` is the initial displacement of that DOF; ``q'(0) = 0``.
+
+    Parameters
+    ----------
+    mode : int
+        Mode number, 1-based in ascending frequency (1 to 6).
+    amplitude : float
+        Initial value of the mode's dominant DOF [m for x, y, z; rad for rx, ry, rz], non-zero.
+    """
+
+    mode: int
+    amplitude: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "mode", integer(self.mode, "mode", "a mode number from 1 to 6", 1))
+        if self.mode > 6:
+            raise InputError("mode", "a mode number from 1 to 6", self.mode)
+        amplitude = number(self.amplitude, "amplitude", "a non-zero amplitude in m or rad")
+        if amplitude == 0.0:
+            raise InputError("amplitude", "a non-zero amplitude in m or rad", self.amplitude)
+        object.__setattr__(self, "amplitude", amplitude)
+
+    def state(self, system) -> tuple[np.ndarray, np.ndarray]:
+        """``(q0, qd0)`` for ``system`` (6,) each [m, rad; m/s, rad/s]."""
+        from sixdof.analysis.modal import modal_analysis
+        from sixdof.dofs import DOFS
+
+        modes = modal_analysis(system.M, system.K)
+        j = self.mode - 1
+        d = DOFS.index(modes.dominant_dof[j])
+        shape = modes.shapes[:, j]
+        return self.amplitude * shape / shape[d], np.zeros(6)
+
+
+@dataclass(frozen=True, eq=False)
+class Excitation:
+    """Everything that drives eq. (1) in one simulation.
+
+    Parameters
+    ----------
+    loads : sequence of Load or Unbalance, optional
+        Acting together; names unique.
+    ground : GroundMotion, optional
+    initial : InitialState or ModeRelease, optional
+        Default: at rest in static equilibrium.
+    """
+
+    loads: tuple = ()
+    ground: GroundMotion | None = None
+    initial: InitialState | ModeRelease | None = None
+
+    def __post_init__(self) -> None:
+        loads = tuple(self.loads)
+        for i, load in enumerate(loads):
+            if not isinstance(load, tuple(LOAD_KINDS.values())):
+                raise InputError(f"loads[{i}]", "a Load or Unbalance", load)
+        names = [load.name for load in loads]
+        repeated = sorted({n for n in names if names.count(n) > 1})
+        if repeated:
+            raise InputError("loads", "unique load names", Plain(f"{', '.join(repeated)} repeated"))
+        object.__setattr__(self, "loads", loads)
+        if self.ground is not None and not isinstance(self.ground, GroundMotion):
+            raise InputError("ground", "a GroundMotion", self.ground)
+        if self.initial is not None and not isinstance(self.initial, (InitialState, ModeRelease)):
+            raise InputError("initial", "an InitialState or a ModeRelease", self.initial)
+
+    def components(self) -> tuple[tuple[np.ndarray, Signal], ...]:
+        """Every load's ``(Q (6,) [N, N m], signal)`` pairs, in load order."""
+        return tuple(c for load in self.loads for c in load.components())
+
+    @property
+    def breakpoints(self) -> tuple[float, ...]:
+        """Sorted times [s] where any load or ground signal or a derivative jumps."""
+        times = {b for _, s in self.components() for b in s.breakpoints}
+        if self.ground is not None:
+            times.update(self.ground.signal.breakpoints)
+        return tuple(sorted(times))
+
+    def initial_state(self, system) -> tuple[np.ndarray, np.ndarray]:
+        """``(q0, qd0)`` (6,) each, absolute [m, rad; m/s, rad/s]; zeros without ``initial``."""
+        if self.initial is None:
+            return np.zeros(6), np.zeros(6)
+        return self.initial.state(system)
+
+
+def generalized_force(excitation: Excitation, t) -> np.ndarray:
+    """The loads' generalized force ``Q(t) = sum_k Q_k s_k(t)`` (ground motion not included).
+
+    Parameters
+    ----------
+    excitation : Excitation
+    t : array_like, shape (n,)
+        Times [s].
+
+    Returns
+    -------
+    ndarray, shape (n, 6)
+        [N, N, N, N m, N m, N m].
+    """
+    t = np.atleast_1d(np.asarray(t, dtype=float))
+    out = np.zeros((t.size, 6))
+    for vector, signal in excitation.components():
+        out += np.asarray(signal(t))[:, None] * vector[None, :]
+    return out
+

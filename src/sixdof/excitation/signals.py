@@ -1,0 +1,516 @@
+"""Time signals: dimensionless, jittable multipliers ``s(t)`` of the loads and the ground motion.
+
+A signal is a dimensionless multiplier ``s(t)`` of a load's force and moment vectors (the amplitude
+lives in the load, in N and N m) or of a ground motion's ``scale``. Every signal
+
+- is a frozen dataclass whose field names are the scenario file's keys (``kind`` picks the class, see
+  :data:`SIGNAL_KINDS`), validated when built;
+- evaluates as a pure ``jax.numpy`` function, ``signal(t)``, on a scalar ``t`` (inside a jitted
+  solver) or on an array of times [s], returning an array of the same shape;
+- is a JAX pytree whose numeric parameters are leaves: a jitted function that takes signals as
+  arguments compiles once per signal *kind* and reuses the compiled code for new parameter values;
+- lists in ``breakpoints`` the times [s] where it or one of its derivatives jumps (pulse start and
+  end, table knots, step and ramp times). Between consecutive breakpoints it is smooth (analytic), so
+  a time integrator must step exactly onto each breakpoint; a solver that does not can step clean
+  over a short pulse and report success;
+- is right-continuous at its breakpoints: ``s(b)`` is the value just after ``b``.
+
+Outside its active window every signal is zero (``table`` may instead hold its end values).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import MISSING, dataclass, fields
+from typing import Any, ClassVar
+
+import numpy as np
+
+from sixdof._jax import jax, jnp
+from sixdof.errors import InputError, Plain, integer, number
+
+# ----------------------------------------------------------------------------------------------------
+# Signals.
+# ----------------------------------------------------------------------------------------------------
+
+
+class Signal:
+    """Base of the time signals: a dimensionless, jittable function of time ``t`` [s].
+
+    Subclasses are frozen dataclasses; they are registered as JAX pytrees whose leaves are the
+    numeric fields (names in ``_static`` are compile-time constants instead).
+    """
+
+    kind: ClassVar[str] = ""
+    _static: ClassVar[tuple[str, ...]] = ()
+    _derived: ClassVar[tuple[str, ...]] = ()  # arrays computed at validation, leaves too
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+
+        def flatten(signal):
+            names = [f.name for f in fields(signal)] + list(cls._derived)
+            dynamic = tuple(getattr(signal, n) for n in names if n not in cls._static)
+            static = tuple(getattr(signal, n) for n in names if n in cls._static)
+            return dynamic, static
+
+        def unflatten(static, dynamic):
+            # Rebuilt from (possibly traced) leaves without validation: they were validated once.
+            signal = object.__new__(cls)
+            names = [f.name for f in fields(cls)] + list(cls._derived)
+            dyn, stat = iter(dynamic), iter(static)
+            for n in names:
+                object.__setattr__(signal, n, next(stat) if n in cls._static else next(dyn))
+            return signal
+
+        jax.tree_util.register_pytree_node(cls, flatten, unflatten)
+
+    def __call__(self, t):
+        """Value of the signal at time(s) ``t`` [s]: a jax array of ``t``'s shape (dimensionless)."""
+        return self._evaluate(jnp.asarray(t, dtype=float))
+
+    def _evaluate(self, t):  # pragma: no cover - every kind overrides it
+        raise NotImplementedError
+
+    def derivative(self, t, order: int = 1):
+        """Time derivative of order 1 or 2 at ``t`` [1/s, 1/s^2] (right-continuous at breakpoints).
+
+        Exact (forward-mode automatic differentiation of the smooth piece holding ``t``).
+        """
+        if order not in (1, 2):
+            raise InputError("order", "1 or 2", order)
+        t = jnp.asarray(t, dtype=float)
+
+        def first(x):
+            return jax.jvp(self._evaluate, (x,), (jnp.ones_like(x),))[1]
+
+        if order == 1:
+            return first(t)
+        return jax.jvp(first, (t,), (jnp.ones_like(t),))[1]
+
+    @property
+    def breakpoints(self) -> tuple[float, ...]:
+        """Sorted times [s] where the signal or one of its derivatives jumps."""
+        return ()
+
+    @property
+    def peak(self) -> float:
+        """An estimate of ``max |s(t)|``, used to scale the solver's tolerances."""
+        return 1.0
+
+
+def _window(t, start, duration):
+    """True on ``[start, start + duration)``."""
+    return (t >= start) & (t < start + duration)
+
+
+def _breaks(*times: float) -> tuple[float, ...]:
+    return tuple(sorted({float(x) for x in times if math.isfinite(x)}))
+
+
+@dataclass(frozen=True, eq=False)
+class Harmonic(Signal):
+    """``s(t) = sin(2 pi f (t - start) + phase)`` on ``[start, start + duration)``, zero outside.
+
+    Parameters
+    ----------
+    f_hz : float
+        Frequency [Hz], > 0.
+    phase_deg : float, optional
+        Phase at ``start`` [deg]; ``90`` gives a cosine. Default 0 (the load starts from zero).
+    start : float, optional
+        Switch-on time [s]. Default 0.
+    duration : float, optional
+        How long it lasts [s], > 0. Default: for ever.
+    """
+
+    kind: ClassVar[str] = "harmonic"
+    f_hz: float
+    phase_deg: float = 0.0
+    start: float = 0.0
+    duration: float = math.inf
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "f_hz", number(self.f_hz, "f_hz", "a positive frequency in Hz",
+                                                 low=0.0, strict=True))
+        object.__setattr__(self, "phase_deg", number(self.phase_deg, "phase_deg",
+                                                      "a finite phase in degrees"))
+        object.__setattr__(self, "start", number(self.start, "start", "a finite time in s"))
+        object.__setattr__(self, "duration", number(
+            self.duration, "duration", "a positive duration in s", low=0.0, strict=True,
+            allow_inf=True))
+
+    def _evaluate(self, t):
+        tau = t - self.start
+        value = jnp.sin(2 * jnp.pi * self.f_hz * tau + jnp.deg2rad(self.phase_deg))
+        return jnp.where(_window(t, self.start, self.duration), value, 0.0)
+
+    @property
+    def breakpoints(self) -> tuple[float, ...]:
+        return _breaks(self.start, self.start + self.duration)
+
+
+@dataclass(frozen=True, eq=False)
+class Sweep(Signal):
+    """Sine sweep ``s(t) = sin(phi(t - start))`` from ``f0_hz`` to ``f1_hz`` over ``duration``.
+
+    ``law = "linear"``: the frequency rises linearly, ``phi(tau) = 2 pi (f0 tau + (f1 - f0)
+    tau^2 / (2 T))``. ``law = "log"``: exponentially (constant octaves per second),
+    ``phi(tau) = 2 pi f0 T / ln(f1/f0) ((f1/f0)^(tau/T) - 1)``. Zero outside
+    ``[start, start + duration)``.
+
+    Parameters
+    ----------
+    f0_hz, f1_hz : float
+        Start and end frequencies [Hz], > 0 (a downward sweep is allowed; a log sweep needs
+        ``f0_hz != f1_hz``).
+    duration : float
+        Sweep time T [s], > 0.
+    start : float, optional
+        Start time [s]. Default 0.
+    law : {"linear", "log"}, optional
+        Default "linear".
+    """
+
+    kind: ClassVar[str] = "sweep"
+    _static: ClassVar[tuple[str, ...]] = ("law",)
+    f0_hz: float
+    f1_hz: float
+    duration: float
+    start: float = 0.0
+    law: str = "linear"
+
+    def __post_init__(self) -> None:
+        for name in ("f0_hz", "f1_hz"):
+            object.__setattr__(self, name, number(getattr(self, name), name,
+                                                   "a positive frequency in Hz", low=0.0, strict=True))
+        object.__setattr__(self, "duration", number(self.duration, "duration",
+                                                     "a positive, finite duration in s", low=0.0,
+                                                     strict=True))
+        object.__setattr__(self, "start", number(self.start, "start", "a finite time in s"))
+        if self.law not in ("linear", "log"):
+            raise InputError("law", "'linear' or 'log'", self.law)
+        if self.law == "log" and self.f0_hz == self.f1_hz:
+            raise InputError("f1_hz", "a frequency different from f0_hz for a log sweep", self.f1_hz)
+
+    def _evaluate(self, t):
+        T = self.duration
+        tau = jnp.clip(t - self.start, 0.0, T)  # keeps exp() finite outside the window
+        if self.law == "linear":
+            phase = 2 * jnp.pi * (self.f0_hz * tau + (self.f1_hz - self.f0_hz) * tau**2 / (2 * T))
+        else:
+            ratio = self.f1_hz / self.f0_hz
+            phase = 2 * jnp.pi * self.f0_hz * T / jnp.log(ratio) * jnp.expm1(tau / T * jnp.log(ratio))
+        return jnp.where(_window(t, self.start, T), jnp.sin(phase), 0.0)
+
+    def frequency_hz(self, t):
+        """Instantaneous frequency [Hz] at ``t`` (inside the sweep window)."""
+        tau = jnp.clip(jnp.asarray(t, dtype=float) - self.start, 0.0, self.duration)
+        if self.law == "linear":
+            return self.f0_hz + (self.f1_hz - self.f0_hz) * tau / self.duration
+        return self.f0_hz * (self.f1_hz / self.f0_hz) ** (tau / self.duration)
+
+    @property
+    def breakpoints(self) -> tuple[float, ...]:
+        return _breaks(self.start, self.start + self.duration)
+
+
+def _pulse_fields(signal) -> None:
+    object.__setattr__(signal, "start", number(signal.start, "start", "a finite time in s"))
+    object.__setattr__(signal, "duration", number(signal.duration, "duration",
+                                                   "a positive, finite duration in s", low=0.0,
+                                                   strict=True))
+
+
+@dataclass(frozen=True, eq=False)
+class HalfSine(Signal):
+    """Half-sine shock pulse ``sin(pi (t - start) / duration)`` on ``[start, start + duration)``.
+
+    Parameters
+    ----------
+    start : float
+        Pulse start [s].
+    duration : float
+        Pulse length [s], > 0. Peak 1 at mid-pulse.
+    """
+
+    kind: ClassVar[str] = "half_sine"
+    start: float
+    duration: float
+
+    def __post_init__(self) -> None:
+        _pulse_fields(self)
+
+    def _evaluate(self, t):
+        value = jnp.sin(jnp.pi * (t - self.start) / self.duration)
+        return jnp.where(_window(t, self.start, self.duration), value, 0.0)
+
+    @property
+    def breakpoints(self) -> tuple[float, ...]:
+        return _breaks(self.start, self.start + self.duration)
+
+
+@dataclass(frozen=True, eq=False)
+class Haversine(Signal):
+    """Haversine pulse ``(1 - cos(2 pi (t - start) / duration)) / 2``: smooth start and end, peak 1.
+
+    Parameters
+    ----------
+    start : float
+        Pulse start [s].
+    duration : float
+        Pulse length [s], > 0.
+    """
+
+    kind: ClassVar[str] = "haversine"
+    start: float
+    duration: float
+
+    def __post_init__(self) -> None:
+        _pulse_fields(self)
+
+    def _evaluate(self, t):
+        value = 0.5 * (1.0 - jnp.cos(2 * jnp.pi * (t - self.start) / self.duration))
+        return jnp.where(_window(t, self.start, self.duration), value, 0.0)
+
+    @property
+    def breakpoints(self) -> tuple[float, ...]:
+        return _breaks(self.start, self.start + self.duration)
+
+
+@dataclass(frozen=True, eq=False)
+class Step(Signal):
+    """Unit step: 0 before ``start`` [s], 1 from ``start`` on (a suddenly applied, held load)."""
+
+    kind: ClassVar[str] = "step"
+    start: float = 0.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "start", number(self.start, "start", "a finite time in s"))
+
+    def _evaluate(self, t):
+        return jnp.where(t >= self.start, 1.0, 0.0)
+
+    @property
+    def breakpoints(self) -> tuple[float, ...]:
+        return _breaks(self.start)
+
+
+@dataclass(frozen=True, eq=False)
+class Ramp(Signal):
+    """Linear rise from 0 at ``start`` to 1 at ``start + duration``, then held at 1.
+
+    Parameters
+    ----------
+    duration : float
+        Rise time [s], > 0.
+    start : float, optional
+        Start of the rise [s]. Default 0.
+    """
+
+    kind: ClassVar[str] = "ramp"
+    duration: float
+    start: float = 0.0
+
+    def __post_init__(self) -> None:
+        _pulse_fields(self)
+
+    def _evaluate(self, t):
+        return jnp.clip((t - self.start) / self.duration, 0.0, 1.0)
+
+    @property
+    def breakpoints(self) -> tuple[float, ...]:
+        return _breaks(self.start, self.start + self.duration)
+
+
+@dataclass(frozen=True, eq=False)
+class Table(Signal):
+    """Tabulated samples, linearly interpolated (a first-order hold).
+
+    Parameters
+    ----------
+    t : sequence of float
+        Sample times [s], strictly increasing, at least 2.
+    values : sequence of float
+        Samples (dimensionless multiplier, or ground motion before ``scale``), one per time.
+    outside : {"zero", "hold"}, optional
+        Value before the first and after the last sample: zero (default: a record that starts and
+        ends at rest) or the end samples held.
+
+    Every sample time is a breakpoint (the slope changes there).
+    """
+
+    kind: ClassVar[str] = "table"
+    _static: ClassVar[tuple[str, ...]] = ("outside",)
+    t: np.ndarray
+    values: np.ndarray
+    outside: str = "zero"
+
+    def __post_init__(self) -> None:
+        expected_t = "at least 2 finite, strictly increasing times in s"
+        try:
+            times = np.array(self.t, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError("t", expected_t, self.t) from None
+        if times.ndim != 1 or times.size < 2 or not np.all(np.isfinite(times)):
+            raise InputError("t", expected_t, self.t)
+        if np.any(np.diff(times) <= 0):
+            bad = int(np.flatnonzero(np.diff(times) <= 0)[0])
+            raise InputError("t", expected_t,
+                             Plain(f"t[{bad + 1}] = {times[bad + 1]:g} after t[{bad}] = {times[bad]:g}"))
+        expected_v = f"{times.size} finite values (one per time)"
+        try:
+            values = np.array(self.values, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError("values", expected_v, self.values) from None
+        if values.shape != times.shape or not np.all(np.isfinite(values)):
+            raise InputError("values", expected_v, self.values)
+        if self.outside not in ("zero", "hold"):
+            raise InputError("outside", "'zero' or 'hold'", self.outside)
+        times.flags.writeable = False
+        values.flags.writeable = False
+        object.__setattr__(self, "t", times)
+        object.__setattr__(self, "values", values)
+
+    def _evaluate(self, t):
+        knots, values = jnp.asarray(self.t), jnp.asarray(self.values)
+        if self.outside == "zero":
+            return jnp.interp(t, knots, values, left=0.0, right=0.0)
+        return jnp.interp(t, knots, values)
+
+    @property
+    def breakpoints(self) -> tuple[float, ...]:
+        return tuple(float(x) for x in self.t)
+
+    @property
+    def peak(self) -> float:
+        return float(np.max(np.abs(self.values)))
+
+
+@dataclass(frozen=True, eq=False)
+class Random(Signal):
+    """Band-limited random signal, reproducible from its seed, smooth (a sum of sines).
+
+    ``s(t) = a sum_k sin(2 pi f_k (t - start) + phi_k)`` on ``[start, start + duration)`` with
+    ``components`` frequencies ``f_k``, one drawn uniformly in each of as many equal sub-bands of
+    ``f_hz`` (a flat spectrum without the periodicity of an even grid), random phases ``phi_k`` and
+    ``a = rms sqrt(2 / components)``, so the mean square is ``rms^2``. Both are drawn with
+    ``numpy.random.default_rng(seed)``: the same seed gives the same signal on every machine.
+    They are kept as the attributes ``frequencies`` [Hz] and ``phases`` [rad], shape (components,).
+
+    Parameters
+    ----------
+    f_hz : sequence of 2 floats
+        Band ``[low, high]`` [Hz], 0 < low < high.
+    rms : float
+        Root-mean-square value, > 0.
+    seed : int
+        Seed, >= 0.
+    components : int, optional
+        Number of sines, >= 1. Default 64.
+    start : float, optional
+        Start time [s]. Default 0 (the signal jumps from 0 to its first value there).
+    duration : float, optional
+        Length [s]. Default: for ever.
+    """
+
+    kind: ClassVar[str] = "random"
+    _static: ClassVar[tuple[str, ...]] = ("components",)
+    _derived: ClassVar[tuple[str, ...]] = ("frequencies", "phases")
+    f_hz: tuple[float, float]
+    rms: float
+    seed: int
+    components: int = 64
+    start: float = 0.0
+    duration: float = math.inf
+
+    def __post_init__(self) -> None:
+        expected = "a band [low, high] in Hz with 0 < low < high"
+        try:
+            band = np.array(self.f_hz, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError("f_hz", expected, self.f_hz) from None
+        if band.shape != (2,) or not np.all(np.isfinite(band)) or not 0 < band[0] < band[1]:
+            raise InputError("f_hz", expected, self.f_hz)
+        object.__setattr__(self, "f_hz", (float(band[0]), float(band[1])))
+        object.__setattr__(self, "rms", number(self.rms, "rms", "a positive rms value", low=0.0,
+                                                strict=True))
+        object.__setattr__(self, "seed", integer(self.seed, "seed", "an integer >= 0", 0))
+        object.__setattr__(self, "components", integer(self.components, "components",
+                                                         "an integer >= 1", 1))
+        object.__setattr__(self, "start", number(self.start, "start", "a finite time in s"))
+        object.__setattr__(self, "duration", number(
+            self.duration, "duration", "a positive duration in s", low=0.0, strict=True,
+            allow_inf=True))
+        rng = np.random.default_rng(self.seed)
+        n = self.components
+        edges = np.linspace(band[0], band[1], n + 1)
+        frequencies = edges[:-1] + rng.uniform(0.0, 1.0, n) * np.diff(edges)
+        phases = rng.uniform(0.0, 2 * np.pi, n)
+        frequencies.flags.writeable = False
+        phases.flags.writeable = False
+        object.__setattr__(self, "frequencies", frequencies)
+        object.__setattr__(self, "phases", phases)
+
+    def _evaluate(self, t):
+        amplitude = self.rms * jnp.sqrt(2.0 / self.components)
+        tau = (t - self.start)[..., None]
+        value = amplitude * jnp.sum(jnp.sin(2 * jnp.pi * self.frequencies * tau + self.phases), axis=-1)
+        return jnp.where(_window(t, self.start, self.duration), value, 0.0)
+
+    @property
+    def breakpoints(self) -> tuple[float, ...]:
+        return _breaks(self.start, self.start + self.duration)
+
+    @property
+    def peak(self) -> float:
+        # A long Gaussian-like record reaches about 4 rms.
+        return 4.0 * float(self.rms)
+
+
+#: TOML ``kind`` of a signal -> its class.
+SIGNAL_KINDS: dict[str, type[Signal]] = {
+    cls.kind: cls for cls in (Harmonic, Sweep, HalfSine, Haversine, Step, Ramp, Table, Random)
+}
+
+
+def make_signal(value: Signal | Mapping[str, Any]) -> Signal:
+    """A signal from a signal object or a table such as ``{"kind": "harmonic", "f_hz": 5.0}``.
+
+    Raises
+    ------
+    InputError
+        For an unknown kind, an unknown or missing key, or a bad value (field names bare, such as
+        ``f_hz``; ``kind`` for the kind).
+    """
+    if isinstance(value, Signal):
+        return value
+    if not isinstance(value, Mapping):
+        raise InputError("", "a signal table such as {kind = \"harmonic\", f_hz = 5.0}", value)
+    table = dict(value)
+    kind = table.pop("kind", None)
+    if kind not in SIGNAL_KINDS:
+        raise InputError("kind", f"one of {', '.join(sorted(SIGNAL_KINDS))}",
+                         Plain("nothing") if kind is None else kind)
+    cls = SIGNAL_KINDS[kind]
+    known = {f.name for f in fields(cls) if f.init}
+    for key in table:
+        if key not in known:
+            raise InputError(key, f"one of the keys {', '.join(sorted(known))}", Plain("an unknown key"))
+    missing = [f.name for f in fields(cls) if f.init and f.name not in table
+               and f.default is MISSING and f.default_factory is MISSING]
+    if missing:
+        raise InputError(missing[0], "a value (required key)", Plain("nothing"))
+    return cls(**table)
+
+
+def _signal_field(value: Any) -> Signal:
+    if value is None:
+        raise InputError("signal", "a signal such as {kind = \"harmonic\", f_hz = 5.0}", Plain("nothing"))
+    try:
+        return make_signal(value)
+    except InputError as exc:
+        raise (InputError("signal", exc.expected, exc.got) if not exc.field else exc.within("signal")) from None
+
+

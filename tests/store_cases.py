@@ -19,7 +19,8 @@ from sixdof.analysis.response import mount_forces, points_motion
 from sixdof.analysis.superposition import compare, modal_solve
 from sixdof.excitation import Excitation, Harmonic, Load
 from sixdof.model.damping import modal_damping_ratios
-from sixdof.model.system import Mount, RigidBody, System, load_vector
+from sixdof.model.kinematics import generalized_force
+from sixdof.model.system import Mount, RigidBody, System
 from sixdof.validation import (
     FreeDecay,
     ModeCheck,
@@ -56,7 +57,7 @@ def run_parts(dimensions=(1.2, 40.0, 2.0)) -> dict:
     ))
     settings = SimulationSettings(duration=2.0, sample_rate_hz=200.0)
     direct = simulate(system, excitation, settings)
-    Q = np.asarray(load_vector([0.3, 10.0, 1.0], [2e3, 5e3, -100e3]))
+    Q = np.asarray(generalized_force([0.3, 10.0, 1.0], [2e3, 5e3, -100e3]))
 
     def force(times):
         return np.asarray(Harmonic(f_hz=5.0)(np.asarray(times)))[:, None] * Q[None, :]

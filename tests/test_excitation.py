@@ -26,7 +26,6 @@ from sixdof.excitation import (
     Sweep,
     Table,
     Unbalance,
-    generalized_force,
     make_signal,
 )
 from tolerances import RTOL_SIGNAL
@@ -170,7 +169,7 @@ def test_load_generalized_force_is_force_and_moment_about_the_cg():
     (vector, signal), = load.components()
     # r x F = (2*10 - 3*0, 3*0 - 1*10, 0) = (20, -10, 0); plus the moment
     assert np.allclose(vector, [0, 0, 10, 21, -10, 0], rtol=0, atol=1e-15)
-    assert np.allclose(generalized_force(Excitation(loads=(load,)), [-1.0, 1.0]),
+    assert np.allclose(Excitation(loads=(load,)).generalized_force([-1.0, 1.0]),
                        [np.zeros(6), vector], rtol=0, atol=1e-15)
 
 
@@ -180,7 +179,7 @@ def test_unbalance_rotates_in_its_plane():
     rotor = Unbalance("rotor", [0.1, 0.0, 0.3], unbalance=me, speed_rpm=60 * f, axis=[0, 0, 2])
     assert rotor.force_amplitude == pytest.approx(me * w**2, rel=1e-15)
     t = np.linspace(0.0, 0.1, 201)
-    Q = generalized_force(Excitation(loads=(rotor,)), t)
+    Q = Excitation(loads=(rotor,)).generalized_force(t)
     expected = me * w**2 * np.stack([np.cos(w * t), np.sin(w * t), 0 * t], axis=1)  # axis z: u=x, v=y
     amplitude = me * w**2
     assert np.allclose(Q[:, :3], expected, rtol=0, atol=RTOL_SIGNAL * amplitude * 100)
@@ -188,7 +187,7 @@ def test_unbalance_rotates_in_its_plane():
                        atol=RTOL_SIGNAL * amplitude * 100)
     # axis y: u = x, v = y x x = -z
     tilted = Unbalance("r", [0, 0, 0], unbalance=me, f_hz=f, axis=[0, 1, 0], phase_deg=90.0)
-    assert np.allclose(generalized_force(Excitation(loads=(tilted,)), [0.0])[0, :3],
+    assert np.allclose(Excitation(loads=(tilted,)).generalized_force([0.0])[0, :3],
                        [0, 0, -amplitude], rtol=0, atol=1e-9 * amplitude)
 
 

@@ -113,11 +113,11 @@ def test_unrestrained_dofs_with_damped_rigid_modes():
 
 
 def test_hysteretic_stiffness_is_the_mount_assembly():
-    # frf assembles K_h in NumPy (speed); model.mount_matrix is the reference assembly (JAX).
-    from sixdof.model.system import mount_matrix
+    # frf assembles K_h in NumPy (speed); kinematics.mount_matrix_jax is the reference assembly (JAX).
+    from sixdof.model.kinematics import mount_matrix_jax
 
     system = skewed()
-    expected = np.asarray(mount_matrix(system.positions, system.stiffnesses * system.loss_factors,
+    expected = np.asarray(mount_matrix_jax(system.positions, system.stiffnesses * system.loss_factors,
                                        system.axes))
     got = frf.hysteretic_stiffness(system)
     d = np.abs(np.diag(expected))

@@ -8,7 +8,8 @@ from sixdof._jax import jax, jnp
 from sixdof.analysis.modal import modal_analysis
 from sixdof.analysis.statics import gravity_statics
 from sixdof.errors import InputError
-from sixdof.model.system import Mount, RigidBody, System, load_vector, mount_matrix, point_map
+from sixdof.model.kinematics import generalized_force, mount_matrix_jax, point_map
+from sixdof.model.system import Mount, RigidBody, System
 from tolerances import RTOL_FREQUENCY, RTOL_LINALG, RTOL_ZERO_ENTRY
 
 
@@ -102,7 +103,7 @@ def test_rotated_mount_equals_its_stiffness_tensor():
     tensor = A.T @ np.diag(k) @ A  # stiffness in body axes
     T = np.hstack([np.eye(3), -np.array([[0, -r[2], r[1]], [r[2], 0, -r[0]], [-r[1], r[0], 0]])])
     expected = T.T @ tensor @ T
-    K = np.asarray(mount_matrix(r[None], k[None], A[None]))
+    K = np.asarray(mount_matrix_jax(r[None], k[None], A[None]))
     assert np.allclose(K, expected, rtol=0, atol=RTOL_LINALG * np.abs(expected).max())
 
 
@@ -112,7 +113,7 @@ def test_kinematics_and_virtual_work():
     r, q, F, Mo = rng.normal(size=3), rng.normal(size=6), rng.normal(size=3), rng.normal(size=3)
     u = np.asarray(point_map(r)) @ q
     assert u == pytest.approx(q[:3] + np.cross(q[3:], r), rel=RTOL_LINALG)
-    Q = np.asarray(load_vector(r, F, Mo))
+    Q = np.asarray(generalized_force(r, F, Mo))
     assert Q @ q == pytest.approx(F @ u + Mo @ q[3:], rel=RTOL_LINALG)
 
 
@@ -136,14 +137,14 @@ def test_plane_of_symmetry_gives_the_papers_block_structure():
 def test_assembly_runs_under_jit_vmap_and_grad():
     system = four_mount()
     args = (system.positions, system.stiffnesses, system.axes)
-    K = np.asarray(jax.jit(mount_matrix)(*args))
+    K = np.asarray(jax.jit(mount_matrix_jax)(*args))
     assert K == pytest.approx(system.K, rel=RTOL_LINALG)
     factors = jnp.linspace(0.5, 2.0, 7)
-    batch = jax.vmap(lambda f: mount_matrix(args[0], args[1] * f, args[2]))(factors)
+    batch = jax.vmap(lambda f: mount_matrix_jax(args[0], args[1] * f, args[2]))(factors)
     assert batch.shape == (7, 6, 6)
     assert np.asarray(batch[-1]) == pytest.approx(2.0 * system.K, rel=RTOL_LINALG)
     # d K_zz / d kz of mount 0 = 1 (K_zz = sum of vertical stiffnesses).
-    grad = jax.grad(lambda k: mount_matrix(args[0], k, args[2])[2, 2])(jnp.asarray(args[1]))
+    grad = jax.grad(lambda k: mount_matrix_jax(args[0], k, args[2])[2, 2])(jnp.asarray(args[1]))
     assert np.asarray(grad)[:, 2] == pytest.approx(np.ones(4))
     assert np.asarray(K).dtype == np.float64
 

@@ -113,6 +113,11 @@ def vector3(value: Any, field: str, expected: str) -> np.ndarray:
     return finite_array(value, field, expected, (3,))
 
 
+def point(value: Any, field: str = "position") -> np.ndarray:
+    """``value`` as a body point: 3 finite coordinates [m] from the CG in body axes (read-only)."""
+    return finite_array(value, field, "3 coordinates [x, y, z] in m from the CG in body axes", (3,))
+
+
 class SolverError(RuntimeError):
     """A numerical solve failed (diverged, hit its step limit, or produced non-finite values)."""
 

@@ -34,7 +34,8 @@ import numpy as np
 
 from sixdof._jax import jax, jnp
 from sixdof.errors import InputError, Plain, ScenarioError, SolverError, readonly
-from sixdof.model.system import Mount, System, mount_matrix
+from sixdof.model.kinematics import mount_matrix_jax
+from sixdof.model.system import Mount, System
 
 #: Memory allowed for the samples kept per chunk of variants [bytes] (``q`` and ``q''``, float64).
 CHUNK_BYTES = 256 * 2**20
@@ -216,8 +217,8 @@ def _assemble(M, positions, stiffness, damping, axes, alpha, beta, zeta, *, moda
     chol_inv = jnp.linalg.inv(chol)
 
     def one(pos, k, d):
-        K = mount_matrix(pos, k, axes)
-        C = mount_matrix(pos, d, axes) + alpha * M + beta * K
+        K = mount_matrix_jax(pos, k, axes)
+        C = mount_matrix_jax(pos, d, axes) + alpha * M + beta * K
         Kt = chol_inv @ K @ chol_inv.T
         lam, V = jnp.linalg.eigh(0.5 * (Kt + Kt.T))
         lam = jnp.where(jnp.abs(lam) <= _ZERO_MODE_RTOL * jnp.max(jnp.abs(lam)), 0.0, lam)

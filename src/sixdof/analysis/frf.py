@@ -47,8 +47,8 @@ import scipy.linalg
 
 from sixdof.analysis.modal import modal_analysis
 from sixdof.dofs import DOF_UNITS, FORCE_UNITS
-from sixdof.errors import InputError, SolverError, finite_array
-from sixdof.model.system import point_map
+from sixdof.errors import InputError, SolverError, point
+from sixdof.model.kinematics import mount_matrix, point_map, response_row, unit_load
 
 __all__ = [
     "FRF",
@@ -343,10 +343,6 @@ def _check_method(method) -> str:
     return method
 
 
-def _point(value, field: str) -> np.ndarray:
-    return finite_array(value, field, "3 coordinates [x, y, z] in m from the CG in body axes", (3,))
-
-
 _AXIS = {"x": 0, "y": 1, "z": 2}
 
 
@@ -388,19 +384,8 @@ def hysteretic_stiffness(system) -> np.ndarray:
     eta = system.loss_factors
     if not np.any(eta):
         return np.zeros((6, 6))  # no hysteresis (the common case): exactly zero
-    # The formula of :func:`sixdof.model.system.mount_matrix` in NumPy: a JAX dispatch costs ~1 ms, a third
-    # of the fast receptance's budget, for a 6x6 matrix.
-    r = np.asarray(system.positions, dtype=float)
-    t = np.zeros((r.shape[0], 3, 6))
-    t[:, :, :3] = np.eye(3)
-    x, y, z = r[:, 0], r[:, 1], r[:, 2]
-    # -skew(r): u = u_cg + theta x r = u_cg - r x theta
-    t[:, 0, 4], t[:, 0, 5] = z, -y
-    t[:, 1, 3], t[:, 1, 5] = -z, x
-    t[:, 2, 3], t[:, 2, 4] = y, -x
-    local = np.einsum("nij,njk->nik", np.asarray(system.axes, dtype=float), t)
-    kh = np.einsum("nia,ni,nib->ab", local, system.stiffnesses * eta, local)
-    return 0.5 * (kh + kh.T)
+    # NumPy, not the JAX assembly: a JAX dispatch costs ~1 ms, a third of the fast receptance's budget.
+    return mount_matrix(system.positions, system.stiffnesses * eta, system.axes)
 
 
 def dynamic_stiffness(system, f_hz) -> np.ndarray:
@@ -704,20 +689,6 @@ def cross_check(system, f_hz) -> FRFCrossCheck:
 # ----------------------------------------------------------------------------------------------------
 
 
-def _load(point: np.ndarray, direction: np.ndarray, moment: bool) -> np.ndarray:
-    """Generalized force (6,) of a unit force (or unit moment) at ``point`` along ``direction``."""
-    if moment:
-        return np.concatenate([np.zeros(3), direction])
-    return np.concatenate([direction, np.cross(point, direction)])
-
-
-def _response_row(point: np.ndarray, direction: np.ndarray, rotation: bool) -> np.ndarray:
-    """Row (6,) taking ``q`` to the point's motion (or the body's rotation) along ``direction``."""
-    if rotation:
-        return np.concatenate([np.zeros(3), direction])
-    return direction @ np.asarray(point_map(point))
-
-
 def point_frf(
     system,
     f_hz,
@@ -755,12 +726,12 @@ def point_frf(
         ``values`` in m/N, m/(s N), m/(s^2 N) for force in, translation out (``unit`` says which).
     """
     _check_quantity(quantity)
-    lp = _point(load_point, "load_point")
+    lp = point(load_point, "load_point")
     ld, moment = parse_direction(load_direction, "load_direction")
-    rp = _point(response_point, "response_point")
+    rp = point(response_point, "response_point")
     rd, rotation = parse_direction(response_direction, "response_direction")
     frf = receptance(system, f_hz, method=method)
-    values = (frf.quantity(quantity) @ _load(lp, ld, moment)) @ _response_row(rp, rd, rotation)
+    values = (frf.quantity(quantity) @ unit_load(lp, ld, moment)) @ response_row(rp, rd, rotation)
     values.flags.writeable = False
     unit = _ratio_unit("rad" if rotation else "m", "N m" if moment else "N") + _QUANTITY_SUFFIX[quantity]
     return PointFRF(
@@ -810,11 +781,11 @@ def force_transmissibility(
         Mount forces (nf, n_mounts, 3) and resultant (nf, 6) per unit load, complex; the mounts'
         stiffness, loss factor and dashpots carry force, global (Rayleigh, modal) damping does not.
     """
-    lp = _point(load_point, "load_point")
+    lp = point(load_point, "load_point")
     ld, moment = parse_direction(load_direction, "load_direction")
     frf = receptance(system, f_hz, method=method)
-    q = frf.H @ _load(lp, ld, moment)  # (nf, 6)
-    t = np.asarray(point_map(system.positions))  # (n, 3, 6)
+    q = frf.H @ unit_load(lp, ld, moment)  # (nf, 6)
+    t = point_map(system.positions)  # (n, 3, 6)
     u = np.einsum("nij,fj->fni", t, q)  # mount point displacements (nf, n, 3)
     forces = np.einsum("fnij,fnj->fni", _mount_impedances(system, frf.omega), u)
     total = np.einsum("nia,fni->fa", t, forces)
@@ -855,14 +826,14 @@ def ground_transmissibility(
         velocities or of accelerations), and the generalized motion ``q`` per unit ground motion.
     """
     d, _ = parse_direction(ground_direction, "ground_direction", rotations=False)
-    rp = _point(response_point, "response_point")
+    rp = point(response_point, "response_point")
     frf = receptance(system, f_hz, method=method)
     qg = np.concatenate([d, np.zeros(3)])
     # All damping acts on the motion relative to the ground: Z q = (K + i K_h + i w C) q_g.
     static = (np.asarray(system.K) + 1j * hysteretic_stiffness(system)) @ qg
     drive = static[None, :] + 1j * frf.omega[:, None] * (np.asarray(system.C) @ qg)[None, :]
     q = np.einsum("fij,fj->fi", frf.H, drive)
-    absolute = q @ np.asarray(point_map(rp)).T
+    absolute = q @ point_map(rp).T
     relative = absolute - d[None, :]
     for a in (q, absolute, relative):
         a.flags.writeable = False

@@ -1,7 +1,7 @@
 """Derived responses of a simulation: motion of body points, mount forces, forces on the foundation.
 
 Rigid body, small rotations: a body point ``p`` (from the CG, body axes) moves by
-``u_p = u_cg + theta x p`` (:func:`sixdof.model.system.point_map`); the same map takes velocities and
+``u_p = u_cg + theta x p`` (:func:`sixdof.model.kinematics.point_map`); the same map takes velocities and
 accelerations. A mount deforms by the motion of its body point *relative to the ground* (the
 foundation translates rigidly under every mount), and carries ``k delta + c delta'`` along its own
 axes. Every force here is the dynamic part about static equilibrium (add the static deflection's
@@ -15,7 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from sixdof.analysis.direct import TimeResponse
-from sixdof.errors import finite_array, readonly
+from sixdof.errors import point, readonly
+from sixdof.model.kinematics import point_map
 
 
 @dataclass(frozen=True, eq=False)
@@ -38,20 +39,6 @@ class PointMotion:
     relative: bool
 
 
-def _point_matrix(position: np.ndarray) -> np.ndarray:
-    """(3, 6) map ``[I, -skew(p)]``: ``u = u_cg + theta x p`` (NumPy twin of model.point_map)."""
-    x, y, z = position
-    return np.array([
-        [1.0, 0.0, 0.0, 0.0, z, -y],
-        [0.0, 1.0, 0.0, -z, 0.0, x],
-        [0.0, 0.0, 1.0, y, -x, 0.0],
-    ])
-
-
-def _position(value, field: str) -> np.ndarray:
-    return finite_array(value, field, "3 coordinates [x, y, z] in m", (3,))
-
-
 def point_motion(response: TimeResponse, position, *, relative: bool = False) -> PointMotion:
     """Displacement, velocity and acceleration of a body point.
 
@@ -67,8 +54,8 @@ def point_motion(response: TimeResponse, position, *, relative: bool = False) ->
     -------
     PointMotion
     """
-    p = _position(position, "position")
-    T = _point_matrix(p)
+    p = point(position)
+    T = point_map(p)
     if relative:
         q, qd, qdd = response.q_relative, response.qd_relative, response.qdd_relative
     else:
@@ -139,12 +126,10 @@ def mount_forces(system, response: TimeResponse) -> MountForces:
     MountForces
     """
     z, zd = response.q_relative, response.qd_relative
-    deformation, rate = [], []
-    for position in system.positions:
-        T = _point_matrix(np.asarray(position))
-        deformation.append(z @ T.T)
-        rate.append(zd @ T.T)
-    deformation, rate = np.array(deformation), np.array(rate)  # (m, n, 3)
+    T = point_map(system.positions)  # (m, 3, 6)
+    # The same product as point_motion, so a mount's deformation is its point's relative motion exactly.
+    deformation = np.stack([z @ Tm.T for Tm in T])  # (m, n, 3)
+    rate = np.stack([zd @ Tm.T for Tm in T])
     A = np.asarray(system.axes)  # (m, 3, 3): rows are the mount's axes
     local_elastic = np.einsum("mij,mnj->mni", A, deformation) * system.stiffnesses[:, None, :]
     local_damping = np.einsum("mij,mnj->mni", A, rate) * system.dampings[:, None, :]

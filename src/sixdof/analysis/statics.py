@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from sixdof.errors import InputError
-from sixdof.model.system import point_map
+from sixdof.model.kinematics import mount_local_map
 
 STANDARD_GRAVITY = 9.80665  # m/s^2
 
@@ -96,8 +96,7 @@ def gravity_statics(system, g: float = STANDARD_GRAVITY, direction=(0.0, 0.0, -1
             "mounts that can carry the body's weight along gravity",
             "a layout with no stiffness against gravity (the body would fall freely)",
         )
-    t = np.asarray(point_map(system.positions))  # (n, 3, 6)
-    local_deflection = np.einsum("nij,njk,k->ni", system.axes, t, q)
+    local_deflection = mount_local_map(system.positions, system.axes) @ q
     local = -system.stiffnesses * local_deflection
     forces = np.einsum("nji,nj->ni", system.axes, local)
     support = -forces @ (gravity / g)

@@ -10,7 +10,6 @@ from sixdof.excitation.loads import (
     Load,
     ModeRelease,
     Unbalance,
-    generalized_force,
 )
 from sixdof.excitation.signals import (
     SIGNAL_KINDS,
@@ -29,5 +28,5 @@ from sixdof.excitation.signals import (
 __all__ = [
     "SIGNAL_KINDS", "LOAD_KINDS", "GROUND_QUANTITIES", "Signal", "Harmonic", "Sweep", "HalfSine",
     "Haversine", "Step", "Ramp", "Table", "Random", "make_signal", "Load", "Unbalance",
-    "GroundMotion", "InitialState", "ModeRelease", "Excitation", "generalized_force",
+    "GroundMotion", "InitialState", "ModeRelease", "Excitation",
 ]

@@ -14,8 +14,9 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from sixdof.errors import InputError, Plain, finite_array, integer, label, number, vector3
+from sixdof.errors import InputError, Plain, finite_array, integer, label, number, readonly, vector3
 from sixdof.excitation.signals import Harmonic, Signal, _signal_field
+from sixdof.model.kinematics import generalized_force
 
 # A ground displacement that jumps needs an infinite force: breakpoints of a displacement signal
 # may not change its value by more than this fraction of its peak.
@@ -27,13 +28,6 @@ _CONTINUITY_RTOL = 1e-6
 # ----------------------------------------------------------------------------------------------------
 # Loads.
 # ----------------------------------------------------------------------------------------------------
-
-
-def _generalized(point: np.ndarray, force: np.ndarray, moment: np.ndarray) -> np.ndarray:
-    """``[F, r x F + M]`` (6,): the virtual-work transpose of the point map (as model.load_vector)."""
-    q = np.concatenate([force, np.cross(point, force) + moment])
-    q.flags.writeable = False
-    return q
 
 
 @dataclass(frozen=True, eq=False)
@@ -73,7 +67,7 @@ class Load:
 
     def components(self) -> tuple[tuple[np.ndarray, Signal], ...]:
         """``((Q, signal),)``: the generalized force (6,) [N, N m] multiplied by the signal."""
-        return ((_generalized(self.point, self.force, self.moment), self.signal),)
+        return ((readonly(generalized_force(self.point, self.force, self.moment)), self.signal),)
 
 
 def _plane_basis(axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -164,12 +158,11 @@ class Unbalance:
         """Two components: ``u`` times ``cos(theta)`` and ``v`` times ``sin(theta)`` (see class doc)."""
         u, v = _plane_basis(self.axis)
         amplitude = self.force_amplitude
-        zero = np.zeros(3)
         cos = Harmonic(f_hz=self.frequency_hz, phase_deg=self.phase_deg + 90.0, start=self.start)
         sin = Harmonic(f_hz=self.frequency_hz, phase_deg=self.phase_deg, start=self.start)
         return (
-            (_generalized(self.point, amplitude * u, zero), cos),
-            (_generalized(self.point, amplitude * v, zero), sin),
+            (readonly(generalized_force(self.point, amplitude * u)), cos),
+            (readonly(generalized_force(self.point, amplitude * v)), sin),
         )
 
 
@@ -375,24 +368,21 @@ class Excitation:
             return np.zeros(6), np.zeros(6)
         return self.initial.state(system)
 
+    def generalized_force(self, t) -> np.ndarray:
+        """The loads' generalized force ``Q(t) = sum_k Q_k s_k(t)`` (ground motion not included).
 
-def generalized_force(excitation: Excitation, t) -> np.ndarray:
-    """The loads' generalized force ``Q(t) = sum_k Q_k s_k(t)`` (ground motion not included).
+        Parameters
+        ----------
+        t : array_like, shape (n,)
+            Times [s].
 
-    Parameters
-    ----------
-    excitation : Excitation
-    t : array_like, shape (n,)
-        Times [s].
-
-    Returns
-    -------
-    ndarray, shape (n, 6)
-        [N, N, N, N m, N m, N m].
-    """
-    t = np.atleast_1d(np.asarray(t, dtype=float))
-    out = np.zeros((t.size, 6))
-    for vector, signal in excitation.components():
-        out += np.asarray(signal(t))[:, None] * vector[None, :]
-    return out
-
+        Returns
+        -------
+        ndarray, shape (n, 6)
+            [N, N, N, N m, N m, N m].
+        """
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        out = np.zeros((t.size, 6))
+        for vector, signal in self.components():
+            out += np.asarray(signal(t))[:, None] * vector[None, :]
+        return out

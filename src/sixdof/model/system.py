@@ -19,6 +19,7 @@ import numpy as np
 
 from sixdof._jax import jax, jnp
 from sixdof.errors import InputError, finite_array, readonly
+from sixdof.model.kinematics import mount_matrix_jax
 
 # Relative tolerances for "physically possible" checks on user input.
 _ORTHONORMAL_TOL = 1e-6
@@ -28,52 +29,6 @@ _TRIANGLE_TOL = 1e-9
 # ----------------------------------------------------------------------------------------------------
 # Pure array functions (jax.numpy): usable under jit, vmap and grad.
 # ----------------------------------------------------------------------------------------------------
-
-
-def skew(r):
-    """Cross-product matrix: ``skew(r) @ v == cross(r, v)``. ``r`` shape (..., 3) -> (..., 3, 3)."""
-    r = jnp.asarray(r)
-    zero = jnp.zeros_like(r[..., 0])
-    x, y, z = r[..., 0], r[..., 1], r[..., 2]
-    return jnp.stack(
-        [
-            jnp.stack([zero, -z, y], axis=-1),
-            jnp.stack([z, zero, -x], axis=-1),
-            jnp.stack([-y, x, zero], axis=-1),
-        ],
-        axis=-2,
-    )
-
-
-@jax.jit
-def point_map(r):
-    """Map from ``q`` to the displacement of the body point ``r``: ``u = point_map(r) @ q``.
-
-    Parameters
-    ----------
-    r : array_like, shape (..., 3)
-        Point position from the CG in body axes [m].
-
-    Returns
-    -------
-    jax.Array, shape (..., 3, 6)
-        ``[I, -skew(r)]``: small-rotation kinematics ``u = u_cg + theta x r``. The same map takes
-        velocities and accelerations of ``q`` to those of the point (rigid body, small rotations).
-    """
-    r = jnp.asarray(r, dtype=float)
-    eye = jnp.broadcast_to(jnp.eye(3), r.shape[:-1] + (3, 3))
-    return jnp.concatenate([eye, -skew(r)], axis=-1)
-
-
-@jax.jit
-def load_vector(point, force, moment=None):
-    """Generalized force (6,) of a force [N] at ``point`` [m] plus an optional moment [N m].
-
-    The transpose of :func:`point_map`: ``Q = [F, r x F + M]`` (virtual work).
-    """
-    force = jnp.asarray(force, dtype=float)
-    moment = jnp.zeros(3) if moment is None else jnp.asarray(moment, dtype=float)
-    return jnp.concatenate([force, jnp.cross(jnp.asarray(point, dtype=float), force) + moment])
 
 
 @jax.jit
@@ -95,35 +50,6 @@ def mass_matrix(mass, inertia):
     top = jnp.concatenate([mass * jnp.eye(3), jnp.zeros((3, 3))], axis=1)
     bottom = jnp.concatenate([jnp.zeros((3, 3)), jnp.asarray(inertia, dtype=float)], axis=1)
     return jnp.concatenate([top, bottom], axis=0)
-
-
-@jax.jit
-def mount_matrix(positions, coefficients, axes):
-    """Assemble a 6x6 matrix from triaxial mount elements (eqs. 7-10 of the seed paper, generalized).
-
-    Each mount j acts at ``positions[j]`` with coefficients ``coefficients[j]`` (stiffness [N/m] for
-    K, viscous damping [N s/m] for C, or any triaxial property) along its own axes ``axes[j]``, whose
-    rows are the mount's unit axes expressed in body axes. The mount's tensor in body axes is
-    ``A.T diag(c) A`` and its contribution ``T.T A.T diag(c) A T`` with ``T = point_map(position)``.
-
-    Parameters
-    ----------
-    positions : array_like, shape (n, 3)
-        Mount points from the CG in body axes [m].
-    coefficients : array_like, shape (n, 3)
-        Coefficients along each mount's own axes.
-    axes : array_like, shape (n, 3, 3)
-        Rows are each mount's axes in body axes (orthonormal).
-
-    Returns
-    -------
-    jax.Array, shape (6, 6)
-        Symmetric matrix; for diagonal axes it reproduces eqs. (7)-(10) term by term.
-    """
-    t = point_map(positions)  # (n, 3, 6)
-    a = jnp.asarray(axes, dtype=float)
-    local = jnp.einsum("nij,njk->nik", a, t)  # mount-axis motion per q: (n, 3, 6)
-    return jnp.einsum("nia,ni,nib->ab", local, jnp.asarray(coefficients, dtype=float), local)
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -379,12 +305,12 @@ class System:
     @cached_property
     def K(self) -> np.ndarray:
         """Stiffness matrix (6, 6) [N/m, N, N m/rad]."""
-        return readonly(mount_matrix(self.positions, self.stiffnesses, self.axes))
+        return readonly(mount_matrix_jax(self.positions, self.stiffnesses, self.axes))
 
     @cached_property
     def C_mounts(self) -> np.ndarray:
         """Damping matrix of the mounts' dashpots alone (6, 6) [N s/m, N s, N m s/rad]."""
-        return readonly(mount_matrix(self.positions, self.dampings, self.axes))
+        return readonly(mount_matrix_jax(self.positions, self.dampings, self.axes))
 
     @cached_property
     def C(self) -> np.ndarray:

@@ -25,10 +25,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from sixdof.analysis.frf import _load, _point, parse_direction, receptance
+from sixdof.analysis.frf import parse_direction, receptance
 from sixdof.analysis.modal import modal_analysis
-from sixdof.errors import InputError, SolverError, readonly
+from sixdof.errors import InputError, SolverError, point, readonly
 from sixdof.model.damping import modal_damping_ratios
+from sixdof.model.kinematics import unit_load
 from sixdof.validation.estimation import (
     DecayEstimate,
     EstimatedFRF,
@@ -343,10 +344,10 @@ def validate(system, settings: ValidationSettings | None = None) -> ValidationRe
     # 2. Random force, one run per elastic mode: white Gaussian samples at a rate fitted to the
     # mode, linearly interpolated. Every run has the same sample count (one compiled solver); its
     # segment resolves the mode's half-power bandwidth.
-    lp = _point(settings.load_point if settings.load_point is not None else system.positions[0],
+    lp = point(settings.load_point if settings.load_point is not None else system.positions[0],
                 "load_point")
     ld, _ = parse_direction(settings.load_direction, "load_direction", rotations=False)
-    Q = _load(lp, ld, False)
+    Q = unit_load(lp, ld, False)
     nperseg = settings.segment_samples
     n = nperseg + (settings.averages - 1) * (nperseg - nperseg // 2)
 

@@ -1,0 +1,155 @@
+"""Rigid-body kinematics of small motions: the one home of the point map and its transpose.
+
+A body point ``p`` (from the centre of gravity, body axes) moves by ``u_p = u_cg + theta x p`` for
+``q = [u_cg, theta]``: ``u_p = T(p) q`` with ``T(p) = [I, -skew(p)]`` (:func:`point_map`). The same map
+takes velocities and accelerations. Its transpose turns a force ``F`` at ``p`` plus a moment ``M`` into
+the generalized force ``Q = T(p)' F + [0, M] = [F, p x F + M]`` (virtual work, :func:`generalized_force`).
+A mount's deformation along its own axes (rows of ``A``) is ``A T(p) q`` (:func:`mount_local_map`), and
+a triaxial mount element assembles as ``(A T)' diag(c) (A T)`` (:func:`mount_matrix`).
+
+Each map has a NumPy version, for results and post-processing (no JAX dispatch, ~1 ms, on 6x6
+arrays), and the JAX versions the model's assembly uses under ``jit``, ``vmap`` and ``grad``
+(:func:`point_map_jax`, :func:`mount_matrix_jax`), side by side so that they stay the same formula.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from sixdof._jax import jax, jnp
+
+
+def point_map(position) -> np.ndarray:
+    """Map from ``q`` to the displacement of body points: ``u = point_map(p) @ q``.
+
+    Parameters
+    ----------
+    position : array_like, shape (..., 3)
+        Points from the CG in body axes [m].
+
+    Returns
+    -------
+    ndarray, shape (..., 3, 6)
+        ``[I, -skew(p)]`` (dimensionless in its translation block, m in its rotation block).
+    """
+    p = np.asarray(position, dtype=float)
+    out = np.zeros(p.shape[:-1] + (3, 6))
+    out[..., :, :3] = np.eye(3)
+    x, y, z = p[..., 0], p[..., 1], p[..., 2]
+    out[..., 0, 4], out[..., 0, 5] = z, -y
+    out[..., 1, 3], out[..., 1, 5] = -z, x
+    out[..., 2, 3], out[..., 2, 4] = y, -x
+    return out
+
+
+def generalized_force(point, force, moment=(0.0, 0.0, 0.0)) -> np.ndarray:
+    """Generalized force (6,) [N, N m] of a force [N] at ``point`` [m] plus a moment [N m]:
+    ``[F, p x F + M]``, the transpose of :func:`point_map`."""
+    force = np.asarray(force, dtype=float)
+    return np.concatenate([force, np.cross(np.asarray(point, dtype=float), force) + np.asarray(moment, float)])
+
+
+def unit_load(point, direction, moment: bool) -> np.ndarray:
+    """Generalized force (6,) of a unit force at ``point`` along ``direction`` (unit vector), or of a
+    unit moment about ``direction`` when ``moment``."""
+    direction = np.asarray(direction, dtype=float)
+    if moment:
+        return np.concatenate([np.zeros(3), direction])
+    return generalized_force(point, direction)
+
+
+def response_row(point, direction, rotation: bool) -> np.ndarray:
+    """Row (6,) taking ``q`` to the motion of ``point`` along ``direction`` (unit vector), or to the
+    body's rotation about ``direction`` when ``rotation`` (the same at every point)."""
+    direction = np.asarray(direction, dtype=float)
+    if rotation:
+        return np.concatenate([np.zeros(3), direction])
+    return direction @ point_map(point)
+
+
+def mount_local_map(positions, axes) -> np.ndarray:
+    """Map from ``q`` to each mount's deformation along its own axes, shape (n, 3, 6).
+
+    Parameters
+    ----------
+    positions : array_like, shape (n, 3)
+        Mount points from the CG in body axes [m].
+    axes : array_like, shape (n, 3, 3)
+        Rows are each mount's axes in body axes.
+    """
+    return np.einsum("nij,njk->nik", np.asarray(axes, dtype=float), point_map(positions))
+
+
+def mount_matrix(positions, coefficients, axes) -> np.ndarray:
+    """NumPy twin of :func:`mount_matrix_jax`: ``sum_n (A T)' diag(c) (A T)``, shape (6, 6).
+
+    ``coefficients`` (n, 3) may be complex (a hysteretic stiffness ``k eta``).
+    """
+    local = mount_local_map(positions, axes)
+    matrix = np.einsum("nia,ni,nib->ab", local, np.asarray(coefficients), local)
+    return 0.5 * (matrix + matrix.T)
+
+
+# ----------------------------------------------------------------------------------------------------
+# JAX twins: the assembly of M, K and C runs under jit, vmap and grad.
+# ----------------------------------------------------------------------------------------------------
+
+
+def skew(r):
+    """Cross-product matrix: ``skew(r) @ v == cross(r, v)``. ``r`` shape (..., 3) -> (..., 3, 3)."""
+    r = jnp.asarray(r)
+    zero = jnp.zeros_like(r[..., 0])
+    x, y, z = r[..., 0], r[..., 1], r[..., 2]
+    return jnp.stack(
+        [
+            jnp.stack([zero, -z, y], axis=-1),
+            jnp.stack([z, zero, -x], axis=-1),
+            jnp.stack([-y, x, zero], axis=-1),
+        ],
+        axis=-2,
+    )
+
+
+@jax.jit
+def point_map_jax(r):
+    """:func:`point_map` in ``jax.numpy``: ``[I, -skew(r)]``, shape (..., 3, 6)."""
+    r = jnp.asarray(r, dtype=float)
+    eye = jnp.broadcast_to(jnp.eye(3), r.shape[:-1] + (3, 3))
+    return jnp.concatenate([eye, -skew(r)], axis=-1)
+
+
+@jax.jit
+def generalized_force_jax(point, force, moment=None):
+    """:func:`generalized_force` in ``jax.numpy``: ``[F, r x F + M]`` (6,)."""
+    force = jnp.asarray(force, dtype=float)
+    moment = jnp.zeros(3) if moment is None else jnp.asarray(moment, dtype=float)
+    return jnp.concatenate([force, jnp.cross(jnp.asarray(point, dtype=float), force) + moment])
+
+
+@jax.jit
+def mount_matrix_jax(positions, coefficients, axes):
+    """Assemble a 6x6 matrix from triaxial mount elements (eqs. 7-10 of the seed paper, generalized).
+
+    Each mount j acts at ``positions[j]`` with coefficients ``coefficients[j]`` (stiffness [N/m] for
+    K, viscous damping [N s/m] for C, or any triaxial property) along its own axes ``axes[j]``, whose
+    rows are the mount's unit axes expressed in body axes. The mount's tensor in body axes is
+    ``A.T diag(c) A`` and its contribution ``T.T A.T diag(c) A T`` with ``T = point_map(position)``.
+
+    Parameters
+    ----------
+    positions : array_like, shape (n, 3)
+        Mount points from the CG in body axes [m].
+    coefficients : array_like, shape (n, 3)
+        Coefficients along each mount's own axes.
+    axes : array_like, shape (n, 3, 3)
+        Rows are each mount's axes in body axes (orthonormal).
+
+    Returns
+    -------
+    jax.Array, shape (6, 6)
+        Symmetric matrix; for diagonal axes it reproduces eqs. (7)-(10) term by term.
+    """
+    t = point_map_jax(positions)  # (n, 3, 6)
+    a = jnp.asarray(axes, dtype=float)
+    local = jnp.einsum("nij,njk->nik", a, t)  # mount-axis motion per q: (n, 3, 6)
+    return jnp.einsum("nia,ni,nib->ab", local, jnp.asarray(coefficients, dtype=float), local)

@@ -16,9 +16,9 @@ from sixdof.analysis import frf as frf_module
 from sixdof.analysis.direct import SimulationSettings, simulate
 from sixdof.analysis.modal import modal_analysis
 from sixdof.analysis.response import mount_forces, points_motion
+from sixdof.analysis.statespace import modal_damping_ratios
 from sixdof.analysis.superposition import compare, modal_solve
 from sixdof.excitation import Excitation, Harmonic, Load
-from sixdof.model.damping import modal_damping_ratios
 from sixdof.model.kinematics import generalized_force
 from sixdof.model.system import Mount, RigidBody, System
 from sixdof.validation import (

@@ -192,7 +192,7 @@ def test_model_errors_name_the_field(make, match):
 
 
 def test_damping_models_give_their_ratios():
-    from sixdof.model.damping import modal_damping_ratios
+    from sixdof.analysis.statespace import modal_damping_ratios
     from sixdof.model.system import Rayleigh
 
     base = four_mount()
@@ -221,21 +221,21 @@ def test_damping_models_give_their_ratios():
 
 
 def test_exact_damping_ratios_of_non_proportional_damping():
-    from sixdof.model.damping import damping_ratios, modal_damping_ratios
+    from sixdof.analysis.statespace import damping_ratios, modal_damping_ratios
     from sixdof.model.system import Rayleigh
 
     base = four_mount()
     modes = modal_analysis(base.M, base.K)
     # Classical damping: the exact ratios are the diagonal ones.
     classical = System(base.body, base.mounts, rayleigh=Rayleigh(alpha=0.5, beta=3e-4))
-    assert damping_ratios(classical.M, classical.C, classical.K, modes) == pytest.approx(
+    assert damping_ratios(classical.C, modes) == pytest.approx(
         modal_damping_ratios(classical.C, modes), rel=1e-9)
     # Dashpots on two mounts only: non-proportional. The exact ratios are -Re(lambda)/|lambda| of
     # the six oscillating roots of det(lambda^2 M + lambda C + K) = 0, one per mode.
     damped = [Mount(m.name, m.position, m.stiffness, damping=[900.0, 600.0, 3000.0] if i < 2 else [0, 0, 0])
               for i, m in enumerate(base.mounts)]
     system = System(base.body, damped)
-    zeta = damping_ratios(system.M, system.C, system.K, modes)
+    zeta = damping_ratios(system.C, modes)
     approx = modal_damping_ratios(system.C, modes)
     assert not np.allclose(zeta, approx, rtol=1e-3)  # the coupling matters here
     assert zeta == pytest.approx(approx, rel=0.2)    # ... but only as a correction

@@ -119,7 +119,7 @@ def test_run_writes_results_figures_and_summary(outcome):
 def test_unwritable_output_is_an_error_before_any_computing(scenario, tmp_path, monkeypatch):
     blocker = tmp_path / "file"
     blocker.write_text("not a folder")
-    monkeypatch.setattr(run_module, "modal_analysis", lambda *a: pytest.fail("computed anyway"))
+    monkeypatch.setattr(run_module, "damping_ratios", lambda *a: pytest.fail("computed anyway"))
     with pytest.raises(InputError, match=r"--out: expected a folder where results can be written"):
         run_scenario(scenario, blocker / "out", progress=False)
 

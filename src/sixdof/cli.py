@@ -78,18 +78,17 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _modes(args) -> int:
-    from sixdof.analysis.modal import modal_analysis
+    from sixdof.analysis.statespace import damping_ratios
     from sixdof.analysis.statics import try_gravity_statics
     from sixdof.dofs import DOFS
     from sixdof.io import report
     from sixdof.io.scenario import load_scenario
-    from sixdof.model.damping import damping_ratios
 
     scenario = load_scenario(args.scenario)
     system = scenario.system
-    modes = modal_analysis(system.M, system.K)
+    modes = system.modes
     statics, no_statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
-    zeta = damping_ratios(system.M, system.C, system.K, modes)
+    zeta = damping_ratios(system.C, modes)
     if args.json:
         print(json.dumps(_modes_json(scenario, modes, statics, zeta, DOFS)))
         return 0

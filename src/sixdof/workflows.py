@@ -18,10 +18,9 @@ from pathlib import Path
 
 import numpy as np
 
-from sixdof.analysis.modal import modal_analysis
+from sixdof.analysis.statespace import damping_ratios
 from sixdof.analysis.statics import try_gravity_statics
 from sixdof.errors import InputError
-from sixdof.model.damping import damping_ratios
 
 #: Fewest samples per period of the highest natural frequency or excitation frequency: below it the
 #: sampled peaks of a sine are off by more than 5 % (1 - cos(pi / 10)).
@@ -158,9 +157,9 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
 
     root = check_output_root(out_root)
     system = scenario.system
-    modes = modal_analysis(system.M, system.K)
+    modes = system.modes
     statics, no_statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
-    zeta = damping_ratios(system.M, system.C, system.K, modes)
+    zeta = damping_ratios(system.C, modes)
     notes = sampling_warnings(scenario, modes)
     if no_statics:
         notes.append(no_statics)
@@ -278,13 +277,13 @@ def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_lin
 
     root = check_output_root(out_root)
     system = scenario.system
-    modes = modal_analysis(system.M, system.K)
+    modes = system.modes
     report = validate(system)
 
     def write(stage: Path) -> None:
         results = store.write_results(
             stage / "results.h5", system=system, modes=modes,
-            damping_ratios=damping_ratios(system.M, system.C, system.K, modes), validation=report,
+            damping_ratios=damping_ratios(system.C, modes), validation=report,
             scenario_text=scenario.text, name=scenario.name, description=scenario.description,
             command_line=command_line,
         )

@@ -33,7 +33,9 @@ from typing import Any
 import numpy as np
 
 from sixdof._jax import jax, jnp
+from sixdof.analysis.modal import ZERO_MODE_RTOL
 from sixdof.errors import InputError, Plain, ScenarioError, SolverError, readonly
+from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import mount_matrix_jax
 from sixdof.model.system import Mount, System
 
@@ -41,8 +43,6 @@ from sixdof.model.system import Mount, System
 CHUNK_BYTES = 256 * 2**20
 #: Largest chunk of variants integrated together (beyond it vectorizing gains nothing on CPU).
 MAX_CHUNK = 256
-#: A mode is rigid (zero frequency) below this fraction of the largest eigenvalue (as modal.py).
-_ZERO_MODE_RTOL = 1e-10
 
 PARAMETERS = ("stiffness", "damping", "position")
 DISTRIBUTIONS = ("uniform", "normal", "grid")
@@ -210,35 +210,34 @@ def variant_system(system: System, variants: Variants, index: int) -> System:
 # ----------------------------------------------------------------------------------------------------
 
 
-@partial(jax.jit, static_argnames=("modal",))
-def _assemble(M, positions, stiffness, damping, axes, alpha, beta, zeta, *, modal):
-    """K, C (nv, 6, 6) and eigenvalues omega^2 (nv, 6) of every variant (vmapped model functions)."""
+@jax.jit
+def _assemble(M, positions, stiffness, damping, axes, alpha, beta, zeta):
+    """K, C (nv, 6, 6) and eigenvalues omega^2 (nv, 6) of every variant: the model's own assembly
+    and damping matrix, vmapped."""
     chol = jnp.linalg.cholesky(M)
     chol_inv = jnp.linalg.inv(chol)
 
     def one(pos, k, d):
         K = mount_matrix_jax(pos, k, axes)
-        C = mount_matrix_jax(pos, d, axes) + alpha * M + beta * K
         Kt = chol_inv @ K @ chol_inv.T
         lam, V = jnp.linalg.eigh(0.5 * (Kt + Kt.T))
-        lam = jnp.where(jnp.abs(lam) <= _ZERO_MODE_RTOL * jnp.max(jnp.abs(lam)), 0.0, lam)
-        if modal:
-            mphi = chol @ V  # M phi for mass-normalized phi = L^-T V
-            C = C + (mphi * (2.0 * zeta * jnp.sqrt(jnp.maximum(lam, 0.0)))[None, :]) @ mphi.T
-        return K, 0.5 * (C + C.T), lam
+        lam = jnp.where(jnp.abs(lam) <= ZERO_MODE_RTOL * jnp.max(jnp.abs(lam)), 0.0, lam)
+        shapes = chol_inv.T @ V  # mass-normalized: phi = L^-T V
+        omega = jnp.sqrt(jnp.maximum(lam, 0.0))
+        C = damping_matrix(M, K, mount_matrix_jax(pos, d, axes), alpha, beta, zeta, shapes, omega)
+        return K, C, lam
 
     return jax.vmap(one)(positions, stiffness, damping)
 
 
 def _matrices(system: System, variants: Variants):
-    modal = system.modal_damping is not None
-    zeta = np.broadcast_to(np.asarray(system.modal_damping if modal else 0.0, dtype=float), (6,))
+    zeta = np.broadcast_to(np.asarray(system.modal_damping or 0.0, dtype=float), (6,))
     alpha = system.rayleigh.alpha if system.rayleigh is not None else 0.0
     beta = system.rayleigh.beta if system.rayleigh is not None else 0.0
     K, C, lam = _assemble(
         np.asarray(system.M), system.positions[None] + variants.position_offset,
         system.stiffnesses[None] * variants.stiffness_factor,
-        system.dampings[None] * variants.damping_factor, system.axes, alpha, beta, zeta, modal=modal,
+        system.dampings[None] * variants.damping_factor, system.axes, alpha, beta, zeta,
     )
     return np.asarray(K), np.asarray(C), np.asarray(lam)
 

@@ -236,10 +236,8 @@ def state_scale(system, excitation: Excitation | None, settings: SimulationSetti
     ndarray, shape (14,)
         ``[z (6) m, rad; w (6) m/s, rad/s; u_g m; v_g m/s]``, all > 0.
     """
-    from sixdof.analysis.modal import modal_analysis
-
-    M, K = np.asarray(system.M), np.asarray(system.K)
-    modes = modal_analysis(M, K)
+    M = np.asarray(system.M)
+    modes = system.modes
     phi = np.asarray(modes.shapes)
     omega = np.maximum(np.asarray(modes.omega), 2.0 / settings.duration)
     eta = np.zeros(6)  # displacement-like modal amplitudes

@@ -43,9 +43,8 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
-import scipy.linalg
 
-from sixdof.analysis.modal import modal_analysis
+from sixdof.analysis.statespace import complex_modes, is_classical, modal_basis
 from sixdof.dofs import DOF_UNITS, FORCE_UNITS
 from sixdof.errors import InputError, SolverError, point
 from sixdof.model.kinematics import mount_matrix, point_map, response_row, unit_load
@@ -71,15 +70,9 @@ __all__ = [
 QUANTITIES: dict[str, int] = {"receptance": 0, "mobility": 1, "accelerance": 2}
 _QUANTITY_SUFFIX = {"receptance": "", "mobility": "/s", "accelerance": "/s^2"}
 
-#: Modal damping or hysteresis counts as classical (real modes) when its largest off-diagonal term in
-#: the mass-normalized modal basis is below this fraction of its largest term.
-CLASSICAL_RTOL = 1e-12
 #: A rigid-body mode counts as undamped when its modal damping is below this fraction of the
 #: system's frequency scale (largest natural circular frequency or modal damping term).
 RIGID_DAMPING_RTOL = 1e-12
-#: The complex-mode sum is refused when the eigenvector matrix is this badly conditioned (a nearly
-#: defective state matrix, e.g. a critically damped mode): the direct method is then the one to use.
-MAX_EIGVEC_CONDITION = 1e10
 #: Multiply-adds per row block of the modal sum's matrix product (see :meth:`_ModalTerms.evaluate`).
 _BLOCK_MACS = 200_000
 
@@ -316,7 +309,7 @@ def _frequencies(f_hz) -> np.ndarray:
 
 def _check_zero_frequency(system, f: np.ndarray) -> None:
     if np.any(f == 0.0):
-        modes = modal_analysis(system.M, system.K)
+        modes = system.modes
         if modes.zero_modes:
             raise InputError(
                 "f_hz",
@@ -559,34 +552,23 @@ def _modal(system, omega: np.ndarray, basis: str) -> tuple[np.ndarray, str]:
 
 
 def _modal_terms(system, basis: str) -> _ModalTerms:
-    M, K, C = (np.asarray(a, dtype=float) for a in (system.M, system.K, system.C))
+    C = np.asarray(system.C, dtype=float)
     Kh = hysteretic_stiffness(system)
-    modes = modal_analysis(M, K)
-    phi = np.array(modes.shapes)
+    modes = system.modes
+    phi, _ = modal_basis(modes, C)
     lam = np.array(modes.eigenvalues)
     rigid = list(modes.zero_modes)
-    if len(rigid) > 1:
-        # Rotate the rigid-body subspace so that C is diagonal on it: this separates the undamped
-        # rigid combinations (exact mass lines, decoupled from everything because C and K_h are
-        # positive semi-definite) from the damped ones.
-        _, rot = np.linalg.eigh(phi[:, rigid].T @ C @ phi[:, rigid])
-        phi[:, rigid] = phi[:, rigid] @ rot
     cm = phi.T @ C @ phi
     khm = phi.T @ Kh @ phi
-    km = phi.T @ K @ phi
+    km = phi.T @ np.asarray(system.K, dtype=float) @ phi
     # Rayleigh quotients: the eigen-solver's eigenvalues carry absolute errors ~eps * lambda_max,
     # large at the low, lightly damped modes' peaks; the quotients are accurate to ~eps * lambda_r.
     lam = np.where(lam > 0, np.diag(km), 0.0)
     scale = max(float(np.max(modes.omega)), float(np.max(np.abs(cm))), np.finfo(float).tiny)
     undamped_rigid = [r for r in rigid if cm[r, r] <= RIGID_DAMPING_RTOL * scale]
     rest = [r for r in range(6) if r not in undamped_rigid]
-
-    def classical(a: np.ndarray) -> bool:
-        off = np.abs(a - np.diag(np.diag(a)))
-        return bool(np.max(off) <= CLASSICAL_RTOL * np.max(np.abs(a)))
-
-    is_classical = classical(cm) and classical(khm)
-    if basis == "real" and not is_classical:
+    classical = is_classical(cm, khm)
+    if basis == "real" and not classical:
         raise InputError(
             "basis",
             "'auto' or 'complex' (damping or hysteresis is not diagonal in the real modes, so real "
@@ -594,7 +576,7 @@ def _modal_terms(system, basis: str) -> _ModalTerms:
             basis,
         )
     empty = np.zeros((0, 6, 6), dtype=complex)
-    if is_classical and basis != "complex":
+    if classical and basis != "complex":
         return _ModalTerms(
             basis="real modes",
             real_residues=np.einsum("ir,jr->rij", phi, phi).astype(complex),
@@ -604,28 +586,16 @@ def _modal_terms(system, basis: str) -> _ModalTerms:
             eigenvalues=np.zeros(0, dtype=complex),
         )
 
-    # Complex modes of x' = A x, x = [eta, eta'], in the modal coordinates of the modes in `rest`.
-    # Undamped rigid-body modes stay as real mass lines -phi phi'/w^2: in A they would form Jordan
-    # blocks (a double zero eigenvalue with one eigenvector), which no eigenvector sum represents.
-    # The state is scaled, x = [S eta, eta'] with S = diag(w_r) (1 for rigid modes), so that every
-    # block of A is of size ~w_max rather than w_max^2: the eigenvalues' absolute errors, ~eps ||A||,
-    # then stay small beside the low modes' distance from the imaginary axis.
+    # Complex modes of the modal coordinates in `rest`. Undamped rigid-body modes stay as real mass
+    # lines -phi phi'/w^2: in the first-order form they would be Jordan blocks (a double zero
+    # eigenvalue with one eigenvector), which no eigenvector sum represents.
     n = len(rest)
     ix = np.ix_(rest, rest)
-    s = np.where(lam[rest] > 0, np.sqrt(lam[rest]), 1.0)
-    stiff = (np.where(lam[rest] > 0, km[ix], 0.0) + 1j * khm[ix]) / s[None, :]
-    A = np.block([[np.zeros((n, n)), np.diag(s)], [-stiff, -cm[ix]]])
-    eigenvalues, V = scipy.linalg.eig(A)
-    condition = np.linalg.cond(V)
-    if not np.isfinite(condition) or condition > MAX_EIGVEC_CONDITION:
-        raise SolverError(
-            "receptance (modal): the complex modes are nearly defective (eigenvector condition "
-            f"number {condition:.3g}), e.g. a critically damped mode; use method='direct'"
-        )
-    W = np.linalg.inv(V)  # rows: left eigenvectors, normalized so that W V = I
+    stiffness = np.where(lam[rest] > 0, km[ix], 0.0) + 1j * khm[ix]
+    modes_c = complex_modes(stiffness, cm[ix], remedy="use method='direct'")
     phi_s = phi[:, rest]
-    out = phi_s @ (V[:n, :] / s[:, None])  # (6, 2n): q per unit state-mode amplitude
-    inp = W[:, n:] @ phi_s.T  # (2n, 6): the generalized force drives eta'' (lower block of x')
+    out = phi_s @ modes_c.right[:n, :]  # (6, 2n): q per unit state-mode amplitude
+    inp = modes_c.left[:, n:] @ phi_s.T  # (2n, 6): the generalized force drives eta'' (lower block)
     u = phi[:, undamped_rigid]
     return _ModalTerms(
         basis="complex modes",
@@ -633,7 +603,7 @@ def _modal_terms(system, basis: str) -> _ModalTerms:
         a=np.zeros(len(undamped_rigid), dtype=complex),
         b=np.zeros(len(undamped_rigid)),
         complex_residues=np.einsum("ik,kj->kij", out, inp),
-        eigenvalues=eigenvalues,
+        eigenvalues=modes_c.eigenvalues,
     )
 
 

@@ -29,23 +29,16 @@ import numpy as np
 
 from sixdof._jax import jax
 from sixdof.analysis.modal import modal_analysis
+from sixdof.analysis.statespace import CLASSICAL_RTOL, complex_modes, modal_basis
+from sixdof.analysis.statespace import coupling as coupling_of
 from sixdof.dofs import DOFS
 from sixdof.errors import InputError, SolverError, finite_array, readonly
 
-#: Damping is classical when every off-diagonal coupling ``|D_ij| / sqrt(D_ii D_jj)`` of the
-#: modal damping matrix is below this (round-off of the modal transform is ~1e-12).
-CLASSICAL_RTOL = 1e-8
 #: Default Gauss-Legendre nodes per interval.
 QUADRATURE_NODES = 16
 #: Largest phase ``(|lambda| + omega_signal) h`` [rad] an interval may span: with 16 nodes the
 #: quadrature error of ``int e^{i theta s}`` over 4 rad is far below round-off.
 PHASE_PER_INTERVAL = 4.0
-#: Two modes are degenerate (any basis of their eigenspace is a set of modes) when their
-#: eigenvalues differ by less than this fraction of the largest eigenvalue.
-DEGENERATE_RTOL = 1e-9
-#: The complex-mode eigenvector matrix must be better conditioned than this (a near-defective
-#: system, e.g. exactly critically damped coupled modes, cannot be diagonalized reliably).
-MAX_EIGENVECTOR_CONDITION = 1e10
 #: Default tolerance of :func:`compare`.
 AGREEMENT_TOLERANCE = 1e-6
 #: In :func:`compare`, a DOF whose peak is below this fraction of the largest peak (rotations
@@ -303,7 +296,7 @@ def superpose(
     residual : bool
         Static residual correction for the dropped modes (default True).
     **options
-        Passed to :func:`modal_solve` (``quadrature_nodes``, ``max_step``, ``classical_rtol``).
+        Passed to :func:`modal_solve` (``quadrature_nodes``, ``max_step``).
 
     Returns
     -------
@@ -420,7 +413,6 @@ def modal_solve(
     max_step: float | None = None,
     signal_omega: float = 0.0,
     quadrature_nodes: int = QUADRATURE_NODES,
-    classical_rtol: float = CLASSICAL_RTOL,
     ground=None,
 ) -> ModalResponse:
     """Response of ``M q'' + C q' + K q = Q(t)`` by modal superposition.
@@ -461,8 +453,6 @@ def modal_solve(
         Highest circular frequency [rad/s] in the force (0 when unknown); bounds the interval.
     quadrature_nodes : int
         Gauss-Legendre nodes per interval (default 16).
-    classical_rtol : float
-        Threshold of the damping-coupling index below which damping is classical.
     ground : GroundInput, optional
         Motion of the foundation, adding ``Q_g = k_g u_g(t) + c_g v_g(t)`` to the force, with the
         ground displacement and velocity obtained from the signal exactly on the quadrature grid
@@ -490,22 +480,22 @@ def modal_solve(
     qd0 = _state(qd0, "qd0")
     breakpoints = _breakpoints(breakpoints)
 
-    basis, omega2 = _modes(M, K, C)
+    basis, omega2 = modal_basis(modal_analysis(M, K), C)
     D = basis.T @ C @ basis
     D = 0.5 * (D + D.T)
-    coupling_matrix = _coupling(D)
+    coupling_matrix = coupling_of(D)
     coupling = float(np.max(coupling_matrix)) if coupling_matrix.size else 0.0
-    classical = coupling <= classical_rtol
+    classical = coupling <= CLASSICAL_RTOL
     kept = _select(omega2, n_modes, f_max_hz)
 
     if method == "auto":
         chosen = "real" if classical else "complex"
         reason = (
             f"auto: damping is classical (largest modal coupling {coupling:.1e} <= "
-            f"{classical_rtol:.0e}): real modes"
+            f"{CLASSICAL_RTOL:.0e}): real modes"
             if classical
             else f"auto: damping couples the real modes (largest coupling |D_ij|/sqrt(D_ii D_jj) = "
-            f"{coupling:.2e} > {classical_rtol:.0e}, non-proportional damping): complex modes"
+            f"{coupling:.2e} > {CLASSICAL_RTOL:.0e}, non-proportional damping): complex modes"
         )
     elif method == "real":
         chosen = "real"
@@ -534,7 +524,7 @@ def modal_solve(
     def run(kept_modes, solve_method):
         return _superpose_kept(
             basis, omega2, D, kept_modes, solve_method, grid, Q_nodes, Q_out, M, q0, qd0,
-            classical_rtol, all_complex=method == "complex",
+            all_complex=method == "complex",
         )
 
     eta, eta_d, eta_dd, eigenvalues = run(kept, chosen)
@@ -594,42 +584,6 @@ def modal_solve(
 # ----------------------------------------------------------------------------------------------------
 
 
-def _modes(M, K, C):
-    """Mass-normalized real modes, with degenerate eigenspaces rotated to diagonalize the damping.
-
-    Within a group of equal frequencies (repeated modes, or the rigid-body modes) any orthonormal
-    basis is a set of modes; choosing the one that diagonalizes ``Phi' C Phi`` there makes the
-    classical-damping test exact for every C that some set of real modes diagonalizes.
-    """
-    modes = modal_analysis(M, K)
-    basis = np.array(modes.shapes)
-    omega2 = np.array(modes.eigenvalues)
-    scale = max(float(np.max(omega2)), np.finfo(float).tiny)
-    start = 0
-    while start < 6:
-        stop = start + 1
-        while stop < 6 and omega2[stop] - omega2[start] <= DEGENERATE_RTOL * scale:
-            stop += 1
-        if stop - start > 1:
-            block = basis[:, start:stop]
-            _, rotation = np.linalg.eigh(block.T @ C @ block)
-            basis[:, start:stop] = block @ rotation
-            omega2[start:stop] = np.mean(omega2[start:stop])
-        start = stop
-    return basis, omega2
-
-
-def _coupling(D):
-    """``|D_ij| / sqrt(D_ii D_jj)`` for i != j (0 on the diagonal and where both are undamped)."""
-    d = np.sqrt(np.clip(np.diag(D), 0.0, None))
-    product = np.outer(d, d)
-    tiny = np.finfo(float).tiny
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.where(product > tiny, np.abs(D) / np.where(product > tiny, product, 1.0),
-                         np.where(np.abs(D) > 1e-14 * max(float(np.max(np.abs(D))), tiny), 1.0, 0.0))
-    np.fill_diagonal(ratio, 0.0)
-    return np.minimum(ratio, 1.0)
-
 
 def _select(omega2, n_modes, f_max_hz):
     keep = np.ones(6, dtype=bool)
@@ -663,8 +617,7 @@ def _select(omega2, n_modes, f_max_hz):
 # ----------------------------------------------------------------------------------------------------
 
 
-def _superpose_kept(basis, omega2, D, kept, method, grid, Q_nodes, Q_out, M, q0, qd0, rtol,
-                    all_complex=False):
+def _superpose_kept(basis, omega2, D, kept, method, grid, Q_nodes, Q_out, M, q0, qd0, all_complex=False):
     """Modal coordinates of the kept modes: ``eta, eta', eta''`` (n, m) and the eigenvalues.
 
     With ``method="complex"``, coordinates that damping does not couple to any other are solved as
@@ -690,10 +643,10 @@ def _superpose_kept(basis, omega2, D, kept, method, grid, Q_nodes, Q_out, M, q0,
     else:
         # Coordinates not coupled to any other by damping are exact single oscillators (this covers
         # undamped rigid-body modes, whose first-order form is a defective Jordan block).
-        c = _coupling(Dk)
-        isolated = np.all(c <= rtol, axis=1)
+        c = coupling_of(Dk)
+        isolated = np.all(c <= CLASSICAL_RTOL, axis=1)
         if all_complex:
-            isolated &= (w2 == 0.0) & (np.diag(Dk) <= rtol * max(float(np.max(np.diag(Dk))), 0.0))
+            isolated &= (w2 == 0.0) & (np.diag(Dk) <= CLASSICAL_RTOL * max(float(np.max(np.diag(Dk))), 0.0))
         single = np.flatnonzero(isolated)
         coupled = np.flatnonzero(~isolated)
         D_used = Dk.copy()
@@ -788,16 +741,8 @@ def _complex_modes(w2, D, grid, g, x0, v0):
     propagated: ``y = sum_real v z + 2 Re sum_{Im > 0} v z``.
     """
     p = len(w2)
-    A = np.block([[np.zeros((p, p)), np.eye(p)], [-np.diag(w2), -D]])
-    lam, V = np.linalg.eig(A)
-    condition = np.linalg.cond(V)
-    if not np.isfinite(condition) or condition > MAX_EIGENVECTOR_CONDITION:
-        raise SolverError(
-            f"complex modes: eigenvector matrix condition number {condition:.2e} exceeds "
-            f"{MAX_EIGENVECTOR_CONDITION:.0e} (a nearly defective, e.g. critically damped, "
-            "coupled system); use method='real' only if the damping is classical"
-        )
-    Vinv = np.linalg.inv(V)
+    modes = complex_modes(np.diag(w2), D, remedy="use method='real' only if the damping is classical")
+    lam, V, Vinv = modes.eigenvalues, modes.right, modes.left
     # dgeev returns real eigenvalues with exactly zero imaginary part and exact conjugate pairs.
     real = np.flatnonzero(lam.imag == 0)
     upper = np.flatnonzero(lam.imag > 0)

@@ -308,10 +308,9 @@ class ModeRelease:
 
     def state(self, system) -> tuple[np.ndarray, np.ndarray]:
         """``(q0, qd0)`` for ``system`` (6,) each [m, rad; m/s, rad/s]."""
-        from sixdof.analysis.modal import modal_analysis
         from sixdof.dofs import DOFS
 
-        modes = modal_analysis(system.M, system.K)
+        modes = system.modes
         j = self.mode - 1
         d = DOFS.index(modes.dominant_dof[j])
         shape = modes.shapes[:, j]

@@ -19,6 +19,7 @@ import numpy as np
 
 from sixdof._jax import jax, jnp
 from sixdof.errors import InputError, finite_array, readonly
+from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import mount_matrix_jax
 
 # Relative tolerances for "physically possible" checks on user input.
@@ -314,7 +315,18 @@ class System:
 
     @cached_property
     def C(self) -> np.ndarray:
-        """Total viscous damping matrix (6, 6): dashpots + Rayleigh + modal."""
-        from sixdof.model.damping import damping_matrix
+        """Total viscous damping matrix (6, 6): dashpots + Rayleigh + modal
+        (:func:`sixdof.model.damping.damping_matrix`) [N s/m, N s, N m s/rad]."""
+        alpha, beta = (self.rayleigh.alpha, self.rayleigh.beta) if self.rayleigh is not None else (0.0, 0.0)
+        zeta = np.broadcast_to(np.asarray(self.modal_damping or 0.0, dtype=float), (6,))
+        modes = self.modes
+        return readonly(damping_matrix(self.M, self.K, self.C_mounts, alpha, beta, zeta, modes.shapes, modes.omega))
 
-        return readonly(damping_matrix(self))
+    @cached_property
+    def modes(self):
+        """The undamped modes of (M, K), computed once: :class:`sixdof.analysis.modal.Modes`."""
+        # The eigen-solution is analysis, not model: imported here, where the model first needs it
+        # (modal damping, mode releases), and computed once per system.
+        from sixdof.analysis.modal import modal_analysis
+
+        return modal_analysis(self.M, self.K)

@@ -26,9 +26,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from sixdof.analysis.frf import parse_direction, receptance
-from sixdof.analysis.modal import modal_analysis
+from sixdof.analysis.statespace import modal_damping_ratios
 from sixdof.errors import InputError, SolverError, point, readonly
-from sixdof.model.damping import modal_damping_ratios
 from sixdof.model.kinematics import unit_load
 from sixdof.validation.estimation import (
     DecayEstimate,
@@ -313,7 +312,7 @@ def validate(system, settings: ValidationSettings | None = None) -> ValidationRe
     if not isinstance(settings, ValidationSettings):
         raise InputError("settings", "a ValidationSettings", settings)
     M = np.asarray(system.M)
-    modes = modal_analysis(M, system.K)
+    modes = system.modes
     zeta = modal_damping_ratios(system.C, modes)
     elastic = [r for r in range(6) if r not in modes.zero_modes]
     if not elastic:

@@ -1,0 +1,238 @@
+"""The first-order form of eq. (1) and what follows from it, each decided once for every path.
+
+- :func:`first_order`: ``x = [q, q']``, ``x' = A x + B Q`` (the exact references, batches).
+- :func:`modal_basis`: the undamped mass-normalized modes with every degenerate group (repeated
+  frequencies, the rigid-body modes) rotated so that the damping is diagonal on it: any orthonormal
+  basis of such a group is a set of modes, and this one makes the classical-damping test exact for
+  every C that some set of real modes diagonalizes.
+- :func:`coupling` and :func:`is_classical`: THE classical-damping test. Damping (or hysteresis) is
+  classical when every normalized off-diagonal term ``|D_ij| / sqrt(D_ii D_jj)`` of its modal matrix is
+  at most :data:`CLASSICAL_RTOL`; the real modes then decouple it. Used by the damping ratios, the
+  modal superposition and the modal FRF alike.
+- :func:`complex_modes`: eigenvalues and right and left eigenvectors of the first-order modal system
+  ``eta'' + D eta' + K_m eta = g`` (``K_m`` may be complex: hysteresis), with the condition check that
+  refuses nearly defective systems.
+- :func:`damping_ratios`: the exact damping ratio of each mode from the complex eigenvalues, and
+  :func:`modal_damping_ratios`, the diagonal approximation ``phi' C phi / (2 omega)``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg
+
+from sixdof.errors import SolverError
+
+#: Damping is classical when its largest normalized modal coupling is at most this. Round-off of the
+#: modal transform leaves ~1e-15 (measured on every bundled layout with Rayleigh or modal damping);
+#: a coupling this small changes no response by more than about its own size, far below the 1e-10
+#: to which the FRF paths and the 1e-6 to which the time paths are checked against each other.
+CLASSICAL_RTOL = 1e-12
+#: Two modes are degenerate (any basis of their eigenspace is a set of modes) when their eigenvalues
+#: differ by less than this fraction of the largest eigenvalue.
+DEGENERATE_RTOL = 1e-9
+#: Complex modes are refused when their eigenvector matrix is worse conditioned than this (a nearly
+#: defective system, e.g. an exactly critically damped coupled mode, cannot be diagonalized reliably).
+MAX_EIGENVECTOR_CONDITION = 1e10
+
+
+def first_order(M, C, K) -> tuple[np.ndarray, np.ndarray]:
+    """``A`` (12, 12) [1/s, 1/s^2] and ``B`` (12, 6) [per kg, per kg m^2] of ``x' = A x + B Q``,
+    ``x = [q, q']``."""
+    M, C, K = (np.asarray(a, dtype=float) for a in (M, C, K))
+    n = M.shape[0]
+    Minv = np.linalg.inv(M)
+    A = np.block([[np.zeros((n, n)), np.eye(n)], [-Minv @ K, -Minv @ C]])
+    B = np.vstack([np.zeros((n, n)), Minv])
+    return A, B
+
+
+def modal_basis(modes, C) -> tuple[np.ndarray, np.ndarray]:
+    """Mass-normalized real modes with degenerate groups rotated to diagonalize ``C`` on them.
+
+    Parameters
+    ----------
+    modes : sixdof.analysis.modal.Modes
+        The undamped modes.
+    C : array_like, shape (6, 6)
+        Viscous damping [N s/m, ...].
+
+    Returns
+    -------
+    basis : ndarray, shape (6, 6)
+        Column r is mode r (mass-normalized).
+    omega2 : ndarray, shape (6,)
+        ``omega_r^2`` [rad^2/s^2], equal within each degenerate group (their mean).
+    """
+    C = np.asarray(C, dtype=float)
+    basis = np.array(modes.shapes)
+    omega2 = np.array(modes.eigenvalues)
+    scale = max(float(np.max(omega2)), np.finfo(float).tiny)
+    start = 0
+    while start < len(omega2):
+        stop = start + 1
+        while stop < len(omega2) and omega2[stop] - omega2[start] <= DEGENERATE_RTOL * scale:
+            stop += 1
+        if stop - start > 1:
+            block = basis[:, start:stop]
+            _, rotation = np.linalg.eigh(block.T @ C @ block)
+            basis[:, start:stop] = block @ rotation
+            omega2[start:stop] = np.mean(omega2[start:stop])
+        start = stop
+    return basis, omega2
+
+
+def coupling(D) -> np.ndarray:
+    """Normalized couplings ``|D_ij| / sqrt(|D_ii D_jj|)`` of a modal matrix, 0 on the diagonal.
+
+    Between two undamped coordinates (``D_ii = D_jj = 0``) any term above round-off of the matrix is a
+    full coupling (1). Values are capped at 1.
+    """
+    D = np.asarray(D)
+    d = np.sqrt(np.abs(np.diag(D)))
+    product = np.outer(d, d)
+    tiny = np.finfo(float).tiny
+    magnitude = np.abs(D)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(product > tiny, magnitude / np.where(product > tiny, product, 1.0),
+                         np.where(magnitude > 1e-14 * max(float(np.max(magnitude, initial=0.0)), tiny), 1.0, 0.0))
+    np.fill_diagonal(ratio, 0.0)
+    return np.minimum(ratio, 1.0)
+
+
+def largest_coupling(*modal_matrices) -> float:
+    """The largest :func:`coupling` of any of the modal matrices (0 for none)."""
+    return max((float(np.max(coupling(D), initial=0.0)) for D in modal_matrices), default=0.0)
+
+
+def is_classical(*modal_matrices) -> bool:
+    """THE classical-damping test: every modal matrix given (``Phi' C Phi``, ``Phi' K_h Phi``) is
+    diagonal to :data:`CLASSICAL_RTOL` (see :func:`coupling`)."""
+    return largest_coupling(*modal_matrices) <= CLASSICAL_RTOL
+
+
+@dataclass(frozen=True, eq=False)
+class ComplexModes:
+    """Complex modes of ``eta'' + D eta' + K_m eta = g`` in the state ``y = [eta, eta']``.
+
+    Attributes
+    ----------
+    eigenvalues : ndarray, shape (2n,), complex
+        [1/s].
+    right : ndarray, shape (2n, 2n), complex
+        Column k is the eigenvector of ``eigenvalues[k]``.
+    left : ndarray, shape (2n, 2n), complex
+        ``right^-1``: row k is the left eigenvector normalized so that ``left @ right = I``.
+    condition : float
+        Condition number of ``right``.
+    """
+
+    eigenvalues: np.ndarray
+    right: np.ndarray
+    left: np.ndarray
+    condition: float
+
+
+def complex_modes(stiffness, D, *, remedy: str) -> ComplexModes:
+    """Complex modes of the first-order form of ``eta'' + D eta' + K_m eta = g``.
+
+    The state is scaled, ``x = [S eta, eta']`` with ``S = diag(sqrt(K_m,rr))`` (1 for rigid modes), so
+    that every block of the state matrix is of size ~omega_max rather than omega_max^2: the
+    eigenvalues' absolute errors, ~eps ||A||, then stay small beside the low modes' distance from the
+    imaginary axis. The eigenvectors returned are those of the unscaled state ``[eta, eta']``.
+
+    Parameters
+    ----------
+    stiffness : array_like, shape (n, n)
+        Modal stiffness ``K_m`` [rad^2/s^2] (complex with hysteresis: ``Omega^2 + i Phi' K_h Phi``).
+    D : array_like, shape (n, n)
+        Modal damping ``Phi' C Phi`` [1/s].
+    remedy : str
+        What the caller's user can do when the modes are nearly defective (ends the error message).
+
+    Returns
+    -------
+    ComplexModes
+
+    Raises
+    ------
+    SolverError
+        When the eigenvector matrix is worse conditioned than :data:`MAX_EIGENVECTOR_CONDITION`.
+    """
+    stiffness = np.asarray(stiffness)
+    D = np.asarray(D, dtype=float)
+    n = D.shape[0]
+    diagonal = np.real(np.diag(stiffness))
+    s = np.where(diagonal > 0, np.sqrt(np.abs(diagonal)), 1.0)
+    A = np.block([[np.zeros((n, n)), np.diag(s)], [-stiffness / s[None, :], -D]])
+    eigenvalues, V = scipy.linalg.eig(A)
+    condition = float(np.linalg.cond(V))
+    if not np.isfinite(condition) or condition > MAX_EIGENVECTOR_CONDITION:
+        raise SolverError(
+            f"complex modes: eigenvector matrix condition number {condition:.3g} exceeds "
+            f"{MAX_EIGENVECTOR_CONDITION:.0e} (nearly defective, e.g. a critically damped mode); {remedy}"
+        )
+    W = np.linalg.inv(V)
+    unscale = np.concatenate([s, np.ones(n)])
+    return ComplexModes(eigenvalues=eigenvalues, right=V / unscale[:, None], left=W * unscale[None, :],
+                        condition=condition)
+
+
+def modal_damping_ratios(C, modes) -> np.ndarray:
+    """Damping ratio of each undamped mode, ``phi_r' C phi_r / (2 omega_r)`` (6,).
+
+    Exact for classical (proportional) damping; for non-proportional damping it is the usual
+    diagonal approximation (:func:`damping_ratios` gives the exact ones). Rigid-body modes get ``nan``.
+    """
+    diag = np.einsum("ir,ij,jr->r", modes.shapes, np.asarray(C, dtype=float), modes.shapes)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(modes.omega > 0, diag / (2.0 * modes.omega), np.nan)
+
+
+def damping_ratios(C, modes) -> np.ndarray:
+    """Exact damping ratio of each mode, from the complex eigenvalues of the damped system.
+
+    Each undamped mode r is paired with the complex mode whose displacement shape matches it best
+    (mass-weighted MAC, which in mass-normalized modal coordinates is ``|v_r|^2 / |v|^2``), and
+    ``zeta_r = -Re(lambda) / |lambda|``. For classical damping this equals
+    :func:`modal_damping_ratios`; for non-proportional damping (mount dashpots) it is the ratio a free
+    decay shows, where the diagonal approximation is only first-order. Modes whose damping is critical
+    or more (real eigenvalues) and rigid-body modes keep the diagonal value (``nan`` for rigid ones).
+
+    Parameters
+    ----------
+    C : array_like, shape (6, 6)
+        Viscous damping [N s/m ...].
+    modes : sixdof.analysis.modal.Modes
+        The undamped modes.
+
+    Returns
+    -------
+    ndarray, shape (6,)
+        Damping ratio of each undamped mode (dimensionless).
+    """
+    approximate = modal_damping_ratios(C, modes)
+    phi = np.asarray(modes.shapes)
+    D = phi.T @ np.asarray(C, dtype=float) @ phi
+    if is_classical(D):
+        return approximate
+    n = phi.shape[1]
+    state = np.block([[np.zeros((n, n)), np.eye(n)], [-np.diag(modes.eigenvalues), -D]])
+    eigenvalues, vectors = scipy.linalg.eig(state)
+    oscillating = np.flatnonzero(eigenvalues.imag > 1e-9 * np.abs(eigenvalues).max())
+    exact = approximate.copy()
+    pairs = []
+    for r in np.flatnonzero(modes.omega > 0):
+        for k in oscillating:
+            v = vectors[:n, k]
+            pairs.append((abs(v[r]) ** 2 / np.real(np.vdot(v, v)), r, k))
+    # Pair undamped and complex modes by shape, most similar first, each used once.
+    paired_modes, paired_poles = set(), set()
+    for _, r, k in sorted(pairs, reverse=True):
+        if r not in paired_modes and k not in paired_poles:
+            paired_modes.add(r)
+            paired_poles.add(k)
+            exact[r] = -eigenvalues[k].real / abs(eigenvalues[k])
+    return exact

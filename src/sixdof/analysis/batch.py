@@ -258,7 +258,7 @@ def _solve_chunk(A, B, x0, sigma, signals, ts, t0, t1, jump_ts, rtol, atol, *, s
     """Peaks of |q| and |q''| at ``ts`` for a chunk of variants: A (nb, 12, 12), B (nb, 12, nc)."""
     import diffrax
 
-    from sixdof.analysis.direct import SOLVERS
+    from sixdof.analysis.direct import solve_ode
 
     def source(t):
         if not signals:
@@ -277,14 +277,8 @@ def _solve_chunk(A, B, x0, sigma, signals, ts, t0, t1, jump_ts, rtol, atol, *, s
             rate = (A @ (xs * sigma) + B @ source(t))[6:]
             return jnp.concatenate([xs[:6] * sigma[:6], rate])
 
-        controller = diffrax.ClipStepSizeController(
-            diffrax.PIDController(rtol=rtol, atol=atol), jump_ts=jump_ts
-        )
-        sol = diffrax.diffeqsolve(
-            diffrax.ODETerm(field), SOLVERS[solver](), t0, t1, None, x0 / sigma,
-            saveat=diffrax.SaveAt(ts=ts, fn=keep), stepsize_controller=controller,
-            max_steps=max_steps, throw=False,
-        )
+        sol = solve_ode(field, x0 / sigma, t0, t1, diffrax.SaveAt(ts=ts, fn=keep), jump_ts, rtol, atol,
+                        solver=solver, max_steps=max_steps)
         peaks = jnp.max(jnp.abs(sol.ys), axis=0)
         ok = sol.result == diffrax.RESULTS.successful
         return peaks, ok, sol.stats["num_steps"], sol.stats["num_rejected_steps"]
@@ -329,7 +323,7 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     SolverError
         When the solve of any variant fails (its index is named) or gives non-finite values.
     """
-    from sixdof.analysis.direct import SimulationSettings, _bucket, simulate, state_scale
+    from sixdof.analysis.direct import SimulationSettings, jump_times, simulate, state_scale
     from sixdof.excitation import Excitation, ModeRelease
 
     if not isinstance(variants, Variants):
@@ -381,8 +375,7 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     x0 = np.broadcast_to(np.concatenate([q0, qd0]), (nv, 12))
     sigma = state_scale(system, excitation, settings)[:12]
     t0, t1 = settings.start, settings.start + settings.duration
-    jumps = np.array(sorted(b for b in excitation.breakpoints if t0 < b < t1), dtype=float)
-    padded = np.concatenate([jumps, t1 + 1.0 + np.arange(_bucket(jumps.size) - jumps.size)])
+    padded, _ = jump_times(excitation, t0, t1)
 
     peaks, ok, steps, rejected = [], [], [], []
     for first in range(0, nv, chunk_size):

@@ -64,6 +64,10 @@ SCALE_FLOOR = 1e-6
 
 _GROUND_CODES = {None: 0, "displacement": 1, "velocity": 2, "acceleration": 3}
 
+#: Progress display of long solves.
+PROGRESS_METERS = {"none": diffrax.NoProgressMeter, "text": diffrax.TextProgressMeter,
+                   "tqdm": diffrax.TqdmProgressMeter}
+
 
 # ----------------------------------------------------------------------------------------------------
 # Settings and results.
@@ -155,9 +159,7 @@ class SolverStats:
         Breakpoints (discontinuities) inside the run the solver stepped onto.
     wall_time_s : float
         Wall-clock time of the solve call [s] (includes compilation when it was the first call of
-        its structure; ``compiled`` tells).
-    compiled : bool
-        Whether this call compiled the solver.
+        its structure).
     """
 
     solver: str
@@ -170,7 +172,6 @@ class SolverStats:
     max_steps: int
     num_jumps: int
     wall_time_s: float
-    compiled: bool
 
 
 @dataclass(frozen=True, eq=False)
@@ -330,6 +331,39 @@ def _rates(t, x, p, code: int):
     return jnp.concatenate([relative_velocity, w_dot, g_dot]), Q
 
 
+def solve_ode(field, x0, t0, t1, saveat, jump_ts, rtol, atol, *, solver: str, max_steps: int, args=None,
+              progress: str = "none"):
+    """The one diffrax call of sixdof, shared by :func:`simulate` and the batch engine (traceable).
+
+    Explicit Runge-Kutta ``solver`` (a key of :data:`SOLVERS`) with PID step control at ``rtol`` and
+    ``atol`` on the (scaled) state, stepping exactly onto every time of ``jump_ts`` (the excitation's
+    breakpoints, :func:`jump_times`), ``max_steps`` at most. ``throw=False``: the caller turns a
+    failed result code into a :class:`~sixdof.errors.SolverError` naming what failed.
+    """
+    controller = diffrax.ClipStepSizeController(diffrax.PIDController(rtol=rtol, atol=atol), jump_ts=jump_ts)
+    return diffrax.diffeqsolve(
+        diffrax.ODETerm(field), SOLVERS[solver](), t0, t1, None, x0, args=args, saveat=saveat,
+        stepsize_controller=controller, max_steps=max_steps, throw=False,
+        progress_meter=PROGRESS_METERS[progress](),
+    )
+
+
+def jump_times(excitation: Excitation, t0: float, t1: float) -> tuple[np.ndarray, int]:
+    """Breakpoints of the excitation inside ``(t0, t1)`` for the step control, padded beyond ``t1``
+    with distinct, never reached times to a power-of-two length >= 8 (few compiled shapes).
+
+    Returns
+    -------
+    padded : ndarray
+        [s].
+    count : int
+        Number of real breakpoints.
+    """
+    jumps = np.array(sorted(b for b in excitation.breakpoints if t0 < b < t1), dtype=float)
+    size = max(8, 1 << max(0, jumps.size - 1).bit_length())
+    return np.concatenate([jumps, t1 + 1.0 + np.arange(size - jumps.size)]), int(jumps.size)
+
+
 @partial(jax.jit, static_argnames=("solver", "code", "max_steps", "progress"))
 def _solve(p, x0, ts, t0, t1, jump_ts, rtol, atol, *, solver, code, max_steps, progress):
     sigma = p["sigma"]
@@ -337,16 +371,8 @@ def _solve(p, x0, ts, t0, t1, jump_ts, rtol, atol, *, solver, code, max_steps, p
     def field(t, xs, args):
         return _rates(t, xs * sigma, args, code)[0] / sigma
 
-    controller = diffrax.ClipStepSizeController(
-        diffrax.PIDController(rtol=rtol, atol=atol), jump_ts=jump_ts
-    )
-    meter = {"none": diffrax.NoProgressMeter, "text": diffrax.TextProgressMeter,
-             "tqdm": diffrax.TqdmProgressMeter}[progress]()
-    sol = diffrax.diffeqsolve(
-        diffrax.ODETerm(field), SOLVERS[solver](), t0, t1, None, x0 / sigma, args=p,
-        saveat=diffrax.SaveAt(ts=ts), stepsize_controller=controller, max_steps=max_steps,
-        throw=False, progress_meter=meter,
-    )
+    sol = solve_ode(field, x0 / sigma, t0, t1, diffrax.SaveAt(ts=ts), jump_ts, rtol, atol, args=p,
+                    solver=solver, max_steps=max_steps, progress=progress)
     xs = sol.ys * sigma
 
     def outputs(t, x):
@@ -357,11 +383,6 @@ def _solve(p, x0, ts, t0, t1, jump_ts, rtol, atol, *, solver, code, max_steps, p
     qdd, Q, ground = jax.vmap(outputs)(ts, xs)
     stats = (sol.stats["num_steps"], sol.stats["num_accepted_steps"], sol.stats["num_rejected_steps"])
     return xs, qdd, Q, ground, sol.result, stats
-
-
-def _bucket(n: int) -> int:
-    """Padded length of the breakpoint array: a power of two >= 8, so few sizes compile."""
-    return max(8, 1 << max(0, n - 1).bit_length())
 
 
 def _progress_key(progress: Any) -> str:
@@ -423,9 +444,7 @@ def simulate(system, excitation: Excitation | None, settings: SimulationSettings
     u0 = float(ground.scale * ground.signal(t0)) if code == 1 else 0.0
     x0 = np.concatenate([q0 - r * u0, qd0, [0.0, 0.0]])
 
-    jumps = np.array(sorted(b for b in excitation.breakpoints if t0 < b < t1), dtype=float)
-    # Pad beyond t1 with distinct times: never reached, but keep one compiled shape per bucket.
-    padded = np.concatenate([jumps, t1 + 1.0 + np.arange(_bucket(jumps.size) - jumps.size)])
+    padded, n_jumps = jump_times(excitation, t0, t1)
 
     params = {
         "Minv": np.linalg.inv(M),
@@ -438,7 +457,6 @@ def simulate(system, excitation: Excitation | None, settings: SimulationSettings
         "ground_scale": 0.0 if ground is None else ground.scale,
         "sigma": sigma,
     }
-    cache_before = _solve._cache_size()
     start = time.perf_counter()
     xs, qdd, Q, kin, result, stats = _solve(
         params, x0, ts, t0, t1, padded, settings.rtol, settings.atol,
@@ -475,8 +493,7 @@ def simulate(system, excitation: Excitation | None, settings: SimulationSettings
         stats=SolverStats(
             solver=settings.solver, rtol=settings.rtol, atol=settings.atol, scale=readonly(sigma),
             num_steps=n_steps, num_accepted=n_accepted, num_rejected=n_rejected,
-            max_steps=settings.max_steps, num_jumps=int(jumps.size), wall_time_s=wall,
-            compiled=_solve._cache_size() > cache_before,
+            max_steps=settings.max_steps, num_jumps=n_jumps, wall_time_s=wall,
         ),
     )
 

@@ -15,7 +15,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from sixdof.errors import InputError, Plain, finite_array, integer, label, number, readonly, vector3
-from sixdof.excitation.signals import Harmonic, Signal, _signal_field
+from sixdof.excitation.signals import Harmonic, Signal, signal_field
 from sixdof.model.kinematics import generalized_force
 
 # A ground displacement that jumps needs an infinite force: breakpoints of a displacement signal
@@ -63,7 +63,7 @@ class Load:
                                                     "3 moment components in N m"))
         if not (np.any(self.force) or np.any(self.moment)):
             raise InputError("force", "a non-zero force or moment (N, N m)", self.force)
-        object.__setattr__(self, "signal", _signal_field(self.signal))
+        object.__setattr__(self, "signal", signal_field(self.signal))
 
     def components(self) -> tuple[tuple[np.ndarray, Signal], ...]:
         """``((Q, signal),)``: the generalized force (6,) [N, N m] multiplied by the signal."""
@@ -214,7 +214,7 @@ class GroundMotion:
         direction = direction / np.linalg.norm(direction)
         direction.flags.writeable = False
         object.__setattr__(self, "direction", direction)
-        object.__setattr__(self, "signal", _signal_field(self.signal))
+        object.__setattr__(self, "signal", signal_field(self.signal))
         object.__setattr__(self, "scale", number(self.scale, "scale", "a finite non-zero number",))
         if self.scale == 0.0:
             raise InputError("scale", "a finite non-zero number", self.scale)

@@ -505,7 +505,7 @@ def make_signal(value: Signal | Mapping[str, Any]) -> Signal:
     return cls(**table)
 
 
-def _signal_field(value: Any) -> Signal:
+def signal_field(value: Any) -> Signal:
     if value is None:
         raise InputError("signal", "a signal such as {kind = \"harmonic\", f_hz = 5.0}", Plain("nothing"))
     try:

@@ -12,12 +12,14 @@ from functools import cache
 
 import numpy as np
 
+from sixdof import TimeHistory
 from sixdof.analysis import frf as frf_module
+from sixdof.analysis.compare import compare
 from sixdof.analysis.direct import SimulationSettings, simulate
 from sixdof.analysis.modal import modal_analysis
 from sixdof.analysis.response import mount_forces, points_motion
 from sixdof.analysis.statespace import modal_damping_ratios
-from sixdof.analysis.superposition import compare, modal_solve
+from sixdof.analysis.superposition import modal_solve
 from sixdof.excitation import Excitation, Harmonic, Load
 from sixdof.model.kinematics import generalized_force
 from sixdof.model.system import Mount, RigidBody, System
@@ -101,8 +103,9 @@ def validation_report(modes, zeta) -> ValidationReport:
         sigma = zeta[r] * 2 * np.pi * modes.frequency_hz[r]
         eta = np.exp(-sigma * t) * np.cos(2 * np.pi * f_d * t)
         estimate = decay_estimate(t, eta)
-        decays.append(FreeDecay(mode=r + 1, t=t, eta=eta, q=eta[:, None] * modes.shapes[:, r][None, :],
-                                estimate=estimate))
+        q = eta[:, None] * modes.shapes[:, r][None, :]
+        history = TimeHistory(t=t, q=q, qd=np.zeros_like(q), qdd=np.zeros_like(q))
+        decays.append(FreeDecay(mode=r + 1, history=history, eta=eta, estimate=estimate))
         values = dict(mode=r + 1, dominant_dof=modes.dominant_dof[r], f_model_hz=float(modes.frequency_hz[r]),
                       zeta_model=float(zeta[r]), f_damped_model_hz=float(f_d),
                       f_damped_estimated_hz=estimate.f_damped_hz, zeta_estimated=estimate.zeta,

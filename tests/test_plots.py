@@ -168,8 +168,9 @@ def test_superposition_overlay_and_difference(results):
 def test_superposition_difference_of_a_quiet_dof_is_the_stored_agreement():
     # A load along x through the CG of a symmetric body: y, z, rx, rz stay at round-off ("quiet")
     # and the agreement judges them against the largest peak; the figure must plot the same number.
+    from sixdof.analysis.compare import compare
     from sixdof.analysis.direct import SimulationSettings, simulate
-    from sixdof.analysis.superposition import compare, superpose
+    from sixdof.analysis.superposition import superpose
     from sixdof.excitation import Excitation, HalfSine, Load
     from sixdof.io.store import build_results
     from sixdof.model.system import Mount, RigidBody, System

@@ -177,8 +177,8 @@ def test_truncated_superposition_reports_its_error_and_warns(tmp_path):
     scenario = parse_scenario(text.replace("duration = 0.6", "duration = 0.2"), "trunc.toml")
     with pytest.warns(AgreementWarning, match=r"direct and modal superposition disagree: worst DOF"):
         outcome = run_scenario(scenario, tmp_path, progress=False)
-    assert outcome.superposition.modes_kept == (0, 1, 2)
-    assert outcome.superposition.truncation.worst > 1e-6
+    assert outcome.superposition.superposition.modes_kept == (0, 1, 2)
+    assert outcome.superposition.superposition.truncation.worst > 1e-6
     # Against the direct solve, the truncated superposition is off by what its truncation says.
-    assert outcome.agreement.worst == pytest.approx(outcome.superposition.truncation.worst, rel=1e-3)
+    assert outcome.agreement.worst == pytest.approx(outcome.superposition.superposition.truncation.worst, rel=1e-3)
     assert "Truncated to modes 1, 2, 3" in outcome.summary_path.read_text()

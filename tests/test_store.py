@@ -98,7 +98,7 @@ def test_round_trip_values_equal_the_library_objects(parts, loaded):
     assert attrs["agreement_worst"] == agreement.worst
     assert attrs["agreement_tolerance"] == agreement.tolerance
     assert attrs["agreement_ok"] == int(agreement.ok)
-    assert attrs["method"] == parts["superposition"].method
+    assert attrs["method"] == parts["superposition"].superposition.method
     frf = parts["frf"]
     np.testing.assert_array_equal(loaded.array("frf/f_hz"), frf.direct.f_hz)
     np.testing.assert_array_equal(loaded.array("frf/receptance"), frf.direct.H)

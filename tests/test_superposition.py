@@ -15,15 +15,11 @@ import numpy as np
 import pytest
 import scipy.linalg
 
-from sixdof.analysis.superposition import (
-    Agreement,
-    ModalResponse,
-    compare,
-    modal_solve,
-    superpose,
-)
+from sixdof.analysis.compare import Agreement, compare
+from sixdof.analysis.superposition import modal_solve, superpose
 from sixdof.errors import InputError
 from sixdof.model.system import Mount, Rayleigh, RigidBody, System
+from sixdof.results import TimeHistory
 from tolerances import (
     MODAL_DAMPING_COUPLING_MIN,
     MODAL_RESIDUAL_GAIN,
@@ -185,7 +181,7 @@ def test_matches_exact_response(references, system_name, case):
     result = solve(SYSTEMS[system_name], CASES[case])
     agreement = compare(references(system_name, case), result)
     assert agreement.worst < RTOL_MODAL_EXACT, str(agreement)
-    assert result.method == ("real" if system_name in CLASSICAL else "complex")
+    assert result.superposition.method == ("real" if system_name in CLASSICAL else "complex")
 
 
 @pytest.mark.parametrize("system_name", ["rayleigh", "dashpots"])
@@ -236,13 +232,13 @@ def test_accelerations_satisfy_equation_of_motion():
 def test_automatic_method_is_reported(system_name):
     result = solve(SYSTEMS[system_name], CASES["step"])
     if system_name in CLASSICAL:
-        assert result.method == "real" and result.reason.startswith("auto: damping is classical")
-        assert result.coupling < 1e-10
-        assert len(result.eigenvalues) == 12
+        assert result.superposition.method == "real" and result.superposition.reason.startswith("auto: damping is classical")
+        assert result.superposition.coupling < 1e-10
+        assert len(result.superposition.eigenvalues) == 12
     else:
-        assert result.method == "complex" and "non-proportional" in result.reason
-        assert result.coupling > MODAL_DAMPING_COUPLING_MIN
-    assert result.approximation is None
+        assert result.superposition.method == "complex" and "non-proportional" in result.superposition.reason
+        assert result.superposition.coupling > MODAL_DAMPING_COUPLING_MIN
+    assert result.superposition.approximation is None
 
 
 def test_real_modes_on_nonproportional_damping_disagree_measurably(references):
@@ -250,15 +246,15 @@ def test_real_modes_on_nonproportional_damping_disagree_measurably(references):
     exact = references("dashpots", "half_sine")
     agreement = compare(exact, result)
     assert agreement.worst > MODAL_DAMPING_COUPLING_MIN and not agreement.ok
-    assert result.method == "real" and "approximate" in result.reason
+    assert result.superposition.method == "real" and "approximate" in result.superposition.reason
     # The result reports that error itself, against the exact complex-mode computation.
-    assert result.approximation is not None and not result.approximation.ok
-    assert result.approximation.worst == pytest.approx(agreement.worst, rel=1e-6)
+    assert result.superposition.approximation is not None and not result.superposition.approximation.ok
+    assert result.superposition.approximation.worst == pytest.approx(agreement.worst, rel=1e-6)
 
 
 def test_forced_complex_on_classical_damping_agrees(references):
     result = solve(SYSTEMS["rayleigh"], CASES["table"], method="complex")
-    assert result.method == "complex"
+    assert result.superposition.method == "complex"
     assert compare(references("rayleigh", "table"), result).worst < RTOL_MODAL_EXACT
 
 
@@ -283,7 +279,7 @@ def test_classical_damping_detected_within_repeated_modes():
     zeta = np.array([0.01, 0.05, 0.02, 0.08, 0.03, 0.04])
     C = M @ shapes @ np.diag(2 * zeta * modes.omega) @ shapes.T @ M
     result = modal_solve(M, C, K, T, lambda t: np.sin(20 * t)[:, None] * LOAD)
-    assert result.method == "real" and result.coupling < 1e-10
+    assert result.superposition.method == "real" and result.superposition.coupling < 1e-10
     reference = exact_response(SimpleNamespace(M=M, C=C, K=K), T, [(0.0, INF, [sine(20.0)])])
     assert compare(reference, result).worst < RTOL_MODAL_EXACT
 
@@ -306,20 +302,20 @@ def test_residual_correction_beats_plain_truncation(system_name):
     error_with = compare(exact, with_residual).worst
     error_without = compare(exact, without).worst
     assert error_with < MODAL_RESIDUAL_GAIN * error_without
-    assert with_residual.modes_kept == (0, 1, 2, 3) and with_residual.residual
-    assert not without.residual
+    assert with_residual.superposition.modes_kept == (0, 1, 2, 3) and with_residual.superposition.residual
+    assert not without.superposition.residual
     # The reported truncation error is the error against the full set of modes.
-    assert with_residual.truncation.worst == pytest.approx(error_with, rel=1e-3)
-    assert without.truncation.worst == pytest.approx(error_without, rel=1e-3)
+    assert with_residual.superposition.truncation.worst == pytest.approx(error_with, rel=1e-3)
+    assert without.superposition.truncation.worst == pytest.approx(error_without, rel=1e-3)
 
 
 def test_truncation_by_frequency():
     system = SYSTEMS["rayleigh"]
     result = solve(system, CASES["step"], f_max_hz=10.0)
-    assert result.modes_kept == (0, 1, 2, 3)
-    assert np.all(result.frequency_hz <= 10.0)
+    assert result.superposition.modes_kept == (0, 1, 2, 3)
+    assert np.all(result.superposition.frequency_hz <= 10.0)
     full = solve(system, CASES["step"])
-    assert full.truncation is None and full.modes_kept == tuple(range(6))
+    assert full.superposition.truncation is None and full.superposition.modes_kept == tuple(range(6))
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -347,7 +343,7 @@ def test_rigid_body_modes_undamped_move_as_free_mass():
     expected_y = force[1] / BODY.mass * t**2 / 2
     np.testing.assert_allclose(result.q[:, 0], expected_x, rtol=RTOL_MODAL_EXACT, atol=0)
     np.testing.assert_allclose(result.q[1:, 1], expected_y[1:], rtol=RTOL_MODAL_EXACT, atol=0)
-    assert result.method == "complex"  # the vertical dashpots are not proportional
+    assert result.superposition.method == "complex"  # the vertical dashpots are not proportional
 
 
 @pytest.mark.parametrize("method", ["real", "complex"])
@@ -362,14 +358,14 @@ def test_rigid_body_modes_with_mass_proportional_damping(method):
                          method=method)
     expected = force[0] / (BODY.mass * alpha) * (t - (1 - np.exp(-alpha * t)) / alpha)
     np.testing.assert_allclose(result.q[1:, 0], expected[1:], rtol=RTOL_MODAL_EXACT, atol=0)
-    assert result.method == method
+    assert result.superposition.method == method
 
 
 def test_rigid_body_modes_with_horizontal_dashpots_match_exact():
     system = free_floating(horizontal_damping=2e4)
     pieces = CASES["half_sine"]
     result = solve(system, pieces)
-    assert result.method == "complex"
+    assert result.superposition.method == "complex"
     assert compare(exact_response(system, T, pieces), result).worst < RTOL_MODAL_EXACT
 
 
@@ -444,9 +440,9 @@ def test_input_errors():
 
 def test_result_is_frozen():
     result = solve(SYSTEMS["rayleigh"], CASES["step"])
-    assert isinstance(result, ModalResponse)
+    assert isinstance(result, TimeHistory)
     with pytest.raises(AttributeError):
-        result.method = "complex"
+        result.superposition.method = "complex"
     with pytest.raises(ValueError):
         result.q[0, 0] = 1.0
 
@@ -521,7 +517,7 @@ def test_agrees_with_direct_solver(direct, system_name, kind):
     result = superpose(SYSTEMS[system_name], EXCITATIONS[kind], reference.t)
     agreement = compare(reference, result, tolerance=RTOL_MODAL_DIRECT)
     assert agreement.ok, str(agreement)
-    assert result.method == ("real" if system_name in CLASSICAL else "complex")
+    assert result.superposition.method == ("real" if system_name in CLASSICAL else "complex")
 
 
 def test_real_modes_on_dashpots_disagree_with_direct_solver(direct):
@@ -530,7 +526,7 @@ def test_real_modes_on_dashpots_disagree_with_direct_solver(direct):
                        method="real")
     agreement = compare(reference, result, tolerance=RTOL_MODAL_DIRECT)
     assert agreement.worst > MODAL_DAMPING_COUPLING_MIN and not agreement.ok
-    assert not result.approximation.ok
+    assert not result.superposition.approximation.ok
 
 
 def test_truncated_superposition_reports_error_against_full_set(direct):
@@ -539,5 +535,5 @@ def test_truncated_superposition_reports_error_against_full_set(direct):
     actual = compare(reference, truncated).worst
     # The reported truncation error (against the full modal set) is the error against the direct
     # solution, up to the direct solver's own error.
-    assert truncated.truncation.worst == pytest.approx(actual, rel=1e-3)
-    assert truncated.truncation.worst > RTOL_MODAL_DIRECT
+    assert truncated.superposition.truncation.worst == pytest.approx(actual, rel=1e-3)
+    assert truncated.superposition.truncation.worst > RTOL_MODAL_DIRECT

@@ -126,10 +126,11 @@ def _run(args) -> int:
     print(f"{scenario.name}: {scenario.description}\n")
     print(report.modes_table(outcome.modes, outcome.damping_ratios))
     if outcome.agreement is not None:
-        print(f"\nDirect solve vs modal superposition ({outcome.superposition.method} modes): {outcome.agreement}")
-        truncation = outcome.superposition.truncation
+        info = outcome.superposition.superposition
+        print(f"\nDirect solve vs modal superposition ({info.method} modes): {outcome.agreement}")
+        truncation = info.truncation
         if truncation is not None:
-            kept = ", ".join(str(j + 1) for j in outcome.superposition.modes_kept)
+            kept = ", ".join(str(j + 1) for j in info.modes_kept)
             print(f"Truncated to modes {kept}; against all modes: {truncation}")
         stats = outcome.response.stats
         print(f"Solver {stats.solver}: {stats.num_accepted} steps, {stats.num_rejected} rejected, "

@@ -22,6 +22,15 @@ DOF_DESCRIPTIONS: tuple[str, ...] = (
     "rotation about z",
 )
 
+#: Names of the generalized forces, conjugate to the DOFs: the input axis of M, C, K and receptances.
+LOADS: tuple[str, ...] = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
+
+#: Body axes: the component axis of positions, point motions and mount forces.
+AXES: tuple[str, ...] = ("x", "y", "z")
+
+#: A mount's own axes (rows of ``Mount.axes``): the axis of its stiffness and damping.
+MOUNT_AXES: tuple[str, ...] = ("u", "v", "w")
+
 TRANSLATIONS = slice(0, 3)
 ROTATIONS = slice(3, 6)
 

@@ -152,7 +152,8 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
     RunOutcome
     """
     from sixdof import plots
-    from sixdof.analysis.superposition import compare, superpose
+    from sixdof.analysis.compare import compare
+    from sixdof.analysis.superposition import superpose
     from sixdof.io import store, summary
 
     root = check_output_root(out_root)
@@ -181,9 +182,8 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         superposition = superpose(system, excitation, response.t, method=options.method,
                                   n_modes=options.n_modes, f_max_hz=options.f_max_hz,
                                   residual=options.residual)
-        direct_q = response.q if superposition.frame == "absolute" else response.q_relative
-        # Rotations are judged beside translations through the body's size (quiet DOFs).
-        agreement = compare(direct_q, superposition.q, length=_body_length(system))
+        # Both are absolute motion; rotations are judged beside translations through the body's size.
+        agreement = compare(response, superposition, length=_body_length(system))
         if not agreement.ok:
             note = (
                 f"direct and modal superposition disagree: worst DOF {agreement.worst_dof} at "

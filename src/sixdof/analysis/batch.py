@@ -6,7 +6,7 @@ variant's M, K, C and its natural frequencies in one ``jax.vmap`` of the pure as
 :mod:`sixdof.model.system` (``jnp.linalg.eigh`` of the mass-scaled stiffness), then integrates all variants
 together with ``jax.vmap`` of one diffrax solve, in chunks of variants that bound memory, keeping only
 what is asked for: the peak of ``|q|`` and ``|q''|`` per DOF at the output samples, and the full
-:class:`~sixdof.analysis.direct.TimeResponse` of a few chosen variants.
+:class:`~sixdof.results.TimeHistory` of a few chosen variants.
 
 The solve uses the same settings as :func:`sixdof.analysis.direct.simulate`: solver, ``rtol``/``atol`` on the
 state divided by the per-component scale of :func:`sixdof.analysis.direct.state_scale` (the *nominal*
@@ -95,7 +95,7 @@ class BatchResult:
         ``max |q''|`` over the output samples per DOF [m/s^2, rad/s^2].
     num_steps, num_rejected : ndarray, shape (nv,), int, or None
         Solver steps attempted and rejected per variant.
-    histories : dict of int to sixdof.analysis.direct.TimeResponse
+    histories : dict of int to sixdof.results.TimeHistory
         Full time responses of the variants asked for (by index).
     settings : sixdof.analysis.direct.SimulationSettings or None
     chunk_size : int
@@ -307,7 +307,7 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     settings : sixdof.analysis.direct.SimulationSettings, optional
         The same settings as :func:`sixdof.analysis.direct.simulate`.
     histories : sequence of int, optional
-        Indices of variants whose full :class:`~sixdof.analysis.direct.TimeResponse` is wanted (computed
+        Indices of variants whose full :class:`~sixdof.results.TimeHistory` is wanted (computed
         with :func:`sixdof.analysis.direct.simulate` on :func:`variant_system`).
     chunk_size : int, optional
         Variants integrated together; default :func:`default_chunk_size` (memory bound).

@@ -42,6 +42,7 @@ import numpy as np
 from sixdof._jax import jax, jnp
 from sixdof.errors import InputError, Plain, SolverError, readonly
 from sixdof.excitation import Excitation
+from sixdof.results import TimeHistory
 
 # isort: split
 import diffrax  # noqa: E402  (after ._jax: float64 must be on first)
@@ -172,43 +173,6 @@ class SolverStats:
     max_steps: int
     num_jumps: int
     wall_time_s: float
-
-
-@dataclass(frozen=True, eq=False)
-class TimeResponse:
-    """Result of :func:`simulate`: the body's motion at the sample times.
-
-    ``q, qd, qdd`` are the *absolute* motion of the body (in the fixed frame): what an
-    accelerometer on it measures. ``q_relative`` etc. are relative to the moving foundation: what
-    the mounts feel. Without ground motion both are the same.
-
-    Attributes
-    ----------
-    t : ndarray, shape (n,)
-        Times [s].
-    q, qd, qdd : ndarray, shape (n, 6)
-        Absolute displacement [m, rad], velocity [m/s, rad/s], acceleration [m/s^2, rad/s^2].
-    q_relative, qd_relative, qdd_relative : ndarray, shape (n, 6)
-        The same relative to the ground (``q - r u_g`` ...).
-    ground_displacement, ground_velocity, ground_acceleration : ndarray, shape (n, 3)
-        Foundation motion in body axes [m, m/s, m/s^2]; zeros without ground motion.
-    Q : ndarray, shape (n, 6)
-        Generalized force of the loads [N, N m] (ground motion not included).
-    stats : SolverStats
-    """
-
-    t: np.ndarray
-    q: np.ndarray
-    qd: np.ndarray
-    qdd: np.ndarray
-    q_relative: np.ndarray
-    qd_relative: np.ndarray
-    qdd_relative: np.ndarray
-    ground_displacement: np.ndarray
-    ground_velocity: np.ndarray
-    ground_acceleration: np.ndarray
-    Q: np.ndarray
-    stats: SolverStats
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -400,7 +364,7 @@ def _progress_key(progress: Any) -> str:
 
 
 def simulate(system, excitation: Excitation | None, settings: SimulationSettings,
-             progress: Any = None) -> TimeResponse:
+             progress: Any = None) -> TimeHistory:
     """Integrate eq. (1) in time for ``system`` under ``excitation``.
 
     Parameters
@@ -416,7 +380,9 @@ def simulate(system, excitation: Excitation | None, settings: SimulationSettings
 
     Returns
     -------
-    TimeResponse
+    sixdof.results.TimeHistory
+        Absolute motion, the ground's motion when it moves, the loads' generalized force and the
+        solver's statistics (``stats``).
 
     Raises
     ------
@@ -479,17 +445,14 @@ def simulate(system, excitation: Excitation | None, settings: SimulationSettings
         )
     z, w = xs[:, :6], xs[:, 6:12]
     u_g, v_g, a_g = kin[:, 0], kin[:, 1], kin[:, 2]
-    q = z + np.outer(u_g, r)
-    qdd_relative = qdd - np.outer(a_g, r)
     n_steps, n_accepted, n_rejected = (int(s) for s in stats)
     direction = r[:3]
-    return TimeResponse(
-        t=readonly(ts), q=readonly(q), qd=readonly(w), qdd=readonly(qdd),
-        q_relative=readonly(z), qd_relative=readonly(w - np.outer(v_g, r)), qdd_relative=readonly(qdd_relative),
-        ground_displacement=readonly(np.outer(u_g, direction)),
-        ground_velocity=readonly(np.outer(v_g, direction)),
-        ground_acceleration=readonly(np.outer(a_g, direction)),
-        Q=readonly(Q),
+    return TimeHistory(
+        t=ts, q=z + np.outer(u_g, r), qd=w, qdd=qdd,
+        ground_displacement=None if ground is None else np.outer(u_g, direction),
+        ground_velocity=None if ground is None else np.outer(v_g, direction),
+        ground_acceleration=None if ground is None else np.outer(a_g, direction),
+        Q=Q,
         stats=SolverStats(
             solver=settings.solver, rtol=settings.rtol, atol=settings.atol, scale=readonly(sigma),
             num_steps=n_steps, num_accepted=n_accepted, num_rejected=n_rejected,
@@ -503,5 +466,5 @@ def _is_number(value: Any) -> bool:
             and math.isfinite(value))
 
 
-__all__ = ["SOLVERS", "SCALE_FLOOR", "SimulationSettings", "SolverStats", "TimeResponse",
+__all__ = ["SOLVERS", "SCALE_FLOOR", "SimulationSettings", "SolverStats",
            "simulate", "state_scale"]

@@ -14,9 +14,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sixdof.analysis.direct import TimeResponse
 from sixdof.errors import point, readonly
 from sixdof.model.kinematics import point_map
+from sixdof.results import TimeHistory
 
 
 @dataclass(frozen=True, eq=False)
@@ -39,12 +39,12 @@ class PointMotion:
     relative: bool
 
 
-def point_motion(response: TimeResponse, position, *, relative: bool = False) -> PointMotion:
+def point_motion(response: TimeHistory, position, *, relative: bool = False) -> PointMotion:
     """Displacement, velocity and acceleration of a body point.
 
     Parameters
     ----------
-    response : TimeResponse
+    response : TimeHistory
     position : array_like, shape (3,)
         Point from the CG in body axes [m].
     relative : bool, optional
@@ -64,7 +64,7 @@ def point_motion(response: TimeResponse, position, *, relative: bool = False) ->
                        acceleration=readonly(qdd @ T.T), relative=relative)
 
 
-def points_motion(response: TimeResponse, points, *, relative: bool = False) -> dict[str, PointMotion]:
+def points_motion(response: TimeHistory, points, *, relative: bool = False) -> dict[str, PointMotion]:
     """:func:`point_motion` of named points: ``{name: PointMotion}``.
 
     ``points`` is a mapping ``name -> position`` or a sequence of objects with ``name`` and
@@ -112,14 +112,14 @@ class MountForces:
     foundation_moment: np.ndarray
 
 
-def mount_forces(system, response: TimeResponse) -> MountForces:
+def mount_forces(system, response: TimeHistory) -> MountForces:
     """Each mount's force and the total force and moment on the foundation.
 
     Parameters
     ----------
     system : sixdof.model.system.System
         The system that was simulated.
-    response : TimeResponse
+    response : TimeHistory
 
     Returns
     -------

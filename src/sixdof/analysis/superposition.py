@@ -28,89 +28,38 @@ from functools import partial
 import numpy as np
 
 from sixdof._jax import jax
+from sixdof.analysis.compare import Agreement, compare
 from sixdof.analysis.modal import modal_analysis
 from sixdof.analysis.statespace import CLASSICAL_RTOL, complex_modes, modal_basis
 from sixdof.analysis.statespace import coupling as coupling_of
-from sixdof.dofs import DOFS
 from sixdof.errors import InputError, SolverError, finite_array, readonly
+from sixdof.results import TimeHistory
 
 #: Default Gauss-Legendre nodes per interval.
 QUADRATURE_NODES = 16
 #: Largest phase ``(|lambda| + omega_signal) h`` [rad] an interval may span: with 16 nodes the
 #: quadrature error of ``int e^{i theta s}`` over 4 rad is far below round-off.
 PHASE_PER_INTERVAL = 4.0
-#: Default tolerance of :func:`compare`.
-AGREEMENT_TOLERANCE = 1e-6
-#: In :func:`compare`, a DOF whose peak is below this fraction of the largest peak (rotations
-#: converted to lengths) is "quiet": its error is measured against the largest peak instead.
-QUIET_RTOL = 1e-6
 
 METHODS = ("auto", "real", "complex")
 _CHUNK = 4096  # intervals processed at once: bounds memory to a few tens of MB
 
 
 # ----------------------------------------------------------------------------------------------------
-# Result objects
+# Result
 # ----------------------------------------------------------------------------------------------------
 
 
 @dataclass(frozen=True, eq=False)
-class Agreement:
-    """Agreement of two time histories of ``q``, DOF by DOF (result of :func:`compare`).
+class SuperpositionInfo:
+    """How a modal-superposition history was computed (:attr:`sixdof.results.TimeHistory.superposition`).
+
+    The history's ``q`` is the absolute motion (fixed frame), like the direct solver's. With
+    truncation, ``q`` includes the static residual correction; ``qd`` and ``qdd`` include it too when
+    the force's time derivatives are known (``residual_rates``).
 
     Attributes
     ----------
-    per_dof : ndarray, shape (6,)
-        ``max_t |q_ref - q_other| / peak_t |q_ref|`` for each DOF (dimensionless). For a quiet DOF
-        (see ``quiet``) the denominator is the largest peak of all DOFs instead, rotations being
-        converted to lengths with ``length``.
-    worst_dof : str
-        Name of the DOF with the largest value of ``per_dof``.
-    worst : float
-        That value.
-    tolerance : float
-        Largest acceptable value of ``worst``.
-    ok : bool
-        ``worst <= tolerance``.
-    peak : ndarray, shape (6,)
-        ``peak_t |q_ref|`` of each DOF [m, rad].
-    quiet : tuple of str
-        DOFs whose response is negligible (peak below ``quiet_rtol`` times the largest): they are
-        judged against the largest peak, since their own peak is round-off.
-    length : float
-        Length [m] converting rotations to displacements when DOFs are compared with each other.
-    """
-
-    per_dof: np.ndarray
-    worst_dof: str
-    worst: float
-    tolerance: float
-    ok: bool
-    peak: np.ndarray
-    quiet: tuple[str, ...]
-    length: float
-
-    def __str__(self) -> str:
-        values = ", ".join(f"{d} {v:.2e}" for d, v in zip(DOFS, self.per_dof))
-        verdict = "ok" if self.ok else "OVER TOLERANCE"
-        return (
-            f"worst {self.worst:.2e} ({self.worst_dof}) vs tolerance {self.tolerance:.0e}: "
-            f"{verdict}; per DOF: {values}"
-        )
-
-
-@dataclass(frozen=True, eq=False)
-class ModalResponse:
-    """Time response by modal superposition (result of :func:`superpose` / :func:`modal_solve`).
-
-    Attributes
-    ----------
-    t : ndarray, shape (n,)
-        Output times [s].
-    q, qd, qdd : ndarray, shape (n, 6)
-        Displacement [m, rad], velocity [m/s, rad/s] and acceleration [m/s^2, rad/s^2] of the CG.
-        With truncation, ``q`` includes the static residual correction; ``qd`` and ``qdd`` include
-        it too when the force's time derivatives are known (``residual_rates``).
     method : str
         ``"real"`` (decoupled undamped modes) or ``"complex"`` (complex modes of the first-order
         system).
@@ -139,15 +88,8 @@ class ModalResponse:
         Number of quadrature intervals (output steps split at breakpoints and for accuracy).
     quadrature_nodes : int
         Gauss-Legendre nodes per interval.
-    frame : str
-        What ``q`` measures: ``"absolute"``, the motion in the fixed frame, like
-        :attr:`sixdof.analysis.direct.TimeResponse.q` (with ground motion too).
     """
 
-    t: np.ndarray
-    q: np.ndarray
-    qd: np.ndarray
-    qdd: np.ndarray
     method: str
     reason: str
     coupling: float
@@ -160,96 +102,6 @@ class ModalResponse:
     approximation: Agreement | None
     n_intervals: int
     quadrature_nodes: int
-    frame: str = "absolute"
-
-
-# ----------------------------------------------------------------------------------------------------
-# Cross-check
-# ----------------------------------------------------------------------------------------------------
-
-
-def compare(
-    direct_q,
-    modal_q,
-    tolerance: float = AGREEMENT_TOLERANCE,
-    *,
-    length: float = 1.0,
-    quiet_rtol: float = QUIET_RTOL,
-) -> Agreement:
-    """Agreement of a modal-superposition history with a reference (direct) one, DOF by DOF.
-
-    For each DOF i: ``max_t |q_ref_i - q_i| / peak_t |q_ref_i|``, each DOF relative to its own peak,
-    so that rotations (~1e-7 rad) and translations (~1e-4 m) are each judged on their own scale.
-
-    A DOF that hardly moves cannot be judged on its own peak (its peak is round-off, or a remote
-    coupling): when ``peak_i * s_i < quiet_rtol * max_j(peak_j * s_j)``, with ``s`` = 1 for
-    translations and ``length`` [m/rad] for rotations, DOF i is *quiet* and its error is divided by
-    ``max_j(peak_j * s_j) / s_i`` instead (the largest response expressed in its unit). When the
-    reference is identically zero, the error is ``0`` if the histories are identical, else ``inf``.
-
-    Parameters
-    ----------
-    direct_q, modal_q : array_like, shape (n, 6), or objects with a ``q`` attribute
-        Reference and compared histories of q [m, rad] on the same time grid.
-    tolerance : float
-        Largest acceptable relative error (default 1e-6).
-    length : float
-        Length [m] converting rotations into displacements for the quiet test (e.g. the body's
-        half-size); default 1 m.
-    quiet_rtol : float
-        Relative size below which a DOF is quiet (default 1e-6).
-
-    Returns
-    -------
-    Agreement
-
-    Raises
-    ------
-    InputError
-        If the shapes differ or are not (n, 6), or a value is not finite, or ``tolerance`` /
-        ``length`` is not positive.
-    """
-    ref = _history(direct_q, "direct_q")
-    other = _history(modal_q, "modal_q")
-    if ref.shape != other.shape:
-        raise InputError("modal_q", f"shape {ref.shape} like direct_q", f"shape {other.shape}")
-    for name, value in (("tolerance", tolerance), ("length", length), ("quiet_rtol", quiet_rtol)):
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0 \
-                or not np.isfinite(value):
-            raise InputError(name, "a positive number", value)
-    scale = np.array([1.0, 1.0, 1.0, length, length, length])
-    peak = np.max(np.abs(ref), axis=0)
-    error = np.max(np.abs(ref - other), axis=0)
-    largest = float(np.max(peak * scale))
-    quiet = peak * scale < quiet_rtol * largest
-    denominator = np.where(quiet, largest / scale, peak)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        per_dof = np.where(denominator > 0, error / denominator, np.where(error > 0, np.inf, 0.0))
-    worst_index = int(np.argmax(per_dof))
-    worst = float(per_dof[worst_index])
-    return Agreement(
-        per_dof=readonly(per_dof),
-        worst_dof=DOFS[worst_index],
-        worst=worst,
-        tolerance=float(tolerance),
-        ok=bool(worst <= tolerance),
-        peak=readonly(peak),
-        quiet=tuple(d for d, flag in zip(DOFS, quiet) if flag and largest > 0),
-        length=float(length),
-    )
-
-
-def _history(value, name: str) -> np.ndarray:
-    value = getattr(value, "q", value)
-    try:
-        array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(name, "an array of shape (n, 6) in m and rad", value) from None
-    if array.ndim != 2 or array.shape[1] != 6 or array.shape[0] < 1:
-        raise InputError(name, "an array of shape (n, 6) in m and rad", f"shape {array.shape}")
-    if not np.all(np.isfinite(array)):
-        raise InputError(name, "finite values", "non-finite values")
-    return array
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -267,7 +119,7 @@ def superpose(
     f_max_hz: float | None = None,
     residual: bool = True,
     **options,
-) -> ModalResponse:
+) -> TimeHistory:
     """Time response of a system to an excitation by modal superposition.
 
     The same response as :func:`sixdof.analysis.direct.simulate` computed independently: modal transform,
@@ -300,7 +152,8 @@ def superpose(
 
     Returns
     -------
-    ModalResponse
+    sixdof.results.TimeHistory
+        With the method, modes kept and truncation error in ``superposition``.
 
     Raises
     ------
@@ -414,7 +267,7 @@ def modal_solve(
     signal_omega: float = 0.0,
     quadrature_nodes: int = QUADRATURE_NODES,
     ground=None,
-) -> ModalResponse:
+) -> TimeHistory:
     """Response of ``M q'' + C q' + K q = Q(t)`` by modal superposition.
 
     Parameters
@@ -460,7 +313,8 @@ def modal_solve(
 
     Returns
     -------
-    ModalResponse
+    sixdof.results.TimeHistory
+        With the method, modes kept and truncation error in ``superposition``.
 
     Raises
     ------
@@ -559,11 +413,7 @@ def modal_solve(
         if not np.all(np.isfinite(value)):
             raise SolverError(f"modal superposition produced non-finite values in {name}")
 
-    return ModalResponse(
-        t=readonly(t),
-        q=readonly(q),
-        qd=readonly(qd),
-        qdd=readonly(qdd),
+    info = SuperpositionInfo(
         method=chosen,
         reason=reason,
         coupling=coupling,
@@ -577,6 +427,7 @@ def modal_solve(
         n_intervals=grid.n_intervals,
         quadrature_nodes=quadrature_nodes,
     )
+    return TimeHistory(t=t, q=q, qd=qd, qdd=qdd, superposition=info)
 
 
 # ----------------------------------------------------------------------------------------------------

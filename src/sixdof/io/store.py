@@ -38,7 +38,7 @@ from typing import Any
 
 import numpy as np
 
-from sixdof.dofs import DOF_UNITS, DOFS
+from sixdof.dofs import AXES, DOF_UNITS, DOFS, LOADS, MOUNT_AXES
 from sixdof.errors import InputError, Plain
 
 #: Identifies the file layout; bump FORMAT_VERSION when a fixed name changes meaning.
@@ -49,12 +49,6 @@ FORMAT_VERSION = 1
 UNITS_ONE = "1"
 UNITS_LABEL = ""
 
-#: Names of the generalized forces, the column (input) axis of M, C, K and of the receptance.
-LOADS: tuple[str, ...] = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
-#: Body axes, the component axis of positions, point motions and mount forces.
-AXES: tuple[str, ...] = ("x", "y", "z")
-#: A mount's own axes (rows of ``Mount.axes``), the axis of its stiffness and damping.
-MOUNT_AXES: tuple[str, ...] = ("u", "v", "w")
 
 #: Packages whose versions are recorded in every file.
 PROVENANCE_PACKAGES: tuple[str, ...] = (
@@ -297,9 +291,10 @@ def build_results(
         Modal damping ratio of each mode (``nan`` for rigid-body modes), ``/modal/damping_ratio``.
     statics : sixdof.analysis.statics.Statics, optional
         Gives ``/statics``: deflection under gravity and each mount's force (needs ``system``).
-    response : sixdof.analysis.direct.TimeResponse, optional
+    response : sixdof.results.TimeHistory, optional
         Gives ``/time``.
-    superposition : sixdof.analysis.superposition.ModalResponse, optional
+    superposition : sixdof.results.TimeHistory, optional
+        The modal-superposition history (with its ``superposition`` information).
         Gives ``/time/superposition``.
     agreement : sixdof.analysis.superposition.Agreement, optional
         Stored as attributes of ``/time/superposition``.
@@ -578,9 +573,8 @@ def _superposition(tree: _Tree, modal, agreement) -> None:
     g = "time/superposition"
     if modal is not None:
         for order, key in enumerate(("q", "qd", "qdd")):
-            if getattr(modal, key, None) is not None:
-                tree.add(f"{g}/{key}", getattr(modal, key), UNITS[key], ("t", "dof"),
-                         dof_units=dof_units(order))
+            tree.add(f"{g}/{key}", getattr(modal, key), UNITS[key], ("t", "dof"), dof_units=dof_units(order))
+        modal = modal.superposition
         tree.set_attrs(
             g,
             method=getattr(modal, "method", None),
@@ -590,7 +584,7 @@ def _superposition(tree: _Tree, modal, agreement) -> None:
             else np.asarray([j + 1 for j in modal.modes_kept], dtype=np.int64),
             residual_correction=getattr(modal, "residual", None),
             residual_rates=getattr(modal, "residual_rates", None),
-            frame=getattr(modal, "frame", None),
+            frame="absolute",  # like /time/q
             n_intervals=getattr(modal, "n_intervals", None),
             quadrature_nodes=getattr(modal, "quadrature_nodes", None),
             **_agreement_attrs("truncation", getattr(modal, "truncation", None)),
@@ -712,9 +706,9 @@ def _validation(tree: _Tree, report) -> None:
         tree.labels(g, "dof", DOFS)
     for decay in report.decays:
         sub = f"{g}/decay/mode_{decay.mode}"
-        tree.add(f"{sub}/t", decay.t, "s", ("t",))
+        tree.add(f"{sub}/t", decay.history.t, "s", ("t",))
         tree.add(f"{sub}/eta", decay.eta, "kg^1/2 m", ("t",), description="modal coordinate phi_r' M q")
-        tree.add(f"{sub}/q", decay.q, UNITS["q"], ("t", "dof"), dof_units=dof_units(0))
+        tree.add(f"{sub}/q", decay.history.q, UNITS["q"], ("t", "dof"), dof_units=dof_units(0))
         est = decay.estimate
         tree.add(f"{sub}/extremum", np.arange(len(est.extrema_t)), UNITS_ONE, ("extremum",))
         tree.add(f"{sub}/extrema_t", est.extrema_t, "s", ("extremum",))

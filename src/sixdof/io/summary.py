@@ -27,7 +27,8 @@ def summary_markdown(scenario, modes, statics, damping_ratios, response, forces,
         parts += ["## Time response", "", _peaks_table(response), ""]
         parts += [f"Solver: {_stats_line(response.stats)}", ""]
         parts += ["### Peak mount forces", "", _mount_peaks_table(forces), ""]
-        parts += ["### Direct solve vs modal superposition", "", _agreement_table(agreement, superposition), ""]
+        parts += ["### Direct solve vs modal superposition", "",
+                  _agreement_table(agreement, superposition.superposition), ""]
     if frf is not None:
         parts += [
             "## Frequency response",

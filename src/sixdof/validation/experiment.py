@@ -29,6 +29,7 @@ from sixdof.analysis.frf import parse_direction, receptance
 from sixdof.analysis.statespace import modal_damping_ratios
 from sixdof.errors import InputError, SolverError, point, readonly
 from sixdof.model.kinematics import unit_load
+from sixdof.results import TimeHistory
 from sixdof.validation.estimation import (
     DecayEstimate,
     EstimatedFRF,
@@ -101,19 +102,16 @@ class FreeDecay:
     ----------
     mode : int
         1-based mode number.
-    t : ndarray, shape (n,)
-        Times [s].
+    history : sixdof.results.TimeHistory
+        The body's motion after release from the mode shape.
     eta : ndarray, shape (n,)
-        Modal coordinate ``phi_r' M q`` [sqrt(kg) m].
-    q : ndarray, shape (n, 6)
-        The body's motion [m, rad].
+        Modal coordinate ``phi_r' M q`` at ``history.t`` [sqrt(kg) m].
     estimate : DecayEstimate
     """
 
     mode: int
-    t: np.ndarray
+    history: TimeHistory
     eta: np.ndarray
-    q: np.ndarray
     estimate: DecayEstimate
 
 
@@ -337,7 +335,7 @@ def validate(system, settings: ValidationSettings | None = None) -> ValidationRe
                        SimulationSettings(duration=_span(settings.decay_samples, rate),
                                           sample_rate_hz=rate))
         eta = run.q @ M @ phi[:, r]
-        decays.append(FreeDecay(mode=r + 1, t=run.t, eta=readonly(eta), q=run.q,
+        decays.append(FreeDecay(mode=r + 1, history=run, eta=readonly(eta),
                                 estimate=decay_estimate(run.t, eta)))
 
     # 2. Random force, one run per elastic mode: white Gaussian samples at a rate fitted to the

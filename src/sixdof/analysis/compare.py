@@ -1,0 +1,145 @@
+"""Agreement of two time histories, DOF by DOF: the cross-check of every direct solve."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from sixdof.dofs import DOFS
+from sixdof.errors import InputError, readonly
+
+#: Default tolerance of :func:`compare`.
+AGREEMENT_TOLERANCE = 1e-6
+#: In :func:`compare`, a DOF whose peak is below this fraction of the largest peak (rotations
+#: converted to lengths) is "quiet": its error is measured against the largest peak instead.
+QUIET_RTOL = 1e-6
+
+
+@dataclass(frozen=True, eq=False)
+class Agreement:
+    """Agreement of two time histories of ``q``, DOF by DOF (result of :func:`compare`).
+
+    Attributes
+    ----------
+    per_dof : ndarray, shape (6,)
+        ``max_t |q_ref - q_other| / peak_t |q_ref|`` for each DOF (dimensionless). For a quiet DOF
+        (see ``quiet``) the denominator is the largest peak of all DOFs instead, rotations being
+        converted to lengths with ``length``.
+    worst_dof : str
+        Name of the DOF with the largest value of ``per_dof``.
+    worst : float
+        That value.
+    tolerance : float
+        Largest acceptable value of ``worst``.
+    ok : bool
+        ``worst <= tolerance``.
+    peak : ndarray, shape (6,)
+        ``peak_t |q_ref|`` of each DOF [m, rad].
+    quiet : tuple of str
+        DOFs whose response is negligible (peak below ``quiet_rtol`` times the largest): they are
+        judged against the largest peak, since their own peak is round-off.
+    length : float
+        Length [m] converting rotations to displacements when DOFs are compared with each other.
+    """
+
+    per_dof: np.ndarray
+    worst_dof: str
+    worst: float
+    tolerance: float
+    ok: bool
+    peak: np.ndarray
+    quiet: tuple[str, ...]
+    length: float
+
+    def __str__(self) -> str:
+        values = ", ".join(f"{d} {v:.2e}" for d, v in zip(DOFS, self.per_dof))
+        verdict = "ok" if self.ok else "OVER TOLERANCE"
+        return (
+            f"worst {self.worst:.2e} ({self.worst_dof}) vs tolerance {self.tolerance:.0e}: "
+            f"{verdict}; per DOF: {values}"
+        )
+
+
+def compare(
+    direct_q,
+    modal_q,
+    tolerance: float = AGREEMENT_TOLERANCE,
+    *,
+    length: float = 1.0,
+    quiet_rtol: float = QUIET_RTOL,
+) -> Agreement:
+    """Agreement of a modal-superposition history with a reference (direct) one, DOF by DOF.
+
+    For each DOF i: ``max_t |q_ref_i - q_i| / peak_t |q_ref_i|``, each DOF relative to its own peak,
+    so that rotations (~1e-7 rad) and translations (~1e-4 m) are each judged on their own scale.
+
+    A DOF that hardly moves cannot be judged on its own peak (its peak is round-off, or a remote
+    coupling): when ``peak_i * s_i < quiet_rtol * max_j(peak_j * s_j)``, with ``s`` = 1 for
+    translations and ``length`` [m/rad] for rotations, DOF i is *quiet* and its error is divided by
+    ``max_j(peak_j * s_j) / s_i`` instead (the largest response expressed in its unit). When the
+    reference is identically zero, the error is ``0`` if the histories are identical, else ``inf``.
+
+    Parameters
+    ----------
+    direct_q, modal_q : array_like, shape (n, 6), or objects with a ``q`` attribute
+        Reference and compared histories of q [m, rad] on the same time grid.
+    tolerance : float
+        Largest acceptable relative error (default 1e-6).
+    length : float
+        Length [m] converting rotations into displacements for the quiet test (e.g. the body's
+        half-size); default 1 m.
+    quiet_rtol : float
+        Relative size below which a DOF is quiet (default 1e-6).
+
+    Returns
+    -------
+    Agreement
+
+    Raises
+    ------
+    InputError
+        If the shapes differ or are not (n, 6), or a value is not finite, or ``tolerance`` /
+        ``length`` is not positive.
+    """
+    ref = _history(direct_q, "direct_q")
+    other = _history(modal_q, "modal_q")
+    if ref.shape != other.shape:
+        raise InputError("modal_q", f"shape {ref.shape} like direct_q", f"shape {other.shape}")
+    for name, value in (("tolerance", tolerance), ("length", length), ("quiet_rtol", quiet_rtol)):
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0 \
+                or not np.isfinite(value):
+            raise InputError(name, "a positive number", value)
+    scale = np.array([1.0, 1.0, 1.0, length, length, length])
+    peak = np.max(np.abs(ref), axis=0)
+    error = np.max(np.abs(ref - other), axis=0)
+    largest = float(np.max(peak * scale))
+    quiet = peak * scale < quiet_rtol * largest
+    denominator = np.where(quiet, largest / scale, peak)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        per_dof = np.where(denominator > 0, error / denominator, np.where(error > 0, np.inf, 0.0))
+    worst_index = int(np.argmax(per_dof))
+    worst = float(per_dof[worst_index])
+    return Agreement(
+        per_dof=readonly(per_dof),
+        worst_dof=DOFS[worst_index],
+        worst=worst,
+        tolerance=float(tolerance),
+        ok=bool(worst <= tolerance),
+        peak=readonly(peak),
+        quiet=tuple(d for d, flag in zip(DOFS, quiet) if flag and largest > 0),
+        length=float(length),
+    )
+
+
+def _history(value, name: str) -> np.ndarray:
+    value = getattr(value, "q", value)
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(name, "an array of shape (n, 6) in m and rad", value) from None
+    if array.ndim != 2 or array.shape[1] != 6 or array.shape[0] < 1:
+        raise InputError(name, "an array of shape (n, 6) in m and rad", f"shape {array.shape}")
+    if not np.all(np.isfinite(array)):
+        raise InputError(name, "finite values", "non-finite values")
+    return array

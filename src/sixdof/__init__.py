@@ -34,6 +34,7 @@ _LAZY = {
     "Table": "excitation",
     "SimulationSettings": "analysis.direct",
     "TimeHistory": "results",
+    "RunResults": "results",
     "simulate": "analysis.direct",
     "mount_forces": "analysis.response",
     "point_motion": "analysis.response",

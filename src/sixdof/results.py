@@ -9,7 +9,7 @@ statistics (``stats``) or the superposition's method and truncation (``superposi
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -116,3 +116,53 @@ class TimeHistory:
         if self.has_ground:
             coords["axis"] = ("axis", list(AXES))
         return xr.Dataset(variables, coords=coords)
+
+
+@dataclass(frozen=True, eq=False)
+class RunResults:
+    """Everything one run computed, as the library's typed objects: what ``results.h5`` holds.
+
+    :func:`sixdof.io.store.write_results` writes it, :func:`sixdof.io.store.load_results` gives it back
+    (the same types), and :func:`sixdof.plots.save_all` draws every figure it allows. Parts a run did
+    not compute are ``None`` (or empty).
+
+    Attributes
+    ----------
+    name, description : str
+        The scenario's.
+    system : sixdof.model.system.System or None
+    modes : sixdof.analysis.modal.Modes or None
+    damping_ratios : ndarray, shape (6,), or None
+        Damping ratio of each mode (``nan`` for rigid-body modes).
+    statics : sixdof.analysis.statics.Statics or None
+    response : TimeHistory or None
+        The direct solve.
+    mount_forces : sixdof.analysis.response.MountForces or None
+    points : mapping of str to sixdof.analysis.response.PointMotion
+    superposition : TimeHistory or None
+        The modal-superposition cross-check.
+    agreement : sixdof.analysis.compare.Agreement or None
+        ``superposition`` against ``response``.
+    frf : sixdof.analysis.frf.FRFCrossCheck or sixdof.analysis.frf.FRF or None
+    frf_extras : mapping of str to PointFRF, ForceTransmissibility or GroundTransmissibility
+        Named point FRFs and transmissibilities on the frequencies of ``frf``.
+    validation : sixdof.validation.ValidationReport or None
+    provenance : mapping of str to str
+        ``scenario_text``, ``created_utc``, ``command_line``, package versions.
+    """
+
+    name: str = ""
+    description: str = ""
+    system: Any = None
+    modes: Any = None
+    damping_ratios: np.ndarray | None = None
+    statics: Any = None
+    response: TimeHistory | None = None
+    mount_forces: Any = None
+    points: Any = field(default_factory=dict)
+    superposition: TimeHistory | None = None
+    agreement: Any = None
+    frf: Any = None
+    frf_extras: Any = field(default_factory=dict)
+    validation: Any = None
+    provenance: Any = field(default_factory=dict)

@@ -203,7 +203,7 @@ axes = ["x"]
 
 
 def test_sweep_of_a_scenario_and_its_file(tmp_path, beam):
-    from sixdof.io.store import load_results, write_sweep
+    from sixdof.io.store import load_tree, write_sweep
 
     scenario = parse_scenario(SCENARIO)
     spec = parse_sweep_spec(SPEC)
@@ -214,7 +214,7 @@ def test_sweep_of_a_scenario_and_its_file(tmp_path, beam):
     expected = np.max(np.abs(direct.q), axis=0)
     assert np.all(np.abs(result.peak_q[i] - expected) / expected < RTOL_BATCH_DIRECT)
     written = write_sweep(tmp_path / "sweep.h5", result, system=scenario.system, name="beam")
-    back = load_results(written.path)
+    back = load_tree(written.path)
     np.testing.assert_array_equal(back.array("sweep/frequency_hz"), result.frequency_hz)
     np.testing.assert_array_equal(back.array("sweep/peak_q"), result.peak_q)
     assert back["sweep/peak_q"].units == "m (x, y, z); rad (rx, ry, rz)"

@@ -12,7 +12,7 @@ from matplotlib.figure import Figure
 from sixdof import plots
 from sixdof.analysis.modal import modal_analysis
 from sixdof.errors import InputError
-from sixdof.io.store import Dataset, build_results, load_results, write_results
+from sixdof.io.store import Dataset, build_results, load_tree, write_results
 from store_cases import bridge, run_parts
 
 UNIT_WORDS = ("[m]", "[kg^1/2 m]", "[mm]", "[µm]", "[mrad]", "[µrad]", "[s]", "[Hz]", "[kN]", "[N]", "[deg]", "[%]",
@@ -24,7 +24,7 @@ def results(tmp_path_factory):
     """The full bridge run, written and read back: figures are drawn from the stored file."""
     path = tmp_path_factory.mktemp("plots") / "results.h5"
     write_results(path, **run_parts())
-    return load_results(path)
+    return load_tree(path)
 
 
 @pytest.fixture(scope="module")
@@ -295,7 +295,7 @@ def test_plot_from_a_file_never_loads_pyplot(modal_only, tmp_path):
     code = (
         "import sys\n"
         "from sixdof import plots\nfrom sixdof.io import store\n"
-        f"files = plots.save_all(store.load_results({str(path)!r}), {str(tmp_path / 'png')!r})\n"
+        f"files = plots.save_all(store.load_tree({str(path)!r}), {str(tmp_path / 'png')!r})\n"
         "assert len(files) == 2, files\n"
         "assert 'matplotlib.pyplot' not in sys.modules\n"
     )

@@ -9,7 +9,7 @@ from sixdof.analysis.modal import modal_analysis
 from sixdof.cli import main
 from sixdof.errors import InputError
 from sixdof.io.scenario import parse_scenario
-from sixdof.io.store import load_results
+from sixdof.io.store import load_tree
 from sixdof.workflows import run_scenario, sampling_warnings
 
 SCENARIO = """
@@ -95,7 +95,7 @@ def test_run_writes_results_figures_and_summary(outcome):
         ["results.h5", "summary.md", *(f.name for f in outcome.figures)]
     )
     assert not [p for p in outcome.directory.parent.iterdir() if p.name.startswith(".")]
-    results = load_results(outcome.results_path)
+    results = load_tree(outcome.results_path)
     q = results.array("time/q")
     assert q.shape == (601, 6)
     assert results.array("time/superposition/q").shape == (601, 6)

@@ -9,6 +9,7 @@ import h5py
 import numpy as np
 import pytest
 
+import sixdof
 from sixdof.analysis.modal import modal_analysis
 from sixdof.dofs import DOFS
 from sixdof.errors import InputError
@@ -17,7 +18,7 @@ from sixdof.io.store import (
     Dataset,
     Results,
     build_results,
-    load_results,
+    load_tree,
     save_results,
     write_results,
 )
@@ -37,7 +38,7 @@ def written(parts, tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def loaded(written):
-    return load_results(written.path)
+    return load_tree(written.path)
 
 
 def assert_same(a: Results, b: Results):
@@ -144,6 +145,44 @@ def test_round_trip_of_responses_and_validation(parts, loaded):
     assert loaded.attrs["validation"]["notes"] == report.notes
 
 
+def test_load_results_gives_back_the_typed_objects(parts, written):
+    run = sixdof.load_results(written.path)
+    assert isinstance(run, sixdof.RunResults) and run.name == "bridge_beam"
+    system = parts["system"]
+    assert isinstance(run.system, sixdof.System) and run.system.mount_names == system.mount_names
+    for name in ("M", "C", "K"):
+        np.testing.assert_array_equal(getattr(run.system, name), getattr(system, name))
+    assert run.system.rayleigh == system.rayleigh and run.system.modal_damping == system.modal_damping
+    np.testing.assert_array_equal(run.modes.shapes, parts["modes"].shapes)
+    assert run.modes.subsystems == parts["modes"].subsystems and run.modes.zero_modes == parts["modes"].zero_modes
+    response = parts["response"]
+    assert isinstance(run.response, sixdof.TimeHistory)
+    for key in ("t", "q", "qd", "qdd", "Q"):
+        np.testing.assert_array_equal(getattr(run.response, key), getattr(response, key))
+    assert run.response.stats.num_steps == response.stats.num_steps and run.response.ground_displacement is None
+    modal = parts["superposition"]
+    np.testing.assert_array_equal(run.superposition.q, modal.q)
+    assert run.superposition.superposition.method == modal.superposition.method
+    assert run.superposition.superposition.modes_kept == modal.superposition.modes_kept
+    np.testing.assert_array_equal(run.superposition.superposition.eigenvalues, modal.superposition.eigenvalues)
+    assert run.agreement.worst == parts["agreement"].worst and run.agreement.ok == parts["agreement"].ok
+    np.testing.assert_array_equal(run.mount_forces.total, parts["mount_forces"].total)
+    assert run.mount_forces.names == parts["mount_forces"].names
+    assert list(run.points) == list(parts["points"])
+    np.testing.assert_array_equal(run.frf.direct.H, parts["frf"].direct.H)
+    np.testing.assert_array_equal(run.frf.modal.H, parts["frf"].modal.H)
+    assert run.frf.max_relative_difference == parts["frf"].max_relative_difference
+    assert {k: type(v) for k, v in run.frf_extras.items()} == {k: type(v) for k, v in parts["frf_extras"].items()}
+    for name, extra in parts["frf_extras"].items():
+        np.testing.assert_array_equal(run.frf_extras[name].f_hz, extra.f_hz)
+    report = parts["validation"]
+    assert run.validation.rows == report.rows
+    assert [d.mode for d in run.validation.decays] == [d.mode for d in report.decays]
+    np.testing.assert_array_equal(run.validation.decays[0].history.q, report.decays[0].history.q)
+    np.testing.assert_array_equal(run.validation.random_runs[0].estimated.H1, report.random_runs[0].estimated.H1)
+    assert run.provenance["scenario_text"] == SCENARIO_TEXT
+
+
 def test_no_ground_motion_means_no_relative_datasets(loaded):
     assert "time/q_relative" not in loaded.datasets and "time/ground_acceleration" not in loaded.datasets
 
@@ -208,7 +247,7 @@ def test_provenance(loaded):
 def test_modal_only_run_has_no_time_group(tmp_path):
     system = bridge()
     results = write_results(tmp_path / "r.h5", system=system, modes=modal_analysis(system.M, system.K))
-    loaded = load_results(tmp_path / "r.h5")
+    loaded = load_tree(tmp_path / "r.h5")
     assert "time" not in loaded and "frf" not in loaded and "modal" in loaded
     assert_same(results, loaded)
     assert "model/body_dimensions" in loaded.datasets
@@ -217,7 +256,7 @@ def test_modal_only_run_has_no_time_group(tmp_path):
 def test_body_without_dimensions_stores_none(tmp_path):
     system = bridge(dimensions=None)
     write_results(tmp_path / "r.h5", system=system)
-    assert load_results(tmp_path / "r.h5").body_dimensions is None
+    assert load_tree(tmp_path / "r.h5").body_dimensions is None
 
 
 def test_superposition_without_direct_response_is_refused(parts):
@@ -298,14 +337,14 @@ def test_failed_write_does_not_clobber_an_existing_file(written, tmp_path, monke
         save_results(written, target)
     assert target.read_bytes() == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["results.h5"]
-    assert_same(written, load_results(target))
+    assert_same(written, load_tree(target))
 
 
 def test_successful_write_replaces_the_old_file(written, tmp_path):
     target = tmp_path / "results.h5"
     target.write_bytes(b"an older, different file")
     save_results(written, target)
-    assert_same(written, load_results(target))
+    assert_same(written, load_tree(target))
     assert sorted(p.name for p in tmp_path.iterdir()) == ["results.h5"]
 
 
@@ -316,19 +355,19 @@ def test_successful_write_replaces_the_old_file(written, tmp_path):
 
 def test_load_missing_file(tmp_path):
     with pytest.raises(InputError, match=r"results: expected an existing results file \(\.h5\), got '.*nope\.h5'"):
-        load_results(tmp_path / "nope.h5")
+        load_tree(tmp_path / "nope.h5")
 
 
 def test_load_foreign_files(tmp_path):
     text = tmp_path / "text.h5"
     text.write_text("not hdf5")
     with pytest.raises(InputError, match=r"results: expected an HDF5 results file written by sixdof, got .*text\.h5 \("):
-        load_results(text)
+        load_tree(text)
     foreign = tmp_path / "foreign.h5"
     with h5py.File(foreign, "w") as f:
         f["x"] = 1.0
     with pytest.raises(InputError, match=r"results: expected an HDF5 file with format = 'sixdof-results', got .*foreign\.h5 without it"):
-        load_results(foreign)
+        load_tree(foreign)
 
 
 def test_dataset_checks():
@@ -361,7 +400,7 @@ def test_extra_datasets_and_attributes_round_trip(tmp_path):
              "statics/dof2": Dataset(np.array([0, 1]), "1", ("dof2",))}
     results = write_results(tmp_path / "r.h5", system=system, extra=extra,
                             extra_attrs={"statics": {"uplift": ("1", "2"), "ok": True, "none": None, "empty": ()}})
-    loaded = load_results(tmp_path / "r.h5")
+    loaded = load_tree(tmp_path / "r.h5")
     assert_same(results, loaded)
     assert loaded.attrs["statics"]["uplift"] == ("1", "2")
     assert loaded.attrs["statics"]["ok"] == 1 and loaded.attrs["statics"]["empty"] == ()

@@ -47,3 +47,34 @@ def dof_index(name: str) -> int:
         return DOFS.index(name)
     except ValueError:
         raise ValueError(f"expected a DOF name, one of {', '.join(DOFS)}; got {name!r}") from None
+
+
+# ----------------------------------------------------------------------------------------------------
+# Units of stored quantities whose DOF axis mixes translations and rotations.
+# ----------------------------------------------------------------------------------------------------
+
+
+def mixed_units(translation: str, rotation: str) -> str:
+    """Units string of an array whose DOF axis mixes translations and rotations."""
+    return f"{translation} (x, y, z); {rotation} (rx, ry, rz)"
+
+
+def dof_units(order: int = 0) -> tuple[str, ...]:
+    """Unit of each DOF of ``q`` (order 0), ``q'`` (1) or ``q''`` (2)."""
+    suffix = ("", "/s", "/s^2")[order]
+    return tuple(u + suffix for u in DOF_UNITS)
+
+
+#: ``units`` strings of the mixed-DOF quantities, one place for all.
+UNITS: dict[str, str] = {
+    "q": mixed_units("m", "rad"),
+    "qd": mixed_units("m/s", "rad/s"),
+    "qdd": mixed_units("m/s^2", "rad/s^2"),
+    "Q": mixed_units("N", "N m"),
+    "M": "kg (translation block); kg m (coupling blocks); kg m^2 (rotation block)",
+    "C": "N s/m (translation block); N s/rad and N s (coupling blocks); N m s/rad (rotation block)",
+    "K": "N/m (translation block); N/rad and N (coupling blocks); N m/rad (rotation block)",
+    "receptance": "m/N (x, y, z per Fx, Fy, Fz); rad/N and m/(N m) (coupling); rad/(N m) (rx, ry, rz per Mx, My, Mz)",
+    "shapes": mixed_units("kg^-1/2", "kg^-1/2 m^-1") + " (mass-normalized)",
+    "effective_mass": mixed_units("kg", "kg m^2"),
+}

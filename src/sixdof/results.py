@@ -1,4 +1,11 @@
-"""The one time-history type of sixdof, whatever computed it.
+"""Results that describe themselves, and the one time-history type of sixdof.
+
+Every stored field of a result class says, once, where it goes and what it is: :func:`quantity`
+(an array with its units and named axes), :func:`label` (a scalar or text kept as an attribute),
+:func:`part` (a nested result) and :func:`parts` (named nested results). The HDF5 store
+(:mod:`sixdof.io.store`) writes and reads every result generically from these descriptions, so a
+field added to a result is stored and read back without touching the store.
+
 
 The direct solve (:func:`sixdof.analysis.direct.simulate`), the modal superposition
 (:func:`sixdof.analysis.superposition.superpose`), the validation's free decays and the batch
@@ -9,13 +16,82 @@ statistics (``stats``) or the superposition's method and truncation (``superposi
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from dataclasses import MISSING, dataclass, field
 from typing import Any
 
 import numpy as np
 
-from sixdof.dofs import AXES, DOFS
+from sixdof.dofs import AXES, DOFS, UNITS, dof_units
 from sixdof.errors import InputError, readonly
+
+# ----------------------------------------------------------------------------------------------------
+# Field descriptions.
+# ----------------------------------------------------------------------------------------------------
+
+
+def _class(module: str, name: str) -> type:
+    """The class ``name`` of ``module``, imported on first use (result classes live in their layers)."""
+    from importlib import import_module
+
+    return getattr(import_module(module), name)
+
+
+def _field(store: dict, default: Any, default_factory: Any) -> Any:
+    if default_factory is not MISSING:
+        return field(default_factory=default_factory, metadata={"store": store})
+    return field(default=default, metadata={"store": store})
+
+
+def quantity(units: str, dims: tuple[str, ...], *, name: str | None = None, description: str = "",
+             dof_units: tuple[str, ...] | None = None, default: Any = MISSING, default_factory: Any = MISSING,
+             encode: Callable | None = None, decode: Callable | None = None) -> Any:
+    """A dataclass field holding an array: its ``units`` (SI, ``"1"`` dimensionless, ``""`` text
+    labels), the name of each axis (``dims``), and optionally its stored ``name``, a
+    ``description``, the unit of each DOF (``dof_units``) and converters to and from the stored
+    array."""
+    return _field({"kind": "quantity", "units": units, "dims": tuple(dims), "name": name,
+                   "description": description, "dof_units": dof_units, "encode": encode,
+                   "decode": decode}, default, default_factory)
+
+
+def label(*, name: str | None = None, default: Any = MISSING, encode: Callable | None = None,
+          decode: Callable | None = None) -> Any:
+    """A dataclass field holding a number, a string, a tuple of strings or a small vector, stored as an
+    attribute of its group (under ``name``, default the field's name)."""
+    return _field({"kind": "label", "name": name, "encode": encode, "decode": decode}, default, MISSING)
+
+
+def part(cls: Callable[[], type], *, group: str | None = None, prefix: str | None = None,
+         default: Any = MISSING) -> Any:
+    """A dataclass field holding a nested result of the class ``cls()`` (a callable, so that classes
+    defined later or elsewhere can be named), stored in the subgroup ``group`` or, with ``prefix``,
+    flattened into attributes of the same group named ``prefix + field``."""
+    return _field({"kind": "part", "cls": cls, "group": group, "prefix": prefix}, default, MISSING)
+
+
+def parts(classes: Callable[[], dict[str, type]], *, group: str, default_factory: Any = MISSING,
+          default: Any = MISSING) -> Any:
+    """A dataclass field holding named nested results (a mapping name -> result), each in the
+    subgroup ``group/<its class's group>/<name>``; ``classes()`` maps each stored ``kind`` attribute (the
+    class name) to its class."""
+    return _field({"kind": "parts", "classes": classes, "group": group}, default, default_factory)
+
+
+def stacked(cls: Callable[[], type], *, dim: str, prefix: str = "", key: str | None = None, group: str | None = None,
+            default: Any = MISSING, default_factory: Any = MISSING) -> Any:
+    """A dataclass field holding several results of one class ``cls()`` (a mapping name -> result,
+    or a tuple of results named by their attribute ``key``), stored as one array per field with a
+    leading axis ``dim`` whose labels are the names, under ``prefix + field`` (in the subgroup
+    ``group`` when given)."""
+    return _field({"kind": "stacked", "cls": cls, "dim": dim, "prefix": prefix, "key": key, "group": group}, default,
+                  default_factory)
+
+
+def sequence(cls: Callable[[], type], *, group: str, key: Callable[[Any], str], default: Any = MISSING) -> Any:
+    """A dataclass field holding a tuple of results of one class ``cls()``, each in the subgroup
+    ``group/<key(result)>``, read back in the natural order of those names."""
+    return _field({"kind": "sequence", "cls": cls, "group": group, "key": key}, default, MISSING)
 
 
 @dataclass(frozen=True, eq=False)
@@ -44,16 +120,38 @@ class TimeHistory:
         Modal superposition: the method used, modes kept, truncation and approximation errors.
     """
 
-    t: np.ndarray
-    q: np.ndarray
-    qd: np.ndarray
-    qdd: np.ndarray
-    ground_displacement: np.ndarray | None = None
-    ground_velocity: np.ndarray | None = None
-    ground_acceleration: np.ndarray | None = None
-    Q: np.ndarray | None = None
-    stats: Any = None
-    superposition: Any = None
+    t: np.ndarray = quantity("s", ("t",))
+    q: np.ndarray = quantity(UNITS["q"], ("t", "dof"), dof_units=dof_units(0),
+                             description="absolute motion of the centre of gravity (fixed frame)")
+    qd: np.ndarray = quantity(UNITS["qd"], ("t", "dof"), dof_units=dof_units(1),
+                              description="absolute motion of the centre of gravity (fixed frame)")
+    qdd: np.ndarray = quantity(UNITS["qdd"], ("t", "dof"), dof_units=dof_units(2),
+                               description="absolute motion of the centre of gravity (fixed frame)")
+    ground_displacement: np.ndarray | None = quantity("m", ("t", "axis"), default=None,
+                                                      description="foundation displacement in body axes")
+    ground_velocity: np.ndarray | None = quantity("m/s", ("t", "axis"), default=None,
+                                                  description="foundation velocity in body axes")
+    ground_acceleration: np.ndarray | None = quantity("m/s^2", ("t", "axis"), default=None,
+                                                      description="foundation acceleration in body axes")
+    Q: np.ndarray | None = quantity(UNITS["Q"], ("t", "load"), default=None,
+                                    description="generalized force of the applied loads (ground motion not included)")
+    stats: Any = part(lambda: _class("sixdof.analysis.direct", "SolverStats"), prefix="solver_", default=None)
+    superposition: Any = part(lambda: _class("sixdof.analysis.superposition", "SuperpositionInfo"), prefix="",
+                              default=None)
+
+    #: Stored beside the fields when the ground moves (read back through the properties).
+    derived = {
+        "q_relative": quantity(UNITS["q"], ("t", "dof"), dof_units=dof_units(0),
+                               description="motion of the centre of gravity relative to the ground"),
+        "qd_relative": quantity(UNITS["qd"], ("t", "dof"), dof_units=dof_units(1),
+                                description="motion of the centre of gravity relative to the ground"),
+        "qdd_relative": quantity(UNITS["qdd"], ("t", "dof"), dof_units=dof_units(2),
+                                 description="motion of the centre of gravity relative to the ground"),
+    }
+
+    def stores(self, name: str) -> bool:
+        """Whether the derived quantity ``name`` is stored (relative motion only with ground motion)."""
+        return self.has_ground
 
     def __post_init__(self) -> None:
         for name in ("t", "q", "qd", "qdd", "ground_displacement", "ground_velocity", "ground_acceleration", "Q"):
@@ -151,18 +249,40 @@ class RunResults:
         ``scenario_text``, ``created_utc``, ``command_line``, package versions.
     """
 
-    name: str = ""
-    description: str = ""
-    system: Any = None
-    modes: Any = None
-    damping_ratios: np.ndarray | None = None
-    statics: Any = None
-    response: TimeHistory | None = None
-    mount_forces: Any = None
-    points: Any = field(default_factory=dict)
-    superposition: TimeHistory | None = None
-    agreement: Any = None
-    frf: Any = None
-    frf_extras: Any = field(default_factory=dict)
-    validation: Any = None
+    name: str = label(name="scenario_name", default="")
+    description: str = label(name="scenario_description", default="")
+    system: Any = part(lambda: _class("sixdof.model.system", "System"), group="model", default=None)
+    modes: Any = part(lambda: _class("sixdof.analysis.modal", "Modes"), group="modal", default=None)
+    damping_ratios: np.ndarray | None = quantity("1", ("mode",), name="modal/damping_ratio", default=None,
+                                                 description="modal damping ratio (nan for rigid-body modes)")
+    statics: Any = part(lambda: _class("sixdof.analysis.statics", "Statics"), group="statics", default=None)
+    response: TimeHistory | None = part(lambda: TimeHistory, group="time", default=None)
+    mount_forces: Any = part(lambda: _class("sixdof.analysis.response", "MountForces"), group="time", default=None)
+    points: Any = stacked(lambda: _class("sixdof.analysis.response", "PointMotion"), dim="point", prefix="point_",
+                          group="time", default_factory=dict)
+    superposition: TimeHistory | None = part(lambda: TimeHistory, group="time/superposition", default=None)
+    agreement: Any = part(lambda: _class("sixdof.analysis.compare", "Agreement"), group="time/superposition",
+                          prefix="agreement_", default=None)
+    frf: Any = part(lambda: _class("sixdof.analysis.frf", "FRFCrossCheck"), group="frf", default=None)
+    frf_extras: Any = parts(lambda: {cls.__name__: cls for cls in (
+        _class("sixdof.analysis.frf", "PointFRF"), _class("sixdof.analysis.frf", "ForceTransmissibility"),
+        _class("sixdof.analysis.frf", "GroundTransmissibility"))}, group="frf", default_factory=dict)
+    validation: Any = part(lambda: _class("sixdof.validation", "ValidationReport"), group="validation", default=None)
     provenance: Any = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        from sixdof.errors import Plain
+
+        if (self.mount_forces is not None or self.points) and self.response is None:
+            raise InputError("mount_forces" if self.mount_forces is not None else "points",
+                             "the time response they come from", Plain("none"))
+        if (self.superposition is not None or self.agreement is not None) and self.response is None:
+            raise InputError("superposition", "a direct response to compare with", Plain("none"))
+        if self.statics is not None and self.system is None:
+            raise InputError("statics", "the system it belongs to", Plain("none"))
+        if self.frf_extras and self.frf is None:
+            raise InputError("frf_extras", "a receptance (frf) whose frequencies they share", Plain("none"))
+        for name, item in dict(self.frf_extras).items():
+            if not np.array_equal(item.f_hz, self.frf.direct.f_hz):
+                raise InputError(f"frf_extras[{name!r}].f_hz", "the frequencies of the receptance",
+                                 Plain(f"{len(item.f_hz)} other frequencies"))

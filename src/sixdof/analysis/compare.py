@@ -8,6 +8,7 @@ import numpy as np
 
 from sixdof.dofs import DOFS
 from sixdof.errors import InputError, readonly
+from sixdof.results import label
 
 #: Default tolerance of :func:`compare`.
 AGREEMENT_TOLERANCE = 1e-6
@@ -43,14 +44,14 @@ class Agreement:
         Length [m] converting rotations to displacements when DOFs are compared with each other.
     """
 
-    per_dof: np.ndarray
-    worst_dof: str
-    worst: float
-    tolerance: float
-    ok: bool
-    peak: np.ndarray
-    quiet: tuple[str, ...]
-    length: float
+    per_dof: np.ndarray = label()
+    worst_dof: str = label()
+    worst: float = label()
+    tolerance: float = label()
+    ok: bool = label(decode=bool)
+    peak: np.ndarray = label()
+    quiet: tuple[str, ...] = label()
+    length: float = label()
 
     def __str__(self) -> str:
         values = ", ".join(f"{d} {v:.2e}" for d, v in zip(DOFS, self.per_dof))

@@ -42,7 +42,7 @@ import numpy as np
 from sixdof._jax import jax, jnp
 from sixdof.errors import InputError, Plain, SolverError, readonly
 from sixdof.excitation import Excitation
-from sixdof.results import TimeHistory
+from sixdof.results import TimeHistory, label
 
 # isort: split
 import diffrax  # noqa: E402  (after ._jax: float64 must be on first)
@@ -163,16 +163,16 @@ class SolverStats:
         its structure).
     """
 
-    solver: str
-    rtol: float
-    atol: float
-    scale: np.ndarray
-    num_steps: int
-    num_accepted: int
-    num_rejected: int
-    max_steps: int
-    num_jumps: int
-    wall_time_s: float
+    solver: str = label(name="solver")
+    rtol: float = label()
+    atol: float = label()
+    scale: np.ndarray = label()
+    num_steps: int = label()
+    num_accepted: int = label()
+    num_rejected: int = label()
+    max_steps: int = label()
+    num_jumps: int = label()
+    wall_time_s: float = label()
 
 
 # ----------------------------------------------------------------------------------------------------

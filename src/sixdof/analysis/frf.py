@@ -44,8 +44,9 @@ from functools import cached_property
 
 import numpy as np
 
+from sixdof import results as schema
 from sixdof.analysis.statespace import complex_modes, is_classical, modal_basis
-from sixdof.dofs import DOF_UNITS, FORCE_UNITS
+from sixdof.dofs import DOF_UNITS, FORCE_UNITS, UNITS, mixed_units
 from sixdof.errors import InputError, SolverError, point
 from sixdof.model.kinematics import mount_matrix, point_map, response_row, unit_load
 
@@ -82,6 +83,11 @@ _BLOCK_MACS = 200_000
 # ----------------------------------------------------------------------------------------------------
 
 
+def _per_load(load_kind: str) -> str:
+    """Unit of a force per unit applied load (a force, or a moment)."""
+    return "N/(N m)" if load_kind == "moment" else "N/N"
+
+
 @dataclass(frozen=True, eq=False)
 class FRF:
     """Generalized 6x6 receptance of a system at a set of frequencies (from :func:`receptance`).
@@ -100,10 +106,12 @@ class FRF:
         modal one.
     """
 
-    f_hz: np.ndarray
-    H: np.ndarray
-    method: str
-    basis: str
+    f_hz: np.ndarray = schema.quantity("Hz", ("f_hz",))
+    H: np.ndarray = schema.quantity(UNITS["receptance"], ("f_hz", "dof", "load"), name="receptance",
+                                    description="[f, i, j]: q_i per generalized force Q_j, "
+                                    "H = (K + i K_h - w^2 M + i w C)^-1")
+    method: str = schema.label()
+    basis: str = schema.label()
 
     @property
     def omega(self) -> np.ndarray:
@@ -145,10 +153,12 @@ class FRFCrossCheck:
         The largest entry of ``relative_difference``.
     """
 
-    direct: FRF
-    modal: FRF
-    relative_difference: np.ndarray
-    max_relative_difference: float
+    direct: FRF = schema.part(lambda: FRF, prefix="")
+    modal: FRF = schema.part(lambda: FRF, prefix="modal_")
+    relative_difference: np.ndarray = schema.quantity(
+        "1", ("dof", "load"), name="cross_check_relative_difference",
+        description="direct vs modal receptance: max_f |H_direct - H_modal| / max_f sqrt(|H_ii H_jj|)")
+    max_relative_difference: float = schema.label(name="cross_check_max_relative_difference")
 
 
 @dataclass(frozen=True, eq=False)
@@ -174,17 +184,19 @@ class PointFRF:
         Method of the underlying receptance.
     """
 
-    f_hz: np.ndarray
-    values: np.ndarray
-    quantity: str
-    unit: str
-    load_point: np.ndarray
-    load_direction: np.ndarray
-    response_point: np.ndarray
-    response_direction: np.ndarray
-    load_kind: str
-    response_kind: str
-    method: str
+    f_hz: np.ndarray = schema.quantity("Hz", ("f_hz",))
+    values: np.ndarray = schema.quantity(lambda frf: frf.unit, ("f_hz",))
+    quantity: str = schema.label()
+    unit: str = schema.label()
+    load_point: np.ndarray = schema.label()
+    load_direction: np.ndarray = schema.label()
+    response_point: np.ndarray = schema.label()
+    response_direction: np.ndarray = schema.label()
+    load_kind: str = schema.label()
+    response_kind: str = schema.label()
+    method: str = schema.label()
+
+    group = "point"  # stored under /frf/point/<name>
 
     @property
     def magnitude(self) -> np.ndarray:
@@ -224,14 +236,23 @@ class ForceTransmissibility:
     method : str
     """
 
-    f_hz: np.ndarray
-    mount_names: tuple[str, ...]
-    mount_forces: np.ndarray
-    total: np.ndarray
-    load_point: np.ndarray
-    load_direction: np.ndarray
-    load_kind: str
-    method: str
+    f_hz: np.ndarray = schema.quantity("Hz", ("f_hz",))
+    mount_names: tuple[str, ...] = schema.quantity("", ("mount",), name="mount",
+                                                   decode=lambda a: tuple(str(n) for n in a))
+    mount_forces: np.ndarray = schema.quantity(
+        lambda ft: _per_load(ft.load_kind), ("f_hz", "mount", "axis"),
+        description="each mount's force on the foundation in body axes per unit load")
+    total: np.ndarray = schema.quantity(
+        lambda ft: f"{_per_load(ft.load_kind)} (Fx, Fy, Fz); {_per_load(ft.load_kind)} m (Mx, My, Mz)",
+        ("f_hz", "load"), description="resultant force and moment (about the CG rest position) on the foundation")
+    load_point: np.ndarray = schema.label()
+    load_direction: np.ndarray = schema.label()
+    load_kind: str = schema.label()
+    method: str = schema.label()
+
+    group = "force_transmissibility"  # stored under /frf/force_transmissibility/<name>
+    derived = {"transmissibility": schema.quantity(lambda ft: _per_load(ft.load_kind), ("f_hz",),
+                                                   description="|resultant foundation force| per unit load")}
 
     @property
     def total_force(self) -> np.ndarray:
@@ -275,13 +296,18 @@ class GroundTransmissibility:
     method : str
     """
 
-    f_hz: np.ndarray
-    q: np.ndarray
-    absolute: np.ndarray
-    relative: np.ndarray
-    ground_direction: np.ndarray
-    response_point: np.ndarray
-    method: str
+    f_hz: np.ndarray = schema.quantity("Hz", ("f_hz",))
+    q: np.ndarray = schema.quantity(mixed_units("m/m", "rad/m"), ("f_hz", "dof"),
+                                    description="absolute generalized motion per unit ground displacement")
+    absolute: np.ndarray = schema.quantity("m/m", ("f_hz", "axis"))
+    relative: np.ndarray = schema.quantity("m/m", ("f_hz", "axis"))
+    ground_direction: np.ndarray = schema.label()
+    response_point: np.ndarray = schema.label()
+    method: str = schema.label()
+
+    group = "ground_transmissibility"  # stored under /frf/ground_transmissibility/<name>
+    derived = {"transmissibility": schema.quantity(
+        "m/m", ("f_hz",), description="|absolute motion along the ground direction| per unit ground motion")}
 
     @property
     def transmissibility(self) -> np.ndarray:

@@ -8,8 +8,9 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from sixdof.dofs import DOFS
+from sixdof.dofs import DOFS, UNITS
 from sixdof.errors import readonly
+from sixdof.results import label, quantity
 
 #: A mode is rigid (zero frequency) when its eigenvalue is below this fraction of the largest.
 ZERO_MODE_RTOL = 1e-10
@@ -47,16 +48,23 @@ class Modes:
         DOFs taking part in the zero-frequency modes.
     """
 
-    eigenvalues: np.ndarray
-    omega: np.ndarray
-    frequency_hz: np.ndarray
-    shapes: np.ndarray
-    ke_distribution: np.ndarray
-    dominant_dof: tuple[str, ...]
-    effective_mass: np.ndarray
-    subsystems: tuple[tuple[str, ...], ...]
-    zero_modes: tuple[int, ...]
-    free_dofs: tuple[str, ...]
+    eigenvalues: np.ndarray = quantity("rad^2/s^2", ("mode",))
+    omega: np.ndarray = quantity("rad/s", ("mode",))
+    frequency_hz: np.ndarray = quantity("Hz", ("mode",))
+    shapes: np.ndarray = quantity(UNITS["shapes"], ("dof", "mode"),
+                                  description="column j is mode j, mass-normalized: shapes.T @ M @ shapes = I")
+    ke_distribution: np.ndarray = quantity(
+        "1", ("dof", "mode"), description="share of each mode's kinetic energy in each DOF; columns sum to 1")
+    dominant_dof: tuple[str, ...] = quantity("", ("mode",), decode=lambda a: tuple(str(d) for d in a),
+                                             description="DOF holding the largest kinetic-energy share of each mode")
+    effective_mass: np.ndarray = quantity(UNITS["effective_mass"], ("dof", "mode"),
+                                          dof_units=("kg", "kg", "kg", "kg m^2", "kg m^2", "kg m^2"))
+    subsystems: tuple[tuple[str, ...], ...] = label(encode=lambda s: tuple(",".join(g) for g in s),
+                                                    decode=lambda s: tuple(tuple(g.split(",")) for g in s))
+    zero_modes: tuple[int, ...] = label(name="rigid_body_modes",
+                                        encode=lambda z: np.asarray([j + 1 for j in z], dtype=np.int64),
+                                        decode=lambda z: tuple(int(j) - 1 for j in z))
+    free_dofs: tuple[str, ...] = label()
 
 
 def modal_analysis(M: np.ndarray, K: np.ndarray) -> Modes:

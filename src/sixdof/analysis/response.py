@@ -14,9 +14,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from sixdof.dofs import UNITS
 from sixdof.errors import point, readonly
 from sixdof.model.kinematics import point_map
-from sixdof.results import TimeHistory
+from sixdof.results import TimeHistory, quantity
 
 
 @dataclass(frozen=True, eq=False)
@@ -32,11 +33,13 @@ class PointMotion:
     relative : bool
     """
 
-    position: np.ndarray
-    displacement: np.ndarray
-    velocity: np.ndarray
-    acceleration: np.ndarray
-    relative: bool
+    position: np.ndarray = quantity("m", ("axis",), description="body points from the CG, body axes")
+    displacement: np.ndarray = quantity("m", ("t", "axis"), description="displacement of each body point, body axes")
+    velocity: np.ndarray = quantity("m/s", ("t", "axis"), description="velocity of each body point, body axes")
+    acceleration: np.ndarray = quantity("m/s^2", ("t", "axis"),
+                                        description="acceleration of each body point, body axes")
+    relative: bool = quantity("1", (), encode=bool, decode=bool,
+                              description="1: the point's motion is relative to the ground, 0: absolute")
 
 
 def point_motion(response: TimeHistory, position, *, relative: bool = False) -> PointMotion:
@@ -74,6 +77,9 @@ def points_motion(response: TimeHistory, points, *, relative: bool = False) -> d
     return {name: point_motion(response, pos, relative=relative) for name, pos in items}
 
 
+_ON = "exerted by each mount on the foundation, body axes (dynamic part about static equilibrium)"
+
+
 @dataclass(frozen=True, eq=False)
 class MountForces:
     """Forces carried by the mounts over time (dynamic part).
@@ -101,15 +107,24 @@ class MountForces:
         Total moment on the foundation about the body's CG, body axes [N m].
     """
 
-    names: tuple[str, ...]
-    deformation: np.ndarray
-    elastic: np.ndarray
-    damping: np.ndarray
-    total: np.ndarray
-    local: np.ndarray
-    other_damping: np.ndarray
-    foundation_force: np.ndarray
-    foundation_moment: np.ndarray
+    names: tuple[str, ...] = quantity("", ("mount",), name="mount", decode=lambda a: tuple(str(n) for n in a))
+    deformation: np.ndarray = quantity("m", ("mount", "t", "axis"), name="mount_deformation",
+                                       description="displacement of each mount's body point relative to the ground, "
+                                       "body axes")
+    elastic: np.ndarray = quantity("N", ("mount", "t", "axis"), name="mount_force_elastic",
+                                   description=f"spring force {_ON}")
+    damping: np.ndarray = quantity("N", ("mount", "t", "axis"), name="mount_force_damping",
+                                   description=f"dashpot force {_ON}")
+    total: np.ndarray = quantity("N", ("mount", "t", "axis"), name="mount_force", description=f"force {_ON}")
+    local: np.ndarray = quantity("N", ("mount", "t", "mount_axis"), name="mount_force_local",
+                                 description="mount_force along each mount's own axes u, v, w")
+    other_damping: np.ndarray = quantity(UNITS["Q"], ("t", "load"), name="other_damping_force",
+                                         description="generalized force of Rayleigh and modal damping "
+                                         "(C - C_mounts) q_rel'")
+    foundation_force: np.ndarray = quantity("N", ("t", "axis"), description="total force on the foundation, "
+                                            "body axes")
+    foundation_moment: np.ndarray = quantity("N m", ("t", "axis"), description="total moment on the foundation "
+                                             "about the CG, body axes")
 
 
 def mount_forces(system, response: TimeHistory) -> MountForces:

@@ -6,8 +6,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from sixdof.dofs import UNITS, dof_units
 from sixdof.errors import InputError
 from sixdof.model.kinematics import mount_local_map
+from sixdof.results import label, quantity
 
 STANDARD_GRAVITY = 9.80665  # m/s^2
 
@@ -33,12 +35,16 @@ class Statics:
         Names of the mounts in tension (uplift): they would have to pull the body down.
     """
 
-    gravity: np.ndarray
-    q: np.ndarray
-    mount_forces: np.ndarray
-    mount_forces_local: np.ndarray
-    support: np.ndarray
-    uplift: tuple[str, ...]
+    gravity: np.ndarray = quantity("m/s^2", ("axis",), description="gravity in body axes")
+    q: np.ndarray = quantity(UNITS["q"], ("dof",), dof_units=dof_units(0),
+                             description="static deflection under gravity from the unloaded state")
+    mount_forces: np.ndarray = quantity("N", ("mount", "axis"), name="mount_force",
+                                        description="force of each mount on the body, body axes")
+    mount_forces_local: np.ndarray = quantity("N", ("mount", "mount_axis"), name="mount_force_local",
+                                              description="force of each mount on the body, along the mount's own axes")
+    support: np.ndarray = quantity("N", ("mount",),
+                                   description="force against gravity: > 0 compression, < 0 tension (uplift)")
+    uplift: tuple[str, ...] = label()
 
 
 def try_gravity_statics(system, g: float = STANDARD_GRAVITY, direction=(0.0, 0.0, -1.0)):

@@ -33,7 +33,7 @@ from sixdof.analysis.modal import modal_analysis
 from sixdof.analysis.statespace import CLASSICAL_RTOL, complex_modes, modal_basis
 from sixdof.analysis.statespace import coupling as coupling_of
 from sixdof.errors import InputError, SolverError, finite_array, readonly
-from sixdof.results import TimeHistory
+from sixdof.results import TimeHistory, label, part, quantity
 
 #: Default Gauss-Legendre nodes per interval.
 QUADRATURE_NODES = 16
@@ -90,18 +90,22 @@ class SuperpositionInfo:
         Gauss-Legendre nodes per interval.
     """
 
-    method: str
-    reason: str
-    coupling: float
-    modes_kept: tuple[int, ...]
-    frequency_hz: np.ndarray
-    eigenvalues: np.ndarray
-    residual: bool
-    residual_rates: bool
-    truncation: Agreement | None
-    approximation: Agreement | None
-    n_intervals: int
-    quadrature_nodes: int
+    method: str = label()
+    reason: str = label(name="method_reason")
+    coupling: float = label(name="damping_coupling")
+    modes_kept: tuple[int, ...] = label(encode=lambda kept: np.asarray([j + 1 for j in kept], dtype=np.int64),
+                                        decode=lambda kept: tuple(int(j) - 1 for j in kept))
+    frequency_hz: np.ndarray = label(name="frequency_hz_kept")
+    eigenvalues: np.ndarray = quantity("1/s", ("pole",), name="eigenvalues",
+                                       description="eigenvalues of the first-order system solved")
+    residual: bool = label(name="residual_correction", decode=bool)
+    residual_rates: bool = label(decode=bool)
+    n_intervals: int = label()
+    quadrature_nodes: int = label()
+    truncation: Agreement | None = part(lambda: Agreement, prefix="truncation_", default=None)
+    approximation: Agreement | None = part(lambda: Agreement, prefix="approximation_", default=None)
+    #: What the history's q measures: the absolute motion, like the direct solver's.
+    frame: str = label(default="absolute")
 
 
 # ----------------------------------------------------------------------------------------------------

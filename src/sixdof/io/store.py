@@ -24,6 +24,7 @@ Only this module imports h5py, and only inside the functions that read or write 
 
 from __future__ import annotations
 
+import dataclasses
 import datetime as _dt
 import os
 import shlex
@@ -38,7 +39,7 @@ from typing import Any
 
 import numpy as np
 
-from sixdof.dofs import AXES, DOF_UNITS, DOFS, LOADS, MOUNT_AXES
+from sixdof.dofs import AXES, DOFS, LOADS, MOUNT_AXES, UNITS, dof_units
 from sixdof.errors import InputError, Plain
 
 #: Identifies the file layout; bump FORMAT_VERSION when a fixed name changes meaning.
@@ -228,87 +229,214 @@ class _Tree:
         self.attrs.setdefault(group, {}).update({k: v for k, v in attrs.items() if v is not None})
 
 
-def dof_units(order: int = 0) -> tuple[str, ...]:
-    """Unit of each DOF of ``q`` (order 0), ``q'`` (1) or ``q''`` (2)."""
-    suffix = ("", "/s", "/s^2")[order]
-    return tuple(u + suffix for u in DOF_UNITS)
+# ----------------------------------------------------------------------------------------------------
+# Generic encoding of the results' own field descriptions (sixdof.results: quantity, label, part, ...).
+# ----------------------------------------------------------------------------------------------------
+
+#: Axes whose labels are fixed: the scales are written wherever a dataset needs them.
+FIXED_SCALES: dict[str, tuple[str, ...]] = {"dof": DOFS, "load": LOADS, "axis": AXES, "mount_axis": MOUNT_AXES}
 
 
-def _mixed(translation: str, rotation: str) -> str:
-    """Units string of an array whose DOF axis mixes translations and rotations."""
-    return f"{translation} (x, y, z); {rotation} (rx, ry, rz)"
+def _join(group: str, name: str) -> str:
+    return f"{group}/{name}" if group else name
 
 
-#: ``units`` strings of the mixed-DOF quantities, one place for all.
-UNITS = MappingProxyType({
-    "q": _mixed("m", "rad"),
-    "qd": _mixed("m/s", "rad/s"),
-    "qdd": _mixed("m/s^2", "rad/s^2"),
-    "Q": _mixed("N", "N m"),
-    "M": "kg (translation block); kg m (coupling blocks); kg m^2 (rotation block)",
-    "C": "N s/m (translation block); N s/rad and N s (coupling blocks); N m s/rad (rotation block)",
-    "K": "N/m (translation block); N/rad and N (coupling blocks); N m/rad (rotation block)",
-    "receptance": "m/N (x, y, z per Fx, Fy, Fz); rad/N and m/(N m) (coupling); rad/(N m) (rx, ry, rz per Mx, My, Mz)",
-    "shapes": _mixed("kg^-1/2", "kg^-1/2 m^-1") + " (mass-normalized)",
-    "effective_mass": _mixed("kg", "kg m^2"),
-})
+def _stored(cls) -> list[tuple[dataclasses.Field, dict]]:
+    """The fields of a result class that carry a storage description, in order."""
+    return [(f, f.metadata["store"]) for f in dataclasses.fields(cls) if "store" in f.metadata]
 
 
-def build_results(
-    *,
-    system=None,
-    modes=None,
-    damping_ratios=None,
-    statics=None,
-    response=None,
-    mount_forces=None,
-    points: Mapping[str, Any] | None = None,
-    superposition=None,
-    agreement=None,
-    frf=None,
-    frf_extras: Mapping[str, Any] | None = None,
-    validation=None,
-    scenario_text: str | None = None,
-    name: str | None = None,
-    description: str | None = None,
-    command_line: str | None = None,
-    created_utc: str | None = None,
-    extra: Mapping[str, Dataset] | None = None,
-    extra_attrs: Mapping[str, Mapping[str, Any]] | None = None,
-) -> Results:
-    """Collect a run's results into a :class:`Results` tree (nothing is written).
+def _is_scale_field(name: str, meta: dict) -> bool:
+    return tuple(meta["dims"]) == (name,)
 
-    Every part is optional: a modal-only run passes ``system`` and ``modes`` and gets no ``/time``.
+
+class _Encoder:
+    """Writes result objects into a :class:`_Tree` from their field descriptions."""
+
+    def __init__(self, tree: _Tree) -> None:
+        self.tree = tree
+        self.labels: dict[str, np.ndarray] = {}  # label scales seen so far (mount names), by axis
+
+    def scale(self, group: str, dim: str, length: int) -> None:
+        """Make sure the axis ``dim`` of a dataset in ``group`` has a dimension scale."""
+        found = _scale_path(self.tree.datasets, _join(group, "_"), dim)
+        if found is not None and self.tree.datasets[found].data.shape == (length,):
+            return
+        if dim in FIXED_SCALES and len(FIXED_SCALES[dim]) == length:
+            self.tree.labels(group, dim, FIXED_SCALES[dim])
+        elif dim in self.labels and len(self.labels[dim]) == length:
+            self.tree.labels(group, dim, self.labels[dim])
+        elif dim == "mode":
+            self.tree.add(_join(group, dim), np.arange(1, length + 1), UNITS_ONE, (dim,),
+                          description="mode number, ascending frequency")
+        else:
+            self.tree.add(_join(group, dim), np.arange(length), UNITS_ONE, (dim,), description=f"{dim} index")
+
+    def quantity(self, obj, name: str, value, meta: dict, group: str, prefix: str, lead: tuple[str, ...] = ()) -> None:
+        stored = meta["name"] or name
+        data = np.asarray(meta["encode"](value) if meta["encode"] else value)
+        dims = (*lead, *meta["dims"])
+        path = _join(group, stored if _is_scale_field(stored, meta) and not lead else prefix + stored)
+        if _is_scale_field(stored, meta) and not lead:
+            existing = _scale_path(self.tree.datasets, _join(group, "_"), stored)
+            if existing is not None and np.array_equal(self.tree.datasets[existing].data, data):
+                return  # a shared scale (the frequencies of every FRF) is stored once
+            if data.dtype.kind in "OSU":
+                self.labels[stored] = data
+        else:
+            for axis, dim in enumerate(dims):
+                self.scale(group, dim, data.shape[axis])
+        units = meta["units"](obj) if callable(meta["units"]) else meta["units"]
+        attrs = {"description": meta["description"] or None, "dof_units": meta["dof_units"]}
+        self.tree.add(path, data, units, dims, **{k: v for k, v in attrs.items() if v is not None})
+
+    def encode(self, obj, group: str, prefix: str = "") -> None:
+        """Every described field of ``obj`` (and its derived quantities) into ``group``."""
+        for f, meta in _stored(type(obj)):
+            value = getattr(obj, f.name)
+            if value is None:
+                continue
+            kind = meta["kind"]
+            if kind == "quantity":
+                self.quantity(obj, f.name, value, meta, group, prefix)
+            elif kind == "label":
+                stored = meta["name"] or prefix + f.name
+                self.tree.set_attrs(group, **{stored: meta["encode"](value) if meta["encode"] else value})
+            elif kind == "part":
+                sub = _join(group, meta["group"]) if meta["group"] else group
+                self.encode(value, sub, prefix + meta["prefix"] if meta["prefix"] is not None else "")
+            elif kind == "stacked":
+                self.stacked(value, meta, _join(group, meta["group"]) if meta["group"] else group)
+            elif kind == "sequence":
+                for item in value:
+                    self.encode(item, _join(group, f"{meta['group']}/{meta['key'](item)}"))
+            elif kind == "parts":
+                for key, item in value.items():
+                    if "/" in key or not key:
+                        raise InputError(f"{f.name}[{key!r}]", "a name without '/'", key)
+                    sub = _join(group, f"{meta['group']}/{type(item).group}/{key}")
+                    self.tree.set_attrs(sub, kind=type(item).__name__)
+                    self.encode(item, sub)
+        stores = getattr(obj, "stores", None)
+        for name, derived in getattr(type(obj), "derived", {}).items():
+            if stores is None or stores(name):
+                self.quantity(obj, name, getattr(obj, name), derived.metadata["store"], group, prefix)
+
+    def stacked(self, items, meta: dict, group: str) -> None:
+        """Results of one class as one array per field, along the axis ``meta["dim"]``."""
+        if not items:
+            return
+        key, dim = meta["key"], meta["dim"]
+        objects = list(items.values()) if key is None else list(items)
+        names = list(items.keys()) if key is None else [getattr(o, key) for o in objects]
+        scale = np.asarray(names)
+        self.tree.add(_join(group, dim), scale, UNITS_LABEL if scale.dtype.kind in "OSU" else UNITS_ONE, (dim,))
+        if scale.dtype.kind in "OSU":
+            self.labels[dim] = scale
+        for f, field_meta in _stored(meta["cls"]()):
+            if f.name == key:
+                continue
+            value = np.stack([np.asarray(field_meta["encode"](getattr(o, f.name)) if field_meta["encode"]
+                                         else getattr(o, f.name)) for o in objects])
+            self.quantity(objects[0], f.name, value, {**field_meta, "encode": None}, group, meta["prefix"], (dim,))
+
+
+class _Decoder:
+    """Reads result objects back from a :class:`Results` tree, by the same descriptions."""
+
+    def __init__(self, results: Results) -> None:
+        self.results = results
+
+    def dataset(self, path: str):
+        return self.results.datasets.get(path)
+
+    def decode(self, cls, group: str, prefix: str = "", required: bool = True):
+        """An instance of ``cls`` from ``group``, or ``None`` when nothing of it is stored."""
+        kwargs: dict[str, Any] = {}
+        attrs = self.results.attrs.get(group, {})
+        for f, meta in _stored(cls):
+            kind = meta["kind"]
+            if kind == "quantity":
+                stored = meta["name"] or f.name
+                if _is_scale_field(stored, meta):
+                    path = _scale_path(self.results.datasets, _join(group, "_"), stored)
+                else:
+                    path = _join(group, prefix + stored)
+                found = self.dataset(path) if path else None
+                if found is not None:
+                    kwargs[f.name] = meta["decode"](found.data) if meta["decode"] else found.data
+            elif kind == "label":
+                stored = meta["name"] or prefix + f.name
+                if stored in attrs:
+                    kwargs[f.name] = meta["decode"](attrs[stored]) if meta["decode"] else attrs[stored]
+            elif kind == "part":
+                sub = _join(group, meta["group"]) if meta["group"] else group
+                if meta["group"] and sub not in self.results.attrs:
+                    continue
+                value = self.decode(meta["cls"](), sub, prefix + meta["prefix"] if meta["prefix"] is not None else "",
+                                    required=False)
+                if value is not None:
+                    kwargs[f.name] = value
+            elif kind == "stacked":
+                value = self.stacked(meta, _join(group, meta["group"]) if meta["group"] else group)
+                if value is not None:
+                    kwargs[f.name] = value
+            elif kind == "sequence":
+                subgroups = self.subgroups(_join(group, meta["group"]))
+                kwargs[f.name] = tuple(self.decode(meta["cls"](), sub) for sub in subgroups)
+            elif kind == "parts":
+                classes = meta["classes"]()
+                found = {}
+                for sub in self.results.groups:
+                    parent, _, key = sub.rpartition("/")
+                    if parent.rpartition("/")[0] == _join(group, meta["group"]) and "kind" in self.results.attrs[sub]:
+                        found[key] = self.decode(classes[self.results.attrs[sub]["kind"]], sub)
+                kwargs[f.name] = found
+        if not kwargs and not required:
+            return None
+        return cls(**kwargs)
+
+    def subgroups(self, group: str) -> list[str]:
+        """Direct subgroups of ``group``, in natural order of their names (mode_2 before mode_10)."""
+        children = [g for g in self.results.groups if g.rpartition("/")[0] == group]
+
+        def natural(name: str):
+            head = name.rstrip("0123456789")
+            return head, int(name[len(head):] or 0)
+
+        return sorted(children, key=lambda g: natural(g.rpartition("/")[2]))
+
+    def stacked(self, meta: dict, group: str):
+        scale = self.dataset(_join(group, meta["dim"]))
+        if scale is None:
+            return None
+        names = scale.data.tolist()
+        columns = {}
+        for f, field_meta in _stored(meta["cls"]()):
+            if f.name == meta["key"]:
+                continue
+            found = self.dataset(_join(group, meta["prefix"] + (field_meta["name"] or f.name)))
+            if found is not None:
+                columns[f.name] = (found.data, field_meta["decode"])
+        items = []
+        for i, name in enumerate(names):
+            kwargs = {k: decode(data[i]) if decode else data[i] for k, (data, decode) in columns.items()}
+            if meta["key"] is not None:
+                kwargs[meta["key"]] = name
+            items.append(meta["cls"]()(**kwargs))
+        return dict(zip(names, items)) if meta["key"] is None else tuple(items)
+
+
+def build_results(run=None, *, command_line: str | None = None, created_utc: str | None = None,
+                  extra: Mapping[str, Dataset] | None = None,
+                  extra_attrs: Mapping[str, Mapping[str, Any]] | None = None, **parts) -> Results:
+    """A run's results as a :class:`Results` tree (nothing is written), from their descriptions.
 
     Parameters
     ----------
-    system : sixdof.model.system.System, optional
-        Gives ``/model``: M, C, K (6, 6), the mounts (names, positions [m], stiffness [N/m],
-        damping [N s/m], loss factors, axes) and the body (mass [kg], box dimensions [m]).
-    modes : sixdof.analysis.modal.Modes, optional
-        Gives ``/modal``.
-    damping_ratios : array_like, shape (6,), optional
-        Modal damping ratio of each mode (``nan`` for rigid-body modes), ``/modal/damping_ratio``.
-    statics : sixdof.analysis.statics.Statics, optional
-        Gives ``/statics``: deflection under gravity and each mount's force (needs ``system``).
-    response : sixdof.results.TimeHistory, optional
-        Gives ``/time``.
-    superposition : sixdof.results.TimeHistory, optional
-        The modal-superposition history (with its ``superposition`` information).
-        Gives ``/time/superposition``.
-    agreement : sixdof.analysis.superposition.Agreement, optional
-        Stored as attributes of ``/time/superposition``.
-    frf : sixdof.analysis.frf.FRF or sixdof.analysis.frf.FRFCrossCheck, optional
-        Gives ``/frf``: frequencies and the 6x6 receptance (the direct one of a cross-check, whose
-        differences go beside it).
-    frf_extras : mapping of str to PointFRF, ForceTransmissibility or GroundTransmissibility
-        Named point FRFs and transmissibilities on the same frequencies, under
-        ``/frf/point/<name>``, ``/frf/force_transmissibility/<name>``,
-        ``/frf/ground_transmissibility/<name>``.
-    validation : sixdof.validation.ValidationReport, optional
-        Gives ``/validation``.
-    scenario_text, name, description : str, optional
-        The scenario file's text, name and description (root attributes).
+    run : sixdof.results.RunResults, optional
+        What the run computed. Or give its parts as keywords (``system=..., modes=...``), with
+        ``scenario_text`` for the provenance.
     command_line : str, optional
         Default: this process's command line.
     created_utc : str, optional
@@ -325,37 +453,16 @@ def build_results(
     Raises
     ------
     sixdof.errors.InputError
-        When a dataset's axes name no dimension scale, or lengths disagree.
+        When parts are inconsistent (a cross-check without the direct response it checks, ...).
     """
+    from sixdof.results import RunResults
+
+    if run is None:
+        text = parts.pop("scenario_text", None)
+        run = RunResults(**parts, provenance={"scenario_text": text or ""})
     tree = _Tree()
-    _provenance(tree, scenario_text, name, description, command_line, created_utc)
-    if system is not None:
-        _model(tree, system)
-    if modes is not None:
-        _modal(tree, modes, damping_ratios)
-    if statics is not None:
-        if system is None:
-            raise InputError("statics", "the system it belongs to", Plain("none"))
-        _statics(tree, statics, system.mount_names)
-    if response is not None:
-        _time(tree, response)
-    if (mount_forces is not None or points) and response is None:
-        raise InputError("mount_forces" if mount_forces is not None else "points",
-                         "the time response they come from", Plain("none"))
-    if mount_forces is not None:
-        _mount_forces(tree, mount_forces)
-    if points:
-        _points(tree, points)
-    if superposition is not None or agreement is not None:
-        if response is None:
-            raise InputError("superposition", "a direct response to compare with", Plain("none"))
-        _superposition(tree, superposition, agreement)
-    if frf is not None:
-        _frf(tree, frf, frf_extras)
-    elif frf_extras:
-        raise InputError("frf_extras", "a receptance (frf) whose frequencies they share", Plain("none"))
-    if validation is not None:
-        _validation(tree, validation)
+    _provenance(tree, run.provenance.get("scenario_text", ""), command_line, created_utc)
+    _Encoder(tree).encode(run, "")
     for path, dataset in (extra or {}).items():
         if not isinstance(dataset, Dataset):
             raise InputError(f"extra[{path!r}]", "a sixdof.io.store.Dataset", dataset)
@@ -365,7 +472,7 @@ def build_results(
     return Results(tree.datasets, tree.attrs)
 
 
-def _provenance(tree: _Tree, text, name, description, command_line, created_utc) -> None:
+def _provenance(tree: _Tree, text, command_line, created_utc) -> None:
     if command_line is None:
         command_line = shlex.join([Path(sys.argv[0]).name, *sys.argv[1:]]) if sys.argv else ""
     if created_utc is None:
@@ -374,8 +481,6 @@ def _provenance(tree: _Tree, text, name, description, command_line, created_utc)
         "",
         format=FORMAT,
         format_version=FORMAT_VERSION,
-        scenario_name=name or "",
-        scenario_description=description or "",
         scenario_text=text or "",
         created_utc=created_utc,
         command_line=command_line,
@@ -389,332 +494,6 @@ def _version(package: str) -> str:
         return metadata.version(package)
     except metadata.PackageNotFoundError:
         return "not installed"
-
-
-def _model(tree: _Tree, system) -> None:
-    g = "model"
-    tree.labels(g, "dof", DOFS)
-    tree.labels(g, "load", LOADS)
-    tree.labels(g, "mount", system.mount_names)
-    tree.labels(g, "axis", AXES)
-    tree.labels(g, "mount_axis", MOUNT_AXES)
-    dofs = {"dof_units": DOF_UNITS}
-    tree.add(f"{g}/M", system.M, UNITS["M"], ("load", "dof"), **dofs)
-    tree.add(f"{g}/C", system.C, UNITS["C"], ("load", "dof"), **dofs)
-    tree.add(f"{g}/K", system.K, UNITS["K"], ("load", "dof"), **dofs)
-    tree.add(f"{g}/C_mounts", system.C_mounts, UNITS["C"], ("load", "dof"), **dofs,
-             description="damping of the mounts' dashpots alone")
-    tree.add(f"{g}/mount_position", system.positions, "m", ("mount", "axis"),
-             description="mount attachment points from the CG in body axes")
-    tree.add(f"{g}/mount_stiffness", system.stiffnesses, "N/m", ("mount", "mount_axis"),
-             description="stiffness along each mount's own axes")
-    tree.add(f"{g}/mount_damping", system.dampings, "N s/m", ("mount", "mount_axis"),
-             description="viscous damping along each mount's own axes")
-    tree.add(f"{g}/mount_loss_factor", system.loss_factors, UNITS_ONE, ("mount", "mount_axis"),
-             description="hysteretic loss factor along each mount's own axes (frequency responses)")
-    tree.add(f"{g}/mount_axes", system.axes, UNITS_ONE, ("mount", "mount_axis", "axis"),
-             description="rows: each mount's unit axes u, v, w in body axes")
-    tree.add(f"{g}/body_mass", np.float64(system.body.mass), "kg", ())
-    if system.body.dimensions is not None:
-        tree.add(f"{g}/body_dimensions", system.body.dimensions, "m", ("axis",),
-                 description="size of the box drawn for the body, centred on the CG")
-    rayleigh = system.rayleigh
-    modal = system.modal_damping
-    tree.set_attrs(
-        g,
-        rayleigh_alpha=None if rayleigh is None else rayleigh.alpha,
-        rayleigh_beta=None if rayleigh is None else rayleigh.beta,
-        modal_damping=None if modal is None else np.atleast_1d(np.asarray(modal, dtype=float)),
-    )
-
-
-def _modal(tree: _Tree, modes, damping_ratios) -> None:
-    g = "modal"
-    n = len(modes.frequency_hz)
-    tree.labels(g, "dof", DOFS)
-    tree.add(f"{g}/mode", np.arange(1, n + 1), UNITS_ONE, ("mode",),
-             description="mode number, ascending frequency")
-    tree.add(f"{g}/frequency_hz", modes.frequency_hz, "Hz", ("mode",))
-    tree.add(f"{g}/omega", modes.omega, "rad/s", ("mode",))
-    tree.add(f"{g}/eigenvalues", modes.eigenvalues, "rad^2/s^2", ("mode",))
-    tree.add(f"{g}/shapes", modes.shapes, UNITS["shapes"], ("dof", "mode"),
-             description="column j is mode j, mass-normalized: shapes.T @ M @ shapes = I")
-    tree.add(f"{g}/ke_distribution", modes.ke_distribution, UNITS_ONE, ("dof", "mode"),
-             description="share of each mode's kinetic energy in each DOF; columns sum to 1")
-    tree.add(f"{g}/effective_mass", modes.effective_mass, UNITS["effective_mass"], ("dof", "mode"),
-             dof_units=("kg", "kg", "kg", "kg m^2", "kg m^2", "kg m^2"))
-    tree.add(f"{g}/dominant_dof", np.asarray(modes.dominant_dof, dtype=str), UNITS_LABEL, ("mode",),
-             description="DOF holding the largest kinetic-energy share of each mode")
-    if damping_ratios is not None:
-        zeta = np.asarray(damping_ratios, dtype=float)
-        if zeta.shape != (n,):
-            raise InputError("damping_ratios", f"{n} damping ratios", zeta.shape)
-        tree.add(f"{g}/damping_ratio", zeta, UNITS_ONE, ("mode",),
-                 description="modal damping ratio (nan for rigid-body modes)")
-    tree.set_attrs(
-        g,
-        subsystems=tuple(",".join(s) for s in modes.subsystems),
-        rigid_body_modes=np.asarray([j + 1 for j in modes.zero_modes], dtype=np.int64),
-        free_dofs=tuple(modes.free_dofs),
-    )
-
-
-def _statics(tree: _Tree, statics, mount_names) -> None:
-    g = "statics"
-    tree.labels(g, "dof", DOFS)
-    tree.labels(g, "axis", AXES)
-    tree.labels(g, "mount", mount_names)
-    tree.labels(g, "mount_axis", MOUNT_AXES)
-    tree.add(f"{g}/gravity", statics.gravity, "m/s^2", ("axis",), description="gravity in body axes")
-    tree.add(f"{g}/q", statics.q, _mixed("m", "rad"), ("dof",), dof_units=dof_units(0),
-             description="static deflection under gravity from the unloaded state")
-    tree.add(f"{g}/mount_force", statics.mount_forces, "N", ("mount", "axis"),
-             description="force of each mount on the body, body axes")
-    tree.add(f"{g}/mount_force_local", statics.mount_forces_local, "N", ("mount", "mount_axis"),
-             description="force of each mount on the body, along the mount's own axes")
-    tree.add(f"{g}/support", statics.support, "N", ("mount",),
-             description="force against gravity: > 0 compression, < 0 tension (uplift)")
-    tree.set_attrs(g, uplift=tuple(statics.uplift))
-
-
-def _time(tree: _Tree, response) -> None:
-    g = "time"
-    tree.add(f"{g}/t", response.t, "s", ("t",))
-    tree.labels(g, "dof", DOFS)
-    for order, key in enumerate(("q", "qd", "qdd")):
-        tree.add(f"{g}/{key}", getattr(response, key), UNITS[key], ("t", "dof"), dof_units=dof_units(order),
-                 description="absolute motion of the centre of gravity (fixed frame)")
-    ground = [getattr(response, f"ground_{k}", None) for k in ("displacement", "velocity", "acceleration")]
-    # Relative motion and the ground's own only when the ground moves (otherwise they repeat q or are 0).
-    if any(a is not None and np.any(np.asarray(a) != 0) for a in ground):
-        tree.labels(g, "axis", AXES)
-        for order, key in enumerate(("q", "qd", "qdd")):
-            tree.add(f"{g}/{key}_relative", getattr(response, f"{key}_relative"), UNITS[key], ("t", "dof"),
-                     dof_units=dof_units(order), description="motion of the centre of gravity relative to the ground")
-        for key, values, unit in zip(("displacement", "velocity", "acceleration"), ground, ("m", "m/s", "m/s^2")):
-            tree.add(f"{g}/ground_{key}", values, unit, ("t", "axis"),
-                     description=f"foundation {key} in body axes")
-    if getattr(response, "Q", None) is not None:
-        tree.labels(g, "load", LOADS)
-        tree.add(f"{g}/Q", response.Q, UNITS["Q"], ("t", "load"),
-                 description="generalized force of the applied loads (ground motion not included)")
-    stats = getattr(response, "stats", None)
-    if stats is not None:
-        tree.set_attrs(g, **{k if k == "solver" else f"solver_{k}": v for k, v in _fields(stats).items()})
-
-
-def _mount_forces(tree: _Tree, forces) -> None:
-    g = "time"
-    tree.labels(g, "mount", forces.names)
-    if f"{g}/axis" not in tree.datasets:
-        tree.labels(g, "axis", AXES)
-    tree.labels(g, "mount_axis", MOUNT_AXES)
-    dims = ("mount", "t", "axis")
-    on = "exerted by each mount on the foundation, body axes (dynamic part about static equilibrium)"
-    tree.add(f"{g}/mount_force", forces.total, "N", dims, description=f"force {on}")
-    tree.add(f"{g}/mount_force_elastic", forces.elastic, "N", dims, description=f"spring force {on}")
-    tree.add(f"{g}/mount_force_damping", forces.damping, "N", dims, description=f"dashpot force {on}")
-    tree.add(f"{g}/mount_force_local", forces.local, "N", ("mount", "t", "mount_axis"),
-             description="mount_force along each mount's own axes u, v, w")
-    tree.add(f"{g}/mount_deformation", forces.deformation, "m", dims,
-             description="displacement of each mount's body point relative to the ground, body axes")
-    if f"{g}/load" not in tree.datasets:
-        tree.labels(g, "load", LOADS)
-    tree.add(f"{g}/other_damping_force", forces.other_damping, UNITS["Q"], ("t", "load"),
-             description="generalized force of Rayleigh and modal damping (C - C_mounts) q_rel'")
-    tree.add(f"{g}/foundation_force", forces.foundation_force, "N", ("t", "axis"),
-             description="total force on the foundation, body axes")
-    tree.add(f"{g}/foundation_moment", forces.foundation_moment, "N m", ("t", "axis"),
-             description="total moment on the foundation about the CG rest position, body axes")
-
-
-def _points(tree: _Tree, points: Mapping[str, Any]) -> None:
-    g = "time"
-    motions = list(points.values())
-    tree.labels(g, "point", points.keys())
-    if f"{g}/axis" not in tree.datasets:
-        tree.labels(g, "axis", AXES)
-    tree.add(f"{g}/point_position", np.stack([m.position for m in motions]), "m", ("point", "axis"),
-             description="body points from the CG, body axes")
-    tree.add(f"{g}/point_relative", np.array([bool(m.relative) for m in motions]), UNITS_ONE, ("point",),
-             description="1: the point's motion is relative to the ground, 0: absolute")
-    for key, unit in (("displacement", "m"), ("velocity", "m/s"), ("acceleration", "m/s^2")):
-        tree.add(f"{g}/point_{key}", np.stack([getattr(m, key) for m in motions]), unit, ("point", "t", "axis"),
-                 description=f"{key} of each body point, body axes")
-
-
-def _fields(obj) -> dict[str, Any]:
-    """Public fields of a (data)class instance, for attributes."""
-    import dataclasses
-
-    if dataclasses.is_dataclass(obj):
-        return {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj)}
-    return {k: v for k, v in vars(obj).items() if not k.startswith("_")}
-
-
-def _agreement_attrs(prefix: str, agreement) -> dict[str, Any]:
-    """Attributes of a :class:`sixdof.analysis.superposition.Agreement`, names starting with ``prefix``."""
-    if agreement is None:
-        return {}
-    values = {
-        "per_dof": np.asarray(agreement.per_dof, dtype=float),
-        "worst_dof": str(agreement.worst_dof),
-        "worst": float(agreement.worst),
-        "tolerance": float(agreement.tolerance),
-        "ok": int(bool(agreement.ok)),
-        "peak": getattr(agreement, "peak", None),
-        "quiet": tuple(getattr(agreement, "quiet", ())),
-        "length": getattr(agreement, "length", None),
-    }
-    return {f"{prefix}_{k}": v for k, v in values.items() if v is not None}
-
-
-def _superposition(tree: _Tree, modal, agreement) -> None:
-    g = "time/superposition"
-    if modal is not None:
-        for order, key in enumerate(("q", "qd", "qdd")):
-            tree.add(f"{g}/{key}", getattr(modal, key), UNITS[key], ("t", "dof"), dof_units=dof_units(order))
-        modal = modal.superposition
-        tree.set_attrs(
-            g,
-            method=getattr(modal, "method", None),
-            method_reason=getattr(modal, "reason", None),
-            damping_coupling=getattr(modal, "coupling", None),
-            modes_kept=None if getattr(modal, "modes_kept", None) is None
-            else np.asarray([j + 1 for j in modal.modes_kept], dtype=np.int64),
-            residual_correction=getattr(modal, "residual", None),
-            residual_rates=getattr(modal, "residual_rates", None),
-            frame="absolute",  # like /time/q
-            n_intervals=getattr(modal, "n_intervals", None),
-            quadrature_nodes=getattr(modal, "quadrature_nodes", None),
-            **_agreement_attrs("truncation", getattr(modal, "truncation", None)),
-            **_agreement_attrs("approximation", getattr(modal, "approximation", None)),
-        )
-    if agreement is not None:
-        tree.set_attrs(
-            g,
-            **_agreement_attrs("agreement", agreement),
-            agreement_definition="per DOF: max_t |q_direct - q_modal| / max_t |q_direct| "
-            "(quiet DOFs: / the largest peak, rotations times agreement_length)",
-        )
-
-
-def _frf(tree: _Tree, frf, extras) -> None:
-    g = "frf"
-    check = None
-    if hasattr(frf, "direct") and hasattr(frf, "modal"):  # an FRFCrossCheck: store the direct one
-        check, frf = frf, frf.direct
-    tree.add(f"{g}/f_hz", frf.f_hz, "Hz", ("f_hz",))
-    tree.labels(g, "dof", DOFS)
-    tree.labels(g, "load", LOADS)
-    tree.add(f"{g}/receptance", frf.H, UNITS["receptance"], ("f_hz", "dof", "load"),
-             description="[f, i, j]: q_i per generalized force Q_j, H = (K + i K_h - w^2 M + i w C)^-1",
-             method=getattr(frf, "method", None), basis=getattr(frf, "basis", None))
-    if check is not None:
-        tree.add(f"{g}/cross_check_relative_difference", check.relative_difference, UNITS_ONE, ("dof", "load"),
-                 description="direct vs modal receptance: max_f |H_direct - H_modal| / max_f sqrt(|H_ii H_jj|)")
-        tree.set_attrs(g, cross_check_max_relative_difference=float(check.max_relative_difference),
-                       cross_check_modal_basis=check.modal.basis)
-    for name, item in (extras or {}).items():
-        _frf_extra(tree, g, name, item, len(frf.f_hz))
-
-
-def _frf_extra(tree: _Tree, g: str, name: str, item, nf: int) -> None:
-    """A named point FRF or transmissibility, in its own group under ``/frf``."""
-    if "/" in name or not name:
-        raise InputError(f"frf_extras[{name!r}]", "a name without '/'", name)
-    if len(item.f_hz) != nf or not np.array_equal(item.f_hz, tree.datasets[f"{g}/f_hz"].data):
-        raise InputError(f"frf_extras[{name!r}].f_hz", "the frequencies of the receptance",
-                             Plain(f"{len(item.f_hz)} other frequencies"))
-    kind = type(item).__name__
-    if hasattr(item, "values"):  # PointFRF
-        sub = f"{g}/point/{name}"
-        tree.add(f"{sub}/values", item.values, item.unit, ("f_hz",), quantity=item.quantity)
-        tree.set_attrs(sub, kind=kind, quantity=item.quantity, load_point=item.load_point,
-                       load_direction=item.load_direction, load_kind=item.load_kind,
-                       response_point=item.response_point, response_direction=item.response_direction,
-                       response_kind=item.response_kind, method=item.method)
-    elif hasattr(item, "mount_forces"):  # ForceTransmissibility
-        sub = f"{g}/force_transmissibility/{name}"
-        if f"{g}/mount" not in tree.datasets:
-            tree.labels(g, "mount", item.mount_names)
-            tree.labels(g, "axis", AXES)
-        per = "N/(N m)" if item.load_kind == "moment" else "N/N"
-        tree.add(f"{sub}/mount_forces", item.mount_forces, per, ("f_hz", "mount", "axis"),
-                 description="each mount's force on the foundation in body axes per unit load")
-        tree.add(f"{sub}/total", item.total, f"{per} (Fx, Fy, Fz); {per} m (Mx, My, Mz)", ("f_hz", "load"),
-                 description="resultant force and moment (about the CG rest position) on the foundation")
-        tree.add(f"{sub}/transmissibility", item.transmissibility, per, ("f_hz",),
-                 description="|resultant foundation force| per unit load")
-        tree.set_attrs(sub, kind=kind, load_point=item.load_point, load_direction=item.load_direction,
-                       load_kind=item.load_kind, method=item.method)
-    elif hasattr(item, "relative"):  # GroundTransmissibility
-        sub = f"{g}/ground_transmissibility/{name}"
-        if f"{g}/axis" not in tree.datasets:
-            tree.labels(g, "axis", AXES)
-        tree.add(f"{sub}/q", item.q, _mixed("m/m", "rad/m"), ("f_hz", "dof"),
-                 description="absolute generalized motion per unit ground displacement")
-        tree.add(f"{sub}/absolute", item.absolute, "m/m", ("f_hz", "axis"))
-        tree.add(f"{sub}/relative", item.relative, "m/m", ("f_hz", "axis"))
-        tree.add(f"{sub}/transmissibility", item.transmissibility, "m/m", ("f_hz",),
-                 description="|absolute motion along the ground direction| per unit ground motion")
-        tree.set_attrs(sub, kind=kind, ground_direction=item.ground_direction,
-                       response_point=item.response_point, method=item.method)
-    else:
-        raise InputError(f"frf_extras[{name!r}]", "a PointFRF, ForceTransmissibility or GroundTransmissibility", item)
-
-
-def _validation(tree: _Tree, report) -> None:
-    """``/validation``: the modal results against time histories (free decays, H1 estimates).
-
-    The table's columns are stored generically (every field of its rows, one dataset per column
-    over the ``mode`` axis; ``*_hz`` in Hz, the rest dimensionless), so new columns follow.
-    """
-    g = "validation"
-    rows = tuple(report.rows)
-    tree.add(f"{g}/mode", np.array([r.mode for r in rows], dtype=np.int64), UNITS_ONE, ("mode",),
-             description="elastic modes checked (mode numbers of /modal/mode)")
-    for key in _fields(rows[0]) if rows else ():
-        if key == "mode":
-            continue
-        values = [getattr(r, key) for r in rows]
-        if all(isinstance(v, str) for v in values):
-            tree.add(f"{g}/{key}", np.array(values, dtype=str), UNITS_LABEL, ("mode",))
-        else:
-            tree.add(f"{g}/{key}", np.array(values, dtype=float), "Hz" if key.endswith("_hz") else UNITS_ONE,
-                     ("mode",))
-    tree.set_attrs(
-        g, load_point=report.load_point, load_direction=report.load_direction,
-        random_duration_s=float(report.random_duration_s), wall_time_s=float(report.wall_time_s),
-        notes=tuple(report.notes),
-    )
-    per_force = "kg^1/2 m/N"
-    for run in getattr(report, "random_runs", ()):
-        sub = f"{g}/random/mode_{run.mode}"
-        est = run.estimated
-        tree.add(f"{sub}/f_hz", est.f_hz, "Hz", ("f_hz",), description="Welch frequency bins")
-        tree.add(f"{sub}/H1", np.asarray(est.H1).reshape(len(est.f_hz), -1)[:, 0], per_force, ("f_hz",),
-                 description=f"H1 estimate of modal coordinate eta_{run.mode} per unit random force")
-        tree.add(f"{sub}/coherence", np.asarray(est.coherence).reshape(len(est.f_hz), -1)[:, 0], UNITS_ONE,
-                 ("f_hz",))
-        tree.add(f"{sub}/model", np.asarray(run.model).reshape(len(est.f_hz), -1)[:, 0], per_force, ("f_hz",),
-                 description="model FRF of the same, with the first-order hold of the sampled force")
-        tree.set_attrs(sub, mode=int(run.mode), band_hz=np.asarray(run.band_hz, dtype=float),
-                       averages=int(est.averages), effective_averages=float(est.effective_averages),
-                       nperseg=int(est.nperseg), sample_rate_hz=float(est.sample_rate_hz))
-    if report.decays:
-        tree.labels(g, "dof", DOFS)
-    for decay in report.decays:
-        sub = f"{g}/decay/mode_{decay.mode}"
-        tree.add(f"{sub}/t", decay.history.t, "s", ("t",))
-        tree.add(f"{sub}/eta", decay.eta, "kg^1/2 m", ("t",), description="modal coordinate phi_r' M q")
-        tree.add(f"{sub}/q", decay.history.q, UNITS["q"], ("t", "dof"), dof_units=dof_units(0))
-        est = decay.estimate
-        tree.add(f"{sub}/extremum", np.arange(len(est.extrema_t)), UNITS_ONE, ("extremum",))
-        tree.add(f"{sub}/extrema_t", est.extrema_t, "s", ("extremum",))
-        tree.add(f"{sub}/extrema_value", est.extrema_value, "kg^1/2 m", ("extremum",))
-        tree.set_attrs(sub, mode=int(decay.mode), f_damped_hz=float(est.f_damped_hz), zeta=float(est.zeta),
-                       log_decrement=float(est.log_decrement))
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -801,23 +580,24 @@ def _is_scale(path: str, dataset: Dataset) -> bool:
 # ----------------------------------------------------------------------------------------------------
 
 
-def write_results(path: str | os.PathLike, **parts) -> Results:
-    """Build the results of a run (see :func:`build_results`) and write them atomically to ``path``.
+def write_results(path: str | os.PathLike, run=None, **parts) -> Results:
+    """Write a run's results (see :func:`build_results`) atomically to ``path``.
 
     Parameters
     ----------
     path : str or path-like
         The results file (``outputs/<name>/results.h5``); its folder is created when missing.
+    run : sixdof.results.RunResults, optional
+        What the run computed.
     **parts
-        The keyword arguments of :func:`build_results` (``system``, ``modes``, ``response``, ...).
+        The other keyword arguments of :func:`build_results`.
 
     Returns
     -------
     Results
-        What was written, with :attr:`Results.path` set: hand it to :func:`sixdof.plots.save_all`
-        so that live figures and figures redrawn from the file come from the same data.
+        The tree written, with :attr:`Results.path` set.
     """
-    results = build_results(**parts)
+    results = build_results(run, **parts)
     written = save_results(results, path)
     return Results(results.datasets, results.attrs, written)
 
@@ -912,8 +692,33 @@ def _write_attribute(node, key: str, value: Any) -> None:
         node.attrs[key] = value
 
 
-def load_results(path: str | os.PathLike) -> Results:
-    """Read a results file written by :func:`write_results`.
+def load_results(path: str | os.PathLike):
+    """Read a results file back into the typed objects that the run produced.
+
+    Parameters
+    ----------
+    path : str or path-like
+
+    Returns
+    -------
+    sixdof.results.RunResults
+        The system, modes, time histories, FRFs, validation ... that were written, as the library's own
+        result types; ``provenance`` holds the root attributes (scenario text, versions, creation time).
+
+    Raises
+    ------
+    sixdof.errors.InputError
+        If the file is missing or is not a sixdof results file.
+    """
+    from sixdof.results import RunResults
+
+    tree = load_tree(path)
+    run = _Decoder(tree).decode(RunResults, "")
+    return dataclasses.replace(run, provenance=dict(tree.attrs[""]))
+
+
+def load_tree(path: str | os.PathLike) -> Results:
+    """Read a results file as its tree of datasets and attributes (the file's own layout).
 
     Parameters
     ----------
@@ -1028,7 +833,10 @@ def write_sweep(path: str | os.PathLike, result, *, system=None, scenario_text: 
         attrs.update(solver=s.solver, rtol=s.rtol, atol=s.atol, duration=s.duration,
                      sample_rate_hz=s.sample_rate_hz, chunk_size=int(result.chunk_size))
     tree.set_attrs(g, **attrs)
-    results = build_results(system=system, scenario_text=scenario_text, name=name,
-                            description=description, extra=tree.datasets, extra_attrs=tree.attrs)
+    from sixdof.results import RunResults
+
+    run = RunResults(name=name or "", description=description or "", system=system,
+                     provenance={"scenario_text": scenario_text or ""})
+    results = build_results(run, extra=tree.datasets, extra_attrs=tree.attrs)
     written = save_results(results, path)
     return Results(results.datasets, results.attrs, written)

@@ -12,15 +12,17 @@ once per primitive operation. The model objects hold validated NumPy arrays and 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
 
 from sixdof._jax import jax, jnp
+from sixdof.dofs import DOF_UNITS, UNITS
 from sixdof.errors import InputError, finite_array, readonly
 from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import mount_matrix_jax
+from sixdof.results import label, part, quantity, stacked
 
 # Relative tolerances for "physically possible" checks on user input.
 _ORTHONORMAL_TOL = 1e-6
@@ -103,9 +105,10 @@ class RigidBody:
         Size of the box drawn for the body in figures, along x, y, z [m]. Not used in the numerics.
     """
 
-    mass: float
-    inertia: np.ndarray
-    dimensions: np.ndarray | None = None
+    mass: float = quantity("kg", (), decode=float)
+    inertia: np.ndarray = label()
+    dimensions: np.ndarray | None = quantity("m", ("axis",), default=None,
+                                             description="size of the box drawn for the body, centred on the CG")
 
     def __post_init__(self) -> None:
         try:
@@ -145,11 +148,15 @@ class Mount:
     """
 
     name: str
-    position: np.ndarray
-    stiffness: np.ndarray
-    damping: np.ndarray = field(default_factory=lambda: np.zeros(3))
-    axes: np.ndarray = field(default_factory=lambda: np.eye(3))
-    loss_factor: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    position: np.ndarray = quantity("m", ("axis",), description="mount attachment points from the CG in body axes")
+    stiffness: np.ndarray = quantity("N/m", ("mount_axis",), description="stiffness along each mount's own axes")
+    damping: np.ndarray = quantity("N s/m", ("mount_axis",), default_factory=lambda: np.zeros(3),
+                                   description="viscous damping along each mount's own axes")
+    axes: np.ndarray = quantity("1", ("mount_axis", "axis"), default_factory=lambda: np.eye(3),
+                                description="rows: each mount's unit axes u, v, w in body axes")
+    loss_factor: np.ndarray = quantity("1", ("mount_axis",), default_factory=lambda: np.zeros(3),
+                                       description="hysteretic loss factor along each mount's own axes "
+                                       "(frequency responses)")
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name:
@@ -194,8 +201,8 @@ class Rayleigh:
         Stiffness-proportional coefficient [s], >= 0.
     """
 
-    alpha: float
-    beta: float
+    alpha: float = label()
+    beta: float = label()
 
     def __post_init__(self) -> None:
         for name in ("alpha", "beta"):
@@ -236,10 +243,21 @@ class System:
         Modal damping ratio for every mode, or one per mode in ascending frequency order.
     """
 
-    body: RigidBody
-    mounts: tuple[Mount, ...]
-    rayleigh: Rayleigh | None = None
-    modal_damping: float | tuple[float, ...] | None = None
+    body: RigidBody = part(lambda: RigidBody, prefix="body_")
+    mounts: tuple[Mount, ...] = stacked(lambda: Mount, dim="mount", prefix="mount_", key="name")
+    rayleigh: Rayleigh | None = part(lambda: Rayleigh, prefix="rayleigh_", default=None)
+    modal_damping: float | tuple[float, ...] | None = label(
+        default=None, encode=lambda ratios: np.atleast_1d(np.asarray(ratios, dtype=float)),
+        decode=lambda ratios: float(ratios[0]) if np.size(ratios) == 1 else tuple(float(r) for r in ratios))
+
+    #: Stored beside the fields (not read back: the system recomputes them).
+    derived = {
+        "M": quantity(UNITS["M"], ("load", "dof"), dof_units=DOF_UNITS),
+        "C": quantity(UNITS["C"], ("load", "dof"), dof_units=DOF_UNITS),
+        "K": quantity(UNITS["K"], ("load", "dof"), dof_units=DOF_UNITS),
+        "C_mounts": quantity(UNITS["C"], ("load", "dof"), dof_units=DOF_UNITS,
+                             description="damping of the mounts' dashpots alone"),
+    }
 
     def __post_init__(self) -> None:
         if not isinstance(self.body, RigidBody):

@@ -15,6 +15,16 @@ import numpy as np
 import scipy.signal
 
 from sixdof.errors import InputError, readonly
+from sixdof.results import label, quantity
+
+
+def _first_column(array: np.ndarray) -> np.ndarray:
+    """The single output of an (nf, 1) estimate, as stored."""
+    return np.asarray(array).reshape(np.shape(array)[0], -1)[:, 0]
+
+
+def _as_column(array: np.ndarray) -> np.ndarray:
+    return np.asarray(array)[:, None]
 
 __all__ = [
     "DecayEstimate",
@@ -55,13 +65,15 @@ class EstimatedFRF:
         [Hz].
     """
 
-    f_hz: np.ndarray
-    H1: np.ndarray
-    coherence: np.ndarray
-    averages: int
-    effective_averages: float
-    nperseg: int
-    sample_rate_hz: float
+    f_hz: np.ndarray = quantity("Hz", ("f_hz",), description="Welch frequency bins")
+    H1: np.ndarray = quantity(lambda e: e.unit, ("f_hz",), encode=_first_column, decode=_as_column,
+                              description="H1 estimate: output per unit input")
+    coherence: np.ndarray = quantity("1", ("f_hz",), encode=_first_column, decode=_as_column)
+    averages: int = label()
+    effective_averages: float = label()
+    nperseg: int = label()
+    sample_rate_hz: float = label()
+    unit: str = label(name="H1_unit", default="1")
 
     @property
     def random_error(self) -> np.ndarray:
@@ -100,7 +112,7 @@ def h1_random_error(coherence, n_averages: float) -> np.ndarray:
     return np.sqrt(1.0 - g2) / (np.sqrt(g2) * np.sqrt(2.0 * n_averages))
 
 
-def estimate_frf(x, y, sample_rate_hz: float, nperseg: int, window: str = "hann") -> EstimatedFRF:
+def estimate_frf(x, y, sample_rate_hz: float, nperseg: int, window: str = "hann", unit: str = "1") -> EstimatedFRF:
     """H1 FRF and coherence between an input and one or more outputs, with Welch averaging.
 
     Parameters
@@ -116,6 +128,8 @@ def estimate_frf(x, y, sample_rate_hz: float, nperseg: int, window: str = "hann"
         overlap by half.
     window : str
         Window name for :func:`scipy.signal.get_window`. Default Hann.
+    unit : str
+        Unit of the FRF (output per input), kept with the result.
 
     Returns
     -------
@@ -146,7 +160,8 @@ def estimate_frf(x, y, sample_rate_hz: float, nperseg: int, window: str = "hann"
     for a in (f, H1, coherence):
         a.flags.writeable = False
     return EstimatedFRF(f_hz=f, H1=H1, coherence=np.clip(coherence, 0.0, 1.0), averages=segments,
-                        effective_averages=n_eff, nperseg=nperseg, sample_rate_hz=float(sample_rate_hz))
+                        effective_averages=n_eff, nperseg=nperseg, sample_rate_hz=float(sample_rate_hz),
+                        unit=unit)
 
 
 def held_model_frf(H: np.ndarray, f_hz: np.ndarray, sample_rate_hz: float, model, aliases: int = 2):
@@ -220,14 +235,15 @@ class DecayEstimate:
         Values there (alternating signs).
     """
 
-    f_damped_hz: float
-    zeta: float
-    log_decrement: float
-    extrema_t: np.ndarray
-    extrema_value: np.ndarray
+    f_damped_hz: float = label()
+    zeta: float = label()
+    log_decrement: float = label()
+    extrema_t: np.ndarray = quantity("s", ("extremum",))
+    extrema_value: np.ndarray = quantity(lambda d: d.unit, ("extremum",))
+    unit: str = label(name="extrema_unit", default="1")
 
 
-def decay_estimate(t, x) -> DecayEstimate:
+def decay_estimate(t, x, unit: str = "1") -> DecayEstimate:
     """Damped frequency and damping ratio of a free decay ``x(t)`` from its extrema.
 
     The extrema of ``A e^{-sigma t} cos(w_d t + p)`` are exactly ``pi / w_d`` apart and shrink by
@@ -241,6 +257,8 @@ def decay_estimate(t, x) -> DecayEstimate:
         Uniformly spaced times [s].
     x : array_like, shape (n,)
         The decaying signal (any unit).
+    unit : str
+        Its unit, kept with the result.
 
     Returns
     -------
@@ -280,6 +298,7 @@ def decay_estimate(t, x) -> DecayEstimate:
         log_decrement=float(2 * np.pi * sigma / omega_d),
         extrema_t=readonly(times),
         extrema_value=readonly(values),
+        unit=unit,
     )
 
 

@@ -21,7 +21,7 @@ has the same sample count, so the solver compiles once.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -29,10 +29,12 @@ from sixdof.analysis.frf import parse_direction, receptance
 from sixdof.analysis.statespace import modal_damping_ratios
 from sixdof.errors import InputError, SolverError, point, readonly
 from sixdof.model.kinematics import unit_load
-from sixdof.results import TimeHistory
+from sixdof.results import TimeHistory, label, part, quantity, sequence, stacked
 from sixdof.validation.estimation import (
     DecayEstimate,
     EstimatedFRF,
+    _as_column,
+    _first_column,
     decay_estimate,
     estimate_frf,
     h1_random_error,
@@ -109,10 +111,10 @@ class FreeDecay:
     estimate : DecayEstimate
     """
 
-    mode: int
-    history: TimeHistory
-    eta: np.ndarray
-    estimate: DecayEstimate
+    mode: int = label()
+    history: TimeHistory = part(lambda: TimeHistory, prefix="")
+    eta: np.ndarray = quantity("kg^1/2 m", ("t",), description="modal coordinate phi_r' M q")
+    estimate: DecayEstimate = part(lambda: DecayEstimate, prefix="")
 
 
 @dataclass(frozen=True)
@@ -154,21 +156,21 @@ class ModeCheck:
         The random error of ``|H1|`` there (:func:`h1_random_error`).
     """
 
-    mode: int
-    dominant_dof: str
-    f_model_hz: float
-    zeta_model: float
-    f_damped_model_hz: float
-    f_damped_estimated_hz: float
-    zeta_estimated: float
-    log_decrement_estimated: float
-    f_peak_model_hz: float
-    f_peak_estimated_hz: float
-    frequency_resolution_hz: float
-    h1_median_error: float
-    h1_error_in_sigmas: float
-    h1_error_at_peak: float
-    h1_sigma_at_peak: float
+    mode: int = quantity("1", (), description="elastic modes checked (mode numbers of /modal/mode)")
+    dominant_dof: str = quantity("", (), decode=str)
+    f_model_hz: float = quantity("Hz", (), decode=float)
+    zeta_model: float = quantity("1", (), decode=float)
+    f_damped_model_hz: float = quantity("Hz", (), decode=float)
+    f_damped_estimated_hz: float = quantity("Hz", (), decode=float)
+    zeta_estimated: float = quantity("1", (), decode=float)
+    log_decrement_estimated: float = quantity("1", (), decode=float)
+    f_peak_model_hz: float = quantity("Hz", (), decode=float)
+    f_peak_estimated_hz: float = quantity("Hz", (), decode=float)
+    frequency_resolution_hz: float = quantity("Hz", (), decode=float)
+    h1_median_error: float = quantity("1", (), decode=float)
+    h1_error_in_sigmas: float = quantity("1", (), decode=float)
+    h1_error_at_peak: float = quantity("1", (), decode=float)
+    h1_sigma_at_peak: float = quantity("1", (), decode=float)
 
     @property
     def f_damped_error(self) -> float:
@@ -224,10 +226,12 @@ class RandomRun:
         The held model FRF at ``estimated.f_hz`` (:func:`held_model_frf`).
     """
 
-    mode: int
-    band_hz: tuple[float, float]
-    estimated: EstimatedFRF
-    model: np.ndarray
+    mode: int = label()
+    band_hz: tuple[float, float] = label(encode=lambda band: np.asarray(band, dtype=float),
+                                         decode=lambda band: (float(band[0]), float(band[1])))
+    estimated: EstimatedFRF = part(lambda: EstimatedFRF, prefix="")
+    model: np.ndarray = quantity(lambda run: run.estimated.unit, ("f_hz",), encode=_first_column, decode=_as_column,
+                                 description="model FRF of the same, with the first-order hold of the sampled force")
 
 
 @dataclass(frozen=True, eq=False)
@@ -251,14 +255,14 @@ class ValidationReport:
     notes : tuple of str
     """
 
-    rows: tuple[ModeCheck, ...]
-    random_runs: tuple[RandomRun, ...]
-    decays: tuple[FreeDecay, ...]
-    load_point: np.ndarray
-    load_direction: np.ndarray
-    random_duration_s: float
-    wall_time_s: float
-    notes: tuple[str, ...] = field(default=())
+    rows: tuple[ModeCheck, ...] = stacked(lambda: ModeCheck, dim="mode", key="mode")
+    random_runs: tuple[RandomRun, ...] = sequence(lambda: RandomRun, group="random", key=lambda run: f"mode_{run.mode}")
+    decays: tuple[FreeDecay, ...] = sequence(lambda: FreeDecay, group="decay", key=lambda decay: f"mode_{decay.mode}")
+    load_point: np.ndarray = label()
+    load_direction: np.ndarray = label()
+    random_duration_s: float = label()
+    wall_time_s: float = label()
+    notes: tuple[str, ...] = label(default=())
 
     def table(self) -> tuple[tuple[str, ...], tuple[tuple, ...]]:
         """``(headers, rows)`` of raw values, one row per mode, columns as :data:`COLUMNS`."""
@@ -336,7 +340,7 @@ def validate(system, settings: ValidationSettings | None = None) -> ValidationRe
                                           sample_rate_hz=rate))
         eta = run.q @ M @ phi[:, r]
         decays.append(FreeDecay(mode=r + 1, history=run, eta=readonly(eta),
-                                estimate=decay_estimate(run.t, eta)))
+                                estimate=decay_estimate(run.t, eta, unit="kg^1/2 m")))
 
     # 2. Random force, one run per elastic mode: white Gaussian samples at a rate fitted to the
     # mode, linearly interpolated. Every run has the same sample count (one compiled solver); its
@@ -375,7 +379,7 @@ def validate(system, settings: ValidationSettings | None = None) -> ValidationRe
         if run.t.size != n:
             raise SolverError(f"validation run returned {run.t.size} samples, expected {n}")
         total_s += run.t[-1]
-        est = estimate_frf(settings.force_rms * samples, run.q @ M @ phi[:, r], fs, nperseg)
+        est = estimate_frf(settings.force_rms * samples, run.q @ M @ phi[:, r], fs, nperseg, unit="kg^1/2 m/N")
         # Aliases up to twice the highest natural frequency keep the held model exact in band.
         aliases = int(math.ceil(2.0 * f_n[-1] / fs)) + 1
         G = held_model_frf(model_eta(est.f_hz)[:, r:r + 1], est.f_hz, fs,

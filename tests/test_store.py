@@ -426,3 +426,19 @@ def test_import_sixdof_does_not_load_h5py_or_pyplot():
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                             env={**os.environ, "PYTHONWARNINGS": ""})
     assert result.returncode == 0, result.stderr
+
+
+def test_results_convert_to_xarray_with_dims_coordinates_and_units(parts):
+    pytest.importorskip("xarray")
+    history = parts["response"].to_xarray()
+    assert history["q"].dims == ("t", "dof") and list(history["dof"].values) == list(DOFS)
+    np.testing.assert_array_equal(history["q"].sel(dof="rz").values, parts["response"].q[:, 5])
+    assert history["q"].attrs["units"] == "m (x, y, z); rad (rx, ry, rz)" and history["t"].attrs["units"] == "s"
+    H = parts["frf"].direct.to_xarray()["receptance"]
+    assert H.dims == ("f_hz", "dof", "load")
+    np.testing.assert_array_equal(H.sel(dof="z", load="Fz").values, parts["frf"].direct.H[:, 2, 2])
+    modes = parts["modes"].to_xarray()
+    assert modes["frequency_hz"].attrs["units"] == "Hz" and modes["shapes"].dims == ("dof", "mode")
+    forces = parts["mount_forces"].to_xarray()
+    assert list(forces["mount"].values) == list(parts["mount_forces"].names)
+    assert forces["mount_force"].dims == ("mount", "t", "axis")

@@ -35,6 +35,7 @@ _LAZY = {
     "SimulationSettings": "analysis.direct",
     "TimeHistory": "results",
     "RunResults": "results",
+    "to_xarray": "results",
     "simulate": "analysis.direct",
     "mount_forces": "analysis.response",
     "point_motion": "analysis.response",

@@ -16,13 +16,14 @@ statistics (``stats``) or the superposition's method and truncation (``superposi
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import MISSING, dataclass, field
 from typing import Any
 
 import numpy as np
 
-from sixdof.dofs import AXES, DOFS, UNITS, dof_units
+from sixdof.dofs import AXES, DOFS, LOADS, MOUNT_AXES, UNITS, dof_units
 from sixdof.errors import InputError, readonly
 
 # ----------------------------------------------------------------------------------------------------
@@ -94,8 +95,16 @@ def sequence(cls: Callable[[], type], *, group: str, key: Callable[[Any], str], 
     return _field({"kind": "sequence", "cls": cls, "group": group, "key": key}, default, MISSING)
 
 
+class Result:
+    """Base of the described result classes: ``result.to_xarray()`` (see :func:`to_xarray`)."""
+
+    def to_xarray(self):
+        """This result as an :class:`xarray.Dataset`: named dims, coordinates and units (needs xarray)."""
+        return to_xarray(self)
+
+
 @dataclass(frozen=True, eq=False)
-class TimeHistory:
+class TimeHistory(Result):
     """Motion of the body's centre of gravity at a set of times.
 
     ``q, qd, qdd`` are the *absolute* motion (fixed frame): what an accelerometer on the body measures.
@@ -193,27 +202,6 @@ class TimeHistory:
         """Acceleration relative to the ground, (n, 6) [m/s^2, rad/s^2]."""
         return self._relative(self.qdd, self.ground_acceleration)
 
-    def to_xarray(self):
-        """The history as an :class:`xarray.Dataset` with dims ``t`` and ``dof`` (and ``axis`` for the
-        ground), every variable carrying its ``units`` attribute. Needs xarray."""
-        import xarray as xr
-
-        dof_units = {"q": ("m", "rad"), "qd": ("m/s", "rad/s"), "qdd": ("m/s^2", "rad/s^2"), "Q": ("N", "N m")}
-        variables = {}
-        for name, (translation, rotation) in dof_units.items():
-            value = getattr(self, name)
-            if value is not None:
-                variables[name] = xr.Variable(("t", "dof"), value, {
-                    "units": f"{translation} (x, y, z); {rotation} (rx, ry, rz)",
-                    "dof_units": [translation] * 3 + [rotation] * 3})
-        for name, unit in (("ground_displacement", "m"), ("ground_velocity", "m/s"), ("ground_acceleration", "m/s^2")):
-            value = getattr(self, name)
-            if value is not None:
-                variables[name] = xr.Variable(("t", "axis"), value, {"units": unit})
-        coords = {"t": ("t", self.t, {"units": "s"}), "dof": ("dof", list(DOFS))}
-        if self.has_ground:
-            coords["axis"] = ("axis", list(AXES))
-        return xr.Dataset(variables, coords=coords)
 
 
 @dataclass(frozen=True, eq=False)
@@ -286,3 +274,47 @@ class RunResults:
             if not np.array_equal(item.f_hz, self.frf.direct.f_hz):
                 raise InputError(f"frf_extras[{name!r}].f_hz", "the frequencies of the receptance",
                                  Plain(f"{len(item.f_hz)} other frequencies"))
+
+
+#: Labels of the axes that are the same in every result.
+_FIXED_COORDS = {"dof": DOFS, "load": LOADS, "axis": AXES, "mount_axis": MOUNT_AXES}
+
+
+def to_xarray(result):
+    """Any described result (its :func:`quantity` fields) as an :class:`xarray.Dataset`.
+
+    Each quantity becomes a variable with its named dims and ``units`` (and ``description``,
+    ``dof_units``) attributes; a quantity that is its own axis (``t``, ``f_hz``, mount names) becomes a
+    coordinate; ``dof``, ``load``, ``axis`` and ``mount_axis`` get their labels; scalar attributes
+    (:func:`label` fields) go to the dataset's attributes. Needs xarray (``pip install xarray``).
+
+    Examples
+    --------
+    >>> sixdof.to_xarray(sixdof.receptance(system, f_hz))["receptance"].sel(dof="z", load="Fz")
+    """
+    import xarray as xr
+
+    variables, coords, attrs = {}, {}, {}
+    fields = [(f.name, f.metadata["store"]) for f in dataclasses.fields(result) if "store" in f.metadata]
+    fields += [(name, f.metadata["store"]) for name, f in getattr(type(result), "derived", {}).items()
+               if getattr(result, "stores", lambda _: True)(name)]
+    for name, meta in fields:
+        value = getattr(result, name)
+        if value is None:
+            continue
+        if meta["kind"] == "quantity":
+            stored = meta["name"] or name
+            units = meta["units"](result) if callable(meta["units"]) else meta["units"]
+            extra = {"units": units, **({"description": meta["description"]} if meta["description"] else {}),
+                     **({"dof_units": list(meta["dof_units"])} if meta["dof_units"] else {})}
+            if tuple(meta["dims"]) == (stored,):
+                coords[stored] = (stored, np.asarray(value), extra)
+            else:
+                variables[stored] = xr.Variable(meta["dims"], np.asarray(value), extra)
+        elif meta["kind"] == "label" and isinstance(value, (str, int, float, np.ndarray, tuple)):
+            attrs[meta["name"] or name] = value
+    dims = {d for v in variables.values() for d in v.dims}
+    for dim, labels in _FIXED_COORDS.items():
+        if dim in dims and dim not in coords:
+            coords[dim] = (dim, list(labels))
+    return xr.Dataset(variables, coords=coords, attrs=attrs)

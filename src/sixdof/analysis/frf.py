@@ -89,7 +89,7 @@ def _per_load(load_kind: str) -> str:
 
 
 @dataclass(frozen=True, eq=False)
-class FRF:
+class FRF(schema.Result):
     """Generalized 6x6 receptance of a system at a set of frequencies (from :func:`receptance`).
 
     Attributes
@@ -140,7 +140,7 @@ class FRF:
 
 
 @dataclass(frozen=True, eq=False)
-class FRFCrossCheck:
+class FRFCrossCheck(schema.Result):
     """Direct and modal receptances of one system and their agreement (from :func:`cross_check`).
 
     Attributes
@@ -162,7 +162,7 @@ class FRFCrossCheck:
 
 
 @dataclass(frozen=True, eq=False)
-class PointFRF:
+class PointFRF(schema.Result):
     """Response at one point and direction per unit load at another (from :func:`point_frf`).
 
     Attributes
@@ -210,7 +210,7 @@ class PointFRF:
 
 
 @dataclass(frozen=True, eq=False)
-class ForceTransmissibility:
+class ForceTransmissibility(schema.Result):
     """Forces the mounts pass to the foundation per unit applied load (from
     :func:`force_transmissibility`).
 
@@ -272,7 +272,7 @@ class ForceTransmissibility:
 
 
 @dataclass(frozen=True, eq=False)
-class GroundTransmissibility:
+class GroundTransmissibility(schema.Result):
     """Body motion per unit rigid translation of the ground under every mount (from
     :func:`ground_transmissibility`).
 

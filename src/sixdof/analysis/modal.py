@@ -10,7 +10,7 @@ import scipy.linalg
 
 from sixdof.dofs import DOFS, UNITS
 from sixdof.errors import readonly
-from sixdof.results import label, quantity
+from sixdof.results import Result, label, quantity
 
 #: A mode is rigid (zero frequency) when its eigenvalue is below this fraction of the largest.
 ZERO_MODE_RTOL = 1e-10
@@ -19,7 +19,7 @@ COUPLING_RTOL = 1e-9
 
 
 @dataclass(frozen=True, eq=False)
-class Modes:
+class Modes(Result):
     """Result of :func:`modal_analysis`.
 
     Attributes

@@ -17,11 +17,11 @@ import numpy as np
 from sixdof.dofs import UNITS
 from sixdof.errors import point, readonly
 from sixdof.model.kinematics import point_map
-from sixdof.results import TimeHistory, quantity
+from sixdof.results import Result, TimeHistory, quantity
 
 
 @dataclass(frozen=True, eq=False)
-class PointMotion:
+class PointMotion(Result):
     """Motion of one body point. Arrays of shape (n, 3) in body axes.
 
     Attributes
@@ -81,7 +81,7 @@ _ON = "exerted by each mount on the foundation, body axes (dynamic part about st
 
 
 @dataclass(frozen=True, eq=False)
-class MountForces:
+class MountForces(Result):
     """Forces carried by the mounts over time (dynamic part).
 
     Sign: every force is the one the mount exerts *on the foundation* (the body receives its

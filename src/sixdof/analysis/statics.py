@@ -9,13 +9,13 @@ import numpy as np
 from sixdof.dofs import UNITS, dof_units
 from sixdof.errors import InputError
 from sixdof.model.kinematics import mount_local_map
-from sixdof.results import label, quantity
+from sixdof.results import Result, label, quantity
 
 STANDARD_GRAVITY = 9.80665  # m/s^2
 
 
 @dataclass(frozen=True, eq=False)
-class Statics:
+class Statics(Result):
     """Result of :func:`gravity_statics`.
 
     Attributes

@@ -15,7 +15,7 @@ import numpy as np
 import scipy.signal
 
 from sixdof.errors import InputError, readonly
-from sixdof.results import label, quantity
+from sixdof.results import Result, label, quantity
 
 
 def _first_column(array: np.ndarray) -> np.ndarray:
@@ -44,7 +44,7 @@ __all__ = [
 
 
 @dataclass(frozen=True, eq=False)
-class EstimatedFRF:
+class EstimatedFRF(Result):
     """H1 FRF estimate and coherence from sampled input and outputs (from :func:`estimate_frf`).
 
     Attributes

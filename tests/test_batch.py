@@ -10,12 +10,10 @@ import pytest
 
 from exact_lti import bridge
 from sixdof.analysis.batch import (
-    _matrices,
     batch_frequencies,
     make_variants,
-    parse_sweep_spec,
     run_batch,
-    sweep,
+    variant_matrices,
     variant_system,
 )
 from sixdof.analysis.direct import SimulationSettings, simulate
@@ -30,7 +28,9 @@ from sixdof.excitation import (
     ModeRelease,
 )
 from sixdof.io.scenario import parse_scenario
+from sixdof.io.sweep import parse_sweep_spec
 from sixdof.model.system import Rayleigh, System
+from sixdof.workflows import sweep
 from tolerances import RTOL_BATCH_DIRECT, RTOL_BATCH_FREQUENCY, RTOL_BATCH_MATRIX
 
 # Loads that move all six DOFs: an off-centre harmonic force and a pulse near one end.
@@ -107,7 +107,7 @@ def test_batched_matrices_include_rayleigh_and_modal_damping(beam):
                     modal_damping=(0.01, 0.02, 0.03, 0.01, 0.02, 0.05))
     variants = make_variants(system, stiffness_factor=rng.uniform(0.5, 2.0, (4, 4)),
                              damping_factor=rng.uniform(0.0, 3.0, (4, 4, 3)))
-    K, C, _ = _matrices(system, variants)
+    K, C, _ = variant_matrices(system, variants)
     for i in range(4):
         one = variant_system(system, variants, i)
         assert np.max(np.abs(K[i] - one.K)) <= RTOL_BATCH_MATRIX * np.max(np.abs(one.K))
@@ -241,7 +241,7 @@ def test_sweep_of_a_scenario_and_its_file(tmp_path, beam):
     ("count = 5\n[[vary]]\nparameter='stiffness'\ndistribution='grid'\nvalues=[1.0, 2.0]",
      r"count: expected the product of the grid sizes, 2 \(or no count\), got 5"),
     ("count = 2\nseeds = 1\n[[vary]]\nparameter='stiffness'\ndistribution='grid'\nvalues=[1.0, 2.0]",
-     r"seeds: expected one of the keys count, seed, chunk_size, vary, got an unknown key"),
+     r"seeds: expected one of the keys chunk_size, count, seed, vary, got an unknown key; did you mean 'seed'\?"),
     ("count = 2\n[[vary]\n", r"spec\.toml: expected valid TOML"),
 ])
 def test_bad_specs_are_named(text, match):

@@ -156,10 +156,11 @@ def _validate(args) -> int:
 
 
 def _sweep(args) -> int:
-    from sixdof.analysis.batch import load_sweep_spec, summary_table, sweep
+    from sixdof.io.report import summary_table
     from sixdof.io.scenario import load_scenario
     from sixdof.io.store import write_sweep
-    from sixdof.workflows import check_output_root, write_all_or_nothing
+    from sixdof.io.sweep import load_sweep_spec
+    from sixdof.workflows import check_output_root, sweep, write_all_or_nothing
 
     _compile_cache()
     scenario = load_scenario(args.scenario)

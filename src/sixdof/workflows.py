@@ -319,3 +319,24 @@ def _replace_directory(stage: Path, target: Path) -> None:
     os.replace(stage, target)
     if old is not None:
         shutil.rmtree(old, ignore_errors=True)
+
+
+def sweep(scenario, spec, *, chunk_size: int | None = None):
+    """Run a scenario's variants: frequencies always, peak responses when it has a simulation.
+
+    Parameters
+    ----------
+    scenario : sixdof.io.scenario.Scenario
+    spec : sixdof.io.sweep.SweepSpec
+    chunk_size : int, optional
+        Variants integrated together (default: the spec's, else bounded by memory).
+
+    Returns
+    -------
+    sixdof.analysis.batch.BatchResult
+    """
+    from sixdof.analysis.batch import run_batch
+
+    variants = spec.variants(scenario.system)
+    return run_batch(scenario.system, variants, scenario.excitation, scenario.simulation,
+                     chunk_size=chunk_size or spec.chunk_size)

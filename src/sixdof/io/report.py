@@ -81,3 +81,16 @@ def statics_table(statics, mount_names: Sequence[str]) -> str:
         rows.append([name, *(f"{v / 1e3:.3f}" for v in force), f"{support / 1e3:.3f}", state])
     forces = table(["mount", "Fx [kN]", "Fy [kN]", "Fz [kN]", "carried [kN]", "state"], rows, "lrrrrl")
     return deflection + "\n\nForce of each mount on the body (body axes):\n" + forces
+
+
+def summary_table(result) -> str:
+    """Percentiles (5, 50, 95 %) of each frequency and each DOF's peak, as text."""
+    lines = [f"{result.variants.count} variants", "", "quantity          p5           p50          p95"]
+    for j in range(6):
+        p = np.percentile(result.frequency_hz[:, j], [5, 50, 95])
+        lines.append(f"f{j + 1} [Hz]      " + "  ".join(f"{v:11.5g}" for v in p))
+    if result.peak_q is not None:
+        for j, (dof, unit) in enumerate(zip(DOFS, DOF_UNITS)):
+            p = np.percentile(result.peak_q[:, j], [5, 50, 95])
+            lines.append(f"peak {dof:<2} [{unit:<3}] " + "  ".join(f"{v:11.4g}" for v in p))
+    return "\n".join(lines)

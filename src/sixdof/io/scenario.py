@@ -8,16 +8,24 @@ dictionaries: each table becomes a frozen object of the library here, at the edg
 from __future__ import annotations
 
 import csv
-import dataclasses
-import difflib
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from sixdof.errors import InputError, Plain, ScenarioError
+from sixdof.errors import InputError, Plain
+from sixdof.io.toml import (
+    Table,
+    build,
+    choices,
+    is_number,
+    is_numeric_list,
+    make,
+    parse,
+    read_text,
+    unique,
+)
 from sixdof.model.system import Mount, Rayleigh, RigidBody, System
 
 _MISSING = object()
@@ -33,7 +41,7 @@ class Point:
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name:
             raise InputError("name", "a non-empty string", self.name)
-        position = np.asarray(self.position, dtype=float) if _is_numeric_list(self.position, 3) else None
+        position = np.asarray(self.position, dtype=float) if is_numeric_list(self.position, 3) else None
         if position is None or not np.all(np.isfinite(position)):
             raise InputError("position", "3 coordinates [x, y, z] in m", self.position)
         object.__setattr__(self, "position", tuple(float(v) for v in position))
@@ -47,9 +55,9 @@ class StaticsSettings:
     direction: tuple[float, float, float] = (0.0, 0.0, -1.0)
 
     def __post_init__(self) -> None:
-        if not _is_number(self.gravity) or self.gravity <= 0:
+        if not is_number(self.gravity) or self.gravity <= 0:
             raise InputError("gravity", "a positive acceleration in m/s^2", self.gravity)
-        if not _is_numeric_list(self.direction, 3) or not np.any(np.asarray(self.direction, float)):
+        if not is_numeric_list(self.direction, 3) or not np.any(np.asarray(self.direction, float)):
             raise InputError("direction", "a non-zero 3-vector in body axes", self.direction)
         object.__setattr__(self, "gravity", float(self.gravity))
         object.__setattr__(self, "direction", tuple(float(v) for v in self.direction))
@@ -63,7 +71,7 @@ def _checked_direction(value: Any, field: str, rotations: bool = True):
 
 
 def _checked_point(value: Any, field: str) -> tuple[float, float, float]:
-    if not _is_numeric_list(value, 3) or not np.all(np.isfinite(np.asarray(value, float))):
+    if not is_numeric_list(value, 3) or not np.all(np.isfinite(np.asarray(value, float))):
         raise InputError(field, "3 coordinates [x, y, z] in m from the CG", value)
     return tuple(float(v) for v in value)
 
@@ -152,7 +160,7 @@ class FrfSettings:
 
     def __post_init__(self) -> None:
         expected = "two frequencies [low, high] in Hz with 0 <= low < high"
-        if not _is_numeric_list(self.f_hz, 2):
+        if not is_numeric_list(self.f_hz, 2):
             raise InputError("f_hz", expected, self.f_hz)
         low, high = (float(v) for v in self.f_hz)
         if not (np.isfinite(high) and 0 <= low < high):
@@ -195,7 +203,7 @@ class SuperpositionSettings:
             isinstance(self.n_modes, bool) or not isinstance(self.n_modes, int) or not 1 <= self.n_modes <= 6
         ):
             raise InputError("n_modes", "an integer from 1 to 6", self.n_modes)
-        if self.f_max_hz is not None and (not _is_number(self.f_max_hz) or self.f_max_hz <= 0):
+        if self.f_max_hz is not None and (not is_number(self.f_max_hz) or self.f_max_hz <= 0):
             raise InputError("f_max_hz", "a positive frequency in Hz", self.f_max_hz)
         if self.n_modes is not None and self.f_max_hz is not None:
             raise InputError("n_modes", "either n_modes or f_max_hz, not both", self.n_modes)
@@ -255,35 +263,22 @@ def load_scenario(path: str | Path) -> Scenario:
         (a ``ValueError``) naming the file, the field, what was expected and what was received.
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ScenarioError(str(path), InputError("", "an existing scenario file", str(path))) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ScenarioError(str(path), InputError("", "a readable UTF-8 text file", str(exc))) from None
-    return parse_scenario(text, source=str(path), base_dir=path.parent)
+    return parse_scenario(read_text(path, "scenario file"), source=str(path), base_dir=path.parent)
 
 
 def parse_scenario(text: str, source: str = "<string>", base_dir: str | Path = ".") -> Scenario:
     """Validate scenario text (TOML). See :func:`load_scenario`."""
-    try:
-        raw = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ScenarioError(source, InputError("", "valid TOML", str(exc))) from None
-    try:
-        return _scenario(raw, text, Path(base_dir), source)
-    except InputError as exc:
-        raise ScenarioError(source, exc) from None
+    return parse(text, source, lambda raw: _scenario(raw, text, Path(base_dir), source))
 
 
 def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
-    top = _Table(raw, "", _TOP_LEVEL_KEYS)
+    top = Table(raw, "", _TOP_LEVEL_KEYS)
     name = top.string("name")
     description = top.string("description", default="")
-    body = _build(RigidBody, top.table("body"), "body")
-    mounts = [_build(Mount, t, f"mounts[{i}]") for i, t in enumerate(top.tables("mounts", required=True))]
+    body = build(RigidBody, top.table("body"), "body")
+    mounts = [build(Mount, t, f"mounts[{i}]") for i, t in enumerate(top.tables("mounts", required=True))]
     rayleigh, modal = _damping(top.table("damping", default={}))
-    system = _make(System, "", body=body, mounts=mounts, rayleigh=rayleigh, modal_damping=modal)
+    system = make(System, "", body=body, mounts=mounts, rayleigh=rayleigh, modal_damping=modal)
 
     loads = tuple(_load(t, f"loads[{i}]", base_dir) for i, t in enumerate(top.tables("loads")))
     ground = top.table("ground", default=None)
@@ -294,18 +289,18 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     if loads or ground is not None or initial is not None:
         from sixdof.excitation import Excitation
 
-        excitation = _make(Excitation, "", loads=loads, ground=ground, initial=initial)
+        excitation = make(Excitation, "", loads=loads, ground=ground, initial=initial)
     simulation = top.table("simulation", default=None)
     if simulation is not None:
         from sixdof.analysis.direct import SimulationSettings
 
-        simulation = _build(SimulationSettings, simulation, "simulation")
+        simulation = build(SimulationSettings, simulation, "simulation")
     frf = top.table("frf", default=None)
     frf = None if frf is None else _frf(frf)
-    superposition = _build(SuperpositionSettings, top.table("superposition", default={}), "superposition")
-    points = tuple(_build(Point, t, f"points[{i}]") for i, t in enumerate(top.tables("points")))
-    _unique([p.name for p in points], "points")
-    statics = _build(StaticsSettings, top.table("statics", default={}), "statics")
+    superposition = build(SuperpositionSettings, top.table("superposition", default={}), "superposition")
+    points = tuple(build(Point, t, f"points[{i}]") for i, t in enumerate(top.tables("points")))
+    unique([p.name for p in points], "points")
+    statics = build(StaticsSettings, top.table("statics", default={}), "statics")
     return Scenario(
         name=name,
         description=description,
@@ -324,24 +319,24 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
 def _frf(table: dict) -> FrfSettings:
     requests = {}
     for key, cls in _FRF_REQUESTS.items():
-        items = _Table(table, "frf", tuple(table)).tables(key)
-        requests[key] = tuple(_build(cls, t, f"frf.{key}[{i}]") for i, t in enumerate(items))
+        items = Table(table, "frf", tuple(table)).tables(key)
+        requests[key] = tuple(build(cls, t, f"frf.{key}[{i}]") for i, t in enumerate(items))
     names = [r.name for group in requests.values() for r in group]
-    _unique(names, "frf")
-    return _build(FrfSettings, {**table, **requests}, "frf")
+    unique(names, "frf")
+    return build(FrfSettings, {**table, **requests}, "frf")
 
 
 def _damping(table: dict) -> tuple[Rayleigh | None, Any]:
-    damping = _Table(table, "damping", ("rayleigh", "modal"))
+    damping = Table(table, "damping", ("rayleigh", "modal"))
     rayleigh = damping.table("rayleigh", default=None)
     if rayleigh is not None:
         keys = set(rayleigh)
         if keys <= {"zeta", "f_hz"} and keys:
-            r = _Table(rayleigh, "damping.rayleigh", ("zeta", "f_hz"))
+            r = Table(rayleigh, "damping.rayleigh", ("zeta", "f_hz"))
             zeta, f_hz = r.value("zeta"), r.value("f_hz")
-            rayleigh = _make(Rayleigh.from_ratio, "damping.rayleigh", zeta=zeta, f_hz=f_hz)
+            rayleigh = make(Rayleigh.from_ratio, "damping.rayleigh", zeta=zeta, f_hz=f_hz)
         elif keys <= {"alpha", "beta"} and keys:
-            rayleigh = _build(Rayleigh, rayleigh, "damping.rayleigh")
+            rayleigh = build(Rayleigh, rayleigh, "damping.rayleigh")
         else:
             raise InputError(
                 "damping.rayleigh", "either {zeta, f_hz} or {alpha, beta}", sorted(rayleigh)
@@ -356,22 +351,22 @@ def _load(table: dict, path: str, base_dir: Path):
     table = dict(table)
     kind = table.pop("kind", "force")
     if not isinstance(kind, str) or kind not in LOAD_KINDS:
-        raise InputError(f"{path}.kind", f"one of {_choices(LOAD_KINDS)}", kind)
-    return _build(LOAD_KINDS[kind], _with_signal(table, path, base_dir), path)
+        raise InputError(f"{path}.kind", f"one of {choices(LOAD_KINDS)}", kind)
+    return build(LOAD_KINDS[kind], _with_signal(table, path, base_dir), path)
 
 
 def _ground(table: dict, base_dir: Path):
     from sixdof.excitation import GroundMotion
 
-    return _build(GroundMotion, _with_signal(table, "ground", base_dir), "ground")
+    return build(GroundMotion, _with_signal(table, "ground", base_dir), "ground")
 
 
 def _initial(table: dict):
     from sixdof.excitation import InitialState, ModeRelease
 
     if "mode" in table or "amplitude" in table:
-        return _build(ModeRelease, table, "initial")
-    return _build(InitialState, table, "initial")
+        return build(ModeRelease, table, "initial")
+    return build(InitialState, table, "initial")
 
 
 def _with_signal(table: dict, path: str, base_dir: Path) -> dict:
@@ -389,15 +384,15 @@ def _signal(table: Any, path: str, base_dir: Path):
     table = dict(table)
     kind = table.pop("kind", _MISSING)
     if kind is _MISSING:
-        raise InputError(f"{path}.kind", f"one of {_choices(SIGNAL_KINDS)}", Plain("nothing"))
+        raise InputError(f"{path}.kind", f"one of {choices(SIGNAL_KINDS)}", Plain("nothing"))
     if not isinstance(kind, str) or kind not in SIGNAL_KINDS:
-        raise InputError(f"{path}.kind", f"one of {_choices(SIGNAL_KINDS)}", kind)
+        raise InputError(f"{path}.kind", f"one of {choices(SIGNAL_KINDS)}", kind)
     if "file" in table:
         file = table.pop("file")
         if "t" in table or "values" in table:
             raise InputError(f"{path}.file", "either a file or inline t and values, not both", file)
         table["t"], table["values"] = read_table_csv(file, base_dir, f"{path}.file")
-    return _build(SIGNAL_KINDS[kind], table, path)
+    return build(SIGNAL_KINDS[kind], table, path)
 
 
 def read_table_csv(file: Any, base_dir: Path, field: str) -> tuple[list[float], list[float]]:
@@ -427,105 +422,7 @@ def read_table_csv(file: Any, base_dir: Path, field: str) -> tuple[list[float], 
     return t, values
 
 
-# ----------------------------------------------------------------------------------------------------
-# Generic table handling.
-# ----------------------------------------------------------------------------------------------------
-
-
 _TOP_LEVEL_KEYS = (
     "name", "description", "body", "mounts", "damping", "loads", "ground", "initial", "simulation",
     "frf", "superposition", "points", "statics",
 )
-
-
-class _Table:
-    """Reads the keys of one TOML table, tracking its path; unknown keys are rejected up front."""
-
-    def __init__(self, raw: Any, path: str, keys: tuple[str, ...]) -> None:
-        if not isinstance(raw, dict):
-            raise InputError(path or "(top level)", "a table", raw)
-        _reject_unknown(raw, keys, path)
-        self.raw = raw
-        self.path = path
-
-    def _field(self, key: str) -> str:
-        return f"{self.path}.{key}" if self.path else key
-
-    def value(self, key: str, default: Any = _MISSING) -> Any:
-        if key in self.raw:
-            return self.raw[key]
-        if default is _MISSING:
-            raise InputError(self._field(key), "a value (required key)", Plain("nothing"))
-        return default
-
-    def string(self, key: str, default: Any = _MISSING) -> str:
-        value = self.value(key, default)
-        if not isinstance(value, str) or (default is _MISSING and not value):
-            raise InputError(self._field(key), "a non-empty string", value)
-        return value
-
-    def table(self, key: str, default: Any = _MISSING) -> Any:
-        value = self.value(key, default)
-        if value is not default and not isinstance(value, dict):
-            raise InputError(self._field(key), f"a table [{key}]", value)
-        return value
-
-    def tables(self, key: str, required: bool = False) -> list[dict]:
-        value = self.value(key, _MISSING if required else [])
-        if not isinstance(value, list) or any(not isinstance(v, dict) for v in value):
-            raise InputError(self._field(key), f"an array of tables [[{key}]]", value)
-        if required and not value:
-            raise InputError(self._field(key), f"at least one [[{key}]] table", value)
-        return value
-
-
-def _reject_unknown(raw: dict, known, path: str) -> None:
-    for key in raw:
-        if key not in known:
-            close = difflib.get_close_matches(key, list(known), n=1)
-            hint = f"; did you mean {close[0]!r}?" if close else ""
-            where = f"{path}.{key}" if path else key
-            raise InputError(where, f"one of the keys {_choices(known)}", Plain(f"an unknown key{hint}"))
-
-
-def _build(cls, table: Any, path: str):
-    """``cls(**table)`` for a frozen dataclass whose field names are the table's keys."""
-    if not isinstance(table, dict):
-        raise InputError(path, "a table", table)
-    fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
-    _reject_unknown(table, fields, path)
-    for name, f in fields.items():
-        required = f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
-        if required and name not in table:
-            raise InputError(f"{path}.{name}", "a value (required key)", Plain("nothing"))
-    return _make(cls, path, **table)
-
-
-def _make(factory, path: str, **kwargs):
-    """Call a constructor, putting ``path`` before the field of any :class:`InputError`."""
-    try:
-        return factory(**kwargs)
-    except InputError as exc:
-        raise exc.within(path) if path else exc from None
-
-
-def _unique(names: list[str], path: str) -> None:
-    repeated = sorted({n for n in names if names.count(n) > 1})
-    if repeated:
-        raise InputError(path, "unique names", f"{', '.join(repeated)} repeated")
-
-
-def _choices(keys) -> str:
-    return ", ".join(sorted(keys))
-
-
-def _is_number(value: Any) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool) and np.isfinite(value)
-
-
-def _is_numeric_list(value: Any, size: int) -> bool:
-    return (
-        isinstance(value, (list, tuple))
-        and len(value) == size
-        and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
-    )

@@ -9,6 +9,7 @@ from sixdof.analysis import frf
 from sixdof.analysis.direct import SimulationSettings, simulate
 from sixdof.errors import InputError
 from sixdof.excitation import Excitation, Harmonic, InitialState, Load
+from sixdof.io.report import validation_text
 from sixdof.model.system import Mount, Rayleigh, RigidBody, System
 from sixdof.validation import (
     ValidationSettings,
@@ -127,7 +128,7 @@ def test_validation_of_a_small_system():
         assert row.h1_error_in_sigmas <= H1_MEDIAN_SIGMAS
     headers, rows = report.table()
     assert headers[0] == "mode" and len(rows) == 6
-    text = report.format()
+    text = validation_text(report)
     assert "zeta_decay" in text and "free decays" in text
 
 

@@ -144,13 +144,14 @@ def _run(args) -> int:
 
 
 def _validate(args) -> int:
+    from sixdof.io.report import validation_text
     from sixdof.io.scenario import load_scenario
     from sixdof.workflows import validate_scenario
 
     _compile_cache()
     scenario = load_scenario(args.scenario)
     report, directory = validate_scenario(scenario, args.out, command_line=" ".join(sys.argv))
-    print(report.format())
+    print(validation_text(report))
     print(f"\nWrote {directory}")
     return 0
 

@@ -78,3 +78,36 @@ UNITS: dict[str, str] = {
     "shapes": mixed_units("kg^-1/2", "kg^-1/2 m^-1") + " (mass-normalized)",
     "effective_mass": mixed_units("kg", "kg m^2"),
 }
+
+
+# ----------------------------------------------------------------------------------------------------
+# Display units of tables and figures.
+# ----------------------------------------------------------------------------------------------------
+
+#: For each SI unit, (factor from SI, label, threshold): the first choice whose scaled peak is at
+#: least its threshold is used, so that a value prints with a readable number of digits.
+DISPLAY_UNITS: dict[str, tuple[tuple[float, str, float], ...]] = {
+    "m": ((1e3, "mm", 0.01), (1e6, "µm", 0.0)),
+    "m/s": ((1e3, "mm/s", 0.01), (1e6, "µm/s", 0.0)),
+    "m/s^2": ((1.0, "m/s²", 0.01), (1e3, "mm/s²", 0.0)),
+    "rad": ((1e3, "mrad", 0.01), (1e6, "µrad", 0.0)),
+    "rad/s": ((1e3, "mrad/s", 0.01), (1e6, "µrad/s", 0.0)),
+    "rad/s^2": ((1.0, "rad/s²", 0.01), (1e3, "mrad/s²", 0.0)),
+    "N": ((1e-3, "kN", 0.01), (1.0, "N", 0.0)),
+    "N m": ((1e-3, "kN m", 0.01), (1.0, "N m", 0.0)),
+}
+
+
+def display_unit(values, unit: str) -> tuple[float, str]:
+    """Factor and label that show ``values`` (in SI ``unit``) with a readable peak: the one display-unit
+    scaler of the tables and figures. Units without a display choice are shown as they are."""
+    import numpy as np
+
+    choices = DISPLAY_UNITS.get(unit)
+    if choices is None:
+        return 1.0, unit
+    peak = float(np.nanmax(np.abs(values))) if np.size(values) else 0.0
+    for factor, label, threshold in choices:
+        if peak * factor >= threshold:
+            return factor, label
+    return choices[0][0], choices[0][1]

@@ -154,7 +154,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
     from sixdof import plots
     from sixdof.analysis.compare import compare
     from sixdof.analysis.superposition import superpose
-    from sixdof.io import store, summary
+    from sixdof.io import report, store
 
     root = check_output_root(out_root)
     system = scenario.system
@@ -231,7 +231,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
             command_line=command_line,
         )
         figures.extend(plots.save_all(results, stage))
-        text = summary.summary_markdown(scenario, modes, statics, zeta, response, forces, agreement,
+        text = report.summary_markdown(scenario, modes, statics, zeta, response, forces, agreement,
                                         superposition, frf, figures, notes)
         (stage / "summary.md").write_text(text, encoding="utf-8")
 
@@ -273,6 +273,7 @@ def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_lin
     """
     from sixdof import plots
     from sixdof.io import store
+    from sixdof.io.report import validation_text
     from sixdof.validation import validate
 
     root = check_output_root(out_root)
@@ -289,7 +290,8 @@ def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_lin
         )
         figures = plots.save_all(results, stage)
         links = "\n".join(f"![{p.stem}]({p.name})" for p in figures)
-        text = f"# {scenario.name}: modal results against time histories\n\n```\n{report.format()}\n```\n\n{links}\n"
+        text = (f"# {scenario.name}: modal results against time histories\n\n{validation_text(report)}\n\n"
+                f"{links}\n")
         (stage / "validation.md").write_text(text, encoding="utf-8")
 
     return report, write_all_or_nothing(root / f"{scenario.name}_validation", write)

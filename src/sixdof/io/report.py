@@ -1,12 +1,14 @@
-"""Plain-text tables of results, shared by the command line and the run summary (Markdown)."""
+"""Every text and Markdown table of sixdof: the terminal output and ``summary.md`` of a run, the
+validation table and the sweep percentiles, through one table formatter (:func:`table`)."""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
 
-from sixdof.dofs import DOF_UNITS, DOFS
+from sixdof.dofs import DOF_UNITS, DOFS, display_unit
 
 
 def table(headers: Sequence[str], rows: Sequence[Sequence[object]], align: str | None = None) -> str:
@@ -70,11 +72,11 @@ def subsystems_text(modes) -> str:
 
 def statics_table(statics, mount_names: Sequence[str]) -> str:
     """Static deflection of the CG and the force in each mount under gravity."""
-    scale = {"m": (1e3, "mm"), "rad": (1e3, "mrad")}
-    deflection = table(
-        ["DOF", "static deflection"],
-        [[d, f"{statics.q[i] * scale[u][0]:.5g} {scale[u][1]}"] for i, (d, u) in enumerate(zip(DOFS, DOF_UNITS))],
-    )
+    rows = []
+    for i, (dof, unit) in enumerate(zip(DOFS, DOF_UNITS)):
+        factor, shown = display_unit(statics.q[i], unit)
+        rows.append([dof, f"{statics.q[i] * factor:.5g} {shown}"])
+    deflection = table(["DOF", "static deflection"], rows)
     rows = []
     for name, force, support in zip(mount_names, statics.mount_forces, statics.support):
         state = "TENSION (uplift)" if name in statics.uplift else "compression"
@@ -84,13 +86,105 @@ def statics_table(statics, mount_names: Sequence[str]) -> str:
 
 
 def summary_table(result) -> str:
-    """Percentiles (5, 50, 95 %) of each frequency and each DOF's peak, as text."""
-    lines = [f"{result.variants.count} variants", "", "quantity          p5           p50          p95"]
+    """Percentiles (5, 50, 95 %) of each natural frequency and each DOF's peak over a batch of variants."""
+    rows = []
     for j in range(6):
-        p = np.percentile(result.frequency_hz[:, j], [5, 50, 95])
-        lines.append(f"f{j + 1} [Hz]      " + "  ".join(f"{v:11.5g}" for v in p))
+        rows.append([f"f{j + 1} [Hz]", *(f"{v:.5g}" for v in np.percentile(result.frequency_hz[:, j], [5, 50, 95]))])
     if result.peak_q is not None:
         for j, (dof, unit) in enumerate(zip(DOFS, DOF_UNITS)):
-            p = np.percentile(result.peak_q[:, j], [5, 50, 95])
-            lines.append(f"peak {dof:<2} [{unit:<3}] " + "  ".join(f"{v:11.4g}" for v in p))
+            peaks = np.percentile(result.peak_q[:, j], [5, 50, 95])
+            rows.append([f"peak {dof} [{unit}]", *(f"{v:.4g}" for v in peaks)])
+    return f"{result.variants.count} variants\n\n" + table(["quantity", "p5", "p50", "p95"], rows)
+
+
+def validation_text(report) -> str:
+    """The validation table of a :class:`sixdof.validation.ValidationReport`, then its notes."""
+    from sixdof.validation.experiment import COLUMNS
+
+    headers, rows = report.table()
+    cells = [[fmt.format(v) for (_, _, fmt), v in zip(COLUMNS, row)] for row in rows]
+    lines = [table(headers, cells),
+             f"{len(report.random_runs)} random runs ({report.random_duration_s:.4g} s simulated) and "
+             f"{len(report.decays)} free decays in {report.wall_time_s:.3g} s", *report.notes]
     return "\n".join(lines)
+
+
+# ----------------------------------------------------------------------------------------------------
+# summary.md: the tables of a run, with links to its figures.
+# ----------------------------------------------------------------------------------------------------
+
+
+def summary_markdown(scenario, modes, statics, damping_ratios, response, forces, agreement,
+                     superposition, frf, figures, notes) -> str:
+    """The run summary as Markdown text (see :func:`sixdof.workflows.run_scenario`)."""
+    parts = [f"# {scenario.name}", "", scenario.description, ""]
+    if notes:
+        parts += ["## Warnings", "", *(f"- {n}" for n in notes), ""]
+    parts += ["## Natural frequencies", "", modes_table(modes, damping_ratios), ""]
+    parts += ["## Kinetic energy distribution [%]", "", ke_table(modes), ""]
+    parts += [subsystems_text(modes).replace("\n  ", "\n- ").replace(":\n", ":\n\n", 1), ""]
+    if statics is not None:
+        parts += ["## Statics under gravity", "", statics_table(statics, scenario.system.mount_names), ""]
+    if response is not None:
+        parts += ["## Time response", "", _peaks_table(response), ""]
+        parts += [f"Solver: {_stats_line(response.stats)}", ""]
+        parts += ["### Peak mount forces", "", _mount_peaks_table(forces), ""]
+        parts += ["### Direct solve vs modal superposition", "",
+                  _agreement_table(agreement, superposition.superposition), ""]
+    if frf is not None:
+        parts += [
+            "## Frequency response",
+            "",
+            f"{len(frf.direct.f_hz)} frequencies from {frf.direct.f_hz[0]:g} to {frf.direct.f_hz[-1]:g} Hz; "
+            f"direct and modal receptances agree to {frf.max_relative_difference:.1e} (relative, worst entry).",
+            "",
+        ]
+    if figures:
+        parts += ["## Figures", "", *(f"![{Path(f).stem}]({Path(f).name})" for f in figures), ""]
+    return "\n".join(parts)
+
+
+def _peaks_table(response) -> str:
+    rows = []
+    for i, (dof, unit) in enumerate(zip(DOFS, DOF_UNITS)):
+        k = int(np.argmax(np.abs(response.q[:, i])))
+        cells = []
+        for order, values in enumerate((response.q[:, i], response.qd[:, i], response.qdd[:, i])):
+            scale, shown = display_unit(values, unit + ("", "/s", "/s^2")[order])
+            cells.append(f"{scale * (values[k] if order == 0 else np.max(np.abs(values))):.5g} {shown}")
+        rows.append([dof, cells[0], f"{response.t[k]:.3f}", cells[1], cells[2]])
+    return table(["DOF", "peak q", "at t [s]", "peak |q'|", "peak |q''|"], rows)
+
+
+def _mount_peaks_table(forces) -> str:
+    rows = []
+    for j, name in enumerate(forces.names):
+        peaks = np.max(np.abs(forces.total[j]), axis=0)
+        rows.append([name, *(f"{p / 1e3:.4g}" for p in peaks)])
+    rows.append(["foundation (total)", *(f"{p / 1e3:.4g}" for p in np.max(np.abs(forces.foundation_force), axis=0))])
+    return table(["mount", "peak |Fx| [kN]", "peak |Fy| [kN]", "peak |Fz| [kN]"], rows)
+
+
+def _agreement_table(agreement, superposition) -> str:
+    rows = [[d, f"{v:.2e}"] for d, v in zip(DOFS, agreement.per_dof)]
+    verdict = "within" if agreement.ok else "OVER"
+    return (
+        table(["DOF", "max |q_direct - q_modal| / peak |q_direct|"], rows)
+        + f"\n\nWorst: {agreement.worst:.2e} ({agreement.worst_dof}), {verdict} the tolerance "
+        f"{agreement.tolerance:.0e}. Superposition used {superposition.method} modes: {superposition.reason}"
+        + _truncation_line(superposition)
+    )
+
+
+def _truncation_line(superposition) -> str:
+    if superposition.truncation is None:
+        return ""
+    kept = ", ".join(str(j + 1) for j in superposition.modes_kept)
+    return (f"\n\nTruncated to modes {kept} (residual correction: {superposition.residual}); "
+            f"error against all modes: worst {superposition.truncation.worst:.2e} "
+            f"({superposition.truncation.worst_dof}).")
+
+
+def _stats_line(stats) -> str:
+    return (f"{stats.solver}, rtol {stats.rtol:g}, atol {stats.atol:g} (per-DOF scaled), "
+            f"{stats.num_accepted} accepted and {stats.num_rejected} rejected steps")

@@ -269,17 +269,6 @@ class ValidationReport:
         headers = tuple(h for _, h, _ in COLUMNS)
         return headers, tuple(tuple(getattr(r, a) for a, _, _ in COLUMNS) for r in self.rows)
 
-    def format(self) -> str:
-        """The table as aligned text, followed by the notes."""
-        headers, rows = self.table()
-        cells = [list(headers)] + [[fmt.format(v) for (_, _, fmt), v in zip(COLUMNS, row)]
-                                   for row in rows]
-        widths = [max(len(c[i]) for c in cells) for i in range(len(headers))]
-        lines = ["  ".join(c.rjust(w) for c, w in zip(line, widths)) for line in cells]
-        lines.append(f"{len(self.random_runs)} random runs ({self.random_duration_s:.4g} s "
-                     f"simulated) and {len(self.decays)} free decays in {self.wall_time_s:.3g} s")
-        lines.extend(self.notes)
-        return "\n".join(lines)
 
 
 def validate(system, settings: ValidationSettings | None = None) -> ValidationReport:

@@ -12,17 +12,25 @@ from functools import cache
 
 import numpy as np
 
-from sixdof import TimeHistory
+from sixdof import (
+    Excitation,
+    Harmonic,
+    Load,
+    SimulationSettings,
+    compare,
+    force_transmissibility,
+    ground_transmissibility,
+    modal_analysis,
+    mount_forces,
+    point_frf,
+    simulate,
+)
 from sixdof.analysis import frf as frf_module
-from sixdof.analysis.compare import compare
-from sixdof.analysis.direct import SimulationSettings, simulate
-from sixdof.analysis.modal import modal_analysis
-from sixdof.analysis.response import mount_forces, points_motion
+from sixdof.analysis.response import points_motion
 from sixdof.analysis.statespace import modal_damping_ratios
 from sixdof.analysis.superposition import modal_solve
-from sixdof.excitation import Excitation, Harmonic, Load
 from sixdof.model.kinematics import generalized_force
-from sixdof.model.system import Mount, RigidBody, System
+from sixdof.results import TimeHistory
 from sixdof.validation import (
     FreeDecay,
     ModeCheck,
@@ -31,28 +39,16 @@ from sixdof.validation import (
     decay_estimate,
     estimate_frf,
 )
+from systems import BRIDGE_DIMENSIONS, BRIDGE_POSITIONS, bridge
 
-POSITIONS = [(-0.195, -19.55, -1.031), (0.195, -19.55, -1.031), (0.195, 19.55, -1.031), (-0.195, 19.55, -1.031)]
-STIFF_12 = [0.26e6, 0.26e6, 312e6]
-STIFF_34 = [0.51e6, 0.51e6, 496e6]
 SCENARIO_TEXT = 'name = "bridge_beam"\n# a scenario text with "quotes", unicode µ and\nnewlines\n'
 
 
-def bridge(dimensions=(1.2, 40.0, 2.0)) -> System:
-    """The seed paper's bridge beam, with mount dashpots (non-proportional damping)."""
-    body = RigidBody(83e3, [11.105e6, 0.0491e6, 11.064e6], dimensions)
-    mounts = [
-        Mount(str(i + 1), p, STIFF_12 if i < 2 else STIFF_34, damping=[520.0, 520.0, 0.62e6],
-              loss_factor=[0.0, 0.0, 0.0])
-        for i, p in enumerate(POSITIONS)
-    ]
-    return System(body, mounts)
-
-
 @cache
-def run_parts(dimensions=(1.2, 40.0, 2.0)) -> dict:
-    """Keyword arguments of ``build_results`` for a full run (cached: built once per session)."""
-    system = bridge(dimensions)
+def run_parts(dimensions=BRIDGE_DIMENSIONS) -> dict:
+    """Keyword arguments of ``build_results`` for a full run of the bridge with equal dashpots on
+    every bearing (cached: built once per session)."""
+    system = bridge("equal", dimensions=dimensions)
     modes = modal_analysis(system.M, system.K)
     excitation = Excitation(loads=(
         Load("traffic", [0.3, 10.0, 1.0], force=[2e3, 5e3, -100e3], signal=Harmonic(f_hz=5.0)),
@@ -68,10 +64,10 @@ def run_parts(dimensions=(1.2, 40.0, 2.0)) -> dict:
     agreement = compare(direct.q, modal.q, length=20.0)
     f = np.geomspace(0.2, 60.0, 300)
     extras = {
-        "deck_vertical": frf_module.point_frf(system, f, [0.0, 10.0, 1.0], "z", [0.0, -10.0, 1.0], "z",
-                                              quantity="accelerance"),
-        "vertical_load": frf_module.force_transmissibility(system, f, [0.0, 10.0, 1.0], "z"),
-        "ground_y": frf_module.ground_transmissibility(system, f, "y", [0.0, 20.0, 1.0]),
+        "deck_vertical": point_frf(system, f, [0.0, 10.0, 1.0], "z", [0.0, -10.0, 1.0], "z",
+                                   quantity="accelerance"),
+        "vertical_load": force_transmissibility(system, f, [0.0, 10.0, 1.0], "z"),
+        "ground_y": ground_transmissibility(system, f, "y", [0.0, 20.0, 1.0]),
     }
     return dict(
         validation=validation_report(modes, modal_damping_ratios(system.C, modes)),
@@ -80,7 +76,7 @@ def run_parts(dimensions=(1.2, 40.0, 2.0)) -> dict:
         damping_ratios=modal_damping_ratios(system.C, modes),
         response=direct,
         mount_forces=mount_forces(system, direct),
-        points=points_motion(direct, {"deck_end": [0.0, 20.0, 1.0], "bearing_1": POSITIONS[0]}),
+        points=points_motion(direct, {"deck_end": [0.0, 20.0, 1.0], "bearing_1": BRIDGE_POSITIONS[0]}),
         superposition=modal,
         agreement=agreement,
         frf=frf_module.cross_check(system, f),
@@ -122,6 +118,6 @@ def validation_report(modes, zeta) -> ValidationReport:
                               estimated=estimated, model=model))
     return ValidationReport(
         rows=tuple(rows), random_runs=tuple(runs), decays=tuple(decays),
-        load_point=np.array([-0.195, -19.55, -1.031]), load_direction=np.ones(3) / np.sqrt(3),
+        load_point=np.array(BRIDGE_POSITIONS[0]), load_direction=np.ones(3) / np.sqrt(3),
         random_duration_s=120.0, wall_time_s=1.0, notes=("a synthetic report for the storage tests",),
     )

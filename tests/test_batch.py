@@ -8,7 +8,22 @@ sixdof.analysis.direct.simulate run on each variant's own System, per DOF relati
 import numpy as np
 import pytest
 
-from exact_lti import bridge
+from sixdof import (
+    Excitation,
+    GroundMotion,
+    HalfSine,
+    Harmonic,
+    InputError,
+    Load,
+    ModeRelease,
+    Rayleigh,
+    SimulationSettings,
+    SolverError,
+    System,
+    modal_analysis,
+    parse_scenario,
+    simulate,
+)
 from sixdof.analysis.batch import (
     batch_frequencies,
     make_variants,
@@ -16,21 +31,9 @@ from sixdof.analysis.batch import (
     variant_matrices,
     variant_system,
 )
-from sixdof.analysis.direct import SimulationSettings, simulate
-from sixdof.analysis.modal import modal_analysis
-from sixdof.errors import InputError, SolverError
-from sixdof.excitation import (
-    Excitation,
-    GroundMotion,
-    HalfSine,
-    Harmonic,
-    Load,
-    ModeRelease,
-)
-from sixdof.io.scenario import parse_scenario
 from sixdof.io.sweep import parse_sweep_spec
-from sixdof.model.system import Rayleigh, System
 from sixdof.workflows import sweep
+from systems import bridge, bridge_toml
 from tolerances import RTOL_BATCH_DIRECT, RTOL_BATCH_FREQUENCY, RTOL_BATCH_MATRIX
 
 # Loads that move all six DOFs: an off-centre harmonic force and a pulse near one end.
@@ -45,7 +48,7 @@ CHUNK = 2  # 3 variants in chunks of 2: the padded last chunk is exercised
 
 @pytest.fixture(scope="module")
 def beam():
-    return bridge()
+    return bridge("elastomer")
 
 
 @pytest.fixture(scope="module")
@@ -132,32 +135,7 @@ mean = 1.0
 std = 0.1
 """
 
-SCENARIO = """
-name = "beam"
-[body]
-mass = 83e3
-inertia = [11.105e6, 0.0491e6, 11.064e6]
-[[mounts]]
-name = "1"
-position = [-0.195, -19.55, -1.031]
-stiffness = [0.26e6, 0.26e6, 312e6]
-damping = [3800.0, 3800.0, 1.4e5]
-[[mounts]]
-name = "2"
-position = [0.195, -19.55, -1.031]
-stiffness = [0.26e6, 0.26e6, 312e6]
-damping = [3800.0, 3800.0, 1.4e5]
-[[mounts]]
-name = "3"
-position = [0.195, 19.55, -1.031]
-stiffness = [0.51e6, 0.51e6, 496e6]
-damping = [9000.0, 9000.0, 1.2e5]
-[[mounts]]
-name = "4"
-position = [-0.195, 19.55, -1.031]
-stiffness = [0.51e6, 0.51e6, 496e6]
-damping = [9000.0, 9000.0, 1.2e5]
-[[loads]]
+SCENARIO = 'name = "beam"\n' + bridge_toml("elastomer") + """[[loads]]
 name = "traffic"
 point = [0.3, 10.0, 1.0]
 force = [5e3, 2e4, -1e5]

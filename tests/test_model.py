@@ -4,23 +4,26 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+from references import (
+    bounce_pitch_eigenvalues,
+    lever_rule_supports,
+    rayleigh_ratio,
+    state_matrices,
+    symmetric_four_mount_eigenvalues,
+)
+from sixdof import InputError, Mount, Rayleigh, RigidBody, System, gravity_statics, modal_analysis
 from sixdof._jax import jax, jnp
-from sixdof.analysis.modal import modal_analysis
-from sixdof.analysis.statics import gravity_statics
-from sixdof.errors import InputError
+from sixdof.analysis.statespace import damping_ratios, modal_damping_ratios
 from sixdof.model.kinematics import generalized_force, mount_matrix_jax, point_map
-from sixdof.model.system import Mount, RigidBody, System
-from tolerances import RTOL_FREQUENCY, RTOL_LINALG, RTOL_ZERO_ENTRY
-
-
-def four_mount(m=500.0, J=(40.0, 60.0, 80.0), a=0.4, b=0.6, h=0.3, k=(2e5, 3e5, 8e5)):
-    """Body on four identical mounts at (+-a, +-b, -h): doubly symmetric."""
-    body = RigidBody(m, J)
-    mounts = [
-        Mount(f"m{i}", [sx * a, sy * b, -h], k)
-        for i, (sx, sy) in enumerate([(-1, -1), (1, -1), (1, 1), (-1, 1)])
-    ]
-    return System(body, mounts)
+from systems import four_mount
+from tolerances import (
+    RTOL_COMPLEX_DAMPING_RATIO,
+    RTOL_DAMPING_RATIO,
+    RTOL_FREQUENCY,
+    RTOL_LINALG,
+    RTOL_STATICS,
+    RTOL_ZERO_ENTRY,
+)
 
 
 def random_system(rng, n=4, axes=True):
@@ -40,21 +43,10 @@ def random_system(rng, n=4, axes=True):
 
 
 def test_symmetric_four_mount_layout_closed_forms():
-    m, (Jx, Jy, Jz), a, b, h, (kx, ky, kz) = 500.0, (40.0, 60.0, 80.0), 0.4, 0.6, 0.3, (2e5, 3e5, 8e5)
-    system = four_mount()
+    m, J, a, b, h, k = 500.0, (40.0, 60.0, 80.0), 0.4, 0.6, 0.3, (2e5, 3e5, 8e5)
+    system = four_mount(m, J, a, b, h, k)
     modes = modal_analysis(system.M, system.K)
-    vertical = 4 * kz / m
-    yaw = 4 * (kx * b**2 + ky * a**2) / Jz
-
-    def rocking(k_t, k_r, J):
-        # Translation-rocking pair [m 0; 0 J] with [4k, -4kh; -4kh, 4(k h^2 + kz d^2)].
-        K2 = np.array([[4 * k_t, -4 * k_t * h], [-4 * k_t * h, 4 * (k_t * h**2 + kz * k_r**2)]])
-        tr = K2[0, 0] / m + K2[1, 1] / J
-        det = np.linalg.det(K2) / (m * J)
-        disc = np.sqrt(tr**2 - 4 * det)
-        return [(tr - disc) / 2, (tr + disc) / 2]
-
-    expected = sorted([vertical, yaw, *rocking(kx, a, Jy), *rocking(ky, b, Jx)])
+    expected = symmetric_four_mount_eigenvalues(m, J, a, b, h, k)
     assert modes.eigenvalues == pytest.approx(expected, rel=RTOL_FREQUENCY)
     assert modes.subsystems == (("x", "ry"), ("y", "rx"), ("z",), ("rz",))
 
@@ -68,9 +60,7 @@ def test_two_spring_bounce_pitch_and_free_dofs():
         [Mount("front", [0, -l1, 0], [0, 0, k1]), Mount("rear", [0, l2, 0], [0, 0, k2])],
     )
     modes = modal_analysis(system.M, system.K)
-    a, b = (k1 + k2) / m, (k1 * l1**2 + k2 * l2**2) / J
-    c = (k2 * l2 - k1 * l1) ** 2 / (m * J)
-    bounce_pitch = [(a + b - np.sqrt((a - b) ** 2 + 4 * c)) / 2, (a + b + np.sqrt((a - b) ** 2 + 4 * c)) / 2]
+    bounce_pitch = bounce_pitch_eigenvalues(m, J, k1, k2, l1, l2)
     assert modes.zero_modes == (0, 1, 2, 3)
     assert np.all(modes.frequency_hz[:4] == 0.0)
     assert modes.eigenvalues[4:] == pytest.approx(bounce_pitch, rel=RTOL_FREQUENCY)
@@ -155,14 +145,14 @@ def test_statics_closed_form_and_uplift():
     assert statics.q[2] == pytest.approx(-500 * 9.80665 / (4 * 8e5), rel=RTOL_LINALG)
     assert statics.support == pytest.approx(np.full(4, 500 * 9.80665 / 4), rel=RTOL_LINALG)
     assert statics.uplift == ()
-    # CG beyond the first support: lever rule gives F1 = 1.5 W and F2 = -0.5 W (uplift).
+    # CG beyond the first support: the lever rule gives F1 = 1.5 W and F2 = -0.5 W (uplift).
     W = 100 * 9.81
     overhang = System(
         RigidBody(100.0, [5.0, 5.0, 5.0]),
         [Mount("near", [0, 0.5, 0], [1e5, 1e5, 1e6]), Mount("far", [0, 1.5, 0], [1e5, 1e5, 1e6])],
     )
     statics = gravity_statics(overhang, g=9.81)
-    assert statics.support == pytest.approx([1.5 * W, -0.5 * W], rel=1e-9)
+    assert statics.support == pytest.approx(lever_rule_supports(W, 0.5, 1.5), rel=RTOL_STATICS)
     assert statics.uplift == ("far",)
 
 
@@ -192,9 +182,6 @@ def test_model_errors_name_the_field(make, match):
 
 
 def test_damping_models_give_their_ratios():
-    from sixdof.analysis.statespace import modal_damping_ratios
-    from sixdof.model.system import Rayleigh
-
     base = four_mount()
     body, mounts = base.body, base.mounts
     modes = modal_analysis(base.M, base.K)
@@ -203,14 +190,14 @@ def test_damping_models_give_their_ratios():
     per_mode = (0.01, 0.02, 0.03, 0.04, 0.05, 0.06)
     for zeta in (0.03, per_mode):
         system = System(body, mounts, modal_damping=zeta)
-        assert modal_damping_ratios(system.C, modes) == pytest.approx(np.broadcast_to(zeta, 6), rel=1e-12)
+        assert modal_damping_ratios(system.C, modes) == pytest.approx(np.broadcast_to(zeta, 6), rel=RTOL_DAMPING_RATIO)
     # Rayleigh: zeta = alpha / (2 w) + beta w / 2, and from_ratio hits the target at both frequencies.
     r = Rayleigh(alpha=0.8, beta=2e-4)
     system = System(body, mounts, rayleigh=r)
-    assert modal_damping_ratios(system.C, modes) == pytest.approx(0.8 / (2 * w) + 2e-4 * w / 2, rel=1e-12)
+    assert modal_damping_ratios(system.C, modes) == pytest.approx(rayleigh_ratio(0.8, 2e-4, w), rel=RTOL_DAMPING_RATIO)
     r = Rayleigh.from_ratio(0.02, (modes.frequency_hz[0], modes.frequency_hz[-1]))
     zeta = modal_damping_ratios(System(body, mounts, rayleigh=r).C, modes)
-    assert zeta[[0, -1]] == pytest.approx([0.02, 0.02], rel=1e-12)
+    assert zeta[[0, -1]] == pytest.approx([0.02, 0.02], rel=RTOL_DAMPING_RATIO)
     assert np.all(zeta[1:-1] < 0.02)  # Rayleigh damps less between its two frequencies
     # Models add up: dashpots + Rayleigh + modal.
     damped = [Mount(m.name, m.position, m.stiffness, damping=[100.0, 200.0, 300.0]) for m in mounts]
@@ -221,15 +208,12 @@ def test_damping_models_give_their_ratios():
 
 
 def test_exact_damping_ratios_of_non_proportional_damping():
-    from sixdof.analysis.statespace import damping_ratios, modal_damping_ratios
-    from sixdof.model.system import Rayleigh
-
     base = four_mount()
     modes = modal_analysis(base.M, base.K)
     # Classical damping: the exact ratios are the diagonal ones.
     classical = System(base.body, base.mounts, rayleigh=Rayleigh(alpha=0.5, beta=3e-4))
     assert damping_ratios(classical.C, modes) == pytest.approx(
-        modal_damping_ratios(classical.C, modes), rel=1e-9)
+        modal_damping_ratios(classical.C, modes), rel=RTOL_COMPLEX_DAMPING_RATIO)
     # Dashpots on two mounts only: non-proportional. The exact ratios are -Re(lambda)/|lambda| of
     # the six oscillating roots of det(lambda^2 M + lambda C + K) = 0, one per mode.
     damped = [Mount(m.name, m.position, m.stiffness, damping=[900.0, 600.0, 3000.0] if i < 2 else [0, 0, 0])
@@ -239,7 +223,6 @@ def test_exact_damping_ratios_of_non_proportional_damping():
     approx = modal_damping_ratios(system.C, modes)
     assert not np.allclose(zeta, approx, rtol=1e-3)  # the coupling matters here
     assert zeta == pytest.approx(approx, rel=0.2)    # ... but only as a correction
-    roots = np.linalg.eigvals(np.block([[np.zeros((6, 6)), np.eye(6)],
-                                        [-np.linalg.solve(system.M, system.K), -np.linalg.solve(system.M, system.C)]]))
+    roots = np.linalg.eigvals(state_matrices(system.M, system.C, system.K)[0])
     from_roots = np.sort(-roots.real[roots.imag > 0] / np.abs(roots[roots.imag > 0]))
-    assert np.sort(zeta) == pytest.approx(from_roots, rel=1e-9)
+    assert np.sort(zeta) == pytest.approx(from_roots, rel=RTOL_COMPLEX_DAMPING_RATIO)

@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
-from sixdof import plots
-from sixdof.analysis.modal import modal_analysis
-from sixdof.errors import InputError
-from sixdof.io.store import Dataset, build_results, load_tree, write_results
-from store_cases import bridge, run_parts
+from sixdof import InputError, modal_analysis, plots, write_results
+from sixdof.io.store import Dataset, build_results, load_tree
+from store_cases import run_parts
+from systems import bridge, four_mount
+from tolerances import RTOL_DRAWN
 
 UNIT_WORDS = ("[m]", "[kg^1/2 m]", "[mm]", "[µm]", "[mrad]", "[µrad]", "[s]", "[Hz]", "[kN]", "[N]", "[deg]", "[%]",
               "[m/N]", "[rad/(N m)]", "[1]", "[N/N]", "[m/m]", "[m/N/s^2]")
@@ -29,7 +29,7 @@ def results(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def modal_only():
-    system = bridge()
+    system = bridge("equal")
     return build_results(system=system, modes=modal_analysis(system.M, system.K), name="bridge_beam")
 
 
@@ -99,25 +99,25 @@ def test_mode_drawing_scales_translations_and_caps_rotations():
     points = np.array([[1.0, 2.0, 3.0], [-1.0, 0.0, 0.5]])
     translation = np.array([0.0, 0.0, 2e-3, 0.0, 0.0, 0.0])
     moved = plots._drawn_mode(points, translation, largest=10.0)
-    np.testing.assert_allclose(moved - points, [[0, 0, plots.MODE_SCALE * 10.0]] * 2, rtol=1e-12)
+    np.testing.assert_allclose(moved - points, [[0, 0, plots.MODE_SCALE * 10.0]] * 2, rtol=RTOL_DRAWN)
     rotation = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 1e-3])
     moved = plots._drawn_mode(points, rotation, largest=1000.0)  # 15 % of 1000 m would need 60 rad
     angle = np.arctan2(moved[0, 1], moved[0, 0]) - np.arctan2(points[0, 1], points[0, 0])
-    assert angle == pytest.approx(plots.MAX_DRAWN_ROTATION, rel=1e-12)
-    np.testing.assert_allclose(np.linalg.norm(moved, axis=1), np.linalg.norm(points, axis=1), rtol=1e-12)
+    assert angle == pytest.approx(plots.MAX_DRAWN_ROTATION, rel=RTOL_DRAWN)
+    np.testing.assert_allclose(np.linalg.norm(moved, axis=1), np.linalg.norm(points, axis=1), rtol=RTOL_DRAWN)
 
 
 def test_body_box_falls_back_to_the_mount_extents():
-    system = bridge(dimensions=None)
+    system = bridge("equal", dimensions=None)
     results = build_results(system=system)
     largest = 2 * 19.55
-    np.testing.assert_allclose(plots.body_box(results), [0.39, largest, 2.062], rtol=1e-12)
-    planar = build_results(system=bridge(dimensions=None), extra_attrs={})
+    np.testing.assert_allclose(plots.body_box(results), [0.39, largest, 2.062], rtol=RTOL_DRAWN)
+    planar = build_results(system=bridge("equal", dimensions=None), extra_attrs={})
     positions = planar.array("model/mount_position") * [1.0, 1.0, 0.0]  # every mount at the CG's height
-    planar = build_results(system=bridge(dimensions=None), extra={
+    planar = build_results(system=bridge("equal", dimensions=None), extra={
         "model/mount_position": Dataset(positions, "m", ("mount", "axis"))})
-    np.testing.assert_allclose(plots.body_box(planar), [0.39, largest, plots.FLAT_SIDE * largest], rtol=1e-12)
-    with_dims = build_results(system=bridge())
+    np.testing.assert_allclose(plots.body_box(planar), [0.39, largest, plots.FLAT_SIDE * largest], rtol=RTOL_DRAWN)
+    with_dims = build_results(system=bridge("equal"))
     np.testing.assert_array_equal(plots.body_box(with_dims), [1.2, 40.0, 2.0])
     fig = plots.plot_mode_shapes(build_results(system=system, modes=modal_analysis(system.M, system.K)))
     assert len(fig.axes) == 6
@@ -161,25 +161,17 @@ def test_superposition_overlay_and_difference(results):
         right = fig.axes[2 * i + 1]
         relative = right.lines[0].get_ydata()
         # The plotted curve's peak is the stored agreement of that DOF (no DOF is quiet here).
-        assert np.max(np.abs(relative)) == pytest.approx(attrs["agreement_per_dof"][i], rel=1e-12)
-        assert_drawn_from(right.lines[0], t, (modal[:, i] - direct[:, i]) / np.max(np.abs(direct[:, i])), rtol=1e-12)
+        assert np.max(np.abs(relative)) == pytest.approx(attrs["agreement_per_dof"][i], rel=RTOL_DRAWN)
+        assert_drawn_from(right.lines[0], t, (modal[:, i] - direct[:, i]) / np.max(np.abs(direct[:, i])), rtol=RTOL_DRAWN)
 
 
 def test_superposition_difference_of_a_quiet_dof_is_the_stored_agreement():
     # A load along x through the CG of a symmetric body: y, z, rx, rz stay at round-off ("quiet")
     # and the agreement judges them against the largest peak; the figure must plot the same number.
-    from sixdof.analysis.compare import compare
-    from sixdof.analysis.direct import SimulationSettings, simulate
-    from sixdof.analysis.superposition import superpose
-    from sixdof.excitation import Excitation, HalfSine, Load
-    from sixdof.io.store import build_results
-    from sixdof.model.system import Mount, RigidBody, System
+    from sixdof import Excitation, HalfSine, Load, SimulationSettings, compare, simulate, superpose
 
-    system = System(
-        RigidBody(100.0, [5.0, 6.0, 7.0], [1.0, 1.0, 1.0]),
-        [Mount(str(i), [sx * 0.4, sy * 0.4, -0.3], [1e5, 1e5, 3e5], damping=[50.0, 50.0, 80.0])
-         for i, (sx, sy) in enumerate([(-1, -1), (1, -1), (1, 1), (-1, 1)])],
-    )
+    system = four_mount(100.0, (5.0, 6.0, 7.0), 0.4, 0.4, 0.3, (1e5, 1e5, 3e5), damping=[50.0, 50.0, 80.0],
+                        dimensions=[1.0, 1.0, 1.0])
     excitation = Excitation(loads=(Load("push", [0.0, 0.0, 0.0], force=[100.0, 0.0, 0.0],
                                         signal=HalfSine(start=0.01, duration=0.02)),))
     response = simulate(system, excitation, SimulationSettings(duration=0.3, sample_rate_hz=1000.0))
@@ -242,7 +234,7 @@ def test_mount_forces_from_a_stored_history(modal_only):
              "time/mount": Dataset(np.array(["1", "2", "3", "4"]), "", ("mount",)),
              "time/axis": Dataset(np.array(["x", "y", "z"]), "", ("axis",)),
              "time/mount_force": Dataset(forces, "N", ("mount", "t", "axis"))}
-    results = build_results(system=bridge(), extra=extra)
+    results = build_results(system=bridge("equal"), extra=extra)
     fig = plots.plot_mount_forces(results)
     assert labelled_axes(fig)
     assert [ax.get_ylabel() for ax in fig.axes] == ["Fx [N]", "Fy [N]", "Fz [kN]"]
@@ -260,7 +252,7 @@ def test_long_histories_are_drawn_through_their_envelope():
              "time/mount": Dataset(np.array(["1", "2", "3", "4"]), "", ("mount",)),
              "time/axis": Dataset(np.array(["x", "y", "z"]), "", ("axis",)),
              "time/mount_force": Dataset(forces, "N", ("mount", "t", "axis"))}
-    fig = plots.plot_mount_forces(build_results(system=bridge(), extra=extra))
+    fig = plots.plot_mount_forces(build_results(system=bridge("equal"), extra=extra))
     for c, ax in enumerate(fig.axes):
         factor = {"kN": 1e-3, "N": 1.0}[ax.get_ylabel().split("[")[1].rstrip("]")]
         for k in range(4):

@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from sixdof.io.scenario import load_scenario
+from sixdof import load_scenario
 
 README = Path(__file__).resolve().parents[1] / "README.md"
 

@@ -4,13 +4,12 @@
 import numpy as np
 import pytest
 
+from sixdof import InputError, modal_analysis, parse_scenario, run_scenario
 from sixdof import workflows as run_module
-from sixdof.analysis.modal import modal_analysis
 from sixdof.cli import main
-from sixdof.errors import InputError
-from sixdof.io.scenario import parse_scenario
 from sixdof.io.store import load_tree
-from sixdof.workflows import run_scenario, sampling_warnings
+from sixdof.workflows import sampling_warnings
+from tolerances import RTOL_FRF_CLOSED_FORM, RTOL_REPORTED_TRUNCATION, RTOL_STATICS
 
 SCENARIO = """
 name = "small"
@@ -101,14 +100,14 @@ def test_run_writes_results_figures_and_summary(outcome):
     assert results.array("time/superposition/q").shape == (601, 6)
     assert results.attrs["time/superposition"]["agreement_worst"] == pytest.approx(outcome.agreement.worst)
     assert outcome.agreement.ok
-    assert results.array("statics/support").sum() == pytest.approx(300 * 9.80665, rel=1e-9)
+    assert results.array("statics/support").sum() == pytest.approx(300 * 9.80665, rel=RTOL_STATICS)
     assert results.array("frf/receptance").shape == (50, 6, 6)
     # The requested point FRF is the receptance seen through the point maps, times i w (mobility).
     H = results.array("frf/receptance")
     T = np.hstack([np.eye(3), -np.array([[0, -0.3, 0.5], [0.3, 0, -0.4], [-0.5, 0.4, 0]])])
     w = 2 * np.pi * results.array("frf/f_hz")
     expected = 1j * w * np.einsum("i,fij,j->f", T[2], H, T[2])
-    np.testing.assert_allclose(results.array("frf/point/drive/values"), expected, rtol=1e-10)
+    np.testing.assert_allclose(results.array("frf/point/drive/values"), expected, rtol=RTOL_FRF_CLOSED_FORM)
     assert "frf/force_transmissibility/to_floor/total" in results.datasets
     summary = outcome.summary_path.read_text()
     for text in ["## Natural frequencies", "## Kinetic energy distribution", "Peak mount forces",
@@ -180,5 +179,5 @@ def test_truncated_superposition_reports_its_error_and_warns(tmp_path):
     assert outcome.superposition.superposition.modes_kept == (0, 1, 2)
     assert outcome.superposition.superposition.truncation.worst > 1e-6
     # Against the direct solve, the truncated superposition is off by what its truncation says.
-    assert outcome.agreement.worst == pytest.approx(outcome.superposition.superposition.truncation.worst, rel=1e-3)
+    assert outcome.agreement.worst == pytest.approx(outcome.superposition.superposition.truncation.worst, rel=RTOL_REPORTED_TRUNCATION)
     assert "Truncated to modes 1, 2, 3" in outcome.summary_path.read_text()

@@ -8,9 +8,13 @@ the assertions are always on sixdof's values, never on a misprint. docs/case_stu
 import numpy as np
 import pytest
 
-from sixdof.analysis.modal import modal_analysis
-from sixdof.io.scenario import load_scenario
-from tolerances import RTOL_LINALG, printed_ulp
+from references import eigenvalue_pair
+from sixdof import load_scenario, modal_analysis
+from systems import BRIDGE_POSITIONS, BRIDGE_STIFFNESS
+from tolerances import ATOL_QUOTED_HZ, RTOL_LINALG, RTOL_QUOTED, RTOL_ZERO_ENTRY, printed_ulp
+
+# Tables 1-2: bearing stiffnesses [N/m] along x, y, z and positions [m] (tests/systems.py).
+K_TABLE, R_TABLE = np.array(BRIDGE_STIFFNESS), np.array(BRIDGE_POSITIONS)
 
 SUB1 = [0, 4, 5]  # (x, ry, rz)
 SUB2 = [1, 2, 3]  # (y, z, rx)
@@ -48,7 +52,7 @@ def test_block_structure_is_exact_for_the_plane_of_symmetry(bridge):
     assert modes.subsystems == (("x", "ry", "rz"), ("y", "z", "rx"))
     scale = np.abs(bridge.K).max()
     cross = bridge.K[np.ix_(SUB1, SUB2)]
-    assert np.abs(cross).max() <= 1e-14 * scale
+    assert np.abs(cross).max() <= RTOL_ZERO_ENTRY * scale
 
 
 # Section 5.1: K1 and K2, in 1e3 N/m, N, N m as printed.
@@ -72,9 +76,7 @@ def test_stiffness_blocks_match_the_printed_values(bridge, sub, printed, misprin
 def test_k1_ry_rz_term_is_10078_not_10077(bridge):
     # Eq. (10), row ry, column rz: -sum kx_j y_j z_j. From Tables 1-2 it is 10 078.0e3 N m, so the
     # printed 10077 (both places it appears) is off by one in its last digit.
-    kx = np.array([0.26e6, 0.26e6, 0.51e6, 0.51e6])
-    y = np.array([-19.55, -19.55, 19.55, 19.55])
-    z = np.full(4, -1.031)
+    kx, y, z = K_TABLE[:, 0], R_TABLE[:, 1], R_TABLE[:, 2]
     _, K, _ = blocks(bridge, SUB1)
     assert K[1, 2] == pytest.approx(-np.sum(kx * y * z), rel=RTOL_LINALG)
     assert K[2, 1] == pytest.approx(K[1, 2], rel=RTOL_LINALG)
@@ -85,8 +87,7 @@ def test_k1_ry_rz_term_is_10078_not_10077(bridge):
 def test_k2_rx_rx_term_lacks_a_zero_in_print(bridge):
     # K(rx, rx) = sum(ky z^2 + kz y^2) = 6.1764e11 N m; printed 61764000e3 = 6.1764e10. The printed
     # D2(3,3) = 55618.5 = 6.1764e11 / Jxx shows the paper computed with the right value.
-    ky = np.array([0.26e6, 0.26e6, 0.51e6, 0.51e6])
-    kz = np.array([312e6, 312e6, 496e6, 496e6])
+    ky, kz = K_TABLE[:, 1], K_TABLE[:, 2]
     expected = np.sum(ky * 1.031**2 + kz * 19.55**2)
     _, K, D = blocks(bridge, SUB2)
     assert K[2, 2] == pytest.approx(expected, rel=RTOL_LINALG)
@@ -147,7 +148,7 @@ def test_subsystem_1_frequencies_and_the_table_3_misprints(bridge):
     assert abs(15.4526 + 5577.09 + 1285.30 - np.trace(D)) > 5000
     assert lam[1] == pytest.approx(7.46**2, abs=0.1)
     # Misprint: f2 printed 1.12 Hz, but its own p2 = 7.46 rad/s is 1.187 Hz; sixdof: 1.1875 Hz.
-    assert modes.frequency_hz[2] == pytest.approx(1.1875, abs=1e-4)
+    assert modes.frequency_hz[2] == pytest.approx(1.1875, abs=ATOL_QUOTED_HZ)
     assert abs(7.46 / (2 * np.pi) - 1.12) > 0.06
     # Eigenvectors, first entry = 1 (the paper's normalization). The printed ones are those of the
     # printed D1; sixdof's differ from them by the 0.06 % inertia difference only.
@@ -177,9 +178,9 @@ def test_subsystem_2_frequencies_and_the_table_4_misprints(bridge):
     Kzr, Mzr = K[1:, 1:], M[1:, 1:]
     Dzr = np.linalg.solve(Mzr, Kzr)
     tr, det = np.trace(Dzr), np.linalg.det(Dzr)
-    closed = np.array([tr - np.sqrt(tr**2 - 4 * det), tr + np.sqrt(tr**2 - 4 * det)]) / 2
+    closed = np.array(eigenvalue_pair(tr, det))
     assert lam[1:] == pytest.approx(closed, rel=1e-6)  # y-coupling shifts them by < 1e-6
-    assert modes.frequency_hz[4:] == pytest.approx([21.3398, 38.0344], abs=1e-4)
+    assert modes.frequency_hz[4:] == pytest.approx([21.3398, 38.0344], abs=ATOL_QUOTED_HZ)
     # The printed eigenvectors of modes 5 and 6 are right: they satisfy D2 v = lambda v with sixdof's
     # lambda (to the paper's D precision) and are far from it with the printed lambda.
     D_paper = np.array(D2_PRINTED, dtype=float)
@@ -190,9 +191,9 @@ def test_subsystem_2_frequencies_and_the_table_4_misprints(bridge):
         good = np.linalg.norm(D_paper @ v - ours * v) / np.linalg.norm(ours * v)
         bad = np.linalg.norm(D_paper @ v - wrong * v) / np.linalg.norm(ours * v)
         assert good < 2e-3 < 0.5 < bad
-    assert V[1, 1] == pytest.approx(-54546.65, rel=1e-5)
-    assert V[2, 1] == pytest.approx(938.839, rel=1e-5)
-    assert V[1, 2] == pytest.approx(6872.81, rel=1e-5)
-    assert V[2, 2] == pytest.approx(2984.50, rel=1e-5)
+    assert V[1, 1] == pytest.approx(-54546.65, rel=RTOL_QUOTED)
+    assert V[2, 1] == pytest.approx(938.839, rel=RTOL_QUOTED)
+    assert V[1, 2] == pytest.approx(6872.81, rel=RTOL_QUOTED)
+    assert V[2, 2] == pytest.approx(2984.50, rel=RTOL_QUOTED)
     assert_printed(V[1, 0], "0.000012")
     assert_printed(V[2, 0], "-0.000003")

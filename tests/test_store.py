@@ -10,19 +10,11 @@ import numpy as np
 import pytest
 
 import sixdof
-from sixdof.analysis.modal import modal_analysis
-from sixdof.dofs import DOFS
-from sixdof.errors import InputError
+from sixdof import DOFS, InputError, modal_analysis, write_results
 from sixdof.io import store
-from sixdof.io.store import (
-    Dataset,
-    Results,
-    build_results,
-    load_tree,
-    save_results,
-    write_results,
-)
-from store_cases import SCENARIO_TEXT, bridge, run_parts
+from sixdof.io.store import Dataset, Results, build_results, load_tree, save_results
+from store_cases import SCENARIO_TEXT, run_parts
+from systems import bridge
 
 
 @pytest.fixture(scope="module")
@@ -245,7 +237,7 @@ def test_provenance(loaded):
 
 
 def test_modal_only_run_has_no_time_group(tmp_path):
-    system = bridge()
+    system = bridge("equal")
     results = write_results(tmp_path / "r.h5", system=system, modes=modal_analysis(system.M, system.K))
     loaded = load_tree(tmp_path / "r.h5")
     assert "time" not in loaded and "frf" not in loaded and "modal" in loaded
@@ -254,7 +246,7 @@ def test_modal_only_run_has_no_time_group(tmp_path):
 
 
 def test_body_without_dimensions_stores_none(tmp_path):
-    system = bridge(dimensions=None)
+    system = bridge("equal", dimensions=None)
     write_results(tmp_path / "r.h5", system=system)
     assert load_tree(tmp_path / "r.h5").body_dimensions is None
 
@@ -393,7 +385,7 @@ def test_axis_without_a_dimension_scale_is_refused():
 
 
 def test_extra_datasets_and_attributes_round_trip(tmp_path):
-    system = bridge()
+    system = bridge("equal")
     extra = {"statics/q": Dataset(np.arange(6.0), "m (x, y, z); rad (rx, ry, rz)", ("dof",), {"gravity": 9.81}),
              "statics/dof": Dataset(np.array(DOFS), "", ("dof",)),
              "statics/flag": Dataset(np.array([True, False]), "1", ("dof2",)),

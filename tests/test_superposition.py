@@ -13,42 +13,48 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-import scipy.linalg
 
-from sixdof.analysis.compare import Agreement, compare
-from sixdof.analysis.superposition import modal_solve, superpose
-from sixdof.errors import InputError
-from sixdof.model.system import Mount, Rayleigh, RigidBody, System
+from references import (
+    exact_response,
+    free_mass_with_viscous_drag,
+    generator_value,
+    linear,
+    oscillator,
+    rayleigh_ratio,
+    released_sdof,
+    windowed_pieces,
+)
+from sixdof import (
+    InputError,
+    Mount,
+    Rayleigh,
+    SimulationSettings,
+    System,
+    compare,
+    modal_analysis,
+    simulate,
+    superpose,
+)
+from sixdof.analysis.compare import Agreement
+from sixdof.analysis.superposition import modal_solve
 from sixdof.results import TimeHistory
+from systems import BRIDGE_MASS, BRIDGE_POSITIONS, bridge, bridge_body, four_mount
 from tolerances import (
+    MODAL_DAMPING_COUPLING_CLASSICAL,
     MODAL_DAMPING_COUPLING_MIN,
     MODAL_RESIDUAL_GAIN,
     RTOL_MODAL_DIRECT,
     RTOL_MODAL_EXACT,
+    RTOL_REPORTED_TRUNCATION,
 )
 
-# The seed paper's bridge beam: mounts 1, 2 and 3, 4 differ, so every mode couples several DOFs.
-POSITIONS = [(-0.195, -19.55, -1.031), (0.195, -19.55, -1.031), (0.195, 19.55, -1.031),
-             (-0.195, 19.55, -1.031)]
-STIFFNESS = [[0.26e6, 0.26e6, 312e6]] * 2 + [[0.51e6, 0.51e6, 496e6]] * 2
-BODY = RigidBody(83e3, [11.105e6, 0.0491e6, 11.064e6])
-DASHPOTS = [[520.0, 520.0, 0.62e6], [520.0, 520.0, 0.62e6], [1040.0, 1040.0, 0.4e6],
-            [1040.0, 1040.0, 0.4e6]]
-
-
-def bridge(dampers=None, **damping) -> System:
-    mounts = [
-        Mount(str(i + 1), p, k, damping=np.zeros(3) if dampers is None else dampers[i])
-        for i, (p, k) in enumerate(zip(POSITIONS, STIFFNESS))
-    ]
-    return System(BODY, mounts, **damping)
-
-
+# The seed paper's bridge beam (tests/systems.py): mounts 1, 2 and 3, 4 differ, so every mode couples
+# several DOFs.
 SYSTEMS = {
     "rayleigh": bridge(rayleigh=Rayleigh.from_ratio(0.02, (0.6, 38.0))),
     "modal": bridge(modal_damping=(0.01, 0.02, 0.03, 0.02, 0.05, 0.02)),
-    "dashpots": bridge(DASHPOTS),
-    "combined": bridge(DASHPOTS, rayleigh=Rayleigh(0.05, 1e-4), modal_damping=0.01),
+    "dashpots": bridge("two_pairs"),
+    "combined": bridge("two_pairs", rayleigh=Rayleigh(0.05, 1e-4), modal_damping=0.01),
     # Over-damped low modes (zeta ~ 6 at 0.6 Hz): the real recursion's cosh/sinh branch.
     "overdamped": bridge(rayleigh=Rayleigh(50.0, 0.0)),
 }
@@ -65,55 +71,24 @@ LOAD[3:] = np.cross([0.4, 15.0, 1.0], LOAD[:3]) + [1e3, 2e3, -3e3]
 
 
 def sine(w, phase=0.0, amplitude=1.0):
-    """``amplitude sin(w tau + phase)`` as the output of ``s' = S s`` (tau from the piece's start)."""
-    S = np.array([[0.0, w], [-w, 0.0]])  # s = [sin, cos] of the angle
-    return S, amplitude * np.array([1.0, 0.0]), np.array([np.sin(phase), np.cos(phase)])
+    """``amplitude sin(w tau + phase)`` (tau from the window's start)."""
+    return oscillator(w, phase, 0.0, amplitude)
 
 
 def line(a, b=0.0):
     """``a + b tau``."""
-    return np.array([[0.0, 1.0], [0.0, 0.0]]), np.array([1.0, 0.0]), np.array([a, b])
+    return linear(a, b)
 
 
-def exact_response(system, t, pieces, q0=np.zeros(6), qd0=np.zeros(6)):
-    """q (n, 6) of ``M q'' + C q' + K q = LOAD s(t)`` by matrix exponentials, on a uniform grid t.
+def exact(system, pieces, q0=None, qd0=None):
+    """q (n, 6) on T of ``M q'' + C q' + K q = LOAD s(t)`` by matrix exponentials (tests/references.py).
 
     ``pieces``: list of ``(start, end, generators)``; on ``[start, end)`` the signal is the sum of
-    the generators' outputs ``c' e^{S (t - start)} s0``; zero where no piece is active. By
-    superposition each piece's response is the free response after ``end`` of the state it leaves.
+    the generators' outputs; zero where no piece is active.
     """
-    M, C, K = system.M, system.C, system.K
-    Minv = np.linalg.inv(M)
-    A = np.block([[np.zeros((6, 6)), np.eye(6)], [-Minv @ K, -Minv @ C]])
-    b = np.concatenate([np.zeros(6), Minv @ LOAD])
-    h = t[1] - t[0]
-    assert np.allclose(np.diff(t), h, rtol=1e-12, atol=0)
-
-    def march(matrix, x, origin, where):
-        """``expm(matrix (t - origin)) x`` at the times ``t[where]`` (consecutive, after origin):
-        one exponential to the first, then the one-step exponential (round-off ~ steps x eps)."""
-        index = np.flatnonzero(where)
-        out = np.empty((index.size, len(x)))
-        if index.size:
-            out[0] = scipy.linalg.expm(matrix * (t[index[0]] - origin)) @ x
-            step = scipy.linalg.expm(matrix * h)
-            for j in range(1, index.size):
-                out[j] = step @ out[j - 1]
-        return out
-
-    q = march(A, np.concatenate([q0, qd0]), t[0], np.ones(t.size, bool))[:, :6]
-    for start, end, generators in pieces:
-        for S, c, s0 in generators:
-            k = len(s0)
-            aug = np.block([[A, np.outer(b, c)], [np.zeros((k, 12)), S]])
-            x0 = np.concatenate([np.zeros(12), s0])
-            inside = (t > start) & (t <= end)
-            q[inside] += march(aug, x0, start, inside)[:, :6]
-            later = t > end
-            if np.any(later):
-                x_end = (scipy.linalg.expm(aug * (end - start)) @ x0)[:12]
-                q[later] += march(A, x_end, end, later)[:, :6]
-    return q
+    x0 = None if q0 is None else np.concatenate([q0, qd0])
+    pieces = windowed_pieces(pieces, T[-1], T[0])
+    return exact_response(system.M, system.C, system.K, LOAD, pieces, T, x0)[0]
 
 
 def pieces_signal(pieces):
@@ -124,20 +99,12 @@ def pieces_signal(pieces):
         for start, end, generators in pieces:
             inside = (times >= start) & (times < end)
             tau = times[inside] - start
-            for S, c, s0 in generators:
-                out[inside] += _generator_value(S, c, s0, tau)
+            for generator in generators:
+                out[inside] += generator_value(generator, tau)
         return out
 
     breakpoints = sorted({x for start, end, _ in pieces for x in (start, end) if np.isfinite(x)})
     return signal, breakpoints
-
-
-def _generator_value(S, c, s0, tau):
-    # Closed forms of the two generator kinds above (the reference itself uses expm).
-    if S[0, 0] == 0 and S[1, 0] == 0:  # line
-        return c[0] * (s0[0] + s0[1] * tau)
-    w = S[0, 1]
-    return c[0] * (s0[0] * np.cos(w * tau) + s0[1] * np.sin(w * tau))
 
 
 T = np.linspace(0.0, 1.0, 1001)
@@ -163,7 +130,7 @@ def references():
     def get(system_name, case):
         key = (system_name, case)
         if key not in cache:
-            cache[key] = exact_response(SYSTEMS[system_name], T, CASES[case])
+            cache[key] = exact(SYSTEMS[system_name], CASES[case])
         return cache[key]
 
     return get
@@ -190,7 +157,7 @@ def test_initial_conditions_and_mode_release(system_name):
     q0 = np.array([1e-3, -2e-3, 5e-4, 1e-6, -3e-5, 2e-6])
     qd0 = np.array([-1e-2, 0.0, 3e-3, 0.0, 1e-4, -1e-5])
     result = modal_solve(system.M, system.C, system.K, T, q0=q0, qd0=qd0)
-    assert compare(exact_response(system, T, [], q0, qd0), result).worst < RTOL_MODAL_EXACT
+    assert compare(exact(system, [], q0, qd0), result).worst < RTOL_MODAL_EXACT
     # The initial state goes through the modal transform and back: round-off only.
     np.testing.assert_allclose(result.q[0], q0, rtol=RTOL_MODAL_EXACT, atol=0)
     np.testing.assert_allclose(result.qd[0], qd0, rtol=RTOL_MODAL_EXACT,
@@ -199,17 +166,12 @@ def test_initial_conditions_and_mode_release(system_name):
 
 def test_mode_release_stays_in_its_mode_under_classical_damping():
     system = SYSTEMS["rayleigh"]
-    from sixdof.analysis.modal import modal_analysis
-
     modes = modal_analysis(system.M, system.K)
     phi = modes.shapes[:, 3]
     result = modal_solve(system.M, system.C, system.K, T, q0=1e-3 * phi)
     # Classical damping: q(t) = eta(t) phi with eta the damped SDOF free response.
-    zeta = (system.rayleigh.alpha / modes.omega[3] + system.rayleigh.beta * modes.omega[3]) / 2
-    wd = modes.omega[3] * np.sqrt(1 - zeta**2)
-    eta = 1e-3 * np.exp(-zeta * modes.omega[3] * T) * (
-        np.cos(wd * T) + zeta * modes.omega[3] / wd * np.sin(wd * T)
-    )
+    zeta = rayleigh_ratio(system.rayleigh.alpha, system.rayleigh.beta, modes.omega[3])
+    eta = released_sdof(T, 1e-3, modes.omega[3], zeta)
     assert compare(np.outer(eta, phi), result).worst < RTOL_MODAL_EXACT
 
 
@@ -233,7 +195,7 @@ def test_automatic_method_is_reported(system_name):
     result = solve(SYSTEMS[system_name], CASES["step"])
     if system_name in CLASSICAL:
         assert result.superposition.method == "real" and result.superposition.reason.startswith("auto: damping is classical")
-        assert result.superposition.coupling < 1e-10
+        assert result.superposition.coupling < MODAL_DAMPING_COUPLING_CLASSICAL
         assert len(result.superposition.eigenvalues) == 12
     else:
         assert result.superposition.method == "complex" and "non-proportional" in result.superposition.reason
@@ -262,11 +224,7 @@ def test_classical_damping_detected_within_repeated_modes():
     # A symmetric body on a symmetric mount layout: x/y translations and rx/ry rotations have equal
     # frequencies. Modal damping built on a rotated basis of those pairs is classical, but is
     # diagonal only in that basis: the detection must rotate within repeated modes.
-    from sixdof.analysis.modal import modal_analysis
-
-    mounts = [Mount(str(i), p, [1e6, 1e6, 4e6]) for i, p in
-              enumerate([(1.0, 1.0, -0.5), (-1.0, 1.0, -0.5), (-1.0, -1.0, -0.5), (1.0, -1.0, -0.5)])]
-    system = System(RigidBody(1e3, [400.0, 400.0, 600.0]), mounts)
+    system = four_mount(1e3, (400.0, 400.0, 600.0), 1.0, 1.0, 0.5, (1e6, 1e6, 4e6))
     M, K = system.M, system.K
     modes = modal_analysis(M, K)
     f = modes.frequency_hz
@@ -279,8 +237,8 @@ def test_classical_damping_detected_within_repeated_modes():
     zeta = np.array([0.01, 0.05, 0.02, 0.08, 0.03, 0.04])
     C = M @ shapes @ np.diag(2 * zeta * modes.omega) @ shapes.T @ M
     result = modal_solve(M, C, K, T, lambda t: np.sin(20 * t)[:, None] * LOAD)
-    assert result.superposition.method == "real" and result.superposition.coupling < 1e-10
-    reference = exact_response(SimpleNamespace(M=M, C=C, K=K), T, [(0.0, INF, [sine(20.0)])])
+    assert result.superposition.method == "real" and result.superposition.coupling < MODAL_DAMPING_COUPLING_CLASSICAL
+    reference = exact(SimpleNamespace(M=M, C=C, K=K), [(0.0, INF, [sine(20.0)])])
     assert compare(reference, result).worst < RTOL_MODAL_EXACT
 
 
@@ -296,17 +254,17 @@ def test_residual_correction_beats_plain_truncation(system_name):
     # statically, which is what the residual flexibility represents.
     pieces = [(0.0, 0.5, [line(0.5), sine(2 * np.pi / 1.0, np.pi / 2, -0.5)]),
               (0.5, INF, [line(1.0)])]
-    exact = exact_response(system, T, pieces)
+    reference = exact(system, pieces)
     with_residual = solve(system, pieces, n_modes=4)
     without = solve(system, pieces, n_modes=4, residual=False)
-    error_with = compare(exact, with_residual).worst
-    error_without = compare(exact, without).worst
+    error_with = compare(reference, with_residual).worst
+    error_without = compare(reference, without).worst
     assert error_with < MODAL_RESIDUAL_GAIN * error_without
     assert with_residual.superposition.modes_kept == (0, 1, 2, 3) and with_residual.superposition.residual
     assert not without.superposition.residual
     # The reported truncation error is the error against the full set of modes.
-    assert with_residual.superposition.truncation.worst == pytest.approx(error_with, rel=1e-3)
-    assert without.superposition.truncation.worst == pytest.approx(error_without, rel=1e-3)
+    assert with_residual.superposition.truncation.worst == pytest.approx(error_with, rel=RTOL_REPORTED_TRUNCATION)
+    assert without.superposition.truncation.worst == pytest.approx(error_without, rel=RTOL_REPORTED_TRUNCATION)
 
 
 def test_truncation_by_frequency():
@@ -328,9 +286,9 @@ def free_floating(horizontal_damping=0.0, **damping):
     mounts = [
         Mount(str(i + 1), p, [0.0, 0.0, 3e8],
               damping=[horizontal_damping, horizontal_damping, 1e5 * (1 + i)])
-        for i, p in enumerate(POSITIONS)
+        for i, p in enumerate(BRIDGE_POSITIONS)
     ]
-    return System(BODY, mounts, **damping)
+    return System(bridge_body(), mounts, **damping)
 
 
 def test_rigid_body_modes_undamped_move_as_free_mass():
@@ -339,8 +297,8 @@ def test_rigid_body_modes_undamped_move_as_free_mass():
     t = np.linspace(0.0, 5.0, 501)
     result = modal_solve(system.M, system.C, system.K, t, lambda s: np.ones((s.size, 1)) * force,
                          qd0=[1e-3, 0, 0, 0, 0, 0])
-    expected_x = 1e-3 * t + force[0] / BODY.mass * t**2 / 2
-    expected_y = force[1] / BODY.mass * t**2 / 2
+    expected_x = 1e-3 * t + force[0] / BRIDGE_MASS * t**2 / 2
+    expected_y = force[1] / BRIDGE_MASS * t**2 / 2
     np.testing.assert_allclose(result.q[:, 0], expected_x, rtol=RTOL_MODAL_EXACT, atol=0)
     np.testing.assert_allclose(result.q[1:, 1], expected_y[1:], rtol=RTOL_MODAL_EXACT, atol=0)
     assert result.superposition.method == "complex"  # the vertical dashpots are not proportional
@@ -350,13 +308,13 @@ def test_rigid_body_modes_undamped_move_as_free_mass():
 def test_rigid_body_modes_with_mass_proportional_damping(method):
     # eta'' + alpha eta' = F/m from rest: x(t) = F/(m alpha) (t - (1 - e^{-alpha t}) / alpha).
     alpha = 0.8
-    mounts = [Mount(str(i + 1), p, [0.0, 0.0, 3e8]) for i, p in enumerate(POSITIONS)]
-    system = System(BODY, mounts, rayleigh=Rayleigh(alpha, 0.0))
+    mounts = [Mount(str(i + 1), p, [0.0, 0.0, 3e8]) for i, p in enumerate(BRIDGE_POSITIONS)]
+    system = System(bridge_body(), mounts, rayleigh=Rayleigh(alpha, 0.0))
     t = np.linspace(0.0, 5.0, 501)
     force = np.array([100.0, 0.0, 0.0, 0.0, 0.0, 0.0])
     result = modal_solve(system.M, system.C, system.K, t, lambda s: np.ones((s.size, 1)) * force,
                          method=method)
-    expected = force[0] / (BODY.mass * alpha) * (t - (1 - np.exp(-alpha * t)) / alpha)
+    expected = free_mass_with_viscous_drag(t, force[0], BRIDGE_MASS, alpha)
     np.testing.assert_allclose(result.q[1:, 0], expected[1:], rtol=RTOL_MODAL_EXACT, atol=0)
     assert result.superposition.method == method
 
@@ -366,7 +324,7 @@ def test_rigid_body_modes_with_horizontal_dashpots_match_exact():
     pieces = CASES["half_sine"]
     result = solve(system, pieces)
     assert result.superposition.method == "complex"
-    assert compare(exact_response(system, T, pieces), result).worst < RTOL_MODAL_EXACT
+    assert compare(exact(system, pieces), result).worst < RTOL_MODAL_EXACT
 
 
 def test_truncation_must_keep_rigid_body_modes():
@@ -452,7 +410,6 @@ def test_result_is_frozen():
 # ----------------------------------------------------------------------------------------------------
 
 from sixdof import excitation as ex  # noqa: E402
-from sixdof.analysis.direct import SimulationSettings, simulate  # noqa: E402
 
 SETTINGS = SimulationSettings(duration=1.0, sample_rate_hz=1000.0)
 POINT, FORCE, MOMENT = [0.4, 15.0, 1.0], [2e3, -1e3, -8e4], [1e3, 2e3, -3e3]
@@ -535,5 +492,5 @@ def test_truncated_superposition_reports_error_against_full_set(direct):
     actual = compare(reference, truncated).worst
     # The reported truncation error (against the full modal set) is the error against the direct
     # solution, up to the direct solver's own error.
-    assert truncated.superposition.truncation.worst == pytest.approx(actual, rel=1e-3)
+    assert truncated.superposition.truncation.worst == pytest.approx(actual, rel=RTOL_REPORTED_TRUNCATION)
     assert truncated.superposition.truncation.worst > RTOL_MODAL_DIRECT

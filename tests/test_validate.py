@@ -5,12 +5,19 @@ import numpy as np
 import pytest
 import scipy.signal
 
-from sixdof.analysis import frf
-from sixdof.analysis.direct import SimulationSettings, simulate
-from sixdof.errors import InputError
-from sixdof.excitation import Excitation, Harmonic, InitialState, Load
+from references import displacement_resonance_hz, log_decrement
+from sixdof import (
+    Excitation,
+    Harmonic,
+    InitialState,
+    InputError,
+    Load,
+    SimulationSettings,
+    receptance,
+    simulate,
+    validate,
+)
 from sixdof.io.report import validation_text
-from sixdof.model.system import Mount, Rayleigh, RigidBody, System
 from sixdof.validation import (
     ValidationSettings,
     decay_estimate,
@@ -18,8 +25,8 @@ from sixdof.validation import (
     estimate_frf,
     h1_random_error,
     peak_frequency,
-    validate,
 )
+from systems import small_box
 from tolerances import (
     H1_MAX_SIGMAS,
     H1_MEDIAN_SIGMAS,
@@ -27,17 +34,6 @@ from tolerances import (
     RTOL_DECAY,
     RTOL_DIRECT_STEADY_STATE,
 )
-
-
-def small_system(zeta=0.04):
-    """A 120 kg box on three mounts, all six DOFs coupled, modes 4-23 Hz, Rayleigh damping."""
-    body = RigidBody(120.0, [4.0, 5.0, 6.0])
-    mounts = [
-        Mount("a", [0.4, 0.3, -0.2], [2e5, 3e5, 8e5]),
-        Mount("b", [-0.5, 0.35, -0.25], [1e5, 1e5, 6e5]),
-        Mount("c", [0.1, -0.45, -0.3], [3e5, 2e5, 9e5]),
-    ]
-    return System(body, mounts, rayleigh=Rayleigh.from_ratio(zeta, (5.0, 20.0)))
 
 
 def test_h1_agrees_with_the_true_frf_within_its_random_error():
@@ -80,15 +76,14 @@ def test_decay_estimate_of_a_damped_sinusoid():
     est = decay_estimate(t, x)
     assert est.f_damped_hz == pytest.approx(w_d / (2 * np.pi), rel=RTOL_DECAY)
     assert est.zeta == pytest.approx(zeta, rel=RTOL_DECAY)
-    delta = 2 * np.pi * zeta / np.sqrt(1 - zeta**2)
-    assert est.log_decrement == pytest.approx(delta, rel=RTOL_DECAY)
+    assert est.log_decrement == pytest.approx(log_decrement(zeta), rel=RTOL_DECAY)
 
 
 def test_peak_frequency_of_a_sampled_resonance():
     f = np.linspace(0.0, 20.0, 201)
     zeta, f_n = 0.05, 7.33
     mag = 1 / np.abs(1 - (f / f_n) ** 2 + 2j * zeta * f / f_n)
-    exact = f_n * np.sqrt(1 - 2 * zeta**2)
+    exact = displacement_resonance_hz(f_n, zeta)
     # The parabola on log magnitude lands well inside the 0.1 Hz bin.
     assert abs(peak_frequency(f, mag, 5.0, 10.0) - exact) < 0.1 * 0.1
     assert np.isnan(peak_frequency(f, mag, 30.0, 40.0))
@@ -96,10 +91,10 @@ def test_peak_frequency_of_a_sampled_resonance():
 
 def test_harmonic_simulation_steady_state_matches_frf():
     # Started on the steady state the FRF predicts, the time-domain solver must stay on it.
-    system = small_system()
+    system = small_box()
     f0, point, force = 9.0, np.array([0.2, -0.1, 0.3]), np.array([50.0, -80.0, 120.0])
     Q = np.concatenate([force, np.cross(point, force)])
-    q_hat = frf.receptance(system, [f0]).H[0] @ Q
+    q_hat = receptance(system, [f0]).H[0] @ Q
     w = 2 * np.pi * f0
     # sin(w t) = Re(-i e^{i w t}): the steady state is Re(-i q_hat e^{i w t}).
     ss = -1j * q_hat
@@ -113,7 +108,7 @@ def test_harmonic_simulation_steady_state_matches_frf():
 
 @pytest.mark.slow  # ~15 s on 2 cores, mostly two solver compilations
 def test_validation_of_a_small_system():
-    system = small_system()
+    system = small_box()
     report = validate(system)
     assert len(report.rows) == 6 and [r.mode for r in report.rows] == list(range(1, 7))
     for row in report.rows:
@@ -141,6 +136,6 @@ def test_bad_estimation_input():
     with pytest.raises(InputError, match=r"^x: expected a free decay with at least 4 extrema"):
         decay_estimate(np.linspace(0, 1, 50), np.exp(-np.linspace(0, 1, 50)))
     with pytest.raises(InputError, match=r"^settings: expected a ValidationSettings, got 3"):
-        validate(small_system(), settings=3)
+        validate(small_box(), settings=3)
     with pytest.raises(InputError, match=r"^load_direction: expected one of 'x', 'y', 'z'"):
-        validate(small_system(), settings=ValidationSettings(load_direction="rx"))
+        validate(small_box(), settings=ValidationSettings(load_direction="rx"))

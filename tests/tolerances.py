@@ -7,6 +7,21 @@ RTOL_LINALG = 1e-10
 RTOL_FREQUENCY = 1e-10
 # Round-off floor of an assembled matrix entry that must be zero, relative to the matrix scale.
 RTOL_ZERO_ENTRY = 1e-14
+# Absolute round-off of a few float64 operations on quantities of order one or less (unit vectors,
+# dimensionless signals and transmissibilities, exact small-integer arithmetic): a few ulps of 1.
+ATOL_UNIT_ROUNDOFF = 1e-15
+# Modal damping ratios of classical damping (Rayleigh, modal) against their defining formulas
+# (zeta = alpha / 2w + beta w / 2, the ratios asked for): a projection on mass-normalized modes.
+RTOL_DAMPING_RATIO = 1e-12
+# Exact damping ratios of non-proportional damping (from the complex eigenvalues, paired to modes)
+# against -Re(lambda) / |lambda| of the 12x12 state matrix, or against the diagonal ratios where the
+# damping is classical: a non-symmetric eigenproblem, conditioned worse than eigh.
+RTOL_COMPLEX_DAMPING_RATIO = 1e-9
+# Support reactions of gravity statics against the weight and the lever rule: a 6x6 solve and the
+# mount forces from it.
+RTOL_STATICS = 1e-9
+# A mode release sets the mode's dominant DOF to the amplitude asked for: one scaling of the shape.
+RTOL_MODE_RELEASE_AMPLITUDE = 1e-14
 # A printed value of the seed paper agrees with ours when it equals ours rounded or truncated to the
 # digits printed (the paper does both: f1 = 0.6255 Hz is printed 0.62): within one unit of its last
 # printed digit (see tests/test_seed_case_study.py).
@@ -41,6 +56,12 @@ RTOL_MODAL_DIRECT = 1e-6
 # Real modes on the bridge with mount dashpots (modal damping coupling ~0.3) miss the response by
 # ~1e-1 of a DOF's peak: a disagreement that must show, far above any round-off.
 MODAL_DAMPING_COUPLING_MIN = 1e-3
+# Classical damping is detected as such: the coupling left by the modal transform is round-off.
+MODAL_DAMPING_COUPLING_CLASSICAL = 1e-10
+# The truncation error a truncated superposition reports (against the full modal set) equals the error
+# measured against the reference, up to the reference's own error (1e-9 to 1e-6 of a DOF's peak) next
+# to a truncation error of 1e-3 to 1e-1.
+RTOL_REPORTED_TRUNCATION = 1e-3
 # Truncation to 4 of 6 modes under a slow load: the residual correction must at least halve the
 # error of plain truncation (it removes the quasi-static part, ~(2 Hz / 21 Hz)^2 left).
 MODAL_RESIDUAL_GAIN = 0.5
@@ -55,6 +76,9 @@ RTOL_DIRECT_EXACT = 1e-6
 RTOL_ENERGY_BALANCE = 1e-6
 # Evaluating a signal against its closed form written out in the test: a few float64 operations.
 RTOL_SIGNAL = 1e-12
+# Absolute motion = relative motion + ground motion, sample by sample: one float64 addition,
+# relative to the largest value.
+RTOL_RELATIVE_MOTION = 1e-12
 
 # --- validation against time histories (tests/test_validate.py) ---
 # H1 magnitude error in units of its Bendat-Piersol random error: over a few hundred bins of a
@@ -81,3 +105,14 @@ RTOL_BATCH_DIRECT = 1e-6
 RTOL_BATCH_FREQUENCY = 1e-10
 # Batched assembly of K and C against System.K / System.C per variant, relative to the matrix scale.
 RTOL_BATCH_MATRIX = 1e-12
+
+# --- figures (tests/test_plots.py) ---
+# A drawn value against the number it draws (a unit scale, an offset, a ratio): a few float64
+# operations.
+RTOL_DRAWN = 1e-12
+
+# --- values quoted in the tests (tests/test_seed_case_study.py, test_cli.py) ---
+# sixdof's natural frequencies of the bridge quoted to 4 decimals in Hz (38.0344, 21.3398, 1.1875).
+ATOL_QUOTED_HZ = 1e-4
+# sixdof's eigenvector entries of the bridge quoted to 6 or 7 significant digits.
+RTOL_QUOTED = 1e-5

@@ -21,6 +21,7 @@ import numpy as np
 from sixdof.analysis.statespace import damping_ratios
 from sixdof.analysis.statics import try_gravity_statics
 from sixdof.errors import InputError
+from sixdof.results import RunResults
 
 #: Fewest samples per period of the highest natural frequency or excitation frequency: below it the
 #: sampled peaks of a sine are off by more than 5 % (1 - cos(pi / 10)).
@@ -209,10 +210,26 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         for r in scenario.frf.ground_transmissibility:
             frf_extras[r.name] = ground_transmissibility(system, f_hz, r.ground_direction, r.response_point)
 
+    run = RunResults(
+        name=scenario.name,
+        description=scenario.description,
+        system=system,
+        modes=modes,
+        damping_ratios=zeta,
+        statics=statics,
+        response=response,
+        mount_forces=forces,
+        points=points or {},
+        superposition=superposition,
+        agreement=agreement,
+        frf=frf,
+        frf_extras=frf_extras,
+        provenance=_provenance(scenario, command_line),
+    )
     figures = []
 
     def write(stage: Path) -> None:
-        results = store.write_results(
+        store.write_results(
             stage / "results.h5",
             system=system,
             modes=modes,
@@ -230,7 +247,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
             description=scenario.description,
             command_line=command_line,
         )
-        figures.extend(plots.save_all(results, stage))
+        figures.extend(plots.save_all(run, stage))
         text = summary.summary_markdown(scenario, modes, statics, zeta, response, forces, agreement,
                                         superposition, frf, figures, notes)
         (stage / "summary.md").write_text(text, encoding="utf-8")
@@ -250,6 +267,14 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         frf=frf,
         warnings=tuple(notes),
     )
+
+
+def _provenance(scenario, command_line: str | None) -> dict[str, str]:
+    """What a run records about where it came from (the file adds its creation time and versions)."""
+    provenance = {"scenario_text": scenario.text or ""}
+    if command_line is not None:
+        provenance["command_line"] = command_line
+    return provenance
 
 
 def _body_length(system) -> float:
@@ -279,15 +304,18 @@ def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_lin
     system = scenario.system
     modes = system.modes
     report = validate(system)
+    zeta = damping_ratios(system.C, modes)
+    run = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
+                     damping_ratios=zeta, validation=report, provenance=_provenance(scenario, command_line))
 
     def write(stage: Path) -> None:
-        results = store.write_results(
+        store.write_results(
             stage / "results.h5", system=system, modes=modes,
-            damping_ratios=damping_ratios(system.C, modes), validation=report,
+            damping_ratios=zeta, validation=report,
             scenario_text=scenario.text, name=scenario.name, description=scenario.description,
             command_line=command_line,
         )
-        figures = plots.save_all(results, stage)
+        figures = plots.save_all(run, stage)
         links = "\n".join(f"![{p.stem}]({p.name})" for p in figures)
         text = f"# {scenario.name}: modal results against time histories\n\n```\n{report.format()}\n```\n\n{links}\n"
         (stage / "validation.md").write_text(text, encoding="utf-8")

@@ -18,7 +18,7 @@ from sixdof.analysis.response import MountForces
 from sixdof.dofs import DOFS
 from sixdof.errors import InputError
 from sixdof.model.system import System
-from sixdof.results import RunResults
+from sixdof.results import RunResults, TimeHistory
 from store_cases import bridge, run_parts
 
 UNIT_WORDS = ("[m]", "[kg^1/2 m]", "[mm]", "[µm]", "[mrad]", "[µrad]", "[s]", "[Hz]", "[kN]", "[N]", "[deg]", "[%]",
@@ -167,6 +167,23 @@ def test_time_histories_use_readable_units_per_dof(parts):
         assert unit in (("mm", "µm") if i < 3 else ("mrad", "µrad"))
         assert_drawn_from(ax.lines[0], response.t, factors[unit] * q[:, i])
         assert 0.01 <= np.max(np.abs(ax.lines[0].get_ydata())) < 1e4
+
+
+def test_time_histories_show_the_motion_relative_to_a_moving_ground():
+    t = np.linspace(0.0, 1.0, 201)
+    q = np.outer(np.sin(2 * np.pi * t), [1e-3, 2e-3, 3e-3, 1e-4, 2e-4, 3e-4])
+    ground = np.outer(np.sin(2 * np.pi * t), [0.0, 1.5e-3, 0.0])
+    history = TimeHistory(t=t, q=q, qd=q, qdd=q, ground_displacement=ground, ground_velocity=ground,
+                          ground_acceleration=ground)
+    fig = plots.plot_time_histories(history)
+    assert labelled_axes(fig)
+    y = {ax.get_ylabel(): ax for ax in fig.axes}["y [mm]"]
+    assert [line.get_label() for line in y.lines] == ["absolute", "relative to the ground"]
+    assert_drawn_from(y.lines[1], t, 1e3 * (q[:, 1] - ground[:, 1]))
+    # A ground that does not move draws no relative motion.
+    still = TimeHistory(t=t, q=q, qd=q, qdd=q, ground_displacement=0 * ground, ground_velocity=0 * ground,
+                        ground_acceleration=0 * ground)
+    assert all(len(ax.lines) == 1 for ax in plots.plot_time_histories(still).axes)
 
 
 def test_superposition_overlay_and_difference(parts):

@@ -1,6 +1,8 @@
-"""Figures: each function draws from a Results tree (live or loaded), labels axes with units, and
-the whole set is written by save_all without pyplot."""
+"""Figures: each function draws the library's typed result objects (Modes, TimeHistory, MountForces,
+FRF, ValidationReport...), labels axes with units, and save_all writes the set a RunResults allows,
+without pyplot."""
 
+import dataclasses
 import os
 import subprocess
 import sys
@@ -9,28 +11,40 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
-from sixdof import InputError, modal_analysis, plots, write_results
-from sixdof.io.store import Dataset, build_results, load_tree
+import sixdof
+from sixdof import plots
+from sixdof.analysis.modal import modal_analysis
+from sixdof.analysis.response import MountForces
+from sixdof.dofs import DOFS
+from sixdof.errors import InputError
+from sixdof.model.system import System
+from sixdof.results import RunResults, TimeHistory
 from store_cases import run_parts
 from systems import bridge, four_mount
 from tolerances import RTOL_DRAWN
 
 UNIT_WORDS = ("[m]", "[kg^1/2 m]", "[mm]", "[µm]", "[mrad]", "[µrad]", "[s]", "[Hz]", "[kN]", "[N]", "[deg]", "[%]",
               "[m/N]", "[rad/(N m)]", "[1]", "[N/N]", "[m/m]", "[m/N/s^2]")
+FIGURE_NAMES = ["mode_shapes.png", "ke_distribution.png", "time_dofs.png", "mount_forces.png", "superposition.png",
+                "bode.png", "point_frfs.png", "validation_frf.png", "free_decays.png"]
 
 
 @pytest.fixture(scope="module")
-def results(tmp_path_factory):
-    """The full bridge run, written and read back: figures are drawn from the stored file."""
-    path = tmp_path_factory.mktemp("plots") / "results.h5"
-    write_results(path, **run_parts())
-    return load_tree(path)
+def parts():
+    """The full bridge run's typed objects (as sixdof run computes them)."""
+    return run_parts()
+
+
+@pytest.fixture(scope="module")
+def run(parts):
+    fields = {f.name for f in dataclasses.fields(RunResults)}
+    return RunResults(**{k: v for k, v in parts.items() if k in fields})
 
 
 @pytest.fixture(scope="module")
 def modal_only():
     system = bridge("equal")
-    return build_results(system=system, modes=modal_analysis(system.M, system.K), name="bridge_beam")
+    return RunResults(name="bridge_beam", system=system, modes=modal_analysis(system.M, system.K))
 
 
 def labelled_axes(fig: Figure, categorical=()):
@@ -82,26 +96,27 @@ def test_envelope_keeps_each_slices_extrema():
     assert set(plots.envelope_indices(np.ones(1001), max_points=10).tolist()) >= {0, 1000}
 
 
-def test_mode_shapes(results):
-    fig = plots.plot_mode_shapes(results)
+def test_mode_shapes(parts):
+    modes = parts["modes"]
+    fig = plots.plot_mode_shapes(modes, parts["system"])
     assert isinstance(fig, Figure)
     assert len(fig.axes) == 6 and all(ax.name == "3d" for ax in fig.axes)
     assert labelled_axes(fig)
-    freqs = results.array("modal/frequency_hz")
+    freqs = modes.frequency_hz
     for j, ax in enumerate(fig.axes):
         title = ax.get_title()
         assert f"Mode {j + 1}: {freqs[j]:.4g} Hz" in title
-        assert f"dominant {results.array('modal/dominant_dof')[j]}" in title
+        assert f"dominant {modes.dominant_dof[j]}" in title
     assert [ax.get_xlabel() for ax in fig.axes[:1]] == ["x [m]"]
 
 
 def test_mode_drawing_scales_translations_and_caps_rotations():
     points = np.array([[1.0, 2.0, 3.0], [-1.0, 0.0, 0.5]])
     translation = np.array([0.0, 0.0, 2e-3, 0.0, 0.0, 0.0])
-    moved = plots._drawn_mode(points, translation, largest=10.0)
+    moved = plots.modes.drawn_mode(points, translation, largest=10.0)
     np.testing.assert_allclose(moved - points, [[0, 0, plots.MODE_SCALE * 10.0]] * 2, rtol=RTOL_DRAWN)
     rotation = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 1e-3])
-    moved = plots._drawn_mode(points, rotation, largest=1000.0)  # 15 % of 1000 m would need 60 rad
+    moved = plots.modes.drawn_mode(points, rotation, largest=1000.0)  # 15 % of 1000 m would need 60 rad
     angle = np.arctan2(moved[0, 1], moved[0, 0]) - np.arctan2(points[0, 1], points[0, 0])
     assert angle == pytest.approx(plots.MAX_DRAWN_ROTATION, rel=RTOL_DRAWN)
     np.testing.assert_allclose(np.linalg.norm(moved, axis=1), np.linalg.norm(points, axis=1), rtol=RTOL_DRAWN)
@@ -109,25 +124,22 @@ def test_mode_drawing_scales_translations_and_caps_rotations():
 
 def test_body_box_falls_back_to_the_mount_extents():
     system = bridge("equal", dimensions=None)
-    results = build_results(system=system)
     largest = 2 * 19.55
-    np.testing.assert_allclose(plots.body_box(results), [0.39, largest, 2.062], rtol=RTOL_DRAWN)
-    planar = build_results(system=bridge("equal", dimensions=None), extra_attrs={})
-    positions = planar.array("model/mount_position") * [1.0, 1.0, 0.0]  # every mount at the CG's height
-    planar = build_results(system=bridge("equal", dimensions=None), extra={
-        "model/mount_position": Dataset(positions, "m", ("mount", "axis"))})
+    np.testing.assert_allclose(plots.body_box(system), [0.39, largest, 2.062], rtol=RTOL_DRAWN)
+    # Every mount at the CG's height.
+    planar = System(system.body, [dataclasses.replace(m, position=m.position * [1.0, 1.0, 0.0]) for m in system.mounts])
     np.testing.assert_allclose(plots.body_box(planar), [0.39, largest, plots.FLAT_SIDE * largest], rtol=RTOL_DRAWN)
-    with_dims = build_results(system=bridge("equal"))
-    np.testing.assert_array_equal(plots.body_box(with_dims), [1.2, 40.0, 2.0])
-    fig = plots.plot_mode_shapes(build_results(system=system, modes=modal_analysis(system.M, system.K)))
+    np.testing.assert_array_equal(plots.body_box(bridge("equal")), [1.2, 40.0, 2.0])
+    fig = plots.plot_mode_shapes(modal_analysis(system.M, system.K), system)
     assert len(fig.axes) == 6
 
 
-def test_ke_distribution_annotates_percentages(results):
-    fig = plots.plot_ke_distribution(results)
+def test_ke_distribution_annotates_percentages(parts):
+    modes = parts["modes"]
+    fig = plots.plot_ke_distribution(modes)
     assert labelled_axes(fig, categorical=("degree of freedom",))
     ax = fig.axes[0]
-    ke = 100 * results.array("modal/ke_distribution")
+    ke = 100 * modes.ke_distribution
     texts = {(round(t.get_position()[1]), round(t.get_position()[0])): t.get_text() for t in ax.texts}
     assert len(texts) == 36
     for (i, j), text in texts.items():
@@ -136,39 +148,69 @@ def test_ke_distribution_annotates_percentages(results):
     assert [t.get_text() for t in ax.get_yticklabels()] == ["x", "y", "z", "rx", "ry", "rz"]
 
 
-def test_time_histories_use_readable_units_per_dof(results):
-    fig = plots.plot_time_histories(results)
+def test_ke_distribution_draws_into_given_axes(parts):
+    fig = Figure()
+    ax = fig.add_subplot()
+    assert plots.plot_ke_distribution(parts["modes"], ax=ax, name="bridge_beam") is fig
+    assert len(ax.texts) == 36 and ax.get_title() == "bridge_beam: kinetic-energy distribution [%]"
+    assert len(fig.axes) == 2  # the given axes and the colour bar
+
+
+def test_time_histories_use_readable_units_per_dof(parts):
+    response = parts["response"]
+    fig = plots.plot_time_histories(response)
     assert labelled_axes(fig)
-    q = results.array("time/q")
+    q = response.q
     factors = {"mm": 1e3, "µm": 1e6, "mrad": 1e3, "µrad": 1e6}
     by_label = {ax.get_ylabel().split(" ")[0]: ax for ax in fig.axes}
-    for i, dof in enumerate(results.dofs):
+    for i, dof in enumerate(DOFS):
         ax = by_label[dof]
         unit = ax.get_ylabel().split("[")[1].rstrip("]")
         assert unit in (("mm", "µm") if i < 3 else ("mrad", "µrad"))
-        assert_drawn_from(ax.lines[0], results.array("time/t"), factors[unit] * q[:, i])
+        assert_drawn_from(ax.lines[0], response.t, factors[unit] * q[:, i])
         assert 0.01 <= np.max(np.abs(ax.lines[0].get_ydata())) < 1e4
 
 
-def test_superposition_overlay_and_difference(results):
-    fig = plots.plot_superposition(results)
+def test_time_histories_show_the_motion_relative_to_a_moving_ground():
+    t = np.linspace(0.0, 1.0, 201)
+    q = np.outer(np.sin(2 * np.pi * t), [1e-3, 2e-3, 3e-3, 1e-4, 2e-4, 3e-4])
+    ground = np.outer(np.sin(2 * np.pi * t), [0.0, 1.5e-3, 0.0])
+    history = TimeHistory(t=t, q=q, qd=q, qdd=q, ground_displacement=ground, ground_velocity=ground,
+                          ground_acceleration=ground)
+    fig = plots.plot_time_histories(history)
+    assert labelled_axes(fig)
+    y = {ax.get_ylabel(): ax for ax in fig.axes}["y [mm]"]
+    assert [line.get_label() for line in y.lines] == ["absolute", "relative to the ground"]
+    assert_drawn_from(y.lines[1], t, 1e3 * (q[:, 1] - ground[:, 1]))
+    # A ground that does not move draws no relative motion.
+    still = TimeHistory(t=t, q=q, qd=q, qdd=q, ground_displacement=0 * ground, ground_velocity=0 * ground,
+                        ground_acceleration=0 * ground)
+    assert all(len(ax.lines) == 1 for ax in plots.plot_time_histories(still).axes)
+
+
+def test_superposition_overlay_and_difference(parts):
+    direct, modal, agreement = parts["response"], parts["superposition"], parts["agreement"]
+    fig = plots.plot_superposition(direct, modal, agreement)
     assert labelled_axes(fig)
     assert len(fig.axes) == 12
-    attrs = results.attrs["time/superposition"]
-    assert f"{attrs['agreement_worst']:.2e}" in fig.get_suptitle()
-    t, direct, modal = results.array("time/t"), results.array("time/q"), results.array("time/superposition/q")
+    assert f"{agreement.worst:.2e}" in fig.get_suptitle()
+    t = direct.t
     for i in range(6):
         right = fig.axes[2 * i + 1]
         relative = right.lines[0].get_ydata()
-        # The plotted curve's peak is the stored agreement of that DOF (no DOF is quiet here).
-        assert np.max(np.abs(relative)) == pytest.approx(attrs["agreement_per_dof"][i], rel=RTOL_DRAWN)
-        assert_drawn_from(right.lines[0], t, (modal[:, i] - direct[:, i]) / np.max(np.abs(direct[:, i])), rtol=RTOL_DRAWN)
+        # The plotted curve's peak is the agreement of that DOF (no DOF is quiet here).
+        assert np.max(np.abs(relative)) == pytest.approx(agreement.per_dof[i], rel=RTOL_DRAWN)
+        assert_drawn_from(right.lines[0], t, (modal.q[:, i] - direct.q[:, i]) / np.max(np.abs(direct.q[:, i])),
+                          rtol=RTOL_DRAWN)
 
 
-def test_superposition_difference_of_a_quiet_dof_is_the_stored_agreement():
+def test_superposition_difference_of_a_quiet_dof_is_the_agreement():
     # A load along x through the CG of a symmetric body: y, z, rx, rz stay at round-off ("quiet")
     # and the agreement judges them against the largest peak; the figure must plot the same number.
-    from sixdof import Excitation, HalfSine, Load, SimulationSettings, compare, simulate, superpose
+    from sixdof.analysis.compare import compare
+    from sixdof.analysis.direct import SimulationSettings, simulate
+    from sixdof.analysis.superposition import superpose
+    from sixdof.excitation import Excitation, HalfSine, Load
 
     system = four_mount(100.0, (5.0, 6.0, 7.0), 0.4, 0.4, 0.3, (1e5, 1e5, 3e5), damping=[50.0, 50.0, 80.0],
                         dimensions=[1.0, 1.0, 1.0])
@@ -178,64 +220,93 @@ def test_superposition_difference_of_a_quiet_dof_is_the_stored_agreement():
     modal = superpose(system, excitation, response.t)
     agreement = compare(response.q, modal.q, length=0.5)
     assert set(agreement.quiet) >= {"y", "z", "rx", "rz"}
-    fig = plots.plot_superposition(build_results(system=system, response=response, superposition=modal,
-                                                 agreement=agreement))
+    fig = plots.plot_superposition(response, modal, agreement)
     for i in range(6):
         relative = fig.axes[2 * i + 1].lines[0].get_ydata()
         assert np.max(np.abs(relative)) == pytest.approx(agreement.per_dof[i], rel=1e-9)
 
 
-def test_bode_marks_natural_frequencies(results):
-    fig = plots.plot_bode(results)
+def test_bode_marks_natural_frequencies(parts):
+    fig = plots.plot_bode(parts["frf"], parts["modes"])
     assert labelled_axes(fig)
     magnitude = fig.axes[0]
     assert magnitude.get_yscale() == "log" and magnitude.get_xscale() == "log"
     marked = sorted({round(line.get_xdata()[0], 9) for line in magnitude.lines if line.get_linestyle() == ":"})
-    np.testing.assert_allclose(marked, results.array("modal/frequency_hz"), rtol=1e-9)
-    H = results.array("frf/receptance")
+    np.testing.assert_allclose(marked, parts["modes"].frequency_hz, rtol=1e-9)
+    H = parts["frf"].direct.H
     np.testing.assert_array_equal(magnitude.lines[0].get_ydata(), np.abs(H[:, 0, 0]))
 
 
-def test_point_frfs(results):
-    fig = plots.plot_point_frfs(results)
+def test_bode_of_a_receptance_and_into_given_axes():
+    system = bridge("equal")
+    f = np.geomspace(0.2, 60.0, 200)
+    frf = sixdof.receptance(system, f)
+    fig = plots.plot_bode(frf)
+    assert isinstance(fig, Figure) and labelled_axes(fig)
+    translations, rotations = fig.axes[:2]
+    for ax, block in ((translations, range(3)), (rotations, range(3, 6))):
+        assert len(ax.lines) == 3  # no modes given: nothing marked
+        for line, i in zip(ax.lines, block):
+            np.testing.assert_array_equal(line.get_xdata(), f)
+            np.testing.assert_array_equal(line.get_ydata(), np.abs(frf.H[:, i, i]))
+    assert "dotted" not in fig.get_suptitle()
+
+    mine = Figure()
+    axes = mine.subplots(2, 2, sharex=True)
+    assert plots.plot_bode(frf, system.modes, ax=axes) is mine
+    assert len(mine.axes) == 4 and mine.get_suptitle() == ""
+    np.testing.assert_array_equal(axes[0, 1].lines[2].get_ydata(), np.abs(frf.H[:, 5, 5]))
+    np.testing.assert_array_equal(axes[1, 0].lines[0].get_ydata(), np.degrees(np.angle(frf.H[:, 0, 0])))
+    assert axes[0, 0].get_ylabel() == "|H| [m/N]" and axes[0, 1].get_ylabel() == "|H| [rad/(N m)]"
+    assert sum(line.get_linestyle() == ":" for line in axes[0, 0].lines) == np.count_nonzero(system.modes.frequency_hz)
+    with pytest.raises(InputError, match=r"ax: expected Axes of shape \(2, 2\).*got shape \(2,\)"):
+        plots.plot_bode(frf, ax=axes[0])
+
+
+def test_point_frfs(parts):
+    fig = plots.plot_point_frfs(parts["frf_extras"], parts["modes"])
     assert labelled_axes(fig)
     assert len(fig.axes) == 6
 
 
-def test_mount_forces(results):
-    fig = plots.plot_mount_forces(results)
+def test_mount_forces(parts):
+    forces, t = parts["mount_forces"], parts["response"].t
+    fig = plots.plot_mount_forces(forces, t)
     assert labelled_axes(fig)
-    t, forces = results.array("time/t"), results.array("time/mount_force")
     for c, ax in enumerate(fig.axes):
         unit = ax.get_ylabel().split("[")[1].rstrip("]")
         factor = {"kN": 1e-3, "N": 1.0}[unit]
-        for k in range(forces.shape[0]):
-            assert_drawn_from(ax.lines[k], t, factor * forces[k, :, c])
-        assert_drawn_from(ax.lines[-1], t, factor * results.array("time/foundation_force")[:, c])
+        for k in range(forces.total.shape[0]):
+            assert_drawn_from(ax.lines[k], t, factor * forces.total[k, :, c])
+        assert_drawn_from(ax.lines[-1], t, factor * forces.foundation_force[:, c])
 
 
-def test_validation_figures(results):
-    fig = plots.plot_validation_frf(results)
+def test_validation_figures(parts):
+    report = parts["validation"]
+    fig = plots.plot_validation_frf(report)
     assert labelled_axes(fig)
     assert len(fig.axes) == 12
-    fig = plots.plot_free_decays(results)
+    fig = plots.plot_free_decays(report)
     assert labelled_axes(fig)
     assert [ax.get_title().split(":")[0] for ax in fig.axes] == [f"mode {r}" for r in range(1, 7)]
-    for r, ax in enumerate(fig.axes, start=1):
-        assert_drawn_from(ax.lines[0], results.array(f"validation/decay/mode_{r}/t"),
-                          results.array(f"validation/decay/mode_{r}/eta"))
+    decays = sorted(report.decays, key=lambda d: d.mode)
+    for r, (ax, decay) in enumerate(zip(fig.axes, decays), start=1):
+        assert decay.mode == r
+        assert_drawn_from(ax.lines[0], decay.history.t, decay.eta)
 
 
-def test_mount_forces_from_a_stored_history(modal_only):
+def _mount_forces(total: np.ndarray) -> MountForces:
+    """Mount forces of the given totals (n_mounts, n, 3) [N] only, without a foundation total."""
+    return MountForces(names=tuple(str(k + 1) for k in range(len(total))), deformation=None, elastic=None,
+                       damping=None, total=total, local=None, other_damping=None, foundation_force=None,
+                       foundation_moment=None)
+
+
+def test_mount_forces_of_given_arrays():
     t = np.linspace(0.0, 1.0, 101)
     forces = np.stack([np.stack([5.0 * np.sin(t), 8.0 * np.sin(t), 1e5 * (k + 1) * np.cos(t)], axis=-1)
                        for k in range(4)])
-    extra = {"time/t": Dataset(t, "s", ("t",)),
-             "time/mount": Dataset(np.array(["1", "2", "3", "4"]), "", ("mount",)),
-             "time/axis": Dataset(np.array(["x", "y", "z"]), "", ("axis",)),
-             "time/mount_force": Dataset(forces, "N", ("mount", "t", "axis"))}
-    results = build_results(system=bridge("equal"), extra=extra)
-    fig = plots.plot_mount_forces(results)
+    fig = plots.plot_mount_forces(_mount_forces(forces), t)
     assert labelled_axes(fig)
     assert [ax.get_ylabel() for ax in fig.axes] == ["Fx [N]", "Fy [N]", "Fz [kN]"]
     np.testing.assert_allclose(fig.axes[2].lines[3].get_ydata(), 4e2 * np.cos(t), rtol=1e-15)
@@ -248,11 +319,7 @@ def test_long_histories_are_drawn_through_their_envelope():
                        for k in range(4)])
     forces[2, 9_876, 0] = 5.0
     forces[1, 15_001, 2] = -3e4
-    extra = {"time/t": Dataset(t, "s", ("t",)),
-             "time/mount": Dataset(np.array(["1", "2", "3", "4"]), "", ("mount",)),
-             "time/axis": Dataset(np.array(["x", "y", "z"]), "", ("axis",)),
-             "time/mount_force": Dataset(forces, "N", ("mount", "t", "axis"))}
-    fig = plots.plot_mount_forces(build_results(system=bridge("equal"), extra=extra))
+    fig = plots.plot_mount_forces(_mount_forces(forces), t)
     for c, ax in enumerate(fig.axes):
         factor = {"kN": 1e-3, "N": 1.0}[ax.get_ylabel().split("[")[1].rstrip("]")]
         for k in range(4):
@@ -261,33 +328,73 @@ def test_long_histories_are_drawn_through_their_envelope():
     assert 5.0 in fig.axes[0].lines[2].get_ydata() and -30.0 in fig.axes[2].lines[1].get_ydata()
 
 
-def test_missing_data_is_named(modal_only):
-    with pytest.raises(InputError, match=r"results: expected datasets /time/t, /time/q, got results without them"):
-        plots.plot_time_histories(modal_only)
-    with pytest.raises(InputError, match=r"results: expected a sixdof.io.store.Results"):
+def test_wrong_or_missing_data_is_named(parts, modal_only):
+    with pytest.raises(InputError, match=r"history: expected a sixdof.results.TimeHistory, got "):
+        plots.plot_time_histories(modal_only.modes)
+    with pytest.raises(InputError, match=r"history.Q: expected an \(n, 6\) array, got None"):
+        plots.plot_time_histories(dataclasses.replace(parts["response"], Q=None), key="Q")
+    with pytest.raises(InputError, match=r"key: expected one of q, qd, qdd, Q, got 'q_relative'"):
+        plots.plot_time_histories(parts["response"], key="q_relative")
+    with pytest.raises(InputError, match=r"modes: expected a sixdof.analysis.modal.Modes"):
         plots.plot_ke_distribution({"modal": None})
+    with pytest.raises(InputError, match=r"frf: expected a sixdof.analysis.frf.FRF or FRFCrossCheck"):
+        plots.plot_bode(parts["frf"].direct.H)
+    with pytest.raises(InputError, match=r"extras: expected at least one point FRF or transmissibility, got none"):
+        plots.plot_point_frfs({})
+    with pytest.raises(InputError, match=r"forces.total: expected shape \(4, 3, 3\)"):
+        plots.plot_mount_forces(parts["mount_forces"], parts["response"].t[:3])
+    with pytest.raises(InputError, match=r"report.decays: expected at least one free decay, got none"):
+        plots.plot_free_decays(dataclasses.replace(parts["validation"], decays=()))
+    with pytest.raises(InputError, match=r"run: expected a sixdof.results.RunResults"):
+        plots.save_all({"modal": None}, "unused")
 
 
-def test_save_all_draws_what_the_results_hold(results, modal_only, tmp_path):
-    written = plots.save_all(results, tmp_path / "full", dpi=30)  # low resolution: only the files matter
-    assert [p.name for p in written] == ["mode_shapes.png", "ke_distribution.png", "time_dofs.png",
-                                         "mount_forces.png", "superposition.png", "bode.png", "point_frfs.png",
-                                         "validation_frf.png", "free_decays.png"]
+def test_save_all_draws_what_the_run_holds(run, modal_only, tmp_path):
+    written = plots.save_all(run, tmp_path / "full", dpi=30)  # low resolution: only the files matter
+    assert [p.name for p in written] == FIGURE_NAMES
     for path in written:
         assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert [p.name for p in plots.save_all(modal_only, tmp_path / "modal", dpi=30)] == ["mode_shapes.png",
                                                                                 "ke_distribution.png"]
 
 
+def test_save_all_titles_start_with_the_run_name(run, monkeypatch, tmp_path):
+    drawn = []
+    monkeypatch.setattr(Figure, "savefig", lambda fig, *args, **kwargs: drawn.append(fig))
+    plots.save_all(run, tmp_path, dpi=30)
+    assert len(drawn) == len(FIGURE_NAMES)
+    for fig in drawn:
+        heading = fig.get_suptitle() or fig.axes[0].get_title()  # the heatmap has one axes title
+        assert heading.startswith("bridge_beam: "), heading
+
+
+def test_save_all_never_loads_pyplot(tmp_path):
+    code = (
+        "import sys\n"
+        "from sixdof import Mount, RigidBody, System, modal_analysis, plots\n"
+        "from sixdof.results import RunResults\n"
+        "system = System(RigidBody(100.0, [5.0, 6.0, 7.0]),\n"
+        "                [Mount(str(i), [x, y, -0.3], [1e5, 1e5, 3e5]) for i, (x, y) in\n"
+        "                 enumerate([(-0.4, -0.4), (0.4, -0.4), (0.4, 0.4), (-0.4, 0.4)])])\n"
+        "run = RunResults(name='box', system=system, modes=modal_analysis(system.M, system.K))\n"
+        f"files = plots.save_all(run, {str(tmp_path / 'png')!r})\n"
+        "assert len(files) == 2, files\n"
+        "assert 'matplotlib.pyplot' not in sys.modules\n"
+    )
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                            env={**os.environ, "MPLBACKEND": ""})
+    assert result.returncode == 0, result.stderr
+
+
 def test_plot_from_a_file_never_loads_pyplot(modal_only, tmp_path):
     path = tmp_path / "results.h5"
-    from sixdof.io.store import save_results
+    from sixdof.io.store import write_results
 
-    save_results(modal_only, path)
+    write_results(path, modal_only)
     code = (
         "import sys\n"
         "from sixdof import plots\nfrom sixdof.io import store\n"
-        f"files = plots.save_all(store.load_tree({str(path)!r}), {str(tmp_path / 'png')!r})\n"
+        f"files = plots.save_all(store.load_results({str(path)!r}), {str(tmp_path / 'png')!r})\n"
         "assert len(files) == 2, files\n"
         "assert 'matplotlib.pyplot' not in sys.modules\n"
     )

@@ -190,11 +190,10 @@ def _compile_cache() -> None:
 def _plot(args) -> int:
     from pathlib import Path
 
-    from sixdof.io.store import load_tree
+    from sixdof.io.store import load_results
     from sixdof.plots import save_all
 
-    results = load_tree(args.results)
-    figures = save_all(results, Path(args.out) if args.out else Path(args.results).parent)
+    figures = save_all(load_results(args.results), Path(args.out) if args.out else Path(args.results).parent)
     for figure in figures:
         print(figure)
     return 0

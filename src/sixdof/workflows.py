@@ -21,6 +21,7 @@ import numpy as np
 from sixdof.analysis.statespace import damping_ratios
 from sixdof.analysis.statics import try_gravity_statics
 from sixdof.errors import InputError
+from sixdof.results import RunResults
 
 #: Fewest samples per period of the highest natural frequency or excitation frequency: below it the
 #: sampled peaks of a sine are off by more than 5 % (1 - cos(pi / 10)).
@@ -209,28 +210,27 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         for r in scenario.frf.ground_transmissibility:
             frf_extras[r.name] = ground_transmissibility(system, f_hz, r.ground_direction, r.response_point)
 
+    run = RunResults(
+        name=scenario.name,
+        description=scenario.description,
+        system=system,
+        modes=modes,
+        damping_ratios=zeta,
+        statics=statics,
+        response=response,
+        mount_forces=forces,
+        points=points or {},
+        superposition=superposition,
+        agreement=agreement,
+        frf=frf,
+        frf_extras=frf_extras,
+        provenance=_provenance(scenario),
+    )
     figures = []
 
     def write(stage: Path) -> None:
-        results = store.write_results(
-            stage / "results.h5",
-            system=system,
-            modes=modes,
-            damping_ratios=zeta,
-            statics=statics,
-            response=response,
-            mount_forces=forces,
-            points=points,
-            superposition=superposition,
-            agreement=agreement,
-            frf=frf,
-            frf_extras=frf_extras,
-            scenario_text=scenario.text,
-            name=scenario.name,
-            description=scenario.description,
-            command_line=command_line,
-        )
-        figures.extend(plots.save_all(results, stage))
+        store.write_results(stage / "results.h5", run, command_line=command_line)
+        figures.extend(plots.save_all(run, stage))
         text = report.summary_markdown(scenario, modes, statics, zeta, response, forces, agreement,
                                         superposition, frf, figures, notes)
         (stage / "summary.md").write_text(text, encoding="utf-8")
@@ -250,6 +250,12 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         frf=frf,
         warnings=tuple(notes),
     )
+
+
+def _provenance(scenario) -> dict[str, str]:
+    """What a run records about where it came from (the file adds the command line, creation time and
+    versions)."""
+    return {"scenario_text": scenario.text or ""}
 
 
 def _body_length(system) -> float:
@@ -280,15 +286,13 @@ def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_lin
     system = scenario.system
     modes = system.modes
     report = validate(system)
+    zeta = damping_ratios(system.C, modes)
+    run = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
+                     damping_ratios=zeta, validation=report, provenance=_provenance(scenario))
 
     def write(stage: Path) -> None:
-        results = store.write_results(
-            stage / "results.h5", system=system, modes=modes,
-            damping_ratios=damping_ratios(system.C, modes), validation=report,
-            scenario_text=scenario.text, name=scenario.name, description=scenario.description,
-            command_line=command_line,
-        )
-        figures = plots.save_all(results, stage)
+        store.write_results(stage / "results.h5", run, command_line=command_line)
+        figures = plots.save_all(run, stage)
         links = "\n".join(f"![{p.stem}]({p.name})" for p in figures)
         text = (f"# {scenario.name}: modal results against time histories\n\n{validation_text(report)}\n\n"
                 f"{links}\n")

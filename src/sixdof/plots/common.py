@@ -1,0 +1,151 @@
+"""What every figure shares: display units, envelope decimation of long series, fixed margins, the
+per-mode panel grid, titles, natural-frequency marks and input checks.
+
+Only this package imports matplotlib, and never pyplot: figures are
+:class:`matplotlib.figure.Figure` objects (see :mod:`sixdof.plots`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from sixdof.errors import InputError
+
+#: Resolution of the PNG files [dots per inch].
+DPI = 120
+#: Most points drawn per line of a time history: longer ones are drawn through the minimum and
+#: maximum of each of ``MAX_POINTS // 2`` equal slices (see :func:`envelope_indices`). A slice must
+#: stay narrower than a pixel column for the drawn line to look exactly like the full one: 2000
+#: slices cover axes up to 2000 px wide (16 inches at :data:`DPI`).
+MAX_POINTS = 4000
+#: zlib level of the PNG files: 1 writes several times faster than the default 6 for files about
+#: a third larger (the figures are mostly flat colour, which compresses well at any level).
+PNG_COMPRESS_LEVEL = 1
+
+TRANSLATION = "tab:blue"
+ROTATION = "tab:red"
+COMPONENT_COLORS = ("tab:blue", "tab:orange", "tab:green")
+
+# Display units: (factor from SI, label), the first whose scaled peak is >= the threshold wins.
+_DISPLAY_UNITS = {
+    "m": ((1e3, "mm", 0.01), (1e6, "µm", 0.0)),
+    "m/s": ((1e3, "mm/s", 0.01), (1e6, "µm/s", 0.0)),
+    "m/s^2": ((1.0, "m/s²", 0.01), (1e3, "mm/s²", 0.0)),
+    "rad": ((1e3, "mrad", 0.01), (1e6, "µrad", 0.0)),
+    "rad/s": ((1e3, "mrad/s", 0.01), (1e6, "µrad/s", 0.0)),
+    "rad/s^2": ((1.0, "rad/s²", 0.01), (1e3, "mrad/s²", 0.0)),
+    "N": ((1e-3, "kN", 0.01), (1.0, "N", 0.0)),
+    "N m": ((1e-3, "kN m", 0.01), (1.0, "N m", 0.0)),
+}
+
+
+def display(values: np.ndarray, unit: str) -> tuple[float, str]:
+    """Factor and label that show ``values`` (in SI ``unit``) with a readable peak."""
+    choices = _DISPLAY_UNITS.get(unit)
+    if choices is None:
+        return 1.0, unit
+    peak = float(np.nanmax(np.abs(values))) if np.size(values) else 0.0
+    for factor, label, threshold in choices:
+        if peak * factor >= threshold:
+            return factor, label
+    return choices[0][0], choices[0][1]
+
+
+def envelope_indices(values: np.ndarray, max_points: int = MAX_POINTS) -> np.ndarray:
+    """Indices of the samples that draw ``values`` through at most about ``max_points`` points.
+
+    The samples are cut into ``max_points // 2`` slices of equal length; the indices of each
+    slice's minimum and maximum are kept, with the first and last sample. Every drawn point is
+    therefore a real sample, and each slice's (so the whole series') extrema are drawn exactly: on
+    axes whose pixel columns are wider than a slice the decimated line covers the same pixels as
+    the full one. Short series are returned whole.
+
+    Parameters
+    ----------
+    values : numpy.ndarray
+        One series (n,), any unit.
+    max_points : int
+        Largest number of points wanted (the result has at most ``max_points + 2``).
+
+    Returns
+    -------
+    numpy.ndarray
+        Sorted unique sample indices (int).
+    """
+    values = np.asarray(values)
+    n = len(values)
+    if n <= max_points:
+        return np.arange(n)
+    width = -(-n // max(max_points // 2, 1))  # samples per slice
+    slices = -(-n // width)
+    # Pad the last slice with its own last sample: a padded index found as an extremum stands for
+    # that sample (same value), so clipping it to n - 1 stays exact.
+    padded = np.concatenate([values, np.full(slices * width - n, values[-1])]).reshape(slices, width)
+    start = np.arange(slices) * width
+    keep = np.concatenate([[0, n - 1], start + np.argmin(padded, axis=1), start + np.argmax(padded, axis=1)])
+    return np.unique(np.minimum(keep, n - 1))
+
+
+def plot_long(ax, t: np.ndarray, values: np.ndarray, *args, **kwargs):
+    """``ax.plot(t, values, ...)`` through the :func:`envelope_indices` of a long series."""
+    keep = envelope_indices(values)
+    return ax.plot(t[keep], values[keep], *args, **kwargs)
+
+
+def margins(fig: Figure, left: float, right: float, top: float, bottom: float, wspace: float = 0.0,
+            hspace: float = 0.0, columns: int = 1, rows: int = 1, target=None) -> None:
+    """Fixed margins and gaps between axes, all in inches, on a figure without a layout engine.
+
+    A fixed layout draws the figure once; a layout engine measures every label first (a second
+    draw), which for these figures costs more than drawing them. ``target`` is a GridSpec to adjust
+    instead of the figure's subplot parameters.
+    """
+    width, height = fig.get_size_inches()
+    cell_w = (width - left - right - (columns - 1) * wspace) / columns
+    cell_h = (height - top - bottom - (rows - 1) * hspace) / rows
+    params = {"left": left / width, "right": 1 - right / width, "top": 1 - top / height, "bottom": bottom / height,
+              "wspace": wspace / cell_w, "hspace": hspace / cell_h}
+    if target is None:
+        fig.subplots_adjust(**params)
+    else:
+        target.update(**params)
+
+
+def panel_grid(n: int) -> tuple[int, int]:
+    """Columns and rows for ``n`` per-mode panels: one row up to 4, else 3 columns."""
+    columns = 3 if n > 4 else n
+    return columns, -(-n // columns)
+
+
+def title(name: str, what: str) -> str:
+    """``"<name>: <what>"``, or ``what`` alone for an unnamed run."""
+    return f"{name}: {what}" if name else what
+
+
+def require(value, field: str, kind: type, expected: str):
+    """``value`` when it is a ``kind``; otherwise an :class:`InputError` naming ``field``."""
+    if not isinstance(value, kind):
+        raise InputError(field, expected, value)
+    return value
+
+
+def natural_frequencies(modes) -> np.ndarray | None:
+    """``modes.frequency_hz`` [Hz] of a :class:`~sixdof.analysis.modal.Modes`, or ``None``."""
+    if modes is None:
+        return None
+    from sixdof.analysis.modal import Modes
+
+    return require(modes, "modes", Modes, "a sixdof.analysis.modal.Modes (or None)").frequency_hz
+
+
+def mark_modes(ax, frequency_hz: np.ndarray | None, label: bool = False) -> None:
+    """Dotted verticals at the natural frequencies [Hz] above 0, numbered when ``label``."""
+    if frequency_hz is None:
+        return
+    for j, f in enumerate(frequency_hz):
+        if f > 0:
+            ax.axvline(f, color="grey", linewidth=0.8, linestyle=":", zorder=0)
+            if label:
+                ax.text(f, 0.99, f"{j + 1}", transform=ax.get_xaxis_transform(), fontsize=8,
+                        color="dimgrey", va="top", ha="left")

@@ -1,0 +1,177 @@
+"""Frequency responses: the Bode plot of the direct receptances and the point FRFs and
+transmissibilities."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from sixdof.analysis.frf import FRF, ForceTransmissibility, FRFCrossCheck, GroundTransmissibility, PointFRF
+from sixdof.analysis.modal import Modes
+from sixdof.dofs import DOFS, LOADS
+from sixdof.errors import InputError, Plain
+from sixdof.plots.common import COMPONENT_COLORS, margins, mark_modes, natural_frequencies, title
+
+
+def _log_frequency(f: np.ndarray) -> bool:
+    """A log frequency axis for grids from above 0 that span more than a factor 20."""
+    return bool(f[0] > 0 and f[-1] / f[0] > 20)
+
+
+def _style(ax, logx: bool, frequency_hz, label: bool) -> None:
+    if logx:
+        ax.set_xscale("log")
+    ax.grid(True, which="major", alpha=0.4)
+    ax.grid(True, which="minor", alpha=0.12)
+    mark_modes(ax, frequency_hz, label=label)
+
+
+def _phase_axis(ax) -> None:
+    ax.set_ylabel("phase [deg]")
+    ax.set_ylim(-190, 190)
+    ax.set_yticks([-180, -90, 0, 90, 180])
+
+
+def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, name: str = "") -> Figure:
+    """Bode plot of the direct receptances ``H_ii`` (q_i per own generalized force).
+
+    Magnitude on a log scale and phase; translations (m/N) and rotations (rad/(N m)) on separate
+    axes since their units differ. Dotted verticals mark the natural frequencies (numbered).
+
+    Parameters
+    ----------
+    frf : sixdof.analysis.frf.FRF or sixdof.analysis.frf.FRFCrossCheck
+        Frequencies ``f_hz`` [Hz] and receptance ``H`` (nf, 6, 6) [m/N, m/(N m), rad/N, rad/(N m)],
+        as :func:`sixdof.receptance` returns; of a cross-check, its ``direct`` receptance.
+    modes : sixdof.analysis.modal.Modes, optional
+        Natural frequencies [Hz] to mark.
+    ax : array of matplotlib.axes.Axes, shape (2, 2), optional
+        Draw into these axes: magnitude above phase, translations left and rotations right (as
+        ``fig.subplots(2, 2, sharex=True)`` makes them); the figure's title and margins are left as
+        they are. Default: a new figure.
+    name : str
+        Name of the run, put before the title (new figure only).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The new figure, or the one holding ``ax``.
+    """
+    if isinstance(frf, FRFCrossCheck):
+        frf = frf.direct
+    if not isinstance(frf, FRF):
+        raise InputError("frf", "a sixdof.analysis.frf.FRF or FRFCrossCheck (from receptance or cross_check)", frf)
+    frequency_hz = natural_frequencies(modes)
+    f, H = frf.f_hz, frf.H
+    if ax is None:
+        fig = Figure(figsize=(13, 8))
+        margins(fig, left=0.85, right=0.15, top=0.7, bottom=0.55, wspace=1.05, hspace=0.15, columns=2, rows=2)
+        heading = "receptance H_ii (response of each DOF to its own generalized force)"
+        if frequency_hz is not None:
+            heading += "; dotted: natural frequencies (mode numbers)"
+        fig.suptitle(title(name, heading), fontsize=13)
+        axes = fig.subplots(2, 2, sharex=True, height_ratios=[2, 1])
+    else:
+        axes = np.asarray(ax, dtype=object)
+        if axes.shape != (2, 2):
+            raise InputError("ax", "Axes of shape (2, 2): magnitude above phase, translations left",
+                             Plain(f"shape {axes.shape}"))
+        fig = axes[0, 0].figure
+    logx = _log_frequency(f)
+    for column, (block, unit) in enumerate(((range(0, 3), "m/N"), (range(3, 6), "rad/(N m)"))):
+        mag, phase = axes[0, column], axes[1, column]
+        for k, i in enumerate(block):
+            h = H[:, i, i]
+            color = COMPONENT_COLORS[k]
+            mag.plot(f, np.abs(h), color=color, label=f"{DOFS[i]} per {LOADS[i]}")
+            phase.plot(f, np.degrees(np.angle(h)), color=color)
+        mag.set_yscale("log")
+        mag.set_ylabel(f"|H| [{unit}]")
+        mag.set_title("translations" if column == 0 else "rotations", fontsize=11)
+        mag.legend(fontsize=9)
+        _phase_axis(phase)
+        phase.set_xlabel("frequency f [Hz]")
+        for a in (mag, phase):
+            _style(a, logx, frequency_hz, label=a is mag)
+        mag.set_xlim(f[0], f[-1])
+    return fig
+
+
+def _vector_text(value) -> str:
+    return "(" + ", ".join(f"{v:.3g}" for v in np.asarray(value, dtype=float)) + ")"
+
+
+def _point_item(key: str, item) -> tuple[str, bool, np.ndarray, np.ndarray | None, str]:
+    """(title, is a transmissibility, magnitude, complex values or None, unit) of one named item."""
+    if isinstance(item, PointFRF):
+        load = f"{item.load_kind} {_vector_text(item.load_direction)} at {_vector_text(item.load_point)} m"
+        response = (f"{item.response_kind} {_vector_text(item.response_direction)} "
+                    f"at {_vector_text(item.response_point)} m")
+        return f"{key}: {item.quantity}, {response} per {load}", False, item.magnitude, item.values, item.unit
+    if isinstance(item, ForceTransmissibility):
+        direction = np.asarray(item.load_direction, dtype=float)
+        along = item.along_load if direction.any() else None
+        unit = "N/(N m)" if item.load_kind == "moment" else "N/N"
+        return (f"{key}: force transmissibility, |foundation force| per {item.load_kind} "
+                f"{_vector_text(direction)} at {_vector_text(item.load_point)} m", True,
+                item.transmissibility, along, unit)
+    if isinstance(item, GroundTransmissibility):
+        direction = np.asarray(item.ground_direction, dtype=float)
+        along = item.absolute @ direction if direction.any() else None
+        return (f"{key}: ground transmissibility, motion at {_vector_text(item.response_point)} m "
+                f"per ground motion {_vector_text(direction)}", True, item.transmissibility, along, "m/m")
+    raise InputError(f"extras[{key!r}]", "a PointFRF, ForceTransmissibility or GroundTransmissibility", item)
+
+
+def plot_point_frfs(extras: Mapping[str, PointFRF | ForceTransmissibility | GroundTransmissibility],
+                    modes: Modes | None = None, *, name: str = "") -> Figure:
+    """Point FRFs and transmissibilities: magnitude (log) and phase, one row each.
+
+    The phase of a transmissibility is that of the resultant foundation force (or the absolute
+    motion) along the load (or ground) direction.
+
+    Parameters
+    ----------
+    extras : mapping of str to PointFRF, ForceTransmissibility or GroundTransmissibility
+        Named items on the same frequencies [Hz] (from :func:`sixdof.point_frf`,
+        :func:`sixdof.force_transmissibility`, :func:`sixdof.ground_transmissibility`), in the
+        order drawn; magnitudes in their own units (m/N, N/N, m/m...).
+    modes : sixdof.analysis.modal.Modes, optional
+        Natural frequencies [Hz] to mark.
+    name : str
+        Name of the run, put before the title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    if not isinstance(extras, Mapping):
+        raise InputError("extras", "a mapping of names to point FRFs or transmissibilities", extras)
+    items = [(item.f_hz, *_point_item(key, item)) for key, item in extras.items()]
+    if not items:
+        raise InputError("extras", "at least one point FRF or transmissibility", Plain("none"))
+    frequency_hz = natural_frequencies(modes)
+    fig = Figure(figsize=(13, 3.2 * len(items) + 1.0))
+    fig.suptitle(title(name, "point frequency responses and transmissibilities"), fontsize=13)
+    margins(fig, left=0.85, right=0.15, top=0.6, bottom=0.55, wspace=0.85, hspace=0.5, columns=2, rows=len(items))
+    axes = np.atleast_2d(fig.subplots(len(items), 2, sharex=True, width_ratios=[3, 2]))
+    for row, (f, heading, ratio, magnitude, complex_values, unit) in enumerate(items):
+        logx = _log_frequency(f)
+        mag, phase = axes[row]
+        mag.plot(f, magnitude, color="tab:blue")
+        mag.set_yscale("log")
+        mag.set_ylabel(f"magnitude [{unit}]")
+        mag.set_title(heading, fontsize=10, loc="left")
+        if ratio:
+            mag.axhline(1.0, color="black", linewidth=0.8, linestyle="--")
+        if complex_values is not None:
+            phase.plot(f, np.degrees(np.angle(complex_values)), color="tab:blue")
+        _phase_axis(phase)
+        for a in (mag, phase):
+            _style(a, logx, frequency_hz, label=a is mag)
+        mag.set_xlim(f[0], f[-1])
+    for a in axes[-1]:
+        a.set_xlabel("frequency f [Hz]")
+    return fig

@@ -27,29 +27,6 @@ TRANSLATION = "tab:blue"
 ROTATION = "tab:red"
 COMPONENT_COLORS = ("tab:blue", "tab:orange", "tab:green")
 
-# Display units: (factor from SI, label), the first whose scaled peak is >= the threshold wins.
-_DISPLAY_UNITS = {
-    "m": ((1e3, "mm", 0.01), (1e6, "µm", 0.0)),
-    "m/s": ((1e3, "mm/s", 0.01), (1e6, "µm/s", 0.0)),
-    "m/s^2": ((1.0, "m/s²", 0.01), (1e3, "mm/s²", 0.0)),
-    "rad": ((1e3, "mrad", 0.01), (1e6, "µrad", 0.0)),
-    "rad/s": ((1e3, "mrad/s", 0.01), (1e6, "µrad/s", 0.0)),
-    "rad/s^2": ((1.0, "rad/s²", 0.01), (1e3, "mrad/s²", 0.0)),
-    "N": ((1e-3, "kN", 0.01), (1.0, "N", 0.0)),
-    "N m": ((1e-3, "kN m", 0.01), (1.0, "N m", 0.0)),
-}
-
-
-def display(values: np.ndarray, unit: str) -> tuple[float, str]:
-    """Factor and label that show ``values`` (in SI ``unit``) with a readable peak."""
-    choices = _DISPLAY_UNITS.get(unit)
-    if choices is None:
-        return 1.0, unit
-    peak = float(np.nanmax(np.abs(values))) if np.size(values) else 0.0
-    for factor, label, threshold in choices:
-        if peak * factor >= threshold:
-            return factor, label
-    return choices[0][0], choices[0][1]
 
 
 def envelope_indices(values: np.ndarray, max_points: int = MAX_POINTS) -> np.ndarray:

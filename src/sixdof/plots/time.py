@@ -8,9 +8,9 @@ from matplotlib.figure import Figure
 
 from sixdof.analysis.compare import Agreement
 from sixdof.analysis.response import MountForces
-from sixdof.dofs import DOFS, FORCE_UNITS
+from sixdof.dofs import DOFS, FORCE_UNITS, display_unit
 from sixdof.errors import InputError
-from sixdof.plots.common import ROTATION, TRANSLATION, display, margins, plot_long, require, title
+from sixdof.plots.common import ROTATION, TRANSLATION, margins, plot_long, require, title
 from sixdof.results import TimeHistory
 
 _HISTORY = "a sixdof.results.TimeHistory"
@@ -85,7 +85,7 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "")
     relative = _relative(history, key)
     for i, ax in enumerate(_dof_grid(fig, t)):
         shown = values[:, i] if relative is None else np.concatenate([values[:, i], relative[:, i]])
-        factor, label = display(shown, units[i])
+        factor, label = display_unit(shown, units[i])
         plot_long(ax, t, factor * values[:, i], color=TRANSLATION if i < 3 else ROTATION, linewidth=1.0,
                   label="absolute")
         if relative is not None:
@@ -140,7 +140,7 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
     margins(fig, left=0.8, right=0.15, top=1.0, bottom=0.55, wspace=1.1, hspace=0.45, columns=2, rows=6)
     axes = fig.subplots(6, 2, sharex=True)
     for i in range(6):
-        factor, label = display(q_direct[:, i], units[i])
+        factor, label = display_unit(q_direct[:, i], units[i])
         left, right = axes[i]
         plot_long(left, t, factor * q_direct[:, i], color="black", linewidth=1.6, label="direct (diffrax)")
         plot_long(left, t, factor * q_modal[:, i], color="tab:orange", linewidth=1.0, linestyle="--",
@@ -225,7 +225,7 @@ def plot_mount_forces(forces: MountForces, t, *, name: str = "") -> Figure:
     for c, ax in enumerate(axes):
         component = values[:, :, c]
         shown = component if total is None else np.concatenate([component, total[None, :, c]])
-        factor, label = display(shown, "N")
+        factor, label = display_unit(shown, "N")
         for k, mount in enumerate(names):
             # Thinner lines for later mounts: symmetric mounts often carry equal forces and would hide.
             width = max(2.4 - 0.4 * k, 0.8)

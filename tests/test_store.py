@@ -248,7 +248,8 @@ def test_modal_only_run_has_no_time_group(tmp_path):
 def test_body_without_dimensions_stores_none(tmp_path):
     system = bridge("equal", dimensions=None)
     write_results(tmp_path / "r.h5", system=system)
-    assert load_tree(tmp_path / "r.h5").body_dimensions is None
+    assert "model/body_dimensions" not in load_tree(tmp_path / "r.h5").datasets
+    assert sixdof.load_results(tmp_path / "r.h5").system.body.dimensions is None
 
 
 def test_superposition_without_direct_response_is_refused(parts):

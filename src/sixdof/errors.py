@@ -136,3 +136,67 @@ def describe(value: object) -> str:
         value = value.tolist()
     text = repr(value)
     return text if len(text) <= 120 else text[:117] + "..."
+
+
+# ----------------------------------------------------------------------------------------------------
+# The same validators as field checks (sixdof.frozen.checked): functions of (value, field name).
+# ----------------------------------------------------------------------------------------------------
+
+
+def number_check(expected: str, **limits: Any):
+    """Check of a real number (see :func:`number` for ``low``, ``strict``, ``allow_inf``)."""
+    return lambda value, field: number(value, field, expected, **limits)
+
+
+def integer_check(expected: str, low: int):
+    """Check of an integer ``>= low``."""
+    return lambda value, field: integer(value, field, expected, low)
+
+
+def vector3_check(expected: str):
+    """Check of 3 finite values (read-only array)."""
+    return lambda value, field: vector3(value, field, expected)
+
+
+def array_check(expected: str, shape: tuple[int, ...]):
+    """Check of finite values of ``shape`` (read-only array)."""
+    return lambda value, field: finite_array(value, field, expected, shape)
+
+
+def choice_check(choices: tuple[str, ...]):
+    """Check of one of ``choices`` (strings)."""
+    quoted = [f"'{c}'" for c in choices]
+    expected = quoted[0] if len(quoted) == 1 else f"{', '.join(quoted[:-1])} or {quoted[-1]}"
+
+    def check(value, field):
+        if value not in choices:
+            raise InputError(field, expected, value)
+        return value
+
+    return check
+
+
+def label_check(value: Any, field: str) -> str:
+    """Check of a non-empty name."""
+    return label(value, field)
+
+
+def point_check(value: Any, field: str) -> np.ndarray:
+    """Check of a body point [m]."""
+    return point(value, field)
+
+
+def direction_check(expected: str):
+    """Check of a non-zero 3-vector, returned normalized (read-only)."""
+    def check(value, field):
+        vector = vector3(value, field, expected)
+        if not np.any(vector):
+            raise InputError(field, expected, value)
+        return readonly(vector / np.linalg.norm(vector))
+
+    return check
+
+
+def optional(check):
+    """The same check, letting ``None`` (not given) through."""
+    return lambda value, field: None if value is None else check(value, field)

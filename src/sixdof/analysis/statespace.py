@@ -1,6 +1,5 @@
 """The first-order form of eq. (1) and what follows from it, each decided once for every path.
 
-- :func:`first_order`: ``x = [q, q']``, ``x' = A x + B Q`` (the exact references, batches).
 - :func:`modal_basis`: the undamped mass-normalized modes with every degenerate group (repeated
   frequencies, the rigid-body modes) rotated so that the damping is diagonal on it: any orthonormal
   basis of such a group is a set of modes, and this one makes the classical-damping test exact for
@@ -36,17 +35,6 @@ DEGENERATE_RTOL = 1e-9
 #: Complex modes are refused when their eigenvector matrix is worse conditioned than this (a nearly
 #: defective system, e.g. an exactly critically damped coupled mode, cannot be diagonalized reliably).
 MAX_EIGENVECTOR_CONDITION = 1e10
-
-
-def first_order(M, C, K) -> tuple[np.ndarray, np.ndarray]:
-    """``A`` (12, 12) [1/s, 1/s^2] and ``B`` (12, 6) [per kg, per kg m^2] of ``x' = A x + B Q``,
-    ``x = [q, q']``."""
-    M, C, K = (np.asarray(a, dtype=float) for a in (M, C, K))
-    n = M.shape[0]
-    Minv = np.linalg.inv(M)
-    A = np.block([[np.zeros((n, n)), np.eye(n)], [-Minv @ K, -Minv @ C]])
-    B = np.vstack([np.zeros((n, n)), Minv])
-    return A, B
 
 
 def modal_basis(modes, C) -> tuple[np.ndarray, np.ndarray]:

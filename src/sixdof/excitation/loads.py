@@ -9,13 +9,27 @@ translation of the foundation under every mount; :class:`InitialState` and :clas
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import Any, ClassVar
+from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
-from sixdof.errors import InputError, Plain, finite_array, integer, label, number, readonly, vector3
+from sixdof.errors import (
+    InputError,
+    Plain,
+    array_check,
+    choice_check,
+    direction_check,
+    integer_check,
+    label_check,
+    number_check,
+    optional,
+    point_check,
+    readonly,
+    vector3_check,
+)
 from sixdof.excitation.signals import Harmonic, Signal, signal_field
+from sixdof.frozen import Frozen, checked
 from sixdof.model.kinematics import generalized_force
 
 # A ground displacement that jumps needs an infinite force: breakpoints of a displacement signal
@@ -30,8 +44,13 @@ _CONTINUITY_RTOL = 1e-6
 # ----------------------------------------------------------------------------------------------------
 
 
+def _signal(value, field: str) -> Signal:
+    """Check of a signal field (errors name the signal's own fields under ``signal``)."""
+    return signal_field(value)
+
+
 @dataclass(frozen=True, eq=False)
-class Load:
+class Load(Frozen):
     """A force at a body point plus a moment, both scaled by a signal: ``F(t) = force s(t)``.
 
     Parameters
@@ -49,21 +68,15 @@ class Load:
     """
 
     kind: ClassVar[str] = "force"
-    name: str
-    point: np.ndarray
-    force: np.ndarray = field(default_factory=lambda: np.zeros(3))
-    moment: np.ndarray = field(default_factory=lambda: np.zeros(3))
-    signal: Signal | None = None
+    name: str = checked(label_check)
+    point: np.ndarray = checked(point_check)
+    force: np.ndarray = checked(vector3_check("3 force components in N"), default_factory=lambda: np.zeros(3))
+    moment: np.ndarray = checked(vector3_check("3 moment components in N m"), default_factory=lambda: np.zeros(3))
+    signal: Signal | None = checked(_signal, default=None)
 
-    def __post_init__(self) -> None:
-        label(self.name)
-        object.__setattr__(self, "point", vector3(self.point, "point", "3 coordinates [x, y, z] in m"))
-        object.__setattr__(self, "force", vector3(self.force, "force", "3 force components in N"))
-        object.__setattr__(self, "moment", vector3(self.moment, "moment",
-                                                    "3 moment components in N m"))
+    def __check__(self) -> None:
         if not (np.any(self.force) or np.any(self.moment)):
             raise InputError("force", "a non-zero force or moment (N, N m)", self.force)
-        object.__setattr__(self, "signal", signal_field(self.signal))
 
     def components(self) -> tuple[tuple[np.ndarray, Signal], ...]:
         """``((Q, signal),)``: the generalized force (6,) [N, N m] multiplied by the signal."""
@@ -82,7 +95,7 @@ def _plane_basis(axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 @dataclass(frozen=True, eq=False)
-class Unbalance:
+class Unbalance(Frozen):
     """A rotating unbalance: the force ``m e Omega^2`` turning at constant speed in a plane.
 
     ``F(t) = m e Omega^2 (cos(theta) u + sin(theta) v)``, ``theta = Omega (t - start) + phase``,
@@ -111,38 +124,22 @@ class Unbalance:
     """
 
     kind: ClassVar[str] = "unbalance"
-    name: str
-    point: np.ndarray
-    unbalance: float
-    f_hz: float | None = None
-    speed_rpm: float | None = None
-    axis: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, 1.0]))
-    phase_deg: float = 0.0
-    start: float = 0.0
+    name: str = checked(label_check)
+    point: np.ndarray = checked(point_check)
+    unbalance: float = checked(number_check("a positive m e in kg m", low=0.0, strict=True))
+    f_hz: float | None = checked(optional(number_check("a positive rotation frequency in Hz", low=0.0, strict=True)),
+                                 default=None)
+    speed_rpm: float | None = checked(optional(number_check("a positive speed in rev/min", low=0.0, strict=True)),
+                                      default=None)
+    axis: np.ndarray = checked(direction_check("a non-zero 3-vector (spin axis, body axes)"),
+                               default_factory=lambda: np.array([0.0, 0.0, 1.0]))
+    phase_deg: float = checked(number_check("a finite phase in degrees"), default=0.0)
+    start: float = checked(number_check("a finite time in s"), default=0.0)
 
-    def __post_init__(self) -> None:
-        label(self.name)
-        object.__setattr__(self, "point", vector3(self.point, "point", "3 coordinates [x, y, z] in m"))
-        object.__setattr__(self, "unbalance", number(self.unbalance, "unbalance",
-                                                      "a positive m e in kg m", low=0.0, strict=True))
+    def __check__(self) -> None:
         if (self.f_hz is None) == (self.speed_rpm is None):
             raise InputError("f_hz", "either f_hz (Hz) or speed_rpm (rev/min), exactly one",
                              Plain("both" if self.f_hz is not None else "neither"))
-        if self.f_hz is not None:
-            object.__setattr__(self, "f_hz", number(
-                self.f_hz, "f_hz", "a positive rotation frequency in Hz", low=0.0, strict=True))
-        else:
-            object.__setattr__(self, "speed_rpm", number(
-                self.speed_rpm, "speed_rpm", "a positive speed in rev/min", low=0.0, strict=True))
-        axis = vector3(self.axis, "axis", "a non-zero 3-vector (spin axis, body axes)")
-        if not np.any(axis):
-            raise InputError("axis", "a non-zero 3-vector (spin axis, body axes)", self.axis)
-        axis = axis / np.linalg.norm(axis)
-        axis.flags.writeable = False
-        object.__setattr__(self, "axis", axis)
-        object.__setattr__(self, "phase_deg", number(self.phase_deg, "phase_deg",
-                                                      "a finite phase in degrees"))
-        object.__setattr__(self, "start", number(self.start, "start", "a finite time in s"))
 
     @property
     def frequency_hz(self) -> float:
@@ -178,7 +175,7 @@ GROUND_QUANTITIES = ("displacement", "velocity", "acceleration")
 
 
 @dataclass(frozen=True, eq=False)
-class GroundMotion:
+class GroundMotion(Frozen):
     """Rigid translation of the foundation under every mount: ``scale s(t)`` along ``direction``.
 
     The foundation moves as one rigid block (no rotation); every mount's lower end follows it. The
@@ -200,22 +197,12 @@ class GroundMotion:
         Default 1.
     """
 
-    quantity: str
-    direction: np.ndarray
-    signal: Signal | None = None
-    scale: float = 1.0
+    quantity: str = checked(choice_check(GROUND_QUANTITIES))
+    direction: np.ndarray = checked(direction_check("a non-zero 3-vector in body axes"))
+    signal: Signal | None = checked(_signal, default=None)
+    scale: float = checked(number_check("a finite non-zero number"), default=1.0)
 
-    def __post_init__(self) -> None:
-        if self.quantity not in GROUND_QUANTITIES:
-            raise InputError("quantity", "'displacement', 'velocity' or 'acceleration'", self.quantity)
-        direction = vector3(self.direction, "direction", "a non-zero 3-vector in body axes")
-        if not np.any(direction):
-            raise InputError("direction", "a non-zero 3-vector in body axes", self.direction)
-        direction = direction / np.linalg.norm(direction)
-        direction.flags.writeable = False
-        object.__setattr__(self, "direction", direction)
-        object.__setattr__(self, "signal", signal_field(self.signal))
-        object.__setattr__(self, "scale", number(self.scale, "scale", "a finite non-zero number",))
+    def __check__(self) -> None:
         if self.scale == 0.0:
             raise InputError("scale", "a finite non-zero number", self.scale)
         if self.quantity == "displacement":
@@ -249,12 +236,8 @@ class GroundMotion:
         return np.concatenate([self.direction, np.zeros(3)])
 
 
-def _six(value: Any, name: str, expected: str) -> np.ndarray:
-    return finite_array(value, name, expected, (6,))
-
-
 @dataclass(frozen=True, eq=False)
-class InitialState:
+class InitialState(Frozen):
     """Initial displacement and velocity of the body (absolute: in the fixed frame).
 
     Parameters
@@ -265,13 +248,10 @@ class InitialState:
         ``q'(start)`` [m/s, rad/s]. Default zero.
     """
 
-    q: np.ndarray = field(default_factory=lambda: np.zeros(6))
-    qd: np.ndarray = field(default_factory=lambda: np.zeros(6))
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "q", _six(self.q, "q", "6 values [x, y, z, rx, ry, rz] in m and rad"))
-        object.__setattr__(self, "qd", _six(self.qd, "qd",
-                                            "6 values [x, y, z, rx, ry, rz] in m/s and rad/s"))
+    q: np.ndarray = checked(array_check("6 values [x, y, z, rx, ry, rz] in m and rad", (6,)),
+                            default_factory=lambda: np.zeros(6))
+    qd: np.ndarray = checked(array_check("6 values [x, y, z, rx, ry, rz] in m/s and rad/s", (6,)),
+                             default_factory=lambda: np.zeros(6))
 
     def state(self, system) -> tuple[np.ndarray, np.ndarray]:
         """``(q0, qd0)``, each (6,) [m, rad; m/s, rad/s]."""
@@ -279,7 +259,7 @@ class InitialState:
 
 
 @dataclass(frozen=True, eq=False)
-class ModeRelease:
+class ModeRelease(Frozen):
     """Free vibration: release from rest in one undamped mode shape.
 
     ``q(0) = amplitude phi / phi[d]`` with ``phi`` the mode's shape and ``d`` its dominant DOF (the
@@ -294,17 +274,14 @@ class ModeRelease:
         Initial value of the mode's dominant DOF [m for x, y, z; rad for rx, ry, rz], non-zero.
     """
 
-    mode: int
-    amplitude: float
+    mode: int = checked(integer_check("a mode number from 1 to 6", 1))
+    amplitude: float = checked(number_check("a non-zero amplitude in m or rad"))
 
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "mode", integer(self.mode, "mode", "a mode number from 1 to 6", 1))
+    def __check__(self) -> None:
         if self.mode > 6:
             raise InputError("mode", "a mode number from 1 to 6", self.mode)
-        amplitude = number(self.amplitude, "amplitude", "a non-zero amplitude in m or rad")
-        if amplitude == 0.0:
+        if self.amplitude == 0.0:
             raise InputError("amplitude", "a non-zero amplitude in m or rad", self.amplitude)
-        object.__setattr__(self, "amplitude", amplitude)
 
     def state(self, system) -> tuple[np.ndarray, np.ndarray]:
         """``(q0, qd0)`` for ``system`` (6,) each [m, rad; m/s, rad/s]."""
@@ -318,7 +295,7 @@ class ModeRelease:
 
 
 @dataclass(frozen=True, eq=False)
-class Excitation:
+class Excitation(Frozen):
     """Everything that drives eq. (1) in one simulation.
 
     Parameters
@@ -330,12 +307,12 @@ class Excitation:
         Default: at rest in static equilibrium.
     """
 
-    loads: tuple = ()
+    loads: tuple = checked(lambda loads, field: tuple(loads), default=())
     ground: GroundMotion | None = None
     initial: InitialState | ModeRelease | None = None
 
-    def __post_init__(self) -> None:
-        loads = tuple(self.loads)
+    def __check__(self) -> None:
+        loads = self.loads
         for i, load in enumerate(loads):
             if not isinstance(load, tuple(LOAD_KINDS.values())):
                 raise InputError(f"loads[{i}]", "a Load or Unbalance", load)
@@ -343,7 +320,6 @@ class Excitation:
         repeated = sorted({n for n in names if names.count(n) > 1})
         if repeated:
             raise InputError("loads", "unique load names", Plain(f"{', '.join(repeated)} repeated"))
-        object.__setattr__(self, "loads", loads)
         if self.ground is not None and not isinstance(self.ground, GroundMotion):
             raise InputError("ground", "a GroundMotion", self.ground)
         if self.initial is not None and not isinstance(self.initial, (InitialState, ModeRelease)):

@@ -28,14 +28,23 @@ from typing import Any, ClassVar
 import numpy as np
 
 from sixdof._jax import jax, jnp
-from sixdof.errors import InputError, Plain, integer, number
+from sixdof.errors import (
+    InputError,
+    Plain,
+    choice_check,
+    finite_array,
+    integer_check,
+    number_check,
+    readonly,
+)
+from sixdof.frozen import Frozen, checked
 
 # ----------------------------------------------------------------------------------------------------
 # Signals.
 # ----------------------------------------------------------------------------------------------------
 
 
-class Signal:
+class Signal(Frozen):
     """Base of the time signals: a dimensionless, jittable function of time ``t`` [s].
 
     Subclasses are frozen dataclasses; they are registered as JAX pytrees whose leaves are the
@@ -99,6 +108,38 @@ class Signal:
         """An estimate of ``max |s(t)|``, used to scale the solver's tolerances."""
         return 1.0
 
+# Field checks shared by the signal kinds.
+_TIME = number_check("a finite time in s")
+_DURATION = number_check("a positive, finite duration in s", low=0.0, strict=True)
+_LASTING = number_check("a positive duration in s", low=0.0, strict=True, allow_inf=True)
+_FREQUENCY = number_check("a positive frequency in Hz", low=0.0, strict=True)
+
+
+def _increasing_times(value: Any, field: str) -> np.ndarray:
+    expected = "at least 2 finite, strictly increasing times in s"
+    try:
+        times = readonly(value)
+    except (TypeError, ValueError):
+        raise InputError(field, expected, value) from None
+    if times.ndim != 1 or times.size < 2 or not np.all(np.isfinite(times)):
+        raise InputError(field, expected, value)
+    if np.any(np.diff(times) <= 0):
+        bad = int(np.flatnonzero(np.diff(times) <= 0)[0])
+        raise InputError(field, expected, Plain(f"{field}[{bad + 1}] = {times[bad + 1]:g} after "
+                                                f"{field}[{bad}] = {times[bad]:g}"))
+    return times
+
+
+def _band(value: Any, field: str) -> tuple[float, float]:
+    expected = "a band [low, high] in Hz with 0 < low < high"
+    try:
+        band = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(field, expected, value) from None
+    if band.shape != (2,) or not np.all(np.isfinite(band)) or not 0 < band[0] < band[1]:
+        raise InputError(field, expected, value)
+    return float(band[0]), float(band[1])
+
 
 def _window(t, start, duration):
     """True on ``[start, start + duration)``."""
@@ -126,20 +167,10 @@ class Harmonic(Signal):
     """
 
     kind: ClassVar[str] = "harmonic"
-    f_hz: float
-    phase_deg: float = 0.0
-    start: float = 0.0
-    duration: float = math.inf
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "f_hz", number(self.f_hz, "f_hz", "a positive frequency in Hz",
-                                                 low=0.0, strict=True))
-        object.__setattr__(self, "phase_deg", number(self.phase_deg, "phase_deg",
-                                                      "a finite phase in degrees"))
-        object.__setattr__(self, "start", number(self.start, "start", "a finite time in s"))
-        object.__setattr__(self, "duration", number(
-            self.duration, "duration", "a positive duration in s", low=0.0, strict=True,
-            allow_inf=True))
+    f_hz: float = checked(_FREQUENCY)
+    phase_deg: float = checked(number_check("a finite phase in degrees"), default=0.0)
+    start: float = checked(_TIME, default=0.0)
+    duration: float = checked(_LASTING, default=math.inf)
 
     def _evaluate(self, t):
         tau = t - self.start
@@ -175,22 +206,13 @@ class Sweep(Signal):
 
     kind: ClassVar[str] = "sweep"
     _static: ClassVar[tuple[str, ...]] = ("law",)
-    f0_hz: float
-    f1_hz: float
-    duration: float
-    start: float = 0.0
-    law: str = "linear"
+    f0_hz: float = checked(_FREQUENCY)
+    f1_hz: float = checked(_FREQUENCY)
+    duration: float = checked(_DURATION)
+    start: float = checked(_TIME, default=0.0)
+    law: str = checked(choice_check(("linear", "log")), default="linear")
 
-    def __post_init__(self) -> None:
-        for name in ("f0_hz", "f1_hz"):
-            object.__setattr__(self, name, number(getattr(self, name), name,
-                                                   "a positive frequency in Hz", low=0.0, strict=True))
-        object.__setattr__(self, "duration", number(self.duration, "duration",
-                                                     "a positive, finite duration in s", low=0.0,
-                                                     strict=True))
-        object.__setattr__(self, "start", number(self.start, "start", "a finite time in s"))
-        if self.law not in ("linear", "log"):
-            raise InputError("law", "'linear' or 'log'", self.law)
+    def __check__(self) -> None:
         if self.law == "log" and self.f0_hz == self.f1_hz:
             raise InputError("f1_hz", "a frequency different from f0_hz for a log sweep", self.f1_hz)
 
@@ -216,13 +238,6 @@ class Sweep(Signal):
         return _breaks(self.start, self.start + self.duration)
 
 
-def _pulse_fields(signal) -> None:
-    object.__setattr__(signal, "start", number(signal.start, "start", "a finite time in s"))
-    object.__setattr__(signal, "duration", number(signal.duration, "duration",
-                                                   "a positive, finite duration in s", low=0.0,
-                                                   strict=True))
-
-
 @dataclass(frozen=True, eq=False)
 class HalfSine(Signal):
     """Half-sine shock pulse ``sin(pi (t - start) / duration)`` on ``[start, start + duration)``.
@@ -236,11 +251,8 @@ class HalfSine(Signal):
     """
 
     kind: ClassVar[str] = "half_sine"
-    start: float
-    duration: float
-
-    def __post_init__(self) -> None:
-        _pulse_fields(self)
+    start: float = checked(_TIME)
+    duration: float = checked(_DURATION)
 
     def _evaluate(self, t):
         value = jnp.sin(jnp.pi * (t - self.start) / self.duration)
@@ -264,11 +276,8 @@ class Haversine(Signal):
     """
 
     kind: ClassVar[str] = "haversine"
-    start: float
-    duration: float
-
-    def __post_init__(self) -> None:
-        _pulse_fields(self)
+    start: float = checked(_TIME)
+    duration: float = checked(_DURATION)
 
     def _evaluate(self, t):
         value = 0.5 * (1.0 - jnp.cos(2 * jnp.pi * (t - self.start) / self.duration))
@@ -284,10 +293,7 @@ class Step(Signal):
     """Unit step: 0 before ``start`` [s], 1 from ``start`` on (a suddenly applied, held load)."""
 
     kind: ClassVar[str] = "step"
-    start: float = 0.0
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "start", number(self.start, "start", "a finite time in s"))
+    start: float = checked(_TIME, default=0.0)
 
     def _evaluate(self, t):
         return jnp.where(t >= self.start, 1.0, 0.0)
@@ -310,11 +316,8 @@ class Ramp(Signal):
     """
 
     kind: ClassVar[str] = "ramp"
-    duration: float
-    start: float = 0.0
-
-    def __post_init__(self) -> None:
-        _pulse_fields(self)
+    duration: float = checked(_DURATION)
+    start: float = checked(_TIME, default=0.0)
 
     def _evaluate(self, t):
         return jnp.clip((t - self.start) / self.duration, 0.0, 1.0)
@@ -343,35 +346,13 @@ class Table(Signal):
 
     kind: ClassVar[str] = "table"
     _static: ClassVar[tuple[str, ...]] = ("outside",)
-    t: np.ndarray
+    t: np.ndarray = checked(lambda value, field: _increasing_times(value, field))
     values: np.ndarray
-    outside: str = "zero"
+    outside: str = checked(choice_check(("zero", "hold")), default="zero")
 
-    def __post_init__(self) -> None:
-        expected_t = "at least 2 finite, strictly increasing times in s"
-        try:
-            times = np.array(self.t, dtype=float)
-        except (TypeError, ValueError):
-            raise InputError("t", expected_t, self.t) from None
-        if times.ndim != 1 or times.size < 2 or not np.all(np.isfinite(times)):
-            raise InputError("t", expected_t, self.t)
-        if np.any(np.diff(times) <= 0):
-            bad = int(np.flatnonzero(np.diff(times) <= 0)[0])
-            raise InputError("t", expected_t,
-                             Plain(f"t[{bad + 1}] = {times[bad + 1]:g} after t[{bad}] = {times[bad]:g}"))
-        expected_v = f"{times.size} finite values (one per time)"
-        try:
-            values = np.array(self.values, dtype=float)
-        except (TypeError, ValueError):
-            raise InputError("values", expected_v, self.values) from None
-        if values.shape != times.shape or not np.all(np.isfinite(values)):
-            raise InputError("values", expected_v, self.values)
-        if self.outside not in ("zero", "hold"):
-            raise InputError("outside", "'zero' or 'hold'", self.outside)
-        times.flags.writeable = False
-        values.flags.writeable = False
-        object.__setattr__(self, "t", times)
-        object.__setattr__(self, "values", values)
+    def __check__(self) -> None:
+        self._derive(values=finite_array(self.values, "values", f"{self.t.size} finite values (one per time)",
+                                         self.t.shape))
 
     def _evaluate(self, t):
         knots, values = jnp.asarray(self.t), jnp.asarray(self.values)
@@ -418,40 +399,19 @@ class Random(Signal):
     kind: ClassVar[str] = "random"
     _static: ClassVar[tuple[str, ...]] = ("components",)
     _derived: ClassVar[tuple[str, ...]] = ("frequencies", "phases")
-    f_hz: tuple[float, float]
-    rms: float
-    seed: int
-    components: int = 64
-    start: float = 0.0
-    duration: float = math.inf
+    f_hz: tuple[float, float] = checked(_band)
+    rms: float = checked(number_check("a positive rms value", low=0.0, strict=True))
+    seed: int = checked(integer_check("an integer >= 0", 0))
+    components: int = checked(integer_check("an integer >= 1", 1), default=64)
+    start: float = checked(_TIME, default=0.0)
+    duration: float = checked(_LASTING, default=math.inf)
 
-    def __post_init__(self) -> None:
-        expected = "a band [low, high] in Hz with 0 < low < high"
-        try:
-            band = np.array(self.f_hz, dtype=float)
-        except (TypeError, ValueError):
-            raise InputError("f_hz", expected, self.f_hz) from None
-        if band.shape != (2,) or not np.all(np.isfinite(band)) or not 0 < band[0] < band[1]:
-            raise InputError("f_hz", expected, self.f_hz)
-        object.__setattr__(self, "f_hz", (float(band[0]), float(band[1])))
-        object.__setattr__(self, "rms", number(self.rms, "rms", "a positive rms value", low=0.0,
-                                                strict=True))
-        object.__setattr__(self, "seed", integer(self.seed, "seed", "an integer >= 0", 0))
-        object.__setattr__(self, "components", integer(self.components, "components",
-                                                         "an integer >= 1", 1))
-        object.__setattr__(self, "start", number(self.start, "start", "a finite time in s"))
-        object.__setattr__(self, "duration", number(
-            self.duration, "duration", "a positive duration in s", low=0.0, strict=True,
-            allow_inf=True))
+    def __check__(self) -> None:
         rng = np.random.default_rng(self.seed)
         n = self.components
-        edges = np.linspace(band[0], band[1], n + 1)
-        frequencies = edges[:-1] + rng.uniform(0.0, 1.0, n) * np.diff(edges)
-        phases = rng.uniform(0.0, 2 * np.pi, n)
-        frequencies.flags.writeable = False
-        phases.flags.writeable = False
-        object.__setattr__(self, "frequencies", frequencies)
-        object.__setattr__(self, "phases", phases)
+        edges = np.linspace(self.f_hz[0], self.f_hz[1], n + 1)
+        self._derive(frequencies=readonly(edges[:-1] + rng.uniform(0.0, 1.0, n) * np.diff(edges)),
+                     phases=readonly(rng.uniform(0.0, 2 * np.pi, n)))
 
     def _evaluate(self, t):
         amplitude = self.rms * jnp.sqrt(2.0 / self.components)
@@ -467,6 +427,7 @@ class Random(Signal):
     def peak(self) -> float:
         # A long Gaussian-like record reaches about 4 rms.
         return 4.0 * float(self.rms)
+
 
 
 #: TOML ``kind`` of a signal -> its class.

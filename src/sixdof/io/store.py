@@ -192,16 +192,6 @@ class Results:
         """Mount names, in the order of every per-mount array."""
         return tuple(self.array("model/mount").tolist()) if "model/mount" in self.datasets else ()
 
-    @property
-    def mount_positions(self) -> np.ndarray:
-        """Mount positions from the CG in body axes, shape (n_mounts, 3) [m]."""
-        return self.array("model/mount_position") if "model/mount_position" in self.datasets else np.zeros((0, 3))
-
-    @property
-    def body_dimensions(self) -> np.ndarray | None:
-        """Box drawn for the body, [Lx, Ly, Lz] [m], or ``None`` when the scenario gave none."""
-        dims = self.get("model/body_dimensions")
-        return None if dims is None else dims.data
 
 
 # ----------------------------------------------------------------------------------------------------

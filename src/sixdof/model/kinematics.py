@@ -119,14 +119,6 @@ def point_map_jax(r):
 
 
 @jax.jit
-def generalized_force_jax(point, force, moment=None):
-    """:func:`generalized_force` in ``jax.numpy``: ``[F, r x F + M]`` (6,)."""
-    force = jnp.asarray(force, dtype=float)
-    moment = jnp.zeros(3) if moment is None else jnp.asarray(moment, dtype=float)
-    return jnp.concatenate([force, jnp.cross(jnp.asarray(point, dtype=float), force) + moment])
-
-
-@jax.jit
 def mount_matrix_jax(positions, coefficients, axes):
     """Assemble a 6x6 matrix from triaxial mount elements (eqs. 7-10 of the seed paper, generalized).
 

@@ -169,7 +169,7 @@ def test_statics_refuses_a_body_that_cannot_carry_its_weight():
         (lambda: RigidBody(1.0, [1, 1, 3]), r"inertia: expected principal moments that a real body can have"),
         (lambda: RigidBody(1.0, [[1, 0.5, 0], [0, 1, 0], [0, 0, 1]]), r"inertia: expected a symmetric 3x3"),
         (lambda: RigidBody(1.0, [1, -1, 1]), r"inertia: expected a positive definite tensor"),
-        (lambda: Mount("a", [0, 0], [1, 1, 1]), r"position: expected 3 coordinates \[x, y, z\] in m, got \[0, 0\]"),
+        (lambda: Mount("a", [0, 0], [1, 1, 1]), r"position: expected 3 coordinates \[x, y, z\] in m from the CG in body axes, got \[0, 0\]"),
         (lambda: Mount("a", [0, 0, 0], [1, -1, 1]), r"stiffness: expected 3 values >= 0 in N/m"),
         (lambda: Mount("a", [0, 0, 0], [1, 1, 1], axes=[[1, 0, 0], [0, 2, 0], [0, 0, 1]]), r"axes: expected 3 orthonormal rows"),
         (lambda: Mount("a", [0, 0, 0], [1, 1, 1], damping=[0, 0, -1]), r"damping: expected 3 values >= 0 in N s/m"),

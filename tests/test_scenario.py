@@ -127,7 +127,7 @@ BAD = [
     ("mount missing stiffness", ("stiffness = [2e5, 3e5, 8e5]\n\n[[mounts]]", "\n[[mounts]]"), r"mounts\[0\].stiffness: expected a value \(required key\), got nothing"),
     ("negative stiffness", ("stiffness = [2e5, 3e5, 8e5]\ndamping", "stiffness = [2e5, -3e5, 8e5]\ndamping"), r"mounts\[1\].stiffness: expected 3 values >= 0 in N/m, not all zero, got \[200000.0, -300000.0, 800000.0\]"),
     ("zero stiffness", ("stiffness = [2e5, 3e5, 8e5]\ndamping", "stiffness = [0, 0, 0]\ndamping"), r"mounts\[1\].stiffness: expected 3 values >= 0 in N/m, not all zero"),
-    ("position of 2", ("position = [-0.4, -0.6, -0.3]", "position = [-0.4, -0.6]"), r"mounts\[0\].position: expected 3 coordinates \[x, y, z\] in m, got \[-0.4, -0.6\]"),
+    ("position of 2", ("position = [-0.4, -0.6, -0.3]", "position = [-0.4, -0.6]"), r"mounts\[0\].position: expected 3 coordinates \[x, y, z\] in m from the CG in body axes, got \[-0.4, -0.6\]"),
     ("negative damping", ("damping = [100.0, 100.0, 400.0]", "damping = [100.0, -1.0, 400.0]"), r"mounts\[1\].damping: expected 3 values >= 0 in N s/m"),
     ("axes not orthonormal", ("damping = [100.0, 100.0, 400.0]", "axes = [[1, 1, 0], [0, 1, 0], [0, 0, 1]]"), r"mounts\[1\].axes: expected 3 orthonormal rows .*normalize the rows"),
     ("duplicate mount names", ('name = "b"', 'name = "a"'), r"mounts: expected unique mount names, got 'a repeated'"),

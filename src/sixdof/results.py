@@ -38,37 +38,38 @@ def _class(module: str, name: str) -> type:
     return getattr(import_module(module), name)
 
 
-def _field(store: dict, default: Any, default_factory: Any) -> Any:
+def _field(store: dict, default: Any, default_factory: Any, check: Callable | None = None) -> Any:
+    metadata = {"store": store} if check is None else {"store": store, "check": check}
     if default_factory is not MISSING:
-        return field(default_factory=default_factory, metadata={"store": store})
-    return field(default=default, metadata={"store": store})
+        return field(default_factory=default_factory, metadata=metadata)
+    return field(default=default, metadata=metadata)
 
 
 def quantity(units: str, dims: tuple[str, ...], *, name: str | None = None, description: str = "",
              dof_units: tuple[str, ...] | None = None, default: Any = MISSING, default_factory: Any = MISSING,
-             encode: Callable | None = None, decode: Callable | None = None) -> Any:
+             encode: Callable | None = None, decode: Callable | None = None, check: Callable | None = None) -> Any:
     """A dataclass field holding an array: its ``units`` (SI, ``"1"`` dimensionless, ``""`` text
     labels), the name of each axis (``dims``), and optionally its stored ``name``, a
-    ``description``, the unit of each DOF (``dof_units``) and converters to and from the stored
-    array."""
+    ``description``, the unit of each DOF (``dof_units``), converters to and from the stored array, and
+    the field's validation ``check`` (see :mod:`sixdof.frozen`)."""
     return _field({"kind": "quantity", "units": units, "dims": tuple(dims), "name": name,
                    "description": description, "dof_units": dof_units, "encode": encode,
-                   "decode": decode}, default, default_factory)
+                   "decode": decode}, default, default_factory, check)
 
 
 def label(*, name: str | None = None, default: Any = MISSING, encode: Callable | None = None,
-          decode: Callable | None = None) -> Any:
+          decode: Callable | None = None, check: Callable | None = None) -> Any:
     """A dataclass field holding a number, a string, a tuple of strings or a small vector, stored as an
     attribute of its group (under ``name``, default the field's name)."""
-    return _field({"kind": "label", "name": name, "encode": encode, "decode": decode}, default, MISSING)
+    return _field({"kind": "label", "name": name, "encode": encode, "decode": decode}, default, MISSING, check)
 
 
 def part(cls: Callable[[], type], *, group: str | None = None, prefix: str | None = None,
-         default: Any = MISSING) -> Any:
+         default: Any = MISSING, check: Callable | None = None) -> Any:
     """A dataclass field holding a nested result of the class ``cls()`` (a callable, so that classes
     defined later or elsewhere can be named), stored in the subgroup ``group`` or, with ``prefix``,
     flattened into attributes of the same group named ``prefix + field``."""
-    return _field({"kind": "part", "cls": cls, "group": group, "prefix": prefix}, default, MISSING)
+    return _field({"kind": "part", "cls": cls, "group": group, "prefix": prefix}, default, MISSING, check)
 
 
 def parts(classes: Callable[[], dict[str, type]], *, group: str, default_factory: Any = MISSING,
@@ -80,13 +81,13 @@ def parts(classes: Callable[[], dict[str, type]], *, group: str, default_factory
 
 
 def stacked(cls: Callable[[], type], *, dim: str, prefix: str = "", key: str | None = None, group: str | None = None,
-            default: Any = MISSING, default_factory: Any = MISSING) -> Any:
+            default: Any = MISSING, default_factory: Any = MISSING, check: Callable | None = None) -> Any:
     """A dataclass field holding several results of one class ``cls()`` (a mapping name -> result,
     or a tuple of results named by their attribute ``key``), stored as one array per field with a
     leading axis ``dim`` whose labels are the names, under ``prefix + field`` (in the subgroup
     ``group`` when given)."""
     return _field({"kind": "stacked", "cls": cls, "dim": dim, "prefix": prefix, "key": key, "group": group}, default,
-                  default_factory)
+                  default_factory, check)
 
 
 def sequence(cls: Callable[[], type], *, group: str, key: Callable[[Any], str], default: Any = MISSING) -> Any:

@@ -19,7 +19,8 @@ import numpy as np
 
 from sixdof._jax import jax, jnp
 from sixdof.dofs import DOF_UNITS, UNITS
-from sixdof.errors import InputError, finite_array, readonly
+from sixdof.errors import InputError, finite_array, label_check, optional, point_check, readonly
+from sixdof.frozen import Frozen, checked
 from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import mount_matrix_jax
 from sixdof.results import label, part, quantity, stacked
@@ -60,7 +61,7 @@ def mass_matrix(mass, inertia):
 # ----------------------------------------------------------------------------------------------------
 
 
-def _inertia_tensor(value) -> np.ndarray:
+def _inertia_tensor(value, field: str = "inertia") -> np.ndarray:
     expected = "3 principal moments [Jxx, Jyy, Jzz] or a symmetric 3x3 tensor in kg m^2"
     try:
         array = np.array(value, dtype=float)
@@ -84,13 +85,62 @@ def _inertia_tensor(value) -> np.ndarray:
             f"here {principal[0]:.6g} + {principal[1]:.6g} < {principal[2]:.6g})",
             value,
         )
-    array = 0.5 * (array + array.T)
-    array.flags.writeable = False
-    return array
+    return readonly(0.5 * (array + array.T))
+
+
+def _mass(value, field: str) -> float:
+    try:
+        mass = float(value)
+    except (TypeError, ValueError):
+        raise InputError(field, "a positive number in kg", value) from None
+    if not np.isfinite(mass) or mass <= 0.0:
+        raise InputError(field, "a positive number in kg", value)
+    return mass
+
+
+def _lengths(value, field: str) -> np.ndarray:
+    dims = finite_array(value, field, "3 positive lengths [Lx, Ly, Lz] in m", (3,))
+    if np.any(dims <= 0):
+        raise InputError(field, "3 positive lengths [Lx, Ly, Lz] in m", value)
+    return dims
+
+
+def _non_negative(expected: str, nonzero: bool = False):
+    """Check of 3 values >= 0 (and not all zero when ``nonzero``)."""
+    def check(value, field):
+        values = finite_array(value, field, expected, (3,))
+        if np.any(values < 0) or (nonzero and not np.any(values > 0)):
+            raise InputError(field, expected, value)
+        return values
+
+    return check
+
+
+def _orthonormal(value, field: str) -> np.ndarray:
+    expected = "3 orthonormal rows (the mount's axes in body axes)"
+    axes = finite_array(value, field, expected, (3, 3))
+    if not np.allclose(axes @ axes.T, np.eye(3), rtol=0.0, atol=_ORTHONORMAL_TOL):
+        raise InputError(field, expected + "; normalize the rows", value)
+    return axes
+
+
+def _coefficient(value, field: str) -> float:
+    if not isinstance(value, (int, float)) or not np.isfinite(value) or value < 0:
+        raise InputError(field, "a finite number >= 0", value)
+    return float(value)
+
+
+def _modal_ratios(value, field: str):
+    if value is None:
+        return None
+    ratios = np.atleast_1d(np.asarray(value, dtype=float))
+    if ratios.shape not in ((1,), (6,)) or np.any(~np.isfinite(ratios)) or np.any((ratios < 0) | (ratios >= 1)):
+        raise InputError("damping.modal", "one damping ratio in [0, 1) or 6 of them", value)
+    return float(ratios[0]) if ratios.shape == (1,) else tuple(float(r) for r in ratios)
 
 
 @dataclass(frozen=True, eq=False)
-class RigidBody:
+class RigidBody(Frozen):
     """A rigid body described about its centre of gravity.
 
     Parameters
@@ -105,29 +155,14 @@ class RigidBody:
         Size of the box drawn for the body in figures, along x, y, z [m]. Not used in the numerics.
     """
 
-    mass: float = quantity("kg", (), decode=float)
-    inertia: np.ndarray = label()
-    dimensions: np.ndarray | None = quantity("m", ("axis",), default=None,
+    mass: float = quantity("kg", (), decode=float, check=_mass)
+    inertia: np.ndarray = label(check=_inertia_tensor)
+    dimensions: np.ndarray | None = quantity("m", ("axis",), default=None, check=optional(_lengths),
                                              description="size of the box drawn for the body, centred on the CG")
-
-    def __post_init__(self) -> None:
-        try:
-            mass = float(self.mass)
-        except (TypeError, ValueError):
-            raise InputError("mass", "a positive number in kg", self.mass) from None
-        if not np.isfinite(mass) or mass <= 0.0:
-            raise InputError("mass", "a positive number in kg", self.mass)
-        object.__setattr__(self, "mass", mass)
-        object.__setattr__(self, "inertia", _inertia_tensor(self.inertia))
-        if self.dimensions is not None:
-            dims = finite_array(self.dimensions, "dimensions", "3 positive lengths [Lx, Ly, Lz] in m", (3,))
-            if np.any(dims <= 0):
-                raise InputError("dimensions", "3 positive lengths [Lx, Ly, Lz] in m", self.dimensions)
-            object.__setattr__(self, "dimensions", dims)
 
 
 @dataclass(frozen=True, eq=False)
-class Mount:
+class Mount(Frozen):
     """A triaxial visco-elastic mount (bearing, isolator) attached to the body.
 
     Parameters
@@ -147,50 +182,26 @@ class Mount:
         responses only. Default zero.
     """
 
-    name: str
-    position: np.ndarray = quantity("m", ("axis",), description="mount attachment points from the CG in body axes")
-    stiffness: np.ndarray = quantity("N/m", ("mount_axis",), description="stiffness along each mount's own axes")
+    name: str = checked(label_check)
+    position: np.ndarray = quantity("m", ("axis",), check=point_check,
+                                    description="mount attachment points from the CG in body axes")
+    stiffness: np.ndarray = quantity("N/m", ("mount_axis",), check=_non_negative("3 values >= 0 in N/m, not all zero",
+                                                                                 nonzero=True),
+                                     description="stiffness along each mount's own axes")
     damping: np.ndarray = quantity("N s/m", ("mount_axis",), default_factory=lambda: np.zeros(3),
+                                   check=_non_negative("3 values >= 0 in N s/m"),
                                    description="viscous damping along each mount's own axes")
-    axes: np.ndarray = quantity("1", ("mount_axis", "axis"), default_factory=lambda: np.eye(3),
+    axes: np.ndarray = quantity("1", ("mount_axis", "axis"), default_factory=lambda: np.eye(3), check=_orthonormal,
                                 description="rows: each mount's unit axes u, v, w in body axes")
     loss_factor: np.ndarray = quantity("1", ("mount_axis",), default_factory=lambda: np.zeros(3),
+                                       check=_non_negative("3 loss factors >= 0 (dimensionless)"),
                                        description="hysteretic loss factor along each mount's own axes "
                                        "(frequency responses)")
 
-    def __post_init__(self) -> None:
-        if not isinstance(self.name, str) or not self.name:
-            raise InputError("name", "a non-empty string", self.name)
-        object.__setattr__(
-            self, "position", finite_array(self.position, "position", "3 coordinates [x, y, z] in m", (3,))
-        )
-        stiffness = finite_array(self.stiffness, "stiffness", "3 values >= 0 in N/m, not all zero", (3,))
-        if np.any(stiffness < 0) or not np.any(stiffness > 0):
-            raise InputError("stiffness", "3 values >= 0 in N/m, not all zero", self.stiffness)
-        object.__setattr__(self, "stiffness", stiffness)
-        damping = finite_array(self.damping, "damping", "3 values >= 0 in N s/m", (3,))
-        if np.any(damping < 0):
-            raise InputError("damping", "3 values >= 0 in N s/m", self.damping)
-        object.__setattr__(self, "damping", damping)
-        eta = finite_array(self.loss_factor, "loss_factor", "3 loss factors >= 0 (dimensionless)", (3,))
-        if np.any(eta < 0):
-            raise InputError("loss_factor", "3 loss factors >= 0 (dimensionless)", self.loss_factor)
-        object.__setattr__(self, "loss_factor", eta)
-        expected_axes = "3 orthonormal rows (the mount's axes in body axes)"
-        try:
-            axes = np.array(self.axes, dtype=float)
-        except (TypeError, ValueError):
-            raise InputError("axes", expected_axes, self.axes) from None
-        if axes.shape != (3, 3) or not np.all(np.isfinite(axes)):
-            raise InputError("axes", expected_axes, self.axes)
-        if not np.allclose(axes @ axes.T, np.eye(3), rtol=0.0, atol=_ORTHONORMAL_TOL):
-            raise InputError("axes", expected_axes + "; normalize the rows", self.axes)
-        axes.flags.writeable = False
-        object.__setattr__(self, "axes", axes)
 
 
 @dataclass(frozen=True)
-class Rayleigh:
+class Rayleigh(Frozen):
     """Rayleigh damping ``C = alpha M + beta K``.
 
     Parameters
@@ -201,15 +212,8 @@ class Rayleigh:
         Stiffness-proportional coefficient [s], >= 0.
     """
 
-    alpha: float = label()
-    beta: float = label()
-
-    def __post_init__(self) -> None:
-        for name in ("alpha", "beta"):
-            value = getattr(self, name)
-            if not isinstance(value, (int, float)) or not np.isfinite(value) or value < 0:
-                raise InputError(name, "a finite number >= 0", value)
-            object.__setattr__(self, name, float(value))
+    alpha: float = label(check=_coefficient)
+    beta: float = label(check=_coefficient)
 
     @classmethod
     def from_ratio(cls, zeta: float, f_hz: tuple[float, float]) -> Rayleigh:
@@ -227,7 +231,7 @@ class Rayleigh:
 
 
 @dataclass(frozen=True, eq=False)
-class System:
+class System(Frozen):
     """A rigid body on mounts, with optional global damping models.
 
     The damping matrix is the sum of the mounts' dashpots, the Rayleigh term and the modal term
@@ -244,10 +248,11 @@ class System:
     """
 
     body: RigidBody = part(lambda: RigidBody, prefix="body_")
-    mounts: tuple[Mount, ...] = stacked(lambda: Mount, dim="mount", prefix="mount_", key="name")
+    mounts: tuple[Mount, ...] = stacked(lambda: Mount, dim="mount", prefix="mount_", key="name",
+                                        check=lambda mounts, field: tuple(mounts))
     rayleigh: Rayleigh | None = part(lambda: Rayleigh, prefix="rayleigh_", default=None)
     modal_damping: float | tuple[float, ...] | None = label(
-        default=None, encode=lambda ratios: np.atleast_1d(np.asarray(ratios, dtype=float)),
+        default=None, check=_modal_ratios, encode=lambda ratios: np.atleast_1d(np.asarray(ratios, dtype=float)),
         decode=lambda ratios: float(ratios[0]) if np.size(ratios) == 1 else tuple(float(r) for r in ratios))
 
     #: Stored beside the fields (not read back: the system recomputes them).
@@ -259,10 +264,10 @@ class System:
                              description="damping of the mounts' dashpots alone"),
     }
 
-    def __post_init__(self) -> None:
+    def __check__(self) -> None:
         if not isinstance(self.body, RigidBody):
             raise InputError("body", "a RigidBody", self.body)
-        mounts = tuple(self.mounts)
+        mounts = self.mounts
         if not mounts:
             raise InputError("mounts", "at least one mount", self.mounts)
         for i, mount in enumerate(mounts):
@@ -272,19 +277,8 @@ class System:
         duplicated = sorted({n for n in names if names.count(n) > 1})
         if duplicated:
             raise InputError("mounts", "unique mount names", f"{', '.join(duplicated)} repeated")
-        object.__setattr__(self, "mounts", mounts)
         if self.rayleigh is not None and not isinstance(self.rayleigh, Rayleigh):
             raise InputError("damping.rayleigh", "a Rayleigh", self.rayleigh)
-        if self.modal_damping is not None:
-            ratios = np.atleast_1d(np.asarray(self.modal_damping, dtype=float))
-            if ratios.shape not in ((1,), (6,)) or np.any(~np.isfinite(ratios)) or np.any(
-                (ratios < 0) | (ratios >= 1)
-            ):
-                raise InputError(
-                    "damping.modal", "one damping ratio in [0, 1) or 6 of them", self.modal_damping
-                )
-            value = float(ratios[0]) if ratios.shape == (1,) else tuple(float(r) for r in ratios)
-            object.__setattr__(self, "modal_damping", value)
 
     # Arrays of mount parameters, stacked for the pure assembly functions.
     @cached_property

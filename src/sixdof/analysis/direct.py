@@ -40,8 +40,9 @@ from typing import Any
 import numpy as np
 
 from sixdof._jax import jax, jnp
-from sixdof.errors import InputError, Plain, SolverError, readonly
+from sixdof.errors import InputError, Plain, SolverError, integer_check, number, number_check, readonly
 from sixdof.excitation import Excitation
+from sixdof.frozen import Frozen, checked
 from sixdof.results import TimeHistory, label
 
 # isort: split
@@ -75,8 +76,21 @@ PROGRESS_METERS = {"none": diffrax.NoProgressMeter, "text": diffrax.TextProgress
 # ----------------------------------------------------------------------------------------------------
 
 
+def _solver(value, field: str) -> str:
+    if value not in SOLVERS:
+        raise InputError(field, f"one of {', '.join(SOLVERS)}", value)
+    return value
+
+
+def _tolerance(value, field: str) -> float:
+    tolerance = number(value, field, "a tolerance in (0, 1)")
+    if not 0 < tolerance < 1:
+        raise InputError(field, "a tolerance in (0, 1)", value)
+    return tolerance
+
+
 @dataclass(frozen=True)
-class SimulationSettings:
+class SimulationSettings(Frozen):
     """How to run a direct simulation (the scenario's ``[simulation]`` table).
 
     Parameters
@@ -101,33 +115,15 @@ class SimulationSettings:
         Step limit; default 1e6 (diffrax's own default, 4096, is too small for 20 s runs).
     """
 
-    duration: float
-    sample_rate_hz: float
-    start: float = 0.0
-    solver: str = "Tsit5"
-    rtol: float = 1e-9
-    atol: float = 1e-9
-    max_steps: int = 1_000_000
+    duration: float = checked(number_check("a positive, finite duration in s", low=0.0, strict=True))
+    sample_rate_hz: float = checked(number_check("a positive, finite sample rate in Hz", low=0.0, strict=True))
+    start: float = checked(number_check("a finite time in s"), default=0.0)
+    solver: str = checked(lambda value, field: _solver(value, field), default="Tsit5")
+    rtol: float = checked(lambda value, field: _tolerance(value, field), default=1e-9)
+    atol: float = checked(lambda value, field: _tolerance(value, field), default=1e-9)
+    max_steps: int = checked(integer_check("a positive integer", 1), default=1_000_000)
 
-    def __post_init__(self) -> None:
-        for name, expected in (("duration", "a positive, finite duration in s"),
-                               ("sample_rate_hz", "a positive, finite sample rate in Hz")):
-            value = getattr(self, name)
-            if not _is_number(value) or value <= 0:
-                raise InputError(name, expected, value)
-            object.__setattr__(self, name, float(value))
-        if not _is_number(self.start):
-            raise InputError("start", "a finite time in s", self.start)
-        object.__setattr__(self, "start", float(self.start))
-        if self.solver not in SOLVERS:
-            raise InputError("solver", f"one of {', '.join(SOLVERS)}", self.solver)
-        for name in ("rtol", "atol"):
-            value = getattr(self, name)
-            if not _is_number(value) or not 0 < value < 1:
-                raise InputError(name, "a tolerance in (0, 1)", value)
-            object.__setattr__(self, name, float(value))
-        if isinstance(self.max_steps, bool) or not isinstance(self.max_steps, int) or self.max_steps < 1:
-            raise InputError("max_steps", "a positive integer", self.max_steps)
+    def __check__(self) -> None:
         if self.duration * self.sample_rate_hz > 1e8:
             raise InputError("sample_rate_hz", "at most 1e8 samples in all",
                              Plain(f"{self.duration * self.sample_rate_hz:.3g} samples"))
@@ -460,10 +456,6 @@ def simulate(system, excitation: Excitation | None, settings: SimulationSettings
         ),
     )
 
-
-def _is_number(value: Any) -> bool:
-    return (isinstance(value, (int, float)) and not isinstance(value, bool)
-            and math.isfinite(value))
 
 
 __all__ = ["SOLVERS", "SCALE_FLOOR", "SimulationSettings", "SolverStats",

@@ -14,12 +14,12 @@ from typing import Any
 
 import numpy as np
 
-from sixdof.errors import InputError, Plain
+from sixdof.errors import InputError, Plain, choice_check, integer_check, label_check, number_check, optional
+from sixdof.frozen import Frozen, checked
 from sixdof.io.toml import (
     Table,
     build,
     choices,
-    is_number,
     is_numeric_list,
     make,
     parse,
@@ -29,38 +29,6 @@ from sixdof.io.toml import (
 from sixdof.model.system import Mount, Rayleigh, RigidBody, System
 
 _MISSING = object()
-
-
-@dataclass(frozen=True)
-class Point:
-    """A named body point whose motion is reported. ``position`` from the CG in body axes [m]."""
-
-    name: str
-    position: tuple[float, float, float]
-
-    def __post_init__(self) -> None:
-        if not isinstance(self.name, str) or not self.name:
-            raise InputError("name", "a non-empty string", self.name)
-        position = np.asarray(self.position, dtype=float) if is_numeric_list(self.position, 3) else None
-        if position is None or not np.all(np.isfinite(position)):
-            raise InputError("position", "3 coordinates [x, y, z] in m", self.position)
-        object.__setattr__(self, "position", tuple(float(v) for v in position))
-
-
-@dataclass(frozen=True)
-class StaticsSettings:
-    """Gravity for the static deflection: ``gravity`` [m/s^2] along ``direction`` (body axes)."""
-
-    gravity: float = 9.80665
-    direction: tuple[float, float, float] = (0.0, 0.0, -1.0)
-
-    def __post_init__(self) -> None:
-        if not is_number(self.gravity) or self.gravity <= 0:
-            raise InputError("gravity", "a positive acceleration in m/s^2", self.gravity)
-        if not is_numeric_list(self.direction, 3) or not np.any(np.asarray(self.direction, float)):
-            raise InputError("direction", "a non-zero 3-vector in body axes", self.direction)
-        object.__setattr__(self, "gravity", float(self.gravity))
-        object.__setattr__(self, "direction", tuple(float(v) for v in self.direction))
 
 
 def _checked_direction(value: Any, field: str, rotations: bool = True):
@@ -76,62 +44,72 @@ def _checked_point(value: Any, field: str) -> tuple[float, float, float]:
     return tuple(float(v) for v in value)
 
 
+def _checked_vector(value: Any, field: str) -> tuple[float, float, float]:
+    if not is_numeric_list(value, 3) or not np.all(np.isfinite(np.asarray(value, float))) or not any(value):
+        raise InputError(field, "a non-zero 3-vector in body axes", value)
+    return tuple(float(v) for v in value)
+
+
+def _check_name(name: Any, field: str = "name") -> str:
+    if not isinstance(name, str) or not name or "/" in name:
+        raise InputError(field, "a non-empty string without '/'", name)
+    return name
+
+
+
+
 @dataclass(frozen=True)
-class PointFrfRequest:
+class Point(Frozen):
+    """A named body point whose motion is reported. ``position`` from the CG in body axes [m]."""
+
+    name: str = checked(label_check)
+    position: tuple[float, float, float] = checked(lambda value, field: _checked_point(value, field))
+
+
+@dataclass(frozen=True)
+class StaticsSettings(Frozen):
+    """Gravity for the static deflection: ``gravity`` [m/s^2] along ``direction`` (body axes)."""
+
+    gravity: float = checked(number_check("a positive acceleration in m/s^2", low=0.0, strict=True), default=9.80665)
+    direction: tuple[float, float, float] = checked(lambda value, field: _checked_vector(value, field),
+                                                    default=(0.0, 0.0, -1.0))
+
+
+
+
+@dataclass(frozen=True)
+class PointFrfRequest(Frozen):
     """A point FRF to compute and store (``[[frf.point]]``): the response at ``response_point``
     along ``response_direction`` per unit load at ``load_point`` along ``load_direction``.
     Directions are ``"x"`` .. ``"rz"`` (``r*``: a moment in, a rotation out) or 3-vectors.
     ``quantity`` is ``"receptance"``, ``"mobility"`` or ``"accelerance"``."""
 
-    name: str
-    load_point: tuple[float, float, float]
-    load_direction: Any
-    response_point: tuple[float, float, float]
-    response_direction: Any
-    quantity: str = "receptance"
-
-    def __post_init__(self) -> None:
-        _check_name(self.name)
-        object.__setattr__(self, "load_point", _checked_point(self.load_point, "load_point"))
-        object.__setattr__(self, "response_point", _checked_point(self.response_point, "response_point"))
-        object.__setattr__(self, "load_direction", _checked_direction(self.load_direction, "load_direction"))
-        object.__setattr__(
-            self, "response_direction", _checked_direction(self.response_direction, "response_direction")
-        )
-        if self.quantity not in ("receptance", "mobility", "accelerance"):
-            raise InputError("quantity", "'receptance', 'mobility' or 'accelerance'", self.quantity)
+    name: str = checked(_check_name)
+    load_point: tuple[float, float, float] = checked(_checked_point)
+    load_direction: Any = checked(_checked_direction)
+    response_point: tuple[float, float, float] = checked(_checked_point)
+    response_direction: Any = checked(_checked_direction)
+    quantity: str = checked(choice_check(("receptance", "mobility", "accelerance")), default="receptance")
 
 
 @dataclass(frozen=True)
-class ForceTransmissibilityRequest:
+class ForceTransmissibilityRequest(Frozen):
     """Forces passed to the foundation per unit load at ``load_point`` along ``load_direction``
     (``[[frf.force_transmissibility]]``)."""
 
-    name: str
-    load_point: tuple[float, float, float]
-    load_direction: Any
-
-    def __post_init__(self) -> None:
-        _check_name(self.name)
-        object.__setattr__(self, "load_point", _checked_point(self.load_point, "load_point"))
-        object.__setattr__(self, "load_direction", _checked_direction(self.load_direction, "load_direction"))
+    name: str = checked(_check_name)
+    load_point: tuple[float, float, float] = checked(_checked_point)
+    load_direction: Any = checked(_checked_direction)
 
 
 @dataclass(frozen=True)
-class GroundTransmissibilityRequest:
+class GroundTransmissibilityRequest(Frozen):
     """Motion of ``response_point`` per unit ground translation along ``ground_direction``
     (``[[frf.ground_transmissibility]]``)."""
 
-    name: str
-    ground_direction: Any
-    response_point: tuple[float, float, float]
-
-    def __post_init__(self) -> None:
-        _check_name(self.name)
-        object.__setattr__(
-            self, "ground_direction", _checked_direction(self.ground_direction, "ground_direction", False)
-        )
-        object.__setattr__(self, "response_point", _checked_point(self.response_point, "response_point"))
+    name: str = checked(_check_name)
+    ground_direction: Any = checked(lambda value, field: _checked_direction(value, field, rotations=False))
+    response_point: tuple[float, float, float] = checked(_checked_point)
 
 
 _FRF_REQUESTS = {
@@ -141,37 +119,43 @@ _FRF_REQUESTS = {
 }
 
 
-def _check_name(name: Any) -> None:
-    if not isinstance(name, str) or not name or "/" in name:
-        raise InputError("name", "a non-empty string without '/'", name)
+def _mode_count(value: Any, field: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= 6:
+        raise InputError(field, "an integer from 1 to 6", value)
+    return value
+
+
+def _boolean(value: Any, field: str) -> bool:
+    if not isinstance(value, bool):
+        raise InputError(field, "true or false", value)
+    return value
+
+
+def _frequency_range(value: Any, field: str) -> tuple[float, float]:
+    expected = "two frequencies [low, high] in Hz with 0 <= low < high"
+    if not is_numeric_list(value, 2):
+        raise InputError(field, expected, value)
+    low, high = (float(v) for v in value)
+    if not (np.isfinite(high) and 0 <= low < high):
+        raise InputError(field, expected, value)
+    return low, high
 
 
 @dataclass(frozen=True)
-class FrfSettings:
+class FrfSettings(Frozen):
     """Frequency grid of the frequency responses: ``points`` frequencies over ``f_hz`` [Hz], and
     the point FRFs and transmissibilities to compute beside the 6x6 receptance."""
 
-    f_hz: tuple[float, float] = (0.1, 100.0)
-    points: int = 2000
-    spacing: str = "log"
+    f_hz: tuple[float, float] = checked(lambda value, field: _frequency_range(value, field), default=(0.1, 100.0))
+    points: int = checked(integer_check("an integer >= 2", 2), default=2000)
+    spacing: str = checked(choice_check(("log", "linear")), default="log")
     point: tuple[PointFrfRequest, ...] = ()
     force_transmissibility: tuple[ForceTransmissibilityRequest, ...] = ()
     ground_transmissibility: tuple[GroundTransmissibilityRequest, ...] = ()
 
-    def __post_init__(self) -> None:
-        expected = "two frequencies [low, high] in Hz with 0 <= low < high"
-        if not is_numeric_list(self.f_hz, 2):
-            raise InputError("f_hz", expected, self.f_hz)
-        low, high = (float(v) for v in self.f_hz)
-        if not (np.isfinite(high) and 0 <= low < high):
-            raise InputError("f_hz", expected, self.f_hz)
-        if isinstance(self.points, bool) or not isinstance(self.points, int) or self.points < 2:
-            raise InputError("points", "an integer >= 2", self.points)
-        if self.spacing not in ("log", "linear"):
-            raise InputError("spacing", "'log' or 'linear'", self.spacing)
-        if self.spacing == "log" and low == 0:
+    def __check__(self) -> None:
+        if self.spacing == "log" and self.f_hz[0] == 0:
             raise InputError("f_hz", "a positive low frequency for log spacing", self.f_hz)
-        object.__setattr__(self, "f_hz", (low, high))
 
     def grid(self) -> np.ndarray:
         """The frequencies [Hz], shape (points,)."""
@@ -182,7 +166,7 @@ class FrfSettings:
 
 
 @dataclass(frozen=True)
-class SuperpositionSettings:
+class SuperpositionSettings(Frozen):
     """How ``sixdof run`` computes its modal-superposition cross-check (``[superposition]``).
 
     ``method`` is ``"auto"`` (real modes for classical damping, complex otherwise), ``"real"`` or
@@ -191,24 +175,15 @@ class SuperpositionSettings:
     response: the cross-check then measures the truncation error, and warns when it is over 1e-6.
     """
 
-    method: str = "auto"
-    n_modes: int | None = None
-    f_max_hz: float | None = None
-    residual: bool = True
+    method: str = checked(choice_check(("auto", "real", "complex")), default="auto")
+    n_modes: int | None = checked(optional(lambda value, field: _mode_count(value, field)), default=None)
+    f_max_hz: float | None = checked(optional(number_check("a positive frequency in Hz", low=0.0, strict=True)),
+                                     default=None)
+    residual: bool = checked(lambda value, field: _boolean(value, field), default=True)
 
-    def __post_init__(self) -> None:
-        if self.method not in ("auto", "real", "complex"):
-            raise InputError("method", "'auto', 'real' or 'complex'", self.method)
-        if self.n_modes is not None and (
-            isinstance(self.n_modes, bool) or not isinstance(self.n_modes, int) or not 1 <= self.n_modes <= 6
-        ):
-            raise InputError("n_modes", "an integer from 1 to 6", self.n_modes)
-        if self.f_max_hz is not None and (not is_number(self.f_max_hz) or self.f_max_hz <= 0):
-            raise InputError("f_max_hz", "a positive frequency in Hz", self.f_max_hz)
+    def __check__(self) -> None:
         if self.n_modes is not None and self.f_max_hz is not None:
             raise InputError("n_modes", "either n_modes or f_max_hz, not both", self.n_modes)
-        if not isinstance(self.residual, bool):
-            raise InputError("residual", "true or false", self.residual)
 
 
 @dataclass(frozen=True, eq=False)

@@ -25,6 +25,7 @@ import numpy as np
 
 from sixdof.dofs import AXES, DOFS, LOADS, MOUNT_AXES, UNITS, dof_units
 from sixdof.errors import InputError, readonly
+from sixdof.frozen import Frozen
 
 # ----------------------------------------------------------------------------------------------------
 # Field descriptions.
@@ -105,7 +106,7 @@ class Result:
 
 
 @dataclass(frozen=True, eq=False)
-class TimeHistory(Result):
+class TimeHistory(Frozen, Result):
     """Motion of the body's centre of gravity at a set of times.
 
     ``q, qd, qdd`` are the *absolute* motion (fixed frame): what an accelerometer on the body measures.
@@ -163,11 +164,11 @@ class TimeHistory(Result):
         """Whether the derived quantity ``name`` is stored (relative motion only with ground motion)."""
         return self.has_ground
 
-    def __post_init__(self) -> None:
+    def __check__(self) -> None:
         for name in ("t", "q", "qd", "qdd", "ground_displacement", "ground_velocity", "ground_acceleration", "Q"):
             value = getattr(self, name)
             if value is not None:
-                object.__setattr__(self, name, readonly(value))
+                self._derive(**{name: readonly(value)})
         n = self.t.shape[0]
         for name, columns in (("q", 6), ("qd", 6), ("qdd", 6), ("Q", 6), ("ground_displacement", 3),
                               ("ground_velocity", 3), ("ground_acceleration", 3)):
@@ -206,7 +207,7 @@ class TimeHistory(Result):
 
 
 @dataclass(frozen=True, eq=False)
-class RunResults:
+class RunResults(Frozen):
     """Everything one run computed, as the library's typed objects: what ``results.h5`` holds.
 
     :func:`sixdof.io.store.write_results` writes it, :func:`sixdof.io.store.load_results` gives it back
@@ -259,7 +260,7 @@ class RunResults:
     validation: Any = part(lambda: _class("sixdof.validation", "ValidationReport"), group="validation", default=None)
     provenance: Any = field(default_factory=dict)
 
-    def __post_init__(self) -> None:
+    def __check__(self) -> None:
         from sixdof.errors import Plain
 
         if (self.mount_forces is not None or self.points) and self.response is None:

@@ -41,6 +41,7 @@ import numpy as np
 
 from sixdof.dofs import AXES, DOFS, LOADS, MOUNT_AXES, UNITS, dof_units
 from sixdof.errors import InputError, Plain
+from sixdof.frozen import Frozen
 
 #: Identifies the file layout; bump FORMAT_VERSION when a fixed name changes meaning.
 FORMAT = "sixdof-results"
@@ -69,7 +70,7 @@ _RESERVED_ATTRS = frozenset(
 
 
 @dataclass(frozen=True, eq=False)
-class Dataset:
+class Dataset(Frozen):
     """One array of a results file.
 
     Attributes
@@ -89,7 +90,7 @@ class Dataset:
     dims: tuple[str, ...]
     attrs: Mapping[str, Any] = field(default_factory=dict)
 
-    def __post_init__(self) -> None:
+    def __check__(self) -> None:
         data = np.asarray(self.data)
         if data.dtype.kind in "OSU":
             data = np.array(data, dtype=str)
@@ -98,21 +99,21 @@ class Dataset:
         else:
             data = np.array(data)
         data.flags.writeable = False
-        object.__setattr__(self, "data", data)
+        self._derive(data=data)
         if not isinstance(self.units, str):
             raise InputError("units", "a string", self.units)
         dims = tuple(self.dims)
         if len(dims) != data.ndim or not all(isinstance(d, str) and d for d in dims):
             raise InputError("dims", f"{data.ndim} non-empty axis names for shape {data.shape}", dims)
-        object.__setattr__(self, "dims", dims)
-        object.__setattr__(self, "attrs", _attributes(self.attrs))
+        self._derive(dims=dims)
+        self._derive(attrs=_attributes(self.attrs))
 
     def __repr__(self) -> str:
         return f"Dataset(shape={self.data.shape}, dtype={self.data.dtype}, units={self.units!r}, dims={self.dims})"
 
 
 @dataclass(frozen=True, eq=False)
-class Results:
+class Results(Frozen):
     """The content of a results file: datasets by path and the attributes of every group.
 
     ``results["time/q"]`` is the :class:`Dataset` at ``/time/q``; ``"time" in results`` tells whether
@@ -133,7 +134,7 @@ class Results:
     attrs: Mapping[str, Mapping[str, Any]]
     path: Path | None = None
 
-    def __post_init__(self) -> None:
+    def __check__(self) -> None:
         datasets = {str(k).strip("/"): v for k, v in self.datasets.items()}
         for key, value in datasets.items():
             if not isinstance(value, Dataset):
@@ -145,8 +146,8 @@ class Results:
         attrs = {str(k).strip("/"): _attributes(v) for k, v in self.attrs.items()}
         groups.update(attrs)
         attrs = {g: attrs.get(g, MappingProxyType({})) for g in sorted(groups)}
-        object.__setattr__(self, "datasets", MappingProxyType(dict(sorted(datasets.items()))))
-        object.__setattr__(self, "attrs", MappingProxyType(attrs))
+        self._derive(datasets=MappingProxyType(dict(sorted(datasets.items()))))
+        self._derive(attrs=MappingProxyType(attrs))
         _check_dims(self.datasets)
 
     # Mapping-like access ---------------------------------------------------------------------------

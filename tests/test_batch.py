@@ -181,7 +181,8 @@ axes = ["x"]
 
 
 def test_sweep_of_a_scenario_and_its_file(tmp_path, beam):
-    from sixdof.io.store import load_tree, write_sweep
+    from sixdof.io.store import load_results, load_tree, write_results
+    from sixdof.results import RunResults
 
     scenario = parse_scenario(SCENARIO)
     spec = parse_sweep_spec(SPEC)
@@ -191,13 +192,18 @@ def test_sweep_of_a_scenario_and_its_file(tmp_path, beam):
                       scenario.excitation, scenario.simulation)
     expected = np.max(np.abs(direct.q), axis=0)
     assert np.all(np.abs(result.peak_q[i] - expected) / expected < RTOL_BATCH_DIRECT)
-    written = write_sweep(tmp_path / "sweep.h5", result, system=scenario.system, name="beam")
+    written = write_results(tmp_path / "sweep.h5", RunResults(name="beam", system=scenario.system, sweep=result))
     back = load_tree(written.path)
     np.testing.assert_array_equal(back.array("sweep/frequency_hz"), result.frequency_hz)
     np.testing.assert_array_equal(back.array("sweep/peak_q"), result.peak_q)
     assert back["sweep/peak_q"].units == "m (x, y, z); rad (rx, ry, rz)"
     assert back["sweep/frequency_hz"].units == "Hz"
     assert back["sweep/position_offset"].units == "m"
+    assert back.attrs["sweep"]["count"] == result.variants.count and back.attrs["sweep"]["solver"] == "Tsit5"
+    typed = load_results(written.path).sweep
+    np.testing.assert_array_equal(typed.peak_qdd, result.peak_qdd)
+    np.testing.assert_array_equal(typed.variants.stiffness_factor, result.variants.stiffness_factor)
+    assert typed.settings == result.settings and typed.chunk_size == result.chunk_size
 
 
 @pytest.mark.parametrize("text, match", [

@@ -159,8 +159,9 @@ def _validate(args) -> int:
 def _sweep(args) -> int:
     from sixdof.io.report import summary_table
     from sixdof.io.scenario import load_scenario
-    from sixdof.io.store import write_sweep
+    from sixdof.io.store import write_results
     from sixdof.io.sweep import load_sweep_spec
+    from sixdof.results import RunResults
     from sixdof.workflows import check_output_root, sweep, write_all_or_nothing
 
     _compile_cache()
@@ -170,9 +171,9 @@ def _sweep(args) -> int:
     result = sweep(scenario, spec, chunk_size=args.chunk_size)
     directory = write_all_or_nothing(
         root / f"{scenario.name}_sweep",
-        lambda stage: write_sweep(stage / "sweep.h5", result, system=scenario.system,
-                                  scenario_text=scenario.text, name=scenario.name,
-                                  description=scenario.description),
+        lambda stage: write_results(stage / "sweep.h5", RunResults(
+            name=scenario.name, description=scenario.description, system=scenario.system, sweep=result,
+            provenance={"scenario_text": scenario.text}), command_line=" ".join(sys.argv)),
     )
     print(f"{scenario.name}: {scenario.description}\n")
     print(summary_table(result))

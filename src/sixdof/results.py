@@ -235,6 +235,8 @@ class RunResults(Frozen):
     frf_extras : mapping of str to PointFRF, ForceTransmissibility or GroundTransmissibility
         Named point FRFs and transmissibilities on the frequencies of ``frf``.
     validation : sixdof.validation.ValidationReport or None
+    sweep : sixdof.analysis.batch.BatchResult or None
+        A design sweep's frequencies and peaks per variant (``sixdof sweep``).
     provenance : mapping of str to str
         ``scenario_text``, ``created_utc``, ``command_line``, package versions.
     """
@@ -258,6 +260,7 @@ class RunResults(Frozen):
         _class("sixdof.analysis.frf", "PointFRF"), _class("sixdof.analysis.frf", "ForceTransmissibility"),
         _class("sixdof.analysis.frf", "GroundTransmissibility"))}, group="frf", default_factory=dict)
     validation: Any = part(lambda: _class("sixdof.validation", "ValidationReport"), group="validation", default=None)
+    sweep: Any = part(lambda: _class("sixdof.analysis.batch", "BatchResult"), group="sweep", default=None)
     provenance: Any = field(default_factory=dict)
 
     def __check__(self) -> None:

@@ -23,18 +23,21 @@ mode-release initial states (which depend on each variant's modes) are not batch
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import partial
+from importlib import import_module
 from typing import Any
 
 import numpy as np
 
 from sixdof._jax import jax, jnp
 from sixdof.analysis.modal import ZERO_MODE_RTOL
+from sixdof.dofs import UNITS, dof_units
 from sixdof.errors import InputError, Plain, SolverError, readonly
 from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import mount_matrix_jax
 from sixdof.model.system import Mount, System
+from sixdof.results import label, part, quantity
 
 #: Memory allowed for the samples kept per chunk of variants [bytes] (``q`` and ``q''``, float64).
 CHUNK_BYTES = 256 * 2**20
@@ -64,9 +67,12 @@ class Variants:
         Added to each mount's position, body axes [m].
     """
 
-    stiffness_factor: np.ndarray
-    damping_factor: np.ndarray
-    position_offset: np.ndarray
+    stiffness_factor: np.ndarray = quantity("1", ("variant", "mount", "mount_axis"),
+                                            description="factor on each mount's stiffness")
+    damping_factor: np.ndarray = quantity("1", ("variant", "mount", "mount_axis"),
+                                          description="factor on each mount's dashpot")
+    position_offset: np.ndarray = quantity("m", ("variant", "mount", "axis"),
+                                           description="offset added to each mount's position, body axes")
 
     @property
     def count(self) -> int:
@@ -98,16 +104,26 @@ class BatchResult:
         Wall-clock time of the whole batch [s], compilation included when it happened.
     """
 
-    variants: Variants
-    frequency_hz: np.ndarray
-    peak_q: np.ndarray | None
-    peak_qdd: np.ndarray | None
-    num_steps: np.ndarray | None
-    num_rejected: np.ndarray | None
-    histories: dict
-    settings: Any
-    chunk_size: int
-    wall_time_s: float
+    variants: Variants = part(lambda: Variants, prefix="")
+    frequency_hz: np.ndarray = quantity("Hz", ("variant", "mode"), description="undamped natural frequencies of each "
+                                        "variant")
+    settings: Any = part(lambda: import_module("sixdof.analysis.direct").SimulationSettings, prefix="", default=None)
+    peak_q: np.ndarray | None = quantity(UNITS["q"], ("variant", "dof"), dof_units=dof_units(0), default=None,
+                                         description="max |q| over the output samples")
+    peak_qdd: np.ndarray | None = quantity(UNITS["qdd"], ("variant", "dof"), dof_units=dof_units(2), default=None,
+                                           description="max |q''| over the output samples")
+    num_steps: np.ndarray | None = quantity("1", ("variant",), default=None, description="solver steps attempted")
+    num_rejected: np.ndarray | None = quantity("1", ("variant",), default=None, description="solver steps rejected")
+    chunk_size: int = label(default=0)
+    wall_time_s: float = label(default=0.0)
+    histories: dict = field(default_factory=dict)
+
+    derived = {"count": label()}
+
+    @property
+    def count(self) -> int:
+        """Number of variants."""
+        return self.variants.count
 
 
 def make_variants(system: System, *, stiffness_factor=None, damping_factor=None,
@@ -336,8 +352,7 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     frequency = readonly(np.sqrt(lam) / (2.0 * np.pi))
     simulate_it = excitation is not None and settings is not None
     if not simulate_it:
-        return BatchResult(variants, frequency, None, None, None, None, {}, settings, 0,
-                           time.perf_counter() - start)
+        return BatchResult(variants=variants, frequency_hz=frequency, wall_time_s=time.perf_counter() - start)
     if not isinstance(excitation, Excitation):
         raise InputError("excitation", "an Excitation", excitation)
     if not isinstance(settings, SimulationSettings):

@@ -42,7 +42,7 @@ import numpy as np
 from sixdof._jax import jax, jnp
 from sixdof.errors import InputError, Plain, SolverError, integer_check, number, number_check, readonly
 from sixdof.excitation import Excitation
-from sixdof.frozen import Frozen, checked
+from sixdof.frozen import Frozen
 from sixdof.results import TimeHistory, label
 
 # isort: split
@@ -115,13 +115,13 @@ class SimulationSettings(Frozen):
         Step limit; default 1e6 (diffrax's own default, 4096, is too small for 20 s runs).
     """
 
-    duration: float = checked(number_check("a positive, finite duration in s", low=0.0, strict=True))
-    sample_rate_hz: float = checked(number_check("a positive, finite sample rate in Hz", low=0.0, strict=True))
-    start: float = checked(number_check("a finite time in s"), default=0.0)
-    solver: str = checked(lambda value, field: _solver(value, field), default="Tsit5")
-    rtol: float = checked(lambda value, field: _tolerance(value, field), default=1e-9)
-    atol: float = checked(lambda value, field: _tolerance(value, field), default=1e-9)
-    max_steps: int = checked(integer_check("a positive integer", 1), default=1_000_000)
+    duration: float = label(check=number_check("a positive, finite duration in s", low=0.0, strict=True))
+    sample_rate_hz: float = label(check=number_check("a positive, finite sample rate in Hz", low=0.0, strict=True))
+    start: float = label(check=number_check("a finite time in s"), default=0.0)
+    solver: str = label(check=lambda value, field: _solver(value, field), default="Tsit5")
+    rtol: float = label(check=lambda value, field: _tolerance(value, field), default=1e-9)
+    atol: float = label(check=lambda value, field: _tolerance(value, field), default=1e-9)
+    max_steps: int = label(check=integer_check("a positive integer", 1), default=1_000_000)
 
     def __check__(self) -> None:
         if self.duration * self.sample_rate_hz > 1e8:

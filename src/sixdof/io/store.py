@@ -39,7 +39,7 @@ from typing import Any
 
 import numpy as np
 
-from sixdof.dofs import AXES, DOFS, LOADS, MOUNT_AXES, UNITS, dof_units
+from sixdof.dofs import AXES, DOFS, LOADS, MOUNT_AXES
 from sixdof.errors import InputError, Plain
 from sixdof.frozen import Frozen
 
@@ -310,8 +310,13 @@ class _Encoder:
                     self.encode(item, sub)
         stores = getattr(obj, "stores", None)
         for name, derived in getattr(type(obj), "derived", {}).items():
-            if stores is None or stores(name):
-                self.quantity(obj, name, getattr(obj, name), derived.metadata["store"], group, prefix)
+            meta = derived.metadata["store"]
+            if stores is not None and not stores(name):
+                continue
+            if meta["kind"] == "label":
+                self.tree.set_attrs(group, **{meta["name"] or prefix + name: getattr(obj, name)})
+            else:
+                self.quantity(obj, name, getattr(obj, name), meta, group, prefix)
 
     def stacked(self, items, meta: dict, group: str) -> None:
         """Results of one class as one array per field, along the axis ``meta["dim"]``."""
@@ -772,62 +777,3 @@ def _read_attributes(attrs) -> dict[str, Any]:
     return out
 
 
-# ----------------------------------------------------------------------------------------------------
-# Sweeps of design variants (sixdof.analysis.batch), ``outputs/<name>/sweep.h5``.
-# ----------------------------------------------------------------------------------------------------
-
-
-def write_sweep(path: str | os.PathLike, result, *, system=None, scenario_text: str | None = None,
-                name: str | None = None, description: str | None = None) -> Results:
-    """Write a :class:`sixdof.analysis.batch.BatchResult` atomically under ``/sweep`` (and ``/model``).
-
-    Layout: ``/sweep/frequency_hz`` (variant, mode) [Hz]; ``/sweep/stiffness_factor`` and
-    ``/sweep/damping_factor`` (variant, mount, mount_axis) [1]; ``/sweep/position_offset``
-    (variant, mount, axis) [m]; with a simulation also ``/sweep/peak_q`` (variant, dof) [m, rad],
-    ``/sweep/peak_qdd`` [m/s^2, rad/s^2] and ``/sweep/num_steps`` (variant). Every dataset has
-    ``units``; ``/sweep`` holds the count and the solver settings as attributes.
-
-    Returns
-    -------
-    Results
-        What was written (path set).
-    """
-    tree = _Tree()
-    g = "sweep"
-    variants = result.variants
-    nv, n_mounts = variants.stiffness_factor.shape[:2]
-    mount_names = system.mount_names if system is not None else tuple(str(i + 1) for i in range(n_mounts))
-    tree.add(f"{g}/variant", np.arange(nv), UNITS_ONE, ("variant",), description="variant index")
-    tree.add(f"{g}/mode", np.arange(1, 7), UNITS_ONE, ("mode",),
-             description="mode number, ascending frequency")
-    tree.labels(g, "dof", DOFS)
-    tree.labels(g, "mount", mount_names)
-    tree.labels(g, "axis", AXES)
-    tree.labels(g, "mount_axis", MOUNT_AXES)
-    tree.add(f"{g}/frequency_hz", result.frequency_hz, "Hz", ("variant", "mode"),
-             description="undamped natural frequencies of each variant")
-    tree.add(f"{g}/stiffness_factor", variants.stiffness_factor, UNITS_ONE,
-             ("variant", "mount", "mount_axis"), description="factor on each mount's stiffness")
-    tree.add(f"{g}/damping_factor", variants.damping_factor, UNITS_ONE,
-             ("variant", "mount", "mount_axis"), description="factor on each mount's dashpot")
-    tree.add(f"{g}/position_offset", variants.position_offset, "m", ("variant", "mount", "axis"),
-             description="offset added to each mount's position, body axes")
-    attrs: dict[str, Any] = {"count": int(nv), "wall_time_s": float(result.wall_time_s)}
-    if result.peak_q is not None:
-        tree.add(f"{g}/peak_q", result.peak_q, UNITS["q"], ("variant", "dof"),
-                 dof_units=dof_units(0), description="max |q| over the output samples")
-        tree.add(f"{g}/peak_qdd", result.peak_qdd, UNITS["qdd"], ("variant", "dof"),
-                 dof_units=dof_units(2), description="max |q''| over the output samples")
-        tree.add(f"{g}/num_steps", np.asarray(result.num_steps, dtype=np.int64), UNITS_ONE,
-                 ("variant",), description="solver steps attempted")
-        s = result.settings
-        attrs.update(solver=s.solver, rtol=s.rtol, atol=s.atol, duration=s.duration,
-                     sample_rate_hz=s.sample_rate_hz, chunk_size=int(result.chunk_size))
-    tree.set_attrs(g, **attrs)
-    from sixdof.results import RunResults
-
-    run = RunResults(name=name or "", description=description or "", system=system,
-                     provenance={"scenario_text": scenario_text or ""})
-    results = build_results(run, extra=tree.datasets, extra_attrs=tree.attrs)
-    written = save_results(results, path)
-    return Results(results.datasets, results.attrs, written)

@@ -18,13 +18,15 @@ from sixdof.errors import InputError, readonly
 from sixdof.results import Result, label, quantity
 
 
-def _first_column(array: np.ndarray) -> np.ndarray:
+def first_column(array: np.ndarray) -> np.ndarray:
     """The single output of an (nf, 1) estimate, as stored."""
     return np.asarray(array).reshape(np.shape(array)[0], -1)[:, 0]
 
 
-def _as_column(array: np.ndarray) -> np.ndarray:
+def as_column(array: np.ndarray) -> np.ndarray:
+    """A stored single output back to the (nf, 1) shape of an estimate."""
     return np.asarray(array)[:, None]
+
 
 __all__ = [
     "DecayEstimate",
@@ -66,9 +68,9 @@ class EstimatedFRF(Result):
     """
 
     f_hz: np.ndarray = quantity("Hz", ("f_hz",), description="Welch frequency bins")
-    H1: np.ndarray = quantity(lambda e: e.unit, ("f_hz",), encode=_first_column, decode=_as_column,
+    H1: np.ndarray = quantity(lambda e: e.unit, ("f_hz",), encode=first_column, decode=as_column,
                               description="H1 estimate: output per unit input")
-    coherence: np.ndarray = quantity("1", ("f_hz",), encode=_first_column, decode=_as_column)
+    coherence: np.ndarray = quantity("1", ("f_hz",), encode=first_column, decode=as_column)
     averages: int = label()
     effective_averages: float = label()
     nperseg: int = label()

@@ -33,10 +33,10 @@ from sixdof.results import TimeHistory, label, part, quantity, sequence, stacked
 from sixdof.validation.estimation import (
     DecayEstimate,
     EstimatedFRF,
-    _as_column,
-    _first_column,
+    as_column,
     decay_estimate,
     estimate_frf,
+    first_column,
     h1_random_error,
     held_model_frf,
     peak_frequency,
@@ -230,7 +230,7 @@ class RandomRun:
     band_hz: tuple[float, float] = label(encode=lambda band: np.asarray(band, dtype=float),
                                          decode=lambda band: (float(band[0]), float(band[1])))
     estimated: EstimatedFRF = part(lambda: EstimatedFRF, prefix="")
-    model: np.ndarray = quantity(lambda run: run.estimated.unit, ("f_hz",), encode=_first_column, decode=_as_column,
+    model: np.ndarray = quantity(lambda run: run.estimated.unit, ("f_hz",), encode=first_column, decode=as_column,
                                  description="model FRF of the same, with the first-order hold of the sampled force")
 
 

@@ -46,7 +46,7 @@ import numpy as np
 
 from sixdof import results as schema
 from sixdof.analysis.statespace import complex_modes, is_classical, modal_basis
-from sixdof.dofs import DOF_UNITS, FORCE_UNITS, UNITS, mixed_units
+from sixdof.dofs import AXES, DOF_UNITS, DOFS, FORCE_UNITS, UNITS, mixed_units
 from sixdof.errors import InputError, SolverError, point
 from sixdof.model.kinematics import mount_matrix, point_map, response_row, unit_load
 
@@ -362,21 +362,16 @@ def _check_method(method) -> str:
     return method
 
 
-_AXIS = {"x": 0, "y": 1, "z": 2}
-
-
 def parse_direction(value, field: str, rotations: bool = True) -> tuple[np.ndarray, bool]:
     """Unit vector in body axes and whether it is rotational ('rx', 'ry', 'rz')."""
-    names = "'x', 'y', 'z', 'rx', 'ry', 'rz'" if rotations else "'x', 'y', 'z'"
+    names = ", ".join(f"'{d}'" for d in (DOFS if rotations else AXES))
     expected = f"one of {names} or a nonzero 3-vector in body axes"
     if isinstance(value, str):
-        rotational = rotations and value in ("rx", "ry", "rz")
+        rotational = rotations and value in DOFS[3:]
         axis = value[1:] if rotational else value
-        if axis not in _AXIS:
+        if axis not in AXES:
             raise InputError(field, expected, value)
-        e = np.zeros(3)
-        e[_AXIS[axis]] = 1.0
-        return e, rotational
+        return np.eye(3)[AXES.index(axis)], rotational
     try:
         d = np.array(value, dtype=float)
     except (TypeError, ValueError):

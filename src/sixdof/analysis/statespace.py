@@ -111,8 +111,9 @@ class ComplexModes:
         [1/s].
     right : ndarray, shape (2n, 2n), complex
         Column k is the eigenvector of ``eigenvalues[k]``.
-    left : ndarray, shape (2n, 2n), complex
-        ``right^-1``: row k is the left eigenvector normalized so that ``left @ right = I``.
+    left : ndarray, shape (2n, 2n), complex, or None
+        ``right^-1``: row k is the left eigenvector normalized so that ``left @ right = I`` (``None``
+        when asked for without a ``remedy``: eigenvalues and shapes only).
     condition : float
         Condition number of ``right``.
     """
@@ -123,7 +124,7 @@ class ComplexModes:
     condition: float
 
 
-def complex_modes(stiffness, D, *, remedy: str) -> ComplexModes:
+def complex_modes(stiffness, D, *, remedy: str | None) -> ComplexModes:
     """Complex modes of the first-order form of ``eta'' + D eta' + K_m eta = g``.
 
     The state is scaled, ``x = [S eta, eta']`` with ``S = diag(sqrt(K_m,rr))`` (1 for rigid modes), so
@@ -137,8 +138,9 @@ def complex_modes(stiffness, D, *, remedy: str) -> ComplexModes:
         Modal stiffness ``K_m`` [rad^2/s^2] (complex with hysteresis: ``Omega^2 + i Phi' K_h Phi``).
     D : array_like, shape (n, n)
         Modal damping ``Phi' C Phi`` [1/s].
-    remedy : str
-        What the caller's user can do when the modes are nearly defective (ends the error message).
+    remedy : str or None
+        What the caller's user can do when the modes are nearly defective (ends the error message);
+        ``None`` when the caller needs the eigenvalues only, which stay accurate then.
 
     Returns
     -------
@@ -157,15 +159,14 @@ def complex_modes(stiffness, D, *, remedy: str) -> ComplexModes:
     A = np.block([[np.zeros((n, n)), np.diag(s)], [-stiffness / s[None, :], -D]])
     eigenvalues, V = scipy.linalg.eig(A)
     condition = float(np.linalg.cond(V))
-    if not np.isfinite(condition) or condition > MAX_EIGENVECTOR_CONDITION:
+    if remedy is not None and (not np.isfinite(condition) or condition > MAX_EIGENVECTOR_CONDITION):
         raise SolverError(
             f"complex modes: eigenvector matrix condition number {condition:.3g} exceeds "
             f"{MAX_EIGENVECTOR_CONDITION:.0e} (nearly defective, e.g. a critically damped mode); {remedy}"
         )
-    W = np.linalg.inv(V)
     unscale = np.concatenate([s, np.ones(n)])
-    return ComplexModes(eigenvalues=eigenvalues, right=V / unscale[:, None], left=W * unscale[None, :],
-                        condition=condition)
+    left = None if remedy is None else np.linalg.inv(V) * unscale[None, :]
+    return ComplexModes(eigenvalues=eigenvalues, right=V / unscale[:, None], left=left, condition=condition)
 
 
 def modal_damping_ratios(C, modes) -> np.ndarray:
@@ -207,8 +208,8 @@ def damping_ratios(C, modes) -> np.ndarray:
     if is_classical(D):
         return approximate
     n = phi.shape[1]
-    state = np.block([[np.zeros((n, n)), np.eye(n)], [-np.diag(modes.eigenvalues), -D]])
-    eigenvalues, vectors = scipy.linalg.eig(state)
+    complex_ = complex_modes(np.diag(modes.eigenvalues), D, remedy=None)
+    eigenvalues, vectors = complex_.eigenvalues, complex_.right
     oscillating = np.flatnonzero(eigenvalues.imag > 1e-9 * np.abs(eigenvalues).max())
     exact = approximate.copy()
     pairs = []

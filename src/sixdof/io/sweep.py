@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from sixdof.analysis.batch import Variants, make_variants
-from sixdof.dofs import MOUNT_AXES
+from sixdof.dofs import AXES, MOUNT_AXES
 from sixdof.errors import InputError, Plain
 from sixdof.io.toml import parse, read_text, reject_unknown
 from sixdof.model.system import System
@@ -95,7 +95,7 @@ class SweepSpec:
                 if m not in names:
                     raise InputError(f"{field}.mounts", f"mount names among {', '.join(names)}", m)
             mounts = [names.index(m) for m in v.mounts] if v.mounts else list(range(n))
-            labels = ("x", "y", "z") if v.parameter == "position" else MOUNT_AXES
+            labels = AXES if v.parameter == "position" else MOUNT_AXES
             for a in v.axes:
                 if a not in labels:
                     raise InputError(f"{field}.axes", f"axes among {', '.join(labels)}", a)

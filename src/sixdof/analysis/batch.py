@@ -33,7 +33,7 @@ import numpy as np
 from sixdof._jax import jax, jnp
 from sixdof.analysis.modal import ZERO_MODE_RTOL
 from sixdof.dofs import UNITS, dof_units
-from sixdof.errors import InputError, Plain, SolverError, readonly
+from sixdof.errors import InputError, Plain, SolverError, integer, readonly
 from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import mount_matrix_jax
 from sixdof.model.system import Mount, System
@@ -170,9 +170,7 @@ def make_variants(system: System, *, stiffness_factor=None, damping_factor=None,
         arrays["position_offset"] = a
     counts = {a.shape[0] for a in arrays.values()}
     if count is not None:
-        if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 1:
-            raise InputError("count", "a positive integer", count)
-        counts.add(int(count))
+        counts.add(integer(count, "count", "a positive integer", 1))
     if len(counts) != 1:
         raise InputError("variants", "one number of variants for every parameter",
                          Plain("counts " + ", ".join(str(c) for c in sorted(counts)) if counts else "none"))
@@ -366,9 +364,7 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     ts = settings.times
     if chunk_size is None:
         chunk_size = default_chunk_size(ts.size)
-    if isinstance(chunk_size, bool) or not isinstance(chunk_size, (int, np.integer)) or chunk_size < 1:
-        raise InputError("chunk_size", "a positive integer", chunk_size)
-    chunk_size = int(min(chunk_size, variants.count))
+    chunk_size = min(integer(chunk_size, "chunk_size", "a positive integer", 1), variants.count)
 
     M = np.asarray(system.M, dtype=float)
     Minv = np.linalg.inv(M)

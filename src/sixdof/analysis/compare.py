@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from sixdof.dofs import DOFS
-from sixdof.errors import InputError, readonly
+from sixdof.errors import InputError, number, readonly
 from sixdof.results import label
 
 #: Default tolerance of :func:`compare`.
@@ -108,9 +108,7 @@ def compare(
     if ref.shape != other.shape:
         raise InputError("modal_q", f"shape {ref.shape} like direct_q", f"shape {other.shape}")
     for name, value in (("tolerance", tolerance), ("length", length), ("quiet_rtol", quiet_rtol)):
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0 \
-                or not np.isfinite(value):
-            raise InputError(name, "a positive number", value)
+        number(value, name, "a positive number", low=0.0, strict=True)
     scale = np.array([1.0, 1.0, 1.0, length, length, length])
     peak = np.max(np.abs(ref), axis=0)
     error = np.max(np.abs(ref - other), axis=0)

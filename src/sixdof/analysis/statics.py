@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from sixdof.dofs import UNITS, dof_units
-from sixdof.errors import InputError
+from sixdof.errors import InputError, number
 from sixdof.model.kinematics import mount_local_map
 from sixdof.results import Result, label, quantity
 
@@ -86,8 +86,7 @@ def gravity_statics(system, g: float = STANDARD_GRAVITY, direction=(0.0, 0.0, -1
         If ``g`` or ``direction`` is invalid, or the mounts cannot carry the weight (the body is free
         to move along gravity).
     """
-    if not isinstance(g, (int, float)) or not np.isfinite(g) or g <= 0:
-        raise InputError("statics.gravity", "a positive acceleration in m/s^2", g)
+    g = number(g, "statics.gravity", "a positive acceleration in m/s^2", low=0.0, strict=True)
     d = np.asarray(direction, dtype=float)
     if d.shape != (3,) or not np.all(np.isfinite(d)) or np.linalg.norm(d) == 0:
         raise InputError("statics.direction", "a non-zero 3-vector", direction)

@@ -32,7 +32,7 @@ from sixdof.analysis.compare import Agreement, compare
 from sixdof.analysis.modal import modal_analysis
 from sixdof.analysis.statespace import CLASSICAL_RTOL, complex_modes, modal_basis
 from sixdof.analysis.statespace import coupling as coupling_of
-from sixdof.errors import InputError, SolverError, finite_array, readonly
+from sixdof.errors import InputError, SolverError, finite_array, integer, number, readonly
 from sixdof.results import TimeHistory, label, part, quantity
 
 #: Default Gauss-Legendre nodes per interval.
@@ -331,8 +331,7 @@ def modal_solve(
     t = _times(t)
     if method not in METHODS:
         raise InputError("method", "one of 'auto', 'real', 'complex'", method)
-    if isinstance(quadrature_nodes, bool) or not isinstance(quadrature_nodes, int) \
-            or not 1 <= quadrature_nodes <= 64:
+    if integer(quadrature_nodes, "quadrature_nodes", "an integer in [1, 64]", 1) > 64:
         raise InputError("quadrature_nodes", "an integer in [1, 64]", quadrature_nodes)
     q0 = _state(q0, "q0")
     qd0 = _state(qd0, "qd0")
@@ -444,8 +443,7 @@ def _select(omega2, n_modes, f_max_hz):
     keep = np.ones(6, dtype=bool)
     n_rigid = int(np.sum(omega2 == 0.0))
     if n_modes is not None:
-        if isinstance(n_modes, bool) or not isinstance(n_modes, (int, np.integer)) \
-                or not 1 <= n_modes <= 6:
+        if integer(n_modes, "n_modes", "an integer from 1 to 6", 1) > 6:
             raise InputError("n_modes", "an integer from 1 to 6", n_modes)
         if n_modes < n_rigid:
             raise InputError(
@@ -454,9 +452,7 @@ def _select(omega2, n_modes, f_max_hz):
             )
         keep &= np.arange(6) < n_modes
     if f_max_hz is not None:
-        if isinstance(f_max_hz, bool) or not isinstance(f_max_hz, (int, float)) \
-                or not np.isfinite(f_max_hz) or f_max_hz <= 0:
-            raise InputError("f_max_hz", "a positive frequency in Hz", f_max_hz)
+        number(f_max_hz, "f_max_hz", "a positive frequency in Hz", low=0.0, strict=True)
         keep &= np.sqrt(omega2) / (2 * np.pi) <= f_max_hz
         if not np.any(keep):
             raise InputError(

@@ -14,7 +14,7 @@ import numpy as np
 
 from sixdof.analysis.batch import Variants, make_variants
 from sixdof.dofs import AXES, MOUNT_AXES
-from sixdof.errors import InputError, Plain
+from sixdof.errors import InputError, Plain, integer
 from sixdof.io.toml import parse, read_text, reject_unknown
 from sixdof.model.system import System
 
@@ -176,8 +176,7 @@ def _spec(raw: dict) -> SweepSpec:
         if not has_grid:
             raise InputError("count", "a positive integer (number of random variants)", Plain("nothing"))
         count = grid_count
-    if isinstance(count, bool) or not isinstance(count, int) or count < 1:
-        raise InputError("count", "a positive integer", count)
+    count = integer(count, "count", "a positive integer", 1)
     if has_grid and count != grid_count:
         raise InputError("count", f"the product of the grid sizes, {grid_count} (or no count)", count)
     return SweepSpec(count=count, seed=seed, vary=vary, chunk_size=chunk)

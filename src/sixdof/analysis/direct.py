@@ -35,7 +35,7 @@ import math
 import time
 from dataclasses import dataclass
 from functools import partial
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -47,6 +47,9 @@ from sixdof.results import TimeHistory, label
 
 # isort: split
 import diffrax  # noqa: E402  (after ._jax: float64 must be on first)
+
+if TYPE_CHECKING:
+    from sixdof.model.system import System
 
 #: Explicit Runge-Kutta solvers (the problem is not stiff) and, for comparison, implicit ones.
 SOLVERS: dict[str, type] = {
@@ -176,7 +179,7 @@ class SolverStats:
 # ----------------------------------------------------------------------------------------------------
 
 
-def state_scale(system, excitation: Excitation | None, settings: SimulationSettings) -> np.ndarray:
+def state_scale(system: System, excitation: Excitation | None, settings: SimulationSettings) -> np.ndarray:
     """Expected size of each state component, used to make tolerances relative per DOF.
 
     A modal estimate, made before the solve: each load component ``(Q_k, s_k)`` drives mode ``r``
@@ -359,7 +362,7 @@ def _progress_key(progress: Any) -> str:
     raise InputError("progress", "None, True, 'text' or 'tqdm'", progress)
 
 
-def simulate(system, excitation: Excitation | None, settings: SimulationSettings,
+def simulate(system: System, excitation: Excitation | None, settings: SimulationSettings,
              progress: Any = None) -> TimeHistory:
     """Integrate eq. (1) in time for ``system`` under ``excitation``.
 

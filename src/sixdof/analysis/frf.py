@@ -41,6 +41,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -49,6 +50,9 @@ from sixdof.analysis.statespace import complex_modes, is_classical, modal_basis
 from sixdof.dofs import AXES, DOF_UNITS, DOFS, FORCE_UNITS, UNITS, mixed_units
 from sixdof.errors import InputError, SolverError, point
 from sixdof.model.kinematics import mount_matrix, point_map, response_row, unit_load
+
+if TYPE_CHECKING:
+    from sixdof.model.system import System
 
 __all__ = [
     "FRF",
@@ -390,7 +394,7 @@ def _ratio_unit(numerator: str, denominator: str) -> str:
 # ----------------------------------------------------------------------------------------------------
 
 
-def hysteretic_stiffness(system) -> np.ndarray:
+def hysteretic_stiffness(system: System) -> np.ndarray:
     """Hysteretic stiffness ``K_h`` (6, 6) [N/m, N, N m/rad]: mount stiffness times loss factor.
 
     The complex stiffness of the mounts is ``K + i K_h``.
@@ -402,7 +406,7 @@ def hysteretic_stiffness(system) -> np.ndarray:
     return mount_matrix(system.positions, system.stiffnesses * eta, system.axes)
 
 
-def dynamic_stiffness(system, f_hz) -> np.ndarray:
+def dynamic_stiffness(system: System, f_hz) -> np.ndarray:
     """Dynamic stiffness ``Z = K + i K_h - w^2 M + i w C`` at every frequency, (nf, 6, 6) complex.
 
     Parameters
@@ -426,7 +430,7 @@ def _dynamic_stiffness(system, omega: np.ndarray) -> np.ndarray:
 # ----------------------------------------------------------------------------------------------------
 
 
-def receptance(system, f_hz, method: str = "direct", basis: str = "auto") -> FRF:
+def receptance(system: System, f_hz, method: str = "direct", basis: str = "auto") -> FRF:
     """Generalized 6x6 receptance ``H(w) = (K + i K_h - w^2 M + i w C)^-1``.
 
     Parameters
@@ -653,7 +657,7 @@ def frf_difference(a: FRF, b: FRF) -> np.ndarray:
     return np.max(np.abs(a.H - b.H), axis=0) / scale
 
 
-def cross_check(system, f_hz) -> FRFCrossCheck:
+def cross_check(system: System, f_hz) -> FRFCrossCheck:
     """Receptance by both methods and their largest relative difference (see :func:`frf_difference`).
 
     Parameters
@@ -681,7 +685,7 @@ def cross_check(system, f_hz) -> FRFCrossCheck:
 
 
 def point_frf(
-    system,
+    system: System,
     f_hz,
     load_point,
     load_direction,
@@ -749,7 +753,7 @@ def _mount_impedances(system, omega: np.ndarray) -> np.ndarray:
 
 
 def force_transmissibility(
-    system, f_hz, load_point, load_direction, method: str = "direct"
+    system: System, f_hz, load_point, load_direction, method: str = "direct"
 ) -> ForceTransmissibility:
     """Forces passed to the foundation by each mount, and their resultant, per unit applied load.
 
@@ -795,7 +799,7 @@ def force_transmissibility(
 
 
 def ground_transmissibility(
-    system, f_hz, ground_direction, response_point, method: str = "direct"
+    system: System, f_hz, ground_direction, response_point, method: str = "direct"
 ) -> GroundTransmissibility:
     """Motion of a body point per unit rigid translation of the ground under every mount.
 

@@ -11,6 +11,7 @@ forces from :mod:`sixdof.analysis.statics` for totals).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -18,6 +19,9 @@ from sixdof.dofs import UNITS
 from sixdof.errors import point, readonly
 from sixdof.model.kinematics import point_map
 from sixdof.results import Result, TimeHistory, quantity
+
+if TYPE_CHECKING:
+    from sixdof.model.system import System
 
 
 @dataclass(frozen=True, eq=False)
@@ -127,7 +131,7 @@ class MountForces(Result):
                                              "about the CG, body axes")
 
 
-def mount_forces(system, response: TimeHistory) -> MountForces:
+def mount_forces(system: System, response: TimeHistory) -> MountForces:
     """Each mount's force and the total force and moment on the foundation.
 
     Parameters

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -10,6 +11,9 @@ from sixdof.dofs import UNITS, dof_units
 from sixdof.errors import InputError, number
 from sixdof.model.kinematics import mount_local_map
 from sixdof.results import Result, label, quantity
+
+if TYPE_CHECKING:
+    from sixdof.model.system import System
 
 STANDARD_GRAVITY = 9.80665  # m/s^2
 
@@ -47,7 +51,7 @@ class Statics(Result):
     uplift: tuple[str, ...] = label()
 
 
-def try_gravity_statics(system, g: float = STANDARD_GRAVITY, direction=(0.0, 0.0, -1.0)):
+def try_gravity_statics(system: System, g: float = STANDARD_GRAVITY, direction=(0.0, 0.0, -1.0)):
     """:func:`gravity_statics`, or ``(None, reason)`` when the mounts cannot carry the weight.
 
     A layout that leaves the body free along gravity still has modes worth reporting: callers that
@@ -65,7 +69,7 @@ def try_gravity_statics(system, g: float = STANDARD_GRAVITY, direction=(0.0, 0.0
         return None, f"no static equilibrium under gravity: {exc.got}"
 
 
-def gravity_statics(system, g: float = STANDARD_GRAVITY, direction=(0.0, 0.0, -1.0)) -> Statics:
+def gravity_statics(system: System, g: float = STANDARD_GRAVITY, direction=(0.0, 0.0, -1.0)) -> Statics:
     """Static equilibrium of the body on its mounts under its own weight.
 
     Parameters

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import partial
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -34,6 +35,9 @@ from sixdof.analysis.statespace import CLASSICAL_RTOL, complex_modes, modal_basi
 from sixdof.analysis.statespace import coupling as coupling_of
 from sixdof.errors import InputError, SolverError, finite_array, integer, number, readonly
 from sixdof.results import TimeHistory, label, part, quantity
+
+if TYPE_CHECKING:
+    from sixdof.model.system import System
 
 #: Default Gauss-Legendre nodes per interval.
 QUADRATURE_NODES = 16
@@ -114,7 +118,7 @@ class SuperpositionInfo:
 
 
 def superpose(
-    system,
+    system: System,
     excitation,
     t,
     *,

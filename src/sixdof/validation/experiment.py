@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -41,6 +42,9 @@ from sixdof.validation.estimation import (
     held_model_frf,
     peak_frequency,
 )
+
+if TYPE_CHECKING:
+    from sixdof.model.system import System
 
 # ----------------------------------------------------------------------------------------------------
 # The validation run.
@@ -271,7 +275,7 @@ class ValidationReport:
 
 
 
-def validate(system, settings: ValidationSettings | None = None) -> ValidationReport:
+def validate(system: System, settings: ValidationSettings | None = None) -> ValidationReport:
     """Validate the modal results of ``system`` against simulated time histories.
 
     Runs one free decay per elastic mode and one random-force simulation with

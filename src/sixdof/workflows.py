@@ -118,17 +118,9 @@ def excitation_frequencies(excitation) -> list[tuple[str, float]]:
             speed_hz = source.f_hz if source.f_hz is not None else source.speed_rpm / 60.0
             found.append((f"{label} rotation", float(speed_hz)))
             continue
-        signal = getattr(source, "signal", None)
-        kind = getattr(signal, "kind", None)
-        if kind == "harmonic":
-            found.append((f"{label} harmonic", float(signal.f_hz)))
-        elif kind == "sweep":
-            found.append((f"{label} sweep", float(max(signal.f0_hz, signal.f1_hz))))
-        elif kind == "random":
-            found.append((f"{label} random band", float(signal.f_hz[1])))
-        elif kind in ("half_sine", "haversine"):
-            # A pulse of duration d carries its energy below about 1/d.
-            found.append((f"{label} {kind} pulse (1/duration)", 1.0 / float(signal.duration)))
+        if source.signal.max_frequency_hz > 0:
+            what = "pulse (1/duration)" if source.signal.kind in ("half_sine", "haversine") else "signal"
+            found.append((f"{label} {source.signal.kind} {what}", source.signal.max_frequency_hz))
     return found
 
 

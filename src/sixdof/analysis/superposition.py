@@ -194,7 +194,7 @@ def superpose(
                        combine(lambda s, times: _signal_values(s, times, 2)))
 
     ground = None
-    omegas = [_signal_omega(s) for _, s in components]
+    omegas = [2 * np.pi * s.max_frequency_hz for _, s in components]
     if ground_motion is not None:
         r = np.asarray(ground_motion.rigid_vector, dtype=float)
         scale = float(ground_motion.scale)
@@ -206,7 +206,7 @@ def superpose(
             k_g=np.asarray(system.K) @ r,
             c_g=np.asarray(system.C) @ r,
         )
-        omegas.append(_signal_omega(signal))
+        omegas.append(2 * np.pi * signal.max_frequency_hz)
         force_rates = None  # the residual's rates would need the ground's too: q only
 
     return modal_solve(
@@ -235,20 +235,6 @@ def _padded(function, times):
     size = max(1024, 1 << (n - 1).bit_length())
     padded = np.concatenate([times, np.full(size - n, times[-1] if n else 0.0)])
     return np.asarray(function(padded), dtype=float)[:n]
-
-
-def _signal_omega(signal) -> float:
-    """Highest circular frequency [rad/s] of a signal, from its parameters (0 when unknown)."""
-    f = []
-    for name in ("f_hz", "f0_hz", "f1_hz"):
-        value = getattr(signal, name, None)
-        if value is not None:
-            f.extend(np.atleast_1d(np.asarray(value, dtype=float)).tolist())
-    omega = 2 * np.pi * max(f, default=0.0)
-    kind = getattr(signal, "kind", "")
-    if kind in ("half_sine", "haversine"):
-        omega = max(omega, 2 * np.pi / float(signal.duration))
-    return float(omega)
 
 
 # ----------------------------------------------------------------------------------------------------

@@ -108,6 +108,12 @@ class Signal(Frozen):
         """An estimate of ``max |s(t)|``, used to scale the solver's tolerances."""
         return 1.0
 
+    @property
+    def max_frequency_hz(self) -> float:
+        """Highest frequency [Hz] the signal carries (0 when it has none of its own: steps, ramps,
+        tables); bounds the superposition's intervals and the sample-rate warnings."""
+        return 0.0
+
 # Field checks shared by the signal kinds.
 _TIME = number_check("a finite time in s")
 _DURATION = number_check("a positive, finite duration in s", low=0.0, strict=True)
@@ -172,6 +178,10 @@ class Harmonic(Signal):
     start: float = checked(_TIME, default=0.0)
     duration: float = checked(_LASTING, default=math.inf)
 
+    @property
+    def max_frequency_hz(self) -> float:
+        return self.f_hz
+
     def _evaluate(self, t):
         tau = t - self.start
         value = jnp.sin(2 * jnp.pi * self.f_hz * tau + jnp.deg2rad(self.phase_deg))
@@ -226,6 +236,10 @@ class Sweep(Signal):
             phase = 2 * jnp.pi * self.f0_hz * T / jnp.log(ratio) * jnp.expm1(tau / T * jnp.log(ratio))
         return jnp.where(_window(t, self.start, T), jnp.sin(phase), 0.0)
 
+    @property
+    def max_frequency_hz(self) -> float:
+        return max(self.f0_hz, self.f1_hz)
+
     def frequency_hz(self, t):
         """Instantaneous frequency [Hz] at ``t`` (inside the sweep window)."""
         tau = jnp.clip(jnp.asarray(t, dtype=float) - self.start, 0.0, self.duration)
@@ -254,6 +268,10 @@ class HalfSine(Signal):
     start: float = checked(_TIME)
     duration: float = checked(_DURATION)
 
+    @property
+    def max_frequency_hz(self) -> float:
+        return 1.0 / self.duration  # a pulse of duration d carries its energy below about 1/d
+
     def _evaluate(self, t):
         value = jnp.sin(jnp.pi * (t - self.start) / self.duration)
         return jnp.where(_window(t, self.start, self.duration), value, 0.0)
@@ -278,6 +296,10 @@ class Haversine(Signal):
     kind: ClassVar[str] = "haversine"
     start: float = checked(_TIME)
     duration: float = checked(_DURATION)
+
+    @property
+    def max_frequency_hz(self) -> float:
+        return 1.0 / self.duration
 
     def _evaluate(self, t):
         value = 0.5 * (1.0 - jnp.cos(2 * jnp.pi * (t - self.start) / self.duration))
@@ -422,6 +444,10 @@ class Random(Signal):
     @property
     def breakpoints(self) -> tuple[float, ...]:
         return _breaks(self.start, self.start + self.duration)
+
+    @property
+    def max_frequency_hz(self) -> float:
+        return self.f_hz[1]
 
     @property
     def peak(self) -> float:

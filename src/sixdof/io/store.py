@@ -1,10 +1,18 @@
 """The results file (HDF5): its layout, an atomic writer, and the reader.
 
-A run's results are first collected into a :class:`Results` tree (:func:`build_results`): a flat
-mapping from HDF5 paths (``"time/q"``) to :class:`Dataset` objects (array, units, named axes,
-attributes) plus the attributes of each group. The same tree is written to the file
-(:func:`save_results`) and read back from it (:func:`load_results`), so a loaded file and a live run
-look alike: the figures of :mod:`sixdof.plots` take either.
+A run's typed results (:class:`sixdof.results.RunResults`) are encoded generically from their own
+field descriptions (:func:`sixdof.results.quantity`, ``label``, ``part``...) into a :class:`Results`
+tree (:func:`build_results`): a flat mapping from HDF5 paths (``"time/q"``) to :class:`Dataset` objects
+(array, units, named axes, attributes) plus the attributes of each group. The tree is written
+atomically (:func:`save_results`) and read back (:func:`load_tree`); :func:`load_results` decodes it,
+by the same descriptions, into the typed objects the run produced. The store never names a result's
+fields itself: a field added to a result is written and read back as it is described.
+
+Why h5py and not xarray's DataTree through h5netcdf: the file must keep HDF5 dimension scales shared
+between groups, complex arrays as h5py's compound type, the fixed dataset names, and an atomic
+write-then-rename; writing with h5py keeps each under our control, keeps xarray (and pandas) out of the
+dependencies and of ``import sixdof``, and the file still opens group by group in xarray with
+``engine="h5netcdf"`` (tested).
 
 Layout conventions (the file opens in ``xarray`` through ``h5netcdf``):
 

@@ -118,6 +118,22 @@ def point(value: Any, field: str = "position") -> np.ndarray:
     return finite_array(value, field, "3 coordinates [x, y, z] in m from the CG in body axes", (3,))
 
 
+def increasing_times(value: Any, field: str) -> np.ndarray:
+    """``value`` as a read-only 1-D array of at least 2 finite, strictly increasing times [s]."""
+    expected = "at least 2 finite, strictly increasing times in s"
+    try:
+        times = readonly(value)
+    except (TypeError, ValueError):
+        raise InputError(field, expected, value) from None
+    if times.ndim != 1 or times.size < 2 or not np.all(np.isfinite(times)):
+        raise InputError(field, expected, value)
+    if np.any(np.diff(times) <= 0):
+        bad = int(np.flatnonzero(np.diff(times) <= 0)[0])
+        raise InputError(field, expected, Plain(f"{field}[{bad + 1}] = {times[bad + 1]:g} after "
+                                                f"{field}[{bad}] = {times[bad]:g}"))
+    return times
+
+
 class SolverError(RuntimeError):
     """A numerical solve failed (diverged, hit its step limit, or produced non-finite values)."""
 

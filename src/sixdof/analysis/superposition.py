@@ -33,7 +33,7 @@ from sixdof.analysis.compare import Agreement, compare
 from sixdof.analysis.modal import modal_analysis
 from sixdof.analysis.statespace import CLASSICAL_RTOL, complex_modes, modal_basis
 from sixdof.analysis.statespace import coupling as coupling_of
-from sixdof.errors import InputError, SolverError, finite_array, integer, number, readonly
+from sixdof.errors import InputError, SolverError, finite_array, increasing_times, integer, number, readonly
 from sixdof.results import TimeHistory, label, part, quantity
 
 if TYPE_CHECKING:
@@ -317,8 +317,8 @@ def modal_solve(
     SolverError
         If the complex modes cannot be computed reliably or the result is not finite.
     """
-    M, C, K = (_matrix(m, name) for m, name in ((M, "M"), (C, "C"), (K, "K")))
-    t = _times(t)
+    M, C, K = (finite_array(m, name, "a finite 6x6 matrix", (6, 6)) for m, name in ((M, "M"), (C, "C"), (K, "K")))
+    t = increasing_times(t, "t")
     if method not in METHODS:
         raise InputError("method", "one of 'auto', 'real', 'complex'", method)
     if integer(quadrature_nodes, "quadrature_nodes", "an integer in [1, 64]", 1) > 64:
@@ -811,26 +811,6 @@ def _evaluate(function, times, name):
 # Validation helpers
 # ----------------------------------------------------------------------------------------------------
 
-
-def _matrix(value, name):
-    try:
-        array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(name, "a 6x6 matrix", value) from None
-    if array.shape != (6, 6) or not np.all(np.isfinite(array)):
-        raise InputError(name, "a finite 6x6 matrix", f"shape {array.shape}")
-    return array
-
-
-def _times(t):
-    try:
-        array = np.asarray(t, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError("t", "a 1-D array of strictly increasing times in s", t) from None
-    if array.ndim != 1 or array.size < 2 or not np.all(np.isfinite(array)) \
-            or np.any(np.diff(array) <= 0):
-        raise InputError("t", "a 1-D array of at least 2 strictly increasing times in s", t)
-    return array
 
 
 def _state(value, name):

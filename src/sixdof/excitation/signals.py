@@ -33,6 +33,7 @@ from sixdof.errors import (
     Plain,
     choice_check,
     finite_array,
+    increasing_times,
     integer_check,
     number_check,
     readonly,
@@ -120,20 +121,6 @@ _DURATION = number_check("a positive, finite duration in s", low=0.0, strict=Tru
 _LASTING = number_check("a positive duration in s", low=0.0, strict=True, allow_inf=True)
 _FREQUENCY = number_check("a positive frequency in Hz", low=0.0, strict=True)
 
-
-def _increasing_times(value: Any, field: str) -> np.ndarray:
-    expected = "at least 2 finite, strictly increasing times in s"
-    try:
-        times = readonly(value)
-    except (TypeError, ValueError):
-        raise InputError(field, expected, value) from None
-    if times.ndim != 1 or times.size < 2 or not np.all(np.isfinite(times)):
-        raise InputError(field, expected, value)
-    if np.any(np.diff(times) <= 0):
-        bad = int(np.flatnonzero(np.diff(times) <= 0)[0])
-        raise InputError(field, expected, Plain(f"{field}[{bad + 1}] = {times[bad + 1]:g} after "
-                                                f"{field}[{bad}] = {times[bad]:g}"))
-    return times
 
 
 def _band(value: Any, field: str) -> tuple[float, float]:
@@ -368,7 +355,7 @@ class Table(Signal):
 
     kind: ClassVar[str] = "table"
     _static: ClassVar[tuple[str, ...]] = ("outside",)
-    t: np.ndarray = checked(lambda value, field: _increasing_times(value, field))
+    t: np.ndarray = checked(increasing_times)
     values: np.ndarray
     outside: str = checked(choice_check(("zero", "hold")), default="zero")
 

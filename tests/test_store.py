@@ -435,3 +435,30 @@ def test_results_convert_to_xarray_with_dims_coordinates_and_units(parts):
     forces = parts["mount_forces"].to_xarray()
     assert list(forces["mount"].values) == list(parts["mount_forces"].names)
     assert forces["mount_force"].dims == ("mount", "t", "axis")
+
+
+def test_label_scales_live_in_their_top_level_group(written):
+    # As the file has always had them: one frf/axis and frf/mount for every transmissibility below /frf,
+    # validation/dof for every decay, modal/mode for the damping ratios; no stray root scale.
+    for path in ("frf/axis", "frf/mount", "validation/dof", "modal/mode"):
+        assert path in written.datasets, path
+    assert "mode" not in written.datasets
+    assert not [p for p in written.datasets if p.count("/") >= 3 and p.rsplit("/", 1)[1] in ("axis", "mount", "dof")]
+
+
+def test_a_part_is_not_found_through_its_parents_scales(parts, tmp_path):
+    # An agreement stored without its superposition history: the history's t is only the parent's scale.
+    path = tmp_path / "r.h5"
+    write_results(path, system=parts["system"], response=parts["response"], agreement=parts["agreement"])
+    run = sixdof.load_results(path)
+    assert run.superposition is None and run.agreement.worst == parts["agreement"].worst
+
+
+def test_a_plain_frf_is_refused_and_files_of_another_version_are_named(parts, written, tmp_path):
+    with pytest.raises(InputError, match=r"frf: expected an FRFCrossCheck"):
+        sixdof.RunResults(frf=parts["frf"].direct)
+    old = tmp_path / "old.h5"
+    tree = load_tree(written.path)
+    save_results(Results(tree.datasets, {**tree.attrs, "": {**tree.attrs[""], "format_version": 1}}), old)
+    with pytest.raises(InputError, match=r"results: expected a results file of format version 2 .*version 1"):
+        sixdof.load_results(old)

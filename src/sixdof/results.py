@@ -273,6 +273,8 @@ class RunResults(Frozen):
             raise InputError("superposition", "a direct response to compare with", Plain("none"))
         if self.statics is not None and self.system is None:
             raise InputError("statics", "the system it belongs to", Plain("none"))
+        if self.frf is not None and not hasattr(self.frf, "modal"):
+            raise InputError("frf", "an FRFCrossCheck (sixdof.analysis.frf.cross_check: direct and modal)", self.frf)
         if self.frf_extras and self.frf is None:
             raise InputError("frf_extras", "a receptance (frf) whose frequencies they share", Plain("none"))
         for name, item in dict(self.frf_extras).items():

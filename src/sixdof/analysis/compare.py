@@ -53,6 +53,14 @@ class Agreement:
     quiet: tuple[str, ...] = label()
     length: float = label()
 
+    derived = {"definition": label()}
+
+    @property
+    def definition(self) -> str:
+        """What ``per_dof`` measures (stored beside it)."""
+        return ("per DOF: max_t |q_ref - q| / max_t |q_ref| (quiet DOFs: / the largest peak, rotations times "
+                "length)")
+
     def __str__(self) -> str:
         values = ", ".join(f"{d} {v:.2e}" for d, v in zip(DOFS, self.per_dof))
         verdict = "ok" if self.ok else "OVER TOLERANCE"

@@ -164,6 +164,13 @@ class FRFCrossCheck(schema.Result):
         description="direct vs modal receptance: max_f |H_direct - H_modal| / max_f sqrt(|H_ii H_jj|)")
     max_relative_difference: float = schema.label(name="cross_check_max_relative_difference")
 
+    derived = {"modal_basis": schema.label(name="cross_check_modal_basis")}
+
+    @property
+    def modal_basis(self) -> str:
+        """Basis of the modal receptance (``"real modes"`` or ``"complex modes"``)."""
+        return self.modal.basis
+
 
 @dataclass(frozen=True, eq=False)
 class PointFRF(schema.Result):

@@ -53,7 +53,7 @@ from sixdof.frozen import Frozen
 
 #: Identifies the file layout; bump FORMAT_VERSION when a fixed name changes meaning.
 FORMAT = "sixdof-results"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2  # 2: written from the results' descriptions, read back as typed objects
 
 #: ``units`` of dimensionless numbers and of text labels.
 UNITS_ONE = "1"
@@ -257,10 +257,14 @@ class _Encoder:
         self.labels: dict[str, np.ndarray] = {}  # label scales seen so far (mount names), by axis
 
     def scale(self, group: str, dim: str, length: int) -> None:
-        """Make sure the axis ``dim`` of a dataset in ``group`` has a dimension scale."""
+        """Make sure the axis ``dim`` of a dataset in ``group`` has a dimension scale: a label or index
+        scale is made in the top-level group (``frf/axis`` serves every FRF below ``/frf``)."""
         found = _scale_path(self.tree.datasets, _join(group, "_"), dim)
         if found is not None and self.tree.datasets[found].data.shape == (length,):
             return
+        top = group.split("/")[0]
+        if _scale_path(self.tree.datasets, _join(top, "_"), dim) is None:
+            group = top
         if dim in FIXED_SCALES and len(FIXED_SCALES[dim]) == length:
             self.tree.labels(group, dim, FIXED_SCALES[dim])
         elif dim in self.labels and len(self.labels[dim]) == length:
@@ -276,12 +280,16 @@ class _Encoder:
         data = np.asarray(meta["encode"](value) if meta["encode"] else value)
         dims = (*lead, *meta["dims"])
         path = _join(group, stored if _is_scale_field(stored, meta) and not lead else prefix + stored)
+        group = path.rpartition("/")[0]  # a name may hold a subgroup ("modal/damping_ratio")
         if _is_scale_field(stored, meta) and not lead:
             existing = _scale_path(self.tree.datasets, _join(group, "_"), stored)
             if existing is not None and np.array_equal(self.tree.datasets[existing].data, data):
                 return  # a shared scale (the frequencies of every FRF) is stored once
             if data.dtype.kind in "OSU":
                 self.labels[stored] = data
+                top = group.split("/")[0]
+                if existing is None and _scale_path(self.tree.datasets, _join(top, "_"), stored) is None:
+                    path = _join(top, stored)  # labels (mount names) serve the whole top-level group
         else:
             for axis, dim in enumerate(dims):
                 self.scale(group, dim, data.shape[axis])
@@ -357,21 +365,25 @@ class _Decoder:
     def decode(self, cls, group: str, prefix: str = "", required: bool = True):
         """An instance of ``cls`` from ``group``, or ``None`` when nothing of it is stored."""
         kwargs: dict[str, Any] = {}
+        own = False  # found something of its own, not only a dimension scale shared with its parents
         attrs = self.results.attrs.get(group, {})
         for f, meta in _stored(cls):
             kind = meta["kind"]
             if kind == "quantity":
                 stored = meta["name"] or f.name
-                if _is_scale_field(stored, meta):
+                scale = _is_scale_field(stored, meta)
+                if scale:
                     path = _scale_path(self.results.datasets, _join(group, "_"), stored)
                 else:
                     path = _join(group, prefix + stored)
                 found = self.dataset(path) if path else None
                 if found is not None:
+                    own = own or not scale
                     kwargs[f.name] = meta["decode"](found.data) if meta["decode"] else found.data
             elif kind == "label":
                 stored = meta["name"] or prefix + f.name
                 if stored in attrs:
+                    own = True
                     kwargs[f.name] = meta["decode"](attrs[stored]) if meta["decode"] else attrs[stored]
             elif kind == "part":
                 sub = _join(group, meta["group"]) if meta["group"] else group
@@ -380,10 +392,12 @@ class _Decoder:
                 value = self.decode(meta["cls"](), sub, prefix + meta["prefix"] if meta["prefix"] is not None else "",
                                     required=False)
                 if value is not None:
+                    own = True
                     kwargs[f.name] = value
             elif kind == "stacked":
                 value = self.stacked(meta, _join(group, meta["group"]) if meta["group"] else group)
                 if value is not None:
+                    own = True
                     kwargs[f.name] = value
             elif kind == "sequence":
                 subgroups = self.subgroups(_join(group, meta["group"]))
@@ -396,9 +410,13 @@ class _Decoder:
                     if parent.rpartition("/")[0] == _join(group, meta["group"]) and "kind" in self.results.attrs[sub]:
                         found[key] = self.decode(classes[self.results.attrs[sub]["kind"]], sub)
                 kwargs[f.name] = found
-        if not kwargs and not required:
+        if not own and not required:
             return None
-        return cls(**kwargs)
+        try:
+            return cls(**kwargs)
+        except TypeError as exc:  # a required part missing: not a file this version wrote
+            raise InputError(group or "results", f"a complete {cls.__name__} (format version {FORMAT_VERSION})",
+                             Plain(str(exc))) from None
 
     def subgroups(self, group: str) -> list[str]:
         """Direct subgroups of ``group``, in natural order of their names (mode_2 before mode_10)."""
@@ -717,6 +735,10 @@ def load_results(path: str | os.PathLike):
     from sixdof.results import RunResults
 
     tree = load_tree(path)
+    version = tree.attrs[""].get("format_version")
+    if version != FORMAT_VERSION:
+        raise InputError("results", f"a results file of format version {FORMAT_VERSION} (re-run the scenario to "
+                         "write one; load_tree reads older files as a tree)", Plain(f"{path}: version {version}"))
     run = _Decoder(tree).decode(RunResults, "")
     return dataclasses.replace(run, provenance=dict(tree.attrs[""]))
 

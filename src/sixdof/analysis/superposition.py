@@ -34,6 +34,7 @@ from sixdof.analysis.modal import modal_analysis
 from sixdof.analysis.statespace import CLASSICAL_RTOL, complex_modes, modal_basis
 from sixdof.analysis.statespace import coupling as coupling_of
 from sixdof.errors import InputError, SolverError, finite_array, increasing_times, integer, number, readonly
+from sixdof.excitation import Excitation
 from sixdof.results import TimeHistory, label, part, quantity
 
 if TYPE_CHECKING:
@@ -47,11 +48,6 @@ PHASE_PER_INTERVAL = 4.0
 
 METHODS = ("auto", "real", "complex")
 _CHUNK = 4096  # intervals processed at once: bounds memory to a few tens of MB
-
-
-# ----------------------------------------------------------------------------------------------------
-# Result
-# ----------------------------------------------------------------------------------------------------
 
 
 @dataclass(frozen=True, eq=False)
@@ -170,39 +166,30 @@ def superpose(
     SolverError
         If the complex modes cannot be computed reliably.
     """
-    components = () if excitation is None else tuple(excitation.components())
-    ground_motion = None if excitation is None else excitation.ground
-    breakpoints = () if excitation is None else tuple(excitation.breakpoints)
     if excitation is None:
-        q0 = qd0 = np.zeros(6)
-    else:
-        q0, qd0 = excitation.initial_state(system)
+        excitation = Excitation()
+    components = excitation.components()
+    q0, qd0 = excitation.initial_state(system)
 
     force = force_rates = None
     if components:
         vectors = np.stack([np.asarray(vector, dtype=float) for vector, _ in components])
-        signals = [signal for _, signal in components]
 
-        def combine(evaluate):
-            def function(times):
-                values = np.stack([_padded(lambda x, s=s: evaluate(s, x), times) for s in signals])
-                return values.T @ vectors
-            return function
+        def derivative(order):
+            return lambda times: np.stack([_padded(s, times, order) for _, s in components]).T @ vectors
 
-        force = combine(lambda s, times: _signal_values(s, times, 0))
-        force_rates = (combine(lambda s, times: _signal_values(s, times, 1)),
-                       combine(lambda s, times: _signal_values(s, times, 2)))
+        force, force_rates = derivative(0), (derivative(1), derivative(2))
 
     ground = None
     omegas = [2 * np.pi * s.max_frequency_hz for _, s in components]
-    if ground_motion is not None:
-        r = np.asarray(ground_motion.rigid_vector, dtype=float)
-        scale = float(ground_motion.scale)
-        signal = ground_motion.signal
+    if excitation.ground is not None:
+        motion = excitation.ground
+        r = np.asarray(motion.rigid_vector, dtype=float)
+        scale, signal = float(motion.scale), motion.signal
         ground = GroundInput(
-            quantity=ground_motion.quantity,
-            signal=lambda times: scale * _padded(lambda x: _signal_values(signal, x, 0), times),
-            rate=lambda times: scale * _padded(lambda x: _signal_values(signal, x, 1), times),
+            quantity=motion.quantity,
+            signal=lambda times: scale * _padded(signal, times, 0),
+            rate=lambda times: scale * _padded(signal, times, 1),
             k_g=np.asarray(system.K) @ r,
             c_g=np.asarray(system.C) @ r,
         )
@@ -210,31 +197,25 @@ def superpose(
         force_rates = None  # the residual's rates would need the ground's too: q only
 
     return modal_solve(
-        system.M, system.C, system.K, t, force, breakpoints, q0, qd0,
+        system.M, system.C, system.K, t, force, excitation.breakpoints, q0, qd0,
         method=method, n_modes=n_modes, f_max_hz=f_max_hz, residual=residual,
         force_rates=force_rates, signal_omega=max(omegas, default=0.0), ground=ground, **options,
     )
 
 
-def _signal_values(signal, times, order):
-    """A signal (order 0) or its first or second derivative at ``times``, compiled: signals are
-    JAX pytrees, so this compiles once per signal kind and array length (see :func:`_padded`)."""
-    return _compiled_signal(signal, times, order)
-
-
 @partial(jax.jit, static_argnums=2)
 def _compiled_signal(signal, times, order):
+    """A signal (order 0) or its derivative; signals are pytrees: one compilation per kind and length."""
     return signal(times) if order == 0 else signal.derivative(times, order)
 
 
-def _padded(function, times):
-    """``function(times)`` for a jax function of a 1-D array, evaluated on a length padded to a
-    power of two: JAX compiles its eager operations once per array shape, so a few fixed lengths
-    keep repeated calls (new grids, new signals of a kind) from compiling again."""
+def _padded(signal, times, order):
+    """:func:`_compiled_signal` on ``times`` padded to a power of two, so that new grids reuse a few
+    compiled lengths."""
     n = times.size
     size = max(1024, 1 << (n - 1).bit_length())
     padded = np.concatenate([times, np.full(size - n, times[-1] if n else 0.0)])
-    return np.asarray(function(padded), dtype=float)[:n]
+    return np.asarray(_compiled_signal(signal, padded, order), dtype=float)[:n]
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -323,46 +304,37 @@ def modal_solve(
         raise InputError("method", "one of 'auto', 'real', 'complex'", method)
     if integer(quadrature_nodes, "quadrature_nodes", "an integer in [1, 64]", 1) > 64:
         raise InputError("quadrature_nodes", "an integer in [1, 64]", quadrature_nodes)
-    q0 = _state(q0, "q0")
-    qd0 = _state(qd0, "qd0")
+    q0, qd0 = (np.zeros(6) if x is None else finite_array(x, name, "6 finite values", (6,))
+               for x, name in ((q0, "q0"), (qd0, "qd0")))
     breakpoints = _breakpoints(breakpoints)
 
     basis, omega2 = modal_basis(modal_analysis(M, K), C)
     D = basis.T @ C @ basis
     D = 0.5 * (D + D.T)
-    coupling_matrix = coupling_of(D)
-    coupling = float(np.max(coupling_matrix)) if coupling_matrix.size else 0.0
+    coupling = float(np.max(coupling_of(D), initial=0.0))
     classical = coupling <= CLASSICAL_RTOL
     kept = _select(omega2, n_modes, f_max_hz)
 
-    if method == "auto":
-        chosen = "real" if classical else "complex"
-        reason = (
-            f"auto: damping is classical (largest modal coupling {coupling:.1e} <= "
-            f"{CLASSICAL_RTOL:.0e}): real modes"
-            if classical
-            else f"auto: damping couples the real modes (largest coupling |D_ij|/sqrt(D_ii D_jj) = "
-            f"{coupling:.2e} > {CLASSICAL_RTOL:.0e}, non-proportional damping): complex modes"
-        )
+    chosen = "real" if method == "real" or (method == "auto" and classical) else "complex"
+    if method == "auto" and classical:
+        reason = (f"auto: damping is classical (largest modal coupling {coupling:.1e} <= {CLASSICAL_RTOL:.0e}): "
+                  "real modes")
+    elif method == "auto":
+        reason = (f"auto: damping couples the real modes (largest coupling |D_ij|/sqrt(D_ii D_jj) = {coupling:.2e} > "
+                  f"{CLASSICAL_RTOL:.0e}, non-proportional damping): complex modes")
+    elif method == "real" and classical:
+        reason = f"forced real modes; damping is classical (coupling {coupling:.1e})"
     elif method == "real":
-        chosen = "real"
-        reason = (
-            f"forced real modes; damping is classical (coupling {coupling:.1e})"
-            if classical
-            else f"forced real modes on non-classical damping (coupling {coupling:.2e}): the "
-            "off-diagonal modal damping is neglected, the result is approximate (see approximation)"
-        )
+        reason = (f"forced real modes on non-classical damping (coupling {coupling:.2e}): the off-diagonal modal "
+                  "damping is neglected, the result is approximate (see approximation)")
     else:
-        chosen = "complex"
         reason = f"forced complex modes (damping coupling {coupling:.1e})"
 
-    grid = _Grid(t, breakpoints, quadrature_nodes)
     # |lambda| <= omega + d for every kept mode: bounds the phase an interval may span.
-    fastest = float(np.sqrt(np.max(omega2[kept], initial=0.0))
-                    + np.max(np.diag(D)[kept], initial=0.0))
-    grid.refine(max_step, PHASE_PER_INTERVAL / max(fastest + signal_omega, 1e-300))
-    Q_nodes = _evaluate(force, grid.quadrature_times(), "force")  # (n_int, n_g, 6)
-    Q_out = _evaluate(force, t[:, None], "force")[:, 0, :]  # (n, 6)
+    fastest = float(np.sqrt(np.max(omega2[kept], initial=0.0)) + np.max(np.diag(D)[kept], initial=0.0))
+    grid = _Grid(t, breakpoints, quadrature_nodes, max_step, PHASE_PER_INTERVAL / max(fastest + signal_omega, 1e-300))
+    Q_nodes = _evaluate(force, grid.quadrature_times, "force")  # (n_int, n_g, 6)
+    Q_out = _evaluate(force, t, "force")  # (n, 6)
     if ground is not None:
         u_nodes, v_nodes, u_out, v_out = ground.motion(grid)
         Q_nodes = Q_nodes + u_nodes[..., None] * ground.k_g + v_nodes[..., None] * ground.c_g
@@ -386,47 +358,29 @@ def modal_solve(
         q = q + Q_out @ R.T
         if force_rates is not None and force is not None:
             rate, acceleration = force_rates
-            qd = qd + _evaluate(rate, t[:, None], "force_rates[0]")[:, 0, :] @ R.T
-            qdd = qdd + _evaluate(acceleration, t[:, None], "force_rates[1]")[:, 0, :] @ R.T
+            qd = qd + _evaluate(rate, t, "force_rates[0]") @ R.T
+            qdd = qdd + _evaluate(acceleration, t, "force_rates[1]") @ R.T
             residual_rates = True
 
-    truncation = None
-    approximation = None
-    if dropped.size or (chosen == "real" and not classical):
-        full = np.arange(6)
-        if dropped.size:
-            eta_f, *_ = run(full, chosen)
-            truncation = compare(eta_f @ basis.T, q)
-        if chosen == "real" and not classical:
-            eta_x, *_ = run(full, "complex")
-            eta_r = eta_f if dropped.size else eta
-            approximation = compare(eta_x @ basis.T, eta_r @ basis.T)
+    truncation = approximation = None
+    eta_full = eta
+    if dropped.size:
+        eta_full = run(np.arange(6), chosen)[0]
+        truncation = compare(eta_full @ basis.T, q)
+    if chosen == "real" and not classical:
+        approximation = compare(run(np.arange(6), "complex")[0] @ basis.T, eta_full @ basis.T)
 
     for name, value in (("q", q), ("qd", qd), ("qdd", qdd)):
         if not np.all(np.isfinite(value)):
             raise SolverError(f"modal superposition produced non-finite values in {name}")
 
     info = SuperpositionInfo(
-        method=chosen,
-        reason=reason,
-        coupling=coupling,
-        modes_kept=tuple(int(i) for i in kept),
-        frequency_hz=readonly(np.sqrt(omega2[kept]) / (2 * np.pi)),
-        eigenvalues=readonly(eigenvalues, complex),
-        residual=bool(residual and dropped.size > 0),
-        residual_rates=residual_rates,
-        truncation=truncation,
-        approximation=approximation,
-        n_intervals=grid.n_intervals,
-        quadrature_nodes=quadrature_nodes,
+        method=chosen, reason=reason, coupling=coupling, modes_kept=tuple(int(i) for i in kept),
+        frequency_hz=readonly(np.sqrt(omega2[kept]) / (2 * np.pi)), eigenvalues=readonly(eigenvalues, complex),
+        residual=bool(residual and dropped.size > 0), residual_rates=residual_rates, truncation=truncation,
+        approximation=approximation, n_intervals=grid.n_intervals, quadrature_nodes=quadrature_nodes,
     )
     return TimeHistory(t=t, q=q, qd=qd, qdd=qdd, superposition=info)
-
-
-# ----------------------------------------------------------------------------------------------------
-# Modal basis and truncation
-# ----------------------------------------------------------------------------------------------------
-
 
 
 def _select(omega2, n_modes, f_max_hz):
@@ -436,20 +390,14 @@ def _select(omega2, n_modes, f_max_hz):
         if integer(n_modes, "n_modes", "an integer from 1 to 6", 1) > 6:
             raise InputError("n_modes", "an integer from 1 to 6", n_modes)
         if n_modes < n_rigid:
-            raise InputError(
-                "n_modes", f"at least {n_rigid} (the rigid-body modes have no static residual)",
-                n_modes,
-            )
+            raise InputError("n_modes", f"at least {n_rigid} (the rigid-body modes have no static residual)", n_modes)
         keep &= np.arange(6) < n_modes
     if f_max_hz is not None:
         number(f_max_hz, "f_max_hz", "a positive frequency in Hz", low=0.0, strict=True)
         keep &= np.sqrt(omega2) / (2 * np.pi) <= f_max_hz
         if not np.any(keep):
-            raise InputError(
-                "f_max_hz",
-                f"at least the lowest natural frequency ({np.sqrt(omega2[0]) / (2 * np.pi):.4g} Hz)",
-                f_max_hz,
-            )
+            lowest = np.sqrt(omega2[0]) / (2 * np.pi)
+            raise InputError("f_max_hz", f"at least the lowest natural frequency ({lowest:.4g} Hz)", f_max_hz)
     return np.flatnonzero(keep)
 
 
@@ -470,22 +418,14 @@ def _superpose_kept(basis, omega2, D, kept, method, grid, Q_nodes, Q_out, M, q0,
     w2 = omega2[kept]
     Dk = D[np.ix_(kept, kept)]
     g_nodes = Q_nodes @ B  # modal forces at the quadrature nodes (n_int, n_g, m)
-    g_out = Q_out @ B
-    eta0 = B.T @ (M @ q0)  # Phi^-1 = Phi' M for mass-normalized modes
-    etad0 = B.T @ (M @ qd0)
-    m = len(kept)
-    eta = np.zeros((grid.n_out, m))
-    eta_d = np.zeros((grid.n_out, m))
+    eta0, etad0 = (B.T @ (M @ x) for x in (q0, qd0))  # Phi^-1 = Phi' M for mass-normalized modes
+    eta, eta_d = np.zeros((2, len(grid.t), len(kept)))
 
     if method == "real":
-        single = np.arange(m)
-        coupled = np.arange(0)
+        single, coupled = np.arange(len(kept)), np.arange(0)
         D_used = np.diag(np.diag(Dk))
     else:
-        # Coordinates not coupled to any other by damping are exact single oscillators (this covers
-        # undamped rigid-body modes, whose first-order form is a defective Jordan block).
-        c = coupling_of(Dk)
-        isolated = np.all(c <= CLASSICAL_RTOL, axis=1)
+        isolated = np.all(coupling_of(Dk) <= CLASSICAL_RTOL, axis=1)
         if all_complex:
             isolated &= (w2 == 0.0) & (np.diag(Dk) <= CLASSICAL_RTOL * max(float(np.max(np.diag(Dk))), 0.0))
         single = np.flatnonzero(isolated)
@@ -497,18 +437,15 @@ def _superpose_kept(basis, omega2, D, kept, method, grid, Q_nodes, Q_out, M, q0,
     eigenvalues = []
     if single.size:
         d = np.diag(Dk)[single]
-        x, xd = _oscillators(w2[single], d, grid, g_nodes[..., single], eta0[single], etad0[single])
-        eta[:, single], eta_d[:, single] = x, xd
+        eta[:, single], eta_d[:, single] = _oscillators(w2[single], d, grid, g_nodes[..., single], eta0[single],
+                                                        etad0[single])
         disc = np.sqrt((d**2 / 4 - w2[single]).astype(complex))
         eigenvalues += list(-d / 2 + disc) + list(-d / 2 - disc)
     if coupled.size:
-        x, xd, lam = _complex_modes(
-            w2[coupled], D_used[np.ix_(coupled, coupled)], grid, g_nodes[..., coupled],
-            eta0[coupled], etad0[coupled],
-        )
-        eta[:, coupled], eta_d[:, coupled] = x, xd
+        eta[:, coupled], eta_d[:, coupled], lam = _complex_modes(
+            w2[coupled], D_used[np.ix_(coupled, coupled)], grid, g_nodes[..., coupled], eta0[coupled], etad0[coupled])
         eigenvalues += list(lam)
-    eta_dd = g_out - eta_d @ D_used.T - eta * w2
+    eta_dd = Q_out @ B - eta_d @ D_used.T - eta * w2
     eigenvalues = np.array(eigenvalues, dtype=complex)
     eigenvalues = eigenvalues[np.lexsort((eigenvalues.imag, np.abs(eigenvalues)))]
     return eta, eta_d, eta_dd, eigenvalues
@@ -519,24 +456,22 @@ def _oscillators(w2, d, grid, g, x0, v0):
     transition = _sdof_transition(w2, d, grid.h[:, None])  # (n_int, m, 2, 2)
     increments = np.zeros((grid.n_intervals, len(w2), 2))
     sigma = -0.5 * d
-    for lo, hi in _chunks(grid.n_intervals):
+    for lo in range(0, grid.n_intervals, _CHUNK):
+        hi = lo + _CHUNK
         # Response to a unit impulse of g at each node, seen at the interval's end: column 1 of
         # exp(A tau), i.e. e^{sigma tau} [S, C + sigma S].
         cosh, sinhc, decay = _sdof_functions(w2, d, grid.tau[lo:hi, :, None])  # (c, n_g, m)
         weighted = grid.weights[lo:hi, :, None] * g[lo:hi] * decay
         increments[lo:hi, :, 0] = np.sum(sinhc * weighted, axis=1)
         increments[lo:hi, :, 1] = np.sum((cosh + sigma * sinhc) * weighted, axis=1)
-    states = _scan(transition, increments, np.stack([x0, v0], axis=-1))
-    states = grid.at_outputs(states, np.stack([x0, v0], axis=-1))
+    z0 = np.stack([x0, v0], axis=-1)
+    states = grid.at_outputs(_scan(transition, increments, z0), z0)
     return states[..., 0], states[..., 1]
 
 
 def _sdof_functions(w2, d, tau):
-    """``cosh(mu tau)``, ``sinh(mu tau)/mu`` and ``e^{sigma tau}`` with ``sigma = -d/2`` and
-    ``mu^2 = sigma^2 - w2``: cos / sin for under-damped, cosh / sinh for over-damped modes, and the
-    limits ``1``, ``tau`` for critical damping and undamped rigid modes. ``w2``, ``d`` (m,); ``tau``
-    broadcastable to (..., m). Returns three arrays (..., m).
-    """
+    """``cosh(mu tau)``, ``sinh(mu tau)/mu``, ``e^{sigma tau}`` (..., m) for ``sigma = -d/2``, ``mu^2 = sigma^2 - w2``:
+    cos / sin when under-damped, the limits ``1``, ``tau`` when critically damped or rigid."""
     sigma = -0.5 * d
     mu2 = sigma**2 - w2
     shape = np.broadcast_shapes(np.shape(tau), w2.shape)
@@ -559,12 +494,8 @@ def _sdof_functions(w2, d, tau):
 
 
 def _sdof_transition(w2, d, tau):
-    """``exp(A tau)`` of ``A = [[0, 1], [-w2, -d]]`` for any damping (under-, over-, critically
-    damped, rigid): ``e^{sigma tau} (cosh(mu tau) I + sinh(mu tau)/mu (A - sigma I))`` with
-    ``sigma = -d/2``, ``mu^2 = sigma^2 - w2`` (Cayley-Hamilton: ``(A - sigma I)^2 = mu^2 I``).
-
-    Shapes: ``w2``, ``d`` (m,), ``tau`` broadcastable to (..., m). Returns (..., m, 2, 2).
-    """
+    """``exp(A tau)`` (..., m, 2, 2) of ``A = [[0, 1], [-w2, -d]]`` for any damping, by Cayley-Hamilton
+    (``(A - sigma I)^2 = mu^2 I``): ``e^{sigma tau} (cosh(mu tau) I + sinh(mu tau)/mu (A - sigma I))``."""
     sigma = -0.5 * d
     cosh, sinhc, decay = _sdof_functions(w2, d, tau)
     out = np.empty(cosh.shape + (2, 2))
@@ -590,19 +521,19 @@ def _complex_modes(w2, D, grid, g, x0, v0):
     if len(real) + 2 * len(upper) != 2 * p:
         raise SolverError("complex modes: eigenvalues are not in conjugate pairs")
     use = np.concatenate([real, upper])
-    weight = np.concatenate([np.ones(len(real)), 2.0 * np.ones(len(upper))])
+    weight = np.repeat([1.0, 2.0], [len(real), len(upper)])
     lam_u = lam[use]
     W = Vinv[use][:, p:]  # modal participation of the forces (r, p)
     z0 = Vinv[use] @ np.concatenate([x0, v0])
 
     transition = np.exp(lam_u * grid.h[:, None])[..., None, None]  # (n_int, r, 1, 1)
     increments = np.zeros((grid.n_intervals, len(use), 1), dtype=complex)
-    for lo, hi in _chunks(grid.n_intervals):
+    for lo in range(0, grid.n_intervals, _CHUNK):
+        hi = lo + _CHUNK
         kernel = np.exp(lam_u * grid.tau[lo:hi, :, None])  # (c, n_g, r)
         forcing = (grid.weights[lo:hi, :, None] * g[lo:hi]) @ W.T  # (c, n_g, r)
         increments[lo:hi, :, 0] = np.sum(kernel * forcing, axis=1)
-    z = _scan(transition, increments, z0[:, None])
-    z = grid.at_outputs(z, z0[:, None])[..., 0]  # (n, r)
+    z = grid.at_outputs(_scan(transition, increments, z0[:, None]), z0[:, None])[..., 0]  # (n, r)
     y = ((z * weight) @ V[:, use].T).real
     return y[:, :p], y[:, p:], lam
 
@@ -614,11 +545,9 @@ def _scan(a, d, z0):
     scan of the affine maps (log2 n vectorized passes instead of n Python steps); every product of
     transition matrices is itself a transition matrix, so nothing overflows for stable modes.
     """
-    a = a.copy()
-    d = d.copy()
-    n = a.shape[0]
+    a, d = a.copy(), d.copy()
     offset = 1
-    while offset < n:
+    while offset < a.shape[0]:
         later, earlier = slice(offset, None), slice(None, -offset)
         d[later] = _matvec(a[later], d[earlier]) + d[later]
         a[later] = _matmul(a[later], a[earlier])
@@ -628,22 +557,12 @@ def _scan(a, d, z0):
 
 def _matmul(a, b):
     """Batched product of 1x1 or 2x2 matrices, written out (einsum is slow on tiny matrices)."""
-    if a.shape[-1] == 1:
-        return a * b
-    out = np.empty(np.broadcast_shapes(a.shape, b.shape), dtype=np.result_type(a, b))
-    for i in range(2):
-        for j in range(2):
-            out[..., i, j] = a[..., i, 0] * b[..., 0, j] + a[..., i, 1] * b[..., 1, j]
-    return out
+    product = a[..., :, :1] * b[..., :1, :]
+    return product if a.shape[-1] == 1 else product + a[..., :, 1:] * b[..., 1:, :]
 
 
 def _matvec(a, v):
-    if a.shape[-1] == 1:
-        return a[..., 0] * v
-    out = np.empty(np.broadcast_shapes(a.shape[:-1], v.shape), dtype=np.result_type(a, v))
-    for i in range(2):
-        out[..., i] = a[..., i, 0] * v[..., 0] + a[..., i, 1] * v[..., 1]
-    return out
+    return _matmul(a, v[..., None])[..., 0]
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -652,41 +571,28 @@ def _matvec(a, v):
 
 
 class _Grid:
-    """Quadrature intervals: the output steps, split at breakpoints and to a longest length."""
+    """Quadrature intervals: the output steps, split at breakpoints and to at most ``longest`` or ``max_step`` [s]."""
 
-    def __init__(self, t, breakpoints, n_nodes):
-        self.t = t
-        self.n_out = len(t)
-        inside = breakpoints[(breakpoints > t[0]) & (breakpoints < t[-1])]
-        self.nodes = np.union1d(t, inside)
-        self.x, w = np.polynomial.legendre.leggauss(n_nodes)
-        self.w = w
-        self._build()
-
-    def refine(self, max_step, phase_step):
-        longest = phase_step if max_step is None else min(max_step, phase_step)
-        if max_step is not None and (not np.isfinite(max_step) or max_step <= 0):
-            raise InputError("max_step", "a positive duration in s", max_step)
-        h = np.diff(self.nodes)
+    def __init__(self, t, breakpoints, n_nodes, max_step, longest):
+        if max_step is not None:
+            longest = min(number(max_step, "max_step", "a positive duration in s", low=0.0, strict=True), longest)
+        nodes = np.union1d(t, breakpoints[(breakpoints > t[0]) & (breakpoints < t[-1])])
+        h = np.diff(nodes)
         parts = np.maximum(np.ceil(h / longest).astype(np.int64), 1)
-        if np.all(parts == 1):
-            return
-        if int(np.sum(parts)) > 50_000_000:
-            raise InputError("max_step", "a step giving at most 5e7 intervals", max_step)
-        start = np.repeat(self.nodes[:-1], parts)
-        step = np.repeat(h / parts, parts)
-        index = np.arange(len(start)) - np.repeat(np.cumsum(parts) - parts, parts)
-        self.nodes = np.append(start + index * step, self.nodes[-1])
-        self._build()
-
-    def _build(self):
-        self.h = np.diff(self.nodes)
-        self.n_intervals = len(self.h)
+        if np.any(parts > 1):
+            if int(np.sum(parts)) > 50_000_000:
+                raise InputError("max_step", "a step giving at most 5e7 intervals", max_step)
+            start = np.repeat(nodes[:-1], parts)
+            index = np.arange(len(start)) - np.repeat(np.cumsum(parts) - parts, parts)
+            nodes = np.append(start + index * np.repeat(h / parts, parts), nodes[-1])
+            h = np.diff(nodes)
+        self.t, self.h, self.n_intervals = t, h, len(h)
+        self.x, w = np.polynomial.legendre.leggauss(n_nodes)
         s = 0.5 * (1.0 + self.x)  # node position as a fraction of the interval
-        self.offset = self.h[:, None] * s  # (n_int, n_g)
-        self.tau = self.h[:, None] * (1.0 - s)  # time left to the interval's end
-        self.weights = 0.5 * self.h[:, None] * self.w
-        self.output_index = np.searchsorted(self.nodes, self.t)  # exact: t is a subset of nodes
+        self.quadrature_times = nodes[:-1, None] + h[:, None] * s  # (n_int, n_g)
+        self.tau = h[:, None] * (1.0 - s)  # time left to the interval's end
+        self.weights = 0.5 * h[:, None] * w
+        self.output_index = np.searchsorted(nodes, t)  # exact: t is a subset of nodes
 
     def integrate(self, values, initial):
         """Running integral from ``t[0]`` of a function known at the quadrature nodes.
@@ -702,13 +608,9 @@ class _Grid:
         starts = np.concatenate([[initial], ends[:-1]])
         return starts[:, None] + within, ends
 
-    def quadrature_times(self):
-        return self.nodes[:-1, None] + self.offset
-
     def at_outputs(self, states, initial):
         """States at the output times from states after each interval and the initial state."""
-        full = np.concatenate([initial[None], states], axis=0)
-        return full[self.output_index]
+        return np.concatenate([np.asarray(initial)[None], states], axis=0)[self.output_index]
 
 
 @dataclass(frozen=True, eq=False)
@@ -724,10 +626,8 @@ class GroundInput:
     - ``"velocity"``: ``v_g = s``, ``u_g = int_{t0}^t s`` (zero at the first output time);
     - ``"acceleration"``: ``v_g = int s``, ``u_g = int int s`` (ground at rest at ``t0``).
 
-    The integrals are exact on the quadrature grid: on each interval (never straddling a
-    breakpoint) the integrand is interpolated at the Gauss-Legendre nodes (a degree n_g - 1
-    polynomial, spectrally accurate for a smooth piece, exact for a polynomial one) and integrated
-    analytically to every node and to the interval's end; the interval contributions are summed.
+    The integrals are exact on the quadrature grid: on each interval (never straddling a breakpoint) the
+    integrand's interpolating polynomial at the Gauss-Legendre nodes is integrated analytically.
 
     Parameters
     ----------
@@ -749,29 +649,16 @@ class GroundInput:
 
     def motion(self, grid):
         """``u_g, v_g`` at the quadrature nodes (n_int, n_g) and at the output times (n,)."""
-        s_nodes = _scalar(self.signal, grid.quadrature_times())
-        s_out = _scalar(self.signal, grid.t)
+        s_nodes, s_out = (_evaluate(self.signal, x, "ground.signal", ()) for x in (grid.quadrature_times, grid.t))
         if self.quantity == "displacement":
-            return (s_nodes, _scalar(self.rate, grid.quadrature_times()), s_out,
-                    _scalar(self.rate, grid.t))
+            v_nodes, v_out = (_evaluate(self.rate, x, "ground.signal", ()) for x in (grid.quadrature_times, grid.t))
+            return s_nodes, v_nodes, s_out, v_out
         if self.quantity == "velocity":
             u_nodes, u_ends = grid.integrate(s_nodes, 0.0)
-            return u_nodes, s_nodes, grid.at_outputs(u_ends, np.zeros(())), s_out
+            return u_nodes, s_nodes, grid.at_outputs(u_ends, 0.0), s_out
         v_nodes, v_ends = grid.integrate(s_nodes, 0.0)
         u_nodes, u_ends = grid.integrate(v_nodes, 0.0)
-        zero = np.zeros(())
-        return u_nodes, v_nodes, grid.at_outputs(u_ends, zero), grid.at_outputs(v_ends, zero)
-
-
-def _scalar(function, times):
-    times = np.asarray(times, dtype=float)
-    value = np.asarray(function(times.reshape(-1)), dtype=float)
-    if value.shape != (times.size,):
-        raise InputError("ground.signal", f"a callable returning shape ({times.size},)",
-                         f"shape {value.shape}")
-    if not np.all(np.isfinite(value)):
-        raise SolverError("ground.signal returned non-finite values")
-    return value.reshape(times.shape)
+        return u_nodes, v_nodes, grid.at_outputs(u_ends, 0.0), grid.at_outputs(v_ends, 0.0)
 
 
 def _integration_matrices(n):
@@ -788,35 +675,16 @@ def _integration_matrices(n):
     return at_nodes @ to_coefficients, at_end @ to_coefficients
 
 
-def _chunks(n):
-    for lo in range(0, n, _CHUNK):
-        yield lo, min(lo + _CHUNK, n)
-
-
-def _evaluate(function, times, name):
-    """``function`` on an array of times of any shape: returns times.shape + (6,)."""
+def _evaluate(function, times, name, shape=(6,)):
+    """``function`` (of a 1-D array of times, returning (n,) + ``shape``; None: zero) on times of any shape."""
     if function is None:
-        return np.zeros(times.shape + (6,))
-    flat = times.reshape(-1)
-    value = np.asarray(function(flat), dtype=float)
-    if value.shape != (flat.size, 6):
-        raise InputError(name, f"a callable returning shape ({flat.size}, 6)",
-                         f"shape {value.shape}")
+        return np.zeros(times.shape + shape)
+    value = np.asarray(function(times.reshape(-1)), dtype=float)
+    if value.shape != (times.size,) + shape:
+        raise InputError(name, f"a callable returning shape {(times.size,) + shape}", f"shape {value.shape}")
     if not np.all(np.isfinite(value)):
         raise SolverError(f"{name} returned non-finite values")
-    return value.reshape(times.shape + (6,))
-
-
-# ----------------------------------------------------------------------------------------------------
-# Validation helpers
-# ----------------------------------------------------------------------------------------------------
-
-
-
-def _state(value, name):
-    if value is None:
-        return np.zeros(6)
-    return finite_array(value, name, "6 finite values", (6,))
+    return value.reshape(times.shape + shape)
 
 
 def _breakpoints(value):

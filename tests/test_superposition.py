@@ -9,6 +9,7 @@
 
 from __future__ import annotations
 
+from functools import cache
 from types import SimpleNamespace
 
 import numpy as np
@@ -35,6 +36,7 @@ from sixdof import (
     simulate,
     superpose,
 )
+from sixdof import excitation as ex
 from sixdof.analysis.compare import Agreement
 from sixdof.analysis.superposition import modal_solve
 from sixdof.results import TimeHistory
@@ -63,11 +65,8 @@ CLASSICAL = ("rayleigh", "modal", "overdamped")
 # A load at a corner of the beam: it excites every DOF.
 LOAD = np.array([2e3, -1e3, -8e4, 0.0, 0.0, 0.0])
 LOAD[3:] = np.cross([0.4, 15.0, 1.0], LOAD[:3]) + [1e3, 2e3, -3e3]
-
-
-# ----------------------------------------------------------------------------------------------------
-# Exact reference: matrix exponential of the state-space system augmented with signal generators.
-# ----------------------------------------------------------------------------------------------------
+# An initial state moving every DOF [m, rad; m/s, rad/s].
+Q0, QD0 = np.array([1e-3, -2e-3, 5e-4, 1e-6, -3e-5, 2e-6]), np.array([-1e-2, 0.0, 3e-3, 0.0, 1e-4, -1e-5])
 
 
 def sine(w, phase=0.0, amplitude=1.0):
@@ -75,17 +74,9 @@ def sine(w, phase=0.0, amplitude=1.0):
     return oscillator(w, phase, 0.0, amplitude)
 
 
-def line(a, b=0.0):
-    """``a + b tau``."""
-    return linear(a, b)
-
-
 def exact(system, pieces, q0=None, qd0=None):
-    """q (n, 6) on T of ``M q'' + C q' + K q = LOAD s(t)`` by matrix exponentials (tests/references.py).
-
-    ``pieces``: list of ``(start, end, generators)``; on ``[start, end)`` the signal is the sum of
-    the generators' outputs; zero where no piece is active.
-    """
+    """q (n, 6) on T of ``M q'' + C q' + K q = LOAD s(t)``; s is the sum of the generators of each
+    ``(start, end, generators)`` piece on ``[start, end)``, zero elsewhere."""
     x0 = None if q0 is None else np.concatenate([q0, qd0])
     pieces = windowed_pieces(pieces, T[-1], T[0])
     return exact_response(system.M, system.C, system.K, LOAD, pieces, T, x0)[0]
@@ -112,28 +103,20 @@ INF = np.inf
 CASES = {
     "harmonic": [(0.0, INF, [sine(2 * np.pi * 5.0, 0.3)])],
     "harmonic_late_start": [(0.3217, INF, [sine(2 * np.pi * 21.0)])],  # near the 21.3 Hz mode
-    "step": [(0.1234, INF, [line(1.0)])],
-    "ramp": [(0.05, 0.35, [line(0.0, 1 / 0.3)]), (0.35, INF, [line(1.0)])],
+    "step": [(0.1234, INF, [linear(1.0, 0.0)])],
+    "ramp": [(0.05, 0.35, [linear(0.0, 1 / 0.3)]), (0.35, INF, [linear(1.0, 0.0)])],
     "half_sine": [(0.2005, 0.2505, [sine(np.pi / 0.05)])],
-    "haversine": [(0.1, 0.4, [line(0.5), sine(2 * np.pi / 0.3, np.pi / 2, -0.5)])],
+    "haversine": [(0.1, 0.4, [linear(0.5, 0.0), sine(2 * np.pi / 0.3, np.pi / 2, -0.5)])],
     # A table (piecewise linear) whose knots are off the output grid.
-    "table": [(0.0105, 0.2, [line(0.0, 1.0 / 0.1895)]), (0.2, 0.51, [line(1.0, -2.0 / 0.31)]),
-              (0.51, 0.9003, [line(-1.0, 1.0 / 0.3903)])],
+    "table": [(0.0105, 0.2, [linear(0.0, 1.0 / 0.1895)]), (0.2, 0.51, [linear(1.0, -2.0 / 0.31)]),
+              (0.51, 0.9003, [linear(-1.0, 1.0 / 0.3903)])],
 }
 
 
-@pytest.fixture(scope="module")
-def references():
-    """Exact responses, computed once per (system, case)."""
-    cache = {}
-
-    def get(system_name, case):
-        key = (system_name, case)
-        if key not in cache:
-            cache[key] = exact(SYSTEMS[system_name], CASES[case])
-        return cache[key]
-
-    return get
+@cache
+def exact_case(system_name, case):
+    """Exact response, computed once per (system, case)."""
+    return exact(SYSTEMS[system_name], CASES[case])
 
 
 def solve(system, pieces, **options):
@@ -144,24 +127,31 @@ def solve(system, pieces, **options):
 
 @pytest.mark.parametrize("system_name", list(SYSTEMS))
 @pytest.mark.parametrize("case", list(CASES))
-def test_matches_exact_response(references, system_name, case):
+def test_matches_exact_response_with_the_automatic_method_reported(system_name, case):
     result = solve(SYSTEMS[system_name], CASES[case])
-    agreement = compare(references(system_name, case), result)
+    agreement = compare(exact_case(system_name, case), result)
     assert agreement.worst < RTOL_MODAL_EXACT, str(agreement)
-    assert result.superposition.method == ("real" if system_name in CLASSICAL else "complex")
+    info = result.superposition
+    if system_name in CLASSICAL:
+        assert info.method == "real" and info.reason.startswith("auto: damping is classical")
+        assert info.coupling < MODAL_DAMPING_COUPLING_CLASSICAL
+        assert len(info.eigenvalues) == 12
+    else:
+        assert info.method == "complex" and "non-proportional" in info.reason
+        assert info.coupling > MODAL_DAMPING_COUPLING_MIN
+    assert info.approximation is None
+    assert info.truncation is None and info.modes_kept == tuple(range(6))
 
 
 @pytest.mark.parametrize("system_name", ["rayleigh", "dashpots"])
 def test_initial_conditions_and_mode_release(system_name):
     system = SYSTEMS[system_name]
-    q0 = np.array([1e-3, -2e-3, 5e-4, 1e-6, -3e-5, 2e-6])
-    qd0 = np.array([-1e-2, 0.0, 3e-3, 0.0, 1e-4, -1e-5])
-    result = modal_solve(system.M, system.C, system.K, T, q0=q0, qd0=qd0)
-    assert compare(exact(system, [], q0, qd0), result).worst < RTOL_MODAL_EXACT
+    result = modal_solve(system.M, system.C, system.K, T, q0=Q0, qd0=QD0)
+    assert compare(exact(system, [], Q0, QD0), result).worst < RTOL_MODAL_EXACT
     # The initial state goes through the modal transform and back: round-off only.
-    np.testing.assert_allclose(result.q[0], q0, rtol=RTOL_MODAL_EXACT, atol=0)
-    np.testing.assert_allclose(result.qd[0], qd0, rtol=RTOL_MODAL_EXACT,
-                               atol=RTOL_MODAL_EXACT * np.max(np.abs(qd0[qd0 != 0])))
+    np.testing.assert_allclose(result.q[0], Q0, rtol=RTOL_MODAL_EXACT, atol=0)
+    np.testing.assert_allclose(result.qd[0], QD0, rtol=RTOL_MODAL_EXACT,
+                               atol=RTOL_MODAL_EXACT * np.max(np.abs(QD0[QD0 != 0])))
 
 
 def test_mode_release_stays_in_its_mode_under_classical_damping():
@@ -185,28 +175,9 @@ def test_accelerations_satisfy_equation_of_motion():
     assert np.max(np.abs(residual) / scale) < RTOL_MODAL_EXACT
 
 
-# ----------------------------------------------------------------------------------------------------
-# Method choice and the real-mode approximation of non-proportional damping
-# ----------------------------------------------------------------------------------------------------
-
-
-@pytest.mark.parametrize("system_name", list(SYSTEMS))
-def test_automatic_method_is_reported(system_name):
-    result = solve(SYSTEMS[system_name], CASES["step"])
-    if system_name in CLASSICAL:
-        assert result.superposition.method == "real" and result.superposition.reason.startswith("auto: damping is classical")
-        assert result.superposition.coupling < MODAL_DAMPING_COUPLING_CLASSICAL
-        assert len(result.superposition.eigenvalues) == 12
-    else:
-        assert result.superposition.method == "complex" and "non-proportional" in result.superposition.reason
-        assert result.superposition.coupling > MODAL_DAMPING_COUPLING_MIN
-    assert result.superposition.approximation is None
-
-
-def test_real_modes_on_nonproportional_damping_disagree_measurably(references):
+def test_real_modes_on_nonproportional_damping_disagree_measurably():
     result = solve(SYSTEMS["dashpots"], CASES["half_sine"], method="real")
-    exact = references("dashpots", "half_sine")
-    agreement = compare(exact, result)
+    agreement = compare(exact_case("dashpots", "half_sine"), result)
     assert agreement.worst > MODAL_DAMPING_COUPLING_MIN and not agreement.ok
     assert result.superposition.method == "real" and "approximate" in result.superposition.reason
     # The result reports that error itself, against the exact complex-mode computation.
@@ -214,10 +185,10 @@ def test_real_modes_on_nonproportional_damping_disagree_measurably(references):
     assert result.superposition.approximation.worst == pytest.approx(agreement.worst, rel=1e-6)
 
 
-def test_forced_complex_on_classical_damping_agrees(references):
+def test_forced_complex_on_classical_damping_agrees():
     result = solve(SYSTEMS["rayleigh"], CASES["table"], method="complex")
     assert result.superposition.method == "complex"
-    assert compare(references("rayleigh", "table"), result).worst < RTOL_MODAL_EXACT
+    assert compare(exact_case("rayleigh", "table"), result).worst < RTOL_MODAL_EXACT
 
 
 def test_classical_damping_detected_within_repeated_modes():
@@ -242,18 +213,13 @@ def test_classical_damping_detected_within_repeated_modes():
     assert compare(reference, result).worst < RTOL_MODAL_EXACT
 
 
-# ----------------------------------------------------------------------------------------------------
-# Truncation and residual flexibility
-# ----------------------------------------------------------------------------------------------------
-
-
 @pytest.mark.parametrize("system_name", ["rayleigh", "dashpots"])
 def test_residual_correction_beats_plain_truncation(system_name):
     system = SYSTEMS[system_name]
     # A slow load (2 Hz, smooth start) under the dropped 21 and 38 Hz modes: they respond almost
     # statically, which is what the residual flexibility represents.
-    pieces = [(0.0, 0.5, [line(0.5), sine(2 * np.pi / 1.0, np.pi / 2, -0.5)]),
-              (0.5, INF, [line(1.0)])]
+    pieces = [(0.0, 0.5, [linear(0.5, 0.0), sine(2 * np.pi / 1.0, np.pi / 2, -0.5)]),
+              (0.5, INF, [linear(1.0, 0.0)])]
     reference = exact(system, pieces)
     with_residual = solve(system, pieces, n_modes=4)
     without = solve(system, pieces, n_modes=4, residual=False)
@@ -268,37 +234,32 @@ def test_residual_correction_beats_plain_truncation(system_name):
 
 
 def test_truncation_by_frequency():
-    system = SYSTEMS["rayleigh"]
-    result = solve(system, CASES["step"], f_max_hz=10.0)
+    result = solve(SYSTEMS["rayleigh"], CASES["step"], f_max_hz=10.0)
     assert result.superposition.modes_kept == (0, 1, 2, 3)
     assert np.all(result.superposition.frequency_hz <= 10.0)
-    full = solve(system, CASES["step"])
-    assert full.superposition.truncation is None and full.superposition.modes_kept == tuple(range(6))
 
 
-# ----------------------------------------------------------------------------------------------------
-# Rigid-body (zero-frequency) modes
-# ----------------------------------------------------------------------------------------------------
+T_RIGID = np.linspace(0.0, 5.0, 501)
 
 
-def free_floating(horizontal_damping=0.0, **damping):
+def free_floating(horizontal_damping=0.0, vertical_damping=1e5, **damping):
     """Mounts stiff only vertically: x, y and rz are rigid-body (zero-frequency) modes."""
-    mounts = [
-        Mount(str(i + 1), p, [0.0, 0.0, 3e8],
-              damping=[horizontal_damping, horizontal_damping, 1e5 * (1 + i)])
-        for i, p in enumerate(BRIDGE_POSITIONS)
-    ]
+    mounts = [Mount(str(i + 1), p, [0.0, 0.0, 3e8],
+                    damping=[horizontal_damping, horizontal_damping, vertical_damping * (1 + i)])
+              for i, p in enumerate(BRIDGE_POSITIONS)]
     return System(bridge_body(), mounts, **damping)
 
 
+def constant_force(system, force, **options):
+    """The response over T_RIGID to a constant generalized force (6,)."""
+    return modal_solve(system.M, system.C, system.K, T_RIGID, lambda s: np.ones((s.size, 1)) * force, **options)
+
+
 def test_rigid_body_modes_undamped_move_as_free_mass():
-    system = free_floating()
     force = np.array([100.0, -50.0, 0.0, 0.0, 0.0, 0.0])
-    t = np.linspace(0.0, 5.0, 501)
-    result = modal_solve(system.M, system.C, system.K, t, lambda s: np.ones((s.size, 1)) * force,
-                         qd0=[1e-3, 0, 0, 0, 0, 0])
-    expected_x = 1e-3 * t + force[0] / BRIDGE_MASS * t**2 / 2
-    expected_y = force[1] / BRIDGE_MASS * t**2 / 2
+    result = constant_force(free_floating(), force, qd0=[1e-3, 0, 0, 0, 0, 0])
+    expected_x = 1e-3 * T_RIGID + force[0] / BRIDGE_MASS * T_RIGID**2 / 2
+    expected_y = force[1] / BRIDGE_MASS * T_RIGID**2 / 2
     np.testing.assert_allclose(result.q[:, 0], expected_x, rtol=RTOL_MODAL_EXACT, atol=0)
     np.testing.assert_allclose(result.q[1:, 1], expected_y[1:], rtol=RTOL_MODAL_EXACT, atol=0)
     assert result.superposition.method == "complex"  # the vertical dashpots are not proportional
@@ -308,13 +269,9 @@ def test_rigid_body_modes_undamped_move_as_free_mass():
 def test_rigid_body_modes_with_mass_proportional_damping(method):
     # eta'' + alpha eta' = F/m from rest: x(t) = F/(m alpha) (t - (1 - e^{-alpha t}) / alpha).
     alpha = 0.8
-    mounts = [Mount(str(i + 1), p, [0.0, 0.0, 3e8]) for i, p in enumerate(BRIDGE_POSITIONS)]
-    system = System(bridge_body(), mounts, rayleigh=Rayleigh(alpha, 0.0))
-    t = np.linspace(0.0, 5.0, 501)
     force = np.array([100.0, 0.0, 0.0, 0.0, 0.0, 0.0])
-    result = modal_solve(system.M, system.C, system.K, t, lambda s: np.ones((s.size, 1)) * force,
-                         method=method)
-    expected = free_mass_with_viscous_drag(t, force[0], BRIDGE_MASS, alpha)
+    result = constant_force(free_floating(vertical_damping=0.0, rayleigh=Rayleigh(alpha, 0.0)), force, method=method)
+    expected = free_mass_with_viscous_drag(T_RIGID, force[0], BRIDGE_MASS, alpha)
     np.testing.assert_allclose(result.q[1:, 0], expected[1:], rtol=RTOL_MODAL_EXACT, atol=0)
     assert result.superposition.method == method
 
@@ -331,11 +288,6 @@ def test_truncation_must_keep_rigid_body_modes():
     system = free_floating()
     with pytest.raises(InputError, match=r"n_modes: expected at least 3 \(the rigid-body modes"):
         modal_solve(system.M, system.C, system.K, T, n_modes=2)
-
-
-# ----------------------------------------------------------------------------------------------------
-# compare
-# ----------------------------------------------------------------------------------------------------
 
 
 def test_compare_each_dof_on_its_own_scale():
@@ -384,7 +336,8 @@ def test_input_errors():
     args = (system.M, system.C, system.K)
     with pytest.raises(InputError, match="method: expected one of 'auto', 'real', 'complex', got 'x'"):
         modal_solve(*args, T, method="x")
-    with pytest.raises(InputError, match=r"t: expected at least 2 finite, strictly increasing times in s, got t\[2\] = 0.5 after t\[1\] = 1"):
+    with pytest.raises(InputError, match=r"t: expected at least 2 finite, strictly increasing times in s, "
+                                         r"got t\[2\] = 0.5 after t\[1\] = 1"):
         modal_solve(*args, [0.0, 1.0, 0.5])
     with pytest.raises(InputError, match="n_modes: expected an integer from 1 to 6, got 7"):
         modal_solve(*args, T, n_modes=7)
@@ -405,14 +358,8 @@ def test_result_is_frozen():
         result.q[0, 0] = 1.0
 
 
-# ----------------------------------------------------------------------------------------------------
-# Against the direct solver (diffrax): every damping model, every signal kind
-# ----------------------------------------------------------------------------------------------------
-
-from sixdof import excitation as ex  # noqa: E402
-
 SETTINGS = SimulationSettings(duration=1.0, sample_rate_hz=1000.0)
-POINT, FORCE, MOMENT = [0.4, 15.0, 1.0], [2e3, -1e3, -8e4], [1e3, 2e3, -3e3]
+POINT, MOMENT = [0.4, 15.0, 1.0], [1e3, 2e3, -3e3]
 
 
 def _loads(*signals):
@@ -447,29 +394,21 @@ EXCITATIONS = {
         "velocity", [0.0, 0.3, 1.0], ex.HalfSine(start=0.1, duration=0.2), scale=0.1)),
     "ground_acceleration": ex.Excitation(ground=ex.GroundMotion(
         "acceleration", [0.3, 1.0, 0.2], ex.Random(f_hz=(0.5, 20.0), rms=1.0, seed=1), scale=0.5)),
-    "initial_state": ex.Excitation(initial=ex.InitialState(
-        q=[1e-3, -2e-3, 5e-4, 1e-6, -3e-5, 2e-6], qd=[-1e-2, 0.0, 3e-3, 0.0, 1e-4, -1e-5])),
+    "initial_state": ex.Excitation(initial=ex.InitialState(q=Q0, qd=QD0)),
     "mode_release": ex.Excitation(initial=ex.ModeRelease(mode=2, amplitude=1e-3)),
 }
 DIRECT_SYSTEMS = ("rayleigh", "modal", "dashpots", "combined")
 
 
-@pytest.fixture(scope="module")
-def direct():
-    """Direct solutions, computed once per (system, excitation); compiled once per signal kind."""
-    cache = {}
-
-    def get(system_name, kind):
-        if (system_name, kind) not in cache:
-            cache[system_name, kind] = simulate(SYSTEMS[system_name], EXCITATIONS[kind], SETTINGS)
-        return cache[system_name, kind]
-
-    return get
+@cache
+def direct(system_name, kind):
+    """Direct solution, computed once per (system, excitation); compiled once per signal kind."""
+    return simulate(SYSTEMS[system_name], EXCITATIONS[kind], SETTINGS)
 
 
 @pytest.mark.parametrize("system_name", DIRECT_SYSTEMS)
 @pytest.mark.parametrize("kind", list(EXCITATIONS))
-def test_agrees_with_direct_solver(direct, system_name, kind):
+def test_agrees_with_direct_solver(system_name, kind):
     reference = direct(system_name, kind)
     result = superpose(SYSTEMS[system_name], EXCITATIONS[kind], reference.t)
     agreement = compare(reference, result, tolerance=RTOL_MODAL_DIRECT)
@@ -477,7 +416,7 @@ def test_agrees_with_direct_solver(direct, system_name, kind):
     assert result.superposition.method == ("real" if system_name in CLASSICAL else "complex")
 
 
-def test_real_modes_on_dashpots_disagree_with_direct_solver(direct):
+def test_real_modes_on_dashpots_disagree_with_direct_solver():
     reference = direct("dashpots", "harmonic_step_half_sine")
     result = superpose(SYSTEMS["dashpots"], EXCITATIONS["harmonic_step_half_sine"], reference.t,
                        method="real")
@@ -486,7 +425,7 @@ def test_real_modes_on_dashpots_disagree_with_direct_solver(direct):
     assert not result.superposition.approximation.ok
 
 
-def test_truncated_superposition_reports_error_against_full_set(direct):
+def test_truncated_superposition_reports_error_against_full_set():
     reference = direct("combined", "sweeps_ramp")
     truncated = superpose(SYSTEMS["combined"], EXCITATIONS["sweeps_ramp"], reference.t, n_modes=5)
     actual = compare(reference, truncated).worst

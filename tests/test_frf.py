@@ -339,7 +339,7 @@ def test_bad_method_basis_quantity():
         receptance(system, [1.0], method="modal", basis="x")
     with pytest.raises(InputError, match=r"^basis: expected 'auto' or 'complex' \(damping"):
         receptance(system, [1.0], method="modal", basis="real")
-    with pytest.raises(InputError, match=r"^quantity: expected one of 'receptance', 'mobility', "
+    with pytest.raises(InputError, match=r"^quantity: expected 'receptance', 'mobility' or "
                                          r"'accelerance', got 'velocity'"):
         point_frf(system, [1.0], [0, 0, 0], "z", [0, 0, 0], "z", quantity="velocity")
 

@@ -52,20 +52,9 @@ if TYPE_CHECKING:
     from sixdof.model.system import System
 
 __all__ = [
-    "FRF",
-    "FRFCrossCheck",
-    "ForceTransmissibility",
-    "GroundTransmissibility",
-    "PointFRF",
-    "QUANTITIES",
-    "cross_check",
-    "dynamic_stiffness",
-    "force_transmissibility",
-    "frf_difference",
-    "ground_transmissibility",
-    "hysteretic_stiffness",
-    "point_frf",
-    "receptance",
+    "FRF", "FRFCrossCheck", "ForceTransmissibility", "GroundTransmissibility", "PointFRF", "QUANTITIES",
+    "cross_check", "dynamic_stiffness", "force_transmissibility", "frf_difference", "ground_transmissibility",
+    "hysteretic_stiffness", "point_frf", "receptance",
 ]
 
 #: FRF quantities and the power of ``i w`` that turns receptance into each.
@@ -383,13 +372,8 @@ def dynamic_stiffness(system: System, f_hz) -> np.ndarray:
     f_hz : array_like, shape (nf,)
         Frequencies [Hz], >= 0.
     """
-    f = _frequencies(f_hz)
-    return _dynamic_stiffness(system, 2.0 * np.pi * f)
-
-
-def _dynamic_stiffness(system, omega: np.ndarray) -> np.ndarray:
+    w = (2.0 * np.pi * _frequencies(f_hz))[:, None, None]
     static = np.asarray(system.K, dtype=complex) + 1j * hysteretic_stiffness(system)
-    w = omega[:, None, None]
     return static[None] - w**2 * np.asarray(system.M)[None] + (1j * w) * np.asarray(system.C)[None]
 
 
@@ -435,18 +419,17 @@ def receptance(system: System, f_hz, method: str = "direct", basis: str = "auto"
         free = ", ".join(system.modes.free_dofs) or "some DOFs"
         raise InputError("f_hz", f"frequencies > 0 Hz: the mounts leave {free} unrestrained, so the static "
                          "response (f = 0) is unbounded", f.tolist())
-    omega = 2.0 * np.pi * f
     if method == "direct":
         try:
             # Batched LAPACK LU (getrf/getri) with partial pivoting: one call for all frequencies.
-            H, used = np.linalg.inv(_dynamic_stiffness(system, omega)), "dynamic stiffness"
+            H, used = np.linalg.inv(dynamic_stiffness(system, f)), "dynamic stiffness"
         except np.linalg.LinAlgError:
             raise SolverError("receptance (direct): the dynamic stiffness is singular at a requested frequency "
                               "(an undamped natural frequency hit exactly)") from None
     else:
         terms = _modal_terms(system, basis)
         with np.errstate(divide="ignore", invalid="ignore"):
-            H, used = terms.evaluate(omega), terms.basis
+            H, used = terms.evaluate(2.0 * np.pi * f), terms.basis
     if not np.isfinite(H.view(float)).all():  # the float view: half the cost of complex isfinite
         raise SolverError(f"receptance ({method}): non-finite values; a requested frequency sits exactly on an "
                           "undamped natural frequency")

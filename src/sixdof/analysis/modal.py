@@ -104,6 +104,7 @@ def modal_analysis(M: np.ndarray, K: np.ndarray) -> Modes:
 
     weight = np.sum(ke[:, zero], axis=1)  # each DOF's kinetic-energy share of the rigid-body modes
     free_dofs = tuple(d for d, w, row in zip(DOFS, weight, shapes[:, zero]) if w > 1e-6 and np.any(row))
+
     return Modes(
         eigenvalues=readonly(eigenvalues),
         omega=readonly(omega),

@@ -11,19 +11,16 @@ like ``K`` (complex stiffness ``k (1 + i eta)``, frequency independent; defined 
 
 Two independent computations of the 6x6 receptance ``H = Z^-1``:
 
-* ``method="direct"``: a batched LU solve of the dynamic stiffness at every frequency (LAPACK through
-  NumPy; no Python loop per frequency).
-* ``method="modal"``: summation over modes. When both ``C`` and ``K_h`` are diagonal in the undamped
-  mass-normalized modes (classical damping: Rayleigh, modal, or proportional dashpots) the sum runs
-  over the real modes, ``H = sum_r phi_r phi_r' / (w_r^2 (1 + i eta_r) - w^2 + i w c_r)``; otherwise
-  over the complex modes of the first-order state-space system (complex ``K + i K_h`` included), with
-  left eigenvectors from the inverse of the eigenvector matrix. Rigid-body (zero-frequency) modes
-  contribute their mass line ``-phi phi' / w^2`` (or their damped form when ``C`` acts on them).
-  This is the fast path: once the (at most 12) poles and residues are known, all frequencies take
-  one real matrix product of the (nf, 2 P) pole factors with the (2 P, 72) residues, ~5x faster
-  than the direct method at 10,000 frequencies. It refuses (SolverError) nearly defective complex
-  modes, e.g. a critically damped mode, which the direct method handles; so ``"direct"`` stays the
-  default and the reference.
+* ``method="direct"``, the default and the reference: a batched LU solve of the dynamic stiffness at
+  every frequency (LAPACK through NumPy; no Python loop per frequency).
+* ``method="modal"``, the fast path (~5x faster at 10,000 frequencies): summation over modes. When
+  both ``C`` and ``K_h`` are diagonal in the undamped mass-normalized modes (classical damping:
+  Rayleigh, modal, or proportional dashpots) the sum runs over the real modes,
+  ``H = sum_r phi_r phi_r' / (w_r^2 (1 + i eta_r) - w^2 + i w c_r)``; otherwise over the complex modes
+  of the first-order state-space system (complex ``K + i K_h`` included). Rigid-body (zero-frequency)
+  modes contribute their mass line ``-phi phi' / w^2`` (or their damped form when ``C`` acts on them).
+  It refuses (SolverError) nearly defective complex modes, e.g. a critically damped mode, which the
+  direct method handles.
 
 :func:`cross_check` computes both and reports their largest relative difference.
 
@@ -48,27 +45,16 @@ import numpy as np
 from sixdof import results as schema
 from sixdof.analysis.statespace import complex_modes, is_classical, modal_basis
 from sixdof.dofs import AXES, DOF_UNITS, DOFS, FORCE_UNITS, UNITS, mixed_units
-from sixdof.errors import InputError, SolverError, point
+from sixdof.errors import InputError, SolverError, choice_check, direction_check, point, readonly
 from sixdof.model.kinematics import mount_matrix, point_map, response_row, unit_load
 
 if TYPE_CHECKING:
     from sixdof.model.system import System
 
 __all__ = [
-    "FRF",
-    "FRFCrossCheck",
-    "ForceTransmissibility",
-    "GroundTransmissibility",
-    "PointFRF",
-    "QUANTITIES",
-    "cross_check",
-    "dynamic_stiffness",
-    "force_transmissibility",
-    "frf_difference",
-    "ground_transmissibility",
-    "hysteretic_stiffness",
-    "point_frf",
-    "receptance",
+    "FRF", "FRFCrossCheck", "ForceTransmissibility", "GroundTransmissibility", "PointFRF", "QUANTITIES",
+    "cross_check", "dynamic_stiffness", "force_transmissibility", "frf_difference", "ground_transmissibility",
+    "hysteretic_stiffness", "point_frf", "receptance",
 ]
 
 #: FRF quantities and the power of ``i w`` that turns receptance into each.
@@ -124,8 +110,7 @@ class FRF(schema.Result):
 
     def quantity(self, name: str = "receptance") -> np.ndarray:
         """Receptance, mobility (``i w H``) or accelerance (``-w^2 H``), shape (nf, 6, 6)."""
-        power = _quantity_power(name)
-        return (1j * self.omega)[:, None, None] ** power * self.H
+        return (1j * self.omega)[:, None, None] ** QUANTITIES[_check_quantity(name, "quantity")] * self.H
 
     def mobility(self) -> np.ndarray:
         """Mobility ``i w H``, shape (nf, 6, 6): velocity per generalized force [m/(s N), ...]."""
@@ -137,10 +122,8 @@ class FRF(schema.Result):
 
     def units(self, name: str = "receptance") -> np.ndarray:
         """Unit of each entry of the (6, 6) matrix for ``name``, e.g. ``"m/N"``, ``"rad/(N m)/s"``."""
-        suffix = _QUANTITY_SUFFIX[_check_quantity(name)]
-        return np.array(
-            [[_ratio_unit(DOF_UNITS[i], FORCE_UNITS[j]) + suffix for j in range(6)] for i in range(6)]
-        )
+        suffix = _QUANTITY_SUFFIX[_check_quantity(name, "quantity")]
+        return np.array([[_ratio_unit(dof, load) + suffix for load in FORCE_UNITS] for dof in DOF_UNITS])
 
 
 @dataclass(frozen=True, eq=False)
@@ -332,45 +315,18 @@ class GroundTransmissibility(schema.Result):
 
 
 def _frequencies(f_hz) -> np.ndarray:
-    expected = "finite frequencies >= 0 in Hz (a number or a 1-D array)"
     try:
-        f = np.array(f_hz, dtype=float)
+        f = np.atleast_1d(readonly(f_hz))
     except (TypeError, ValueError):
-        raise InputError("f_hz", expected, f_hz) from None
-    if f.ndim > 1 or f.size == 0 or not np.all(np.isfinite(f)) or np.any(f < 0):
-        raise InputError("f_hz", expected, f_hz)
-    f = np.atleast_1d(f)
-    f.flags.writeable = False
+        f = None
+    if f is None or f.ndim > 1 or f.size == 0 or not np.all(np.isfinite(f)) or np.any(f < 0):
+        raise InputError("f_hz", "finite frequencies >= 0 in Hz (a number or a 1-D array)", f_hz)
     return f
 
 
-def _check_zero_frequency(system, f: np.ndarray) -> None:
-    if np.any(f == 0.0):
-        modes = system.modes
-        if modes.zero_modes:
-            raise InputError(
-                "f_hz",
-                "frequencies > 0 Hz: the mounts leave "
-                f"{', '.join(modes.free_dofs) or 'some DOFs'} unrestrained, so the static "
-                "response (f = 0) is unbounded",
-                f.tolist(),
-            )
-
-
-def _check_quantity(name) -> str:
-    if name not in QUANTITIES:
-        raise InputError("quantity", f"one of {', '.join(map(repr, QUANTITIES))}", name)
-    return name
-
-
-def _quantity_power(name) -> int:
-    return QUANTITIES[_check_quantity(name)]
-
-
-def _check_method(method) -> str:
-    if method not in ("direct", "modal"):
-        raise InputError("method", "'direct' or 'modal'", method)
-    return method
+_check_quantity = choice_check(tuple(QUANTITIES))
+_check_method = choice_check(("direct", "modal"))
+_check_basis = choice_check(("auto", "real", "complex"))
 
 
 def parse_direction(value, field: str, rotations: bool = True) -> tuple[np.ndarray, bool]:
@@ -383,13 +339,7 @@ def parse_direction(value, field: str, rotations: bool = True) -> tuple[np.ndarr
         if axis not in AXES:
             raise InputError(field, expected, value)
         return np.eye(3)[AXES.index(axis)], rotational
-    try:
-        d = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(field, expected, value) from None
-    if d.shape != (3,) or not np.all(np.isfinite(d)) or not np.any(d != 0):
-        raise InputError(field, expected, value)
-    return d / np.linalg.norm(d), False
+    return direction_check(expected)(value, field), False
 
 
 def _ratio_unit(numerator: str, denominator: str) -> str:
@@ -422,13 +372,8 @@ def dynamic_stiffness(system: System, f_hz) -> np.ndarray:
     f_hz : array_like, shape (nf,)
         Frequencies [Hz], >= 0.
     """
-    f = _frequencies(f_hz)
-    return _dynamic_stiffness(system, 2.0 * np.pi * f)
-
-
-def _dynamic_stiffness(system, omega: np.ndarray) -> np.ndarray:
+    w = (2.0 * np.pi * _frequencies(f_hz))[:, None, None]
     static = np.asarray(system.K, dtype=complex) + 1j * hysteretic_stiffness(system)
-    w = omega[:, None, None]
     return static[None] - w**2 * np.asarray(system.M)[None] + (1j * w) * np.asarray(system.C)[None]
 
 
@@ -468,34 +413,28 @@ def receptance(system: System, f_hz, method: str = "direct", basis: str = "auto"
         exactly), or the complex modes are nearly defective.
     """
     f = _frequencies(f_hz)
-    _check_method(method)
-    if basis not in ("auto", "real", "complex"):
-        raise InputError("basis", "'auto', 'real' or 'complex'", basis)
-    _check_zero_frequency(system, f)
-    omega = 2.0 * np.pi * f
+    _check_method(method, "method")
+    _check_basis(basis, "basis")
+    if np.any(f == 0.0) and system.modes.zero_modes:
+        free = ", ".join(system.modes.free_dofs) or "some DOFs"
+        raise InputError("f_hz", f"frequencies > 0 Hz: the mounts leave {free} unrestrained, so the static "
+                         "response (f = 0) is unbounded", f.tolist())
     if method == "direct":
-        H, used = _direct(system, omega), "dynamic stiffness"
+        try:
+            # Batched LAPACK LU (getrf/getri) with partial pivoting: one call for all frequencies.
+            H, used = np.linalg.inv(dynamic_stiffness(system, f)), "dynamic stiffness"
+        except np.linalg.LinAlgError:
+            raise SolverError("receptance (direct): the dynamic stiffness is singular at a requested frequency "
+                              "(an undamped natural frequency hit exactly)") from None
     else:
-        H, used = _modal(system, omega, basis)
+        terms = _modal_terms(system, basis)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            H, used = terms.evaluate(2.0 * np.pi * f), terms.basis
     if not np.isfinite(H.view(float)).all():  # the float view: half the cost of complex isfinite
-        raise SolverError(
-            f"receptance ({method}): non-finite values; a requested frequency sits exactly on an "
-            "undamped natural frequency"
-        )
+        raise SolverError(f"receptance ({method}): non-finite values; a requested frequency sits exactly on an "
+                          "undamped natural frequency")
     H.flags.writeable = False
     return FRF(f_hz=f, H=H, method=method, basis=used)
-
-
-def _direct(system, omega: np.ndarray) -> np.ndarray:
-    Z = _dynamic_stiffness(system, omega)
-    try:
-        # Batched LAPACK LU (getrf/getri) with partial pivoting: one call for all frequencies.
-        return np.linalg.inv(Z)
-    except np.linalg.LinAlgError:
-        raise SolverError(
-            "receptance (direct): the dynamic stiffness is singular at a requested frequency "
-            "(an undamped natural frequency hit exactly)"
-        ) from None
 
 
 @dataclass(frozen=True, eq=False)
@@ -516,13 +455,8 @@ class _ModalTerms:
 
     @cached_property
     def _stacked(self) -> np.ndarray:
-        """Residues as one real (2 P, 72) matrix, P = nr + nc, for :meth:`evaluate`.
-
-        With ``g = g' + i g''`` the (nf, P) pole factors and ``S = S' + i S''`` the (P, 36) residues,
-        ``H = g S`` is ``Re H = g' S' - g'' S''``, ``Im H = g' S'' + g'' S'``: the real product
-        ``[g', g''] @ [[S', S''], [-S'', S']]`` with the columns of ``Re`` and ``Im`` interleaved, which
-        is NumPy's memory layout of the complex (nf, 36) result.
-        """
+        """Residues ``S = S' + i S''`` (P, 36) as the real (2 P, 72) ``[[S', S''], [-S'', S']]``, Re and Im
+        columns interleaved: ``[g', g''] @ it`` is ``g S`` in NumPy's memory layout of a complex result."""
         S = np.concatenate([self.real_residues.reshape(-1, 36), self.complex_residues.reshape(-1, 36)])
         p = S.shape[0]
         out = np.empty((2 * p, 36, 2))
@@ -531,18 +465,12 @@ class _ModalTerms:
         return out.reshape(2 * p, 72)
 
     def evaluate(self, omega: np.ndarray) -> np.ndarray:
-        """Receptance (nf, 6, 6) complex at circular frequencies ``omega`` [rad/s].
-
-        One real (nf, 2 P) x (2 P, 72) matrix product (P poles, P <= 12) that writes the complex
-        result in place: no complex division, no Python loop over frequencies, no temporary of the
-        result's size.
-        """
+        """Receptance (nf, 6, 6) complex at ``omega`` [rad/s]: one real (nf, 2 P) x (2 P, 72) product
+        (P <= 12 poles) written in place, with no complex division and no temporary of the result's size."""
         w = np.asarray(omega, dtype=float)[:, None]
         nr, nc = self.a.size, self.eigenvalues.size
-        # g[:, 0] + i g[:, 1]: every pole factor 1 / (x + i y) = (x - i y) / (x^2 + y^2), in real
-        # arithmetic on contiguous (nf, P) temporaries: NumPy's complex division (which rescales
-        # against overflow) costs several times more, and these denominators, products of
-        # frequencies and eigenvalues, are far from overflow.
+        # Pole factors g[:, 0] + i g[:, 1] in real arithmetic: NumPy's complex division rescales against
+        # overflow, at several times the cost, and these denominators are far from overflow.
         g = np.empty((w.shape[0], 2, nr + nc))
         if nr:
             x = self.a.real - w * w  # x + i y = a_r - w^2 + i w b_r
@@ -556,10 +484,8 @@ class _ModalTerms:
         g = g.reshape(w.shape[0], -1)
         stacked = self._stacked
         out = np.empty((g.shape[0], 72))
-        # Row blocks of <= _BLOCK_MACS multiply-adds: each product stays on one BLAS thread (below
-        # OpenBLAS's threading threshold) and in cache. A threaded product this small (~0.5 ms)
-        # gains little and, on a busy 2-core machine, waits a scheduler tick (~4 ms) for its second
-        # thread: measured 8 ms instead of 2 ms for whole benchmark runs.
+        # Row blocks below OpenBLAS's threading threshold stay on one thread and in cache: on a busy
+        # 2-core machine a threaded product waits a scheduler tick for its second thread (8 ms, not 2).
         step = max(1, _BLOCK_MACS // stacked.size)
         for start in range(0, g.shape[0], step):
             np.matmul(g[start : start + step], stacked, out=out[start : start + step])
@@ -576,47 +502,27 @@ def _reciprocal(x: np.ndarray, y: np.ndarray, re: np.ndarray, im: np.ndarray) ->
     np.negative(im, out=im)
 
 
-def _modal(system, omega: np.ndarray, basis: str) -> tuple[np.ndarray, str]:
-    terms = _modal_terms(system, basis)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        H = terms.evaluate(omega)
-    return H, terms.basis
-
-
 def _modal_terms(system, basis: str) -> _ModalTerms:
     C = np.asarray(system.C, dtype=float)
-    Kh = hysteretic_stiffness(system)
     modes = system.modes
     phi, _ = modal_basis(modes, C)
-    lam = np.array(modes.eigenvalues)
-    rigid = list(modes.zero_modes)
     cm = phi.T @ C @ phi
-    khm = phi.T @ Kh @ phi
+    khm = phi.T @ hysteretic_stiffness(system) @ phi
     km = phi.T @ np.asarray(system.K, dtype=float) @ phi
     # Rayleigh quotients: the eigen-solver's eigenvalues carry absolute errors ~eps * lambda_max,
     # large at the low, lightly damped modes' peaks; the quotients are accurate to ~eps * lambda_r.
-    lam = np.where(lam > 0, np.diag(km), 0.0)
+    lam = np.where(np.array(modes.eigenvalues) > 0, np.diag(km), 0.0)
     scale = max(float(np.max(modes.omega)), float(np.max(np.abs(cm))), np.finfo(float).tiny)
-    undamped_rigid = [r for r in rigid if cm[r, r] <= RIGID_DAMPING_RTOL * scale]
+    undamped_rigid = [r for r in modes.zero_modes if cm[r, r] <= RIGID_DAMPING_RTOL * scale]
     rest = [r for r in range(6) if r not in undamped_rigid]
     classical = is_classical(cm, khm)
     if basis == "real" and not classical:
-        raise InputError(
-            "basis",
-            "'auto' or 'complex' (damping or hysteresis is not diagonal in the real modes, so real "
-            "modes cannot represent it)",
-            basis,
-        )
-    empty = np.zeros((0, 6, 6), dtype=complex)
+        raise InputError("basis", "'auto' or 'complex' (damping or hysteresis is not diagonal in the real modes, "
+                         "so real modes cannot represent it)", basis)
     if classical and basis != "complex":
-        return _ModalTerms(
-            basis="real modes",
-            real_residues=np.einsum("ir,jr->rij", phi, phi).astype(complex),
-            a=lam + 1j * np.diag(khm),
-            b=np.diag(cm).copy(),
-            complex_residues=empty,
-            eigenvalues=np.zeros(0, dtype=complex),
-        )
+        return _ModalTerms(basis="real modes", real_residues=np.einsum("ir,jr->rij", phi, phi).astype(complex),
+                           a=lam + 1j * np.diag(khm), b=np.diag(cm).copy(),
+                           complex_residues=np.zeros((0, 6, 6), dtype=complex), eigenvalues=np.zeros(0, dtype=complex))
 
     # Complex modes of the modal coordinates in `rest`. Undamped rigid-body modes stay as real mass
     # lines -phi phi'/w^2: in the first-order form they would be Jordan blocks (a double zero
@@ -629,14 +535,9 @@ def _modal_terms(system, basis: str) -> _ModalTerms:
     out = phi_s @ modes_c.right[:n, :]  # (6, 2n): q per unit state-mode amplitude
     inp = modes_c.left[:, n:] @ phi_s.T  # (2n, 6): the generalized force drives eta'' (lower block)
     u = phi[:, undamped_rigid]
-    return _ModalTerms(
-        basis="complex modes",
-        real_residues=np.einsum("ir,jr->rij", u, u).astype(complex),
-        a=np.zeros(len(undamped_rigid), dtype=complex),
-        b=np.zeros(len(undamped_rigid)),
-        complex_residues=np.einsum("ik,kj->kij", out, inp),
-        eigenvalues=modes_c.eigenvalues,
-    )
+    return _ModalTerms(basis="complex modes", real_residues=np.einsum("ir,jr->rij", u, u).astype(complex),
+                       a=np.zeros(len(undamped_rigid), dtype=complex), b=np.zeros(len(undamped_rigid)),
+                       complex_residues=np.einsum("ik,kj->kij", out, inp), eigenvalues=modes_c.eigenvalues)
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -679,11 +580,9 @@ def cross_check(system: System, f_hz) -> FRFCrossCheck:
     """
     direct = receptance(system, f_hz, method="direct")
     modal = receptance(system, f_hz, method="modal")
-    diff = frf_difference(direct, modal)
-    diff.flags.writeable = False
-    return FRFCrossCheck(
-        direct=direct, modal=modal, relative_difference=diff, max_relative_difference=float(diff.max())
-    )
+    diff = readonly(frf_difference(direct, modal))
+    return FRFCrossCheck(direct=direct, modal=modal, relative_difference=diff,
+                         max_relative_difference=float(diff.max()))
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -691,16 +590,8 @@ def cross_check(system: System, f_hz) -> FRFCrossCheck:
 # ----------------------------------------------------------------------------------------------------
 
 
-def point_frf(
-    system: System,
-    f_hz,
-    load_point,
-    load_direction,
-    response_point,
-    response_direction,
-    quantity: str = "receptance",
-    method: str = "direct",
-) -> PointFRF:
+def point_frf(system: System, f_hz, load_point, load_direction, response_point, response_direction,
+              quantity: str = "receptance", method: str = "direct") -> PointFRF:
     """FRF between a load at one body point and the motion of another.
 
     Parameters
@@ -727,41 +618,22 @@ def point_frf(
     PointFRF
         ``values`` in m/N, m/(s N), m/(s^2 N) for force in, translation out (``unit`` says which).
     """
-    _check_quantity(quantity)
+    _check_quantity(quantity, "quantity")
     lp = point(load_point, "load_point")
     ld, moment = parse_direction(load_direction, "load_direction")
     rp = point(response_point, "response_point")
     rd, rotation = parse_direction(response_direction, "response_direction")
     frf = receptance(system, f_hz, method=method)
     values = (frf.quantity(quantity) @ unit_load(lp, ld, moment)) @ response_row(rp, rd, rotation)
-    values.flags.writeable = False
     unit = _ratio_unit("rad" if rotation else "m", "N m" if moment else "N") + _QUANTITY_SUFFIX[quantity]
-    return PointFRF(
-        f_hz=frf.f_hz,
-        values=values,
-        quantity=quantity,
-        unit=unit,
-        load_point=lp,
-        load_direction=ld,
-        response_point=rp,
-        response_direction=rd,
-        load_kind="moment" if moment else "force",
-        response_kind="rotation" if rotation else "translation",
-        method=method,
-    )
+    return PointFRF(f_hz=frf.f_hz, values=readonly(values, complex), quantity=quantity, unit=unit,
+                    load_point=lp, load_direction=ld, response_point=rp, response_direction=rd,
+                    load_kind="moment" if moment else "force",
+                    response_kind="rotation" if rotation else "translation", method=method)
 
 
-def _mount_impedances(system, omega: np.ndarray) -> np.ndarray:
-    """Complex mount stiffness in body axes, ``A' diag(k (1 + i eta) + i w c) A``, (nf, n, 3, 3)."""
-    local = (
-        system.stiffnesses * (1.0 + 1j * system.loss_factors)
-    )[None] + 1j * omega[:, None, None] * system.dampings[None]
-    return np.einsum("nai,fna,naj->fnij", system.axes, local, system.axes)
-
-
-def force_transmissibility(
-    system: System, f_hz, load_point, load_direction, method: str = "direct"
-) -> ForceTransmissibility:
+def force_transmissibility(system: System, f_hz, load_point, load_direction,
+                           method: str = "direct") -> ForceTransmissibility:
     """Forces passed to the foundation by each mount, and their resultant, per unit applied load.
 
     Parameters
@@ -789,25 +661,18 @@ def force_transmissibility(
     q = frf.H @ unit_load(lp, ld, moment)  # (nf, 6)
     t = point_map(system.positions)  # (n, 3, 6)
     u = np.einsum("nij,fj->fni", t, q)  # mount point displacements (nf, n, 3)
-    forces = np.einsum("fnij,fnj->fni", _mount_impedances(system, frf.omega), u)
+    # Each mount's complex stiffness in body axes, A' diag(k (1 + i eta) + i w c) A: (nf, n, 3, 3).
+    local = system.stiffnesses * (1.0 + 1j * system.loss_factors) + 1j * frf.omega[:, None, None] * system.dampings
+    impedances = np.einsum("nai,fna,naj->fnij", system.axes, local, system.axes)
+    forces = np.einsum("fnij,fnj->fni", impedances, u)
     total = np.einsum("nia,fni->fa", t, forces)
-    forces.flags.writeable = False
-    total.flags.writeable = False
-    return ForceTransmissibility(
-        f_hz=frf.f_hz,
-        mount_names=system.mount_names,
-        mount_forces=forces,
-        total=total,
-        load_point=lp,
-        load_direction=ld,
-        load_kind="moment" if moment else "force",
-        method=method,
-    )
+    return ForceTransmissibility(f_hz=frf.f_hz, mount_names=system.mount_names, mount_forces=readonly(forces, complex),
+                                 total=readonly(total, complex), load_point=lp, load_direction=ld,
+                                 load_kind="moment" if moment else "force", method=method)
 
 
-def ground_transmissibility(
-    system: System, f_hz, ground_direction, response_point, method: str = "direct"
-) -> GroundTransmissibility:
+def ground_transmissibility(system: System, f_hz, ground_direction, response_point,
+                            method: str = "direct") -> GroundTransmissibility:
     """Motion of a body point per unit rigid translation of the ground under every mount.
 
     Parameters
@@ -836,15 +701,6 @@ def ground_transmissibility(
     drive = static[None, :] + 1j * frf.omega[:, None] * (np.asarray(system.C) @ qg)[None, :]
     q = np.einsum("fij,fj->fi", frf.H, drive)
     absolute = q @ point_map(rp).T
-    relative = absolute - d[None, :]
-    for a in (q, absolute, relative):
-        a.flags.writeable = False
-    return GroundTransmissibility(
-        f_hz=frf.f_hz,
-        q=q,
-        absolute=absolute,
-        relative=relative,
-        ground_direction=d,
-        response_point=rp,
-        method=method,
-    )
+    return GroundTransmissibility(f_hz=frf.f_hz, q=readonly(q, complex), absolute=readonly(absolute, complex),
+                                  relative=readonly(absolute - d[None, :], complex), ground_direction=d,
+                                  response_point=rp, method=method)

@@ -102,13 +102,8 @@ def modal_analysis(M: np.ndarray, K: np.ndarray) -> Modes:
     ke = shapes * (M @ shapes)  # phi_ij (M phi_j)_i; phi_j' M phi_j = 1
     effective = (shapes.T @ M).T ** 2  # participation Gamma_ij = phi_j' M e_i
 
-    zero_modes = tuple(int(j) for j in np.flatnonzero(zero))
-    if zero_modes:
-        null = shapes[:, list(zero_modes)]
-        weight = np.sum(ke[:, list(zero_modes)], axis=1)
-        free_dofs = tuple(d for d, w, row in zip(DOFS, weight, null) if w > 1e-6 and np.any(row))
-    else:
-        free_dofs = ()
+    weight = np.sum(ke[:, zero], axis=1)  # each DOF's kinetic-energy share of the rigid-body modes
+    free_dofs = tuple(d for d, w, row in zip(DOFS, weight, shapes[:, zero]) if w > 1e-6 and np.any(row))
 
     return Modes(
         eigenvalues=readonly(eigenvalues),
@@ -119,7 +114,7 @@ def modal_analysis(M: np.ndarray, K: np.ndarray) -> Modes:
         dominant_dof=tuple(DOFS[i] for i in np.argmax(ke, axis=0)),
         effective_mass=readonly(effective),
         subsystems=coupled_subsystems(M, K),
-        zero_modes=zero_modes,
+        zero_modes=tuple(int(j) for j in np.flatnonzero(zero)),
         free_dofs=free_dofs,
     )
 
@@ -142,18 +137,7 @@ def coupled_subsystems(M: np.ndarray, K: np.ndarray, rtol: float = COUPLING_RTOL
         scaled = np.abs(d[:, None] * np.asarray(matrix, dtype=float) * d[None, :])
         threshold = rtol * max(float(np.max(np.diag(scaled))), np.finfo(float).tiny)
         coupled |= scaled > threshold
-    group = list(range(6))
-
-    def root(i: int) -> int:
-        while group[i] != i:
-            i = group[i]
-        return i
-
-    for i in range(6):
-        for j in range(i + 1, 6):
-            if coupled[i, j]:
-                group[root(j)] = root(i)
-    components: dict[int, list[str]] = {}
-    for i in range(6):
-        components.setdefault(root(i), []).append(DOFS[i])
-    return tuple(tuple(c) for c in sorted(components.values(), key=lambda c: DOFS.index(c[0])))
+    edges = np.triu(coupled, 1)
+    # Row i of (I + A)^5 is nonzero at every DOF within 5 steps of DOF i: its whole component.
+    reach = np.linalg.matrix_power(np.eye(6, dtype=int) + edges + edges.T, 5) > 0
+    return tuple(dict.fromkeys(tuple(DOFS[j] for j in np.flatnonzero(row)) for row in reach))

@@ -90,15 +90,10 @@ def coupling(D) -> np.ndarray:
     return np.minimum(ratio, 1.0)
 
 
-def largest_coupling(*modal_matrices) -> float:
-    """The largest :func:`coupling` of any of the modal matrices (0 for none)."""
-    return max((float(np.max(coupling(D), initial=0.0)) for D in modal_matrices), default=0.0)
-
-
 def is_classical(*modal_matrices) -> bool:
     """THE classical-damping test: every modal matrix given (``Phi' C Phi``, ``Phi' K_h Phi``) is
     diagonal to :data:`CLASSICAL_RTOL` (see :func:`coupling`)."""
-    return largest_coupling(*modal_matrices) <= CLASSICAL_RTOL
+    return all(np.max(coupling(D), initial=0.0) <= CLASSICAL_RTOL for D in modal_matrices)
 
 
 @dataclass(frozen=True, eq=False)

@@ -98,15 +98,10 @@ def gravity_statics(system: System, g: float = STANDARD_GRAVITY, direction=(0.0,
     Q = np.concatenate([system.body.mass * gravity, np.zeros(3)])  # weight acts at the CG
     K = np.asarray(system.K)
     q, *_ = np.linalg.lstsq(K, Q, rcond=None)
-    residual = np.linalg.norm(K @ q - Q)
-    if residual > 1e-8 * np.linalg.norm(Q):
-        raise InputError(
-            "mounts",
-            "mounts that can carry the body's weight along gravity",
-            "a layout with no stiffness against gravity (the body would fall freely)",
-        )
-    local_deflection = mount_local_map(system.positions, system.axes) @ q
-    local = -system.stiffnesses * local_deflection
+    if np.linalg.norm(K @ q - Q) > 1e-8 * np.linalg.norm(Q):
+        raise InputError("mounts", "mounts that can carry the body's weight along gravity",
+                         "a layout with no stiffness against gravity (the body would fall freely)")
+    local = -system.stiffnesses * (mount_local_map(system.positions, system.axes) @ q)
     forces = np.einsum("nji,nj->ni", system.axes, local)
     support = -forces @ (gravity / g)
     # Round-off can leave a mount carrying nothing with a tiny negative value: not uplift.

@@ -44,10 +44,8 @@ def _same(value: Any) -> Any:
 
 
 def _field(store: dict, default: Any, default_factory: Any, check: Callable | None = None) -> Any:
-    metadata = {"store": store} if check is None else {"store": store, "check": check}
-    if default_factory is not MISSING:
-        return field(default_factory=default_factory, metadata=metadata)
-    return field(default=default, metadata=metadata)
+    """A dataclass field with its storage description and its check (see :mod:`sixdof.frozen`)."""
+    return field(default=default, default_factory=default_factory, metadata={"store": store, "check": check})
 
 
 def quantity(units: str, dims: tuple[str, ...], *, name: str | None = None, description: str = "",

@@ -56,10 +56,8 @@ def subsystems_text(modes) -> str:
     lines = [f"  {i + 1}: ({', '.join(group)})" for i, group in enumerate(modes.subsystems)]
     text = "Decoupled subsystems (DOFs coupled through M and K):\n" + "\n".join(lines)
     if modes.zero_modes:
-        text += (
-            f"\nUnrestrained: {len(modes.zero_modes)} zero-frequency mode(s); "
-            f"free DOFs: {', '.join(modes.free_dofs)}"
-        )
+        text += (f"\nUnrestrained: {len(modes.zero_modes)} zero-frequency mode(s); "
+                 f"free DOFs: {', '.join(modes.free_dofs)}")
     return text
 
 
@@ -70,10 +68,9 @@ def statics_table(statics, mount_names: Sequence[str]) -> str:
         factor, shown = display_unit(statics.q[i], unit)
         rows.append([dof, f"{statics.q[i] * factor:.5g} {shown}"])
     deflection = table(["DOF", "static deflection"], rows)
-    rows = []
-    for name, force, support in zip(mount_names, statics.mount_forces, statics.support):
-        state = "TENSION (uplift)" if name in statics.uplift else "compression"
-        rows.append([name, *(f"{v / 1e3:.3f}" for v in force), f"{support / 1e3:.3f}", state])
+    rows = [[name, *(f"{v / 1e3:.3f}" for v in force), f"{support / 1e3:.3f}",
+             "TENSION (uplift)" if name in statics.uplift else "compression"]
+            for name, force, support in zip(mount_names, statics.mount_forces, statics.support)]
     forces = table(["mount", "Fx [kN]", "Fy [kN]", "Fz [kN]", "carried [kN]", "state"], rows, "lrrrrl")
     return deflection + "\n\nForce of each mount on the body (body axes):\n" + forces
 
@@ -94,10 +91,9 @@ def validation_text(report) -> str:
 
     headers, rows = report.table()
     cells = [[fmt.format(v) for (_, _, fmt), v in zip(COLUMNS, row)] for row in rows]
-    lines = [table(headers, cells),
-             f"{len(report.random_runs)} random runs ({report.random_duration_s:.4g} s simulated) and "
-             f"{len(report.decays)} free decays in {report.wall_time_s:.3g} s", *report.notes]
-    return "\n".join(lines)
+    return "\n".join([table(headers, cells),
+                      f"{len(report.random_runs)} random runs ({report.random_duration_s:.4g} s simulated) and "
+                      f"{len(report.decays)} free decays in {report.wall_time_s:.3g} s", *report.notes])
 
 
 # ----------------------------------------------------------------------------------------------------

@@ -1,12 +1,10 @@
 """The results file (HDF5): its layout, an atomic writer, and the reader.
 
-A run's typed results (:class:`sixdof.results.RunResults`) are encoded from their own field
-descriptions (:func:`sixdof.results.quantity`, ``label``, ``part``...) into a :class:`Results` tree
-(:func:`build_results`): :class:`Dataset` objects (array, units, named axes, attributes) by HDF5 path
-(``"time/q"``), and the attributes of each group. The tree is written atomically (:func:`save_results`)
-and read back (:func:`load_tree`); :func:`load_results` decodes it, by the same descriptions, into the
-typed objects the run produced. The store never names a result's fields: a field added to a result is
-written and read back as it is described.
+A run's typed results (:class:`sixdof.results.RunResults`) are encoded by their own field descriptions
+(:func:`sixdof.results.quantity`, ``label``, ``part``...) into a :class:`Results` tree (:func:`build_results`):
+:class:`Dataset` objects by HDF5 path (``"time/q"``) and the attributes of each group. The tree is written
+atomically (:func:`save_results`), read back (:func:`load_tree`) and decoded by the same descriptions into
+the typed objects the run produced (:func:`load_results`): a field added to a result is stored as described.
 
 Layout conventions:
 
@@ -112,7 +110,7 @@ class Results(Frozen):
 
     ``results["time/q"]`` is the :class:`Dataset` at ``/time/q``; ``"time" in results`` tells whether
     the group exists; :attr:`attrs` maps each group path (``""`` for the root) to its attributes.
-    Build one with :func:`build_results`, read one with :func:`load_results`.
+    Build one with :func:`build_results`, read one with :func:`load_tree`.
 
     Attributes
     ----------
@@ -173,10 +171,8 @@ class Results(Frozen):
     @property
     def dofs(self) -> tuple[str, ...]:
         """DOF names in array order."""
-        for path in ("model/dof", "modal/dof", "time/dof", "frf/dof"):
-            if path in self.datasets:
-                return tuple(self.datasets[path].data.tolist())
-        return DOFS
+        paths = [p for p in ("model/dof", "modal/dof", "time/dof", "frf/dof") if p in self.datasets]
+        return tuple(self.datasets[paths[0]].data.tolist()) if paths else DOFS
 
     @property
     def mount_names(self) -> tuple[str, ...]:
@@ -348,10 +344,9 @@ class _Decoder:
     def subgroups(self, group: str) -> list[str]:
         """Direct subgroups of ``group``, in natural order of their names (mode_2 before mode_10)."""
 
-        def natural(path: str):
-            name = path.rpartition("/")[2]
-            head = name.rstrip("0123456789")
-            return head, int(name[len(head):] or 0)
+        def natural(path: str):  # the paths differ only in their names
+            head = path.rstrip("0123456789")
+            return head, int(path[len(head):] or 0)
 
         return sorted((g for g in self.attrs if g.rpartition("/")[0] == group), key=natural)
 
@@ -360,19 +355,13 @@ class _Decoder:
         scale = self.datasets.get(_join(group, meta["dim"]))
         if scale is None:
             return None
-        key, cls = meta["key"], meta["cls"]()
-        columns = {}
+        key, cls, names = meta["key"], meta["cls"](), scale.data.tolist()
+        columns = {} if key is None else {key: (names, lambda label: label)}  # (values, decode) of each field
         for name, field_meta in descriptions(cls):
             found = self.datasets.get(_join(group, meta["prefix"] + (field_meta["name"] or name)))
             if name != key and found is not None:
                 columns[name] = (found.data, field_meta["decode"])
-        names = scale.data.tolist()
-        items = []
-        for i, label in enumerate(names):
-            kwargs = {k: decode(data[i]) for k, (data, decode) in columns.items()}
-            if key is not None:
-                kwargs[key] = label
-            items.append(cls(**kwargs))
+        items = [cls(**{k: decode(data[i]) for k, (data, decode) in columns.items()}) for i in range(len(names))]
         return dict(zip(names, items)) if key is None else tuple(items)
 
 
@@ -489,12 +478,8 @@ def _check_dims(datasets: Mapping[str, Dataset]) -> None:
 def _scale_path(datasets: Mapping[str, Dataset], path: str, dim: str) -> str | None:
     """Path of the dimension scale ``dim`` seen from dataset ``path`` (nearest group first)."""
     parts = path.split("/")[:-1]
-    for i in range(len(parts), -1, -1):
-        candidate = "/".join([*parts[:i], dim])
-        found = datasets.get(candidate)
-        if found is not None and found.dims == (dim,):
-            return candidate
-    return None
+    candidates = ("/".join([*parts[:i], dim]) for i in range(len(parts), -1, -1))
+    return next((c for c in candidates if c in datasets and datasets[c].dims == (dim,)), None)
 
 
 def _is_scale(path: str, dataset: Dataset) -> bool:
@@ -622,8 +607,7 @@ def load_results(path: str | os.PathLike):
     if version != FORMAT_VERSION:
         raise InputError("results", f"a results file of format version {FORMAT_VERSION} (re-run the scenario to "
                          "write one; load_tree reads older files as a tree)", Plain(f"{path}: version {version}"))
-    run = _Decoder(tree).decode(RunResults, "")
-    return dataclasses.replace(run, provenance=dict(tree.attrs[""]))
+    return dataclasses.replace(_Decoder(tree).decode(RunResults, ""), provenance=dict(tree.attrs[""]))
 
 
 def load_tree(path: str | os.PathLike) -> Results:

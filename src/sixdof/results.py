@@ -18,6 +18,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable
 from dataclasses import MISSING, dataclass, field
+from importlib import import_module
 from typing import Any
 
 import numpy as np
@@ -33,8 +34,6 @@ from sixdof.frozen import Frozen
 
 def _class(module: str, name: str) -> type:
     """The class ``name`` of ``module``, imported on first use (result classes live in their layers)."""
-    from importlib import import_module
-
     return getattr(import_module(module), name)
 
 

@@ -162,7 +162,6 @@ class Results(Frozen):
         """Paths of every group, the root ``""`` first."""
         return tuple(self.attrs)
 
-    # Shortcuts used by figures and reports -----------------------------------------------------------
     @property
     def name(self) -> str:
         """The scenario name (``""`` when not recorded)."""
@@ -188,6 +187,12 @@ class Results(Frozen):
 def _join(*names: str | None) -> str:
     """HDF5 path of the non-empty ``names`` (``_join("", "modal")`` is ``"modal"``)."""
     return "/".join(name for name in names if name)
+
+
+def _natural(path: str) -> tuple[str, int]:
+    """Sort key of a path: its text, then its trailing number as a number (mode_2 before mode_10)."""
+    head = path.rstrip("0123456789")
+    return head, int(path[len(head):] or 0)
 
 
 class _Encoder:
@@ -325,8 +330,9 @@ class _Decoder:
                 if value is not None:
                     own = True
                     kwargs[name] = value
-            elif kind == "sequence":
-                subgroups = self.subgroups(_join(group, meta["group"]))
+            elif kind == "sequence":  # its subgroups, in natural order of their names
+                parent = _join(group, meta["group"])
+                subgroups = sorted((g for g in self.attrs if g.rpartition("/")[0] == parent), key=_natural)
                 kwargs[name] = tuple(self.decode(meta["cls"](), sub) for sub in subgroups)
             elif kind == "parts":
                 classes, parent = meta["classes"](), _join(group, meta["group"])
@@ -340,15 +346,6 @@ class _Decoder:
         except TypeError as exc:  # a required part missing: not a file this version wrote
             raise InputError(group or "results", f"a complete {cls.__name__} (format version {FORMAT_VERSION})",
                              Plain(str(exc))) from None
-
-    def subgroups(self, group: str) -> list[str]:
-        """Direct subgroups of ``group``, in natural order of their names (mode_2 before mode_10)."""
-
-        def natural(path: str):  # the paths differ only in their names
-            head = path.rstrip("0123456789")
-            return head, int(path[len(head):] or 0)
-
-        return sorted((g for g in self.attrs if g.rpartition("/")[0] == group), key=natural)
 
     def stacked(self, meta: dict, group: str):
         """What :meth:`_Encoder.stacked` wrote in ``group``, or ``None`` when nothing."""

@@ -1,9 +1,6 @@
-"""A small but complete run of the bridge beam, shared by tests/test_store.py and tests/test_plots.py.
-
-Built from the library's own result objects (System, Modes, FRF cross-check, point FRF and
-transmissibilities, direct time response, modal superposition, Agreement) so that the store and the figures are tested on
-what ``sixdof run`` hands them.
-"""
+"""A small but complete run of the bridge beam, shared by tests/test_store.py and tests/test_plots.py: built
+from the library's own result objects, so that the store and the figures are tested on what ``sixdof run``
+hands them."""
 
 from __future__ import annotations
 
@@ -39,17 +36,18 @@ from sixdof.validation import (
     decay_estimate,
     estimate_frf,
 )
-from systems import BRIDGE_DIMENSIONS, BRIDGE_POSITIONS, bridge
+from systems import BRIDGE_POSITIONS, bridge
 
 SCENARIO_TEXT = 'name = "bridge_beam"\n# a scenario text with "quotes", unicode µ and\nnewlines\n'
 
 
 @cache
-def run_parts(dimensions=BRIDGE_DIMENSIONS) -> dict:
+def run_parts() -> dict:
     """Keyword arguments of ``build_results`` for a full run of the bridge with equal dashpots on
     every bearing (cached: built once per session)."""
-    system = bridge("equal", dimensions=dimensions)
+    system = bridge("equal")
     modes = modal_analysis(system.M, system.K)
+    zeta = modal_damping_ratios(system.C, modes)
     excitation = Excitation(loads=(
         Load("traffic", [0.3, 10.0, 1.0], force=[2e3, 5e3, -100e3], signal=Harmonic(f_hz=5.0)),
     ))
@@ -70,10 +68,10 @@ def run_parts(dimensions=BRIDGE_DIMENSIONS) -> dict:
         "ground_y": ground_transmissibility(system, f, "y", [0.0, 20.0, 1.0]),
     }
     return dict(
-        validation=validation_report(modes, modal_damping_ratios(system.C, modes)),
+        validation=validation_report(modes, zeta),
         system=system,
         modes=modes,
-        damping_ratios=modal_damping_ratios(system.C, modes),
+        damping_ratios=zeta,
         response=direct,
         mount_forces=mount_forces(system, direct),
         points=points_motion(direct, {"deck_end": [0.0, 20.0, 1.0], "bearing_1": BRIDGE_POSITIONS[0]}),

@@ -1,9 +1,11 @@
 """The results file: layout, units, labelled axes, provenance, round trip and atomic writes."""
 
 import datetime as dt
+import itertools
 import os
 import subprocess
 import sys
+from operator import attrgetter
 
 import h5py
 import numpy as np
@@ -69,70 +71,62 @@ def test_round_trip_returns_everything_written(written, loaded):
 
 
 def test_round_trip_values_equal_the_library_objects(parts, loaded):
-    system, modes, response = parts["system"], parts["modes"], parts["response"]
-    for name in ("M", "C", "K"):
-        np.testing.assert_array_equal(loaded.array(f"model/{name}"), getattr(system, name))
-    np.testing.assert_array_equal(loaded.array("modal/frequency_hz"), modes.frequency_hz)
-    np.testing.assert_array_equal(loaded.array("modal/shapes"), modes.shapes)
-    np.testing.assert_array_equal(loaded.array("modal/ke_distribution"), modes.ke_distribution)
-    np.testing.assert_array_equal(loaded.array("modal/effective_mass"), modes.effective_mass)
+    system, modes, response, frf, extras = (parts[k] for k in ("system", "modes", "response", "frf", "frf_extras"))
+    expected = {
+        **{f"model/{name}": getattr(system, name) for name in ("M", "C", "K")},
+        **{f"modal/{name}": getattr(modes, name) for name in ("frequency_hz", "shapes", "ke_distribution",
+                                                             "effective_mass")},
+        "modal/damping_ratio": parts["damping_ratios"],
+        **{f"time/{key}": getattr(response, key) for key in ("t", "q", "qd", "qdd", "Q")},
+        "time/superposition/q": parts["superposition"].q,
+        "frf/f_hz": frf.direct.f_hz,
+        "frf/receptance": frf.direct.H,
+        "frf/point/deck_vertical/values": extras["deck_vertical"].values,
+        "frf/force_transmissibility/vertical_load/mount_forces": extras["vertical_load"].mount_forces,
+        "frf/ground_transmissibility/ground_y/transmissibility": extras["ground_y"].transmissibility,
+    }
+    for path, value in expected.items():
+        np.testing.assert_array_equal(loaded.array(path), value, err_msg=path)
     assert tuple(loaded.array("modal/dominant_dof")) == modes.dominant_dof
-    np.testing.assert_array_equal(loaded.array("modal/damping_ratio"), parts["damping_ratios"])
     assert loaded.attrs["modal"]["subsystems"] == tuple(",".join(s) for s in modes.subsystems)
-    for key in ("t", "q", "qd", "qdd", "Q"):
-        np.testing.assert_array_equal(loaded.array(f"time/{key}"), getattr(response, key))
     assert loaded.attrs["time"]["solver_num_steps"] == response.stats.num_steps
     assert loaded.attrs["time"]["solver"] == response.stats.solver
-    np.testing.assert_array_equal(loaded.array("time/superposition/q"), parts["superposition"].q)
     agreement = parts["agreement"]
     attrs = loaded.attrs["time/superposition"]
     np.testing.assert_array_equal(attrs["agreement_per_dof"], agreement.per_dof)
-    assert attrs["agreement_worst_dof"] == agreement.worst_dof
-    assert attrs["agreement_worst"] == agreement.worst
-    assert attrs["agreement_tolerance"] == agreement.tolerance
+    for key in ("worst_dof", "worst", "tolerance"):
+        assert attrs[f"agreement_{key}"] == getattr(agreement, key), key
     assert attrs["agreement_ok"] == int(agreement.ok)
     assert attrs["method"] == parts["superposition"].superposition.method
-    frf = parts["frf"]
-    np.testing.assert_array_equal(loaded.array("frf/f_hz"), frf.direct.f_hz)
-    np.testing.assert_array_equal(loaded.array("frf/receptance"), frf.direct.H)
     assert loaded.array("frf/receptance").dtype == np.complex128
     assert loaded.attrs["frf"]["cross_check_max_relative_difference"] == frf.max_relative_difference
-    extras = parts["frf_extras"]
-    np.testing.assert_array_equal(loaded.array("frf/point/deck_vertical/values"), extras["deck_vertical"].values)
     assert loaded["frf/point/deck_vertical/values"].units == extras["deck_vertical"].unit == "m/N/s^2"
-    np.testing.assert_array_equal(
-        loaded.array("frf/force_transmissibility/vertical_load/mount_forces"), extras["vertical_load"].mount_forces
-    )
-    np.testing.assert_array_equal(
-        loaded.array("frf/ground_transmissibility/ground_y/transmissibility"), extras["ground_y"].transmissibility
-    )
 
 
 def test_round_trip_of_responses_and_validation(parts, loaded):
-    forces = parts["mount_forces"]
-    np.testing.assert_array_equal(loaded.array("time/mount_force"), forces.total)
+    forces, points, report = parts["mount_forces"], parts["points"], parts["validation"]
+    run, decay = report.random_runs[4], report.decays[2]
+    expected = {
+        "time/mount_force": forces.total,
+        "time/mount_force_local": forces.local,
+        "time/foundation_force": forces.foundation_force,
+        "time/foundation_moment": forces.foundation_moment,
+        **{f"time/point_{name}": [getattr(motion, name) for motion in points.values()]
+           for name in ("acceleration", "position")},
+        **{f"validation/{name}": [getattr(r, name) for r in report.rows] for name in ("mode", "zeta_estimated")},
+        "validation/random/mode_5/H1": run.estimated.H1[:, 0],
+        "validation/random/mode_5/model": run.model[:, 0],
+        "validation/decay/mode_3/eta": decay.eta,
+        "validation/decay/mode_3/extrema_t": decay.estimate.extrema_t,
+    }
+    for path, value in expected.items():
+        np.testing.assert_array_equal(loaded.array(path), value, err_msg=path)
     assert loaded["time/mount_force"].dims == ("mount", "t", "axis")
     assert tuple(loaded.array("time/mount")) == forces.names
-    np.testing.assert_array_equal(loaded.array("time/mount_force_local"), forces.local)
-    np.testing.assert_array_equal(loaded.array("time/foundation_force"), forces.foundation_force)
-    np.testing.assert_array_equal(loaded.array("time/foundation_moment"), forces.foundation_moment)
-    points = parts["points"]
     assert tuple(loaded.array("time/point")) == tuple(points)
-    for k, motion in enumerate(points.values()):
-        np.testing.assert_array_equal(loaded.array("time/point_acceleration")[k], motion.acceleration)
-        np.testing.assert_array_equal(loaded.array("time/point_position")[k], motion.position)
-    report = parts["validation"]
-    np.testing.assert_array_equal(loaded.array("validation/mode"), [r.mode for r in report.rows])
-    np.testing.assert_array_equal(loaded.array("validation/zeta_estimated"), [r.zeta_estimated for r in report.rows])
-    run = report.random_runs[4]
-    np.testing.assert_array_equal(loaded.array("validation/random/mode_5/H1"), run.estimated.H1[:, 0])
-    np.testing.assert_array_equal(loaded.array("validation/random/mode_5/model"), run.model[:, 0])
+    for name in ("f_damped_estimated_hz", "h1_error_at_peak", "dominant_dof"):
+        assert tuple(loaded.array(f"validation/{name}")) == tuple(getattr(r, name) for r in report.rows)
     np.testing.assert_array_equal(loaded.attrs["validation/random/mode_5"]["band_hz"], run.band_hz)
-    for field in ("f_damped_estimated_hz", "h1_error_at_peak", "dominant_dof"):
-        assert tuple(loaded.array(f"validation/{field}")) == tuple(getattr(r, field) for r in report.rows)
-    decay = report.decays[2]
-    np.testing.assert_array_equal(loaded.array("validation/decay/mode_3/eta"), decay.eta)
-    np.testing.assert_array_equal(loaded.array("validation/decay/mode_3/extrema_t"), decay.estimate.extrema_t)
     assert loaded.attrs["validation/decay/mode_3"]["zeta"] == decay.estimate.zeta
     assert loaded.attrs["validation"]["notes"] == report.notes
 
@@ -140,43 +134,32 @@ def test_round_trip_of_responses_and_validation(parts, loaded):
 def test_load_results_gives_back_the_typed_objects(parts, written):
     run = sixdof.load_results(written.path)
     assert isinstance(run, sixdof.RunResults) and run.name == "bridge_beam"
-    system = parts["system"]
-    assert isinstance(run.system, sixdof.System) and run.system.mount_names == system.mount_names
-    for name in ("M", "C", "K"):
-        np.testing.assert_array_equal(getattr(run.system, name), getattr(system, name))
-    assert run.system.rayleigh == system.rayleigh and run.system.modal_damping == system.modal_damping
-    np.testing.assert_array_equal(run.modes.shapes, parts["modes"].shapes)
-    assert run.modes.subsystems == parts["modes"].subsystems and run.modes.zero_modes == parts["modes"].zero_modes
-    response = parts["response"]
-    assert isinstance(run.response, sixdof.TimeHistory)
-    for key in ("t", "q", "qd", "qdd", "Q"):
-        np.testing.assert_array_equal(getattr(run.response, key), getattr(response, key))
-    assert run.response.stats.num_steps == response.stats.num_steps and run.response.ground_displacement is None
-    modal = parts["superposition"]
-    np.testing.assert_array_equal(run.superposition.q, modal.q)
-    assert run.superposition.superposition.method == modal.superposition.method
-    assert run.superposition.superposition.modes_kept == modal.superposition.modes_kept
-    np.testing.assert_array_equal(run.superposition.superposition.eigenvalues, modal.superposition.eigenvalues)
-    assert run.agreement.worst == parts["agreement"].worst and run.agreement.ok == parts["agreement"].ok
-    np.testing.assert_array_equal(run.mount_forces.total, parts["mount_forces"].total)
-    assert run.mount_forces.names == parts["mount_forces"].names
+    assert isinstance(run.system, sixdof.System) and isinstance(run.response, sixdof.TimeHistory)
+
+    def read_and_written(name):  # "system.M": run.system.M and parts["system"].M
+        part, _, rest = name.partition(".")
+        return attrgetter(rest)(getattr(run, part)), attrgetter(rest)(parts[part])
+
+    for name in ("system.M", "system.C", "system.K", "modes.shapes", "response.t", "response.q", "response.qd",
+                 "response.qdd", "response.Q", "superposition.q", "superposition.superposition.eigenvalues",
+                 "mount_forces.total", "frf.direct.H", "frf.modal.H"):
+        np.testing.assert_array_equal(*read_and_written(name), err_msg=name)
+    for name in ("system.mount_names", "system.rayleigh", "system.modal_damping", "modes.subsystems",
+                 "modes.zero_modes", "response.stats.num_steps", "superposition.superposition.method",
+                 "superposition.superposition.modes_kept", "agreement.worst", "agreement.ok", "mount_forces.names",
+                 "frf.max_relative_difference", "validation.rows"):
+        read, written_value = read_and_written(name)
+        assert read == written_value, name
+    assert run.response.ground_displacement is None
     assert list(run.points) == list(parts["points"])
-    np.testing.assert_array_equal(run.frf.direct.H, parts["frf"].direct.H)
-    np.testing.assert_array_equal(run.frf.modal.H, parts["frf"].modal.H)
-    assert run.frf.max_relative_difference == parts["frf"].max_relative_difference
     assert {k: type(v) for k, v in run.frf_extras.items()} == {k: type(v) for k, v in parts["frf_extras"].items()}
     for name, extra in parts["frf_extras"].items():
         np.testing.assert_array_equal(run.frf_extras[name].f_hz, extra.f_hz)
     report = parts["validation"]
-    assert run.validation.rows == report.rows
     assert [d.mode for d in run.validation.decays] == [d.mode for d in report.decays]
     np.testing.assert_array_equal(run.validation.decays[0].history.q, report.decays[0].history.q)
     np.testing.assert_array_equal(run.validation.random_runs[0].estimated.H1, report.random_runs[0].estimated.H1)
     assert run.provenance["scenario_text"] == SCENARIO_TEXT
-
-
-def test_no_ground_motion_means_no_relative_datasets(loaded):
-    assert "time/q_relative" not in loaded.datasets and "time/ground_acceleration" not in loaded.datasets
 
 
 def test_fixed_names_shapes_and_labels(loaded):
@@ -192,17 +175,17 @@ def test_fixed_names_shapes_and_labels(loaded):
     assert loaded.dofs == DOFS
     assert loaded.mount_names == ("1", "2", "3", "4")
     assert loaded.name == "bridge_beam"
-    assert loaded["time/q"].dims == ("t", "dof")
-    assert loaded["time/superposition/q"].dims == ("t", "dof")
-    assert loaded["modal/shapes"].dims == ("dof", "mode")
-    assert loaded["frf/receptance"].dims == ("f_hz", "dof", "load")
-    assert loaded["model/mount_stiffness"].dims == ("mount", "mount_axis")
+    for path, dims in {"time/q": ("t", "dof"), "time/superposition/q": ("t", "dof"), "modal/shapes": ("dof", "mode"),
+                       "frf/receptance": ("f_hz", "dof", "load"), "model/mount_stiffness": ("mount", "mount_axis")}.items():
+        assert loaded[path].dims == dims, path
     assert np.all(np.diff(loaded.array("modal/frequency_hz")) > 0)
     assert loaded["time/q"].units == "m (x, y, z); rad (rx, ry, rz)"
     assert loaded["time/q"].attrs["dof_units"] == ("m", "m", "m", "rad", "rad", "rad")
     assert loaded["time/qdd"].attrs["dof_units"] == ("m/s^2",) * 3 + ("rad/s^2",) * 3
     assert loaded["modal/frequency_hz"].units == "Hz"
     assert loaded["time/t"].units == "s"
+    # No ground motion: no relative motion either.
+    assert "time/q_relative" not in loaded.datasets and "time/ground_acceleration" not in loaded.datasets
 
 
 def test_every_dataset_in_the_file_has_units_and_named_axes(written):
@@ -262,7 +245,7 @@ def test_superposition_without_direct_response_is_refused(parts):
 # ----------------------------------------------------------------------------------------------------
 
 
-def test_xarray_opens_time_with_labelled_axes(written, parts):
+def test_xarray_opens_every_group_with_labelled_axes_and_reads_complex(written, parts):
     xr = pytest.importorskip("xarray")
     pytest.importorskip("h5netcdf")
     with xr.open_dataset(written.path, group="time", engine="h5netcdf") as ds:
@@ -274,11 +257,6 @@ def test_xarray_opens_time_with_labelled_axes(written, parts):
         assert ds.attrs["solver"] == "Tsit5"
     with xr.open_dataset(written.path, group="time/superposition", engine="h5netcdf") as ds:
         assert ds["q"].dims == ("t", "dof")
-
-
-def test_xarray_opens_every_group_and_reads_complex(written, parts):
-    xr = pytest.importorskip("xarray")
-    pytest.importorskip("h5netcdf")
     for group in written.groups[1:]:
         with xr.open_dataset(written.path, group=group, engine="h5netcdf") as ds:
             for name, variable in ds.variables.items():
@@ -300,12 +278,10 @@ def test_xarray_opens_every_group_and_reads_complex(written, parts):
 
 
 def _failing_after(n, exception):
-    real = store._write_dataset
-    calls = {"n": 0}
+    real, calls = store._write_dataset, itertools.count(1)
 
     def failing(f, path, dataset):
-        calls["n"] += 1
-        if calls["n"] > n:
+        if next(calls) > n:
             raise exception
         return real(f, path, dataset)
 
@@ -376,13 +352,11 @@ def test_dataset_checks():
 
 
 def test_axis_without_a_dimension_scale_is_refused():
+    q = {"time/q": Dataset(np.zeros((3, 6)), "m", ("t", "dof")), "time/dof": Dataset(np.array(DOFS), "", ("dof",))}
     with pytest.raises(InputError, match=r"time/q\.dims\[0\]: expected the name of a dimension-scale dataset 't'"):
-        Results({"time/q": Dataset(np.zeros((3, 6)), "m", ("t", "dof")),
-                 "time/dof": Dataset(np.array(DOFS), "", ("dof",))}, {})
+        Results(q, {})
     with pytest.raises(InputError, match=r"time/q\.dims\[0\]: expected scale 'time/t' of length 3, got \(4,\)"):
-        Results({"time/q": Dataset(np.zeros((3, 6)), "m", ("t", "dof")),
-                 "time/t": Dataset(np.zeros(4), "s", ("t",)),
-                 "time/dof": Dataset(np.array(DOFS), "", ("dof",))}, {})
+        Results({**q, "time/t": Dataset(np.zeros(4), "s", ("t",))}, {})
 
 
 def test_extra_datasets_and_attributes_round_trip(tmp_path):

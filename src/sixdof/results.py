@@ -6,7 +6,6 @@ Every stored field of a result class says, once, where it goes and what it is: :
 (:mod:`sixdof.io.store`) writes and reads every result generically from these descriptions, so a
 field added to a result is stored and read back without touching the store.
 
-
 The direct solve (:func:`sixdof.analysis.direct.simulate`), the modal superposition
 (:func:`sixdof.analysis.superposition.superpose`), the validation's free decays and the batch
 engine's kept variants all return a :class:`TimeHistory`; :func:`sixdof.analysis.compare.compare`
@@ -19,12 +18,13 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable
 from dataclasses import MISSING, dataclass, field
+from importlib import import_module
 from typing import Any
 
 import numpy as np
 
 from sixdof.dofs import AXES, DOFS, LOADS, MOUNT_AXES, UNITS, dof_units
-from sixdof.errors import InputError, readonly
+from sixdof.errors import InputError, Plain, readonly
 from sixdof.frozen import Frozen
 
 # ----------------------------------------------------------------------------------------------------
@@ -34,16 +34,17 @@ from sixdof.frozen import Frozen
 
 def _class(module: str, name: str) -> type:
     """The class ``name`` of ``module``, imported on first use (result classes live in their layers)."""
-    from importlib import import_module
-
     return getattr(import_module(module), name)
 
 
+def _same(value: Any) -> Any:
+    """The stored form of a field that needs no converter."""
+    return value
+
+
 def _field(store: dict, default: Any, default_factory: Any, check: Callable | None = None) -> Any:
-    metadata = {"store": store} if check is None else {"store": store, "check": check}
-    if default_factory is not MISSING:
-        return field(default_factory=default_factory, metadata=metadata)
-    return field(default=default, metadata=metadata)
+    """A dataclass field with its storage description and its check (see :mod:`sixdof.frozen`)."""
+    return field(default=default, default_factory=default_factory, metadata={"store": store, "check": check})
 
 
 def quantity(units: str, dims: tuple[str, ...], *, name: str | None = None, description: str = "",
@@ -54,15 +55,16 @@ def quantity(units: str, dims: tuple[str, ...], *, name: str | None = None, desc
     ``description``, the unit of each DOF (``dof_units``), converters to and from the stored array, and
     the field's validation ``check`` (see :mod:`sixdof.frozen`)."""
     return _field({"kind": "quantity", "units": units, "dims": tuple(dims), "name": name,
-                   "description": description, "dof_units": dof_units, "encode": encode,
-                   "decode": decode}, default, default_factory, check)
+                   "description": description, "dof_units": dof_units, "encode": encode or _same,
+                   "decode": decode or _same}, default, default_factory, check)
 
 
 def label(*, name: str | None = None, default: Any = MISSING, encode: Callable | None = None,
           decode: Callable | None = None, check: Callable | None = None) -> Any:
     """A dataclass field holding a number, a string, a tuple of strings or a small vector, stored as an
     attribute of its group (under ``name``, default the field's name)."""
-    return _field({"kind": "label", "name": name, "encode": encode, "decode": decode}, default, MISSING, check)
+    return _field({"kind": "label", "name": name, "encode": encode or _same, "decode": decode or _same}, default,
+                  MISSING, check)
 
 
 def part(cls: Callable[[], type], *, group: str | None = None, prefix: str | None = None,
@@ -95,6 +97,22 @@ def sequence(cls: Callable[[], type], *, group: str, key: Callable[[Any], str], 
     """A dataclass field holding a tuple of results of one class ``cls()``, each in the subgroup
     ``group/<key(result)>``, read back in the natural order of those names."""
     return _field({"kind": "sequence", "cls": cls, "group": group, "key": key}, default, MISSING)
+
+
+def descriptions(cls: type, result: Any = None) -> list[tuple[str, dict]]:
+    """(name, storage description) of each described field of ``cls``, then, given a ``result`` of it,
+    of each derived quantity that ``result`` stores."""
+    described = [(f.name, f.metadata["store"]) for f in dataclasses.fields(cls) if "store" in f.metadata]
+    if result is not None:
+        stores = getattr(result, "stores", lambda _: True)
+        described += [(name, f.metadata["store"]) for name, f in getattr(cls, "derived", {}).items() if stores(name)]
+    return described
+
+
+def _motion(order: int, description: str = "absolute motion of the centre of gravity (fixed frame)") -> Any:
+    """The (t, dof) quantity of the centre of gravity's motion differentiated ``order`` times: q, qd or qdd."""
+    return quantity(UNITS[("q", "qd", "qdd")[order]], ("t", "dof"), dof_units=dof_units(order),
+                    description=description)
 
 
 class Result:
@@ -132,12 +150,9 @@ class TimeHistory(Frozen, Result):
     """
 
     t: np.ndarray = quantity("s", ("t",))
-    q: np.ndarray = quantity(UNITS["q"], ("t", "dof"), dof_units=dof_units(0),
-                             description="absolute motion of the centre of gravity (fixed frame)")
-    qd: np.ndarray = quantity(UNITS["qd"], ("t", "dof"), dof_units=dof_units(1),
-                              description="absolute motion of the centre of gravity (fixed frame)")
-    qdd: np.ndarray = quantity(UNITS["qdd"], ("t", "dof"), dof_units=dof_units(2),
-                               description="absolute motion of the centre of gravity (fixed frame)")
+    q: np.ndarray = _motion(0)
+    qd: np.ndarray = _motion(1)
+    qdd: np.ndarray = _motion(2)
     ground_displacement: np.ndarray | None = quantity("m", ("t", "axis"), default=None,
                                                       description="foundation displacement in body axes")
     ground_velocity: np.ndarray | None = quantity("m/s", ("t", "axis"), default=None,
@@ -151,30 +166,24 @@ class TimeHistory(Frozen, Result):
                               default=None)
 
     #: Stored beside the fields when the ground moves (read back through the properties).
-    derived = {
-        "q_relative": quantity(UNITS["q"], ("t", "dof"), dof_units=dof_units(0),
-                               description="motion of the centre of gravity relative to the ground"),
-        "qd_relative": quantity(UNITS["qd"], ("t", "dof"), dof_units=dof_units(1),
-                                description="motion of the centre of gravity relative to the ground"),
-        "qdd_relative": quantity(UNITS["qdd"], ("t", "dof"), dof_units=dof_units(2),
-                                 description="motion of the centre of gravity relative to the ground"),
-    }
+    derived = {f"{key}_relative": _motion(order, "motion of the centre of gravity relative to the ground")
+               for order, key in enumerate(("q", "qd", "qdd"))}
 
     def stores(self, name: str) -> bool:
         """Whether the derived quantity ``name`` is stored (relative motion only with ground motion)."""
         return self.has_ground
 
     def __check__(self) -> None:
-        for name in ("t", "q", "qd", "qdd", "ground_displacement", "ground_velocity", "ground_acceleration", "Q"):
-            value = getattr(self, name)
-            if value is not None:
-                self._derive(**{name: readonly(value)})
+        self._derive(t=readonly(self.t))
         n = self.t.shape[0]
         for name, columns in (("q", 6), ("qd", 6), ("qdd", 6), ("Q", 6), ("ground_displacement", 3),
                               ("ground_velocity", 3), ("ground_acceleration", 3)):
             value = getattr(self, name)
-            if value is not None and value.shape != (n, columns):
-                raise InputError(name, f"shape ({n}, {columns})", f"shape {value.shape}")
+            if value is not None:
+                value = readonly(value)
+                if value.shape != (n, columns):
+                    raise InputError(name, f"shape ({n}, {columns})", f"shape {value.shape}")
+                self._derive(**{name: value})
 
     @property
     def has_ground(self) -> bool:
@@ -184,10 +193,7 @@ class TimeHistory(Frozen, Result):
     def _relative(self, absolute: np.ndarray, ground: np.ndarray | None) -> np.ndarray:
         if ground is None:
             return absolute
-        out = np.array(absolute)
-        out[:, :3] -= ground
-        out.flags.writeable = False
-        return out
+        return readonly(np.hstack([absolute[:, :3] - ground, absolute[:, 3:]]))
 
     @property
     def q_relative(self) -> np.ndarray:
@@ -203,7 +209,6 @@ class TimeHistory(Frozen, Result):
     def qdd_relative(self) -> np.ndarray:
         """Acceleration relative to the ground, (n, 6) [m/s^2, rad/s^2]."""
         return self._relative(self.qdd, self.ground_acceleration)
-
 
 
 @dataclass(frozen=True, eq=False)
@@ -256,16 +261,13 @@ class RunResults(Frozen):
     agreement: Any = part(lambda: _class("sixdof.analysis.compare", "Agreement"), group="time/superposition",
                           prefix="agreement_", default=None)
     frf: Any = part(lambda: _class("sixdof.analysis.frf", "FRFCrossCheck"), group="frf", default=None)
-    frf_extras: Any = parts(lambda: {cls.__name__: cls for cls in (
-        _class("sixdof.analysis.frf", "PointFRF"), _class("sixdof.analysis.frf", "ForceTransmissibility"),
-        _class("sixdof.analysis.frf", "GroundTransmissibility"))}, group="frf", default_factory=dict)
+    frf_extras: Any = parts(lambda: {name: _class("sixdof.analysis.frf", name) for name in (
+        "PointFRF", "ForceTransmissibility", "GroundTransmissibility")}, group="frf", default_factory=dict)
     validation: Any = part(lambda: _class("sixdof.validation", "ValidationReport"), group="validation", default=None)
     sweep: Any = part(lambda: _class("sixdof.analysis.batch", "BatchResult"), group="sweep", default=None)
     provenance: Any = field(default_factory=dict)
 
     def __check__(self) -> None:
-        from sixdof.errors import Plain
-
         if (self.mount_forces is not None or self.points) and self.response is None:
             raise InputError("mount_forces" if self.mount_forces is not None else "points",
                              "the time response they come from", Plain("none"))
@@ -283,8 +285,8 @@ class RunResults(Frozen):
                                  Plain(f"{len(item.f_hz)} other frequencies"))
 
 
-#: Labels of the axes that are the same in every result.
-_FIXED_COORDS = {"dof": DOFS, "load": LOADS, "axis": AXES, "mount_axis": MOUNT_AXES}
+#: Labels of the axes that are the same in every result (xarray coordinates, HDF5 dimension scales).
+FIXED_SCALES: dict[str, tuple[str, ...]] = {"dof": DOFS, "load": LOADS, "axis": AXES, "mount_axis": MOUNT_AXES}
 
 
 def to_xarray(result):
@@ -302,10 +304,7 @@ def to_xarray(result):
     import xarray as xr
 
     variables, coords, attrs = {}, {}, {}
-    fields = [(f.name, f.metadata["store"]) for f in dataclasses.fields(result) if "store" in f.metadata]
-    fields += [(name, f.metadata["store"]) for name, f in getattr(type(result), "derived", {}).items()
-               if getattr(result, "stores", lambda _: True)(name)]
-    for name, meta in fields:
+    for name, meta in descriptions(type(result), result):
         value = getattr(result, name)
         if value is None:
             continue
@@ -321,7 +320,7 @@ def to_xarray(result):
         elif meta["kind"] == "label" and isinstance(value, (str, int, float, np.ndarray, tuple)):
             attrs[meta["name"] or name] = value
     dims = {d for v in variables.values() for d in v.dims}
-    for dim, labels in _FIXED_COORDS.items():
+    for dim, labels in FIXED_SCALES.items():
         if dim in dims and dim not in coords:
             coords[dim] = (dim, list(labels))
     return xr.Dataset(variables, coords=coords, attrs=attrs)

@@ -35,15 +35,8 @@ def modes_table(modes, damping_ratios=None) -> str:
     if damping_ratios is not None:
         headers.append("zeta [%]")
     rows = []
-    for j in range(len(modes.frequency_hz)):
-        dominant = DOFS.index(modes.dominant_dof[j])
-        row = [
-            j + 1,
-            f"{modes.frequency_hz[j]:.4f}",
-            f"{modes.omega[j]:.4f}",
-            modes.dominant_dof[j],
-            f"{100 * modes.ke_distribution[dominant, j]:.1f}",
-        ]
+    for j, (f, omega, dof) in enumerate(zip(modes.frequency_hz, modes.omega, modes.dominant_dof)):
+        row = [j + 1, f"{f:.4f}", f"{omega:.4f}", dof, f"{100 * modes.ke_distribution[DOFS.index(dof), j]:.1f}"]
         if damping_ratios is not None:
             zeta = damping_ratios[j]
             row.append("-" if not np.isfinite(zeta) else f"{100 * zeta:.2f}")
@@ -63,10 +56,8 @@ def subsystems_text(modes) -> str:
     lines = [f"  {i + 1}: ({', '.join(group)})" for i, group in enumerate(modes.subsystems)]
     text = "Decoupled subsystems (DOFs coupled through M and K):\n" + "\n".join(lines)
     if modes.zero_modes:
-        text += (
-            f"\nUnrestrained: {len(modes.zero_modes)} zero-frequency mode(s); "
-            f"free DOFs: {', '.join(modes.free_dofs)}"
-        )
+        text += (f"\nUnrestrained: {len(modes.zero_modes)} zero-frequency mode(s); "
+                 f"free DOFs: {', '.join(modes.free_dofs)}")
     return text
 
 
@@ -77,23 +68,20 @@ def statics_table(statics, mount_names: Sequence[str]) -> str:
         factor, shown = display_unit(statics.q[i], unit)
         rows.append([dof, f"{statics.q[i] * factor:.5g} {shown}"])
     deflection = table(["DOF", "static deflection"], rows)
-    rows = []
-    for name, force, support in zip(mount_names, statics.mount_forces, statics.support):
-        state = "TENSION (uplift)" if name in statics.uplift else "compression"
-        rows.append([name, *(f"{v / 1e3:.3f}" for v in force), f"{support / 1e3:.3f}", state])
+    rows = [[name, *(f"{v / 1e3:.3f}" for v in force), f"{support / 1e3:.3f}",
+             "TENSION (uplift)" if name in statics.uplift else "compression"]
+            for name, force, support in zip(mount_names, statics.mount_forces, statics.support)]
     forces = table(["mount", "Fx [kN]", "Fy [kN]", "Fz [kN]", "carried [kN]", "state"], rows, "lrrrrl")
     return deflection + "\n\nForce of each mount on the body (body axes):\n" + forces
 
 
 def summary_table(result) -> str:
     """Percentiles (5, 50, 95 %) of each natural frequency and each DOF's peak over a batch of variants."""
-    rows = []
-    for j in range(6):
-        rows.append([f"f{j + 1} [Hz]", *(f"{v:.5g}" for v in np.percentile(result.frequency_hz[:, j], [5, 50, 95]))])
+    rows = [[f"f{j + 1} [Hz]", *(f"{v:.5g}" for v in np.percentile(result.frequency_hz[:, j], [5, 50, 95]))]
+            for j in range(6)]
     if result.peak_q is not None:
-        for j, (dof, unit) in enumerate(zip(DOFS, DOF_UNITS)):
-            peaks = np.percentile(result.peak_q[:, j], [5, 50, 95])
-            rows.append([f"peak {dof} [{unit}]", *(f"{v:.4g}" for v in peaks)])
+        rows += [[f"peak {dof} [{unit}]", *(f"{v:.4g}" for v in np.percentile(result.peak_q[:, j], [5, 50, 95]))]
+                 for j, (dof, unit) in enumerate(zip(DOFS, DOF_UNITS))]
     return f"{result.variants.count} variants\n\n" + table(["quantity", "p5", "p50", "p95"], rows)
 
 
@@ -103,10 +91,9 @@ def validation_text(report) -> str:
 
     headers, rows = report.table()
     cells = [[fmt.format(v) for (_, _, fmt), v in zip(COLUMNS, row)] for row in rows]
-    lines = [table(headers, cells),
-             f"{len(report.random_runs)} random runs ({report.random_duration_s:.4g} s simulated) and "
-             f"{len(report.decays)} free decays in {report.wall_time_s:.3g} s", *report.notes]
-    return "\n".join(lines)
+    return "\n".join([table(headers, cells),
+                      f"{len(report.random_runs)} random runs ({report.random_duration_s:.4g} s simulated) and "
+                      f"{len(report.decays)} free decays in {report.wall_time_s:.3g} s", *report.notes])
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -127,18 +114,16 @@ def summary_markdown(scenario, modes, statics, damping_ratios, response, forces,
         parts += ["## Statics under gravity", "", statics_table(statics, scenario.system.mount_names), ""]
     if response is not None:
         parts += ["## Time response", "", _peaks_table(response), ""]
-        parts += [f"Solver: {_stats_line(response.stats)}", ""]
+        stats = response.stats
+        parts += [f"Solver: {stats.solver}, rtol {stats.rtol:g}, atol {stats.atol:g} (per-DOF scaled), "
+                  f"{stats.num_accepted} accepted and {stats.num_rejected} rejected steps", ""]
         parts += ["### Peak mount forces", "", _mount_peaks_table(forces), ""]
         parts += ["### Direct solve vs modal superposition", "",
                   _agreement_table(agreement, superposition.superposition), ""]
     if frf is not None:
-        parts += [
-            "## Frequency response",
-            "",
-            f"{len(frf.direct.f_hz)} frequencies from {frf.direct.f_hz[0]:g} to {frf.direct.f_hz[-1]:g} Hz; "
-            f"direct and modal receptances agree to {frf.max_relative_difference:.1e} (relative, worst entry).",
-            "",
-        ]
+        f_hz = frf.direct.f_hz
+        parts += ["## Frequency response", "", f"{len(f_hz)} frequencies from {f_hz[0]:g} to {f_hz[-1]:g} Hz; direct "
+                  f"and modal receptances agree to {frf.max_relative_difference:.1e} (relative, worst entry).", ""]
     if figures:
         parts += ["## Figures", "", *(f"![{Path(f).stem}]({Path(f).name})" for f in figures), ""]
     return "\n".join(parts)
@@ -157,34 +142,18 @@ def _peaks_table(response) -> str:
 
 
 def _mount_peaks_table(forces) -> str:
-    rows = []
-    for j, name in enumerate(forces.names):
-        peaks = np.max(np.abs(forces.total[j]), axis=0)
-        rows.append([name, *(f"{p / 1e3:.4g}" for p in peaks)])
-    rows.append(["foundation (total)", *(f"{p / 1e3:.4g}" for p in np.max(np.abs(forces.foundation_force), axis=0))])
+    rows = [[name, *(f"{p / 1e3:.4g}" for p in np.max(np.abs(force), axis=0))]
+            for name, force in [*zip(forces.names, forces.total), ("foundation (total)", forces.foundation_force)]]
     return table(["mount", "peak |Fx| [kN]", "peak |Fy| [kN]", "peak |Fz| [kN]"], rows)
 
 
 def _agreement_table(agreement, superposition) -> str:
     rows = [[d, f"{v:.2e}"] for d, v in zip(DOFS, agreement.per_dof)]
-    verdict = "within" if agreement.ok else "OVER"
-    return (
-        table(["DOF", "max |q_direct - q_modal| / peak |q_direct|"], rows)
-        + f"\n\nWorst: {agreement.worst:.2e} ({agreement.worst_dof}), {verdict} the tolerance "
-        f"{agreement.tolerance:.0e}. Superposition used {superposition.method} modes: {superposition.reason}"
-        + _truncation_line(superposition)
-    )
-
-
-def _truncation_line(superposition) -> str:
+    text = table(["DOF", "max |q_direct - q_modal| / peak |q_direct|"], rows) + (
+        f"\n\nWorst: {agreement.worst:.2e} ({agreement.worst_dof}), {'within' if agreement.ok else 'OVER'} the "
+        f"tolerance {agreement.tolerance:.0e}. Superposition used {superposition.method} modes: {superposition.reason}")
     if superposition.truncation is None:
-        return ""
-    kept = ", ".join(str(j + 1) for j in superposition.modes_kept)
-    return (f"\n\nTruncated to modes {kept} (residual correction: {superposition.residual}); "
-            f"error against all modes: worst {superposition.truncation.worst:.2e} "
-            f"({superposition.truncation.worst_dof}).")
-
-
-def _stats_line(stats) -> str:
-    return (f"{stats.solver}, rtol {stats.rtol:g}, atol {stats.atol:g} (per-DOF scaled), "
-            f"{stats.num_accepted} accepted and {stats.num_rejected} rejected steps")
+        return text
+    return (text + f"\n\nTruncated to modes {', '.join(str(j + 1) for j in superposition.modes_kept)} (residual "
+            f"correction: {superposition.residual}); error against all modes: worst "
+            f"{superposition.truncation.worst:.2e} ({superposition.truncation.worst_dof}).")

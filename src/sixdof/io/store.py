@@ -1,37 +1,32 @@
 """The results file (HDF5): its layout, an atomic writer, and the reader.
 
-A run's typed results (:class:`sixdof.results.RunResults`) are encoded generically from their own
-field descriptions (:func:`sixdof.results.quantity`, ``label``, ``part``...) into a :class:`Results`
-tree (:func:`build_results`): a flat mapping from HDF5 paths (``"time/q"``) to :class:`Dataset` objects
-(array, units, named axes, attributes) plus the attributes of each group. The tree is written
-atomically (:func:`save_results`) and read back (:func:`load_tree`); :func:`load_results` decodes it,
-by the same descriptions, into the typed objects the run produced. The store never names a result's
-fields itself: a field added to a result is written and read back as it is described.
+A run's typed results (:class:`sixdof.results.RunResults`) are encoded by their own field descriptions
+(:func:`sixdof.results.quantity`, ``label``, ``part``...) into a :class:`Results` tree (:func:`build_results`):
+:class:`Dataset` objects by HDF5 path (``"time/q"``) and the attributes of each group. The tree is written
+atomically (:func:`save_results`), read back (:func:`load_tree`) and decoded by the same descriptions into
+the typed objects the run produced (:func:`load_results`): a field added to a result is stored as described.
 
-Why h5py and not xarray's DataTree through h5netcdf: the file must keep HDF5 dimension scales shared
-between groups, complex arrays as h5py's compound type, the fixed dataset names, and an atomic
-write-then-rename; writing with h5py keeps each under our control, keeps xarray (and pandas) out of the
-dependencies and of ``import sixdof``, and the file still opens group by group in xarray with
-``engine="h5netcdf"`` (tested).
-
-Layout conventions (the file opens in ``xarray`` through ``h5netcdf``):
+Layout conventions:
 
 - every dataset has a ``units`` attribute: SI units, ``"1"`` for dimensionless numbers, ``""`` for
   text labels. Arrays mixing translations and rotations say which unit goes with which DOF
   (``"m (x, y, z); rad (rx, ry, rz)"``) and carry a machine-readable ``dof_units`` attribute;
 - every axis of every dataset is named by an HDF5 dimension scale (a 1-D dataset of the same name in
   the same group or a parent group: ``/time/t``, ``/time/dof``, ``/modal/mode``...);
-- complex arrays are HDF5 compound ``(r, i)`` (h5py's convention). h5py and h5netcdf (checked with
-  1.8, and tested) read them back as complex, so no real/imaginary copies are stored; older netCDF
-  readers without complex support see a compound type;
+- complex arrays are HDF5 compound ``(r, i)`` (h5py's convention), read back as complex by h5py and
+  h5netcdf (checked with 1.8, and tested); older netCDF readers see a compound type;
 - the root holds the provenance: scenario text, package versions, creation time, command line.
 
-Only this module imports h5py, and only inside the functions that read or write a file, so that
-``import sixdof`` stays light.
+Why h5py and not xarray's DataTree through h5netcdf: the file must keep dimension scales shared between
+groups, complex arrays, the fixed dataset names and an atomic write-then-rename; h5py keeps each under
+our control and keeps xarray (and pandas) out of the dependencies, and the file still opens group by
+group in xarray with ``engine="h5netcdf"`` (tested). h5py is imported only inside the functions that
+read or write a file, so that ``import sixdof`` stays light.
 """
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import datetime as _dt
 import os
@@ -47,9 +42,10 @@ from typing import Any
 
 import numpy as np
 
-from sixdof.dofs import AXES, DOFS, LOADS, MOUNT_AXES
-from sixdof.errors import InputError, Plain
+from sixdof.dofs import DOFS
+from sixdof.errors import InputError, Plain, readonly
 from sixdof.frozen import Frozen
+from sixdof.results import FIXED_SCALES, RunResults, descriptions
 
 #: Identifies the file layout; bump FORMAT_VERSION when a fixed name changes meaning.
 FORMAT = "sixdof-results"
@@ -59,17 +55,12 @@ FORMAT_VERSION = 2  # 2: written from the results' descriptions, read back as ty
 UNITS_ONE = "1"
 UNITS_LABEL = ""
 
-
 #: Packages whose versions are recorded in every file.
-PROVENANCE_PACKAGES: tuple[str, ...] = (
-    "sixdof", "numpy", "scipy", "jax", "jaxlib", "diffrax", "equinox", "h5py",
-)
+PROVENANCE_PACKAGES: tuple[str, ...] = ("sixdof", "numpy", "scipy", "jax", "jaxlib", "diffrax", "equinox", "h5py")
 
 # HDF5 / netCDF bookkeeping attributes that are not user attributes.
-_RESERVED_ATTRS = frozenset(
-    {"units", "CLASS", "NAME", "DIMENSION_LIST", "REFERENCE_LIST", "_Netcdf4Dimid",
-     "_Netcdf4Coordinates", "_NCProperties"}
-)
+_RESERVED_ATTRS = frozenset({"units", "CLASS", "NAME", "DIMENSION_LIST", "REFERENCE_LIST", "_Netcdf4Dimid",
+                             "_Netcdf4Coordinates", "_NCProperties"})
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -99,22 +90,15 @@ class Dataset(Frozen):
     attrs: Mapping[str, Any] = field(default_factory=dict)
 
     def __check__(self) -> None:
-        data = np.asarray(self.data)
-        if data.dtype.kind in "OSU":
-            data = np.array(data, dtype=str)
-        elif data.dtype.kind == "b":
-            data = data.astype(np.int8)  # netCDF has no boolean type
-        else:
-            data = np.array(data)
-        data.flags.writeable = False
-        self._derive(data=data)
+        kind = np.asarray(self.data).dtype.kind
+        # Text as str; booleans as int8, since netCDF has no boolean type.
+        data = readonly(self.data, str if kind in "OSU" else np.int8 if kind == "b" else None)
         if not isinstance(self.units, str):
             raise InputError("units", "a string", self.units)
         dims = tuple(self.dims)
         if len(dims) != data.ndim or not all(isinstance(d, str) and d for d in dims):
             raise InputError("dims", f"{data.ndim} non-empty axis names for shape {data.shape}", dims)
-        self._derive(dims=dims)
-        self._derive(attrs=_attributes(self.attrs))
+        self._derive(data=data, dims=dims, attrs=_attributes(self.attrs))
 
     def __repr__(self) -> str:
         return f"Dataset(shape={self.data.shape}, dtype={self.data.dtype}, units={self.units!r}, dims={self.dims})"
@@ -126,7 +110,7 @@ class Results(Frozen):
 
     ``results["time/q"]`` is the :class:`Dataset` at ``/time/q``; ``"time" in results`` tells whether
     the group exists; :attr:`attrs` maps each group path (``""`` for the root) to its attributes.
-    Build one with :func:`build_results`, read one with :func:`load_results`.
+    Build one with :func:`build_results`, read one with :func:`load_tree`.
 
     Attributes
     ----------
@@ -147,15 +131,11 @@ class Results(Frozen):
         for key, value in datasets.items():
             if not isinstance(value, Dataset):
                 raise InputError(f"datasets[{key!r}]", "a Dataset", value)
-        groups = {""}
-        for key in datasets:
-            parts = key.split("/")[:-1]
-            groups.update("/".join(parts[:i]) for i in range(1, len(parts) + 1))
         attrs = {str(k).strip("/"): _attributes(v) for k, v in self.attrs.items()}
-        groups.update(attrs)
+        # The root, every group given attributes, and every group above a dataset.
+        groups = {"", *attrs, *(key[:i] for key in datasets for i, c in enumerate(key) if c == "/")}
         attrs = {g: attrs.get(g, MappingProxyType({})) for g in sorted(groups)}
-        self._derive(datasets=MappingProxyType(dict(sorted(datasets.items()))))
-        self._derive(attrs=MappingProxyType(attrs))
+        self._derive(datasets=MappingProxyType(dict(sorted(datasets.items()))), attrs=MappingProxyType(attrs))
         _check_dims(self.datasets)
 
     # Mapping-like access ---------------------------------------------------------------------------
@@ -182,7 +162,6 @@ class Results(Frozen):
         """Paths of every group, the root ``""`` first."""
         return tuple(self.attrs)
 
-    # Shortcuts used by figures and reports -----------------------------------------------------------
     @property
     def name(self) -> str:
         """The scenario name (``""`` when not recorded)."""
@@ -191,10 +170,8 @@ class Results(Frozen):
     @property
     def dofs(self) -> tuple[str, ...]:
         """DOF names in array order."""
-        for path in ("model/dof", "modal/dof", "time/dof", "frf/dof"):
-            if path in self.datasets:
-                return tuple(self.datasets[path].data.tolist())
-        return DOFS
+        paths = [p for p in ("model/dof", "modal/dof", "time/dof", "frf/dof") if p in self.datasets]
+        return tuple(self.datasets[paths[0]].data.tolist()) if paths else DOFS
 
     @property
     def mount_names(self) -> tuple[str, ...]:
@@ -202,137 +179,103 @@ class Results(Frozen):
         return tuple(self.array("model/mount").tolist()) if "model/mount" in self.datasets else ()
 
 
-
 # ----------------------------------------------------------------------------------------------------
-# Building the tree from the library's result objects.
+# Generic encoding of the results' own field descriptions (sixdof.results: quantity, label, part, ...).
 # ----------------------------------------------------------------------------------------------------
 
 
-class _Tree:
-    """Collects datasets and group attributes; checks names while building."""
+def _join(*names: str | None) -> str:
+    """HDF5 path of the non-empty ``names`` (``_join("", "modal")`` is ``"modal"``)."""
+    return "/".join(name for name in names if name)
+
+
+def _natural(path: str) -> tuple[str, int]:
+    """Sort key of a path: its text, then its trailing number as a number (mode_2 before mode_10)."""
+    head = path.rstrip("0123456789")
+    return head, int(path[len(head):] or 0)
+
+
+class _Encoder:
+    """Collects the datasets and group attributes of result objects, from their field descriptions."""
 
     def __init__(self) -> None:
         self.datasets: dict[str, Dataset] = {}
         self.attrs: dict[str, dict[str, Any]] = {"": {}}
+        self.labels: dict[str, np.ndarray] = {}  # label scales seen so far (mount names), by axis
 
     def add(self, path: str, data, units: str, dims, **attrs) -> None:
         if path in self.datasets:
             raise InputError(path, "a dataset path used once", Plain("a second dataset"))
         self.datasets[path] = Dataset(data, units, tuple(dims), attrs)
 
-    def labels(self, group: str, name: str, values) -> None:
-        """A dimension scale of text labels (``/group/name``)."""
-        self.add(f"{group}/{name}", np.asarray(list(values), dtype=str), UNITS_LABEL, (name,))
-
     def set_attrs(self, group: str, **attrs) -> None:
         self.attrs.setdefault(group, {}).update({k: v for k, v in attrs.items() if v is not None})
-
-
-# ----------------------------------------------------------------------------------------------------
-# Generic encoding of the results' own field descriptions (sixdof.results: quantity, label, part, ...).
-# ----------------------------------------------------------------------------------------------------
-
-#: Axes whose labels are fixed: the scales are written wherever a dataset needs them.
-FIXED_SCALES: dict[str, tuple[str, ...]] = {"dof": DOFS, "load": LOADS, "axis": AXES, "mount_axis": MOUNT_AXES}
-
-
-def _join(group: str, name: str) -> str:
-    return f"{group}/{name}" if group else name
-
-
-def _stored(cls) -> list[tuple[dataclasses.Field, dict]]:
-    """The fields of a result class that carry a storage description, in order."""
-    return [(f, f.metadata["store"]) for f in dataclasses.fields(cls) if "store" in f.metadata]
-
-
-def _is_scale_field(name: str, meta: dict) -> bool:
-    return tuple(meta["dims"]) == (name,)
-
-
-class _Encoder:
-    """Writes result objects into a :class:`_Tree` from their field descriptions."""
-
-    def __init__(self, tree: _Tree) -> None:
-        self.tree = tree
-        self.labels: dict[str, np.ndarray] = {}  # label scales seen so far (mount names), by axis
 
     def scale(self, group: str, dim: str, length: int) -> None:
         """Make sure the axis ``dim`` of a dataset in ``group`` has a dimension scale: a label or index
         scale is made in the top-level group (``frf/axis`` serves every FRF below ``/frf``)."""
-        found = _scale_path(self.tree.datasets, _join(group, "_"), dim)
-        if found is not None and self.tree.datasets[found].data.shape == (length,):
+        found = _scale_path(self.datasets, _join(group, "_"), dim)
+        if found is not None and self.datasets[found].data.shape == (length,):
             return
         top = group.split("/")[0]
-        if _scale_path(self.tree.datasets, _join(top, "_"), dim) is None:
-            group = top
-        if dim in FIXED_SCALES and len(FIXED_SCALES[dim]) == length:
-            self.tree.labels(group, dim, FIXED_SCALES[dim])
-        elif dim in self.labels and len(self.labels[dim]) == length:
-            self.tree.labels(group, dim, self.labels[dim])
+        path = _join(top if _scale_path(self.datasets, _join(top, "_"), dim) is None else group, dim)
+        labels = [v for v in (FIXED_SCALES.get(dim), self.labels.get(dim)) if v is not None and len(v) == length]
+        if labels:
+            self.add(path, np.asarray(list(labels[0]), dtype=str), UNITS_LABEL, (dim,))
         elif dim == "mode":
-            self.tree.add(_join(group, dim), np.arange(1, length + 1), UNITS_ONE, (dim,),
-                          description="mode number, ascending frequency")
+            self.add(path, np.arange(1, length + 1), UNITS_ONE, (dim,), description="mode number, ascending frequency")
         else:
-            self.tree.add(_join(group, dim), np.arange(length), UNITS_ONE, (dim,), description=f"{dim} index")
+            self.add(path, np.arange(length), UNITS_ONE, (dim,), description=f"{dim} index")
 
-    def quantity(self, obj, name: str, value, meta: dict, group: str, prefix: str, lead: tuple[str, ...] = ()) -> None:
+    def quantity(self, obj, name: str, data, meta: dict, group: str, prefix: str, lead: tuple[str, ...] = ()) -> None:
+        """The (encoded) ``data`` of the quantity ``name`` of ``obj``, with ``lead`` axes before its own."""
         stored = meta["name"] or name
-        data = np.asarray(meta["encode"](value) if meta["encode"] else value)
+        data = np.asarray(data)
         dims = (*lead, *meta["dims"])
-        path = _join(group, stored if _is_scale_field(stored, meta) and not lead else prefix + stored)
+        scale = meta["dims"] == (stored,) and not lead
+        path = _join(group, stored if scale else prefix + stored)
         group = path.rpartition("/")[0]  # a name may hold a subgroup ("modal/damping_ratio")
-        if _is_scale_field(stored, meta) and not lead:
-            existing = _scale_path(self.tree.datasets, _join(group, "_"), stored)
-            if existing is not None and np.array_equal(self.tree.datasets[existing].data, data):
+        if scale:
+            existing = _scale_path(self.datasets, _join(group, "_"), stored)
+            if existing is not None and np.array_equal(self.datasets[existing].data, data):
                 return  # a shared scale (the frequencies of every FRF) is stored once
             if data.dtype.kind in "OSU":
                 self.labels[stored] = data
                 top = group.split("/")[0]
-                if existing is None and _scale_path(self.tree.datasets, _join(top, "_"), stored) is None:
+                if existing is None and _scale_path(self.datasets, _join(top, "_"), stored) is None:
                     path = _join(top, stored)  # labels (mount names) serve the whole top-level group
         else:
-            for axis, dim in enumerate(dims):
-                self.scale(group, dim, data.shape[axis])
+            for dim, length in zip(dims, data.shape):
+                self.scale(group, dim, length)
         units = meta["units"](obj) if callable(meta["units"]) else meta["units"]
-        attrs = {"description": meta["description"] or None, "dof_units": meta["dof_units"]}
-        self.tree.add(path, data, units, dims, **{k: v for k, v in attrs.items() if v is not None})
+        self.add(path, data, units, dims, description=meta["description"] or None, dof_units=meta["dof_units"])
 
     def encode(self, obj, group: str, prefix: str = "") -> None:
-        """Every described field of ``obj`` (and its derived quantities) into ``group``."""
-        for f, meta in _stored(type(obj)):
-            value = getattr(obj, f.name)
+        """Every described field of ``obj``, and the derived quantities it stores, into ``group``."""
+        for name, meta in descriptions(type(obj), obj):
+            value = getattr(obj, name)
             if value is None:
                 continue
             kind = meta["kind"]
             if kind == "quantity":
-                self.quantity(obj, f.name, value, meta, group, prefix)
+                self.quantity(obj, name, meta["encode"](value), meta, group, prefix)
             elif kind == "label":
-                stored = meta["name"] or prefix + f.name
-                self.tree.set_attrs(group, **{stored: meta["encode"](value) if meta["encode"] else value})
-            elif kind == "part":
-                sub = _join(group, meta["group"]) if meta["group"] else group
-                self.encode(value, sub, prefix + meta["prefix"] if meta["prefix"] is not None else "")
+                self.set_attrs(group, **{meta["name"] or prefix + name: meta["encode"](value)})
+            elif kind == "part":  # in a subgroup of its own, or flattened into this group with a prefix
+                flat = "" if meta["prefix"] is None else prefix + meta["prefix"]
+                self.encode(value, _join(group, meta["group"]), flat)
             elif kind == "stacked":
-                self.stacked(value, meta, _join(group, meta["group"]) if meta["group"] else group)
+                self.stacked(value, meta, _join(group, meta["group"]))
             elif kind == "sequence":
                 for item in value:
-                    self.encode(item, _join(group, f"{meta['group']}/{meta['key'](item)}"))
+                    self.encode(item, _join(group, meta["group"], meta["key"](item)))
             elif kind == "parts":
                 for key, item in value.items():
                     if "/" in key or not key:
-                        raise InputError(f"{f.name}[{key!r}]", "a name without '/'", key)
-                    sub = _join(group, f"{meta['group']}/{type(item).group}/{key}")
-                    self.tree.set_attrs(sub, kind=type(item).__name__)
+                        raise InputError(f"{name}[{key!r}]", "a name without '/'", key)
+                    sub = _join(group, meta["group"], type(item).group, key)
+                    self.set_attrs(sub, kind=type(item).__name__)
                     self.encode(item, sub)
-        stores = getattr(obj, "stores", None)
-        for name, derived in getattr(type(obj), "derived", {}).items():
-            meta = derived.metadata["store"]
-            if stores is not None and not stores(name):
-                continue
-            if meta["kind"] == "label":
-                self.tree.set_attrs(group, **{meta["name"] or prefix + name: getattr(obj, name)})
-            else:
-                self.quantity(obj, name, getattr(obj, name), meta, group, prefix)
 
     def stacked(self, items, meta: dict, group: str) -> None:
         """Results of one class as one array per field, along the axis ``meta["dim"]``."""
@@ -340,76 +283,62 @@ class _Encoder:
             return
         key, dim = meta["key"], meta["dim"]
         objects = list(items.values()) if key is None else list(items)
-        names = list(items.keys()) if key is None else [getattr(o, key) for o in objects]
-        scale = np.asarray(names)
-        self.tree.add(_join(group, dim), scale, UNITS_LABEL if scale.dtype.kind in "OSU" else UNITS_ONE, (dim,))
-        if scale.dtype.kind in "OSU":
+        scale = np.asarray(list(items) if key is None else [getattr(o, key) for o in objects])
+        text = scale.dtype.kind in "OSU"
+        self.add(_join(group, dim), scale, UNITS_LABEL if text else UNITS_ONE, (dim,))
+        if text:
             self.labels[dim] = scale
-        for f, field_meta in _stored(meta["cls"]()):
-            if f.name == key:
-                continue
-            value = np.stack([np.asarray(field_meta["encode"](getattr(o, f.name)) if field_meta["encode"]
-                                         else getattr(o, f.name)) for o in objects])
-            self.quantity(objects[0], f.name, value, {**field_meta, "encode": None}, group, meta["prefix"], (dim,))
+        for name, field_meta in descriptions(meta["cls"]()):
+            if name != key:
+                value = np.stack([field_meta["encode"](getattr(o, name)) for o in objects])
+                self.quantity(objects[0], name, value, field_meta, group, meta["prefix"], (dim,))
 
 
 class _Decoder:
     """Reads result objects back from a :class:`Results` tree, by the same descriptions."""
 
     def __init__(self, results: Results) -> None:
-        self.results = results
-
-    def dataset(self, path: str):
-        return self.results.datasets.get(path)
+        self.datasets, self.attrs = results.datasets, results.attrs
 
     def decode(self, cls, group: str, prefix: str = "", required: bool = True):
-        """An instance of ``cls`` from ``group``, or ``None`` when nothing of it is stored."""
+        """An instance of ``cls`` from ``group``, or ``None`` when nothing of it is stored and not ``required``."""
         kwargs: dict[str, Any] = {}
         own = False  # found something of its own, not only a dimension scale shared with its parents
-        attrs = self.results.attrs.get(group, {})
-        for f, meta in _stored(cls):
+        for name, meta in descriptions(cls):
             kind = meta["kind"]
             if kind == "quantity":
-                stored = meta["name"] or f.name
-                scale = _is_scale_field(stored, meta)
-                if scale:
-                    path = _scale_path(self.results.datasets, _join(group, "_"), stored)
-                else:
-                    path = _join(group, prefix + stored)
-                found = self.dataset(path) if path else None
-                if found is not None:
+                stored = meta["name"] or name
+                scale = meta["dims"] == (stored,)
+                path = _scale_path(self.datasets, _join(group, "_"), stored) if scale else _join(group, prefix + stored)
+                if path in self.datasets:
                     own = own or not scale
-                    kwargs[f.name] = meta["decode"](found.data) if meta["decode"] else found.data
+                    kwargs[name] = meta["decode"](self.datasets[path].data)
             elif kind == "label":
-                stored = meta["name"] or prefix + f.name
-                if stored in attrs:
+                stored = meta["name"] or prefix + name
+                if stored in self.attrs[group]:
                     own = True
-                    kwargs[f.name] = meta["decode"](attrs[stored]) if meta["decode"] else attrs[stored]
-            elif kind == "part":
-                sub = _join(group, meta["group"]) if meta["group"] else group
-                if meta["group"] and sub not in self.results.attrs:
-                    continue
-                value = self.decode(meta["cls"](), sub, prefix + meta["prefix"] if meta["prefix"] is not None else "",
-                                    required=False)
+                    kwargs[name] = meta["decode"](self.attrs[group][stored])
+            elif kind in ("part", "stacked"):
+                sub = _join(group, meta["group"])
+                if kind == "stacked":
+                    value = self.stacked(meta, sub)
+                elif sub in self.attrs:
+                    flat = "" if meta["prefix"] is None else prefix + meta["prefix"]
+                    value = self.decode(meta["cls"](), sub, flat, required=False)
+                else:
+                    value = None
                 if value is not None:
                     own = True
-                    kwargs[f.name] = value
-            elif kind == "stacked":
-                value = self.stacked(meta, _join(group, meta["group"]) if meta["group"] else group)
-                if value is not None:
-                    own = True
-                    kwargs[f.name] = value
-            elif kind == "sequence":
-                subgroups = self.subgroups(_join(group, meta["group"]))
-                kwargs[f.name] = tuple(self.decode(meta["cls"](), sub) for sub in subgroups)
+                    kwargs[name] = value
+            elif kind == "sequence":  # its subgroups, in natural order of their names
+                parent = _join(group, meta["group"])
+                subgroups = sorted((g for g in self.attrs if g.rpartition("/")[0] == parent), key=_natural)
+                kwargs[name] = tuple(self.decode(meta["cls"](), sub) for sub in subgroups)
             elif kind == "parts":
-                classes = meta["classes"]()
-                found = {}
-                for sub in self.results.groups:
-                    parent, _, key = sub.rpartition("/")
-                    if parent.rpartition("/")[0] == _join(group, meta["group"]) and "kind" in self.results.attrs[sub]:
-                        found[key] = self.decode(classes[self.results.attrs[sub]["kind"]], sub)
-                kwargs[f.name] = found
+                classes, parent = meta["classes"](), _join(group, meta["group"])
+                kwargs[name] = {sub.rpartition("/")[2]: self.decode(classes[attrs["kind"]], sub)
+                                for sub, attrs in self.attrs.items()
+                                if sub.rpartition("/")[0].rpartition("/")[0] == parent and "kind" in attrs}
         if not own and not required:
             return None
         try:
@@ -418,35 +347,19 @@ class _Decoder:
             raise InputError(group or "results", f"a complete {cls.__name__} (format version {FORMAT_VERSION})",
                              Plain(str(exc))) from None
 
-    def subgroups(self, group: str) -> list[str]:
-        """Direct subgroups of ``group``, in natural order of their names (mode_2 before mode_10)."""
-        children = [g for g in self.results.groups if g.rpartition("/")[0] == group]
-
-        def natural(name: str):
-            head = name.rstrip("0123456789")
-            return head, int(name[len(head):] or 0)
-
-        return sorted(children, key=lambda g: natural(g.rpartition("/")[2]))
-
     def stacked(self, meta: dict, group: str):
-        scale = self.dataset(_join(group, meta["dim"]))
+        """What :meth:`_Encoder.stacked` wrote in ``group``, or ``None`` when nothing."""
+        scale = self.datasets.get(_join(group, meta["dim"]))
         if scale is None:
             return None
-        names = scale.data.tolist()
-        columns = {}
-        for f, field_meta in _stored(meta["cls"]()):
-            if f.name == meta["key"]:
-                continue
-            found = self.dataset(_join(group, meta["prefix"] + (field_meta["name"] or f.name)))
-            if found is not None:
-                columns[f.name] = (found.data, field_meta["decode"])
-        items = []
-        for i, name in enumerate(names):
-            kwargs = {k: decode(data[i]) if decode else data[i] for k, (data, decode) in columns.items()}
-            if meta["key"] is not None:
-                kwargs[meta["key"]] = name
-            items.append(meta["cls"]()(**kwargs))
-        return dict(zip(names, items)) if meta["key"] is None else tuple(items)
+        key, cls, names = meta["key"], meta["cls"](), scale.data.tolist()
+        columns = {} if key is None else {key: (names, lambda label: label)}  # (values, decode) of each field
+        for name, field_meta in descriptions(cls):
+            found = self.datasets.get(_join(group, meta["prefix"] + (field_meta["name"] or name)))
+            if name != key and found is not None:
+                columns[name] = (found.data, field_meta["decode"])
+        items = [cls(**{k: decode(data[i]) for k, (data, decode) in columns.items()}) for i in range(len(names))]
+        return dict(zip(names, items)) if key is None else tuple(items)
 
 
 def build_results(run=None, *, command_line: str | None = None, created_utc: str | None = None,
@@ -477,14 +390,19 @@ def build_results(run=None, *, command_line: str | None = None, created_utc: str
     sixdof.errors.InputError
         When parts are inconsistent (a cross-check without the direct response it checks, ...).
     """
-    from sixdof.results import RunResults
-
     if run is None:
         text = parts.pop("scenario_text", None)
         run = RunResults(**parts, provenance={"scenario_text": text or ""})
-    tree = _Tree()
-    _provenance(tree, run.provenance.get("scenario_text", ""), command_line, created_utc)
-    _Encoder(tree).encode(run, "")
+    if command_line is None:
+        command_line = shlex.join([Path(sys.argv[0]).name, *sys.argv[1:]]) if sys.argv else ""
+    if created_utc is None:
+        created_utc = _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds")
+    tree = _Encoder()
+    tree.set_attrs("", format=FORMAT, format_version=FORMAT_VERSION,
+                   scenario_text=run.provenance.get("scenario_text", "") or "", created_utc=created_utc,
+                   command_line=command_line, python_version=sys.version.split()[0],
+                   **{f"version_{p}": _version(p) for p in PROVENANCE_PACKAGES})
+    tree.encode(run, "")
     for path, dataset in (extra or {}).items():
         if not isinstance(dataset, Dataset):
             raise InputError(f"extra[{path!r}]", "a sixdof.io.store.Dataset", dataset)
@@ -492,23 +410,6 @@ def build_results(run=None, *, command_line: str | None = None, created_utc: str
     for group, attrs in (extra_attrs or {}).items():
         tree.set_attrs(group.strip("/"), **attrs)
     return Results(tree.datasets, tree.attrs)
-
-
-def _provenance(tree: _Tree, text, command_line, created_utc) -> None:
-    if command_line is None:
-        command_line = shlex.join([Path(sys.argv[0]).name, *sys.argv[1:]]) if sys.argv else ""
-    if created_utc is None:
-        created_utc = _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds")
-    tree.set_attrs(
-        "",
-        format=FORMAT,
-        format_version=FORMAT_VERSION,
-        scenario_text=text or "",
-        created_utc=created_utc,
-        command_line=command_line,
-        python_version=sys.version.split()[0],
-        **{f"version_{p}": _version(p) for p in PROVENANCE_PACKAGES},
-    )
 
 
 def _version(package: str) -> str:
@@ -531,38 +432,31 @@ def _attributes(attrs: Mapping[str, Any]) -> Mapping[str, Any]:
             continue
         if not isinstance(key, str) or not key or key in _RESERVED_ATTRS:
             raise InputError("attrs", "attribute names other than units and HDF5's own", key)
-        out[key] = _attribute(key, value)
+        out[key] = _attribute(value)
+        if out[key] is None:
+            raise InputError(f"attrs[{key!r}]", "a string, a number or an array of numbers or strings", value)
     return MappingProxyType(out)
 
 
-def _attribute(key: str, value: Any) -> Any:
+def _attribute(value: Any) -> Any:
+    """``value`` as str, int, float, tuple of str or read-only array; ``None`` when it is none of these."""
     if isinstance(value, (str, np.str_)):
         return str(value)
-    if isinstance(value, (bool, np.bool_)):
+    if isinstance(value, (bool, np.bool_, int, np.integer)):
         return int(value)  # netCDF has no boolean attribute
-    if isinstance(value, (int, np.integer)):
-        return int(value)
     if isinstance(value, (float, np.floating)):
         return float(value)
-    if isinstance(value, (list, tuple)) and any(isinstance(v, str) for v in value) and not all(
-        isinstance(v, str) for v in value
-    ):
-        # NumPy would turn the numbers into text silently.
-        raise InputError(f"attrs[{key!r}]", "a string, a number or an array of numbers or strings", value)
+    if isinstance(value, (list, tuple)) and len({isinstance(v, str) for v in value}) > 1:
+        return None  # NumPy would turn the numbers into text silently
     array = np.asarray(value)
-    if array.ndim == 0 and array.dtype.kind in "biufcUS":
-        return _attribute(key, array.item())
+    if array.ndim == 0 and array.dtype.kind in "biufU":
+        return _attribute(array.item())
     if array.dtype.kind in "OSU" or (array.size == 0 and isinstance(value, tuple)):
-        if array.ndim != 1 or not all(isinstance(v, (str, np.str_)) for v in array.tolist()):
-            raise InputError(f"attrs[{key!r}]", "a string, a number or an array of numbers or strings", value)
-        return tuple(str(v) for v in array.tolist())
-    if array.dtype.kind == "b":
-        array = array.astype(np.int8)
-    if array.dtype.kind not in "iuf":
-        raise InputError(f"attrs[{key!r}]", "a string, a number or an array of numbers or strings", value)
-    array = np.array(array)
-    array.flags.writeable = False
-    return array
+        strings = array.ndim == 1 and all(isinstance(v, str) for v in array.tolist())
+        return tuple(array.tolist()) if strings else None
+    if array.dtype.kind in "biuf":
+        return readonly(array, np.int8 if array.dtype.kind == "b" else None)
+    return None
 
 
 def _check_dims(datasets: Mapping[str, Dataset]) -> None:
@@ -571,26 +465,18 @@ def _check_dims(datasets: Mapping[str, Dataset]) -> None:
         for axis, (dim, length) in enumerate(zip(dataset.dims, dataset.data.shape)):
             scale = _scale_path(datasets, path, dim)
             if scale is None:
-                raise InputError(
-                    f"{path}.dims[{axis}]",
-                    f"the name of a dimension-scale dataset '{dim}' in its group or a parent group",
-                    dim,
-                )
+                raise InputError(f"{path}.dims[{axis}]",
+                                 f"the name of a dimension-scale dataset '{dim}' in its group or a parent group", dim)
             if datasets[scale].data.shape != (length,):
-                raise InputError(
-                    f"{path}.dims[{axis}]", f"scale '{scale}' of length {length}", datasets[scale].data.shape
-                )
+                raise InputError(f"{path}.dims[{axis}]", f"scale '{scale}' of length {length}",
+                                 datasets[scale].data.shape)
 
 
 def _scale_path(datasets: Mapping[str, Dataset], path: str, dim: str) -> str | None:
     """Path of the dimension scale ``dim`` seen from dataset ``path`` (nearest group first)."""
     parts = path.split("/")[:-1]
-    for i in range(len(parts), -1, -1):
-        candidate = "/".join([*parts[:i], dim])
-        found = datasets.get(candidate)
-        if found is not None and found.dims == (dim,):
-            return candidate
-    return None
+    candidates = ("/".join([*parts[:i], dim]) for i in range(len(parts), -1, -1))
+    return next((c for c in candidates if c in datasets and datasets[c].dims == (dim,)), None)
 
 
 def _is_scale(path: str, dataset: Dataset) -> bool:
@@ -620,8 +506,7 @@ def write_results(path: str | os.PathLike, run=None, **parts) -> Results:
         The tree written, with :attr:`Results.path` set.
     """
     results = build_results(run, **parts)
-    written = save_results(results, path)
-    return Results(results.datasets, results.attrs, written)
+    return Results(results.datasets, results.attrs, save_results(results, path))
 
 
 def save_results(results: Results, path: str | os.PathLike) -> Path:
@@ -652,41 +537,28 @@ def save_results(results: Results, path: str | os.PathLike) -> Path:
     except BaseException:
         temporary.unlink(missing_ok=True)
         raise
-    _fsync_directory(path.parent)
+    with contextlib.suppress(OSError):  # make the rename itself durable (POSIX), where folders can be opened
+        fd = os.open(path.parent, os.O_RDONLY)
+        try:
+            os.fsync(fd)
+        finally:
+            os.close(fd)
     return path
-
-
-def _fsync_directory(directory: Path) -> None:
-    """Make the rename itself durable (POSIX); silently skipped where folders cannot be opened."""
-    try:
-        fd = os.open(directory, os.O_RDONLY)
-    except OSError:
-        return
-    try:
-        os.fsync(fd)
-    except OSError:
-        pass
-    finally:
-        os.close(fd)
 
 
 def _write(f, results: Results) -> None:
     for group, attrs in results.attrs.items():
-        node = f.require_group(group) if group else f
-        for key, value in attrs.items():
-            _write_attribute(node, key, value)
+        _write_attributes(f.require_group(group) if group else f, attrs)
     created = {}
     for path, dataset in results.datasets.items():
         created[path] = _write_dataset(f, path, dataset)
-    # Scales first, then attach: h5py refuses to attach a dataset that is not yet a scale.
-    for path, dataset in results.datasets.items():
         if _is_scale(path, dataset):
             created[path].make_scale(dataset.dims[0])
+    # Attach once every scale is made: h5py refuses to attach a dataset that is not yet a scale.
     for path, dataset in results.datasets.items():
-        if _is_scale(path, dataset):
-            continue
-        for axis, dim in enumerate(dataset.dims):
-            created[path].dims[axis].attach_scale(created[_scale_path(results.datasets, path, dim)])
+        if not _is_scale(path, dataset):
+            for axis, dim in enumerate(dataset.dims):
+                created[path].dims[axis].attach_scale(created[_scale_path(results.datasets, path, dim)])
 
 
 def _write_dataset(f, path: str, dataset: Dataset):
@@ -698,20 +570,15 @@ def _write_dataset(f, path: str, dataset: Dataset):
     else:
         node = f.create_dataset(path, data=data)
     node.attrs["units"] = dataset.units
-    for key, value in dataset.attrs.items():
-        _write_attribute(node, key, value)
+    _write_attributes(node, dataset.attrs)
     return node
 
 
-def _write_attribute(node, key: str, value: Any) -> None:
+def _write_attributes(node, attrs: Mapping[str, Any]) -> None:
     import h5py
 
-    if isinstance(value, tuple):
-        node.attrs[key] = np.asarray(value, dtype=object).astype(h5py.string_dtype()) if value else np.array(
-            [], dtype=h5py.string_dtype()
-        )
-    else:
-        node.attrs[key] = value
+    for key, value in attrs.items():
+        node.attrs[key] = np.array(value, dtype=h5py.string_dtype()) if isinstance(value, tuple) else value
 
 
 def load_results(path: str | os.PathLike):
@@ -732,15 +599,12 @@ def load_results(path: str | os.PathLike):
     sixdof.errors.InputError
         If the file is missing or is not a sixdof results file.
     """
-    from sixdof.results import RunResults
-
     tree = load_tree(path)
     version = tree.attrs[""].get("format_version")
     if version != FORMAT_VERSION:
         raise InputError("results", f"a results file of format version {FORMAT_VERSION} (re-run the scenario to "
                          "write one; load_tree reads older files as a tree)", Plain(f"{path}: version {version}"))
-    run = _Decoder(tree).decode(RunResults, "")
-    return dataclasses.replace(run, provenance=dict(tree.attrs[""]))
+    return dataclasses.replace(_Decoder(tree).decode(RunResults, ""), provenance=dict(tree.attrs[""]))
 
 
 def load_tree(path: str | os.PathLike) -> Results:
@@ -779,16 +643,12 @@ def load_tree(path: str | os.PathLike) -> Results:
             if isinstance(node, h5py.Group):
                 attrs[name] = _read_attributes(node.attrs)
                 return
-            if node.dtype.kind == "O" or h5py.check_string_dtype(node.dtype) is not None:
-                data = np.array(node.asstr()[()], dtype=str)
-            else:
-                data = node[()]
-            if node.is_scale:
-                dims = (name.rsplit("/", 1)[-1],)
-            else:
-                dims = tuple(node.dims[i][0].name.rsplit("/", 1)[-1] for i in range(node.ndim))
-            units = node.attrs.get("units", UNITS_LABEL)
-            datasets[name] = Dataset(data, str(units), dims, _read_attributes(node.attrs))
+            text = node.dtype.kind == "O" or h5py.check_string_dtype(node.dtype) is not None
+            data = np.array(node.asstr()[()], dtype=str) if text else node[()]
+            scales = [name] if node.is_scale else [dim[0].name for dim in node.dims]
+            dims = tuple(scale.rsplit("/", 1)[-1] for scale in scales)
+            units = str(node.attrs.get("units", UNITS_LABEL))
+            datasets[name] = Dataset(data, units, dims, _read_attributes(node.attrs))
 
         f.visititems(visit)
     return Results(datasets, attrs, path)

@@ -37,16 +37,9 @@ from sixdof.model.kinematics import generalized_force
 _CONTINUITY_RTOL = 1e-6
 
 
-
-
 # ----------------------------------------------------------------------------------------------------
 # Loads.
 # ----------------------------------------------------------------------------------------------------
-
-
-def _signal(value, field: str) -> Signal:
-    """Check of a signal field (errors name the signal's own fields under ``signal``)."""
-    return signal_field(value)
 
 
 @dataclass(frozen=True, eq=False)
@@ -72,7 +65,7 @@ class Load(Frozen):
     point: np.ndarray = checked(point_check)
     force: np.ndarray = checked(vector3_check("3 force components in N"), default_factory=lambda: np.zeros(3))
     moment: np.ndarray = checked(vector3_check("3 moment components in N m"), default_factory=lambda: np.zeros(3))
-    signal: Signal | None = checked(_signal, default=None)
+    signal: Signal | None = checked(signal_field, default=None)
 
     def __check__(self) -> None:
         if not (np.any(self.force) or np.any(self.moment)):
@@ -81,17 +74,6 @@ class Load(Frozen):
     def components(self) -> tuple[tuple[np.ndarray, Signal], ...]:
         """``((Q, signal),)``: the generalized force (6,) [N, N m] multiplied by the signal."""
         return ((readonly(generalized_force(self.point, self.force, self.moment)), self.signal),)
-
-
-def _plane_basis(axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Unit vectors ``u, v`` spanning the plane normal to ``axis`` with ``u x v = axis``.
-
-    ``u`` is the body axis (x, then y, then z on ties) least aligned with ``axis``, made normal to it.
-    """
-    e = np.eye(3)[int(np.argmin(np.abs(axis)))]
-    u = e - np.dot(e, axis) * axis
-    u /= np.linalg.norm(u)
-    return u, np.cross(axis, u)
 
 
 @dataclass(frozen=True, eq=False)
@@ -153,7 +135,10 @@ class Unbalance(Frozen):
 
     def components(self) -> tuple[tuple[np.ndarray, Signal], ...]:
         """Two components: ``u`` times ``cos(theta)`` and ``v`` times ``sin(theta)`` (see class doc)."""
-        u, v = _plane_basis(self.axis)
+        e = np.eye(3)[int(np.argmin(np.abs(self.axis)))]  # the body axis least aligned with the spin axis
+        u = e - np.dot(e, self.axis) * self.axis
+        u /= np.linalg.norm(u)
+        v = np.cross(self.axis, u)
         amplitude = self.force_amplitude
         cos = Harmonic(f_hz=self.frequency_hz, phase_deg=self.phase_deg + 90.0, start=self.start)
         sin = Harmonic(f_hz=self.frequency_hz, phase_deg=self.phase_deg, start=self.start)
@@ -199,18 +184,14 @@ class GroundMotion(Frozen):
 
     quantity: str = checked(choice_check(GROUND_QUANTITIES))
     direction: np.ndarray = checked(direction_check("a non-zero 3-vector in body axes"))
-    signal: Signal | None = checked(_signal, default=None)
+    signal: Signal | None = checked(signal_field, default=None)
     scale: float = checked(number_check("a finite non-zero number"), default=1.0)
 
     def __check__(self) -> None:
         if self.scale == 0.0:
             raise InputError("scale", "a finite non-zero number", self.scale)
-        if self.quantity == "displacement":
-            self._check_continuous()
-
-    def _check_continuous(self) -> None:
         points = np.array(self.signal.breakpoints, dtype=float)
-        if points.size == 0:
+        if self.quantity != "displacement" or points.size == 0:
             return
         # Look just left of each breakpoint (far enough not to be flushed as a denormal) and
         # extrapolate with the slope there, so that a steep but continuous signal passes.

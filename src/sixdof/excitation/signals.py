@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import MISSING, dataclass, fields
+from dataclasses import dataclass, fields
 from typing import Any, ClassVar
 
 import numpy as np
@@ -39,6 +39,7 @@ from sixdof.errors import (
     readonly,
 )
 from sixdof.frozen import Frozen, checked
+from sixdof.io.toml import build
 
 # ----------------------------------------------------------------------------------------------------
 # Signals.
@@ -101,8 +102,9 @@ class Signal(Frozen):
 
     @property
     def breakpoints(self) -> tuple[float, ...]:
-        """Sorted times [s] where the signal or one of its derivatives jumps."""
-        return ()
+        """Sorted times [s] where the signal or one of its derivatives jumps: by default the ends of its
+        active window, ``start`` and ``start + duration`` (when finite)."""
+        return tuple(sorted({float(x) for x in (self.start, self.start + self.duration) if math.isfinite(x)}))
 
     @property
     def peak(self) -> float:
@@ -115,6 +117,7 @@ class Signal(Frozen):
         tables); bounds the superposition's intervals and the sample-rate warnings."""
         return 0.0
 
+
 # Field checks shared by the signal kinds.
 _TIME = number_check("a finite time in s")
 _DURATION = number_check("a positive, finite duration in s", low=0.0, strict=True)
@@ -122,25 +125,17 @@ _LASTING = number_check("a positive duration in s", low=0.0, strict=True, allow_
 _FREQUENCY = number_check("a positive frequency in Hz", low=0.0, strict=True)
 
 
-
 def _band(value: Any, field: str) -> tuple[float, float]:
     expected = "a band [low, high] in Hz with 0 < low < high"
-    try:
-        band = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(field, expected, value) from None
-    if band.shape != (2,) or not np.all(np.isfinite(band)) or not 0 < band[0] < band[1]:
+    low, high = finite_array(value, field, expected, (2,)).tolist()
+    if not 0 < low < high:
         raise InputError(field, expected, value)
-    return float(band[0]), float(band[1])
+    return low, high
 
 
 def _window(t, start, duration):
     """True on ``[start, start + duration)``."""
     return (t >= start) & (t < start + duration)
-
-
-def _breaks(*times: float) -> tuple[float, ...]:
-    return tuple(sorted({float(x) for x in times if math.isfinite(x)}))
 
 
 @dataclass(frozen=True, eq=False)
@@ -173,10 +168,6 @@ class Harmonic(Signal):
         tau = t - self.start
         value = jnp.sin(2 * jnp.pi * self.f_hz * tau + jnp.deg2rad(self.phase_deg))
         return jnp.where(_window(t, self.start, self.duration), value, 0.0)
-
-    @property
-    def breakpoints(self) -> tuple[float, ...]:
-        return _breaks(self.start, self.start + self.duration)
 
 
 @dataclass(frozen=True, eq=False)
@@ -234,10 +225,6 @@ class Sweep(Signal):
             return self.f0_hz + (self.f1_hz - self.f0_hz) * tau / self.duration
         return self.f0_hz * (self.f1_hz / self.f0_hz) ** (tau / self.duration)
 
-    @property
-    def breakpoints(self) -> tuple[float, ...]:
-        return _breaks(self.start, self.start + self.duration)
-
 
 @dataclass(frozen=True, eq=False)
 class HalfSine(Signal):
@@ -262,10 +249,6 @@ class HalfSine(Signal):
     def _evaluate(self, t):
         value = jnp.sin(jnp.pi * (t - self.start) / self.duration)
         return jnp.where(_window(t, self.start, self.duration), value, 0.0)
-
-    @property
-    def breakpoints(self) -> tuple[float, ...]:
-        return _breaks(self.start, self.start + self.duration)
 
 
 @dataclass(frozen=True, eq=False)
@@ -292,10 +275,6 @@ class Haversine(Signal):
         value = 0.5 * (1.0 - jnp.cos(2 * jnp.pi * (t - self.start) / self.duration))
         return jnp.where(_window(t, self.start, self.duration), value, 0.0)
 
-    @property
-    def breakpoints(self) -> tuple[float, ...]:
-        return _breaks(self.start, self.start + self.duration)
-
 
 @dataclass(frozen=True, eq=False)
 class Step(Signal):
@@ -309,7 +288,7 @@ class Step(Signal):
 
     @property
     def breakpoints(self) -> tuple[float, ...]:
-        return _breaks(self.start)
+        return (float(self.start),)
 
 
 @dataclass(frozen=True, eq=False)
@@ -330,10 +309,6 @@ class Ramp(Signal):
 
     def _evaluate(self, t):
         return jnp.clip((t - self.start) / self.duration, 0.0, 1.0)
-
-    @property
-    def breakpoints(self) -> tuple[float, ...]:
-        return _breaks(self.start, self.start + self.duration)
 
 
 @dataclass(frozen=True, eq=False)
@@ -429,10 +404,6 @@ class Random(Signal):
         return jnp.where(_window(t, self.start, self.duration), value, 0.0)
 
     @property
-    def breakpoints(self) -> tuple[float, ...]:
-        return _breaks(self.start, self.start + self.duration)
-
-    @property
     def max_frequency_hz(self) -> float:
         return self.f_hz[1]
 
@@ -440,7 +411,6 @@ class Random(Signal):
     def peak(self) -> float:
         # A long Gaussian-like record reaches about 4 rms.
         return 4.0 * float(self.rms)
-
 
 
 #: TOML ``kind`` of a signal -> its class.
@@ -463,28 +433,17 @@ def make_signal(value: Signal | Mapping[str, Any]) -> Signal:
     if not isinstance(value, Mapping):
         raise InputError("", "a signal table such as {kind = \"harmonic\", f_hz = 5.0}", value)
     table = dict(value)
-    kind = table.pop("kind", None)
-    if kind not in SIGNAL_KINDS:
-        raise InputError("kind", f"one of {', '.join(sorted(SIGNAL_KINDS))}",
-                         Plain("nothing") if kind is None else kind)
-    cls = SIGNAL_KINDS[kind]
-    known = {f.name for f in fields(cls) if f.init}
-    for key in table:
-        if key not in known:
-            raise InputError(key, f"one of the keys {', '.join(sorted(known))}", Plain("an unknown key"))
-    missing = [f.name for f in fields(cls) if f.init and f.name not in table
-               and f.default is MISSING and f.default_factory is MISSING]
-    if missing:
-        raise InputError(missing[0], "a value (required key)", Plain("nothing"))
-    return cls(**table)
+    kind = table.pop("kind", Plain("nothing"))
+    if not isinstance(kind, str) or kind not in SIGNAL_KINDS:
+        raise InputError("kind", f"one of {', '.join(sorted(SIGNAL_KINDS))}", kind)
+    return build(SIGNAL_KINDS[kind], table, "")
 
 
-def signal_field(value: Any) -> Signal:
+def signal_field(value: Any, field: str = "signal") -> Signal:
+    """Check of a signal field: errors name the signal's own keys under ``field``."""
     if value is None:
-        raise InputError("signal", "a signal such as {kind = \"harmonic\", f_hz = 5.0}", Plain("nothing"))
+        raise InputError(field, "a signal such as {kind = \"harmonic\", f_hz = 5.0}", Plain("nothing"))
     try:
         return make_signal(value)
     except InputError as exc:
-        raise (InputError("signal", exc.expected, exc.got) if not exc.field else exc.within("signal")) from None
-
-
+        raise (InputError(field, exc.expected, exc.got) if not exc.field else exc.within(field)) from None

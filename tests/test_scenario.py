@@ -77,11 +77,6 @@ sample_rate_hz = 500.0
 """
 
 
-def mutate(old: str, new: str) -> str:
-    assert old in BASE, old
-    return BASE.replace(old, new, 1)
-
-
 def test_base_scenario_is_valid():
     scenario = parse_scenario(BASE, "case.toml")
     assert scenario.name == "case"
@@ -175,7 +170,9 @@ BAD = [
 def bad_text(change):
     if change is None:  # remove every mount
         return BASE.split("[[mounts]]")[0] + "[damping]" + BASE.split("[damping]")[1]
-    return mutate(*change)
+    old, new = change
+    assert old in BASE, old
+    return BASE.replace(old, new, 1)
 
 
 @pytest.mark.parametrize("change, message", [b[1:] for b in BAD], ids=[b[0] for b in BAD])

@@ -32,15 +32,6 @@ from sixdof.excitation.signals import Harmonic, Signal, signal_field
 from sixdof.frozen import Frozen, checked
 from sixdof.model.kinematics import generalized_force
 
-# A ground displacement that jumps needs an infinite force: breakpoints of a displacement signal
-# may not change its value by more than this fraction of its peak.
-_CONTINUITY_RTOL = 1e-6
-
-
-# ----------------------------------------------------------------------------------------------------
-# Loads.
-# ----------------------------------------------------------------------------------------------------
-
 
 @dataclass(frozen=True, eq=False)
 class Load(Frozen):
@@ -152,11 +143,10 @@ class Unbalance(Frozen):
 LOAD_KINDS: dict[str, type] = {"force": Load, "unbalance": Unbalance}
 
 
-# ----------------------------------------------------------------------------------------------------
-# Ground motion and initial conditions.
-# ----------------------------------------------------------------------------------------------------
-
 GROUND_QUANTITIES = ("displacement", "velocity", "acceleration")
+# A ground displacement that jumps needs an infinite force: breakpoints of a displacement signal
+# may not change its value by more than this fraction of its peak.
+_CONTINUITY_RTOL = 1e-6
 
 
 @dataclass(frozen=True, eq=False)
@@ -293,11 +283,10 @@ class Excitation(Frozen):
     initial: InitialState | ModeRelease | None = None
 
     def __check__(self) -> None:
-        loads = self.loads
-        for i, load in enumerate(loads):
+        for i, load in enumerate(self.loads):
             if not isinstance(load, tuple(LOAD_KINDS.values())):
                 raise InputError(f"loads[{i}]", "a Load or Unbalance", load)
-        names = [load.name for load in loads]
+        names = [load.name for load in self.loads]
         repeated = sorted({n for n in names if names.count(n) > 1})
         if repeated:
             raise InputError("loads", "unique load names", Plain(f"{', '.join(repeated)} repeated"))
@@ -320,9 +309,7 @@ class Excitation(Frozen):
 
     def initial_state(self, system) -> tuple[np.ndarray, np.ndarray]:
         """``(q0, qd0)`` (6,) each, absolute [m, rad; m/s, rad/s]; zeros without ``initial``."""
-        if self.initial is None:
-            return np.zeros(6), np.zeros(6)
-        return self.initial.state(system)
+        return (self.initial or InitialState()).state(system)
 
     def generalized_force(self, t) -> np.ndarray:
         """The loads' generalized force ``Q(t) = sum_k Q_k s_k(t)`` (ground motion not included).

@@ -39,11 +39,7 @@ from sixdof.errors import (
     readonly,
 )
 from sixdof.frozen import Frozen, checked
-from sixdof.io.toml import build
-
-# ----------------------------------------------------------------------------------------------------
-# Signals.
-# ----------------------------------------------------------------------------------------------------
+from sixdof.io.toml import build, choices
 
 
 class Signal(Frozen):
@@ -83,6 +79,10 @@ class Signal(Frozen):
 
     def _evaluate(self, t):  # pragma: no cover - every kind overrides it
         raise NotImplementedError
+
+    def _inside(self, t):
+        """True on the active window ``[start, start + duration)``."""
+        return (t >= self.start) & (t < self.start + self.duration)
 
     def derivative(self, t, order: int = 1):
         """Time derivative of order 1 or 2 at ``t`` [1/s, 1/s^2] (right-continuous at breakpoints).
@@ -133,11 +133,6 @@ def _band(value: Any, field: str) -> tuple[float, float]:
     return low, high
 
 
-def _window(t, start, duration):
-    """True on ``[start, start + duration)``."""
-    return (t >= start) & (t < start + duration)
-
-
 @dataclass(frozen=True, eq=False)
 class Harmonic(Signal):
     """``s(t) = sin(2 pi f (t - start) + phase)`` on ``[start, start + duration)``, zero outside.
@@ -165,9 +160,8 @@ class Harmonic(Signal):
         return self.f_hz
 
     def _evaluate(self, t):
-        tau = t - self.start
-        value = jnp.sin(2 * jnp.pi * self.f_hz * tau + jnp.deg2rad(self.phase_deg))
-        return jnp.where(_window(t, self.start, self.duration), value, 0.0)
+        value = jnp.sin(2 * jnp.pi * self.f_hz * (t - self.start) + jnp.deg2rad(self.phase_deg))
+        return jnp.where(self._inside(t), value, 0.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -212,7 +206,7 @@ class Sweep(Signal):
         else:
             ratio = self.f1_hz / self.f0_hz
             phase = 2 * jnp.pi * self.f0_hz * T / jnp.log(ratio) * jnp.expm1(tau / T * jnp.log(ratio))
-        return jnp.where(_window(t, self.start, T), jnp.sin(phase), 0.0)
+        return jnp.where(self._inside(t), jnp.sin(phase), 0.0)
 
     @property
     def max_frequency_hz(self) -> float:
@@ -247,8 +241,7 @@ class HalfSine(Signal):
         return 1.0 / self.duration  # a pulse of duration d carries its energy below about 1/d
 
     def _evaluate(self, t):
-        value = jnp.sin(jnp.pi * (t - self.start) / self.duration)
-        return jnp.where(_window(t, self.start, self.duration), value, 0.0)
+        return jnp.where(self._inside(t), jnp.sin(jnp.pi * (t - self.start) / self.duration), 0.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -272,8 +265,7 @@ class Haversine(Signal):
         return 1.0 / self.duration
 
     def _evaluate(self, t):
-        value = 0.5 * (1.0 - jnp.cos(2 * jnp.pi * (t - self.start) / self.duration))
-        return jnp.where(_window(t, self.start, self.duration), value, 0.0)
+        return jnp.where(self._inside(t), 0.5 * (1.0 - jnp.cos(2 * jnp.pi * (t - self.start) / self.duration)), 0.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -339,10 +331,8 @@ class Table(Signal):
                                          self.t.shape))
 
     def _evaluate(self, t):
-        knots, values = jnp.asarray(self.t), jnp.asarray(self.values)
-        if self.outside == "zero":
-            return jnp.interp(t, knots, values, left=0.0, right=0.0)
-        return jnp.interp(t, knots, values)
+        edge = 0.0 if self.outside == "zero" else None  # None: the end samples held
+        return jnp.interp(t, jnp.asarray(self.t), jnp.asarray(self.values), left=edge, right=edge)
 
     @property
     def breakpoints(self) -> tuple[float, ...]:
@@ -401,7 +391,7 @@ class Random(Signal):
         amplitude = self.rms * jnp.sqrt(2.0 / self.components)
         tau = (t - self.start)[..., None]
         value = amplitude * jnp.sum(jnp.sin(2 * jnp.pi * self.frequencies * tau + self.phases), axis=-1)
-        return jnp.where(_window(t, self.start, self.duration), value, 0.0)
+        return jnp.where(self._inside(t), value, 0.0)
 
     @property
     def max_frequency_hz(self) -> float:
@@ -435,7 +425,7 @@ def make_signal(value: Signal | Mapping[str, Any]) -> Signal:
     table = dict(value)
     kind = table.pop("kind", Plain("nothing"))
     if not isinstance(kind, str) or kind not in SIGNAL_KINDS:
-        raise InputError("kind", f"one of {', '.join(sorted(SIGNAL_KINDS))}", kind)
+        raise InputError("kind", f"one of {choices(SIGNAL_KINDS)}", kind)
     return build(SIGNAL_KINDS[kind], table, "")
 
 
@@ -446,4 +436,4 @@ def signal_field(value: Any, field: str = "signal") -> Signal:
     try:
         return make_signal(value)
     except InputError as exc:
-        raise (InputError(field, exc.expected, exc.got) if not exc.field else exc.within(field)) from None
+        raise exc.within(field) from None

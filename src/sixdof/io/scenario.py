@@ -103,17 +103,8 @@ class GroundTransmissibilityRequest(Frozen):
     response_point: tuple[float, float, float] = checked(_checked_point)
 
 
-_FRF_REQUESTS = {
-    "point": PointFrfRequest,
-    "force_transmissibility": ForceTransmissibilityRequest,
-    "ground_transmissibility": GroundTransmissibilityRequest,
-}
-
-
-def _mode_count(value: Any, field: str) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= 6:
-        raise InputError(field, "an integer from 1 to 6", value)
-    return value
+_FRF_REQUESTS = {"point": PointFrfRequest, "force_transmissibility": ForceTransmissibilityRequest,
+                 "ground_transmissibility": GroundTransmissibilityRequest}
 
 
 def _frequency_range(value: Any, field: str) -> tuple[float, float]:
@@ -142,10 +133,7 @@ class FrfSettings(Frozen):
 
     def grid(self) -> np.ndarray:
         """The frequencies [Hz], shape (points,)."""
-        low, high = self.f_hz
-        if self.spacing == "log":
-            return np.geomspace(low, high, self.points)
-        return np.linspace(low, high, self.points)
+        return (np.geomspace if self.spacing == "log" else np.linspace)(*self.f_hz, self.points)
 
 
 @dataclass(frozen=True)
@@ -159,12 +147,14 @@ class SuperpositionSettings(Frozen):
     """
 
     method: str = checked(choice_check(("auto", "real", "complex")), default="auto")
-    n_modes: int | None = checked(optional(_mode_count), default=None)
+    n_modes: int | None = checked(optional(integer_check("an integer from 1 to 6", 1)), default=None)
     f_max_hz: float | None = checked(optional(number_check("a positive frequency in Hz", low=0.0, strict=True)),
                                      default=None)
     residual: bool = checked(boolean, default=True)
 
     def __check__(self) -> None:
+        if self.n_modes is not None and self.n_modes > 6:
+            raise InputError("n_modes", "an integer from 1 to 6", self.n_modes)
         if self.n_modes is not None and self.f_max_hz is not None:
             raise InputError("n_modes", "either n_modes or f_max_hz, not both", self.n_modes)
 
@@ -261,26 +251,15 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     points = tuple(build(Point, t, f"points[{i}]") for i, t in enumerate(top.tables("points")))
     unique([p.name for p in points], "points")
     statics = build(StaticsSettings, top.table("statics", default={}), "statics")
-    return Scenario(
-        name=name,
-        description=description,
-        system=system,
-        excitation=excitation,
-        simulation=simulation,
-        frf=frf,
-        superposition=superposition,
-        points=points,
-        statics=statics,
-        text=text,
-        path=Path(source) if source != "<string>" else None,
-    )
+    return Scenario(name=name, description=description, system=system, excitation=excitation, simulation=simulation,
+                    frf=frf, superposition=superposition, points=points, statics=statics, text=text,
+                    path=Path(source) if source != "<string>" else None)
 
 
 def _frf(table: dict) -> FrfSettings:
-    requests = {}
-    for key, cls in _FRF_REQUESTS.items():
-        items = Table(table, "frf", tuple(table)).tables(key)
-        requests[key] = tuple(build(cls, t, f"frf.{key}[{i}]") for i, t in enumerate(items))
+    frf = Table(table, "frf", tuple(table))  # keys checked by build(FrfSettings) below
+    requests = {key: tuple(build(cls, t, f"frf.{key}[{i}]") for i, t in enumerate(frf.tables(key)))
+                for key, cls in _FRF_REQUESTS.items()}
     unique([r.name for group in requests.values() for r in group], "frf")
     return build(FrfSettings, {**table, **requests}, "frf")
 
@@ -334,21 +313,17 @@ def read_table_csv(file: Any, base_dir: Path, field: str) -> tuple[list[float], 
             rows = [row for row in csv.reader(handle) if row and not row[0].lstrip().startswith("#")]
     except OSError:
         raise InputError(field, "an existing, readable CSV file", str(full)) from None
-    t, values = [], []
+    pairs = []
     for number, row in enumerate(rows, start=1):
         try:
-            ti, vi = float(row[0]), float(row[1])
+            pairs.append((float(row[0]), float(row[1])))
         except (ValueError, IndexError):
-            if number == 1:  # a header line
-                continue
-            raise InputError(
-                field, "rows of two numbers: time in s, value", f"line {number} of {file}: {row}"
-            ) from None
-        t.append(ti)
-        values.append(vi)
-    if len(t) < 2:
-        raise InputError(field, "at least 2 rows of time, value", f"{len(t)} rows in {file}")
-    return t, values
+            if number > 1:  # the first line may be a header
+                raise InputError(field, "rows of two numbers: time in s, value",
+                                 f"line {number} of {file}: {row}") from None
+    if len(pairs) < 2:
+        raise InputError(field, "at least 2 rows of time, value", f"{len(pairs)} rows in {file}")
+    return [t for t, _ in pairs], [value for _, value in pairs]
 
 
 _TOP_LEVEL_KEYS = (

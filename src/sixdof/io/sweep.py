@@ -199,12 +199,11 @@ def _spec(raw: dict) -> SweepSpec:
                  for i, v in enumerate(top.tables("vary", required=True)))
     seed = integer(top.value("seed", 0), "seed", "an integer >= 0", 0)
     chunk = optional(integer_check("a positive integer", 1))(top.value("chunk_size", None), "chunk_size")
-    grid_count = math.prod(len(v.values) for v in vary if v.distribution == "grid")
-    has_grid = any(v.distribution == "grid" for v in vary)
-    count = top.value("count", grid_count if has_grid else None)
+    grids = [len(v.values) for v in vary if v.distribution == "grid"]
+    count = top.value("count", math.prod(grids) if grids else None)
     if count is None:
         raise InputError("count", "a positive integer (number of random variants)", Plain("nothing"))
     count = integer(count, "count", "a positive integer", 1)
-    if has_grid and count != grid_count:
-        raise InputError("count", f"the product of the grid sizes, {grid_count} (or no count)", count)
+    if grids and count != math.prod(grids):
+        raise InputError("count", f"the product of the grid sizes, {math.prod(grids)} (or no count)", count)
     return SweepSpec(count=count, seed=seed, vary=vary, chunk_size=chunk)

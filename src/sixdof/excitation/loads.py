@@ -130,12 +130,10 @@ class Unbalance(Frozen):
         u = e - np.dot(e, self.axis) * self.axis
         u /= np.linalg.norm(u)
         v = np.cross(self.axis, u)
-        amplitude = self.force_amplitude
-        cos = Harmonic(f_hz=self.frequency_hz, phase_deg=self.phase_deg + 90.0, start=self.start)
-        sin = Harmonic(f_hz=self.frequency_hz, phase_deg=self.phase_deg, start=self.start)
-        return (
-            (readonly(generalized_force(self.point, amplitude * u)), cos),
-            (readonly(generalized_force(self.point, amplitude * v)), sin),
+        return tuple(  # cos(theta) = sin(theta + 90 deg) along u, sin(theta) along v
+            (readonly(generalized_force(self.point, self.force_amplitude * axis)),
+             Harmonic(f_hz=self.frequency_hz, phase_deg=self.phase_deg + shift, start=self.start))
+            for axis, shift in ((u, 90.0), (v, 0.0))
         )
 
 
@@ -325,7 +323,5 @@ class Excitation(Frozen):
             [N, N, N, N m, N m, N m].
         """
         t = np.atleast_1d(np.asarray(t, dtype=float))
-        out = np.zeros((t.size, 6))
-        for vector, signal in self.components():
-            out += np.asarray(signal(t))[:, None] * vector[None, :]
-        return out
+        return sum((np.asarray(signal(t))[:, None] * vector for vector, signal in self.components()),
+                   np.zeros((t.size, 6)))

@@ -36,10 +36,12 @@ def close(actual, expected):
     return np.allclose(np.asarray(actual), expected, rtol=0, atol=RTOL_SIGNAL * max(1.0, np.abs(expected).max()))
 
 
-def test_kinds_are_registered():
+def test_kinds_are_registered_and_signals_made_from_tables():
     assert set(SIGNAL_KINDS) == {"harmonic", "sweep", "half_sine", "haversine", "step", "ramp",
                                  "table", "random"}
     assert LOAD_KINDS == {"force": Load, "unbalance": Unbalance}
+    s = make_signal({"kind": "half_sine", "start": 1.0, "duration": 0.05})
+    assert isinstance(s, HalfSine) and s.duration == 0.05
 
 
 def test_harmonic_closed_form():
@@ -119,20 +121,13 @@ def test_signals_are_pytrees_that_jit_without_retracing():
     assert len(traces) == 1
 
 
-def test_make_signal_from_a_table():
-    s = make_signal({"kind": "half_sine", "start": 1.0, "duration": 0.05})
-    assert isinstance(s, HalfSine) and s.duration == 0.05
-    with pytest.raises(InputError, match="kind: expected one of half_sine, harmonic"):
-        make_signal({"kind": "square"})
-    with pytest.raises(InputError, match="f_hz: expected a value"):
-        make_signal({"kind": "harmonic"})
-    with pytest.raises(InputError, match="fhz: expected one of the keys"):
-        make_signal({"kind": "harmonic", "fhz": 1.0})
-
-
 @pytest.mark.parametrize(
     "cls, kwargs, match",
     [
+        (make_signal, {"value": {"kind": "square"}}, "kind: expected one of half_sine, harmonic"),
+        (make_signal, {"value": {"kind": ["step"]}}, r"kind: expected one of half_sine, .*got \['step'\]"),
+        (make_signal, {"value": {"kind": "harmonic"}}, "f_hz: expected a value"),
+        (make_signal, {"value": {"kind": "harmonic", "fhz": 1.0}}, r"fhz: expected one of the keys .*did you mean 'f_hz'\?"),
         (Harmonic, {"f_hz": 0.0}, "f_hz: expected a positive frequency in Hz, got 0.0"),
         (Harmonic, {"f_hz": "5"}, "f_hz: expected a positive frequency"),
         (Harmonic, {"f_hz": 1.0, "duration": -1.0}, "duration: expected a positive duration"),
@@ -152,9 +147,33 @@ def test_make_signal_from_a_table():
         (Random, {"f_hz": [1.0, 2.0], "rms": 1.0, "seed": -1}, "seed: expected an integer >= 0"),
         (Random, {"f_hz": [1.0, 2.0], "rms": 1.0, "seed": 1.5}, "seed: expected an integer >= 0"),
         (Random, {"f_hz": [1.0, 2.0], "rms": 1.0, "seed": 1, "components": 0}, "components: expected an integer >= 1"),
+        (Load, {"name": "", "point": [0, 0, 0], "force": [1, 0, 0], "signal": Step()}, "name: expected a non-empty string"),
+        (Load, {"name": "a", "point": [0, 0], "force": [1, 0, 0], "signal": Step()}, r"point: expected 3 coordinates \[x, y, z\] in m"),
+        (Load, {"name": "a", "point": [0, 0, 0], "signal": Step()}, "force: expected a non-zero force or moment"),
+        (Load, {"name": "a", "point": [0, 0, 0], "force": [1, 0, 0]}, "signal: expected a signal"),
+        (Load, {"name": "a", "point": [0, 0, 0], "force": [1, 0, 0], "signal": {"kind": "harmonic", "f_hz": -2}},
+         "signal.f_hz: expected a positive frequency"),
+        (Unbalance, {"name": "u", "point": [0, 0, 0], "unbalance": 0.1}, "f_hz: expected either f_hz .* or speed_rpm"),
+        (Unbalance, {"name": "u", "point": [0, 0, 0], "unbalance": 0.1, "f_hz": 1, "speed_rpm": 60}, "got both"),
+        (Unbalance, {"name": "u", "point": [0, 0, 0], "unbalance": -0.1, "f_hz": 1}, "unbalance: expected a positive m e in kg m"),
+        (Unbalance, {"name": "u", "point": [0, 0, 0], "unbalance": 0.1, "f_hz": 1, "axis": [0, 0, 0]}, "axis: expected a non-zero"),
+        (GroundMotion, {"quantity": "jerk", "direction": [1, 0, 0], "signal": Step()}, "quantity: expected 'displacement', 'velocity' or 'acceleration'"),
+        (GroundMotion, {"quantity": "velocity", "direction": [0, 0, 0], "signal": Step()}, "direction: expected a non-zero 3-vector"),
+        (GroundMotion, {"quantity": "velocity", "direction": [1, 0, 0], "signal": Step(), "scale": 0.0}, "scale: expected a finite non-zero number"),
+        (GroundMotion, {"quantity": "displacement", "direction": [1, 0, 0], "signal": Step(start=1.0)},
+         "signal: expected a continuous signal for a ground displacement .* got a step signal jumping by 1 at t = 1 s"),
+        (GroundMotion, {"quantity": "displacement", "direction": [1, 0, 0], "signal": Table(t=[0, 1], values=[1, 1])},
+         "jumping by 1 at t = 0 s"),
+        (InitialState, {"q": [0] * 5}, r"q: expected 6 values \[x, y, z, rx, ry, rz\] in m and rad"),
+        (InitialState, {"qd": [0, 0, 0, 0, 0, math.nan]}, "qd: expected 6 values"),
+        (ModeRelease, {"mode": 7, "amplitude": 1e-3}, "mode: expected a mode number from 1 to 6, got 7"),
+        (ModeRelease, {"mode": 0, "amplitude": 1e-3}, "mode: expected a mode number from 1 to 6, got 0"),
+        (ModeRelease, {"mode": 2, "amplitude": 0.0}, "amplitude: expected a non-zero amplitude"),
+        (Excitation, {"loads": [Load("a", [0, 0, 0], [1, 0, 0], signal=Step())] * 2}, "loads: expected unique load names, got a repeated"),
+        (Excitation, {"loads": ["x"]}, r"loads\[0\]: expected a Load or Unbalance"),
     ],
 )
-def test_bad_signal_parameters_are_named(cls, kwargs, match):
+def test_bad_parameters_are_named(cls, kwargs, match):
     with pytest.raises(InputError, match=match):
         cls(**kwargs)
 
@@ -188,40 +207,6 @@ def test_unbalance_rotates_in_its_plane():
     tilted = Unbalance("r", [0, 0, 0], unbalance=me, f_hz=f, axis=[0, 1, 0], phase_deg=90.0)
     assert np.allclose(Excitation(loads=(tilted,)).generalized_force([0.0])[0, :3],
                        [0, 0, -amplitude], rtol=0, atol=1e-9 * amplitude)
-
-
-@pytest.mark.parametrize(
-    "cls, kwargs, match",
-    [
-        (Load, {"name": "", "point": [0, 0, 0], "force": [1, 0, 0], "signal": Step()}, "name: expected a non-empty string"),
-        (Load, {"name": "a", "point": [0, 0], "force": [1, 0, 0], "signal": Step()}, r"point: expected 3 coordinates \[x, y, z\] in m"),
-        (Load, {"name": "a", "point": [0, 0, 0], "signal": Step()}, "force: expected a non-zero force or moment"),
-        (Load, {"name": "a", "point": [0, 0, 0], "force": [1, 0, 0]}, "signal: expected a signal"),
-        (Load, {"name": "a", "point": [0, 0, 0], "force": [1, 0, 0], "signal": {"kind": "harmonic", "f_hz": -2}},
-         "signal.f_hz: expected a positive frequency"),
-        (Unbalance, {"name": "u", "point": [0, 0, 0], "unbalance": 0.1}, "f_hz: expected either f_hz .* or speed_rpm"),
-        (Unbalance, {"name": "u", "point": [0, 0, 0], "unbalance": 0.1, "f_hz": 1, "speed_rpm": 60}, "got both"),
-        (Unbalance, {"name": "u", "point": [0, 0, 0], "unbalance": -0.1, "f_hz": 1}, "unbalance: expected a positive m e in kg m"),
-        (Unbalance, {"name": "u", "point": [0, 0, 0], "unbalance": 0.1, "f_hz": 1, "axis": [0, 0, 0]}, "axis: expected a non-zero"),
-        (GroundMotion, {"quantity": "jerk", "direction": [1, 0, 0], "signal": Step()}, "quantity: expected 'displacement', 'velocity' or 'acceleration'"),
-        (GroundMotion, {"quantity": "velocity", "direction": [0, 0, 0], "signal": Step()}, "direction: expected a non-zero 3-vector"),
-        (GroundMotion, {"quantity": "velocity", "direction": [1, 0, 0], "signal": Step(), "scale": 0.0}, "scale: expected a finite non-zero number"),
-        (GroundMotion, {"quantity": "displacement", "direction": [1, 0, 0], "signal": Step(start=1.0)},
-         "signal: expected a continuous signal for a ground displacement .* got a step signal jumping by 1 at t = 1 s"),
-        (GroundMotion, {"quantity": "displacement", "direction": [1, 0, 0], "signal": Table(t=[0, 1], values=[1, 1])},
-         "jumping by 1 at t = 0 s"),
-        (InitialState, {"q": [0] * 5}, r"q: expected 6 values \[x, y, z, rx, ry, rz\] in m and rad"),
-        (InitialState, {"qd": [0, 0, 0, 0, 0, math.nan]}, "qd: expected 6 values"),
-        (ModeRelease, {"mode": 7, "amplitude": 1e-3}, "mode: expected a mode number from 1 to 6, got 7"),
-        (ModeRelease, {"mode": 0, "amplitude": 1e-3}, "mode: expected a mode number from 1 to 6, got 0"),
-        (ModeRelease, {"mode": 2, "amplitude": 0.0}, "amplitude: expected a non-zero amplitude"),
-        (Excitation, {"loads": [Load("a", [0, 0, 0], [1, 0, 0], signal=Step())] * 2}, "loads: expected unique load names, got a repeated"),
-        (Excitation, {"loads": ["x"]}, r"loads\[0\]: expected a Load or Unbalance"),
-    ],
-)
-def test_bad_load_parameters_are_named(cls, kwargs, match):
-    with pytest.raises(InputError, match=match):
-        cls(**kwargs)
 
 
 def test_ground_direction_is_normalized_and_continuous_displacements_are_accepted():

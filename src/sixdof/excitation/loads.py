@@ -32,22 +32,6 @@ from sixdof.excitation.signals import Harmonic, Signal, signal_field
 from sixdof.frozen import Frozen, checked
 from sixdof.model.kinematics import generalized_force
 
-# A ground displacement that jumps needs an infinite force: breakpoints of a displacement signal
-# may not change its value by more than this fraction of its peak.
-_CONTINUITY_RTOL = 1e-6
-
-
-
-
-# ----------------------------------------------------------------------------------------------------
-# Loads.
-# ----------------------------------------------------------------------------------------------------
-
-
-def _signal(value, field: str) -> Signal:
-    """Check of a signal field (errors name the signal's own fields under ``signal``)."""
-    return signal_field(value)
-
 
 @dataclass(frozen=True, eq=False)
 class Load(Frozen):
@@ -72,7 +56,7 @@ class Load(Frozen):
     point: np.ndarray = checked(point_check)
     force: np.ndarray = checked(vector3_check("3 force components in N"), default_factory=lambda: np.zeros(3))
     moment: np.ndarray = checked(vector3_check("3 moment components in N m"), default_factory=lambda: np.zeros(3))
-    signal: Signal | None = checked(_signal, default=None)
+    signal: Signal | None = checked(signal_field, default=None)
 
     def __check__(self) -> None:
         if not (np.any(self.force) or np.any(self.moment)):
@@ -81,17 +65,6 @@ class Load(Frozen):
     def components(self) -> tuple[tuple[np.ndarray, Signal], ...]:
         """``((Q, signal),)``: the generalized force (6,) [N, N m] multiplied by the signal."""
         return ((readonly(generalized_force(self.point, self.force, self.moment)), self.signal),)
-
-
-def _plane_basis(axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Unit vectors ``u, v`` spanning the plane normal to ``axis`` with ``u x v = axis``.
-
-    ``u`` is the body axis (x, then y, then z on ties) least aligned with ``axis``, made normal to it.
-    """
-    e = np.eye(3)[int(np.argmin(np.abs(axis)))]
-    u = e - np.dot(e, axis) * axis
-    u /= np.linalg.norm(u)
-    return u, np.cross(axis, u)
 
 
 @dataclass(frozen=True, eq=False)
@@ -153,13 +126,14 @@ class Unbalance(Frozen):
 
     def components(self) -> tuple[tuple[np.ndarray, Signal], ...]:
         """Two components: ``u`` times ``cos(theta)`` and ``v`` times ``sin(theta)`` (see class doc)."""
-        u, v = _plane_basis(self.axis)
-        amplitude = self.force_amplitude
-        cos = Harmonic(f_hz=self.frequency_hz, phase_deg=self.phase_deg + 90.0, start=self.start)
-        sin = Harmonic(f_hz=self.frequency_hz, phase_deg=self.phase_deg, start=self.start)
-        return (
-            (readonly(generalized_force(self.point, amplitude * u)), cos),
-            (readonly(generalized_force(self.point, amplitude * v)), sin),
+        e = np.eye(3)[int(np.argmin(np.abs(self.axis)))]  # the body axis least aligned with the spin axis
+        u = e - np.dot(e, self.axis) * self.axis
+        u /= np.linalg.norm(u)
+        v = np.cross(self.axis, u)
+        return tuple(  # cos(theta) = sin(theta + 90 deg) along u, sin(theta) along v
+            (readonly(generalized_force(self.point, self.force_amplitude * axis)),
+             Harmonic(f_hz=self.frequency_hz, phase_deg=self.phase_deg + shift, start=self.start))
+            for axis, shift in ((u, 90.0), (v, 0.0))
         )
 
 
@@ -167,11 +141,10 @@ class Unbalance(Frozen):
 LOAD_KINDS: dict[str, type] = {"force": Load, "unbalance": Unbalance}
 
 
-# ----------------------------------------------------------------------------------------------------
-# Ground motion and initial conditions.
-# ----------------------------------------------------------------------------------------------------
-
 GROUND_QUANTITIES = ("displacement", "velocity", "acceleration")
+# A ground displacement that jumps needs an infinite force: breakpoints of a displacement signal
+# may not change its value by more than this fraction of its peak.
+_CONTINUITY_RTOL = 1e-6
 
 
 @dataclass(frozen=True, eq=False)
@@ -199,18 +172,14 @@ class GroundMotion(Frozen):
 
     quantity: str = checked(choice_check(GROUND_QUANTITIES))
     direction: np.ndarray = checked(direction_check("a non-zero 3-vector in body axes"))
-    signal: Signal | None = checked(_signal, default=None)
+    signal: Signal | None = checked(signal_field, default=None)
     scale: float = checked(number_check("a finite non-zero number"), default=1.0)
 
     def __check__(self) -> None:
         if self.scale == 0.0:
             raise InputError("scale", "a finite non-zero number", self.scale)
-        if self.quantity == "displacement":
-            self._check_continuous()
-
-    def _check_continuous(self) -> None:
         points = np.array(self.signal.breakpoints, dtype=float)
-        if points.size == 0:
+        if self.quantity != "displacement" or points.size == 0:
             return
         # Look just left of each breakpoint (far enough not to be flushed as a denormal) and
         # extrapolate with the slope there, so that a steep but continuous signal passes.
@@ -312,11 +281,10 @@ class Excitation(Frozen):
     initial: InitialState | ModeRelease | None = None
 
     def __check__(self) -> None:
-        loads = self.loads
-        for i, load in enumerate(loads):
+        for i, load in enumerate(self.loads):
             if not isinstance(load, tuple(LOAD_KINDS.values())):
                 raise InputError(f"loads[{i}]", "a Load or Unbalance", load)
-        names = [load.name for load in loads]
+        names = [load.name for load in self.loads]
         repeated = sorted({n for n in names if names.count(n) > 1})
         if repeated:
             raise InputError("loads", "unique load names", Plain(f"{', '.join(repeated)} repeated"))
@@ -339,9 +307,7 @@ class Excitation(Frozen):
 
     def initial_state(self, system) -> tuple[np.ndarray, np.ndarray]:
         """``(q0, qd0)`` (6,) each, absolute [m, rad; m/s, rad/s]; zeros without ``initial``."""
-        if self.initial is None:
-            return np.zeros(6), np.zeros(6)
-        return self.initial.state(system)
+        return (self.initial or InitialState()).state(system)
 
     def generalized_force(self, t) -> np.ndarray:
         """The loads' generalized force ``Q(t) = sum_k Q_k s_k(t)`` (ground motion not included).
@@ -357,7 +323,5 @@ class Excitation(Frozen):
             [N, N, N, N m, N m, N m].
         """
         t = np.atleast_1d(np.asarray(t, dtype=float))
-        out = np.zeros((t.size, 6))
-        for vector, signal in self.components():
-            out += np.asarray(signal(t))[:, None] * vector[None, :]
-        return out
+        return sum((np.asarray(signal(t))[:, None] * vector for vector, signal in self.components()),
+                   np.zeros((t.size, 6)))

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import MISSING, dataclass, fields
+from dataclasses import dataclass, fields
 from typing import Any, ClassVar
 
 import numpy as np
@@ -39,10 +39,7 @@ from sixdof.errors import (
     readonly,
 )
 from sixdof.frozen import Frozen, checked
-
-# ----------------------------------------------------------------------------------------------------
-# Signals.
-# ----------------------------------------------------------------------------------------------------
+from sixdof.io.toml import build, choices
 
 
 class Signal(Frozen):
@@ -83,6 +80,10 @@ class Signal(Frozen):
     def _evaluate(self, t):  # pragma: no cover - every kind overrides it
         raise NotImplementedError
 
+    def _inside(self, t):
+        """True on the active window ``[start, start + duration)``."""
+        return (t >= self.start) & (t < self.start + self.duration)
+
     def derivative(self, t, order: int = 1):
         """Time derivative of order 1 or 2 at ``t`` [1/s, 1/s^2] (right-continuous at breakpoints).
 
@@ -101,8 +102,9 @@ class Signal(Frozen):
 
     @property
     def breakpoints(self) -> tuple[float, ...]:
-        """Sorted times [s] where the signal or one of its derivatives jumps."""
-        return ()
+        """Sorted times [s] where the signal or one of its derivatives jumps: by default the ends of its
+        active window, ``start`` and ``start + duration`` (when finite)."""
+        return tuple(sorted({float(x) for x in (self.start, self.start + self.duration) if math.isfinite(x)}))
 
     @property
     def peak(self) -> float:
@@ -115,6 +117,7 @@ class Signal(Frozen):
         tables); bounds the superposition's intervals and the sample-rate warnings."""
         return 0.0
 
+
 # Field checks shared by the signal kinds.
 _TIME = number_check("a finite time in s")
 _DURATION = number_check("a positive, finite duration in s", low=0.0, strict=True)
@@ -122,25 +125,12 @@ _LASTING = number_check("a positive duration in s", low=0.0, strict=True, allow_
 _FREQUENCY = number_check("a positive frequency in Hz", low=0.0, strict=True)
 
 
-
 def _band(value: Any, field: str) -> tuple[float, float]:
     expected = "a band [low, high] in Hz with 0 < low < high"
-    try:
-        band = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(field, expected, value) from None
-    if band.shape != (2,) or not np.all(np.isfinite(band)) or not 0 < band[0] < band[1]:
+    low, high = finite_array(value, field, expected, (2,)).tolist()
+    if not 0 < low < high:
         raise InputError(field, expected, value)
-    return float(band[0]), float(band[1])
-
-
-def _window(t, start, duration):
-    """True on ``[start, start + duration)``."""
-    return (t >= start) & (t < start + duration)
-
-
-def _breaks(*times: float) -> tuple[float, ...]:
-    return tuple(sorted({float(x) for x in times if math.isfinite(x)}))
+    return low, high
 
 
 @dataclass(frozen=True, eq=False)
@@ -170,13 +160,8 @@ class Harmonic(Signal):
         return self.f_hz
 
     def _evaluate(self, t):
-        tau = t - self.start
-        value = jnp.sin(2 * jnp.pi * self.f_hz * tau + jnp.deg2rad(self.phase_deg))
-        return jnp.where(_window(t, self.start, self.duration), value, 0.0)
-
-    @property
-    def breakpoints(self) -> tuple[float, ...]:
-        return _breaks(self.start, self.start + self.duration)
+        value = jnp.sin(2 * jnp.pi * self.f_hz * (t - self.start) + jnp.deg2rad(self.phase_deg))
+        return jnp.where(self._inside(t), value, 0.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -221,7 +206,7 @@ class Sweep(Signal):
         else:
             ratio = self.f1_hz / self.f0_hz
             phase = 2 * jnp.pi * self.f0_hz * T / jnp.log(ratio) * jnp.expm1(tau / T * jnp.log(ratio))
-        return jnp.where(_window(t, self.start, T), jnp.sin(phase), 0.0)
+        return jnp.where(self._inside(t), jnp.sin(phase), 0.0)
 
     @property
     def max_frequency_hz(self) -> float:
@@ -233,10 +218,6 @@ class Sweep(Signal):
         if self.law == "linear":
             return self.f0_hz + (self.f1_hz - self.f0_hz) * tau / self.duration
         return self.f0_hz * (self.f1_hz / self.f0_hz) ** (tau / self.duration)
-
-    @property
-    def breakpoints(self) -> tuple[float, ...]:
-        return _breaks(self.start, self.start + self.duration)
 
 
 @dataclass(frozen=True, eq=False)
@@ -260,12 +241,7 @@ class HalfSine(Signal):
         return 1.0 / self.duration  # a pulse of duration d carries its energy below about 1/d
 
     def _evaluate(self, t):
-        value = jnp.sin(jnp.pi * (t - self.start) / self.duration)
-        return jnp.where(_window(t, self.start, self.duration), value, 0.0)
-
-    @property
-    def breakpoints(self) -> tuple[float, ...]:
-        return _breaks(self.start, self.start + self.duration)
+        return jnp.where(self._inside(t), jnp.sin(jnp.pi * (t - self.start) / self.duration), 0.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -289,12 +265,7 @@ class Haversine(Signal):
         return 1.0 / self.duration
 
     def _evaluate(self, t):
-        value = 0.5 * (1.0 - jnp.cos(2 * jnp.pi * (t - self.start) / self.duration))
-        return jnp.where(_window(t, self.start, self.duration), value, 0.0)
-
-    @property
-    def breakpoints(self) -> tuple[float, ...]:
-        return _breaks(self.start, self.start + self.duration)
+        return jnp.where(self._inside(t), 0.5 * (1.0 - jnp.cos(2 * jnp.pi * (t - self.start) / self.duration)), 0.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -309,7 +280,7 @@ class Step(Signal):
 
     @property
     def breakpoints(self) -> tuple[float, ...]:
-        return _breaks(self.start)
+        return (float(self.start),)
 
 
 @dataclass(frozen=True, eq=False)
@@ -330,10 +301,6 @@ class Ramp(Signal):
 
     def _evaluate(self, t):
         return jnp.clip((t - self.start) / self.duration, 0.0, 1.0)
-
-    @property
-    def breakpoints(self) -> tuple[float, ...]:
-        return _breaks(self.start, self.start + self.duration)
 
 
 @dataclass(frozen=True, eq=False)
@@ -364,10 +331,8 @@ class Table(Signal):
                                          self.t.shape))
 
     def _evaluate(self, t):
-        knots, values = jnp.asarray(self.t), jnp.asarray(self.values)
-        if self.outside == "zero":
-            return jnp.interp(t, knots, values, left=0.0, right=0.0)
-        return jnp.interp(t, knots, values)
+        edge = 0.0 if self.outside == "zero" else None  # None: the end samples held
+        return jnp.interp(t, jnp.asarray(self.t), jnp.asarray(self.values), left=edge, right=edge)
 
     @property
     def breakpoints(self) -> tuple[float, ...]:
@@ -426,11 +391,7 @@ class Random(Signal):
         amplitude = self.rms * jnp.sqrt(2.0 / self.components)
         tau = (t - self.start)[..., None]
         value = amplitude * jnp.sum(jnp.sin(2 * jnp.pi * self.frequencies * tau + self.phases), axis=-1)
-        return jnp.where(_window(t, self.start, self.duration), value, 0.0)
-
-    @property
-    def breakpoints(self) -> tuple[float, ...]:
-        return _breaks(self.start, self.start + self.duration)
+        return jnp.where(self._inside(t), value, 0.0)
 
     @property
     def max_frequency_hz(self) -> float:
@@ -440,7 +401,6 @@ class Random(Signal):
     def peak(self) -> float:
         # A long Gaussian-like record reaches about 4 rms.
         return 4.0 * float(self.rms)
-
 
 
 #: TOML ``kind`` of a signal -> its class.
@@ -463,28 +423,17 @@ def make_signal(value: Signal | Mapping[str, Any]) -> Signal:
     if not isinstance(value, Mapping):
         raise InputError("", "a signal table such as {kind = \"harmonic\", f_hz = 5.0}", value)
     table = dict(value)
-    kind = table.pop("kind", None)
-    if kind not in SIGNAL_KINDS:
-        raise InputError("kind", f"one of {', '.join(sorted(SIGNAL_KINDS))}",
-                         Plain("nothing") if kind is None else kind)
-    cls = SIGNAL_KINDS[kind]
-    known = {f.name for f in fields(cls) if f.init}
-    for key in table:
-        if key not in known:
-            raise InputError(key, f"one of the keys {', '.join(sorted(known))}", Plain("an unknown key"))
-    missing = [f.name for f in fields(cls) if f.init and f.name not in table
-               and f.default is MISSING and f.default_factory is MISSING]
-    if missing:
-        raise InputError(missing[0], "a value (required key)", Plain("nothing"))
-    return cls(**table)
+    kind = table.pop("kind", Plain("nothing"))
+    if not isinstance(kind, str) or kind not in SIGNAL_KINDS:
+        raise InputError("kind", f"one of {choices(SIGNAL_KINDS)}", kind)
+    return build(SIGNAL_KINDS[kind], table, "")
 
 
-def signal_field(value: Any) -> Signal:
+def signal_field(value: Any, field: str = "signal") -> Signal:
+    """Check of a signal field: errors name the signal's own keys under ``field``."""
     if value is None:
-        raise InputError("signal", "a signal such as {kind = \"harmonic\", f_hz = 5.0}", Plain("nothing"))
+        raise InputError(field, "a signal such as {kind = \"harmonic\", f_hz = 5.0}", Plain("nothing"))
     try:
         return make_signal(value)
     except InputError as exc:
-        raise (InputError("signal", exc.expected, exc.got) if not exc.field else exc.within("signal")) from None
-
-
+        raise exc.within(field) from None

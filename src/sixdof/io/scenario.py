@@ -14,21 +14,20 @@ from typing import Any
 
 import numpy as np
 
-from sixdof.errors import InputError, Plain, choice_check, integer_check, label_check, number_check, optional
-from sixdof.frozen import Frozen, checked
-from sixdof.io.toml import (
-    Table,
-    build,
-    choices,
-    is_numeric_list,
-    make,
-    parse,
-    read_text,
-    unique,
+from sixdof.errors import (
+    InputError,
+    choice_check,
+    direction_check,
+    finite_array,
+    integer_check,
+    label_check,
+    number_check,
+    optional,
+    point,
 )
+from sixdof.frozen import Frozen, checked
+from sixdof.io.toml import Table, boolean, build, choices, make, parse, read_text, unique
 from sixdof.model.system import Mount, Rayleigh, RigidBody, System
-
-_MISSING = object()
 
 
 def _checked_direction(value: Any, field: str, rotations: bool = True):
@@ -39,14 +38,11 @@ def _checked_direction(value: Any, field: str, rotations: bool = True):
 
 
 def _checked_point(value: Any, field: str) -> tuple[float, float, float]:
-    if not is_numeric_list(value, 3) or not np.all(np.isfinite(np.asarray(value, float))):
-        raise InputError(field, "3 coordinates [x, y, z] in m from the CG", value)
-    return tuple(float(v) for v in value)
+    return tuple(point(value, field).tolist())
 
 
 def _checked_vector(value: Any, field: str) -> tuple[float, float, float]:
-    if not is_numeric_list(value, 3) or not np.all(np.isfinite(np.asarray(value, float))) or not any(value):
-        raise InputError(field, "a non-zero 3-vector in body axes", value)
+    direction_check("a non-zero 3-vector in body axes")(value, field)  # kept as given, not normalized
     return tuple(float(v) for v in value)
 
 
@@ -56,14 +52,12 @@ def _check_name(name: Any, field: str = "name") -> str:
     return name
 
 
-
-
 @dataclass(frozen=True)
 class Point(Frozen):
     """A named body point whose motion is reported. ``position`` from the CG in body axes [m]."""
 
     name: str = checked(label_check)
-    position: tuple[float, float, float] = checked(lambda value, field: _checked_point(value, field))
+    position: tuple[float, float, float] = checked(_checked_point)
 
 
 @dataclass(frozen=True)
@@ -71,10 +65,7 @@ class StaticsSettings(Frozen):
     """Gravity for the static deflection: ``gravity`` [m/s^2] along ``direction`` (body axes)."""
 
     gravity: float = checked(number_check("a positive acceleration in m/s^2", low=0.0, strict=True), default=9.80665)
-    direction: tuple[float, float, float] = checked(lambda value, field: _checked_vector(value, field),
-                                                    default=(0.0, 0.0, -1.0))
-
-
+    direction: tuple[float, float, float] = checked(_checked_vector, default=(0.0, 0.0, -1.0))
 
 
 @dataclass(frozen=True)
@@ -112,31 +103,14 @@ class GroundTransmissibilityRequest(Frozen):
     response_point: tuple[float, float, float] = checked(_checked_point)
 
 
-_FRF_REQUESTS = {
-    "point": PointFrfRequest,
-    "force_transmissibility": ForceTransmissibilityRequest,
-    "ground_transmissibility": GroundTransmissibilityRequest,
-}
-
-
-def _mode_count(value: Any, field: str) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= 6:
-        raise InputError(field, "an integer from 1 to 6", value)
-    return value
-
-
-def _boolean(value: Any, field: str) -> bool:
-    if not isinstance(value, bool):
-        raise InputError(field, "true or false", value)
-    return value
+_FRF_REQUESTS = {"point": PointFrfRequest, "force_transmissibility": ForceTransmissibilityRequest,
+                 "ground_transmissibility": GroundTransmissibilityRequest}
 
 
 def _frequency_range(value: Any, field: str) -> tuple[float, float]:
     expected = "two frequencies [low, high] in Hz with 0 <= low < high"
-    if not is_numeric_list(value, 2):
-        raise InputError(field, expected, value)
-    low, high = (float(v) for v in value)
-    if not (np.isfinite(high) and 0 <= low < high):
+    low, high = finite_array(value, field, expected, (2,)).tolist()
+    if not 0 <= low < high:
         raise InputError(field, expected, value)
     return low, high
 
@@ -146,7 +120,7 @@ class FrfSettings(Frozen):
     """Frequency grid of the frequency responses: ``points`` frequencies over ``f_hz`` [Hz], and
     the point FRFs and transmissibilities to compute beside the 6x6 receptance."""
 
-    f_hz: tuple[float, float] = checked(lambda value, field: _frequency_range(value, field), default=(0.1, 100.0))
+    f_hz: tuple[float, float] = checked(_frequency_range, default=(0.1, 100.0))
     points: int = checked(integer_check("an integer >= 2", 2), default=2000)
     spacing: str = checked(choice_check(("log", "linear")), default="log")
     point: tuple[PointFrfRequest, ...] = ()
@@ -159,10 +133,7 @@ class FrfSettings(Frozen):
 
     def grid(self) -> np.ndarray:
         """The frequencies [Hz], shape (points,)."""
-        low, high = self.f_hz
-        if self.spacing == "log":
-            return np.geomspace(low, high, self.points)
-        return np.linspace(low, high, self.points)
+        return (np.geomspace if self.spacing == "log" else np.linspace)(*self.f_hz, self.points)
 
 
 @dataclass(frozen=True)
@@ -176,12 +147,14 @@ class SuperpositionSettings(Frozen):
     """
 
     method: str = checked(choice_check(("auto", "real", "complex")), default="auto")
-    n_modes: int | None = checked(optional(lambda value, field: _mode_count(value, field)), default=None)
+    n_modes: int | None = checked(optional(integer_check("an integer from 1 to 6", 1)), default=None)
     f_max_hz: float | None = checked(optional(number_check("a positive frequency in Hz", low=0.0, strict=True)),
                                      default=None)
-    residual: bool = checked(lambda value, field: _boolean(value, field), default=True)
+    residual: bool = checked(boolean, default=True)
 
     def __check__(self) -> None:
+        if self.n_modes is not None and self.n_modes > 6:
+            raise InputError("n_modes", "an integer from 1 to 6", self.n_modes)
         if self.n_modes is not None and self.f_max_hz is not None:
             raise InputError("n_modes", "either n_modes or f_max_hz, not both", self.n_modes)
 
@@ -256,14 +229,16 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     system = make(System, "", body=body, mounts=mounts, rayleigh=rayleigh, modal_damping=modal)
 
     loads = tuple(_load(t, f"loads[{i}]", base_dir) for i, t in enumerate(top.tables("loads")))
-    ground = top.table("ground", default=None)
-    ground = None if ground is None else _ground(ground, base_dir)
-    initial = top.table("initial", default=None)
-    initial = None if initial is None else _initial(initial)
+    ground, initial = top.table("ground", default=None), top.table("initial", default=None)
     excitation = None
     if loads or ground is not None or initial is not None:
-        from sixdof.excitation import Excitation
+        from sixdof.excitation import Excitation, GroundMotion, InitialState, ModeRelease
 
+        if ground is not None:
+            ground = build(GroundMotion, _with_file(ground, "ground", base_dir), "ground")
+        if initial is not None:
+            release = "mode" in initial or "amplitude" in initial
+            initial = build(ModeRelease if release else InitialState, initial, "initial")
         excitation = make(Excitation, "", loads=loads, ground=ground, initial=initial)
     simulation = top.table("simulation", default=None)
     if simulation is not None:
@@ -276,28 +251,16 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     points = tuple(build(Point, t, f"points[{i}]") for i, t in enumerate(top.tables("points")))
     unique([p.name for p in points], "points")
     statics = build(StaticsSettings, top.table("statics", default={}), "statics")
-    return Scenario(
-        name=name,
-        description=description,
-        system=system,
-        excitation=excitation,
-        simulation=simulation,
-        frf=frf,
-        superposition=superposition,
-        points=points,
-        statics=statics,
-        text=text,
-        path=Path(source) if source != "<string>" else None,
-    )
+    return Scenario(name=name, description=description, system=system, excitation=excitation, simulation=simulation,
+                    frf=frf, superposition=superposition, points=points, statics=statics, text=text,
+                    path=Path(source) if source != "<string>" else None)
 
 
 def _frf(table: dict) -> FrfSettings:
-    requests = {}
-    for key, cls in _FRF_REQUESTS.items():
-        items = Table(table, "frf", tuple(table)).tables(key)
-        requests[key] = tuple(build(cls, t, f"frf.{key}[{i}]") for i, t in enumerate(items))
-    names = [r.name for group in requests.values() for r in group]
-    unique(names, "frf")
+    frf = Table(table, "frf", tuple(table))  # keys checked by build(FrfSettings) below
+    requests = {key: tuple(build(cls, t, f"frf.{key}[{i}]") for i, t in enumerate(frf.tables(key)))
+                for key, cls in _FRF_REQUESTS.items()}
+    unique([r.name for group in requests.values() for r in group], "frf")
     return build(FrfSettings, {**table, **requests}, "frf")
 
 
@@ -308,16 +271,12 @@ def _damping(table: dict) -> tuple[Rayleigh | None, Any]:
         keys = set(rayleigh)
         if keys <= {"zeta", "f_hz"} and keys:
             r = Table(rayleigh, "damping.rayleigh", ("zeta", "f_hz"))
-            zeta, f_hz = r.value("zeta"), r.value("f_hz")
-            rayleigh = make(Rayleigh.from_ratio, "damping.rayleigh", zeta=zeta, f_hz=f_hz)
+            rayleigh = make(Rayleigh.from_ratio, "damping.rayleigh", zeta=r.value("zeta"), f_hz=r.value("f_hz"))
         elif keys <= {"alpha", "beta"} and keys:
             rayleigh = build(Rayleigh, rayleigh, "damping.rayleigh")
         else:
-            raise InputError(
-                "damping.rayleigh", "either {zeta, f_hz} or {alpha, beta}", sorted(rayleigh)
-            )
-    modal = damping.value("modal", default=None)
-    return rayleigh, modal
+            raise InputError("damping.rayleigh", "either {zeta, f_hz} or {alpha, beta}", sorted(rayleigh))
+    return rayleigh, damping.value("modal", default=None)
 
 
 def _load(table: dict, path: str, base_dir: Path):
@@ -327,47 +286,21 @@ def _load(table: dict, path: str, base_dir: Path):
     kind = table.pop("kind", "force")
     if not isinstance(kind, str) or kind not in LOAD_KINDS:
         raise InputError(f"{path}.kind", f"one of {choices(LOAD_KINDS)}", kind)
-    return build(LOAD_KINDS[kind], _with_signal(table, path, base_dir), path)
+    return build(LOAD_KINDS[kind], _with_file(table, path, base_dir), path)
 
 
-def _ground(table: dict, base_dir: Path):
-    from sixdof.excitation import GroundMotion
-
-    return build(GroundMotion, _with_signal(table, "ground", base_dir), "ground")
-
-
-def _initial(table: dict):
-    from sixdof.excitation import InitialState, ModeRelease
-
-    if "mode" in table or "amplitude" in table:
-        return build(ModeRelease, table, "initial")
-    return build(InitialState, table, "initial")
-
-
-def _with_signal(table: dict, path: str, base_dir: Path) -> dict:
-    """The table with its ``signal`` sub-table replaced by a signal object."""
-    if "signal" not in table:
+def _with_file(table: dict, path: str, base_dir: Path) -> dict:
+    """The table with its table signal's ``file`` (relative to ``base_dir``) read into ``t`` and ``values``."""
+    signal = table.get("signal")
+    if not (isinstance(signal, dict) and signal.get("kind") == "table" and "file" in signal):
         return table
-    return {**table, "signal": _signal(table["signal"], f"{path}.signal", base_dir)}
-
-
-def _signal(table: Any, path: str, base_dir: Path):
-    from sixdof.excitation import SIGNAL_KINDS
-
-    if not isinstance(table, dict):
-        raise InputError(path, "a table such as { kind = \"harmonic\", f_hz = 5.0 }", table)
-    table = dict(table)
-    kind = table.pop("kind", _MISSING)
-    if kind is _MISSING:
-        raise InputError(f"{path}.kind", f"one of {choices(SIGNAL_KINDS)}", Plain("nothing"))
-    if not isinstance(kind, str) or kind not in SIGNAL_KINDS:
-        raise InputError(f"{path}.kind", f"one of {choices(SIGNAL_KINDS)}", kind)
-    if "file" in table:
-        file = table.pop("file")
-        if "t" in table or "values" in table:
-            raise InputError(f"{path}.file", "either a file or inline t and values, not both", file)
-        table["t"], table["values"] = read_table_csv(file, base_dir, f"{path}.file")
-    return build(SIGNAL_KINDS[kind], table, path)
+    field = f"{path}.signal.file"
+    signal = dict(signal)
+    file = signal.pop("file")
+    if "t" in signal or "values" in signal:
+        raise InputError(field, "either a file or inline t and values, not both", file)
+    signal["t"], signal["values"] = read_table_csv(file, base_dir, field)
+    return {**table, "signal": signal}
 
 
 def read_table_csv(file: Any, base_dir: Path, field: str) -> tuple[list[float], list[float]]:
@@ -380,21 +313,17 @@ def read_table_csv(file: Any, base_dir: Path, field: str) -> tuple[list[float], 
             rows = [row for row in csv.reader(handle) if row and not row[0].lstrip().startswith("#")]
     except OSError:
         raise InputError(field, "an existing, readable CSV file", str(full)) from None
-    t, values = [], []
+    pairs = []
     for number, row in enumerate(rows, start=1):
         try:
-            ti, vi = float(row[0]), float(row[1])
+            pairs.append((float(row[0]), float(row[1])))
         except (ValueError, IndexError):
-            if number == 1:  # a header line
-                continue
-            raise InputError(
-                field, "rows of two numbers: time in s, value", f"line {number} of {file}: {row}"
-            ) from None
-        t.append(ti)
-        values.append(vi)
-    if len(t) < 2:
-        raise InputError(field, "at least 2 rows of time, value", f"{len(t)} rows in {file}")
-    return t, values
+            if number > 1:  # the first line may be a header
+                raise InputError(field, "rows of two numbers: time in s, value",
+                                 f"line {number} of {file}: {row}") from None
+    if len(pairs) < 2:
+        raise InputError(field, "at least 2 rows of time, value", f"{len(pairs)} rows in {file}")
+    return [t for t, _ in pairs], [value for _, value in pairs]
 
 
 _TOP_LEVEL_KEYS = (

@@ -9,23 +9,50 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from sixdof.analysis.batch import Variants, make_variants
 from sixdof.dofs import AXES, MOUNT_AXES
-from sixdof.errors import InputError, Plain, integer
-from sixdof.io.toml import parse, read_text, reject_unknown
+from sixdof.errors import InputError, Plain, integer, integer_check, number_check, optional
+from sixdof.frozen import Frozen, checked
+from sixdof.io.toml import Table, boolean, build, is_number, parse, read_text
 from sixdof.model.system import System
 
 PARAMETERS = ("stiffness", "damping", "position")
 DISTRIBUTIONS = ("uniform", "normal", "grid")
+_NEEDS = {"uniform": ("low", "high"), "normal": ("mean", "std"), "grid": ("values",)}
 
 
+def _one_of(names: tuple[str, ...]):
+    def check(value: Any, field: str) -> str:
+        if value not in names:
+            raise InputError(field, f"one of {', '.join(names)}", Plain("nothing") if value is None else value)
+        return value
+
+    return check
+
+
+def _names(value: Any, field: str) -> tuple[str, ...]:
+    if not isinstance(value, (list, tuple)) or not all(isinstance(v, str) and v for v in value):
+        raise InputError(field, "a list of names", value)
+    return tuple(value)
+
+
+def _values(value: Any, field: str) -> tuple[float, ...]:
+    if isinstance(value, tuple) and not value:  # the default: not given (a list given may not be empty)
+        return value
+    if not isinstance(value, (list, tuple)) or not value or not all(is_number(v) for v in value):
+        raise InputError(field, "a non-empty list of finite numbers", value)
+    return tuple(float(v) for v in value)
+
+
+_FINITE = optional(number_check("a finite number"))
 
 
 @dataclass(frozen=True)
-class Vary:
+class Vary(Frozen):
     """One varied parameter of a sweep (a ``[[vary]]`` table of the spec).
 
     Parameters
@@ -48,16 +75,32 @@ class Vary:
     values : tuple of float
     """
 
-    parameter: str
-    distribution: str
-    mounts: tuple[str, ...] = ()
-    axes: tuple[str, ...] = ()
-    independent: bool = False
-    low: float | None = None
-    high: float | None = None
-    mean: float | None = None
-    std: float | None = None
-    values: tuple[float, ...] = ()
+    parameter: str = checked(_one_of(PARAMETERS))
+    distribution: str = checked(_one_of(DISTRIBUTIONS))
+    mounts: tuple[str, ...] = checked(_names, default=())
+    axes: tuple[str, ...] = checked(_names, default=())
+    independent: bool = checked(boolean, default=False)
+    low: float | None = checked(_FINITE, default=None)
+    high: float | None = checked(_FINITE, default=None)
+    mean: float | None = checked(_FINITE, default=None)
+    std: float | None = checked(_FINITE, default=None)
+    values: tuple[float, ...] = checked(_values, default=())
+
+    def __check__(self) -> None:
+        needs = _NEEDS[self.distribution]
+        for key in ("low", "high", "mean", "std", "values"):
+            value = getattr(self, key)
+            given = value is not None and value != ()
+            if given and key not in needs:
+                raise InputError(key, f"only {', '.join(needs)} with a {self.distribution} distribution", value)
+            if key in needs and not given:
+                raise InputError(key, "a value (required key)", Plain("nothing"))
+        if self.distribution == "uniform" and not self.low < self.high:
+            raise InputError("high", f"a number > low = {self.low:g}", self.high)
+        if self.distribution == "normal" and not self.std > 0:
+            raise InputError("std", "a standard deviation > 0", self.std)
+        if self.independent and self.distribution == "grid":
+            raise InputError("independent", "false for a grid (one grid value per variant)", self.independent)
 
 
 @dataclass(frozen=True)
@@ -106,8 +149,7 @@ class SweepSpec:
             elif v.distribution == "normal":
                 draw = rng.normal(v.mean, v.std, shape)
             else:
-                g = grids.index(i)
-                draw = np.asarray(v.values)[grid_index[g]][:, None, None]
+                draw = np.asarray(v.values)[grid_index[grids.index(i)]][:, None, None]
             block = np.broadcast_to(draw, (self.count, len(mounts), len(axes)))
             sub = target[v.parameter][:, mounts][:, :, axes]
             sub = sub + block if v.parameter == "position" else sub * block
@@ -119,12 +161,6 @@ class SweepSpec:
                 raise InputError(field, "damping factors >= 0 (narrow the distribution)",
                                  Plain(f"a draw of {sub.min():.6g}"))
         return make_variants(system, stiffness_factor=k, damping_factor=d, position_offset=x)
-
-
-_SPEC_KEYS = ("count", "seed", "chunk_size", "vary")
-_VARY_KEYS = ("parameter", "distribution", "mounts", "axes", "independent", "low", "high", "mean",
-              "std", "values")
-_NEEDS = {"uniform": ("low", "high"), "normal": ("mean", "std"), "grid": ("values",)}
 
 
 def parse_sweep_spec(text: str, source: str = "<string>") -> SweepSpec:
@@ -157,76 +193,17 @@ def load_sweep_spec(path: str | Path) -> SweepSpec:
 
 
 def _spec(raw: dict) -> SweepSpec:
-    reject_unknown(raw, _SPEC_KEYS, "")
-    vary_raw = raw.get("vary")
-    if not isinstance(vary_raw, list) or not vary_raw or not all(isinstance(v, dict) for v in vary_raw):
-        raise InputError("vary", "at least one [[vary]] table", vary_raw if vary_raw is not None
-                         else Plain("nothing"))
-    vary = tuple(_vary(v, f"vary[{i}]") for i, v in enumerate(vary_raw))
-    seed = raw.get("seed", 0)
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        raise InputError("seed", "an integer >= 0", seed)
-    chunk = raw.get("chunk_size")
-    if chunk is not None and (isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1):
-        raise InputError("chunk_size", "a positive integer", chunk)
-    grid_count = math.prod(len(v.values) for v in vary if v.distribution == "grid")
-    has_grid = any(v.distribution == "grid" for v in vary)
-    count = raw.get("count")
+    top = Table(raw, "", ("count", "seed", "chunk_size", "vary"))
+    # A missing parameter or distribution is None, named in field order like a wrong one.
+    vary = tuple(build(Vary, {"parameter": None, "distribution": None, **v}, f"vary[{i}]")
+                 for i, v in enumerate(top.tables("vary", required=True)))
+    seed = integer(top.value("seed", 0), "seed", "an integer >= 0", 0)
+    chunk = optional(integer_check("a positive integer", 1))(top.value("chunk_size", None), "chunk_size")
+    grids = [len(v.values) for v in vary if v.distribution == "grid"]
+    count = top.value("count", math.prod(grids) if grids else None)
     if count is None:
-        if not has_grid:
-            raise InputError("count", "a positive integer (number of random variants)", Plain("nothing"))
-        count = grid_count
+        raise InputError("count", "a positive integer (number of random variants)", Plain("nothing"))
     count = integer(count, "count", "a positive integer", 1)
-    if has_grid and count != grid_count:
-        raise InputError("count", f"the product of the grid sizes, {grid_count} (or no count)", count)
+    if grids and count != math.prod(grids):
+        raise InputError("count", f"the product of the grid sizes, {math.prod(grids)} (or no count)", count)
     return SweepSpec(count=count, seed=seed, vary=vary, chunk_size=chunk)
-
-
-def _vary(raw: dict, path: str) -> Vary:
-    reject_unknown(raw, _VARY_KEYS, path)
-    parameter = raw.get("parameter")
-    if parameter not in PARAMETERS:
-        raise InputError(f"{path}.parameter", f"one of {', '.join(PARAMETERS)}",
-                         parameter if parameter is not None else Plain("nothing"))
-    distribution = raw.get("distribution")
-    if distribution not in DISTRIBUTIONS:
-        raise InputError(f"{path}.distribution", f"one of {', '.join(DISTRIBUTIONS)}",
-                         distribution if distribution is not None else Plain("nothing"))
-    for key in _VARY_KEYS[5:]:
-        if key in raw and key not in _NEEDS[distribution]:
-            raise InputError(f"{path}.{key}", f"only {', '.join(_NEEDS[distribution])} with a "
-                             f"{distribution} distribution", raw[key])
-    numbers = {}
-    for key in _NEEDS[distribution]:
-        if key not in raw:
-            raise InputError(f"{path}.{key}", "a value (required key)", Plain("nothing"))
-        value = raw[key]
-        if key == "values":
-            if (not isinstance(value, list) or not value
-                    or not all(_finite(v) for v in value)):
-                raise InputError(f"{path}.values", "a non-empty list of finite numbers", value)
-            numbers[key] = tuple(float(v) for v in value)
-        elif not _finite(value):
-            raise InputError(f"{path}.{key}", "a finite number", value)
-        else:
-            numbers[key] = float(value)
-    if distribution == "uniform" and not numbers["low"] < numbers["high"]:
-        raise InputError(f"{path}.high", f"a number > low = {numbers['low']:g}", raw["high"])
-    if distribution == "normal" and not numbers["std"] > 0:
-        raise InputError(f"{path}.std", "a standard deviation > 0", raw["std"])
-    for key in ("mounts", "axes"):
-        value = raw.get(key, [])
-        if not isinstance(value, list) or not all(isinstance(v, str) and v for v in value):
-            raise InputError(f"{path}.{key}", "a list of names", value)
-    independent = raw.get("independent", False)
-    if not isinstance(independent, bool):
-        raise InputError(f"{path}.independent", "true or false", independent)
-    if independent and distribution == "grid":
-        raise InputError(f"{path}.independent", "false for a grid (one grid value per variant)",
-                         independent)
-    return Vary(parameter=parameter, distribution=distribution, mounts=tuple(raw.get("mounts", [])),
-                axes=tuple(raw.get("axes", [])), independent=independent, **numbers)
-
-
-def _finite(value) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)

@@ -47,6 +47,8 @@ def read_text(path: str | Path, what: str) -> str:
         raise ScenarioError(str(path), InputError("", "a readable UTF-8 text file", str(exc))) from None
 
 
+def _join(path: str, key: str) -> str:
+    return f"{path}.{key}" if path else key
 
 
 class Table:
@@ -59,34 +61,30 @@ class Table:
         self.raw = raw
         self.path = path
 
-    def _field(self, key: str) -> str:
-        return f"{self.path}.{key}" if self.path else key
-
     def value(self, key: str, default: Any = _MISSING) -> Any:
         if key in self.raw:
             return self.raw[key]
         if default is _MISSING:
-            raise InputError(self._field(key), "a value (required key)", Plain("nothing"))
+            raise InputError(_join(self.path, key), "a value (required key)", Plain("nothing"))
         return default
 
     def string(self, key: str, default: Any = _MISSING) -> str:
         value = self.value(key, default)
         if not isinstance(value, str) or (default is _MISSING and not value):
-            raise InputError(self._field(key), "a non-empty string", value)
+            raise InputError(_join(self.path, key), "a non-empty string", value)
         return value
 
     def table(self, key: str, default: Any = _MISSING) -> Any:
         value = self.value(key, default)
         if value is not default and not isinstance(value, dict):
-            raise InputError(self._field(key), f"a table [{key}]", value)
+            raise InputError(_join(self.path, key), f"a table [{key}]", value)
         return value
 
     def tables(self, key: str, required: bool = False) -> list[dict]:
-        value = self.value(key, _MISSING if required else [])
-        if not isinstance(value, list) or any(not isinstance(v, dict) for v in value):
-            raise InputError(self._field(key), f"an array of tables [[{key}]]", value)
-        if required and not value:
-            raise InputError(self._field(key), f"at least one [[{key}]] table", value)
+        value = self.raw.get(key, Plain("nothing") if required else [])
+        if not isinstance(value, list) or any(not isinstance(v, dict) for v in value) or (required and not value):
+            expected = f"at least one [[{key}]] table" if required else f"an array of tables [[{key}]]"
+            raise InputError(_join(self.path, key), expected, value)
         return value
 
 
@@ -95,8 +93,7 @@ def reject_unknown(raw: dict, known, path: str) -> None:
         if key not in known:
             close = difflib.get_close_matches(key, list(known), n=1)
             hint = f"; did you mean {close[0]!r}?" if close else ""
-            where = f"{path}.{key}" if path else key
-            raise InputError(where, f"one of the keys {choices(known)}", Plain(f"an unknown key{hint}"))
+            raise InputError(_join(path, key), f"one of the keys {choices(known)}", Plain(f"an unknown key{hint}"))
 
 
 def build(cls, table: Any, path: str):
@@ -108,7 +105,7 @@ def build(cls, table: Any, path: str):
     for name, f in fields.items():
         required = f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
         if required and name not in table:
-            raise InputError(f"{path}.{name}", "a value (required key)", Plain("nothing"))
+            raise InputError(_join(path, name), "a value (required key)", Plain("nothing"))
     return make(cls, path, **table)
 
 
@@ -134,9 +131,8 @@ def is_number(value: Any) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool) and np.isfinite(value)
 
 
-def is_numeric_list(value: Any, size: int) -> bool:
-    return (
-        isinstance(value, (list, tuple))
-        and len(value) == size
-        and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
-    )
+def boolean(value: Any, field: str) -> bool:
+    """Check of ``true`` or ``false`` (a field check, see :func:`sixdof.frozen.checked`)."""
+    if not isinstance(value, bool):
+        raise InputError(field, "true or false", value)
+    return value

@@ -8,16 +8,14 @@ together with ``jax.vmap`` of one diffrax solve, in chunks of variants that boun
 what is asked for: the peak of ``|q|`` and ``|q''|`` per DOF at the output samples, and the full
 :class:`~sixdof.results.TimeHistory` of a few chosen variants.
 
-The solve uses the same settings as :func:`sixdof.analysis.direct.simulate`: solver, ``rtol``/``atol`` on the
-state divided by the per-component scale of :func:`sixdof.analysis.direct.state_scale` (the *nominal*
-system's scale for every variant: it only weights the error control), ``jump_ts`` at every
-breakpoint of the loads, ``max_steps``, output times. It is not ``direct._solve`` itself: that one
-returns every sample of the 14-value state, the loads and the ground motion per variant (about
-4.6 MB per variant for 20 s at 1 kHz) and evaluates eq. (1) as three 6x6 products per stage; here
-the first-order matrix ``A`` (12x12) of each variant is built once and only ``q`` and ``q''`` are
-kept per sample, which halves the time per variant and the memory per chunk. Ground motion and
-mode-release initial states (which depend on each variant's modes) are not batched yet: they raise
-:class:`~sixdof.errors.InputError`; run those variants through :func:`sixdof.analysis.direct.simulate`.
+The solve is :func:`sixdof.analysis.direct.solve_ode` with the settings of
+:func:`~sixdof.analysis.direct.simulate` (tolerances on the state scaled by the *nominal* system's
+:func:`~sixdof.analysis.direct.state_scale`: it only weights the error control). Unlike ``simulate``,
+which keeps the 14-value state, loads and ground motion at every sample (4.6 MB per variant for 20 s
+at 1 kHz), it builds each variant's first-order matrix ``A`` (12x12) once and keeps only ``q`` and
+``q''``: half the time per variant and the memory per chunk. Ground motion and mode-release initial
+states (which depend on each variant's modes) are not batched yet: they raise
+:class:`~sixdof.errors.InputError`; run those variants through ``simulate``.
 """
 
 from __future__ import annotations
@@ -43,7 +41,6 @@ from sixdof.results import label, part, quantity
 CHUNK_BYTES = 256 * 2**20
 #: Largest chunk of variants integrated together (beyond it vectorizing gains nothing on CPU).
 MAX_CHUNK = 256
-
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -148,26 +145,26 @@ def make_variants(system: System, *, stiffness_factor=None, damping_factor=None,
         values.
     """
     n = len(system.mounts)
+    factor_shapes = f"shape (nv,), (nv, {n}) or (nv, {n}, 3)"
     arrays = {}
-    for name, value in (("stiffness_factor", stiffness_factor), ("damping_factor", damping_factor)):
+    for name, value, shapes in (("stiffness_factor", stiffness_factor, factor_shapes),
+                                ("damping_factor", damping_factor, factor_shapes),
+                                ("position_offset", position_offset, f"shape (nv, 3) or (nv, {n}, 3) in m")):
         if value is None:
             continue
-        a = _float_array(value, name)
-        if a.ndim == 1:
-            a = np.broadcast_to(a[:, None, None], (a.shape[0], n, 3))
-        elif a.ndim == 2 and a.shape[1] == n:
-            a = np.broadcast_to(a[:, :, None], (a.shape[0], n, 3))
-        elif not (a.ndim == 3 and a.shape[1:] == (n, 3)):
-            raise InputError(name, f"shape (nv,), (nv, {n}) or (nv, {n}, 3)", Plain(f"shape {a.shape}"))
-        arrays[name] = a
-    if position_offset is not None:
-        a = _float_array(position_offset, "position_offset")
-        if a.ndim == 2 and a.shape[1] == 3:
-            a = np.broadcast_to(a[:, None, :], (a.shape[0], n, 3))
-        elif not (a.ndim == 3 and a.shape[1:] == (n, 3)):
-            raise InputError("position_offset", f"shape (nv, 3) or (nv, {n}, 3) in m",
-                             Plain(f"shape {a.shape}"))
-        arrays["position_offset"] = a
+        try:
+            a = np.array(value, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(name, "an array of finite numbers", value) from None
+        if a.ndim == 0 or a.shape[0] == 0 or not np.all(np.isfinite(a)):
+            raise InputError(name, "an array of finite numbers, one row per variant", value)
+        if name == "position_offset" and a.shape[1:] == (3,):
+            a = a[:, None, :]  # every mount moves alike
+        elif name != "position_offset" and a.shape[1:] in ((), (n,)):
+            a = a.reshape(a.shape + (1,) * (3 - a.ndim))  # every axis (and mount) alike
+        elif a.shape[1:] != (n, 3):
+            raise InputError(name, shapes, Plain(f"shape {a.shape}"))
+        arrays[name] = np.broadcast_to(a, (a.shape[0], n, 3))
     counts = {a.shape[0] for a in arrays.values()}
     if count is not None:
         counts.add(integer(count, "count", "a positive integer", 1))
@@ -175,29 +172,15 @@ def make_variants(system: System, *, stiffness_factor=None, damping_factor=None,
         raise InputError("variants", "one number of variants for every parameter",
                          Plain("counts " + ", ".join(str(c) for c in sorted(counts)) if counts else "none"))
     nv = counts.pop()
-    if nv < 1:
-        raise InputError("variants", "at least one variant", Plain("none"))
     ones = np.ones((nv, n, 3))
-    k = np.array(arrays.get("stiffness_factor", ones), dtype=float)
-    d = np.array(arrays.get("damping_factor", ones), dtype=float)
-    x = np.array(arrays.get("position_offset", np.zeros((nv, n, 3))), dtype=float)
+    k = readonly(arrays.get("stiffness_factor", ones))
+    d = readonly(arrays.get("damping_factor", ones))
+    x = readonly(arrays.get("position_offset", np.zeros((nv, n, 3))))
     if np.any(k <= 0):
         raise InputError("stiffness_factor", "factors > 0", Plain(f"min {k.min():.6g}"))
     if np.any(d < 0):
         raise InputError("damping_factor", "factors >= 0", Plain(f"min {d.min():.6g}"))
-    for a in (k, d, x):
-        a.flags.writeable = False
     return Variants(stiffness_factor=k, damping_factor=d, position_offset=x)
-
-
-def _float_array(value, name: str) -> np.ndarray:
-    try:
-        a = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(name, "an array of finite numbers", value) from None
-    if a.ndim == 0 or a.shape[0] == 0 or not np.all(np.isfinite(a)):
-        raise InputError(name, "an array of finite numbers, one row per variant", value)
-    return a
 
 
 def variant_system(system: System, variants: Variants, index: int) -> System:
@@ -384,19 +367,14 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     t0, t1 = settings.start, settings.start + settings.duration
     padded, _ = jump_times(excitation, t0, t1)
 
-    peaks, ok, steps, rejected = [], [], [], []
+    chunks = []
     for first in range(0, nv, chunk_size):
-        index = np.arange(first, first + chunk_size)
-        index = np.minimum(index, nv - 1)  # pad the last chunk: one compiled shape for all chunks
-        out = _solve_chunk(A[index], B[index], x0[index], sigma, signals, ts, t0, t1, padded,
-                           settings.rtol, settings.atol, solver=settings.solver,
-                           max_steps=settings.max_steps)
-        keep = slice(0, min(chunk_size, nv - first))
-        peaks.append(np.asarray(out[0])[keep])
-        ok.append(np.asarray(out[1])[keep])
-        steps.append(np.asarray(out[2])[keep])
-        rejected.append(np.asarray(out[3])[keep])
-    peaks, ok = np.concatenate(peaks), np.concatenate(ok)
+        # The last chunk is padded with copies of the last variant: one compiled shape for all chunks.
+        index = np.minimum(np.arange(first, first + chunk_size), nv - 1)
+        chunks.append(_solve_chunk(A[index], B[index], x0[index], sigma, signals, ts, t0, t1, padded,
+                                   settings.rtol, settings.atol, solver=settings.solver,
+                                   max_steps=settings.max_steps))
+    peaks, ok, steps, rejected = (np.concatenate([np.asarray(out[k]) for out in chunks])[:nv] for k in range(4))
     if not np.all(ok):
         bad = np.flatnonzero(~ok)
         raise SolverError(
@@ -411,7 +389,7 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
             for i in histories}
     return BatchResult(
         variants=variants, frequency_hz=frequency, peak_q=readonly(peaks[:, :6]),
-        peak_qdd=readonly(peaks[:, 6:]), num_steps=readonly(np.concatenate(steps), int),
-        num_rejected=readonly(np.concatenate(rejected), int), histories=kept, settings=settings,
+        peak_qdd=readonly(peaks[:, 6:]), num_steps=readonly(steps, int),
+        num_rejected=readonly(rejected, int), histories=kept, settings=settings,
         chunk_size=chunk_size, wall_time_s=time.perf_counter() - start,
     )

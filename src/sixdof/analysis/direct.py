@@ -86,8 +86,8 @@ def _solver(value, field: str) -> str:
 
 
 def _tolerance(value, field: str) -> float:
-    tolerance = number(value, field, "a tolerance in (0, 1)")
-    if not 0 < tolerance < 1:
+    tolerance = number(value, field, "a tolerance in (0, 1)", low=0.0, strict=True)
+    if tolerance >= 1:
         raise InputError(field, "a tolerance in (0, 1)", value)
     return tolerance
 
@@ -121,9 +121,9 @@ class SimulationSettings(Frozen):
     duration: float = label(check=number_check("a positive, finite duration in s", low=0.0, strict=True))
     sample_rate_hz: float = label(check=number_check("a positive, finite sample rate in Hz", low=0.0, strict=True))
     start: float = label(check=number_check("a finite time in s"), default=0.0)
-    solver: str = label(check=lambda value, field: _solver(value, field), default="Tsit5")
-    rtol: float = label(check=lambda value, field: _tolerance(value, field), default=1e-9)
-    atol: float = label(check=lambda value, field: _tolerance(value, field), default=1e-9)
+    solver: str = label(check=_solver, default="Tsit5")
+    rtol: float = label(check=_tolerance, default=1e-9)
+    atol: float = label(check=_tolerance, default=1e-9)
     max_steps: int = label(check=integer_check("a positive integer", 1), default=1_000_000)
 
     def __check__(self) -> None:
@@ -223,15 +223,14 @@ def state_scale(system: System, excitation: Excitation | None, settings: Simulat
     z = np.abs(phi) @ (eta + eta_dot / omega)
     w = np.abs(phi) @ (omega * eta + eta_dot) + extra_w
     root_m = np.sqrt(np.diag(M))
-    scale = np.concatenate([z, w])
-    energy = scale * np.concatenate([root_m, root_m])
-    if not np.any(energy > 0):
+    if not np.any(np.concatenate([z, w]) > 0):
         return np.ones(14)
-    floor = SCALE_FLOOR * np.max(energy[:6]) if np.any(energy[:6] > 0) else 0.0
-    floor_w = SCALE_FLOOR * np.max(energy[6:]) if np.any(energy[6:] > 0) else 0.0
-    z = np.maximum(z, floor / root_m) if floor > 0 else np.where(z > 0, z, 1.0)
-    w = np.maximum(w, floor_w / root_m) if floor_w > 0 else np.where(w > 0, w, 1.0)
-    return np.concatenate([z, w, [ground_u, ground_v]])
+
+    def floored(x):
+        floor = SCALE_FLOOR * np.max(x * root_m)
+        return np.maximum(x, floor / root_m) if floor > 0 else np.where(x > 0, x, 1.0)
+
+    return np.concatenate([floored(z), floored(w), [ground_u, ground_v]])
 
 
 def _ground_peaks(ground, settings: SimulationSettings) -> tuple[float, float, float]:
@@ -245,16 +244,13 @@ def _ground_peaks(ground, settings: SimulationSettings) -> tuple[float, float, f
         return np.concatenate([[0.0], np.cumsum(0.5 * (x[1:] + x[:-1]) * np.diff(t))])
 
     if ground.quantity == "displacement":
-        u = s
-        v = np.gradient(u, t)
+        u, v = s, np.gradient(s, t)
         a = np.gradient(v, t)
     elif ground.quantity == "velocity":
-        v = s
-        u, a = integral(v), np.gradient(v, t)
+        u, v, a = integral(s), s, np.gradient(s, t)
     else:
-        a = s
-        v = integral(a)
-        u = integral(v)
+        v = integral(s)
+        u, a = integral(v), s
     return float(np.max(np.abs(u))), float(np.max(np.abs(v))), float(np.max(np.abs(a)))
 
 
@@ -285,12 +281,8 @@ def _rates(t, x, p, code: int):
     _, v_g, a_g = _ground_kinematics(code, p["ground_signal"], p["ground_scale"], t, g)
     relative_velocity = w - p["r"] * v_g
     w_dot = p["Minv"] @ (Q - p["C"] @ relative_velocity - p["K"] @ z)
-    if code == 3:
-        g_dot = jnp.stack([v_g, a_g])
-    elif code == 2:
-        g_dot = jnp.stack([v_g, jnp.zeros(())])
-    else:
-        g_dot = jnp.zeros(2)
+    # u_g, v_g are integrated only for grounds given as a velocity (u_g) or an acceleration (both).
+    g_dot = jnp.stack([v_g if code >= 2 else 0.0, a_g if code == 3 else 0.0])
     return jnp.concatenate([relative_velocity, w_dot, g_dot]), Q
 
 
@@ -435,30 +427,21 @@ def simulate(system: System, excitation: Excitation | None, settings: Simulation
             f"max_steps={settings.max_steps}) failed: {diffrax.RESULTS[result]}"
         )
     qdd, Q, kin = np.asarray(qdd), np.asarray(Q), np.asarray(kin)
-    if not (np.all(np.isfinite(xs)) and np.all(np.isfinite(qdd))):
-        raise SolverError(
-            f"direct solve with {settings.solver} produced non-finite values (first at "
-            f"t = {ts[np.flatnonzero(~np.all(np.isfinite(xs), axis=1))[0]]:.6g} s)"
-            if not np.all(np.isfinite(xs)) else
-            f"direct solve with {settings.solver} produced non-finite accelerations"
-        )
-    z, w = xs[:, :6], xs[:, 6:12]
-    u_g, v_g, a_g = kin[:, 0], kin[:, 1], kin[:, 2]
+    bad = np.flatnonzero(~np.all(np.isfinite(xs), axis=1))
+    if bad.size or not np.all(np.isfinite(qdd)):
+        what = f"values (first at t = {ts[bad[0]]:.6g} s)" if bad.size else "accelerations"
+        raise SolverError(f"direct solve with {settings.solver} produced non-finite {what}")
+    motion = ("displacement", "velocity", "acceleration")
+    ground_motion = {} if ground is None else {f"ground_{m}": np.outer(kin[:, i], r[:3]) for i, m in enumerate(motion)}
     n_steps, n_accepted, n_rejected = (int(s) for s in stats)
-    direction = r[:3]
     return TimeHistory(
-        t=ts, q=z + np.outer(u_g, r), qd=w, qdd=qdd,
-        ground_displacement=None if ground is None else np.outer(u_g, direction),
-        ground_velocity=None if ground is None else np.outer(v_g, direction),
-        ground_acceleration=None if ground is None else np.outer(a_g, direction),
-        Q=Q,
+        t=ts, q=xs[:, :6] + np.outer(kin[:, 0], r), qd=xs[:, 6:12], qdd=qdd, Q=Q, **ground_motion,
         stats=SolverStats(
             solver=settings.solver, rtol=settings.rtol, atol=settings.atol, scale=readonly(sigma),
             num_steps=n_steps, num_accepted=n_accepted, num_rejected=n_rejected,
             max_steps=settings.max_steps, num_jumps=n_jumps, wall_time_s=wall,
         ),
     )
-
 
 
 __all__ = ["SOLVERS", "SCALE_FLOOR", "SimulationSettings", "SolverStats",

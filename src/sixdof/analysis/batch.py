@@ -316,8 +316,8 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     SolverError
         When the solve of any variant fails (its index is named) or gives non-finite values.
     """
-    from sixdof.analysis.direct import SimulationSettings, jump_times, simulate, state_scale
-    from sixdof.excitation import Excitation, ModeRelease
+    from sixdof.analysis.direct import jump_times, loads_of, simulate, state_scale
+    from sixdof.excitation import ModeRelease
 
     if not isinstance(variants, Variants):
         raise InputError("variants", "a Variants (see make_variants)", variants)
@@ -331,13 +331,9 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     start = time.perf_counter()
     K, C, lam = variant_matrices(system, variants)
     frequency = readonly(np.sqrt(lam) / (2.0 * np.pi))
-    simulate_it = excitation is not None and settings is not None
-    if not simulate_it:
+    if excitation is None or settings is None:
         return BatchResult(variants=variants, frequency_hz=frequency, wall_time_s=time.perf_counter() - start)
-    if not isinstance(excitation, Excitation):
-        raise InputError("excitation", "an Excitation", excitation)
-    if not isinstance(settings, SimulationSettings):
-        raise InputError("settings", "a SimulationSettings", settings)
+    vectors, signals = loads_of(excitation, settings)
     if excitation.ground is not None:
         raise InputError("excitation.ground", "no ground motion in a batch (not supported yet; "
                          "use sixdof.analysis.direct.simulate per variant)", Plain("a ground motion"))
@@ -351,15 +347,12 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
 
     M = np.asarray(system.M, dtype=float)
     Minv = np.linalg.inv(M)
-    components = excitation.components()
-    vectors = np.array([v for v, _ in components]).reshape(len(components), 6)
-    signals = tuple(s for _, s in components)
     nv = variants.count
     A = np.zeros((nv, 12, 12))
     A[:, :6, 6:] = np.eye(6)
     A[:, 6:, :6] = -Minv[None] @ K
     A[:, 6:, 6:] = -Minv[None] @ C
-    B = np.zeros((nv, 12, len(components)))
+    B = np.zeros((nv, 12, len(signals)))
     B[:, 6:, :] = (Minv @ vectors.T)[None]
     q0, qd0 = excitation.initial_state(system)
     x0 = np.broadcast_to(np.concatenate([q0, qd0]), (nv, 12))
@@ -377,11 +370,9 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     peaks, ok, steps, rejected = (np.concatenate([np.asarray(out[k]) for out in chunks])[:nv] for k in range(4))
     if not np.all(ok):
         bad = np.flatnonzero(~ok)
-        raise SolverError(
-            f"batch solve with {settings.solver} (rtol={settings.rtol:g}, atol={settings.atol:g}, "
-            f"max_steps={settings.max_steps}) failed for {bad.size} of {nv} variants "
-            f"(first: index {int(bad[0])})"
-        )
+        raise SolverError(f"batch solve with {settings.solver} (rtol={settings.rtol:g}, atol={settings.atol:g}, "
+                          f"max_steps={settings.max_steps}) failed for {bad.size} of {nv} variants "
+                          f"(first: index {int(bad[0])})")
     if not np.all(np.isfinite(peaks)):
         bad = np.flatnonzero(~np.all(np.isfinite(peaks), axis=1))
         raise SolverError(f"batch solve produced non-finite values for variant {int(bad[0])}")

@@ -18,19 +18,16 @@ deltas at every knot). Without ground motion ``z = q`` and it is the plain first
 All damping (mount dashpots, Rayleigh, modal) acts on the motion relative to the ground, since all of
 it stands for dissipation in the mounts.
 
-Step control sees every discontinuity: all signal breakpoints inside the run are passed to
-:class:`diffrax.ClipStepSizeController` as ``jump_ts``, so the solver steps to just before and just
-after each of them. Accuracy per DOF: the state is divided by a per-component scale (see
-:func:`state_scale`) before diffrax sees it, so ``rtol`` and ``atol`` hold *relative to each
-component's own expected size*, translations (~1e-4 m) and rotations (~1e-7 rad) alike.
-
-Compiled code is cached per problem *structure* (solver, signal kinds, number of loads, number of
-samples, number of breakpoints rounded up to a power of two); matrices, signal parameters, times and
-tolerances are arguments, so new values reuse the compiled solver.
+The solver steps onto every signal breakpoint inside the run (``jump_ts``). The state is divided by
+a per-component scale (:func:`state_scale`), so that ``rtol`` and ``atol`` hold relative to each
+component's own expected size, translations (~1e-4 m) and rotations (~1e-7 rad) alike. Compiled code
+is cached per problem *structure* (solver, signal kinds, numbers of loads, samples and breakpoints);
+matrices, signal parameters, times and tolerances are arguments, so new values reuse it.
 """
 
 from __future__ import annotations
 
+import importlib.util
 import math
 import time
 from dataclasses import dataclass
@@ -290,10 +287,9 @@ def solve_ode(field, x0, t0, t1, saveat, jump_ts, rtol, atol, *, solver: str, ma
               progress: str = "none"):
     """The one diffrax call of sixdof, shared by :func:`simulate` and the batch engine (traceable).
 
-    Explicit Runge-Kutta ``solver`` (a key of :data:`SOLVERS`) with PID step control at ``rtol`` and
-    ``atol`` on the (scaled) state, stepping exactly onto every time of ``jump_ts`` (the excitation's
-    breakpoints, :func:`jump_times`), ``max_steps`` at most. ``throw=False``: the caller turns a
-    failed result code into a :class:`~sixdof.errors.SolverError` naming what failed.
+    ``solver`` (a key of :data:`SOLVERS`) with PID step control at ``rtol`` and ``atol`` on the (scaled)
+    state, stepping onto every time of ``jump_ts`` (:func:`jump_times`), ``max_steps`` at most; with
+    ``throw=False``, the caller turns a failed result code into a :class:`~sixdof.errors.SolverError`.
     """
     controller = diffrax.ClipStepSizeController(diffrax.PIDController(rtol=rtol, atol=atol), jump_ts=jump_ts)
     return diffrax.diffeqsolve(
@@ -303,17 +299,19 @@ def solve_ode(field, x0, t0, t1, saveat, jump_ts, rtol, atol, *, solver: str, ma
     )
 
 
-def jump_times(excitation: Excitation, t0: float, t1: float) -> tuple[np.ndarray, int]:
-    """Breakpoints of the excitation inside ``(t0, t1)`` for the step control, padded beyond ``t1``
-    with distinct, never reached times to a power-of-two length >= 8 (few compiled shapes).
+def loads_of(excitation: Excitation, settings: SimulationSettings) -> tuple[np.ndarray, tuple]:
+    """The loads of a solve, its arguments checked: generalized forces (n_loads, 6) [N, N m] and signals."""
+    if not isinstance(excitation, Excitation):
+        raise InputError("excitation", "an Excitation", excitation)
+    if not isinstance(settings, SimulationSettings):
+        raise InputError("settings", "a SimulationSettings", settings)
+    components = excitation.components()
+    return np.array([v for v, _ in components]).reshape(len(components), 6), tuple(s for _, s in components)
 
-    Returns
-    -------
-    padded : ndarray
-        [s].
-    count : int
-        Number of real breakpoints.
-    """
+
+def jump_times(excitation: Excitation, t0: float, t1: float) -> tuple[np.ndarray, int]:
+    """The excitation's breakpoints [s] inside ``(t0, t1)`` for the step control, padded beyond ``t1`` with
+    distinct, never reached times to a power-of-two length >= 8 (few compiled shapes), and their count."""
     jumps = np.array(sorted(b for b in excitation.breakpoints if t0 < b < t1), dtype=float)
     size = max(8, 1 << max(0, jumps.size - 1).bit_length())
     return np.concatenate([jumps, t1 + 1.0 + np.arange(size - jumps.size)]), int(jumps.size)
@@ -344,11 +342,7 @@ def _progress_key(progress: Any) -> str:
     if progress is None or progress is False:
         return "none"
     if progress is True:
-        try:
-            import tqdm  # noqa: F401
-        except ImportError:
-            return "text"
-        return "tqdm"
+        return "tqdm" if importlib.util.find_spec("tqdm") else "text"
     if progress in ("text", "tqdm", "none"):
         return progress
     raise InputError("progress", "None, True, 'text' or 'tqdm'", progress)
@@ -382,15 +376,11 @@ def simulate(system: System, excitation: Excitation | None, settings: Simulation
     """
     if excitation is None:
         excitation = Excitation()
-    if not isinstance(excitation, Excitation):
-        raise InputError("excitation", "an Excitation", excitation)
-    if not isinstance(settings, SimulationSettings):
-        raise InputError("settings", "a SimulationSettings", settings)
+    vectors, signals = loads_of(excitation, settings)
     progress = _progress_key(progress)
     ts = settings.times
     t0, t1 = settings.start, settings.start + settings.duration
     M = np.asarray(system.M, dtype=float)
-    components = excitation.components()
     ground = excitation.ground
     code = _GROUND_CODES[None if ground is None else ground.quantity]
     r = np.zeros(6) if ground is None else ground.rigid_vector
@@ -408,8 +398,8 @@ def simulate(system: System, excitation: Excitation | None, settings: Simulation
         "C": np.asarray(system.C, dtype=float),
         "K": np.asarray(system.K, dtype=float),
         "r": r,
-        "vectors": np.array([v for v, _ in components]).reshape(len(components), 6),
-        "signals": tuple(s for _, s in components),
+        "vectors": vectors,
+        "signals": signals,
         "ground_signal": None if ground is None else ground.signal,
         "ground_scale": 0.0 if ground is None else ground.scale,
         "sigma": sigma,
@@ -422,10 +412,8 @@ def simulate(system: System, excitation: Excitation | None, settings: Simulation
     xs = np.asarray(jax.block_until_ready(xs))
     wall = time.perf_counter() - start
     if not bool(result == diffrax.RESULTS.successful):
-        raise SolverError(
-            f"direct solve with {settings.solver} (rtol={settings.rtol:g}, atol={settings.atol:g}, "
-            f"max_steps={settings.max_steps}) failed: {diffrax.RESULTS[result]}"
-        )
+        raise SolverError(f"direct solve with {settings.solver} (rtol={settings.rtol:g}, atol={settings.atol:g}, "
+                          f"max_steps={settings.max_steps}) failed: {diffrax.RESULTS[result]}")
     qdd, Q, kin = np.asarray(qdd), np.asarray(Q), np.asarray(kin)
     bad = np.flatnonzero(~np.all(np.isfinite(xs), axis=1))
     if bad.size or not np.all(np.isfinite(qdd)):

@@ -28,16 +28,8 @@ def as_column(array: np.ndarray) -> np.ndarray:
     return np.asarray(array)[:, None]
 
 
-__all__ = [
-    "DecayEstimate",
-    "EstimatedFRF",
-        "decay_estimate",
-    "effective_averages",
-    "estimate_frf",
-    "h1_random_error",
-    "held_model_frf",
-    "peak_frequency",
-]
+__all__ = ["DecayEstimate", "EstimatedFRF", "decay_estimate", "effective_averages", "estimate_frf", "h1_random_error",
+           "held_model_frf", "peak_frequency"]
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -155,15 +147,11 @@ def estimate_frf(x, y, sample_rate_hz: float, nperseg: int, window: str = "hann"
     with np.errstate(divide="ignore", invalid="ignore"):
         H1 = pxy / pxx[:, None]
         coherence = np.abs(pxy) ** 2 / (pxx[:, None] * pyy)
-    coherence = np.nan_to_num(coherence, nan=0.0)
-    H1 = np.nan_to_num(H1, nan=0.0)
     segments = 1 + (x.shape[0] - nperseg) // (nperseg - noverlap)
     n_eff = effective_averages(scipy.signal.get_window(window, nperseg), nperseg, noverlap, segments)
-    for a in (f, H1, coherence):
-        a.flags.writeable = False
-    return EstimatedFRF(f_hz=f, H1=H1, coherence=np.clip(coherence, 0.0, 1.0), averages=segments,
-                        effective_averages=n_eff, nperseg=nperseg, sample_rate_hz=float(sample_rate_hz),
-                        unit=unit)
+    return EstimatedFRF(f_hz=readonly(f), H1=readonly(np.nan_to_num(H1, nan=0.0), None),
+                        coherence=readonly(np.clip(np.nan_to_num(coherence, nan=0.0), 0.0, 1.0)), averages=segments,
+                        effective_averages=n_eff, nperseg=nperseg, sample_rate_hz=float(sample_rate_hz), unit=unit)
 
 
 def held_model_frf(H: np.ndarray, f_hz: np.ndarray, sample_rate_hz: float, model, aliases: int = 2):
@@ -294,13 +282,6 @@ def decay_estimate(t, x, unit: str = "1") -> DecayEstimate:
     sigma = -np.polyfit(times, np.log(np.abs(values)), 1)[0]
     omega_d = np.pi / half_period
     zeta = sigma / math.hypot(sigma, omega_d)
-    return DecayEstimate(
-        f_damped_hz=float(omega_d / (2 * np.pi)),
-        zeta=float(zeta),
-        log_decrement=float(2 * np.pi * sigma / omega_d),
-        extrema_t=readonly(times),
-        extrema_value=readonly(values),
-        unit=unit,
-    )
-
-
+    return DecayEstimate(f_damped_hz=float(omega_d / (2 * np.pi)), zeta=float(zeta),
+                         log_decrement=float(2 * np.pi * sigma / omega_d), extrema_t=readonly(times),
+                         extrema_value=readonly(values), unit=unit)

@@ -83,13 +83,13 @@ def test_test_system_damping_is_non_proportional(beam):
 
 # Runs of one structure (signal kinds, number of samples) share one compiled solver: the tests
 # below pick their durations so that n = 1501 samples wherever they can.
-HARMONIC = SimulationSettings(duration=3.0, sample_rate_hz=500.0)
+THREE_SECONDS = SimulationSettings(duration=3.0, sample_rate_hz=500.0)
 
 
 @pytest.fixture(scope="module")
 def harmonic_run(beam):
     excitation = load(Harmonic(f_hz=5.0, phase_deg=30.0))
-    return excitation, simulate(beam, excitation, HARMONIC)
+    return excitation, simulate(beam, excitation, THREE_SECONDS)
 
 
 def test_harmonic_load_matches_matrix_exponential(beam, harmonic_run):
@@ -108,8 +108,7 @@ def test_harmonic_load_matches_matrix_exponential(beam, harmonic_run):
 
 def test_full_inertia_and_inclined_mounts_match_matrix_exponential():
     machine = skewed_machine()
-    point, force, moment = np.array([0.1, -0.2, 0.3]), np.array([200.0, -150.0, 400.0]), np.array(
-        [10.0, 0.0, -20.0])
+    point, force, moment = np.array([0.1, -0.2, 0.3]), np.array([200.0, -150.0, 400.0]), np.array([10.0, 0.0, -20.0])
     vector = np.concatenate([force, np.cross(point, force) + moment])
     f = 12.0
     excitation = Excitation(loads=(Load("l", point, force=force, moment=moment,
@@ -147,8 +146,7 @@ def test_tabulated_load_matches_first_order_hold(beam):
     rng = np.random.default_rng(7)
     knots = np.concatenate([[0.2], np.sort(rng.uniform(0.25, 2.2, 25)), [2.3]])
     values = np.concatenate([[0.0], rng.uniform(-1.0, 1.0, 25), [0.0]])
-    run = simulate(beam, load(Table(t=knots, values=values)),
-                   SimulationSettings(duration=3.0, sample_rate_hz=500.0))
+    run = simulate(beam, load(Table(t=knots, values=values)), THREE_SECONDS)
     assert run.stats.num_jumps == knots.size
     q, qd = exact_response(beam.M, beam.C, beam.K, Q0, table_pieces(knots, values, 3.0), run.t)
     assert_each_dof((run.q, q), (run.qd, qd))
@@ -230,7 +228,7 @@ def test_harmonic_ground_acceleration_matches_matrix_exponential(beam):
     a0, f = 0.5, 1.5  # m/s^2, Hz, along the beam
     w = 2 * np.pi * f
     ground = GroundMotion("acceleration", [0.0, 1.0, 0.0], Harmonic(f_hz=f), scale=a0)
-    run = simulate(beam, Excitation(ground=ground), HARMONIC)
+    run = simulate(beam, Excitation(ground=ground), THREE_SECONDS)
     r = np.array([0.0, 1.0, 0.0, 0.0, 0.0, 0.0])
     # relative motion: M z'' + C z' + K z = -M r a_g(t)
     pieces = [(0.0, 3.0, oscillator(w, 0.0, 0.0))]
@@ -249,7 +247,7 @@ def test_ground_velocity_is_the_same_motion_as_its_acceleration(beam):
     v0, f = 0.05, 2.0
     w = 2 * np.pi * f
     ground = GroundMotion("velocity", [0.0, 1.0, 0.0], Harmonic(f_hz=f), scale=v0)
-    run = simulate(beam, Excitation(ground=ground), HARMONIC)
+    run = simulate(beam, Excitation(ground=ground), THREE_SECONDS)
     r = np.array([0.0, 1.0, 0.0, 0.0, 0.0, 0.0])
     # a_g = v0 w cos(w t), and the velocity jumps from 0 to 0 at t = 0: no impulse
     pieces = [(0.0, 3.0, oscillator(w, np.pi / 2, 0.0))]
@@ -267,8 +265,7 @@ def test_tabulated_ground_displacement_matches_first_order_hold(beam):
     scale = 2e-3
     direction = np.array([0.0, 0.6, 0.8])
     ground = GroundMotion("displacement", direction, Table(t=knots, values=values), scale=scale)
-    run = simulate(beam, Excitation(ground=ground),
-                   SimulationSettings(duration=3.0, sample_rate_hz=500.0))
+    run = simulate(beam, Excitation(ground=ground), THREE_SECONDS)
     r = np.concatenate([direction, np.zeros(3)])
     forcing = np.stack([beam.K @ r, beam.C @ r], axis=1) * scale  # (6, 2) times [s, s']
     q, qd = exact_response(beam.M, beam.C, beam.K, forcing,
@@ -302,7 +299,7 @@ def test_stiff_mounts_carry_the_body_with_the_ground():
 
 
 def test_new_parameters_reuse_the_compiled_solver(beam):
-    simulate(beam, load(Harmonic(f_hz=2.0)), HARMONIC)
+    simulate(beam, load(Harmonic(f_hz=2.0)), THREE_SECONDS)
     compiled = []  # functions XLA compiles, from JAX's public monitoring events
     watching = [True]
     jax.monitoring.register_event_duration_secs_listener(
@@ -327,7 +324,7 @@ def test_no_excitation_stays_at_rest(beam):
 
 def test_state_scale_balances_translations_and_rotations(beam, harmonic_run):
     excitation, run = harmonic_run
-    ratio = np.abs(run.q).max(axis=0) / state_scale(beam, excitation, HARMONIC)[:6]
+    ratio = np.abs(run.q).max(axis=0) / state_scale(beam, excitation, THREE_SECONDS)[:6]
     # peaks sit within a decade or so of their scale, although they span 4 decades in size
     assert np.ptp(np.log10(np.abs(run.q).max(axis=0))) > 3
     assert np.all((ratio > 0.05) & (ratio < 20)), ratio

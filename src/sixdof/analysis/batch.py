@@ -225,8 +225,7 @@ def variant_matrices(system: System, variants: Variants) -> tuple[np.ndarray, np
     """Stiffness and damping matrices (nv, 6, 6) and undamped eigenvalues omega^2 (nv, 6) [rad^2/s^2]
     of every variant, in one vectorized call of the model's assembly."""
     zeta = np.broadcast_to(np.asarray(system.modal_damping or 0.0, dtype=float), (6,))
-    alpha = system.rayleigh.alpha if system.rayleigh is not None else 0.0
-    beta = system.rayleigh.beta if system.rayleigh is not None else 0.0
+    alpha, beta = (system.rayleigh.alpha, system.rayleigh.beta) if system.rayleigh is not None else (0.0, 0.0)
     K, C, lam = _assemble(
         np.asarray(system.M), system.positions[None] + variants.position_offset,
         system.stiffnesses[None] * variants.stiffness_factor,
@@ -254,9 +253,7 @@ def _solve_chunk(A, B, x0, sigma, signals, ts, t0, t1, jump_ts, rtol, atol, *, s
     from sixdof.analysis.direct import solve_ode
 
     def source(t):
-        if not signals:
-            return jnp.zeros(0)
-        return jnp.stack([s(t) for s in signals])
+        return jnp.stack([s(t) for s in signals]) if signals else jnp.zeros(0)
 
     def one(A, B, x0):
         # Scaled state xs = x / sigma: A and B are pre-scaled, so the field is one 12x12 product.
@@ -378,9 +375,7 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
         raise SolverError(f"batch solve produced non-finite values for variant {int(bad[0])}")
     kept = {int(i): simulate(variant_system(system, variants, int(i)), excitation, settings)
             for i in histories}
-    return BatchResult(
-        variants=variants, frequency_hz=frequency, peak_q=readonly(peaks[:, :6]),
-        peak_qdd=readonly(peaks[:, 6:]), num_steps=readonly(steps, int),
-        num_rejected=readonly(rejected, int), histories=kept, settings=settings,
-        chunk_size=chunk_size, wall_time_s=time.perf_counter() - start,
-    )
+    return BatchResult(variants=variants, frequency_hz=frequency, peak_q=readonly(peaks[:, :6]),
+                       peak_qdd=readonly(peaks[:, 6:]), num_steps=readonly(steps, int),
+                       num_rejected=readonly(rejected, int), histories=kept, settings=settings,
+                       chunk_size=chunk_size, wall_time_s=time.perf_counter() - start)

@@ -129,8 +129,7 @@ def estimate_frf(x, y, sample_rate_hz: float, nperseg: int, window: str = "hann"
     -------
     EstimatedFRF
     """
-    x = np.asarray(x, dtype=float)
-    y = np.asarray(y, dtype=float)
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
     if y.ndim == 1:
         y = y[:, None]
     if x.ndim != 1 or y.ndim != 2 or y.shape[0] != x.shape[0]:
@@ -187,8 +186,7 @@ def held_model_frf(H: np.ndarray, f_hz: np.ndarray, sample_rate_hz: float, model
 def peak_frequency(f_hz: np.ndarray, magnitude: np.ndarray, low: float, high: float) -> float:
     """Frequency [Hz] of the largest ``magnitude`` in ``[low, high]``, refined by fitting a parabola
     to the log magnitude of the bin and its two neighbours. NaN when the band holds no bin."""
-    f_hz = np.asarray(f_hz, dtype=float)
-    magnitude = np.asarray(magnitude, dtype=float)
+    f_hz, magnitude = np.asarray(f_hz, dtype=float), np.asarray(magnitude, dtype=float)
     inside = np.flatnonzero((f_hz >= low) & (f_hz <= high) & (magnitude > 0))
     if inside.size == 0:
         return float("nan")
@@ -259,8 +257,7 @@ def decay_estimate(t, x, unit: str = "1") -> DecayEstimate:
     InputError
         If the record holds fewer than 4 extrema (less than two half cycles).
     """
-    t = np.asarray(t, dtype=float)
-    x = np.asarray(x, dtype=float)
+    t, x = np.asarray(t, dtype=float), np.asarray(x, dtype=float)
     dt = t[1] - t[0]
     interior = np.arange(1, x.size - 1)
     is_max = (x[interior] > x[interior - 1]) & (x[interior] >= x[interior + 1])

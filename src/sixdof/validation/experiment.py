@@ -67,8 +67,7 @@ class ValidationSettings:
     segment_samples : int
         Samples per Welch segment, the same in every run. Default 2048.
     oversampling : float
-        Sample rate of each run at least this many times the upper end of its mode's band.
-        Default 4.
+        Sample rate of each run at least this many times the top of its mode's band. Default 4.
     max_segment_s : float
         Longest Welch segment [s] (undamped or very lightly damped modes). Default 120.
     averages : int
@@ -81,9 +80,8 @@ class ValidationSettings:
     seed : int
         Seed of the random force. Default 0.
     rtol, atol : float
-        Solver tolerances of the random runs (the free decays use the solver's defaults). Default
-        1e-5 each, relative to each DOF's scale: far below the estimates' statistical errors
-        (~1e-2), and about half the steps of 1e-7.
+        Solver tolerances of the random runs (free decays: the solver's defaults). Default 1e-5 each, relative
+        to each DOF's scale: far below the estimates' statistical errors (~1e-2), half the steps of 1e-7.
     """
 
     load_point: tuple | None = None
@@ -332,9 +330,7 @@ def validate(system: System, settings: ValidationSettings | None = None) -> Vali
         decays.append(FreeDecay(mode=r + 1, history=run, eta=readonly(eta),
                                 estimate=decay_estimate(run.t, eta, unit="kg^1/2 m")))
 
-    # 2. Random force, one run per elastic mode: white Gaussian samples at a rate fitted to the
-    # mode, linearly interpolated. Every run has the same sample count (one compiled solver); its
-    # segment resolves the mode's half-power bandwidth.
+    # 2. Random force, one run per elastic mode (see the module docstring).
     lp = point(settings.load_point if settings.load_point is not None else system.positions[0], "load_point")
     ld, _ = parse_direction(settings.load_direction, "load_direction", rotations=False)
     Q = unit_load(lp, ld, False)

@@ -330,18 +330,15 @@ def test_state_scale_balances_translations_and_rotations(beam, harmonic_run):
     assert np.all((ratio > 0.05) & (ratio < 20)), ratio
 
 
-@pytest.mark.parametrize(
-    "kwargs, match",
-    [
-        ({"duration": 0.0, "sample_rate_hz": 10.0}, "duration: expected a positive"),
-        ({"duration": 1.0, "sample_rate_hz": -1.0}, "sample_rate_hz: expected a positive"),
-        ({"duration": 1.0, "sample_rate_hz": 10.0, "solver": "Euler"}, "solver: expected one of Tsit5"),
-        ({"duration": 1.0, "sample_rate_hz": 10.0, "rtol": 0.0}, r"rtol: expected a tolerance in \(0, 1\)"),
-        ({"duration": 1.0, "sample_rate_hz": 10.0, "atol": "1e-9"}, "atol: expected a tolerance"),
-        ({"duration": 1.0, "sample_rate_hz": 10.0, "max_steps": 1.5}, "max_steps: expected a positive integer"),
-        ({"duration": 1.0, "sample_rate_hz": 10.0, "start": float("nan")}, "start: expected a finite time"),
-    ],
-)
+@pytest.mark.parametrize("kwargs, match", [
+    ({"duration": 0.0, "sample_rate_hz": 10.0}, "duration: expected a positive"),
+    ({"duration": 1.0, "sample_rate_hz": -1.0}, "sample_rate_hz: expected a positive"),
+    ({"duration": 1.0, "sample_rate_hz": 10.0, "solver": "Euler"}, "solver: expected one of Tsit5"),
+    ({"duration": 1.0, "sample_rate_hz": 10.0, "rtol": 0.0}, r"rtol: expected a tolerance in \(0, 1\)"),
+    ({"duration": 1.0, "sample_rate_hz": 10.0, "atol": "1e-9"}, "atol: expected a tolerance"),
+    ({"duration": 1.0, "sample_rate_hz": 10.0, "max_steps": 1.5}, "max_steps: expected a positive integer"),
+    ({"duration": 1.0, "sample_rate_hz": 10.0, "start": float("nan")}, "start: expected a finite time"),
+])
 def test_bad_settings_are_named(kwargs, match):
     with pytest.raises(InputError, match=match):
         SimulationSettings(**kwargs)

@@ -46,10 +46,6 @@ from sixdof.validation.estimation import (
 if TYPE_CHECKING:
     from sixdof.model.system import System
 
-# ----------------------------------------------------------------------------------------------------
-# The validation run.
-# ----------------------------------------------------------------------------------------------------
-
 
 @dataclass(frozen=True)
 class ValidationSettings:

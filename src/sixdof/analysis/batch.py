@@ -8,16 +8,14 @@ together with ``jax.vmap`` of one diffrax solve, in chunks of variants that boun
 what is asked for: the peak of ``|q|`` and ``|q''|`` per DOF at the output samples, and the full
 :class:`~sixdof.results.TimeHistory` of a few chosen variants.
 
-The solve uses the same settings as :func:`sixdof.analysis.direct.simulate`: solver, ``rtol``/``atol`` on the
-state divided by the per-component scale of :func:`sixdof.analysis.direct.state_scale` (the *nominal*
-system's scale for every variant: it only weights the error control), ``jump_ts`` at every
-breakpoint of the loads, ``max_steps``, output times. It is not ``direct._solve`` itself: that one
-returns every sample of the 14-value state, the loads and the ground motion per variant (about
-4.6 MB per variant for 20 s at 1 kHz) and evaluates eq. (1) as three 6x6 products per stage; here
-the first-order matrix ``A`` (12x12) of each variant is built once and only ``q`` and ``q''`` are
-kept per sample, which halves the time per variant and the memory per chunk. Ground motion and
-mode-release initial states (which depend on each variant's modes) are not batched yet: they raise
-:class:`~sixdof.errors.InputError`; run those variants through :func:`sixdof.analysis.direct.simulate`.
+The solve is :func:`sixdof.analysis.direct.solve_ode` with the settings of
+:func:`~sixdof.analysis.direct.simulate` (tolerances on the state scaled by the *nominal* system's
+:func:`~sixdof.analysis.direct.state_scale`: it only weights the error control). Unlike ``simulate``,
+which keeps the 14-value state, loads and ground motion at every sample (4.6 MB per variant for 20 s
+at 1 kHz), it builds each variant's first-order matrix ``A`` (12x12) once and keeps only ``q`` and
+``q''``: half the time per variant and the memory per chunk. Ground motion and mode-release initial
+states (which depend on each variant's modes) are not batched yet: they raise
+:class:`~sixdof.errors.InputError`; run those variants through ``simulate``.
 """
 
 from __future__ import annotations
@@ -43,7 +41,6 @@ from sixdof.results import label, part, quantity
 CHUNK_BYTES = 256 * 2**20
 #: Largest chunk of variants integrated together (beyond it vectorizing gains nothing on CPU).
 MAX_CHUNK = 256
-
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -148,26 +145,26 @@ def make_variants(system: System, *, stiffness_factor=None, damping_factor=None,
         values.
     """
     n = len(system.mounts)
+    factor_shapes = f"shape (nv,), (nv, {n}) or (nv, {n}, 3)"
     arrays = {}
-    for name, value in (("stiffness_factor", stiffness_factor), ("damping_factor", damping_factor)):
+    for name, value, shapes in (("stiffness_factor", stiffness_factor, factor_shapes),
+                                ("damping_factor", damping_factor, factor_shapes),
+                                ("position_offset", position_offset, f"shape (nv, 3) or (nv, {n}, 3) in m")):
         if value is None:
             continue
-        a = _float_array(value, name)
-        if a.ndim == 1:
-            a = np.broadcast_to(a[:, None, None], (a.shape[0], n, 3))
-        elif a.ndim == 2 and a.shape[1] == n:
-            a = np.broadcast_to(a[:, :, None], (a.shape[0], n, 3))
-        elif not (a.ndim == 3 and a.shape[1:] == (n, 3)):
-            raise InputError(name, f"shape (nv,), (nv, {n}) or (nv, {n}, 3)", Plain(f"shape {a.shape}"))
-        arrays[name] = a
-    if position_offset is not None:
-        a = _float_array(position_offset, "position_offset")
-        if a.ndim == 2 and a.shape[1] == 3:
-            a = np.broadcast_to(a[:, None, :], (a.shape[0], n, 3))
-        elif not (a.ndim == 3 and a.shape[1:] == (n, 3)):
-            raise InputError("position_offset", f"shape (nv, 3) or (nv, {n}, 3) in m",
-                             Plain(f"shape {a.shape}"))
-        arrays["position_offset"] = a
+        try:
+            a = np.array(value, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(name, "an array of finite numbers", value) from None
+        if a.ndim == 0 or a.shape[0] == 0 or not np.all(np.isfinite(a)):
+            raise InputError(name, "an array of finite numbers, one row per variant", value)
+        if name == "position_offset" and a.shape[1:] == (3,):
+            a = a[:, None, :]  # every mount moves alike
+        elif name != "position_offset" and a.shape[1:] in ((), (n,)):
+            a = a.reshape(a.shape + (1,) * (3 - a.ndim))  # every axis (and mount) alike
+        elif a.shape[1:] != (n, 3):
+            raise InputError(name, shapes, Plain(f"shape {a.shape}"))
+        arrays[name] = np.broadcast_to(a, (a.shape[0], n, 3))
     counts = {a.shape[0] for a in arrays.values()}
     if count is not None:
         counts.add(integer(count, "count", "a positive integer", 1))
@@ -175,29 +172,15 @@ def make_variants(system: System, *, stiffness_factor=None, damping_factor=None,
         raise InputError("variants", "one number of variants for every parameter",
                          Plain("counts " + ", ".join(str(c) for c in sorted(counts)) if counts else "none"))
     nv = counts.pop()
-    if nv < 1:
-        raise InputError("variants", "at least one variant", Plain("none"))
     ones = np.ones((nv, n, 3))
-    k = np.array(arrays.get("stiffness_factor", ones), dtype=float)
-    d = np.array(arrays.get("damping_factor", ones), dtype=float)
-    x = np.array(arrays.get("position_offset", np.zeros((nv, n, 3))), dtype=float)
+    k = readonly(arrays.get("stiffness_factor", ones))
+    d = readonly(arrays.get("damping_factor", ones))
+    x = readonly(arrays.get("position_offset", np.zeros((nv, n, 3))))
     if np.any(k <= 0):
         raise InputError("stiffness_factor", "factors > 0", Plain(f"min {k.min():.6g}"))
     if np.any(d < 0):
         raise InputError("damping_factor", "factors >= 0", Plain(f"min {d.min():.6g}"))
-    for a in (k, d, x):
-        a.flags.writeable = False
     return Variants(stiffness_factor=k, damping_factor=d, position_offset=x)
-
-
-def _float_array(value, name: str) -> np.ndarray:
-    try:
-        a = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(name, "an array of finite numbers", value) from None
-    if a.ndim == 0 or a.shape[0] == 0 or not np.all(np.isfinite(a)):
-        raise InputError(name, "an array of finite numbers, one row per variant", value)
-    return a
 
 
 def variant_system(system: System, variants: Variants, index: int) -> System:
@@ -242,8 +225,7 @@ def variant_matrices(system: System, variants: Variants) -> tuple[np.ndarray, np
     """Stiffness and damping matrices (nv, 6, 6) and undamped eigenvalues omega^2 (nv, 6) [rad^2/s^2]
     of every variant, in one vectorized call of the model's assembly."""
     zeta = np.broadcast_to(np.asarray(system.modal_damping or 0.0, dtype=float), (6,))
-    alpha = system.rayleigh.alpha if system.rayleigh is not None else 0.0
-    beta = system.rayleigh.beta if system.rayleigh is not None else 0.0
+    alpha, beta = (system.rayleigh.alpha, system.rayleigh.beta) if system.rayleigh is not None else (0.0, 0.0)
     K, C, lam = _assemble(
         np.asarray(system.M), system.positions[None] + variants.position_offset,
         system.stiffnesses[None] * variants.stiffness_factor,
@@ -271,9 +253,7 @@ def _solve_chunk(A, B, x0, sigma, signals, ts, t0, t1, jump_ts, rtol, atol, *, s
     from sixdof.analysis.direct import solve_ode
 
     def source(t):
-        if not signals:
-            return jnp.zeros(0)
-        return jnp.stack([s(t) for s in signals])
+        return jnp.stack([s(t) for s in signals]) if signals else jnp.zeros(0)
 
     def one(A, B, x0):
         # Scaled state xs = x / sigma: A and B are pre-scaled, so the field is one 12x12 product.
@@ -333,8 +313,8 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     SolverError
         When the solve of any variant fails (its index is named) or gives non-finite values.
     """
-    from sixdof.analysis.direct import SimulationSettings, jump_times, simulate, state_scale
-    from sixdof.excitation import Excitation, ModeRelease
+    from sixdof.analysis.direct import jump_times, loads_of, simulate, state_scale
+    from sixdof.excitation import ModeRelease
 
     if not isinstance(variants, Variants):
         raise InputError("variants", "a Variants (see make_variants)", variants)
@@ -348,13 +328,9 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     start = time.perf_counter()
     K, C, lam = variant_matrices(system, variants)
     frequency = readonly(np.sqrt(lam) / (2.0 * np.pi))
-    simulate_it = excitation is not None and settings is not None
-    if not simulate_it:
+    if excitation is None or settings is None:
         return BatchResult(variants=variants, frequency_hz=frequency, wall_time_s=time.perf_counter() - start)
-    if not isinstance(excitation, Excitation):
-        raise InputError("excitation", "an Excitation", excitation)
-    if not isinstance(settings, SimulationSettings):
-        raise InputError("settings", "a SimulationSettings", settings)
+    vectors, signals = loads_of(excitation, settings)
     if excitation.ground is not None:
         raise InputError("excitation.ground", "no ground motion in a batch (not supported yet; "
                          "use sixdof.analysis.direct.simulate per variant)", Plain("a ground motion"))
@@ -368,15 +344,12 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
 
     M = np.asarray(system.M, dtype=float)
     Minv = np.linalg.inv(M)
-    components = excitation.components()
-    vectors = np.array([v for v, _ in components]).reshape(len(components), 6)
-    signals = tuple(s for _, s in components)
     nv = variants.count
     A = np.zeros((nv, 12, 12))
     A[:, :6, 6:] = np.eye(6)
     A[:, 6:, :6] = -Minv[None] @ K
     A[:, 6:, 6:] = -Minv[None] @ C
-    B = np.zeros((nv, 12, len(components)))
+    B = np.zeros((nv, 12, len(signals)))
     B[:, 6:, :] = (Minv @ vectors.T)[None]
     q0, qd0 = excitation.initial_state(system)
     x0 = np.broadcast_to(np.concatenate([q0, qd0]), (nv, 12))
@@ -384,34 +357,25 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     t0, t1 = settings.start, settings.start + settings.duration
     padded, _ = jump_times(excitation, t0, t1)
 
-    peaks, ok, steps, rejected = [], [], [], []
+    chunks = []
     for first in range(0, nv, chunk_size):
-        index = np.arange(first, first + chunk_size)
-        index = np.minimum(index, nv - 1)  # pad the last chunk: one compiled shape for all chunks
-        out = _solve_chunk(A[index], B[index], x0[index], sigma, signals, ts, t0, t1, padded,
-                           settings.rtol, settings.atol, solver=settings.solver,
-                           max_steps=settings.max_steps)
-        keep = slice(0, min(chunk_size, nv - first))
-        peaks.append(np.asarray(out[0])[keep])
-        ok.append(np.asarray(out[1])[keep])
-        steps.append(np.asarray(out[2])[keep])
-        rejected.append(np.asarray(out[3])[keep])
-    peaks, ok = np.concatenate(peaks), np.concatenate(ok)
+        # The last chunk is padded with copies of the last variant: one compiled shape for all chunks.
+        index = np.minimum(np.arange(first, first + chunk_size), nv - 1)
+        chunks.append(_solve_chunk(A[index], B[index], x0[index], sigma, signals, ts, t0, t1, padded,
+                                   settings.rtol, settings.atol, solver=settings.solver,
+                                   max_steps=settings.max_steps))
+    peaks, ok, steps, rejected = (np.concatenate([np.asarray(out[k]) for out in chunks])[:nv] for k in range(4))
     if not np.all(ok):
         bad = np.flatnonzero(~ok)
-        raise SolverError(
-            f"batch solve with {settings.solver} (rtol={settings.rtol:g}, atol={settings.atol:g}, "
-            f"max_steps={settings.max_steps}) failed for {bad.size} of {nv} variants "
-            f"(first: index {int(bad[0])})"
-        )
+        raise SolverError(f"batch solve with {settings.solver} (rtol={settings.rtol:g}, atol={settings.atol:g}, "
+                          f"max_steps={settings.max_steps}) failed for {bad.size} of {nv} variants "
+                          f"(first: index {int(bad[0])})")
     if not np.all(np.isfinite(peaks)):
         bad = np.flatnonzero(~np.all(np.isfinite(peaks), axis=1))
         raise SolverError(f"batch solve produced non-finite values for variant {int(bad[0])}")
     kept = {int(i): simulate(variant_system(system, variants, int(i)), excitation, settings)
             for i in histories}
-    return BatchResult(
-        variants=variants, frequency_hz=frequency, peak_q=readonly(peaks[:, :6]),
-        peak_qdd=readonly(peaks[:, 6:]), num_steps=readonly(np.concatenate(steps), int),
-        num_rejected=readonly(np.concatenate(rejected), int), histories=kept, settings=settings,
-        chunk_size=chunk_size, wall_time_s=time.perf_counter() - start,
-    )
+    return BatchResult(variants=variants, frequency_hz=frequency, peak_q=readonly(peaks[:, :6]),
+                       peak_qdd=readonly(peaks[:, 6:]), num_steps=readonly(steps, int),
+                       num_rejected=readonly(rejected, int), histories=kept, settings=settings,
+                       chunk_size=chunk_size, wall_time_s=time.perf_counter() - start)

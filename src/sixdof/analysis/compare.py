@@ -24,9 +24,8 @@ class Agreement:
     Attributes
     ----------
     per_dof : ndarray, shape (6,)
-        ``max_t |q_ref - q_other| / peak_t |q_ref|`` for each DOF (dimensionless). For a quiet DOF
-        (see ``quiet``) the denominator is the largest peak of all DOFs instead, rotations being
-        converted to lengths with ``length``.
+        ``max_t |q_ref - q_other| / peak_t |q_ref|`` for each DOF (dimensionless; quiet DOFs: see
+        :func:`compare`).
     worst_dof : str
         Name of the DOF with the largest value of ``per_dof``.
     worst : float
@@ -38,8 +37,7 @@ class Agreement:
     peak : ndarray, shape (6,)
         ``peak_t |q_ref|`` of each DOF [m, rad].
     quiet : tuple of str
-        DOFs whose response is negligible (peak below ``quiet_rtol`` times the largest): they are
-        judged against the largest peak, since their own peak is round-off.
+        DOFs whose response is negligible, judged against the largest peak.
     length : float
         Length [m] converting rotations to displacements when DOFs are compared with each other.
     """
@@ -63,21 +61,12 @@ class Agreement:
 
     def __str__(self) -> str:
         values = ", ".join(f"{d} {v:.2e}" for d, v in zip(DOFS, self.per_dof))
-        verdict = "ok" if self.ok else "OVER TOLERANCE"
-        return (
-            f"worst {self.worst:.2e} ({self.worst_dof}) vs tolerance {self.tolerance:.0e}: "
-            f"{verdict}; per DOF: {values}"
-        )
+        return (f"worst {self.worst:.2e} ({self.worst_dof}) vs tolerance {self.tolerance:.0e}: "
+                f"{'ok' if self.ok else 'OVER TOLERANCE'}; per DOF: {values}")
 
 
-def compare(
-    direct_q,
-    modal_q,
-    tolerance: float = AGREEMENT_TOLERANCE,
-    *,
-    length: float = 1.0,
-    quiet_rtol: float = QUIET_RTOL,
-) -> Agreement:
+def compare(direct_q, modal_q, tolerance: float = AGREEMENT_TOLERANCE, *, length: float = 1.0,
+            quiet_rtol: float = QUIET_RTOL) -> Agreement:
     """Agreement of a modal-superposition history with a reference (direct) one, DOF by DOF.
 
     For each DOF i: ``max_t |q_ref_i - q_i| / peak_t |q_ref_i|``, each DOF relative to its own peak,
@@ -127,19 +116,13 @@ def compare(
         per_dof = np.where(denominator > 0, error / denominator, np.where(error > 0, np.inf, 0.0))
     worst_index = int(np.argmax(per_dof))
     worst = float(per_dof[worst_index])
-    return Agreement(
-        per_dof=readonly(per_dof),
-        worst_dof=DOFS[worst_index],
-        worst=worst,
-        tolerance=float(tolerance),
-        ok=bool(worst <= tolerance),
-        peak=readonly(peak),
-        quiet=tuple(d for d, flag in zip(DOFS, quiet) if flag and largest > 0),
-        length=float(length),
-    )
+    return Agreement(per_dof=readonly(per_dof), worst_dof=DOFS[worst_index], worst=worst, tolerance=float(tolerance),
+                     ok=bool(worst <= tolerance), peak=readonly(peak), length=float(length),
+                     quiet=tuple(d for d, flag in zip(DOFS, quiet) if flag and largest > 0))
 
 
 def _history(value, name: str) -> np.ndarray:
+    """``value`` (or its ``q``) as an array of shape (n, 6) of finite values [m, rad]."""
     value = getattr(value, "q", value)
     try:
         array = np.asarray(value, dtype=float)

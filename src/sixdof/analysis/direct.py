@@ -18,19 +18,16 @@ deltas at every knot). Without ground motion ``z = q`` and it is the plain first
 All damping (mount dashpots, Rayleigh, modal) acts on the motion relative to the ground, since all of
 it stands for dissipation in the mounts.
 
-Step control sees every discontinuity: all signal breakpoints inside the run are passed to
-:class:`diffrax.ClipStepSizeController` as ``jump_ts``, so the solver steps to just before and just
-after each of them. Accuracy per DOF: the state is divided by a per-component scale (see
-:func:`state_scale`) before diffrax sees it, so ``rtol`` and ``atol`` hold *relative to each
-component's own expected size*, translations (~1e-4 m) and rotations (~1e-7 rad) alike.
-
-Compiled code is cached per problem *structure* (solver, signal kinds, number of loads, number of
-samples, number of breakpoints rounded up to a power of two); matrices, signal parameters, times and
-tolerances are arguments, so new values reuse the compiled solver.
+The solver steps onto every signal breakpoint inside the run (``jump_ts``). The state is divided by
+a per-component scale (:func:`state_scale`), so that ``rtol`` and ``atol`` hold relative to each
+component's own expected size, translations (~1e-4 m) and rotations (~1e-7 rad) alike. Compiled code
+is cached per problem *structure* (solver, signal kinds, numbers of loads, samples and breakpoints);
+matrices, signal parameters, times and tolerances are arguments, so new values reuse it.
 """
 
 from __future__ import annotations
 
+import importlib.util
 import math
 import time
 from dataclasses import dataclass
@@ -86,8 +83,8 @@ def _solver(value, field: str) -> str:
 
 
 def _tolerance(value, field: str) -> float:
-    tolerance = number(value, field, "a tolerance in (0, 1)")
-    if not 0 < tolerance < 1:
+    tolerance = number(value, field, "a tolerance in (0, 1)", low=0.0, strict=True)
+    if tolerance >= 1:
         raise InputError(field, "a tolerance in (0, 1)", value)
     return tolerance
 
@@ -121,9 +118,9 @@ class SimulationSettings(Frozen):
     duration: float = label(check=number_check("a positive, finite duration in s", low=0.0, strict=True))
     sample_rate_hz: float = label(check=number_check("a positive, finite sample rate in Hz", low=0.0, strict=True))
     start: float = label(check=number_check("a finite time in s"), default=0.0)
-    solver: str = label(check=lambda value, field: _solver(value, field), default="Tsit5")
-    rtol: float = label(check=lambda value, field: _tolerance(value, field), default=1e-9)
-    atol: float = label(check=lambda value, field: _tolerance(value, field), default=1e-9)
+    solver: str = label(check=_solver, default="Tsit5")
+    rtol: float = label(check=_tolerance, default=1e-9)
+    atol: float = label(check=_tolerance, default=1e-9)
     max_steps: int = label(check=integer_check("a positive integer", 1), default=1_000_000)
 
     def __check__(self) -> None:
@@ -135,10 +132,8 @@ class SimulationSettings(Frozen):
     def times(self) -> np.ndarray:
         """Output times (n,) [s]."""
         n = int(math.floor(self.duration * self.sample_rate_hz * (1 + 1e-12))) + 1
-        # The tolerance above admits a last sample a rounding past the end: the solver rejects
-        # output times beyond t1, so clip onto it.
-        end = self.start + self.duration
-        return np.minimum(self.start + np.arange(n) / self.sample_rate_hz, end)
+        # Clipped: the tolerance above admits a last sample a rounding past the end, where diffrax won't save.
+        return np.minimum(self.start + np.arange(n) / self.sample_rate_hz, self.start + self.duration)
 
 
 @dataclass(frozen=True)
@@ -191,9 +186,7 @@ def state_scale(system: System, excitation: Excitation | None, settings: Simulat
 
     The estimate leaves out resonant amplification (up to ``1 / (2 zeta)``), which is the same for
     every DOF that a mode moves: it errs towards tighter tolerances, never looser, and keeps the
-    DOFs' relative sizes right, which is what per-DOF accuracy needs. A floor of
-    :data:`SCALE_FLOOR` times the largest (in units of ``scale sqrt(M_ii)``) covers DOFs reached
-    only through non-proportional damping.
+    DOFs' relative sizes right, which is what per-DOF accuracy needs; :data:`SCALE_FLOOR` bounds it below.
 
     Returns
     -------
@@ -223,15 +216,14 @@ def state_scale(system: System, excitation: Excitation | None, settings: Simulat
     z = np.abs(phi) @ (eta + eta_dot / omega)
     w = np.abs(phi) @ (omega * eta + eta_dot) + extra_w
     root_m = np.sqrt(np.diag(M))
-    scale = np.concatenate([z, w])
-    energy = scale * np.concatenate([root_m, root_m])
-    if not np.any(energy > 0):
+    if not np.any(np.concatenate([z, w]) > 0):
         return np.ones(14)
-    floor = SCALE_FLOOR * np.max(energy[:6]) if np.any(energy[:6] > 0) else 0.0
-    floor_w = SCALE_FLOOR * np.max(energy[6:]) if np.any(energy[6:] > 0) else 0.0
-    z = np.maximum(z, floor / root_m) if floor > 0 else np.where(z > 0, z, 1.0)
-    w = np.maximum(w, floor_w / root_m) if floor_w > 0 else np.where(w > 0, w, 1.0)
-    return np.concatenate([z, w, [ground_u, ground_v]])
+
+    def floored(x):
+        floor = SCALE_FLOOR * np.max(x * root_m)
+        return np.maximum(x, floor / root_m) if floor > 0 else np.where(x > 0, x, 1.0)
+
+    return np.concatenate([floored(z), floored(w), [ground_u, ground_v]])
 
 
 def _ground_peaks(ground, settings: SimulationSettings) -> tuple[float, float, float]:
@@ -245,16 +237,13 @@ def _ground_peaks(ground, settings: SimulationSettings) -> tuple[float, float, f
         return np.concatenate([[0.0], np.cumsum(0.5 * (x[1:] + x[:-1]) * np.diff(t))])
 
     if ground.quantity == "displacement":
-        u = s
-        v = np.gradient(u, t)
+        u, v = s, np.gradient(s, t)
         a = np.gradient(v, t)
     elif ground.quantity == "velocity":
-        v = s
-        u, a = integral(v), np.gradient(v, t)
+        u, v, a = integral(s), s, np.gradient(s, t)
     else:
-        a = s
-        v = integral(a)
-        u = integral(v)
+        v = integral(s)
+        u, a = integral(v), s
     return float(np.max(np.abs(u))), float(np.max(np.abs(v))), float(np.max(np.abs(a)))
 
 
@@ -277,31 +266,26 @@ def _ground_kinematics(code: int, ground_signal, ground_scale, t, g):
 
 
 def _rates(t, x, p, code: int):
-    """Unscaled state derivative ``x'`` and the loads' generalized force ``Q(t)``."""
+    """Unscaled state derivative ``x'``, the loads' generalized force ``Q(t)`` and the ground's ``u, v, a``."""
     z, w, g = x[:6], x[6:12], x[12:]
     Q = jnp.zeros(6)
     for k, signal in enumerate(p["signals"]):
         Q = Q + p["vectors"][k] * signal(t)
-    _, v_g, a_g = _ground_kinematics(code, p["ground_signal"], p["ground_scale"], t, g)
+    u_g, v_g, a_g = _ground_kinematics(code, p["ground_signal"], p["ground_scale"], t, g)
     relative_velocity = w - p["r"] * v_g
     w_dot = p["Minv"] @ (Q - p["C"] @ relative_velocity - p["K"] @ z)
-    if code == 3:
-        g_dot = jnp.stack([v_g, a_g])
-    elif code == 2:
-        g_dot = jnp.stack([v_g, jnp.zeros(())])
-    else:
-        g_dot = jnp.zeros(2)
-    return jnp.concatenate([relative_velocity, w_dot, g_dot]), Q
+    # u_g, v_g are integrated only for grounds given as a velocity (u_g) or an acceleration (both).
+    g_dot = jnp.stack([v_g if code >= 2 else 0.0, a_g if code == 3 else 0.0])
+    return jnp.concatenate([relative_velocity, w_dot, g_dot]), Q, jnp.stack([u_g, v_g, a_g])
 
 
 def solve_ode(field, x0, t0, t1, saveat, jump_ts, rtol, atol, *, solver: str, max_steps: int, args=None,
               progress: str = "none"):
     """The one diffrax call of sixdof, shared by :func:`simulate` and the batch engine (traceable).
 
-    Explicit Runge-Kutta ``solver`` (a key of :data:`SOLVERS`) with PID step control at ``rtol`` and
-    ``atol`` on the (scaled) state, stepping exactly onto every time of ``jump_ts`` (the excitation's
-    breakpoints, :func:`jump_times`), ``max_steps`` at most. ``throw=False``: the caller turns a
-    failed result code into a :class:`~sixdof.errors.SolverError` naming what failed.
+    ``solver`` (a key of :data:`SOLVERS`) with PID step control at ``rtol`` and ``atol`` on the (scaled)
+    state, stepping onto every time of ``jump_ts`` (:func:`jump_times`), ``max_steps`` at most; with
+    ``throw=False``, the caller turns a failed result code into a :class:`~sixdof.errors.SolverError`.
     """
     controller = diffrax.ClipStepSizeController(diffrax.PIDController(rtol=rtol, atol=atol), jump_ts=jump_ts)
     return diffrax.diffeqsolve(
@@ -311,17 +295,19 @@ def solve_ode(field, x0, t0, t1, saveat, jump_ts, rtol, atol, *, solver: str, ma
     )
 
 
-def jump_times(excitation: Excitation, t0: float, t1: float) -> tuple[np.ndarray, int]:
-    """Breakpoints of the excitation inside ``(t0, t1)`` for the step control, padded beyond ``t1``
-    with distinct, never reached times to a power-of-two length >= 8 (few compiled shapes).
+def loads_of(excitation: Excitation, settings: SimulationSettings) -> tuple[np.ndarray, tuple]:
+    """The loads of a solve, its arguments checked: generalized forces (n_loads, 6) [N, N m] and signals."""
+    if not isinstance(excitation, Excitation):
+        raise InputError("excitation", "an Excitation", excitation)
+    if not isinstance(settings, SimulationSettings):
+        raise InputError("settings", "a SimulationSettings", settings)
+    components = excitation.components()
+    return np.array([v for v, _ in components]).reshape(len(components), 6), tuple(s for _, s in components)
 
-    Returns
-    -------
-    padded : ndarray
-        [s].
-    count : int
-        Number of real breakpoints.
-    """
+
+def jump_times(excitation: Excitation, t0: float, t1: float) -> tuple[np.ndarray, int]:
+    """The excitation's breakpoints [s] inside ``(t0, t1)`` for the step control, padded beyond ``t1`` with
+    distinct, never reached times to a power-of-two length >= 8 (few compiled shapes), and their count."""
     jumps = np.array(sorted(b for b in excitation.breakpoints if t0 < b < t1), dtype=float)
     size = max(8, 1 << max(0, jumps.size - 1).bit_length())
     return np.concatenate([jumps, t1 + 1.0 + np.arange(size - jumps.size)]), int(jumps.size)
@@ -339,9 +325,8 @@ def _solve(p, x0, ts, t0, t1, jump_ts, rtol, atol, *, solver, code, max_steps, p
     xs = sol.ys * sigma
 
     def outputs(t, x):
-        rate, Q = _rates(t, x, p, code)
-        u_g, v_g, a_g = _ground_kinematics(code, p["ground_signal"], p["ground_scale"], t, x[12:])
-        return rate[6:12], Q, jnp.stack([u_g, v_g, a_g])
+        rate, Q, ground = _rates(t, x, p, code)
+        return rate[6:12], Q, ground
 
     qdd, Q, ground = jax.vmap(outputs)(ts, xs)
     stats = (sol.stats["num_steps"], sol.stats["num_accepted_steps"], sol.stats["num_rejected_steps"])
@@ -352,11 +337,7 @@ def _progress_key(progress: Any) -> str:
     if progress is None or progress is False:
         return "none"
     if progress is True:
-        try:
-            import tqdm  # noqa: F401
-        except ImportError:
-            return "text"
-        return "tqdm"
+        return "tqdm" if importlib.util.find_spec("tqdm") else "text"
     if progress in ("text", "tqdm", "none"):
         return progress
     raise InputError("progress", "None, True, 'text' or 'tqdm'", progress)
@@ -390,15 +371,11 @@ def simulate(system: System, excitation: Excitation | None, settings: Simulation
     """
     if excitation is None:
         excitation = Excitation()
-    if not isinstance(excitation, Excitation):
-        raise InputError("excitation", "an Excitation", excitation)
-    if not isinstance(settings, SimulationSettings):
-        raise InputError("settings", "a SimulationSettings", settings)
+    vectors, signals = loads_of(excitation, settings)
     progress = _progress_key(progress)
     ts = settings.times
     t0, t1 = settings.start, settings.start + settings.duration
     M = np.asarray(system.M, dtype=float)
-    components = excitation.components()
     ground = excitation.ground
     code = _GROUND_CODES[None if ground is None else ground.quantity]
     r = np.zeros(6) if ground is None else ground.rigid_vector
@@ -416,8 +393,8 @@ def simulate(system: System, excitation: Excitation | None, settings: Simulation
         "C": np.asarray(system.C, dtype=float),
         "K": np.asarray(system.K, dtype=float),
         "r": r,
-        "vectors": np.array([v for v, _ in components]).reshape(len(components), 6),
-        "signals": tuple(s for _, s in components),
+        "vectors": vectors,
+        "signals": signals,
         "ground_signal": None if ground is None else ground.signal,
         "ground_scale": 0.0 if ground is None else ground.scale,
         "sigma": sigma,
@@ -430,35 +407,24 @@ def simulate(system: System, excitation: Excitation | None, settings: Simulation
     xs = np.asarray(jax.block_until_ready(xs))
     wall = time.perf_counter() - start
     if not bool(result == diffrax.RESULTS.successful):
-        raise SolverError(
-            f"direct solve with {settings.solver} (rtol={settings.rtol:g}, atol={settings.atol:g}, "
-            f"max_steps={settings.max_steps}) failed: {diffrax.RESULTS[result]}"
-        )
+        raise SolverError(f"direct solve with {settings.solver} (rtol={settings.rtol:g}, atol={settings.atol:g}, "
+                          f"max_steps={settings.max_steps}) failed: {diffrax.RESULTS[result]}")
     qdd, Q, kin = np.asarray(qdd), np.asarray(Q), np.asarray(kin)
-    if not (np.all(np.isfinite(xs)) and np.all(np.isfinite(qdd))):
-        raise SolverError(
-            f"direct solve with {settings.solver} produced non-finite values (first at "
-            f"t = {ts[np.flatnonzero(~np.all(np.isfinite(xs), axis=1))[0]]:.6g} s)"
-            if not np.all(np.isfinite(xs)) else
-            f"direct solve with {settings.solver} produced non-finite accelerations"
-        )
-    z, w = xs[:, :6], xs[:, 6:12]
-    u_g, v_g, a_g = kin[:, 0], kin[:, 1], kin[:, 2]
+    bad = np.flatnonzero(~np.all(np.isfinite(xs), axis=1))
+    if bad.size or not np.all(np.isfinite(qdd)):
+        what = f"values (first at t = {ts[bad[0]]:.6g} s)" if bad.size else "accelerations"
+        raise SolverError(f"direct solve with {settings.solver} produced non-finite {what}")
+    motion = ("displacement", "velocity", "acceleration")
+    ground_motion = {} if ground is None else {f"ground_{m}": np.outer(kin[:, i], r[:3]) for i, m in enumerate(motion)}
     n_steps, n_accepted, n_rejected = (int(s) for s in stats)
-    direction = r[:3]
     return TimeHistory(
-        t=ts, q=z + np.outer(u_g, r), qd=w, qdd=qdd,
-        ground_displacement=None if ground is None else np.outer(u_g, direction),
-        ground_velocity=None if ground is None else np.outer(v_g, direction),
-        ground_acceleration=None if ground is None else np.outer(a_g, direction),
-        Q=Q,
+        t=ts, q=xs[:, :6] + np.outer(kin[:, 0], r), qd=xs[:, 6:12], qdd=qdd, Q=Q, **ground_motion,
         stats=SolverStats(
             solver=settings.solver, rtol=settings.rtol, atol=settings.atol, scale=readonly(sigma),
             num_steps=n_steps, num_accepted=n_accepted, num_rejected=n_rejected,
             max_steps=settings.max_steps, num_jumps=n_jumps, wall_time_s=wall,
         ),
     )
-
 
 
 __all__ = ["SOLVERS", "SCALE_FLOOR", "SimulationSettings", "SolverStats",

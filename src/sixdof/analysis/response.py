@@ -63,10 +63,7 @@ def point_motion(response: TimeHistory, position, *, relative: bool = False) -> 
     """
     p = point(position)
     T = point_map(p)
-    if relative:
-        q, qd, qdd = response.q_relative, response.qd_relative, response.qdd_relative
-    else:
-        q, qd, qdd = response.q, response.qd, response.qdd
+    q, qd, qdd = (getattr(response, name + ("_relative" if relative else "")) for name in ("q", "qd", "qdd"))
     return PointMotion(position=readonly(p), displacement=readonly(q @ T.T), velocity=readonly(qd @ T.T),
                        acceleration=readonly(qdd @ T.T), relative=relative)
 

@@ -28,16 +28,8 @@ def as_column(array: np.ndarray) -> np.ndarray:
     return np.asarray(array)[:, None]
 
 
-__all__ = [
-    "DecayEstimate",
-    "EstimatedFRF",
-        "decay_estimate",
-    "effective_averages",
-    "estimate_frf",
-    "h1_random_error",
-    "held_model_frf",
-    "peak_frequency",
-]
+__all__ = ["DecayEstimate", "EstimatedFRF", "decay_estimate", "effective_averages", "estimate_frf", "h1_random_error",
+           "held_model_frf", "peak_frequency"]
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -137,8 +129,7 @@ def estimate_frf(x, y, sample_rate_hz: float, nperseg: int, window: str = "hann"
     -------
     EstimatedFRF
     """
-    x = np.asarray(x, dtype=float)
-    y = np.asarray(y, dtype=float)
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
     if y.ndim == 1:
         y = y[:, None]
     if x.ndim != 1 or y.ndim != 2 or y.shape[0] != x.shape[0]:
@@ -155,15 +146,11 @@ def estimate_frf(x, y, sample_rate_hz: float, nperseg: int, window: str = "hann"
     with np.errstate(divide="ignore", invalid="ignore"):
         H1 = pxy / pxx[:, None]
         coherence = np.abs(pxy) ** 2 / (pxx[:, None] * pyy)
-    coherence = np.nan_to_num(coherence, nan=0.0)
-    H1 = np.nan_to_num(H1, nan=0.0)
     segments = 1 + (x.shape[0] - nperseg) // (nperseg - noverlap)
     n_eff = effective_averages(scipy.signal.get_window(window, nperseg), nperseg, noverlap, segments)
-    for a in (f, H1, coherence):
-        a.flags.writeable = False
-    return EstimatedFRF(f_hz=f, H1=H1, coherence=np.clip(coherence, 0.0, 1.0), averages=segments,
-                        effective_averages=n_eff, nperseg=nperseg, sample_rate_hz=float(sample_rate_hz),
-                        unit=unit)
+    return EstimatedFRF(f_hz=readonly(f), H1=readonly(np.nan_to_num(H1, nan=0.0), None),
+                        coherence=readonly(np.clip(np.nan_to_num(coherence, nan=0.0), 0.0, 1.0)), averages=segments,
+                        effective_averages=n_eff, nperseg=nperseg, sample_rate_hz=float(sample_rate_hz), unit=unit)
 
 
 def held_model_frf(H: np.ndarray, f_hz: np.ndarray, sample_rate_hz: float, model, aliases: int = 2):
@@ -199,8 +186,7 @@ def held_model_frf(H: np.ndarray, f_hz: np.ndarray, sample_rate_hz: float, model
 def peak_frequency(f_hz: np.ndarray, magnitude: np.ndarray, low: float, high: float) -> float:
     """Frequency [Hz] of the largest ``magnitude`` in ``[low, high]``, refined by fitting a parabola
     to the log magnitude of the bin and its two neighbours. NaN when the band holds no bin."""
-    f_hz = np.asarray(f_hz, dtype=float)
-    magnitude = np.asarray(magnitude, dtype=float)
+    f_hz, magnitude = np.asarray(f_hz, dtype=float), np.asarray(magnitude, dtype=float)
     inside = np.flatnonzero((f_hz >= low) & (f_hz <= high) & (magnitude > 0))
     if inside.size == 0:
         return float("nan")
@@ -271,8 +257,7 @@ def decay_estimate(t, x, unit: str = "1") -> DecayEstimate:
     InputError
         If the record holds fewer than 4 extrema (less than two half cycles).
     """
-    t = np.asarray(t, dtype=float)
-    x = np.asarray(x, dtype=float)
+    t, x = np.asarray(t, dtype=float), np.asarray(x, dtype=float)
     dt = t[1] - t[0]
     interior = np.arange(1, x.size - 1)
     is_max = (x[interior] > x[interior - 1]) & (x[interior] >= x[interior + 1])
@@ -294,13 +279,6 @@ def decay_estimate(t, x, unit: str = "1") -> DecayEstimate:
     sigma = -np.polyfit(times, np.log(np.abs(values)), 1)[0]
     omega_d = np.pi / half_period
     zeta = sigma / math.hypot(sigma, omega_d)
-    return DecayEstimate(
-        f_damped_hz=float(omega_d / (2 * np.pi)),
-        zeta=float(zeta),
-        log_decrement=float(2 * np.pi * sigma / omega_d),
-        extrema_t=readonly(times),
-        extrema_value=readonly(values),
-        unit=unit,
-    )
-
-
+    return DecayEstimate(f_damped_hz=float(omega_d / (2 * np.pi)), zeta=float(zeta),
+                         log_decrement=float(2 * np.pi * sigma / omega_d), extrema_t=readonly(times),
+                         extrema_value=readonly(values), unit=unit)

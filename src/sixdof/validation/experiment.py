@@ -46,10 +46,6 @@ from sixdof.validation.estimation import (
 if TYPE_CHECKING:
     from sixdof.model.system import System
 
-# ----------------------------------------------------------------------------------------------------
-# The validation run.
-# ----------------------------------------------------------------------------------------------------
-
 
 @dataclass(frozen=True)
 class ValidationSettings:
@@ -67,8 +63,7 @@ class ValidationSettings:
     segment_samples : int
         Samples per Welch segment, the same in every run. Default 2048.
     oversampling : float
-        Sample rate of each run at least this many times the upper end of its mode's band.
-        Default 4.
+        Sample rate of each run at least this many times the top of its mode's band. Default 4.
     max_segment_s : float
         Longest Welch segment [s] (undamped or very lightly damped modes). Default 120.
     averages : int
@@ -81,9 +76,8 @@ class ValidationSettings:
     seed : int
         Seed of the random force. Default 0.
     rtol, atol : float
-        Solver tolerances of the random runs (the free decays use the solver's defaults). Default
-        1e-5 each, relative to each DOF's scale: far below the estimates' statistical errors
-        (~1e-2), and about half the steps of 1e-7.
+        Solver tolerances of the random runs (free decays: the solver's defaults). Default 1e-5 each, relative
+        to each DOF's scale: far below the estimates' statistical errors (~1e-2), half the steps of 1e-7.
     """
 
     load_point: tuple | None = None
@@ -274,7 +268,6 @@ class ValidationReport:
         return headers, tuple(tuple(getattr(r, a) for a, _, _ in COLUMNS) for r in self.rows)
 
 
-
 def validate(system: System, settings: ValidationSettings | None = None) -> ValidationReport:
     """Validate the modal results of ``system`` against simulated time histories.
 
@@ -315,7 +308,7 @@ def validate(system: System, settings: ValidationSettings | None = None) -> Vali
     f_n = np.asarray(modes.frequency_hz)
     phi = np.asarray(modes.shapes)
     notes = []
-    if any(z >= 1 for z in zeta[elastic]):
+    if np.any(zeta[elastic] >= 1):
         raise InputError("system", "underdamped elastic modes (zeta < 1) for a free-decay "
                          "validation", zeta[elastic].tolist())
     f_d = f_n * np.sqrt(1.0 - np.where(np.isnan(zeta), 0.0, zeta) ** 2)
@@ -325,21 +318,16 @@ def validate(system: System, settings: ValidationSettings | None = None) -> Vali
     decays = []
     for r in elastic:
         delta = 2 * np.pi * zeta[r] / math.sqrt(1 - zeta[r] ** 2)
-        cycles = settings.decay_cycles if delta == 0 else min(settings.decay_cycles,
-                                                              max(2.0, math.log(1e3) / delta))
+        cycles = settings.decay_cycles if delta == 0 else min(settings.decay_cycles, max(2.0, math.log(1e3) / delta))
         rate = (settings.decay_samples - 1) * f_d[r] / cycles
         run = simulate(system, Excitation(initial=ModeRelease(r + 1, 1e-3)),
-                       SimulationSettings(duration=_span(settings.decay_samples, rate),
-                                          sample_rate_hz=rate))
+                       SimulationSettings(duration=_span(settings.decay_samples, rate), sample_rate_hz=rate))
         eta = run.q @ M @ phi[:, r]
         decays.append(FreeDecay(mode=r + 1, history=run, eta=readonly(eta),
                                 estimate=decay_estimate(run.t, eta, unit="kg^1/2 m")))
 
-    # 2. Random force, one run per elastic mode: white Gaussian samples at a rate fitted to the
-    # mode, linearly interpolated. Every run has the same sample count (one compiled solver); its
-    # segment resolves the mode's half-power bandwidth.
-    lp = point(settings.load_point if settings.load_point is not None else system.positions[0],
-                "load_point")
+    # 2. Random force, one run per elastic mode (see the module docstring).
+    lp = point(settings.load_point if settings.load_point is not None else system.positions[0], "load_point")
     ld, _ = parse_direction(settings.load_direction, "load_direction", rotations=False)
     Q = unit_load(lp, ld, False)
     nperseg = settings.segment_samples
@@ -350,7 +338,7 @@ def validate(system: System, settings: ValidationSettings | None = None) -> Vali
 
     rows, runs, total_s = [], [], 0.0
     rng = np.random.default_rng(settings.seed)
-    for i, r in enumerate(elastic):
+    for r, decay in zip(elastic, decays):
         neighbours = [f_n[s] for s in elastic if s != r]
         low = max([0.5 * (f_n[r] + f) for f in neighbours if f < f_n[r]] + [0.7 * f_n[r]])
         high = min([0.5 * (f_n[r] + f) for f in neighbours if f > f_n[r]] + [1.3 * f_n[r]])
@@ -385,19 +373,15 @@ def validate(system: System, settings: ValidationSettings | None = None) -> Vali
         f_pk_model = peak_frequency(fine, np.abs(model_eta(fine)[:, r]), low, high)
         f_pk_est = peak_frequency(est.f_hz, np.abs(est.H1[:, 0]), low, high)
         k = int(np.argmin(np.abs(est.f_hz - f_pk_est))) if np.isfinite(f_pk_est) else 0
-        d = decays[i].estimate
-        G.flags.writeable = False
-        runs.append(RandomRun(mode=r + 1, band_hz=(float(low), float(high)), estimated=est,
-                              model=G))
+        d = decay.estimate
+        runs.append(RandomRun(mode=r + 1, band_hz=(float(low), float(high)), estimated=est, model=readonly(G, None)))
         rows.append(ModeCheck(
-            mode=r + 1, dominant_dof=modes.dominant_dof[r], f_model_hz=float(f_n[r]),
-            zeta_model=float(zeta[r]), f_damped_model_hz=float(f_d[r]),
-            f_damped_estimated_hz=d.f_damped_hz, zeta_estimated=d.zeta,
-            log_decrement_estimated=d.log_decrement, f_peak_model_hz=f_pk_model,
-            f_peak_estimated_hz=f_pk_est, frequency_resolution_hz=float(est.f_hz[1]),
-            h1_median_error=float(np.median(rel[good])) if np.any(good) else float("nan"),
-            h1_error_in_sigmas=float(np.median(rel[good] / est.random_error[good, 0]))
-            if np.any(good) else float("nan"),
+            mode=r + 1, dominant_dof=modes.dominant_dof[r], f_model_hz=float(f_n[r]), zeta_model=float(zeta[r]),
+            f_damped_model_hz=float(f_d[r]), f_damped_estimated_hz=d.f_damped_hz, zeta_estimated=d.zeta,
+            log_decrement_estimated=d.log_decrement, f_peak_model_hz=f_pk_model, f_peak_estimated_hz=f_pk_est,
+            frequency_resolution_hz=float(est.f_hz[1]),
+            h1_median_error=float(np.median(rel[good])) if np.any(good) else math.nan,
+            h1_error_in_sigmas=float(np.median(rel[good] / est.random_error[good, 0])) if np.any(good) else math.nan,
             h1_error_at_peak=float(rel[k]),
             h1_sigma_at_peak=float(h1_random_error(est.coherence[k, 0], est.effective_averages)),
         ))
@@ -405,11 +389,9 @@ def validate(system: System, settings: ValidationSettings | None = None) -> Vali
     if modes.zero_modes:
         notes.append(f"rigid-body modes {[m + 1 for m in modes.zero_modes]} "
                      f"({', '.join(modes.free_dofs)} unrestrained) are not in the table")
-    return ValidationReport(
-        rows=tuple(rows), random_runs=tuple(runs), decays=tuple(decays), load_point=lp,
-        load_direction=ld, random_duration_s=float(total_s), wall_time_s=float(wall),
-        notes=tuple(notes),
-    )
+    return ValidationReport(rows=tuple(rows), random_runs=tuple(runs), decays=tuple(decays), load_point=lp,
+                            load_direction=ld, random_duration_s=float(total_s), wall_time_s=float(wall),
+                            notes=tuple(notes))
 
 
 def _span(samples: int, rate: float) -> float:

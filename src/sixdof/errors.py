@@ -208,6 +208,7 @@ def direction_check(expected: str):
         vector = vector3(value, field, expected)
         if not np.any(vector):
             raise InputError(field, expected, value)
+        vector = vector / np.abs(vector).max()  # so that a tiny vector's norm cannot underflow
         return readonly(vector / np.linalg.norm(vector))
 
     return check

@@ -33,13 +33,8 @@ def point_map(position) -> np.ndarray:
         ``[I, -skew(p)]`` (dimensionless in its translation block, m in its rotation block).
     """
     p = np.asarray(position, dtype=float)
-    out = np.zeros(p.shape[:-1] + (3, 6))
-    out[..., :, :3] = np.eye(3)
-    x, y, z = p[..., 0], p[..., 1], p[..., 2]
-    out[..., 0, 4], out[..., 0, 5] = z, -y
-    out[..., 1, 3], out[..., 1, 5] = -z, x
-    out[..., 2, 3], out[..., 2, 4] = y, -x
-    return out
+    eye = np.broadcast_to(np.eye(3), p.shape[:-1] + (3, 3))
+    return np.concatenate([eye, np.cross(p[..., None, :], eye)], axis=-1)  # row j of -skew(p) is p x e_j
 
 
 def generalized_force(point, force, moment=(0.0, 0.0, 0.0)) -> np.ndarray:
@@ -90,49 +85,27 @@ def mount_matrix(positions, coefficients, axes) -> np.ndarray:
     return 0.5 * (matrix + matrix.T)
 
 
-# ----------------------------------------------------------------------------------------------------
-# JAX twins: the assembly of M, K and C runs under jit, vmap and grad.
-# ----------------------------------------------------------------------------------------------------
-
-
-def skew(r):
-    """Cross-product matrix: ``skew(r) @ v == cross(r, v)``. ``r`` shape (..., 3) -> (..., 3, 3)."""
-    r = jnp.asarray(r)
-    zero = jnp.zeros_like(r[..., 0])
-    x, y, z = r[..., 0], r[..., 1], r[..., 2]
-    return jnp.stack(
-        [
-            jnp.stack([zero, -z, y], axis=-1),
-            jnp.stack([z, zero, -x], axis=-1),
-            jnp.stack([-y, x, zero], axis=-1),
-        ],
-        axis=-2,
-    )
-
-
 @jax.jit
 def point_map_jax(r):
     """:func:`point_map` in ``jax.numpy``: ``[I, -skew(r)]``, shape (..., 3, 6)."""
     r = jnp.asarray(r, dtype=float)
     eye = jnp.broadcast_to(jnp.eye(3), r.shape[:-1] + (3, 3))
-    return jnp.concatenate([eye, -skew(r)], axis=-1)
+    return jnp.concatenate([eye, jnp.cross(r[..., None, :], eye)], axis=-1)
 
 
 @jax.jit
 def mount_matrix_jax(positions, coefficients, axes):
     """Assemble a 6x6 matrix from triaxial mount elements (eqs. 7-10 of the seed paper, generalized).
 
-    Each mount j acts at ``positions[j]`` with coefficients ``coefficients[j]`` (stiffness [N/m] for
-    K, viscous damping [N s/m] for C, or any triaxial property) along its own axes ``axes[j]``, whose
-    rows are the mount's unit axes expressed in body axes. The mount's tensor in body axes is
-    ``A.T diag(c) A`` and its contribution ``T.T A.T diag(c) A T`` with ``T = point_map(position)``.
+    A mount's tensor in body axes is ``A.T diag(c) A`` and its contribution ``T.T A.T diag(c) A T``
+    with ``T = point_map(position)``.
 
     Parameters
     ----------
     positions : array_like, shape (n, 3)
         Mount points from the CG in body axes [m].
     coefficients : array_like, shape (n, 3)
-        Coefficients along each mount's own axes.
+        Coefficients along each mount's own axes: stiffness [N/m] for K, viscous damping [N s/m] for C.
     axes : array_like, shape (n, 3, 3)
         Rows are each mount's axes in body axes (orthonormal).
 
@@ -141,7 +114,5 @@ def mount_matrix_jax(positions, coefficients, axes):
     jax.Array, shape (6, 6)
         Symmetric matrix; for diagonal axes it reproduces eqs. (7)-(10) term by term.
     """
-    t = point_map_jax(positions)  # (n, 3, 6)
-    a = jnp.asarray(axes, dtype=float)
-    local = jnp.einsum("nij,njk->nik", a, t)  # mount-axis motion per q: (n, 3, 6)
+    local = jnp.einsum("nij,njk->nik", jnp.asarray(axes, dtype=float), point_map_jax(positions))  # (n, 3, 6)
     return jnp.einsum("nia,ni,nib->ab", local, jnp.asarray(coefficients, dtype=float), local)

@@ -19,7 +19,7 @@ import numpy as np
 
 from sixdof._jax import jax, jnp
 from sixdof.dofs import DOF_UNITS, UNITS
-from sixdof.errors import InputError, finite_array, label_check, optional, point_check, readonly
+from sixdof.errors import InputError, finite_array, label_check, number_check, optional, point_check, readonly, vector3
 from sixdof.frozen import Frozen, checked
 from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import mount_matrix_jax
@@ -28,11 +28,6 @@ from sixdof.results import label, part, quantity, stacked
 # Relative tolerances for "physically possible" checks on user input.
 _ORTHONORMAL_TOL = 1e-6
 _TRIANGLE_TOL = 1e-9
-
-
-# ----------------------------------------------------------------------------------------------------
-# Pure array functions (jax.numpy): usable under jit, vmap and grad.
-# ----------------------------------------------------------------------------------------------------
 
 
 @jax.jit
@@ -51,36 +46,26 @@ def mass_matrix(mass, inertia):
     jax.Array, shape (6, 6)
         ``blockdiag(m I3, J)`` in SI units.
     """
-    top = jnp.concatenate([mass * jnp.eye(3), jnp.zeros((3, 3))], axis=1)
-    bottom = jnp.concatenate([jnp.zeros((3, 3)), jnp.asarray(inertia, dtype=float)], axis=1)
-    return jnp.concatenate([top, bottom], axis=0)
+    return jax.scipy.linalg.block_diag(mass * jnp.eye(3), jnp.asarray(inertia, dtype=float))
 
 
-# ----------------------------------------------------------------------------------------------------
-# Validated, immutable model objects.
-# ----------------------------------------------------------------------------------------------------
-
-
-def _inertia_tensor(value, field: str = "inertia") -> np.ndarray:
+def _inertia_tensor(value, field: str) -> np.ndarray:
     expected = "3 principal moments [Jxx, Jyy, Jzz] or a symmetric 3x3 tensor in kg m^2"
     try:
-        array = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError("inertia", expected, value) from None
-    if array.shape == (3,):
-        array = np.diag(array)
-    if array.shape != (3, 3) or not np.all(np.isfinite(array)):
-        raise InputError("inertia", expected, value)
+        array = np.diag(vector3(value, field, expected))
+    except InputError:
+        array = None  # not 3 principal moments: then a full tensor (checked outside the handler: one error)
+    array = finite_array(value, field, expected, (3, 3)) if array is None else array
     scale = np.max(np.abs(array))
     if not np.allclose(array, array.T, rtol=0.0, atol=1e-12 * scale):
-        raise InputError("inertia", "a symmetric 3x3 tensor in kg m^2", value)
+        raise InputError(field, "a symmetric 3x3 tensor in kg m^2", value)
     principal = np.linalg.eigvalsh(array)
     if principal[0] <= 0.0:
-        raise InputError("inertia", "a positive definite tensor (all principal moments > 0)", value)
+        raise InputError(field, "a positive definite tensor (all principal moments > 0)", value)
     # A real body's principal moments obey J1 + J2 >= J3 (equality for a flat plate).
     if principal[0] + principal[1] < principal[2] * (1.0 - _TRIANGLE_TOL):
         raise InputError(
-            "inertia",
+            field,
             "principal moments that a real body can have (J1 + J2 >= J3; "
             f"here {principal[0]:.6g} + {principal[1]:.6g} < {principal[2]:.6g})",
             value,
@@ -88,28 +73,11 @@ def _inertia_tensor(value, field: str = "inertia") -> np.ndarray:
     return readonly(0.5 * (array + array.T))
 
 
-def _mass(value, field: str) -> float:
-    try:
-        mass = float(value)
-    except (TypeError, ValueError):
-        raise InputError(field, "a positive number in kg", value) from None
-    if not np.isfinite(mass) or mass <= 0.0:
-        raise InputError(field, "a positive number in kg", value)
-    return mass
-
-
-def _lengths(value, field: str) -> np.ndarray:
-    dims = finite_array(value, field, "3 positive lengths [Lx, Ly, Lz] in m", (3,))
-    if np.any(dims <= 0):
-        raise InputError(field, "3 positive lengths [Lx, Ly, Lz] in m", value)
-    return dims
-
-
-def _non_negative(expected: str, nonzero: bool = False):
-    """Check of 3 values >= 0 (and not all zero when ``nonzero``)."""
+def _three(expected: str, valid=lambda values: np.all(values >= 0)):
+    """Check of 3 finite values that ``valid`` accepts (default: all >= 0)."""
     def check(value, field):
-        values = finite_array(value, field, expected, (3,))
-        if np.any(values < 0) or (nonzero and not np.any(values > 0)):
+        values = vector3(value, field, expected)
+        if not valid(values):
             raise InputError(field, expected, value)
         return values
 
@@ -124,17 +92,11 @@ def _orthonormal(value, field: str) -> np.ndarray:
     return axes
 
 
-def _coefficient(value, field: str) -> float:
-    if not isinstance(value, (int, float)) or not np.isfinite(value) or value < 0:
-        raise InputError(field, "a finite number >= 0", value)
-    return float(value)
-
-
 def _modal_ratios(value, field: str):
     if value is None:
         return None
     ratios = np.atleast_1d(np.asarray(value, dtype=float))
-    if ratios.shape not in ((1,), (6,)) or np.any(~np.isfinite(ratios)) or np.any((ratios < 0) | (ratios >= 1)):
+    if ratios.shape not in ((1,), (6,)) or not np.all((ratios >= 0) & (ratios < 1)):  # NaN fails too
         raise InputError("damping.modal", "one damping ratio in [0, 1) or 6 of them", value)
     return float(ratios[0]) if ratios.shape == (1,) else tuple(float(r) for r in ratios)
 
@@ -155,10 +117,11 @@ class RigidBody(Frozen):
         Size of the box drawn for the body in figures, along x, y, z [m]. Not used in the numerics.
     """
 
-    mass: float = quantity("kg", (), decode=float, check=_mass)
+    mass: float = quantity("kg", (), decode=float, check=number_check("a positive number in kg", low=0.0, strict=True))
     inertia: np.ndarray = label(check=_inertia_tensor)
-    dimensions: np.ndarray | None = quantity("m", ("axis",), default=None, check=optional(_lengths),
-                                             description="size of the box drawn for the body, centred on the CG")
+    dimensions: np.ndarray | None = quantity(
+        "m", ("axis",), default=None, description="size of the box drawn for the body, centred on the CG",
+        check=optional(_three("3 positive lengths [Lx, Ly, Lz] in m", lambda dims: np.all(dims > 0))))
 
 
 @dataclass(frozen=True, eq=False)
@@ -185,19 +148,18 @@ class Mount(Frozen):
     name: str = checked(label_check)
     position: np.ndarray = quantity("m", ("axis",), check=point_check,
                                     description="mount attachment points from the CG in body axes")
-    stiffness: np.ndarray = quantity("N/m", ("mount_axis",), check=_non_negative("3 values >= 0 in N/m, not all zero",
-                                                                                 nonzero=True),
-                                     description="stiffness along each mount's own axes")
+    stiffness: np.ndarray = quantity("N/m", ("mount_axis",), description="stiffness along each mount's own axes",
+                                     check=_three("3 values >= 0 in N/m, not all zero",
+                                                  lambda k: np.all(k >= 0) and np.any(k > 0)))
     damping: np.ndarray = quantity("N s/m", ("mount_axis",), default_factory=lambda: np.zeros(3),
-                                   check=_non_negative("3 values >= 0 in N s/m"),
+                                   check=_three("3 values >= 0 in N s/m"),
                                    description="viscous damping along each mount's own axes")
     axes: np.ndarray = quantity("1", ("mount_axis", "axis"), default_factory=lambda: np.eye(3), check=_orthonormal,
                                 description="rows: each mount's unit axes u, v, w in body axes")
     loss_factor: np.ndarray = quantity("1", ("mount_axis",), default_factory=lambda: np.zeros(3),
-                                       check=_non_negative("3 loss factors >= 0 (dimensionless)"),
+                                       check=_three("3 loss factors >= 0 (dimensionless)"),
                                        description="hysteretic loss factor along each mount's own axes "
                                        "(frequency responses)")
-
 
 
 @dataclass(frozen=True)
@@ -212,8 +174,8 @@ class Rayleigh(Frozen):
         Stiffness-proportional coefficient [s], >= 0.
     """
 
-    alpha: float = label(check=_coefficient)
-    beta: float = label(check=_coefficient)
+    alpha: float = label(check=number_check("a finite number >= 0", low=0.0))
+    beta: float = label(check=number_check("a finite number >= 0", low=0.0))
 
     @classmethod
     def from_ratio(cls, zeta: float, f_hz: tuple[float, float]) -> Rayleigh:
@@ -228,6 +190,15 @@ class Rayleigh(Frozen):
             raise InputError("f_hz", "two different positive frequencies in Hz", f_hz)
         w1, w2 = 2 * np.pi * f
         return cls(alpha=float(2 * zeta * w1 * w2 / (w1 + w2)), beta=float(2 * zeta / (w1 + w2)))
+
+
+def _stacked(name: str, doc: str) -> cached_property:
+    """A :class:`System` property: the mounts' field ``name`` stacked along a first axis (computed once)."""
+    def stack(system) -> np.ndarray:
+        return np.stack([getattr(mount, name) for mount in system.mounts])
+
+    stack.__doc__ = doc
+    return cached_property(stack)
 
 
 @dataclass(frozen=True, eq=False)
@@ -252,8 +223,7 @@ class System(Frozen):
                                         check=lambda mounts, field: tuple(mounts))
     rayleigh: Rayleigh | None = part(lambda: Rayleigh, prefix="rayleigh_", default=None)
     modal_damping: float | tuple[float, ...] | None = label(
-        default=None, check=_modal_ratios, encode=lambda ratios: np.atleast_1d(np.asarray(ratios, dtype=float)),
-        decode=lambda ratios: float(ratios[0]) if np.size(ratios) == 1 else tuple(float(r) for r in ratios))
+        default=None, check=_modal_ratios, encode=lambda ratios: np.atleast_1d(np.asarray(ratios, dtype=float)))
 
     #: Stored beside the fields (not read back: the system recomputes them).
     derived = {
@@ -285,30 +255,11 @@ class System(Frozen):
     def mount_names(self) -> tuple[str, ...]:
         return tuple(m.name for m in self.mounts)
 
-    @cached_property
-    def positions(self) -> np.ndarray:
-        """Mount positions, shape (n, 3) [m]."""
-        return np.stack([m.position for m in self.mounts])
-
-    @cached_property
-    def stiffnesses(self) -> np.ndarray:
-        """Mount stiffnesses along their own axes, shape (n, 3) [N/m]."""
-        return np.stack([m.stiffness for m in self.mounts])
-
-    @cached_property
-    def dampings(self) -> np.ndarray:
-        """Mount viscous damping along their own axes, shape (n, 3) [N s/m]."""
-        return np.stack([m.damping for m in self.mounts])
-
-    @cached_property
-    def loss_factors(self) -> np.ndarray:
-        """Mount hysteretic loss factors, shape (n, 3)."""
-        return np.stack([m.loss_factor for m in self.mounts])
-
-    @cached_property
-    def axes(self) -> np.ndarray:
-        """Mount axes (rows, in body axes), shape (n, 3, 3)."""
-        return np.stack([m.axes for m in self.mounts])
+    positions = _stacked("position", "Mount positions, shape (n, 3) [m].")
+    stiffnesses = _stacked("stiffness", "Mount stiffnesses along their own axes, shape (n, 3) [N/m].")
+    dampings = _stacked("damping", "Mount viscous damping along their own axes, shape (n, 3) [N s/m].")
+    loss_factors = _stacked("loss_factor", "Mount hysteretic loss factors, shape (n, 3).")
+    axes = _stacked("axes", "Mount axes (rows, in body axes), shape (n, 3, 3).")
 
     @cached_property
     def M(self) -> np.ndarray:
@@ -337,8 +288,7 @@ class System(Frozen):
     @cached_property
     def modes(self):
         """The undamped modes of (M, K), computed once: :class:`sixdof.analysis.modal.Modes`."""
-        # The eigen-solution is analysis, not model: imported here, where the model first needs it
-        # (modal damping, mode releases), and computed once per system.
+        # Analysis, not model: imported where the model first needs it (modal damping, mode releases).
         from sixdof.analysis.modal import modal_analysis
 
         return modal_analysis(self.M, self.K)

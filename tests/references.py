@@ -1,14 +1,11 @@
-"""Independent reference answers for the tests: exact responses and closed forms.
+"""Independent reference answers for the tests (none uses sixdof): exact responses and closed forms.
 
-None of these use sixdof: they are what sixdof's results are checked against.
-
-Exact responses of eq. (1), computed apart from any time integrator.
-
-The state-space system ``x = [q, q']``, ``x' = A x + B Q(t)``, is augmented with a linear generator of
-the forcing signal on each smooth piece (``s = c' xi``, ``xi' = S xi``); the augmented system is
-autonomous, so its solution is ``expm(F (t - ta)) [x(ta); xi(ta)]`` exactly. Harmonic signals use a
-two-state oscillator, pulses use one per piece, tabulated signals (a first-order hold) use
-``xi = [s, s']`` with ``S = [[0, 1], [0, 0]]`` on each segment.
+Exact responses of eq. (1), computed apart from any time integrator: the state-space system
+``x = [q, q']``, ``x' = A x + B Q(t)``, is augmented with a linear generator of the forcing signal on
+each smooth piece (``s = c' xi``, ``xi' = S xi``); the augmented system is autonomous, so its solution
+is ``expm(F (t - ta)) [x(ta); xi(ta)]`` exactly. Harmonic signals use a two-state oscillator, pulses
+use one per piece, tabulated signals (a first-order hold) use ``xi = [s, s']`` with
+``S = [[0, 1], [0, 0]]`` on each segment.
 
 Closed forms: single-DOF receptance, transmissibility and free response, damping ratios, natural
 frequencies of symmetric layouts, statics; each cites its formula.
@@ -97,8 +94,7 @@ def exact_response(M, C, K, Q0, pieces, t_out, x0=None):
         F[n:, n:] = S
         y = np.concatenate([x, xi])
         last = index == len(pieces) - 1
-        mask = (t_out >= ta) & ((t_out < tb) | (last & (t_out <= tb)))
-        index_out = np.flatnonzero(mask)
+        index_out = np.flatnonzero((t_out >= ta) & ((t_out < tb) | (last & (t_out <= tb))))
         if index_out.size:
             # Uniformly spaced outputs: one propagator per spacing (round-off grows ~ n eps).
             steps = np.diff(t_out[index_out])
@@ -132,11 +128,6 @@ def table_pieces(knots, values, t_end, c=(1.0, 0.0)):
 def relative_error_per_dof(actual, expected):
     """``max |actual - expected| / max |expected|`` per column (6,)."""
     return np.max(np.abs(actual - expected), axis=0) / np.max(np.abs(expected), axis=0)
-
-
-# ----------------------------------------------------------------------------------------------------
-# Closed forms.
-# ----------------------------------------------------------------------------------------------------
 
 
 def sdof_receptance(m, k, c, eta, w):
@@ -194,15 +185,12 @@ def free_mass_with_viscous_drag(t, force, mass, alpha):
 def harmonic_from_rest(amplitude, omega, t):
     """First and second time integrals, from rest at ``t = 0``, of ``amplitude sin(omega t)``:
     ``amplitude (1 - cos(w t)) / w`` and ``amplitude (t / w - sin(w t) / w^2)``."""
-    first = amplitude * (1 - np.cos(omega * t)) / omega
-    second = amplitude * (t / omega - np.sin(omega * t) / omega**2)
-    return first, second
+    return amplitude * (1 - np.cos(omega * t)) / omega, amplitude * (t / omega - np.sin(omega * t) / omega**2)
 
 
 def steady_state_amplitude(M, C, K, Q0, omega):
     """Complex amplitude ``X = (K - w^2 M + i w C)^-1 Q0`` of the harmonic steady state."""
-    H = np.linalg.inv(K - omega**2 * M + 1j * omega * C)
-    return H @ Q0
+    return np.linalg.inv(K - omega**2 * M + 1j * omega * C) @ Q0
 
 
 def ramp_response(C, K, Q0, duration):
@@ -232,9 +220,7 @@ def symmetric_four_mount_eigenvalues(m, J, a, b, h, k):
 
     def rocking(k_t, k_r, J):
         K2 = np.array([[4 * k_t, -4 * k_t * h], [-4 * k_t * h, 4 * (k_t * h**2 + kz * k_r**2)]])
-        tr = K2[0, 0] / m + K2[1, 1] / J
-        det = np.linalg.det(K2) / (m * J)
-        return eigenvalue_pair(tr, det)
+        return eigenvalue_pair(K2[0, 0] / m + K2[1, 1] / J, np.linalg.det(K2) / (m * J))
 
     return sorted([vertical, yaw, *rocking(kx, a, Jy), *rocking(ky, b, Jx)])
 
@@ -242,10 +228,9 @@ def symmetric_four_mount_eigenvalues(m, J, a, b, h, k):
 def bounce_pitch_eigenvalues(m, J, k1, k2, l1, l2):
     """Bounce-pitch eigenvalues of a body (mass ``m``, pitch inertia ``J``) on vertical springs ``k1``
     at ``-l1`` and ``k2`` at ``l2``: with ``a = (k1 + k2) / m``, ``b = (k1 l1^2 + k2 l2^2) / J``,
-    ``c = (k2 l2 - k1 l1)^2 / (m J)``, ``(a + b -+ sqrt((a - b)^2 + 4 c)) / 2``."""
+    ``c = (k2 l2 - k1 l1)^2 / (m J)``, the roots of ``lambda^2 - (a + b) lambda + a b - c = 0``."""
     a, b = (k1 + k2) / m, (k1 * l1**2 + k2 * l2**2) / J
-    c = (k2 * l2 - k1 * l1) ** 2 / (m * J)
-    return [(a + b - np.sqrt((a - b) ** 2 + 4 * c)) / 2, (a + b + np.sqrt((a - b) ** 2 + 4 * c)) / 2]
+    return eigenvalue_pair(a + b, a * b - (k2 * l2 - k1 * l1) ** 2 / (m * J))
 
 
 def lever_rule_supports(weight, y1, y2, y_cg=0.0):

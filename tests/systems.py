@@ -17,10 +17,6 @@ import numpy as np
 
 from sixdof import Mount, Rayleigh, RigidBody, System
 
-# ----------------------------------------------------------------------------------------------------
-# The seed paper's bridge beam.
-# ----------------------------------------------------------------------------------------------------
-
 BRIDGE_MASS = 83e3  # kg
 BRIDGE_INERTIA = [11.105e6, 0.0491e6, 11.064e6]  # kg m^2, principal (Jxx, Jyy, Jzz)
 BRIDGE_DIMENSIONS = (1.2, 40.0, 2.0)  # m, the beam's box
@@ -45,36 +41,20 @@ def bridge_body(dimensions=BRIDGE_DIMENSIONS) -> RigidBody:
     return RigidBody(BRIDGE_MASS, BRIDGE_INERTIA, dimensions)
 
 
-def bridge(dashpots=None, *, rayleigh=None, modal_damping=None, loss_factor=None,
+def bridge(dashpots=((0.0, 0.0, 0.0),) * 4, *, rayleigh=None, modal_damping=None, loss_factor=(0.0, 0.0, 0.0),
            stiffness_factor=1.0, dimensions=BRIDGE_DIMENSIONS) -> System:
     """The seed paper's bridge beam: 83 t on four bearings, natural frequencies 0.63 to 38 Hz.
 
-    Parameters
-    ----------
-    dashpots : None, str or array_like (4, 3)
-        Mount dashpots: none (default), a name in :data:`BRIDGE_DASHPOTS`, or values per bearing and
-        axis [N s/m].
-    rayleigh : sixdof.Rayleigh, optional
-        Rayleigh damping of the whole body.
-    modal_damping : float or sequence of 6 floats, optional
-        Modal damping ratios.
-    loss_factor : array_like (3,), optional
-        The same hysteretic loss factor per axis on every bearing (frequency responses only).
-    stiffness_factor : float
-        Scales every bearing's stiffness, and its dashpots by the square root (so that the damping
-        ratios stay the same).
-    dimensions : (3,) or None
-        The body's box [m] (figures, the length scale of agreements); None for a body without one.
+    ``dashpots``: a name in :data:`BRIDGE_DASHPOTS` or values per bearing and axis [N s/m] (default
+    none); ``loss_factor``: the same per axis on every bearing; ``stiffness_factor`` scales every
+    bearing's stiffness, and its dashpots by its square root (the damping ratios stay the same);
+    ``dimensions``: the body's box [m], None for none; ``rayleigh`` and ``modal_damping`` go to the System.
     """
-    values = BRIDGE_DASHPOTS[dashpots] if isinstance(dashpots, str) else dashpots
-    damping = np.zeros((4, 3)) if values is None else np.asarray(values, float)
-    mounts = [
-        Mount(str(i + 1), p, np.asarray(k) * stiffness_factor, d * np.sqrt(stiffness_factor),
-              loss_factor=np.zeros(3) if loss_factor is None else loss_factor)
-        for i, (p, k, d) in enumerate(zip(BRIDGE_POSITIONS, BRIDGE_STIFFNESS, damping))
-    ]
-    return System(bridge_body(dimensions), mounts, rayleigh=rayleigh,
-                  modal_damping=modal_damping)
+    damping = np.asarray(BRIDGE_DASHPOTS[dashpots] if isinstance(dashpots, str) else dashpots, float)
+    mounts = [Mount(str(i + 1), p, np.asarray(k) * stiffness_factor, d * np.sqrt(stiffness_factor),
+                    loss_factor=loss_factor)
+              for i, (p, k, d) in enumerate(zip(BRIDGE_POSITIONS, BRIDGE_STIFFNESS, damping))]
+    return System(bridge_body(dimensions), mounts, rayleigh=rayleigh, modal_damping=modal_damping)
 
 
 def bridge_toml(dashpots="elastomer") -> str:
@@ -86,31 +66,16 @@ def bridge_toml(dashpots="elastomer") -> str:
     return "\n".join(lines) + "\n"
 
 
-# ----------------------------------------------------------------------------------------------------
-# Small machines.
-# ----------------------------------------------------------------------------------------------------
-
 FOUR_MOUNT_CORNERS = [(-1, -1), (1, -1), (1, 1), (-1, 1)]
 
 
 def four_mount(m=500.0, J=(40.0, 60.0, 80.0), a=0.4, b=0.6, h=0.3, k=(2e5, 3e5, 8e5), *,
-               damping=None, dimensions=None) -> System:
-    """A body on four identical mounts at ``(+-a, +-b, -h)``: doubly symmetric.
-
-    Parameters
-    ----------
-    m, J : mass [kg] and principal moments of inertia [kg m^2].
-    a, b, h : half-spacings along x and y, and the mounts' depth below the CG [m].
-    k : stiffness of each mount along x, y, z [N/m].
-    damping : dashpot of each mount along x, y, z [N s/m] (default none).
-    dimensions : the body's box [m] (default none).
-    """
-    body = RigidBody(m, J, dimensions)
-    mounts = [
-        Mount(f"m{i}", [sx * a, sy * b, -h], k, **({} if damping is None else {"damping": damping}))
-        for i, (sx, sy) in enumerate(FOUR_MOUNT_CORNERS)
-    ]
-    return System(body, mounts)
+               damping=(0.0, 0.0, 0.0), dimensions=None) -> System:
+    """A body (mass ``m`` [kg], principal inertias ``J`` [kg m^2], box ``dimensions`` [m]) on four
+    identical mounts at ``(+-a, +-b, -h)`` [m] (stiffness ``k`` [N/m] and dashpots ``damping`` [N s/m]
+    along x, y, z): doubly symmetric."""
+    mounts = [Mount(f"m{i}", [sx * a, sy * b, -h], k, damping) for i, (sx, sy) in enumerate(FOUR_MOUNT_CORNERS)]
+    return System(RigidBody(m, J, dimensions), mounts)
 
 
 # Three unequal mounts around the CG of a small box (name, position [m], stiffness [N/m]).
@@ -124,9 +89,8 @@ THREE_MOUNTS = [
 def small_box(zeta=0.04) -> System:
     """A 120 kg box on the three mounts of :data:`THREE_MOUNTS`, all six DOFs coupled, modes 4-23 Hz,
     Rayleigh damping of ratio ``zeta`` at 5 and 20 Hz."""
-    body = RigidBody(120.0, [4.0, 5.0, 6.0])
     mounts = [Mount(name, p, k) for name, p, k in THREE_MOUNTS]
-    return System(body, mounts, rayleigh=Rayleigh.from_ratio(zeta, (5.0, 20.0)))
+    return System(RigidBody(120.0, [4.0, 5.0, 6.0]), mounts, rayleigh=Rayleigh.from_ratio(zeta, (5.0, 20.0)))
 
 
 def skewed_box() -> System:
@@ -145,8 +109,7 @@ def skewed_box() -> System:
 
 def skewed_machine() -> System:
     """A 500 kg body with a full inertia tensor on four inclined mounts, each damped differently."""
-    inertia = [[60.0, 4.0, -3.0], [4.0, 45.0, 2.0], [-3.0, 2.0, 70.0]]
-    body = RigidBody(500.0, inertia)
+    body = RigidBody(500.0, [[60.0, 4.0, -3.0], [4.0, 45.0, 2.0], [-3.0, 2.0, 70.0]])
     mounts = []
     for i, (x, y) in enumerate([(-0.4, -0.3), (0.4, -0.3), (0.4, 0.3), (-0.4, 0.3)]):
         angle = np.deg2rad(20.0 + 10.0 * i)  # inclined about the body's y axis, all different
@@ -161,6 +124,5 @@ def skewed_machine() -> System:
 def sdof(mass=120.0, k=4.0e5, c=0.0, eta=0.0) -> System:
     """One mount at the CG, stiff only along z: z decouples as m z'' + c z' + k (1 + i eta) z = F;
     the five other DOFs are unrestrained (zero-frequency modes). Inertias (3, 4, 5) kg m^2."""
-    mount = Mount("m", [0.0, 0.0, 0.0], [0.0, 0.0, k], damping=[0.0, 0.0, c],
-                  loss_factor=[0.0, 0.0, eta])
+    mount = Mount("m", [0.0, 0.0, 0.0], [0.0, 0.0, k], damping=[0.0, 0.0, c], loss_factor=[0.0, 0.0, eta])
     return System(RigidBody(mass, [3.0, 4.0, 5.0]), [mount])

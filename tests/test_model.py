@@ -26,28 +26,11 @@ from tolerances import (
 )
 
 
-def random_system(rng, n=4, axes=True):
-    J = rng.uniform(1.0, 3.0, 3)
-    R = Rotation.random(random_state=rng).as_matrix()
-    mounts = [
-        Mount(
-            str(i),
-            rng.uniform(-1, 1, 3),
-            rng.uniform(1e4, 1e6, 3),
-            damping=rng.uniform(0, 1e3, 3),
-            axes=Rotation.random(random_state=rng).as_matrix() if axes else np.eye(3),
-        )
-        for i in range(n)
-    ]
-    return System(RigidBody(rng.uniform(10, 100), R @ np.diag(J) @ R.T), mounts)
-
-
 def test_symmetric_four_mount_layout_closed_forms():
-    m, J, a, b, h, k = 500.0, (40.0, 60.0, 80.0), 0.4, 0.6, 0.3, (2e5, 3e5, 8e5)
-    system = four_mount(m, J, a, b, h, k)
+    layout = 500.0, (40.0, 60.0, 80.0), 0.4, 0.6, 0.3, (2e5, 3e5, 8e5)  # m, J, a, b, h, k
+    system = four_mount(*layout)
     modes = modal_analysis(system.M, system.K)
-    expected = symmetric_four_mount_eigenvalues(m, J, a, b, h, k)
-    assert modes.eigenvalues == pytest.approx(expected, rel=RTOL_FREQUENCY)
+    assert modes.eigenvalues == pytest.approx(symmetric_four_mount_eigenvalues(*layout), rel=RTOL_FREQUENCY)
     assert modes.subsystems == (("x", "ry"), ("y", "rx"), ("z",), ("rz",))
 
 
@@ -55,32 +38,30 @@ def test_two_spring_bounce_pitch_and_free_dofs():
     # Vertical springs k1 at y = -l1 and k2 at y = l2: the classic bounce-pitch pair; every other DOF
     # is unrestrained and must come out as a zero-frequency mode, named, not as an error.
     m, J, k1, k2, l1, l2 = 1200.0, 1800.0, 3e4, 4e4, 1.2, 1.5
-    system = System(
-        RigidBody(m, [J, J, 2 * J]),
-        [Mount("front", [0, -l1, 0], [0, 0, k1]), Mount("rear", [0, l2, 0], [0, 0, k2])],
-    )
+    mounts = [Mount("front", [0, -l1, 0], [0, 0, k1]), Mount("rear", [0, l2, 0], [0, 0, k2])]
+    system = System(RigidBody(m, [J, J, 2 * J]), mounts)
     modes = modal_analysis(system.M, system.K)
-    bounce_pitch = bounce_pitch_eigenvalues(m, J, k1, k2, l1, l2)
     assert modes.zero_modes == (0, 1, 2, 3)
     assert np.all(modes.frequency_hz[:4] == 0.0)
-    assert modes.eigenvalues[4:] == pytest.approx(bounce_pitch, rel=RTOL_FREQUENCY)
+    assert modes.eigenvalues[4:] == pytest.approx(bounce_pitch_eigenvalues(m, J, k1, k2, l1, l2), rel=RTOL_FREQUENCY)
     assert set(modes.free_dofs) == {"x", "y", "ry", "rz"}
 
 
 @pytest.mark.parametrize("seed", range(5))
 def test_stiffness_symmetric_positive_semidefinite_and_rotation_invariant(seed):
     rng = np.random.default_rng(seed)
-    system = random_system(rng)
+    J, R = rng.uniform(1.0, 3.0, 3), Rotation.random(random_state=rng).as_matrix()
+    mounts = [Mount(str(i), rng.uniform(-1, 1, 3), rng.uniform(1e4, 1e6, 3), damping=rng.uniform(0, 1e3, 3),
+                    axes=Rotation.random(random_state=rng).as_matrix()) for i in range(4)]
+    system = System(RigidBody(rng.uniform(10, 100), R @ np.diag(J) @ R.T), mounts)
     K = system.K
     scale = np.abs(K).max()
     assert np.allclose(K, K.T, rtol=0, atol=RTOL_ZERO_ENTRY * scale)
     assert np.linalg.eigvalsh(K).min() >= -1e-12 * scale
     # Rotate the whole layout: inertia tensor, mount positions and mount axes.
     R = Rotation.random(random_state=rng).as_matrix()
-    rotated = System(
-        RigidBody(system.body.mass, R @ system.body.inertia @ R.T),
-        [Mount(m.name, R @ m.position, m.stiffness, axes=m.axes @ R.T) for m in system.mounts],
-    )
+    rotated = System(RigidBody(system.body.mass, R @ system.body.inertia @ R.T),
+                     [Mount(m.name, R @ m.position, m.stiffness, axes=m.axes @ R.T) for m in system.mounts])
     f0 = modal_analysis(system.M, system.K).frequency_hz
     f1 = modal_analysis(rotated.M, rotated.K).frequency_hz
     assert f1 == pytest.approx(f0, rel=1e-9)
@@ -147,10 +128,8 @@ def test_statics_closed_form_and_uplift():
     assert statics.uplift == ()
     # CG beyond the first support: the lever rule gives F1 = 1.5 W and F2 = -0.5 W (uplift).
     W = 100 * 9.81
-    overhang = System(
-        RigidBody(100.0, [5.0, 5.0, 5.0]),
-        [Mount("near", [0, 0.5, 0], [1e5, 1e5, 1e6]), Mount("far", [0, 1.5, 0], [1e5, 1e5, 1e6])],
-    )
+    overhang = System(RigidBody(100.0, [5.0, 5.0, 5.0]),
+                      [Mount("near", [0, 0.5, 0], [1e5, 1e5, 1e6]), Mount("far", [0, 1.5, 0], [1e5, 1e5, 1e6])])
     statics = gravity_statics(overhang, g=9.81)
     assert statics.support == pytest.approx(lever_rule_supports(W, 0.5, 1.5), rel=RTOL_STATICS)
     assert statics.uplift == ("far",)

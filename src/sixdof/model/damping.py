@@ -10,9 +10,8 @@ from __future__ import annotations
 def damping_matrix(M, K, C_mounts, alpha, beta, zeta, shapes, omega):
     """``C = C_mounts + alpha M + beta K + M Phi diag(2 zeta_r omega_r) Phi' M``, symmetrized.
 
-    The mounts' dashpots, the Rayleigh term and the modal term, each optional (zero coefficients),
-    summed. The modal term gives mode r exactly the ratio ``zeta_r`` on top of what the others give
-    (nothing for rigid-body modes, whose ``omega_r`` is 0).
+    Each term is optional (zero coefficients). The modal term gives mode r exactly the ratio ``zeta_r``
+    on top of what the others give (nothing for rigid-body modes, whose ``omega_r`` is 0).
 
     Parameters
     ----------

@@ -68,11 +68,6 @@ RIGID_DAMPING_RTOL = 1e-12
 _BLOCK_MACS = 200_000
 
 
-# ----------------------------------------------------------------------------------------------------
-# Result objects.
-# ----------------------------------------------------------------------------------------------------
-
-
 def _per_load(load_kind: str) -> str:
     """Unit of a force per unit applied load (a force, or a moment)."""
     return "N/(N m)" if load_kind == "moment" else "N/N"
@@ -309,11 +304,6 @@ class GroundTransmissibility(schema.Result):
         return np.abs(self.absolute @ self.ground_direction)
 
 
-# ----------------------------------------------------------------------------------------------------
-# Input checks.
-# ----------------------------------------------------------------------------------------------------
-
-
 def _frequencies(f_hz) -> np.ndarray:
     try:
         f = np.atleast_1d(readonly(f_hz))
@@ -346,11 +336,6 @@ def _ratio_unit(numerator: str, denominator: str) -> str:
     return f"{numerator}/({denominator})" if " " in denominator else f"{numerator}/{denominator}"
 
 
-# ----------------------------------------------------------------------------------------------------
-# Matrices.
-# ----------------------------------------------------------------------------------------------------
-
-
 def hysteretic_stiffness(system: System) -> np.ndarray:
     """Hysteretic stiffness ``K_h`` (6, 6) [N/m, N, N m/rad]: mount stiffness times loss factor.
 
@@ -375,11 +360,6 @@ def dynamic_stiffness(system: System, f_hz) -> np.ndarray:
     w = (2.0 * np.pi * _frequencies(f_hz))[:, None, None]
     static = np.asarray(system.K, dtype=complex) + 1j * hysteretic_stiffness(system)
     return static[None] - w**2 * np.asarray(system.M)[None] + (1j * w) * np.asarray(system.C)[None]
-
-
-# ----------------------------------------------------------------------------------------------------
-# Receptance.
-# ----------------------------------------------------------------------------------------------------
 
 
 def receptance(system: System, f_hz, method: str = "direct", basis: str = "auto") -> FRF:
@@ -540,11 +520,6 @@ def _modal_terms(system, basis: str) -> _ModalTerms:
                        complex_residues=np.einsum("ik,kj->kij", out, inp), eigenvalues=modes_c.eigenvalues)
 
 
-# ----------------------------------------------------------------------------------------------------
-# Cross-check of the two methods.
-# ----------------------------------------------------------------------------------------------------
-
-
 def frf_difference(a: FRF, b: FRF) -> np.ndarray:
     """Relative difference of two receptances of one system, per entry, shape (6, 6).
 
@@ -583,11 +558,6 @@ def cross_check(system: System, f_hz) -> FRFCrossCheck:
     diff = readonly(frf_difference(direct, modal))
     return FRFCrossCheck(direct=direct, modal=modal, relative_difference=diff,
                          max_relative_difference=float(diff.max()))
-
-
-# ----------------------------------------------------------------------------------------------------
-# Point FRFs and transmissibilities.
-# ----------------------------------------------------------------------------------------------------
 
 
 def point_frf(system: System, f_hz, load_point, load_direction, response_point, response_direction,

@@ -108,11 +108,6 @@ class SuperpositionInfo:
     frame: str = label(default="absolute")
 
 
-# ----------------------------------------------------------------------------------------------------
-# Entry point on model objects
-# ----------------------------------------------------------------------------------------------------
-
-
 def superpose(
     system: System,
     excitation,
@@ -216,11 +211,6 @@ def _padded(signal, times, order):
     size = max(1024, 1 << (n - 1).bit_length())
     padded = np.concatenate([times, np.full(size - n, times[-1] if n else 0.0)])
     return np.asarray(_compiled_signal(signal, padded, order), dtype=float)[:n]
-
-
-# ----------------------------------------------------------------------------------------------------
-# Core: modal superposition on matrices and a force callable
-# ----------------------------------------------------------------------------------------------------
 
 
 def modal_solve(
@@ -401,11 +391,6 @@ def _select(omega2, n_modes, f_max_hz):
     return np.flatnonzero(keep)
 
 
-# ----------------------------------------------------------------------------------------------------
-# Solving the kept modes
-# ----------------------------------------------------------------------------------------------------
-
-
 def _superpose_kept(basis, omega2, D, kept, method, grid, Q_nodes, Q_out, M, q0, qd0, all_complex=False):
     """Modal coordinates of the kept modes: ``eta, eta', eta''`` (n, m) and the eigenvalues.
 
@@ -563,11 +548,6 @@ def _matmul(a, b):
 
 def _matvec(a, v):
     return _matmul(a, v[..., None])[..., 0]
-
-
-# ----------------------------------------------------------------------------------------------------
-# Time grid and quadrature
-# ----------------------------------------------------------------------------------------------------
 
 
 class _Grid:

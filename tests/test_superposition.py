@@ -331,22 +331,19 @@ def test_compare_errors():
         compare(np.zeros((10, 6)), np.zeros((10, 6)), tolerance=-1)
 
 
-def test_input_errors():
+@pytest.mark.parametrize("options, message", [
+    (dict(method="x"), "method: expected one of 'auto', 'real', 'complex', got 'x'"),
+    (dict(t=[0.0, 1.0, 0.5]), r"t: expected at least 2 finite, strictly increasing times in s, "
+                              r"got t\[2\] = 0.5 after t\[1\] = 1"),
+    (dict(n_modes=7), "n_modes: expected an integer from 1 to 6, got 7"),
+    (dict(f_max_hz=0.1), r"f_max_hz: expected at least the lowest natural frequency"),
+    (dict(force=lambda s: np.zeros((s.size, 3))), r"force: expected a callable returning shape \(\d+, 6\)"),
+    (dict(q0=[1.0, 2.0]), "q0: expected 6 finite values"),
+])
+def test_input_errors(options, message):
     system = SYSTEMS["rayleigh"]
-    args = (system.M, system.C, system.K)
-    with pytest.raises(InputError, match="method: expected one of 'auto', 'real', 'complex', got 'x'"):
-        modal_solve(*args, T, method="x")
-    with pytest.raises(InputError, match=r"t: expected at least 2 finite, strictly increasing times in s, "
-                                         r"got t\[2\] = 0.5 after t\[1\] = 1"):
-        modal_solve(*args, [0.0, 1.0, 0.5])
-    with pytest.raises(InputError, match="n_modes: expected an integer from 1 to 6, got 7"):
-        modal_solve(*args, T, n_modes=7)
-    with pytest.raises(InputError, match=r"f_max_hz: expected at least the lowest natural frequency"):
-        modal_solve(*args, T, f_max_hz=0.1)
-    with pytest.raises(InputError, match=r"force: expected a callable returning shape \(\d+, 6\)"):
-        modal_solve(*args, T, lambda s: np.zeros((s.size, 3)))
-    with pytest.raises(InputError, match="q0: expected 6 finite values"):
-        modal_solve(*args, T, q0=[1.0, 2.0])
+    with pytest.raises(InputError, match=message):
+        modal_solve(system.M, system.C, system.K, **(dict(t=T) | options))
 
 
 def test_result_is_frozen():

@@ -68,11 +68,6 @@ RIGID_DAMPING_RTOL = 1e-12
 _BLOCK_MACS = 200_000
 
 
-# ----------------------------------------------------------------------------------------------------
-# Result objects.
-# ----------------------------------------------------------------------------------------------------
-
-
 def _per_load(load_kind: str) -> str:
     """Unit of a force per unit applied load (a force, or a moment)."""
     return "N/(N m)" if load_kind == "moment" else "N/N"
@@ -309,11 +304,6 @@ class GroundTransmissibility(schema.Result):
         return np.abs(self.absolute @ self.ground_direction)
 
 
-# ----------------------------------------------------------------------------------------------------
-# Input checks.
-# ----------------------------------------------------------------------------------------------------
-
-
 def _frequencies(f_hz) -> np.ndarray:
     try:
         f = np.atleast_1d(readonly(f_hz))
@@ -346,11 +336,6 @@ def _ratio_unit(numerator: str, denominator: str) -> str:
     return f"{numerator}/({denominator})" if " " in denominator else f"{numerator}/{denominator}"
 
 
-# ----------------------------------------------------------------------------------------------------
-# Matrices.
-# ----------------------------------------------------------------------------------------------------
-
-
 def hysteretic_stiffness(system: System) -> np.ndarray:
     """Hysteretic stiffness ``K_h`` (6, 6) [N/m, N, N m/rad]: mount stiffness times loss factor.
 
@@ -375,11 +360,6 @@ def dynamic_stiffness(system: System, f_hz) -> np.ndarray:
     w = (2.0 * np.pi * _frequencies(f_hz))[:, None, None]
     static = np.asarray(system.K, dtype=complex) + 1j * hysteretic_stiffness(system)
     return static[None] - w**2 * np.asarray(system.M)[None] + (1j * w) * np.asarray(system.C)[None]
-
-
-# ----------------------------------------------------------------------------------------------------
-# Receptance.
-# ----------------------------------------------------------------------------------------------------
 
 
 def receptance(system: System, f_hz, method: str = "direct", basis: str = "auto") -> FRF:
@@ -439,12 +419,7 @@ def receptance(system: System, f_hz, method: str = "direct", basis: str = "auto"
 
 @dataclass(frozen=True, eq=False)
 class _ModalTerms:
-    """``H(w) = sum_r R_r / (a_r + i w b_r - w^2) + sum_k S_k / (i w - lambda_k)``.
-
-    Real-mode terms (residues ``R`` (nr, 6, 6), ``a_r = w_r^2 + i phi_r' K_h phi_r`` [rad^2/s^2],
-    ``b_r = phi_r' C phi_r`` [1/s]) and complex-mode terms (residues ``S`` (nc, 6, 6), eigenvalues
-    ``lambda_k`` [rad/s]) of the first-order system.
-    """
+    """``H(w) = sum_r R_r / (a_r + i w b_r - w^2) + sum_k S_k / (i w - lambda_k)``: real and complex modes."""
 
     basis: str
     real_residues: np.ndarray
@@ -455,8 +430,7 @@ class _ModalTerms:
 
     @cached_property
     def _stacked(self) -> np.ndarray:
-        """Residues ``S = S' + i S''`` (P, 36) as the real (2 P, 72) ``[[S', S''], [-S'', S']]``, Re and Im
-        columns interleaved: ``[g', g''] @ it`` is ``g S`` in NumPy's memory layout of a complex result."""
+        """Residues ``S' + i S''`` (P, 36) as the real ``[[S', S''], [-S'', S']]`` (2 P, 72), Re/Im interleaved."""
         S = np.concatenate([self.real_residues.reshape(-1, 36), self.complex_residues.reshape(-1, 36)])
         p = S.shape[0]
         out = np.empty((2 * p, 36, 2))
@@ -465,8 +439,9 @@ class _ModalTerms:
         return out.reshape(2 * p, 72)
 
     def evaluate(self, omega: np.ndarray) -> np.ndarray:
-        """Receptance (nf, 6, 6) complex at ``omega`` [rad/s]: one real (nf, 2 P) x (2 P, 72) product
-        (P <= 12 poles) written in place, with no complex division and no temporary of the result's size."""
+        """Receptance (nf, 6, 6) at ``omega`` [rad/s]."""
+        # One real (nf, 2 P) x (2 P, 72) product written in place, whose rows are complex results'
+        # memory layout: no complex division and no temporary of the result's size.
         w = np.asarray(omega, dtype=float)[:, None]
         nr, nc = self.a.size, self.eigenvalues.size
         # Pole factors g[:, 0] + i g[:, 1] in real arithmetic: NumPy's complex division rescales against
@@ -524,9 +499,8 @@ def _modal_terms(system, basis: str) -> _ModalTerms:
                            a=lam + 1j * np.diag(khm), b=np.diag(cm).copy(),
                            complex_residues=np.zeros((0, 6, 6), dtype=complex), eigenvalues=np.zeros(0, dtype=complex))
 
-    # Complex modes of the modal coordinates in `rest`. Undamped rigid-body modes stay as real mass
-    # lines -phi phi'/w^2: in the first-order form they would be Jordan blocks (a double zero
-    # eigenvalue with one eigenvector), which no eigenvector sum represents.
+    # Complex modes of the coordinates in `rest`; undamped rigid-body modes stay real mass lines -phi phi'/w^2
+    # (in first-order form a Jordan block: a double zero eigenvalue, one eigenvector, no eigenvector sum).
     n = len(rest)
     ix = np.ix_(rest, rest)
     stiffness = np.where(lam[rest] > 0, km[ix], 0.0) + 1j * khm[ix]
@@ -538,11 +512,6 @@ def _modal_terms(system, basis: str) -> _ModalTerms:
     return _ModalTerms(basis="complex modes", real_residues=np.einsum("ir,jr->rij", u, u).astype(complex),
                        a=np.zeros(len(undamped_rigid), dtype=complex), b=np.zeros(len(undamped_rigid)),
                        complex_residues=np.einsum("ik,kj->kij", out, inp), eigenvalues=modes_c.eigenvalues)
-
-
-# ----------------------------------------------------------------------------------------------------
-# Cross-check of the two methods.
-# ----------------------------------------------------------------------------------------------------
 
 
 def frf_difference(a: FRF, b: FRF) -> np.ndarray:
@@ -583,11 +552,6 @@ def cross_check(system: System, f_hz) -> FRFCrossCheck:
     diff = readonly(frf_difference(direct, modal))
     return FRFCrossCheck(direct=direct, modal=modal, relative_difference=diff,
                          max_relative_difference=float(diff.max()))
-
-
-# ----------------------------------------------------------------------------------------------------
-# Point FRFs and transmissibilities.
-# ----------------------------------------------------------------------------------------------------
 
 
 def point_frf(system: System, f_hz, load_point, load_direction, response_point, response_direction,

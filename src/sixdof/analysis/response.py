@@ -144,13 +144,11 @@ def mount_forces(system: System, response: TimeHistory) -> MountForces:
     z, zd = response.q_relative, response.qd_relative
     T = point_map(system.positions)  # (m, 3, 6)
     # The same product as point_motion, so a mount's deformation is its point's relative motion exactly.
-    deformation = np.stack([z @ Tm.T for Tm in T])  # (m, n, 3)
-    rate = np.stack([zd @ Tm.T for Tm in T])
+    deformation, rate = (np.stack([x @ Tm.T for Tm in T]) for x in (z, zd))  # (m, n, 3)
     A = np.asarray(system.axes)  # (m, 3, 3): rows are the mount's axes
-    local_elastic = np.einsum("mij,mnj->mni", A, deformation) * system.stiffnesses[:, None, :]
-    local_damping = np.einsum("mij,mnj->mni", A, rate) * system.dampings[:, None, :]
-    elastic = np.einsum("mji,mnj->mni", A, local_elastic)
-    damping = np.einsum("mji,mnj->mni", A, local_damping)
+    local_elastic, local_damping = (np.einsum("mij,mnj->mni", A, x) * k[:, None, :]
+                                    for x, k in ((deformation, system.stiffnesses), (rate, system.dampings)))
+    elastic, damping = (np.einsum("mji,mnj->mni", A, x) for x in (local_elastic, local_damping))
     total = elastic + damping
     if system.rayleigh is None and system.modal_damping is None:
         other = np.zeros_like(zd)  # exactly: C and C_mounts differ only by round-off then

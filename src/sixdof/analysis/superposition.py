@@ -108,11 +108,6 @@ class SuperpositionInfo:
     frame: str = label(default="absolute")
 
 
-# ----------------------------------------------------------------------------------------------------
-# Entry point on model objects
-# ----------------------------------------------------------------------------------------------------
-
-
 def superpose(
     system: System,
     excitation,
@@ -210,17 +205,11 @@ def _compiled_signal(signal, times, order):
 
 
 def _padded(signal, times, order):
-    """:func:`_compiled_signal` on ``times`` padded to a power of two, so that new grids reuse a few
-    compiled lengths."""
+    """:func:`_compiled_signal` on ``times`` padded to a power of two: new grids reuse a few compilations."""
     n = times.size
     size = max(1024, 1 << (n - 1).bit_length())
     padded = np.concatenate([times, np.full(size - n, times[-1] if n else 0.0)])
     return np.asarray(_compiled_signal(signal, padded, order), dtype=float)[:n]
-
-
-# ----------------------------------------------------------------------------------------------------
-# Core: modal superposition on matrices and a force callable
-# ----------------------------------------------------------------------------------------------------
 
 
 def modal_solve(
@@ -401,19 +390,8 @@ def _select(omega2, n_modes, f_max_hz):
     return np.flatnonzero(keep)
 
 
-# ----------------------------------------------------------------------------------------------------
-# Solving the kept modes
-# ----------------------------------------------------------------------------------------------------
-
-
 def _superpose_kept(basis, omega2, D, kept, method, grid, Q_nodes, Q_out, M, q0, qd0, all_complex=False):
-    """Modal coordinates of the kept modes: ``eta, eta', eta''`` (n, m) and the eigenvalues.
-
-    With ``method="complex"``, coordinates that damping does not couple to any other are solved as
-    single oscillators (exact, and robust for critically damped ones), unless ``all_complex``
-    (complex modes forced by the caller), when only the undamped rigid-body ones are (their
-    first-order form is a defective Jordan block that no eigenvector basis represents).
-    """
+    """Modal coordinates of the kept modes: ``eta, eta', eta''`` (n, m) and the eigenvalues."""
     B = basis[:, kept]
     w2 = omega2[kept]
     Dk = D[np.ix_(kept, kept)]
@@ -425,6 +403,8 @@ def _superpose_kept(basis, omega2, D, kept, method, grid, Q_nodes, Q_out, M, q0,
         single, coupled = np.arange(len(kept)), np.arange(0)
         D_used = np.diag(np.diag(Dk))
     else:
+        # Uncoupled coordinates are single oscillators (exact, robust when critically damped); with
+        # complex modes forced, only undamped rigid ones are (their first-order form is a Jordan block).
         isolated = np.all(coupling_of(Dk) <= CLASSICAL_RTOL, axis=1)
         if all_complex:
             isolated &= (w2 == 0.0) & (np.diag(Dk) <= CLASSICAL_RTOL * max(float(np.max(np.diag(Dk))), 0.0))
@@ -470,32 +450,26 @@ def _oscillators(w2, d, grid, g, x0, v0):
 
 
 def _sdof_functions(w2, d, tau):
-    """``cosh(mu tau)``, ``sinh(mu tau)/mu``, ``e^{sigma tau}`` (..., m) for ``sigma = -d/2``, ``mu^2 = sigma^2 - w2``:
-    cos / sin when under-damped, the limits ``1``, ``tau`` when critically damped or rigid."""
+    """``cosh(mu tau)``, ``sinh(mu tau)/mu`` (1, tau when mu = 0), ``e^{sigma tau}``; ``mu^2 = d^2/4 - w2``."""
     sigma = -0.5 * d
     mu2 = sigma**2 - w2
     shape = np.broadcast_shapes(np.shape(tau), w2.shape)
     tau = np.broadcast_to(tau, shape)
     cosh = np.ones(shape)
     sinhc = np.array(tau, dtype=float)
-    under = np.flatnonzero(mu2 < 0)
-    over = np.flatnonzero(mu2 > 0)
-    if under.size:
-        wd = np.sqrt(-mu2[under])
-        x = tau[..., under] * wd
-        cosh[..., under] = np.cos(x)
-        sinhc[..., under] = np.sin(x) / wd
-    if over.size:
-        m = np.sqrt(mu2[over])
-        x = tau[..., over] * m
-        cosh[..., over] = np.cosh(x)
-        sinhc[..., over] = np.sinh(x) / m
+    # Under-damped modes (mu imaginary) take cos and sin of the damped frequency.
+    for index, root, cos, sin in ((np.flatnonzero(mu2 < 0), -mu2, np.cos, np.sin),
+                                  (np.flatnonzero(mu2 > 0), mu2, np.cosh, np.sinh)):
+        if index.size:
+            r = np.sqrt(root[index])
+            x = tau[..., index] * r
+            cosh[..., index] = cos(x)
+            sinhc[..., index] = sin(x) / r
     return cosh, sinhc, np.exp(sigma * tau)
 
 
 def _sdof_transition(w2, d, tau):
-    """``exp(A tau)`` (..., m, 2, 2) of ``A = [[0, 1], [-w2, -d]]`` for any damping, by Cayley-Hamilton
-    (``(A - sigma I)^2 = mu^2 I``): ``e^{sigma tau} (cosh(mu tau) I + sinh(mu tau)/mu (A - sigma I))``."""
+    """``exp(A tau)`` of ``A = [[0, 1], [-w2, -d]]``: ``e^{sigma tau} (cosh(mu tau) + sinhc(mu tau) (A - sigma))``."""
     sigma = -0.5 * d
     cosh, sinhc, decay = _sdof_functions(w2, d, tau)
     out = np.empty(cosh.shape + (2, 2))
@@ -507,11 +481,7 @@ def _sdof_transition(w2, d, tau):
 
 
 def _complex_modes(w2, D, grid, g, x0, v0):
-    """Coupled coordinates through the complex modes of ``y' = [[0, I], [-W2, -D]] y + [0, g]``.
-
-    Returns x, x' (n, p) and the 2p eigenvalues. Only one eigenvalue of each conjugate pair is
-    propagated: ``y = sum_real v z + 2 Re sum_{Im > 0} v z``.
-    """
+    """x, x' (n, p) and the 2p eigenvalues by the complex modes of ``y' = [[0, I], [-W2, -D]] y + [0, g]``."""
     p = len(w2)
     modes = complex_modes(np.diag(w2), D, remedy="use method='real' only if the damping is classical")
     lam, V, Vinv = modes.eigenvalues, modes.right, modes.left
@@ -520,7 +490,7 @@ def _complex_modes(w2, D, grid, g, x0, v0):
     upper = np.flatnonzero(lam.imag > 0)
     if len(real) + 2 * len(upper) != 2 * p:
         raise SolverError("complex modes: eigenvalues are not in conjugate pairs")
-    use = np.concatenate([real, upper])
+    use = np.concatenate([real, upper])  # one of each conjugate pair: y = sum_real v z + 2 Re sum_{Im > 0} v z
     weight = np.repeat([1.0, 2.0], [len(real), len(upper)])
     lam_u = lam[use]
     W = Vinv[use][:, p:]  # modal participation of the forces (r, p)
@@ -539,12 +509,8 @@ def _complex_modes(w2, D, grid, g, x0, v0):
 
 
 def _scan(a, d, z0):
-    """States after each interval of ``z_{i+1} = a_i z_i + d_i``: shape (n_int, m, k).
-
-    ``a`` (n_int, m, k, k), ``d`` (n_int, m, k), ``z0`` (m, k), k = 1 or 2. A Hillis-Steele parallel
-    scan of the affine maps (log2 n vectorized passes instead of n Python steps); every product of
-    transition matrices is itself a transition matrix, so nothing overflows for stable modes.
-    """
+    """States (n_int, m, k) after each interval of ``z_{i+1} = a_i z_i + d_i`` (k = 1 or 2)."""
+    # Hillis-Steele scan: log2 n vectorized passes; products of transitions cannot overflow (stable modes).
     a, d = a.copy(), d.copy()
     offset = 1
     while offset < a.shape[0]:
@@ -563,11 +529,6 @@ def _matmul(a, b):
 
 def _matvec(a, v):
     return _matmul(a, v[..., None])[..., 0]
-
-
-# ----------------------------------------------------------------------------------------------------
-# Time grid and quadrature
-# ----------------------------------------------------------------------------------------------------
 
 
 class _Grid:
@@ -595,11 +556,7 @@ class _Grid:
         self.output_index = np.searchsorted(nodes, t)  # exact: t is a subset of nodes
 
     def integrate(self, values, initial):
-        """Running integral from ``t[0]`` of a function known at the quadrature nodes.
-
-        ``values`` (n_int, n_g). Returns the integral at every node (n_int, n_g) and at every
-        interval's end (n_int,), starting from ``initial`` at the first node of the grid.
-        """
+        """Running integral from ``initial`` at ``t[0]`` of ``values`` (n_int, n_g): at the nodes and the ends."""
         to_nodes, to_end = _integration_matrices(len(self.x))
         half = 0.5 * self.h[:, None]
         within = half * (values @ to_nodes.T)  # from each interval's start to its nodes
@@ -662,8 +619,7 @@ class GroundInput:
 
 
 def _integration_matrices(n):
-    """Matrices mapping values at the n Gauss-Legendre nodes of [-1, 1] to the integral of their
-    interpolating polynomial from -1 to each node (n, n) and to 1 (n,)."""
+    """Values at n Gauss-Legendre nodes -> integral of their interpolant from -1 to each node (n, n), to 1 (n,)."""
     x, _ = np.polynomial.legendre.leggauss(n)
     vandermonde = np.polynomial.legendre.legvander(x, n - 1)  # P_k(x_j)
     to_coefficients = np.linalg.inv(vandermonde)

@@ -70,6 +70,15 @@ def plot_long(ax, t: np.ndarray, values: np.ndarray, *args, **kwargs):
     return ax.plot(t[keep], values[keep], *args, **kwargs)
 
 
+def time_axes(axes: np.ndarray, t: np.ndarray) -> None:
+    """Grid and the span of ``t`` [s] on every axes of a grid, "time t [s]" under its last row."""
+    for ax in np.ravel(axes):
+        ax.grid(True, alpha=0.3)
+        ax.set_xlim(t[0], t[-1])
+    for ax in np.atleast_1d(axes[-1]):
+        ax.set_xlabel("time t [s]")
+
+
 def margins(fig: Figure, left: float, right: float, top: float, bottom: float, wspace: float = 0.0,
             hspace: float = 0.0, columns: int = 1, rows: int = 1, target=None) -> None:
     """Fixed margins and gaps between axes, all in inches, on a figure without a layout engine.
@@ -100,7 +109,7 @@ def title(name: str, what: str) -> str:
     return f"{name}: {what}" if name else what
 
 
-def require(value, field: str, kind: type, expected: str):
+def require(value, field: str, kind: type | tuple[type, ...], expected: str):
     """``value`` when it is a ``kind``; otherwise an :class:`InputError` naming ``field``."""
     if not isinstance(value, kind):
         raise InputError(field, expected, value)

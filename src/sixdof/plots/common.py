@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
+from sixdof.analysis.modal import Modes
 from sixdof.errors import InputError
 
 #: Resolution of the PNG files [dots per inch].
@@ -26,7 +27,6 @@ PNG_COMPRESS_LEVEL = 1
 TRANSLATION = "tab:blue"
 ROTATION = "tab:red"
 COMPONENT_COLORS = ("tab:blue", "tab:orange", "tab:green")
-
 
 
 def envelope_indices(values: np.ndarray, max_points: int = MAX_POINTS) -> np.ndarray:
@@ -118,11 +118,8 @@ def require(value, field: str, kind: type | tuple[type, ...], expected: str):
 
 def natural_frequencies(modes) -> np.ndarray | None:
     """``modes.frequency_hz`` [Hz] of a :class:`~sixdof.analysis.modal.Modes`, or ``None``."""
-    if modes is None:
-        return None
-    from sixdof.analysis.modal import Modes
-
-    return require(modes, "modes", Modes, "a sixdof.analysis.modal.Modes (or None)").frequency_hz
+    require(modes, "modes", (Modes, type(None)), "a sixdof.analysis.modal.Modes (or None)")
+    return None if modes is None else modes.frequency_hz
 
 
 def mark_modes(ax, frequency_hz: np.ndarray | None, label: bool = False) -> None:

@@ -77,9 +77,8 @@ def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, 
         mag, phase = axes[0, column], axes[1, column]
         for k, i in enumerate(block):
             h = H[:, i, i]
-            color = COMPONENT_COLORS[k]
-            mag.plot(f, np.abs(h), color=color, label=f"{DOFS[i]} per {LOADS[i]}")
-            phase.plot(f, np.degrees(np.angle(h)), color=color)
+            mag.plot(f, np.abs(h), color=COMPONENT_COLORS[k], label=f"{DOFS[i]} per {LOADS[i]}")
+            phase.plot(f, np.degrees(np.angle(h)), color=COMPONENT_COLORS[k])
         mag.set_yscale("log")
         mag.set_ylabel(f"|H| [{unit}]")
         mag.set_title("translations" if column == 0 else "rotations", fontsize=11)

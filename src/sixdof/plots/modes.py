@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
+from scipy.spatial.transform import Rotation
 
 from sixdof.analysis.modal import Modes
 from sixdof.dofs import DOFS
@@ -51,16 +52,6 @@ def body_box(system: System | None) -> np.ndarray:
     return np.where(size <= 1e-9 * largest, FLAT_SIDE * largest, size)
 
 
-def _rotation(theta: np.ndarray) -> np.ndarray:
-    """Rotation matrix of the rotation vector ``theta`` [rad] (Rodrigues)."""
-    angle = float(np.linalg.norm(theta))
-    if angle == 0.0:
-        return np.eye(3)
-    k = theta / angle
-    cross = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-    return np.eye(3) + np.sin(angle) * cross + (1.0 - np.cos(angle)) * cross @ cross
-
-
 def drawn_mode(points: np.ndarray, shape: np.ndarray, largest: float) -> np.ndarray:
     """Positions (n, 3) [m] of body points in a mode shape scaled to be visible.
 
@@ -85,7 +76,7 @@ def drawn_mode(points: np.ndarray, shape: np.ndarray, largest: float) -> np.ndar
     if rotation * scale > MAX_DRAWN_ROTATION:
         scale = MAX_DRAWN_ROTATION / rotation
     q = scale * np.asarray(shape, dtype=float)
-    return q[:3] + points @ _rotation(q[3:]).T
+    return q[:3] + Rotation.from_rotvec(q[3:]).apply(points)
 
 
 def _panel_zoom(aspect: np.ndarray, elev: float, azim: float) -> float:

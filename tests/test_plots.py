@@ -194,13 +194,12 @@ def test_superposition_overlay_and_difference(parts):
     assert labelled_axes(fig)
     assert len(fig.axes) == 12
     assert f"{agreement.worst:.2e}" in fig.get_suptitle()
-    t = direct.t
     for i in range(6):
         right = fig.axes[2 * i + 1]
         relative = right.lines[0].get_ydata()
         # The plotted curve's peak is the agreement of that DOF (no DOF is quiet here).
         assert np.max(np.abs(relative)) == pytest.approx(agreement.per_dof[i], rel=RTOL_DRAWN)
-        assert_drawn_from(right.lines[0], t, (modal.q[:, i] - direct.q[:, i]) / np.max(np.abs(direct.q[:, i])),
+        assert_drawn_from(right.lines[0], direct.t, (modal.q[:, i] - direct.q[:, i]) / np.max(np.abs(direct.q[:, i])),
                           rtol=RTOL_DRAWN)
 
 
@@ -274,8 +273,7 @@ def test_mount_forces(parts):
     fig = plots.plot_mount_forces(forces, t)
     assert labelled_axes(fig)
     for c, ax in enumerate(fig.axes):
-        unit = ax.get_ylabel().split("[")[1].rstrip("]")
-        factor = {"kN": 1e-3, "N": 1.0}[unit]
+        factor = {"kN": 1e-3, "N": 1.0}[ax.get_ylabel().split("[")[1].rstrip("]")]
         for k in range(forces.total.shape[0]):
             assert_drawn_from(ax.lines[k], t, factor * forces.total[k, :, c])
         assert_drawn_from(ax.lines[-1], t, factor * forces.foundation_force[:, c])
@@ -368,9 +366,16 @@ def test_save_all_titles_start_with_the_run_name(run, monkeypatch, tmp_path):
         assert heading.startswith("bridge_beam: "), heading
 
 
+def runs_without_pyplot(code: str) -> None:
+    """``code`` runs in a fresh interpreter with no backend chosen, and never imports pyplot."""
+    code = f"import sys\n{code}assert 'matplotlib.pyplot' not in sys.modules\n"
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                            env={**os.environ, "MPLBACKEND": ""})
+    assert result.returncode == 0, result.stderr
+
+
 def test_save_all_never_loads_pyplot(tmp_path):
-    code = (
-        "import sys\n"
+    runs_without_pyplot(
         "from sixdof import Mount, RigidBody, System, modal_analysis, plots\n"
         "from sixdof.results import RunResults\n"
         "system = System(RigidBody(100.0, [5.0, 6.0, 7.0]),\n"
@@ -379,11 +384,7 @@ def test_save_all_never_loads_pyplot(tmp_path):
         "run = RunResults(name='box', system=system, modes=modal_analysis(system.M, system.K))\n"
         f"files = plots.save_all(run, {str(tmp_path / 'png')!r})\n"
         "assert len(files) == 2, files\n"
-        "assert 'matplotlib.pyplot' not in sys.modules\n"
     )
-    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                            env={**os.environ, "MPLBACKEND": ""})
-    assert result.returncode == 0, result.stderr
 
 
 def test_plot_from_a_file_never_loads_pyplot(modal_only, tmp_path):
@@ -391,13 +392,8 @@ def test_plot_from_a_file_never_loads_pyplot(modal_only, tmp_path):
     from sixdof.io.store import write_results
 
     write_results(path, modal_only)
-    code = (
-        "import sys\n"
+    runs_without_pyplot(
         "from sixdof import plots\nfrom sixdof.io import store\n"
         f"files = plots.save_all(store.load_results({str(path)!r}), {str(tmp_path / 'png')!r})\n"
         "assert len(files) == 2, files\n"
-        "assert 'matplotlib.pyplot' not in sys.modules\n"
     )
-    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                            env={**os.environ, "MPLBACKEND": ""})
-    assert result.returncode == 0, result.stderr

@@ -69,10 +69,9 @@ __all__ = [
     "save_all",
 ]
 
+
 def _file_order(extras: Mapping[str, object]) -> dict[str, object]:
-    """Point FRFs and transmissibilities in the order of the results file (force transmissibilities,
-    ground transmissibilities, point FRFs; each by name), so that a live run and a loaded one draw the
-    same figure whatever order their mappings keep."""
+    """``extras`` in the results file's order (by kind, then name): a live and a loaded run draw alike."""
     kinds = (ForceTransmissibility, GroundTransmissibility, PointFRF)
 
     def key(item):

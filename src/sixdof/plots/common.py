@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
+from sixdof.analysis.modal import Modes
 from sixdof.errors import InputError
 
 #: Resolution of the PNG files [dots per inch].
@@ -26,7 +27,6 @@ PNG_COMPRESS_LEVEL = 1
 TRANSLATION = "tab:blue"
 ROTATION = "tab:red"
 COMPONENT_COLORS = ("tab:blue", "tab:orange", "tab:green")
-
 
 
 def envelope_indices(values: np.ndarray, max_points: int = MAX_POINTS) -> np.ndarray:
@@ -70,6 +70,15 @@ def plot_long(ax, t: np.ndarray, values: np.ndarray, *args, **kwargs):
     return ax.plot(t[keep], values[keep], *args, **kwargs)
 
 
+def time_axes(axes: np.ndarray, t: np.ndarray) -> None:
+    """Grid and the span of ``t`` [s] on every axes of a grid, "time t [s]" under its last row."""
+    for ax in np.ravel(axes):
+        ax.grid(True, alpha=0.3)
+        ax.set_xlim(t[0], t[-1])
+    for ax in np.atleast_1d(axes[-1]):
+        ax.set_xlabel("time t [s]")
+
+
 def margins(fig: Figure, left: float, right: float, top: float, bottom: float, wspace: float = 0.0,
             hspace: float = 0.0, columns: int = 1, rows: int = 1, target=None) -> None:
     """Fixed margins and gaps between axes, all in inches, on a figure without a layout engine.
@@ -100,7 +109,7 @@ def title(name: str, what: str) -> str:
     return f"{name}: {what}" if name else what
 
 
-def require(value, field: str, kind: type, expected: str):
+def require(value, field: str, kind: type | tuple[type, ...], expected: str):
     """``value`` when it is a ``kind``; otherwise an :class:`InputError` naming ``field``."""
     if not isinstance(value, kind):
         raise InputError(field, expected, value)
@@ -109,11 +118,8 @@ def require(value, field: str, kind: type, expected: str):
 
 def natural_frequencies(modes) -> np.ndarray | None:
     """``modes.frequency_hz`` [Hz] of a :class:`~sixdof.analysis.modal.Modes`, or ``None``."""
-    if modes is None:
-        return None
-    from sixdof.analysis.modal import Modes
-
-    return require(modes, "modes", Modes, "a sixdof.analysis.modal.Modes (or None)").frequency_hz
+    require(modes, "modes", (Modes, type(None)), "a sixdof.analysis.modal.Modes (or None)")
+    return None if modes is None else modes.frequency_hz
 
 
 def mark_modes(ax, frequency_hz: np.ndarray | None, label: bool = False) -> None:

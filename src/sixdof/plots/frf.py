@@ -12,26 +12,21 @@ from sixdof.analysis.frf import FRF, ForceTransmissibility, FRFCrossCheck, Groun
 from sixdof.analysis.modal import Modes
 from sixdof.dofs import DOFS, LOADS
 from sixdof.errors import InputError, Plain
-from sixdof.plots.common import COMPONENT_COLORS, margins, mark_modes, natural_frequencies, title
+from sixdof.plots.common import COMPONENT_COLORS, margins, mark_modes, natural_frequencies, require, title
 
 
-def _log_frequency(f: np.ndarray) -> bool:
-    """A log frequency axis for grids from above 0 that span more than a factor 20."""
-    return bool(f[0] > 0 and f[-1] / f[0] > 20)
-
-
-def _style(ax, logx: bool, frequency_hz, label: bool) -> None:
-    if logx:
-        ax.set_xscale("log")
-    ax.grid(True, which="major", alpha=0.4)
-    ax.grid(True, which="minor", alpha=0.12)
-    mark_modes(ax, frequency_hz, label=label)
-
-
-def _phase_axis(ax) -> None:
-    ax.set_ylabel("phase [deg]")
-    ax.set_ylim(-190, 190)
-    ax.set_yticks([-180, -90, 0, 90, 180])
+def _finish(mag, phase, f: np.ndarray, frequency_hz: np.ndarray | None) -> None:
+    """Phase axis [deg], grids, natural frequencies and frequency span of a magnitude and phase pair."""
+    phase.set_ylabel("phase [deg]")
+    phase.set_ylim(-190, 190)
+    phase.set_yticks([-180, -90, 0, 90, 180])
+    for ax in (mag, phase):
+        if f[0] > 0 and f[-1] / f[0] > 20:  # a log axis needs f > 0 and pays off over a wide span
+            ax.set_xscale("log")
+        ax.grid(True, which="major", alpha=0.4)
+        ax.grid(True, which="minor", alpha=0.12)
+        mark_modes(ax, frequency_hz, label=ax is mag)
+    mag.set_xlim(f[0], f[-1])
 
 
 def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, name: str = "") -> Figure:
@@ -61,8 +56,7 @@ def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, 
     """
     if isinstance(frf, FRFCrossCheck):
         frf = frf.direct
-    if not isinstance(frf, FRF):
-        raise InputError("frf", "a sixdof.analysis.frf.FRF or FRFCrossCheck (from receptance or cross_check)", frf)
+    require(frf, "frf", FRF, "a sixdof.analysis.frf.FRF or FRFCrossCheck (from receptance or cross_check)")
     frequency_hz = natural_frequencies(modes)
     f, H = frf.f_hz, frf.H
     if ax is None:
@@ -79,23 +73,18 @@ def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, 
             raise InputError("ax", "Axes of shape (2, 2): magnitude above phase, translations left",
                              Plain(f"shape {axes.shape}"))
         fig = axes[0, 0].figure
-    logx = _log_frequency(f)
     for column, (block, unit) in enumerate(((range(0, 3), "m/N"), (range(3, 6), "rad/(N m)"))):
         mag, phase = axes[0, column], axes[1, column]
         for k, i in enumerate(block):
             h = H[:, i, i]
-            color = COMPONENT_COLORS[k]
-            mag.plot(f, np.abs(h), color=color, label=f"{DOFS[i]} per {LOADS[i]}")
-            phase.plot(f, np.degrees(np.angle(h)), color=color)
+            mag.plot(f, np.abs(h), color=COMPONENT_COLORS[k], label=f"{DOFS[i]} per {LOADS[i]}")
+            phase.plot(f, np.degrees(np.angle(h)), color=COMPONENT_COLORS[k])
         mag.set_yscale("log")
         mag.set_ylabel(f"|H| [{unit}]")
         mag.set_title("translations" if column == 0 else "rotations", fontsize=11)
         mag.legend(fontsize=9)
-        _phase_axis(phase)
         phase.set_xlabel("frequency f [Hz]")
-        for a in (mag, phase):
-            _style(a, logx, frequency_hz, label=a is mag)
-        mag.set_xlim(f[0], f[-1])
+        _finish(mag, phase, f, frequency_hz)
     return fig
 
 
@@ -147,8 +136,7 @@ def plot_point_frfs(extras: Mapping[str, PointFRF | ForceTransmissibility | Grou
     -------
     matplotlib.figure.Figure
     """
-    if not isinstance(extras, Mapping):
-        raise InputError("extras", "a mapping of names to point FRFs or transmissibilities", extras)
+    require(extras, "extras", Mapping, "a mapping of names to point FRFs or transmissibilities")
     items = [(item.f_hz, *_point_item(key, item)) for key, item in extras.items()]
     if not items:
         raise InputError("extras", "at least one point FRF or transmissibility", Plain("none"))
@@ -158,7 +146,6 @@ def plot_point_frfs(extras: Mapping[str, PointFRF | ForceTransmissibility | Grou
     margins(fig, left=0.85, right=0.15, top=0.6, bottom=0.55, wspace=0.85, hspace=0.5, columns=2, rows=len(items))
     axes = np.atleast_2d(fig.subplots(len(items), 2, sharex=True, width_ratios=[3, 2]))
     for row, (f, heading, ratio, magnitude, complex_values, unit) in enumerate(items):
-        logx = _log_frequency(f)
         mag, phase = axes[row]
         mag.plot(f, magnitude, color="tab:blue")
         mag.set_yscale("log")
@@ -168,10 +155,7 @@ def plot_point_frfs(extras: Mapping[str, PointFRF | ForceTransmissibility | Grou
             mag.axhline(1.0, color="black", linewidth=0.8, linestyle="--")
         if complex_values is not None:
             phase.plot(f, np.degrees(np.angle(complex_values)), color="tab:blue")
-        _phase_axis(phase)
-        for a in (mag, phase):
-            _style(a, logx, frequency_hz, label=a is mag)
-        mag.set_xlim(f[0], f[-1])
+        _finish(mag, phase, f, frequency_hz)
     for a in axes[-1]:
         a.set_xlabel("frequency f [Hz]")
     return fig

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
+from scipy.spatial.transform import Rotation
 
 from sixdof.analysis.modal import Modes
 from sixdof.dofs import DOFS
@@ -51,28 +52,6 @@ def body_box(system: System | None) -> np.ndarray:
     return np.where(size <= 1e-9 * largest, FLAT_SIDE * largest, size)
 
 
-def _box(size: np.ndarray) -> tuple[np.ndarray, list[list[int]]]:
-    """Corners (8, 3) [m] of a box centred on the origin, and its six faces (corner indices)."""
-    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], float) * size / 2
-    faces = [[0, 1, 3, 2], [4, 5, 7, 6], [0, 1, 5, 4], [2, 3, 7, 6], [0, 2, 6, 4], [1, 3, 7, 5]]
-    return corners, faces
-
-
-def _displacement(points: np.ndarray, q: np.ndarray) -> np.ndarray:
-    """Small-rotation displacement of body points (n, 3) [m] for generalized coordinates q (6,)."""
-    return q[:3] + np.cross(q[3:], points)
-
-
-def _rotation(theta: np.ndarray) -> np.ndarray:
-    """Rotation matrix of the rotation vector ``theta`` [rad] (Rodrigues)."""
-    angle = float(np.linalg.norm(theta))
-    if angle == 0.0:
-        return np.eye(3)
-    k = theta / angle
-    cross = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-    return np.eye(3) + np.sin(angle) * cross + (1.0 - np.cos(angle)) * cross @ cross
-
-
 def drawn_mode(points: np.ndarray, shape: np.ndarray, largest: float) -> np.ndarray:
     """Positions (n, 3) [m] of body points in a mode shape scaled to be visible.
 
@@ -89,7 +68,7 @@ def drawn_mode(points: np.ndarray, shape: np.ndarray, largest: float) -> np.ndar
     largest : float
         The body's largest size [m].
     """
-    peak = float(np.max(np.linalg.norm(_displacement(points, shape), axis=1)))
+    peak = float(np.max(np.linalg.norm(shape[:3] + np.cross(shape[3:], points), axis=1)))  # small-rotation map
     if peak == 0.0:
         return points.copy()
     scale = MODE_SCALE * largest / peak
@@ -97,7 +76,7 @@ def drawn_mode(points: np.ndarray, shape: np.ndarray, largest: float) -> np.ndar
     if rotation * scale > MAX_DRAWN_ROTATION:
         scale = MAX_DRAWN_ROTATION / rotation
     q = scale * np.asarray(shape, dtype=float)
-    return q[:3] + points @ _rotation(q[3:]).T
+    return q[:3] + Rotation.from_rotvec(q[3:]).apply(points)
 
 
 def _panel_zoom(aspect: np.ndarray, elev: float, azim: float) -> float:
@@ -141,51 +120,42 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, name: str = 
     require(modes, "modes", Modes, _MODES)
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-    shapes = modes.shapes
     freqs = modes.frequency_hz
     dominant = modes.dominant_dof
-    ke = modes.ke_distribution
     size = body_box(system)
-    corners, faces = _box(size)
+    # The box's corners [m] about the CG and its six faces (corner indices).
+    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], float) * size / 2
+    faces = [[0, 1, 3, 2], [4, 5, 7, 6], [0, 1, 5, 4], [2, 3, 7, 6], [0, 2, 6, 4], [1, 3, 7, 5]]
     mounts = np.zeros((0, 3)) if system is None else system.positions
     names = () if system is None else system.mount_names
     points = np.vstack([corners, mounts])
     largest = float(np.max(size))
 
-    n = shapes.shape[1]
-    columns, rows = panel_grid(n)
+    drawn = [drawn_mode(points, shape, largest) for shape in modes.shapes.T]
+    columns, rows = panel_grid(len(drawn))
     fig = Figure(figsize=(5.0 * columns, 4.6 * rows))
     fig.suptitle(title(name, "mode shapes (displacements scaled for visibility)"), fontsize=13)
     margins(fig, left=0.1, right=0.1, top=0.85, bottom=0.15, wspace=0.2, hspace=0.75, columns=columns, rows=rows)
-    drawn = [drawn_mode(points, shapes[:, j], largest) for j in range(n)]
     # One set of limits for every panel, equal scales on the three axes (nothing distorted) except
     # that MIN_ASPECT keeps slender bodies visible.
     reach = 1.05 * np.max(np.abs(np.concatenate([points, *drawn])), axis=0)
     aspect = np.maximum(reach, MIN_ASPECT * float(np.max(reach)))
-    for j in range(n):
+    for j, moved in enumerate(drawn):
         ax = fig.add_subplot(rows, columns, j + 1, projection="3d")
-        moved = drawn[j]
-        rest_faces = [corners[f] for f in faces]
-        ax.add_collection3d(
-            Poly3DCollection(rest_faces, facecolors=(0.6, 0.6, 0.6, 0.06), edgecolors=(0.5, 0.5, 0.5, 0.6),
-                             linewidths=0.7, linestyles="--")
-        )
-        ax.add_collection3d(
-            Poly3DCollection([moved[:8][f] for f in faces], facecolors=(0.12, 0.47, 0.71, 0.25),
-                             edgecolors=(0.05, 0.25, 0.45, 1.0), linewidths=1.2)
-        )
+        ax.add_collection3d(Poly3DCollection([corners[f] for f in faces], facecolors=(0.6, 0.6, 0.6, 0.06),
+                                             edgecolors=(0.5, 0.5, 0.5, 0.6), linewidths=0.7, linestyles="--"))
+        ax.add_collection3d(Poly3DCollection([moved[:8][f] for f in faces], facecolors=(0.12, 0.47, 0.71, 0.25),
+                                             edgecolors=(0.05, 0.25, 0.45, 1.0), linewidths=1.2))
         if len(mounts):
-            ground = mounts
-            ax.scatter(*ground.T, marker="^", s=45, color="black", depthshade=False,
-                       label="mount (ground side)")
+            ax.scatter(*mounts.T, marker="^", s=45, color="black", depthshade=False, label="mount (ground side)")
             body_side = moved[8:]
-            ax.scatter(*body_side.T, marker="o", s=22, color="tab:red", depthshade=False,
-                       label="mount (body side)")
-            for a, b in zip(ground, body_side):
+            ax.scatter(*body_side.T, marker="o", s=22, color="tab:red", depthshade=False, label="mount (body side)")
+            for a, b in zip(mounts, body_side):
                 ax.plot(*np.stack([a, b]).T, color="tab:red", linewidth=1.0)
             if j == 0:
-                for mount, p in zip(names, ground):
+                for mount, p in zip(names, mounts):
                     ax.text(*p, f" {mount}", fontsize=8, color="black")
+                ax.legend(loc="upper left", fontsize=7, frameon=False)
         for axis, label in enumerate("xyz"):
             getattr(ax, f"set_{label}lim")(-aspect[axis], aspect[axis])
             getattr(ax, f"set_{label}label")(f"{label} [m]", labelpad=1)
@@ -194,11 +164,9 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, name: str = 
         ax.tick_params(labelsize=7, pad=2)  # pad 0 puts a tick mark over a label's minus sign
         for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
             axis.set_major_locator(MaxNLocator(4, symmetric=True))
-        share = f" ({100 * ke[DOFS.index(dominant[j]), j]:.0f} % KE)"
+        share = f" ({100 * modes.ke_distribution[DOFS.index(dominant[j]), j]:.0f} % KE)"
         frequency = "rigid-body mode (0 Hz)" if freqs[j] == 0 else f"{freqs[j]:.4g} Hz"
         ax.set_title(f"Mode {j + 1}: {frequency}\ndominant {dominant[j]}{share}", fontsize=11)
-        if j == 0 and len(mounts):
-            ax.legend(loc="upper left", fontsize=7, frameon=False)
     return fig
 
 
@@ -229,13 +197,10 @@ def plot_ke_distribution(modes: Modes, ax=None, *, name: str = "") -> Figure:
         ax = fig.add_subplot()
     fig = ax.figure
     image = ax.imshow(percent, cmap="Blues", vmin=0.0, vmax=100.0, aspect="auto")
-    for i in range(percent.shape[0]):
-        for j in range(n):
-            value = percent[i, j]
-            # Round-off leaves shares like -1e-15: print them as 0, not "-0".
-            text = "0" if abs(value) < 0.05 else (f"{value:.0f}" if value >= 9.95 else f"{value:.1f}")
-            ax.text(j, i, text, ha="center", va="center", fontsize=10,
-                    color="white" if value > 60 else "black")
+    for (i, j), value in np.ndenumerate(percent):
+        # Round-off leaves shares like -1e-15: print them as 0, not "-0".
+        text = "0" if abs(value) < 0.05 else (f"{value:.0f}" if value >= 9.95 else f"{value:.1f}")
+        ax.text(j, i, text, ha="center", va="center", fontsize=10, color="white" if value > 60 else "black")
     ax.set_xticks(range(n), [f"{j + 1}\n{f:.3g} Hz" for j, f in enumerate(freqs)])
     ax.set_yticks(range(len(DOFS)), DOFS)
     ax.set_xlabel("mode (natural frequency [Hz])")

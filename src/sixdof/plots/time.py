@@ -8,40 +8,16 @@ from matplotlib.figure import Figure
 
 from sixdof.analysis.compare import Agreement
 from sixdof.analysis.response import MountForces
-from sixdof.dofs import DOFS, FORCE_UNITS, display_unit
+from sixdof.dofs import DOFS, FORCE_UNITS, display_unit, dof_units
 from sixdof.errors import InputError
-from sixdof.plots.common import ROTATION, TRANSLATION, margins, plot_long, require, title
+from sixdof.plots.common import ROTATION, TRANSLATION, margins, plot_long, require, time_axes, title
 from sixdof.results import TimeHistory
 
 _HISTORY = "a sixdof.results.TimeHistory"
 #: SI unit of each DOF's column of each quantity of a TimeHistory.
-_UNITS = {
-    "q": ("m", "m", "m", "rad", "rad", "rad"),
-    "qd": ("m/s", "m/s", "m/s", "rad/s", "rad/s", "rad/s"),
-    "qdd": ("m/s^2", "m/s^2", "m/s^2", "rad/s^2", "rad/s^2", "rad/s^2"),
-    "Q": FORCE_UNITS,
-}
+_UNITS = {"q": dof_units(0), "qd": dof_units(1), "qdd": dof_units(2), "Q": FORCE_UNITS}
 _QUANTITIES = {"q": "displacement", "qd": "velocity", "qdd": "acceleration", "Q": "generalized force"}
 _GROUND = {"q": "ground_displacement", "qd": "ground_velocity", "qdd": "ground_acceleration"}
-
-
-def _dof_grid(fig: Figure, t: np.ndarray):
-    """3 x 2 axes: translations left, rotations right, one DOF per axis, shared time axis."""
-    axes = fig.subplots(3, 2, sharex=True)
-    for ax in axes[-1]:
-        ax.set_xlabel("time t [s]")
-    for ax in axes.flat:
-        ax.grid(True, alpha=0.3)
-        ax.set_xlim(t[0], t[-1])
-    return [axes[i % 3, i // 3] for i in range(6)]
-
-
-def _relative(history: TimeHistory, key: str) -> np.ndarray | None:
-    """The motion relative to the ground when the ground moves (not merely present as zeros)."""
-    ground = getattr(history, _GROUND[key]) if key in _GROUND else None
-    if ground is None or not np.any(ground != 0):
-        return None
-    return getattr(history, f"{key}_relative")
 
 
 def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "") -> Figure:
@@ -77,15 +53,17 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "")
     if values is None:
         raise InputError(f"history.{key}", "an (n, 6) array", values)
     t = history.t
-    units = _UNITS[key]
-    quantity = _QUANTITIES[key]
     fig = Figure(figsize=(12, 8))
-    fig.suptitle(title(name, f"{quantity} of the centre of gravity ({key})"), fontsize=13)
+    fig.suptitle(title(name, f"{_QUANTITIES[key]} of the centre of gravity ({key})"), fontsize=13)
     margins(fig, left=0.8, right=0.15, top=0.7, bottom=0.55, wspace=1.0, hspace=0.55, columns=2, rows=3)
-    relative = _relative(history, key)
-    for i, ax in enumerate(_dof_grid(fig, t)):
+    # The motion relative to the ground only when the ground moves (not merely present as zeros).
+    ground = getattr(history, _GROUND[key]) if key in _GROUND else None
+    relative = getattr(history, f"{key}_relative") if ground is not None and np.any(ground != 0) else None
+    axes = fig.subplots(3, 2, sharex=True)
+    time_axes(axes, t)
+    for i, ax in enumerate(axes.T.flat):  # translations left, rotations right
         shown = values[:, i] if relative is None else np.concatenate([values[:, i], relative[:, i]])
-        factor, label = display_unit(shown, units[i])
+        factor, label = display_unit(shown, _UNITS[key][i])
         plot_long(ax, t, factor * values[:, i], color=TRANSLATION if i < 3 else ROTATION, linewidth=1.0,
                   label="absolute")
         if relative is not None:
@@ -123,13 +101,12 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
     """
     require(direct, "direct", TimeHistory, _HISTORY)
     require(modal, "modal", TimeHistory, _HISTORY)
-    if agreement is not None:
-        require(agreement, "agreement", Agreement, "a sixdof.analysis.compare.Agreement (or None)")
+    require(agreement, "agreement", (Agreement, type(None)), "a sixdof.analysis.compare.Agreement (or None)")
     if modal.q.shape != direct.q.shape:
         raise InputError("modal.q", f"shape {direct.q.shape} (that of direct.q)", f"shape {modal.q.shape}")
     t = direct.t
     q_direct, q_modal = direct.q, modal.q
-    units = _UNITS["q"]
+    peaks = np.max(np.abs(q_direct), axis=0)
     fig = Figure(figsize=(13, 13))
     heading = "direct solution vs modal superposition"
     if agreement is not None:
@@ -140,15 +117,19 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
     margins(fig, left=0.8, right=0.15, top=1.0, bottom=0.55, wspace=1.1, hspace=0.45, columns=2, rows=6)
     axes = fig.subplots(6, 2, sharex=True)
     for i in range(6):
-        factor, label = display_unit(q_direct[:, i], units[i])
+        factor, label = display_unit(q_direct[:, i], _UNITS["q"][i])
         left, right = axes[i]
         plot_long(left, t, factor * q_direct[:, i], color="black", linewidth=1.6, label="direct (diffrax)")
         plot_long(left, t, factor * q_modal[:, i], color="tab:orange", linewidth=1.0, linestyle="--",
                   label="modal superposition")
         left.set_ylabel(f"{DOFS[i]} [{label}]")
-        # The difference relative to the quantity the agreement divides by: the DOF's own peak,
-        # or for a quiet DOF (round-off only) the largest peak of all DOFs.
-        denominator, against = _agreement_denominator(q_direct, agreement, i)
+        # Divided as the agreement divides it: by the DOF's own peak, or for a quiet DOF (round-off
+        # only) by the largest peak of all DOFs, rotations times the agreement's length (see compare).
+        denominator, against = float(peaks[i]), "peak"
+        if agreement is not None and DOFS[i] in tuple(agreement.quiet):
+            length = float(agreement.length)
+            largest = float(np.max(peaks * np.array([1.0, 1.0, 1.0, length, length, length])))
+            denominator, against = (largest / length if i >= 3 else largest), "largest peak"
         difference = q_modal[:, i] - q_direct[:, i]
         relative = difference / denominator if denominator > 0 else difference
         plot_long(right, t, relative, color="tab:purple", linewidth=0.9)
@@ -161,31 +142,12 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
         if agreement is not None:
             quiet = " (quiet DOF: round-off only)" if against != "peak" else ""
             right.set_title(f"{DOFS[i]}: max|Δ| / {against} = {agreement.per_dof[i]:.2e}{quiet}", fontsize=9)
-        for ax in (left, right):
-            ax.grid(True, alpha=0.3)
-            ax.set_xlim(t[0], t[-1])
     axes[0, 0].legend(fontsize=9, loc="lower left", bbox_to_anchor=(0.0, 1.0), ncols=2, frameon=False)
     if agreement is not None:
         axes[0, 1].plot([], [], color="tab:red", linestyle="--", linewidth=0.8, label="± tolerance")
         axes[0, 1].legend(fontsize=8, loc="upper right")
-    axes[-1, 0].set_xlabel("time t [s]")
-    axes[-1, 1].set_xlabel("time t [s]")
+    time_axes(axes, t)
     return fig
-
-
-def _agreement_denominator(direct: np.ndarray, agreement: Agreement | None, i: int) -> tuple[float, str]:
-    """What the agreement divides DOF ``i``'s difference by, and its name.
-
-    A quiet DOF (in ``agreement.quiet``) is measured against the largest peak of all DOFs,
-    rotations converted to lengths with ``agreement.length`` (see sixdof.analysis.compare.compare).
-    """
-    peaks = np.max(np.abs(direct), axis=0)
-    if agreement is None or DOFS[i] not in tuple(agreement.quiet):
-        return float(peaks[i]), "peak"
-    length = float(agreement.length)
-    as_length = peaks * np.array([1.0, 1.0, 1.0, length, length, length])
-    largest = float(np.max(as_length))
-    return (largest / length if i >= 3 else largest), "largest peak"
 
 
 def plot_mount_forces(forces: MountForces, t, *, name: str = "") -> Figure:
@@ -221,7 +183,6 @@ def plot_mount_forces(forces: MountForces, t, *, name: str = "") -> Figure:
     fig.suptitle(title(name, "mount forces on the foundation (body axes)"), fontsize=13)
     margins(fig, left=0.8, right=0.15, top=0.75, bottom=0.55, hspace=0.2, rows=3)
     axes = fig.subplots(3, 1, sharex=True)
-    colors = [f"C{k % 10}" for k in range(len(names))]
     for c, ax in enumerate(axes):
         component = values[:, :, c]
         shown = component if total is None else np.concatenate([component, total[None, :, c]])
@@ -229,13 +190,11 @@ def plot_mount_forces(forces: MountForces, t, *, name: str = "") -> Figure:
         for k, mount in enumerate(names):
             # Thinner lines for later mounts: symmetric mounts often carry equal forces and would hide.
             width = max(2.4 - 0.4 * k, 0.8)
-            plot_long(ax, t, factor * values[k, :, c], color=colors[k], linewidth=width, label=f"mount {mount}")
+            plot_long(ax, t, factor * values[k, :, c], color=f"C{k % 10}", linewidth=width, label=f"mount {mount}")
         if total is not None:
             plot_long(ax, t, factor * total[:, c], color="black", linewidth=1.2, linestyle="--", label="total")
         ax.set_ylabel(f"F{'xyz'[c]} [{label}]")
-        ax.grid(True, alpha=0.3)
-        ax.set_xlim(t[0], t[-1])
     axes[0].legend(fontsize=9, loc="lower left", bbox_to_anchor=(0.0, 1.0), ncols=min(len(names) + 1, 8),
                    frameon=False)
-    axes[-1].set_xlabel("time t [s]")
+    time_axes(axes, t)
     return fig

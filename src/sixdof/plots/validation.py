@@ -10,12 +10,14 @@ from sixdof.errors import InputError, Plain
 from sixdof.plots.common import margins, panel_grid, plot_long, require, title
 from sixdof.validation import ValidationReport
 
-_REPORT = "a sixdof.validation.ValidationReport"
 
-
-def _rows(report: ValidationReport) -> dict:
-    """The validation table's row (ModeCheck) of each mode number."""
-    return {int(row.mode): row for row in report.rows}
+def _by_mode(report: ValidationReport, field: str, expected: str) -> tuple[list, dict]:
+    """The report's ``field`` sorted by mode, and the validation table's row (ModeCheck) of each mode."""
+    require(report, "report", ValidationReport, "a sixdof.validation.ValidationReport")
+    items = sorted(getattr(report, field), key=lambda item: item.mode)
+    if not items:
+        raise InputError(f"report.{field}", expected, Plain("none"))
+    return items, {int(row.mode): row for row in report.rows}
 
 
 def plot_validation_frf(report: ValidationReport, *, name: str = "") -> Figure:
@@ -41,13 +43,8 @@ def plot_validation_frf(report: ValidationReport, *, name: str = "") -> Figure:
     sixdof.errors.InputError
         When the report has no random runs.
     """
-    require(report, "report", ValidationReport, _REPORT)
-    runs = sorted(report.random_runs, key=lambda run: run.mode)
-    if not runs:
-        raise InputError("report.random_runs", "at least one random run", Plain("none"))
-    rows = _rows(report)
-    n = len(runs)
-    columns, grid = panel_grid(n)
+    runs, rows = _by_mode(report, "random_runs", "at least one random run")
+    columns, grid = panel_grid(len(runs))
     fig = Figure(figsize=(5.0 * columns, 4.6 * grid))
     fig.suptitle(title(name, "modal FRFs: H1 estimate from a random force vs the model"), fontsize=12)
     cells = fig.add_gridspec(grid, columns)
@@ -55,11 +52,9 @@ def plot_validation_frf(report: ValidationReport, *, name: str = "") -> Figure:
             target=cells)
     for k, run in enumerate(runs):
         mode = int(run.mode)
-        estimated = run.estimated
-        f = estimated.f_hz
-        H1 = np.asarray(estimated.H1).reshape(len(f), -1)[:, 0]
-        coherence = np.asarray(estimated.coherence).reshape(len(f), -1)[:, 0]
-        model = np.asarray(run.model).reshape(len(f), -1)[:, 0]
+        f = run.estimated.f_hz
+        H1, coherence, model = (np.asarray(values).reshape(len(f), -1)[:, 0]
+                                for values in (run.estimated.H1, run.estimated.coherence, run.model))
         band = run.band_hz
         keep = (f > 0) if band is None else (f >= band[0]) & (f <= band[1])
         cell = cells[k // columns, k % columns].subgridspec(2, 1, height_ratios=[3, 1], hspace=0.08)
@@ -113,17 +108,13 @@ def plot_free_decays(report: ValidationReport, *, name: str = "") -> Figure:
     sixdof.errors.InputError
         When the report has no free decays.
     """
-    require(report, "report", ValidationReport, _REPORT)
-    decays = sorted(report.decays, key=lambda decay: decay.mode)
-    if not decays:
-        raise InputError("report.decays", "at least one free decay", Plain("none"))
-    rows = _rows(report)
+    decays, rows = _by_mode(report, "decays", "at least one free decay")
     n = len(decays)
     columns, grid = panel_grid(n)
     fig = Figure(figsize=(5.0 * columns, 3.6 * grid))
     fig.suptitle(title(name, "free decay from each mode shape: modal coordinate eta_r = phi_r' M q"), fontsize=12)
     margins(fig, left=0.8, right=0.15, top=0.6, bottom=0.5, wspace=0.9, hspace=0.95, columns=columns, rows=grid)
-    axes = np.atleast_1d(fig.subplots(grid, columns, squeeze=False).ravel())
+    axes = fig.subplots(grid, columns, squeeze=False).ravel()
     for ax, decay in zip(axes, decays):
         mode = int(decay.mode)
         estimate = decay.estimate

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 from typing import Any
 
 import numpy as np
@@ -105,6 +106,18 @@ def label(value: Any, field: str = "name") -> str:
     """``value`` as a non-empty string (a name used in tables, files and figures)."""
     if not isinstance(value, str) or not value:
         raise InputError(field, "a non-empty string", value)
+    return value
+
+
+#: A name that becomes a file or folder name: one path component, the same on every filesystem.
+FILE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
+
+
+def file_name(value: Any, field: str = "name") -> str:
+    """``value`` as a name that is one safe path component (a scenario's results folder)."""
+    if not isinstance(value, str) or not FILE_NAME.fullmatch(value):
+        raise InputError(field, "a name of 1 to 100 letters, digits, '.', '_' or '-' that starts with a letter or "
+                         "digit (it names the results folder)", value)
     return value
 
 

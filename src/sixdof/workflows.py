@@ -2,16 +2,12 @@
 solver cross-checked by modal superposition, frequency responses; results, figures and a summary
 written under ``<out>/<scenario name>/``.
 
-Everything is written into a staging folder beside the target and moved into place only when complete:
-a failed or interrupted run leaves the previous results (or nothing) behind, never a partial set.
+Everything is written through :mod:`sixdof.io.output`: all or nothing, never outside ``out``, and nothing
+deleted that sixdof did not write.
 """
 
 from __future__ import annotations
 
-import os
-import shutil
-import tempfile
-import uuid
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -20,7 +16,7 @@ import numpy as np
 
 from sixdof.analysis.statespace import damping_ratios
 from sixdof.analysis.statics import try_gravity_statics
-from sixdof.errors import InputError
+from sixdof.io import output
 from sixdof.results import RunResults
 
 #: Fewest samples per period of the highest natural frequency or excitation frequency: below it the
@@ -68,25 +64,6 @@ class RunOutcome:
     warnings: tuple[str, ...]
 
 
-def check_output_root(out_root: str | Path) -> Path:
-    """Make sure results can be written under ``out_root`` before any computing starts.
-
-    Raises
-    ------
-    InputError
-        If the folder cannot be created or written.
-    """
-    root = Path(out_root)
-    try:
-        root.mkdir(parents=True, exist_ok=True)
-        probe = root / f".write-test-{uuid.uuid4().hex}"
-        probe.write_bytes(b"")
-        probe.unlink()
-    except OSError as exc:
-        raise InputError("--out", "a folder where results can be written", f"{root} ({exc.strerror})") from None
-    return root
-
-
 def sampling_warnings(scenario, modes) -> list[str]:
     """Messages for frequencies the output sample rate cannot resolve (see MIN_SAMPLES_PER_PERIOD)."""
     if scenario.simulation is None:
@@ -132,7 +109,8 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
     ----------
     scenario : sixdof.io.scenario.Scenario
     out_root : str or pathlib.Path
-        Results go to ``out_root/<scenario.name>/`` (replaced as a whole when the run succeeds).
+        Results go to ``out_root/<scenario.name>/``, replaced as a whole when the run succeeds (files
+        there that sixdof did not write are kept: :mod:`sixdof.io.output`).
     progress : bool
         Show the solver's progress (long runs).
     log : callable
@@ -149,7 +127,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
     from sixdof.analysis.superposition import superpose
     from sixdof.io import report, store
 
-    root = check_output_root(out_root)
+    target = output.check_target(out_root, scenario.name)
     system = scenario.system
     modes = system.modes
     statics, no_statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
@@ -227,7 +205,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
                                         superposition, frf, figures, notes)
         (stage / "summary.md").write_text(text, encoding="utf-8")
 
-    target = write_all_or_nothing(root / scenario.name, write)
+    output.write_folder(target, write)
     return RunOutcome(
         directory=target,
         results_path=target / "results.h5",
@@ -274,7 +252,7 @@ def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_lin
     from sixdof.io.report import validation_text
     from sixdof.validation import validate
 
-    root = check_output_root(out_root)
+    target = output.check_target(out_root, scenario.name, "_validation")
     system = scenario.system
     modes = system.modes
     report = validate(system)
@@ -290,33 +268,7 @@ def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_lin
                 f"{links}\n")
         (stage / "validation.md").write_text(text, encoding="utf-8")
 
-    return report, write_all_or_nothing(root / f"{scenario.name}_validation", write)
-
-
-def write_all_or_nothing(target: Path, write) -> Path:
-    """Call ``write(stage)`` on a fresh staging folder beside ``target``, then put it in place.
-
-    On any failure or interruption the staging folder is removed and ``target`` is left as it was.
-    """
-    stage = Path(tempfile.mkdtemp(prefix=f".{target.name}.partial-", dir=target.parent))
-    try:
-        write(stage)
-        _replace_directory(stage, target)
-    except BaseException:
-        shutil.rmtree(stage, ignore_errors=True)
-        raise
-    return target
-
-
-def _replace_directory(stage: Path, target: Path) -> None:
-    """Move the complete staging folder to ``target``, replacing a previous run's folder."""
-    old = None
-    if target.exists():
-        old = target.with_name(f".{target.name}.old-{uuid.uuid4().hex}")
-        os.replace(target, old)
-    os.replace(stage, target)
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
+    return report, output.write_folder(target, write)
 
 
 def sweep(scenario, spec, *, chunk_size: int | None = None):

@@ -18,6 +18,7 @@ from sixdof.errors import (
     InputError,
     choice_check,
     direction_check,
+    file_name,
     finite_array,
     integer_check,
     label_check,
@@ -221,7 +222,7 @@ def parse_scenario(text: str, source: str = "<string>", base_dir: str | Path = "
 
 def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     top = Table(raw, "", _TOP_LEVEL_KEYS)
-    name = top.string("name")
+    name = file_name(top.string("name"))
     description = top.string("description", default="")
     body = build(RigidBody, top.table("body"), "body")
     mounts = [build(Mount, t, f"mounts[{i}]") for i, t in enumerate(top.tables("mounts", required=True))]

@@ -173,6 +173,8 @@ def _modes(args) -> int:
 
 
 def _run(args) -> int:
+    import numpy as np
+
     from sixdof.io import report
     from sixdof.io.scenario import load_scenario
     from sixdof.workflows import run_scenario
@@ -194,6 +196,8 @@ def _run(args) -> int:
         stats = outcome.response.stats
         print(f"Solver {stats.solver}: {stats.num_accepted} steps, {stats.num_rejected} rejected, "
               f"{stats.wall_time_s:.2f} s")
+        limits = np.stack([m.max_deflection for m in scenario.system.mounts])
+        print(f"\nMount checks:\n{report.mount_check_text(outcome.mount_check, limits)}")
     if outcome.frf is not None:
         print(f"FRF direct vs modal: {outcome.frf.max_relative_difference:.1e} (worst relative difference)")
     print(f"\nWrote {outcome.results_path}, {len(outcome.figures)} figures and {outcome.summary_path}")

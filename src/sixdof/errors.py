@@ -102,6 +102,13 @@ def integer(value: Any, field: str, expected: str, low: int) -> int:
     return int(value)
 
 
+def boolean(value: Any, field: str) -> bool:
+    """``value`` as a bool: ``True`` or ``False`` (numpy's too), never a number or a string."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputError(field, "true or false", value)
+    return bool(value)
+
+
 def label(value: Any, field: str = "name") -> str:
     """``value`` as a non-empty string (a name used in tables, files and figures)."""
     if not isinstance(value, str) or not value:

@@ -47,7 +47,9 @@ class RunOutcome:
     modes, statics, damping_ratios, response, superposition, agreement, frf :
         The computed objects (``None`` for parts the scenario does not ask for).
     warnings : tuple of str
-        Warnings raised during the run (sampling, agreement), also shown in the summary.
+        Warnings raised during the run (sampling, agreement, mount limits), also shown in the summary.
+    mount_check : sixdof.analysis.mountcheck.MountCheck or None
+        Total mount loads and deflections, tension and limits (runs with a simulation).
     """
 
     directory: Path
@@ -62,6 +64,7 @@ class RunOutcome:
     agreement: object
     frf: object
     warnings: tuple[str, ...]
+    mount_check: object = None
 
 
 def sampling_warnings(scenario, modes) -> list[str]:
@@ -141,9 +144,10 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
     for note in notes:
         warnings.warn(note, SamplingWarning, stacklevel=2)
 
-    response = superposition = agreement = forces = points = None
+    response = superposition = agreement = forces = points = check = None
     if scenario.simulation is not None:
         from sixdof.analysis.direct import simulate
+        from sixdof.analysis.mountcheck import MountLimitWarning, mount_check
         from sixdof.analysis.response import mount_forces, points_motion
         from sixdof.excitation import Excitation
 
@@ -163,6 +167,10 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
             notes.append(note)
             warnings.warn(note, AgreementWarning, stacklevel=2)
         forces = mount_forces(system, response)
+        check = mount_check(system, forces, response.t, statics)
+        for note in check.violations:
+            notes.append(note)
+            warnings.warn(note, MountLimitWarning, stacklevel=2)
         points = points_motion(response, {p.name: p.position for p in scenario.points}) if scenario.points else None
 
     frf = None
@@ -189,6 +197,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         statics=statics,
         response=response,
         mount_forces=forces,
+        mount_check=check,
         points=points or {},
         superposition=superposition,
         agreement=agreement,
@@ -202,7 +211,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         store.write_results(stage / "results.h5", run, command_line=command_line)
         figures.extend(plots.save_all(run, stage))
         text = report.summary_markdown(scenario, modes, statics, zeta, response, forces, agreement,
-                                        superposition, frf, figures, notes)
+                                        superposition, frf, figures, notes, mount_check=check)
         (stage / "summary.md").write_text(text, encoding="utf-8")
 
     output.write_folder(target, write)
@@ -219,6 +228,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         agreement=agreement,
         frf=frf,
         warnings=tuple(notes),
+        mount_check=check,
     )
 
 

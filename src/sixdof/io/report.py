@@ -72,7 +72,53 @@ def statics_table(statics, mount_names: Sequence[str]) -> str:
              "TENSION (uplift)" if name in statics.uplift else "compression"]
             for name, force, support in zip(mount_names, statics.mount_forces, statics.support)]
     forces = table(["mount", "Fx [kN]", "Fy [kN]", "Fz [kN]", "carried [kN]", "state"], rows, "lrrrrl")
-    return deflection + "\n\nForce of each mount on the body (body axes):\n" + forces
+    return (deflection + "\n\nLoad on each mount (force of the body on it, passed to the foundation; body axes; "
+            "carried: along gravity, > 0 compression):\n" + forces)
+
+
+#: How every mount table states its signs.
+MOUNT_SIGNS = ("Loads are the force of the body on each mount (passed to the foundation), static under gravity "
+               "plus dynamic, along the mount's axes u, v, w; the normal force is along w (from the foundation "
+               "towards the body): > 0 compression, < 0 tension (uplift). Deflections are from the unloaded mount.")
+
+
+def mount_loads_table(check) -> str:
+    """Normal force of each mount over a run (static, extremes, tension) and its peak shear loads."""
+    rows = []
+    for j, name in enumerate(check.names):
+        tension = ("none" if not np.isfinite(check.tension_start_t[j]) else
+                   f"TENSION {-check.min_compression[j] / 1e3:.4g} kN, from t = {check.tension_start_t[j]:.4g} s")
+        rows.append([name, f"{-check.static_force[j, 2] / 1e3:.4g}",
+                     f"{check.max_compression[j] / 1e3:.4g}", f"{check.max_compression_t[j]:.4g}",
+                     f"{check.min_compression[j] / 1e3:.4g}", f"{check.min_compression_t[j]:.4g}",
+                     *(f"{check.peak_force[j, i] / 1e3:.4g}" for i in (0, 1)), tension])
+    return table(["mount", "static N [kN]", "max N [kN]", "at t [s]", "min N [kN]", "at t [s]",
+                  "peak Fu [kN]", "peak Fv [kN]", "tension"], rows, "lrrrrrrrl")
+
+
+def mount_deflections_table(check, limits=None) -> str:
+    """Peak total deflection of each mount per axis, when, and its limit (``limits``: (m, 3) [m], inf none)."""
+    scale, unit = display_unit(check.peak_deflection, "m")
+    rows = []
+    for j, name in enumerate(check.names):
+        cells = [f"{check.peak_deflection[j, i] * scale:.4g} @ {check.peak_deflection_t[j, i]:.4g} s"
+                 for i in range(3)]
+        if limits is not None:
+            shown = [f"{v * scale:.4g}" if np.isfinite(v) else "-" for v in limits[j]]
+            cells.append(", ".join(shown) if len(set(shown)) > 1 else shown[0])
+        rows.append([name, *cells])
+    headers = ["mount", f"peak u [{unit}]", f"peak v [{unit}]", f"peak w [{unit}]"]
+    return table(headers + ([f"max_deflection [{unit}]"] if limits is not None else []), rows)
+
+
+def mount_check_text(check, limits=None) -> str:
+    """The mount checks of a run: sign convention, loads, deflections and the limits exceeded."""
+    if limits is not None and not np.isfinite(limits).any():
+        limits = None  # no mount has one: no column of dashes
+    parts = [MOUNT_SIGNS, "", mount_loads_table(check), "", mount_deflections_table(check, limits)]
+    if not check.preload:
+        parts += ["", "No static preload: the mounts cannot carry the weight, only the dynamic part is shown."]
+    return "\n".join(parts)
 
 
 def summary_table(result) -> str:
@@ -102,7 +148,7 @@ def validation_text(report) -> str:
 
 
 def summary_markdown(scenario, modes, statics, damping_ratios, response, forces, agreement,
-                     superposition, frf, figures, notes) -> str:
+                     superposition, frf, figures, notes, mount_check=None) -> str:
     """The run summary as Markdown text (see :func:`sixdof.workflows.run_scenario`)."""
     parts = [f"# {scenario.name}", "", scenario.description, ""]
     if notes:
@@ -117,7 +163,11 @@ def summary_markdown(scenario, modes, statics, damping_ratios, response, forces,
         stats = response.stats
         parts += [f"Solver: {stats.solver}, rtol {stats.rtol:g}, atol {stats.atol:g} (per-DOF scaled), "
                   f"{stats.num_accepted} accepted and {stats.num_rejected} rejected steps", ""]
-        parts += ["### Peak mount forces", "", _mount_peaks_table(forces), ""]
+        if mount_check is not None:
+            limits = np.stack([m.max_deflection for m in scenario.system.mounts])
+            parts += ["### Mount checks", "", mount_check_text(mount_check, limits), ""]
+        parts += ["### Peak mount forces (dynamic part, about static equilibrium; body axes)", "",
+                  _mount_peaks_table(forces), ""]
         parts += ["### Direct solve vs modal superposition", "",
                   _agreement_table(agreement, superposition.superposition), ""]
     if frf is not None:

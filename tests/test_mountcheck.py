@@ -69,6 +69,11 @@ def test_harmonic_load_adds_to_the_preload_with_the_right_sign():
     assert np.all(check.min_compression_t == t[k])
     assert check.max_compression == pytest.approx(np.full(4, expected.max()), abs=RTOL_DIRECT_EXACT * scale)
     assert check.in_tension == ()  # 800 N never outweighs the 4.9 kN weight
+    # without the static preload (no equilibrium under gravity) the dynamic part alone is checked
+    dynamic = mount_check(system, mount_forces(system, response), t, None)
+    assert not dynamic.preload and check.preload
+    assert np.allclose(dynamic.compression, -K_W * z, rtol=0, atol=RTOL_DIRECT_EXACT * scale)
+    assert dynamic.in_tension == ("m0", "m1", "m2", "m3")
 
 
 def test_lift_off_is_reported_with_its_peak_and_times():

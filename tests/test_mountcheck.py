@@ -8,8 +8,18 @@ carries ``mg/4`` at rest and a quarter of the spring force of the single-DOF osc
 import numpy as np
 import pytest
 
-from sixdof import Excitation, Harmonic, Load, SimulationSettings, Step, mount_forces, parse_scenario, simulate
-from sixdof.analysis.mountcheck import MountLimitWarning, mount_check
+from sixdof import (
+    Excitation,
+    Harmonic,
+    Load,
+    MountLimitWarning,
+    SimulationSettings,
+    Step,
+    mount_check,
+    mount_forces,
+    parse_scenario,
+    simulate,
+)
 from sixdof.analysis.statics import STANDARD_GRAVITY, gravity_statics
 from sixdof.cli import main
 from sixdof.errors import ScenarioError

@@ -34,6 +34,7 @@ from sixdof.errors import (
     choice_check,
     finite_array,
     increasing_times,
+    integer,
     integer_check,
     number_check,
     readonly,
@@ -343,6 +344,18 @@ class Table(Signal):
         return float(np.max(np.abs(self.values)))
 
 
+#: Most sines of a random signal: evaluated at n times a signal builds an (n, components) array, and
+#: far fewer sines already make its values Gaussian and its spectrum flat.
+MAX_RANDOM_COMPONENTS = 10_000
+
+
+def _components(value: Any, field: str) -> int:
+    expected = f"an integer from 1 to {MAX_RANDOM_COMPONENTS}"
+    if integer(value, field, expected, 1) > MAX_RANDOM_COMPONENTS:
+        raise InputError(field, expected, value)
+    return int(value)
+
+
 @dataclass(frozen=True, eq=False)
 class Random(Signal):
     """Band-limited random signal, reproducible from its seed, smooth (a sum of sines).
@@ -363,7 +376,7 @@ class Random(Signal):
     seed : int
         Seed, >= 0.
     components : int, optional
-        Number of sines, >= 1. Default 64.
+        Number of sines, 1 to :data:`MAX_RANDOM_COMPONENTS`. Default 64.
     start : float, optional
         Start time [s]. Default 0 (the signal jumps from 0 to its first value there).
     duration : float, optional
@@ -376,7 +389,7 @@ class Random(Signal):
     f_hz: tuple[float, float] = checked(_band)
     rms: float = checked(number_check("a positive rms value", low=0.0, strict=True))
     seed: int = checked(integer_check("an integer >= 0", 0))
-    components: int = checked(integer_check("an integer >= 1", 1), default=64)
+    components: int = checked(_components, default=64)
     start: float = checked(_TIME, default=0.0)
     duration: float = checked(_LASTING, default=math.inf)
 

@@ -18,6 +18,7 @@ import pytest
 
 from sixdof import InputError, RigidBody, ScenarioError, load_scenario
 from sixdof.cli import EXIT_BAD_INPUT, main
+from sixdof.excitation import Harmonic
 from sixdof.model.system import Mount
 
 SCENARIOS = Path(__file__).parents[1] / "scenarios"
@@ -198,3 +199,57 @@ def test_api_numpy_scalars_and_arrays_are_numbers():
     mount = Mount(name="m", position=np.zeros(3, dtype=np.float32), stiffness=[np.int32(1), np.float64(2.0), 3])
     assert body.mass == 500.0 and body.inertia[2, 2] == 25.0
     assert mount.stiffness.tolist() == [1.0, 2.0, 3.0]
+
+
+# Valid keyword arguments of every public constructor; each one is replaced in turn by a wrong kind.
+VALID_CALLS = {
+    "RigidBody": {"mass": 500.0, "inertia": [40.0, 60.0, 80.0], "dimensions": [1.0, 1.5, 0.8]},
+    "Mount": {"name": "a", "position": [0.4, 0.6, -0.3], "stiffness": [2e5, 3e5, 8e5], "damping": [1.0, 1.0, 4.0],
+              "loss_factor": [0.1, 0.1, 0.1], "axes": np.eye(3).tolist()},
+    "Rayleigh": {"alpha": 0.1, "beta": 1e-4},
+    "Harmonic": {"f_hz": 5.0, "phase_deg": 10.0, "start": 0.5, "duration": 2.0},
+    "HalfSine": {"start": 0.1, "duration": 0.02},
+    "Haversine": {"start": 0.1, "duration": 0.02},
+    "Ramp": {"duration": 1.0, "start": 0.5},
+    "Random": {"f_hz": [1.0, 20.0], "rms": 2.0, "seed": 3, "components": 16, "start": 0.0, "duration": 4.0},
+    "Step": {"start": 0.5},
+    "Sweep": {"f0_hz": 1.0, "f1_hz": 20.0, "duration": 5.0, "start": 0.0, "law": "log"},
+    "Table": {"t": [0.0, 1.0, 2.0], "values": [0.0, 1.0, 0.0], "outside": "hold"},
+    "Load": {"name": "push", "point": [0.1, 0.0, 0.0], "force": [1.0, 0.0, 0.0], "moment": [0.0, 0.0, 1.0],
+             "signal": Harmonic(f_hz=2.0)},
+    "Unbalance": {"name": "rotor", "point": [0.0, 0.0, 0.1], "unbalance": 0.01, "speed_rpm": 1500.0,
+                  "axis": [1.0, 0.0, 0.0], "phase_deg": 0.0, "start": 0.0},
+    "GroundMotion": {"quantity": "acceleration", "direction": [1.0, 0.0, 0.0], "scale": 2.0,
+                     "signal": Harmonic(f_hz=2.0)},
+    "InitialState": {"q": [0.0] * 6, "qd": [0.0] * 6},
+    "ModeRelease": {"mode": 1, "amplitude": 1e-3},
+    "SimulationSettings": {"duration": 1.0, "sample_rate_hz": 100.0, "start": 0.0, "rtol": 1e-8, "atol": 1e-8,
+                           "max_steps": 1000},
+}
+
+
+def api_cases():
+    for name, kwargs in VALID_CALLS.items():
+        for key, value in kwargs.items():
+            for label, mutated in mutations(value):
+                yield pytest.param(name, {**kwargs, key: mutated}, key, id=f"{name}.{key} {label}")
+
+
+API_CASES = list(api_cases())
+
+
+def test_every_valid_api_call_is_valid():
+    import sixdof
+
+    for name, kwargs in VALID_CALLS.items():
+        getattr(sixdof, name)(**kwargs)
+    assert len(API_CASES) >= 100
+
+
+@pytest.mark.parametrize(("name", "kwargs", "field"), API_CASES)
+def test_each_bad_api_call_is_refused_naming_the_field(name, kwargs, field):
+    import sixdof
+
+    with pytest.raises(InputError) as error:
+        getattr(sixdof, name)(**kwargs)
+    assert field in str(error.value)

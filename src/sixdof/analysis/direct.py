@@ -210,7 +210,8 @@ def state_scale(system: System, excitation: Excitation | None, settings: Simulat
             eta += gamma * np.minimum(np.minimum(U, V / omega), A / omega**2)
             extra_w += np.abs(excitation.ground.rigid_vector) * V
             ground_u, ground_v = (U if U > 0 else 1.0), (V if V > 0 else 1.0)
-        q0, qd0 = excitation.initial_state(system)
+        q0, qd0 = excitation.initial_state(system, settings.start)
+        q0 = q0 - excitation.equilibrium(settings.start)  # what moves is the departure from equilibrium
         eta += np.abs(phi.T @ M @ q0)
         eta_dot += np.abs(phi.T @ M @ qd0)
     z = np.abs(phi) @ (eta + eta_dot / omega)
@@ -381,8 +382,9 @@ def simulate(system: System, excitation: Excitation | None, settings: Simulation
     r = np.zeros(6) if ground is None else ground.rigid_vector
     sigma = state_scale(system, excitation, settings)
 
-    # Initial state: z = q - r u_g with the ground's displacement at t0 (zero for integrated grounds).
-    q0, qd0 = excitation.initial_state(system)
+    # Initial state: z = q - r u_g with the ground's displacement at t0 (zero for integrated grounds);
+    # q0 includes the equilibrium r u_g(t0), so that at rest no mount is deflected.
+    q0, qd0 = excitation.initial_state(system, t0)
     u0 = float(ground.scale * ground.signal(t0)) if code == 1 else 0.0
     x0 = np.concatenate([q0 - r * u0, qd0, [0.0, 0.0]])
 

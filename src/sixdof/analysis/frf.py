@@ -43,6 +43,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from sixdof import results as schema
+from sixdof.analysis.response import global_damping
 from sixdof.analysis.statespace import complex_modes, is_classical, modal_basis
 from sixdof.dofs import AXES, DOF_UNITS, DOFS, FORCE_UNITS, UNITS, mixed_units
 from sixdof.errors import InputError, SolverError, choice_check, direction_check, point, readonly
@@ -210,8 +211,9 @@ class ForceTransmissibility(schema.Result):
 
     A mount's force is the one it exerts on the foundation, ``A' diag(k (1 + i eta) + i w c) A u``,
     with ``u`` the displacement of its attachment point and ``A`` its axes: stiffness, hysteretic and
-    dashpot parts. Global damping models (Rayleigh, modal) are not mount elements and carry no force
-    here.
+    dashpot parts. Global damping (Rayleigh, modal) acts on the motion relative to the ground like the
+    dashpots and reaches the foundation too, as ``other_damping``, not attributed to a mount
+    (:func:`sixdof.analysis.response.global_damping`: the same force as the time domain's).
 
     Attributes
     ----------
@@ -222,8 +224,11 @@ class ForceTransmissibility(schema.Result):
         Each mount's force on the foundation in body axes, per unit applied load [N/N, or N/(N m)
         for an applied moment].
     total : ndarray, shape (nf, 6), complex
-        Resultant of all mount forces on the foundation: force [N/N] and moment about the CG's rest
-        position [N m/N], in body axes (``sum_j T_j' F_j``).
+        Resultant of all forces on the foundation: force [N/N] and moment about the CG's rest
+        position [N m/N], in body axes (``sum_j T_j' F_j + other_damping``).
+    other_damping : ndarray, shape (nf, 6), complex
+        Generalized force of the Rayleigh and modal damping on the foundation, ``i w (C - C_mounts) q``,
+        per unit load (zero without them).
     load_point, load_direction : ndarray, shape (3,)
     load_kind : str
         ``"force"`` or ``"moment"``.
@@ -239,6 +244,10 @@ class ForceTransmissibility(schema.Result):
     total: np.ndarray = schema.quantity(
         lambda ft: f"{_per_load(ft.load_kind)} (Fx, Fy, Fz); {_per_load(ft.load_kind)} m (Mx, My, Mz)",
         ("f_hz", "load"), description="resultant force and moment (about the CG rest position) on the foundation")
+    other_damping: np.ndarray = schema.quantity(
+        lambda ft: f"{_per_load(ft.load_kind)} (Fx, Fy, Fz); {_per_load(ft.load_kind)} m (Mx, My, Mz)",
+        ("f_hz", "load"), name="other_damping_force",
+        description="generalized force of Rayleigh and modal damping on the foundation, i w (C - C_mounts) q")
     load_point: np.ndarray = schema.label()
     load_direction: np.ndarray = schema.label()
     load_kind: str = schema.label()
@@ -652,9 +661,10 @@ def force_transmissibility(system: System, f_hz, load_point, load_direction,
     Returns
     -------
     ForceTransmissibility
-        Mount forces (nf, n_mounts, 3) and resultant (nf, 6) per unit load, complex; the mounts'
-        stiffness, loss factor and dashpots carry force, global (Rayleigh, modal) damping does not.
+        Mount forces (nf, n_mounts, 3) and resultant (nf, 6) per unit load, complex: the mounts'
+        stiffness, loss factor and dashpots, and the global (Rayleigh, modal) damping's force.
     """
+
     lp = point(load_point, "load_point")
     ld, moment = parse_direction(load_direction, "load_direction")
     frf = receptance(system, f_hz, method=method)
@@ -665,9 +675,11 @@ def force_transmissibility(system: System, f_hz, load_point, load_direction,
     local = system.stiffnesses * (1.0 + 1j * system.loss_factors) + 1j * frf.omega[:, None, None] * system.dampings
     impedances = np.einsum("nai,fna,naj->fnij", system.axes, local, system.axes)
     forces = np.einsum("fnij,fnj->fni", impedances, u)
-    total = np.einsum("nia,fni->fa", t, forces)
+    other = 1j * frf.omega[:, None] * (q @ global_damping(system).T)
+    total = np.einsum("nia,fni->fa", t, forces) + other
     return ForceTransmissibility(f_hz=frf.f_hz, mount_names=system.mount_names, mount_forces=readonly(forces, complex),
-                                 total=readonly(total, complex), load_point=lp, load_direction=ld,
+                                 total=readonly(total, complex), other_damping=readonly(other, complex),
+                                 load_point=lp, load_direction=ld,
                                  load_kind="moment" if moment else "force", method=method)
 
 

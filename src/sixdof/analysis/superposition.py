@@ -169,7 +169,8 @@ def superpose(
     if excitation is None:
         excitation = Excitation()
     components = excitation.components()
-    q0, qd0 = excitation.initial_state(system)
+    t = increasing_times(t, "t")
+    q0, qd0 = excitation.initial_state(system, t[0])  # in equilibrium with a ground displaced at t[0]
 
     force = force_rates = None
     if components:

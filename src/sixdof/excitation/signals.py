@@ -200,7 +200,9 @@ class Sweep(Signal):
 
     def _evaluate(self, t):
         T = self.duration
-        tau = jnp.clip(t - self.start, 0.0, T)  # keeps exp() finite outside the window
+        # 0 outside the window keeps exp() finite there; not a clip, whose derivative at the window's
+        # start is halved (the mean of both sides).
+        tau = jnp.where(self._inside(t), t - self.start, 0.0)
         if self.law == "linear":
             phase = 2 * jnp.pi * (self.f0_hz * tau + (self.f1_hz - self.f0_hz) * tau**2 / (2 * T))
         else:
@@ -300,7 +302,9 @@ class Ramp(Signal):
     start: float = checked(_TIME, default=0.0)
 
     def _evaluate(self, t):
-        return jnp.clip((t - self.start) / self.duration, 0.0, 1.0)
+        # Branches on half-open pieces, not a clip: the slope at either end is the one after it.
+        rising = jnp.where(t >= self.start, (t - self.start) / self.duration, 0.0)
+        return jnp.where(t >= self.start + self.duration, 1.0, rising)
 
 
 @dataclass(frozen=True, eq=False)
@@ -314,8 +318,9 @@ class Table(Signal):
     values : sequence of float
         Samples (dimensionless multiplier, or ground motion before ``scale``), one per time.
     outside : {"zero", "hold"}, optional
-        Value before the first and after the last sample: zero (default: a record that starts and
-        ends at rest) or the end samples held.
+        Value before the first sample and from the last sample's time on: zero (default: a record
+        that starts and ends at rest) or the end samples held. Right-continuous like every signal:
+        with ``"zero"`` the value *at* the last time is already 0.
 
     Every sample time is a breakpoint (the slope changes there).
     """
@@ -332,7 +337,11 @@ class Table(Signal):
 
     def _evaluate(self, t):
         edge = 0.0 if self.outside == "zero" else None  # None: the end samples held
-        return jnp.interp(t, jnp.asarray(self.t), jnp.asarray(self.values), left=edge, right=edge)
+        inside = jnp.interp(t, jnp.asarray(self.t), jnp.asarray(self.values), left=edge, right=edge)
+        # interp takes the segment after every knot but the last, where it gives the value and slope
+        # before it; right-continuity wants what follows: the held end sample or zero, flat.
+        after = self.values[-1] if self.outside == "hold" else 0.0
+        return jnp.where(t >= self.t[-1], after, inside)
 
     @property
     def breakpoints(self) -> tuple[float, ...]:

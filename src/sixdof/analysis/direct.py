@@ -37,6 +37,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from sixdof._jax import jax, jnp
+from sixdof.analysis.validity import warn_idle, warn_large_rotations
 from sixdof.errors import InputError, Plain, SolverError, integer_check, number, number_check, readonly
 from sixdof.excitation import Excitation
 from sixdof.frozen import Frozen
@@ -369,6 +370,12 @@ def simulate(system: System, excitation: Excitation | None, settings: Simulation
     ------
     SolverError
         If the solver fails (step limit, step size collapse) or produces non-finite values.
+
+    Warns
+    -----
+    sixdof.analysis.validity.RangeWarning
+        For a load that never acts in the simulated time, and for rotations beyond
+        :data:`~sixdof.analysis.validity.SMALL_ANGLE_RAD`.
     """
     if excitation is None:
         excitation = Excitation()
@@ -376,6 +383,7 @@ def simulate(system: System, excitation: Excitation | None, settings: Simulation
     progress = _progress_key(progress)
     ts = settings.times
     t0, t1 = settings.start, settings.start + settings.duration
+    warn_idle(excitation, t0, t1)
     M = np.asarray(system.M, dtype=float)
     ground = excitation.ground
     code = _GROUND_CODES[None if ground is None else ground.quantity]
@@ -419,8 +427,10 @@ def simulate(system: System, excitation: Excitation | None, settings: Simulation
     motion = ("displacement", "velocity", "acceleration")
     ground_motion = {} if ground is None else {f"ground_{m}": np.outer(kin[:, i], r[:3]) for i, m in enumerate(motion)}
     n_steps, n_accepted, n_rejected = (int(s) for s in stats)
+    q = xs[:, :6] + np.outer(kin[:, 0], r)
+    warn_large_rotations(ts, q)
     return TimeHistory(
-        t=ts, q=xs[:, :6] + np.outer(kin[:, 0], r), qd=xs[:, 6:12], qdd=qdd, Q=Q, **ground_motion,
+        t=ts, q=q, qd=xs[:, 6:12], qdd=qdd, Q=Q, **ground_motion,
         stats=SolverStats(
             solver=settings.solver, rtol=settings.rtol, atol=settings.atol, scale=readonly(sigma),
             num_steps=n_steps, num_accepted=n_accepted, num_rejected=n_rejected,

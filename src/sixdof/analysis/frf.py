@@ -46,7 +46,7 @@ from sixdof import results as schema
 from sixdof.analysis.response import global_damping
 from sixdof.analysis.statespace import complex_modes, is_classical, modal_basis
 from sixdof.dofs import AXES, DOF_UNITS, DOFS, FORCE_UNITS, UNITS, mixed_units
-from sixdof.errors import InputError, SolverError, choice_check, direction_check, point, readonly
+from sixdof.errors import InputError, Plain, SolverError, choice_check, direction_check, point, readonly
 from sixdof.model.kinematics import mount_matrix, point_map, response_row, unit_load
 
 if TYPE_CHECKING:
@@ -54,8 +54,8 @@ if TYPE_CHECKING:
 
 __all__ = [
     "FRF", "FRFCrossCheck", "ForceTransmissibility", "GroundTransmissibility", "PointFRF", "QUANTITIES",
-    "cross_check", "dynamic_stiffness", "force_transmissibility", "frf_difference", "ground_transmissibility",
-    "hysteretic_stiffness", "point_frf", "receptance",
+    "cross_check", "check_resonances", "dynamic_stiffness", "force_transmissibility", "frf_difference",
+    "ground_transmissibility", "hysteretic_stiffness", "point_frf", "receptance",
 ]
 
 #: FRF quantities and the power of ``i w`` that turns receptance into each.
@@ -63,8 +63,13 @@ QUANTITIES: dict[str, int] = {"receptance": 0, "mobility": 1, "accelerance": 2}
 _QUANTITY_SUFFIX = {"receptance": "", "mobility": "/s", "accelerance": "/s^2"}
 
 #: A rigid-body mode counts as undamped when its modal damping is below this fraction of the
-#: system's frequency scale (largest natural circular frequency or modal damping term).
+#: system's frequency scale (largest natural circular frequency or modal damping term); an elastic
+#: mode when its damping ratio (viscous plus hysteretic) is below it.
 RIGID_DAMPING_RTOL = 1e-12
+#: A frequency this close (relative) to an undamped mode's natural frequency is refused: the dynamic
+#: stiffness is singular there to round-off (direct and modal receptances of the undamped bridge
+#: differ by ~1e-7 at 1e-9 off, by up to 87 % exactly on it).
+UNDAMPED_RESONANCE_RTOL = 1e-9
 #: Multiply-adds per row block of the modal sum's matrix product (see :meth:`_ModalTerms.evaluate`).
 _BLOCK_MACS = 200_000
 
@@ -391,6 +396,44 @@ def dynamic_stiffness(system: System, f_hz) -> np.ndarray:
 # ----------------------------------------------------------------------------------------------------
 
 
+def check_resonances(system: System, f_hz, field: str = "f_hz") -> None:
+    """Refuse a frequency on the natural frequency of a mode no damping acts on (its response is infinite).
+
+    Parameters
+    ----------
+    system : System
+    f_hz : array_like, shape (nf,)
+        Frequencies [Hz].
+    field : str
+        Named in the error.
+
+    Raises
+    ------
+    InputError
+        Naming the first such frequency and the mode, when a frequency is within
+        :data:`UNDAMPED_RESONANCE_RTOL` (relative) of the natural frequency of an elastic mode whose
+        damping ratio, viscous plus hysteretic, is below :data:`RIGID_DAMPING_RTOL`.
+    """
+    f = _frequencies(f_hz)
+    modes = system.modes
+    phi, w = np.asarray(modes.shapes), np.asarray(modes.omega)
+    elastic = w > 0
+    # zeta_r = phi_r' C phi_r / (2 w_r) + phi_r' K_h phi_r / (2 w_r^2), mass-normalized shapes.
+    viscous = np.einsum("ir,ij,jr->r", phi, np.asarray(system.C), phi)
+    hysteretic = np.einsum("ir,ij,jr->r", phi, hysteretic_stiffness(system), phi)
+    w_elastic = np.where(elastic, w, 1.0)
+    zeta = np.where(elastic, viscous / (2 * w_elastic) + hysteretic / (2 * w_elastic**2), np.inf)
+    for r in np.flatnonzero(zeta <= RIGID_DAMPING_RTOL):
+        f_r = float(modes.frequency_hz[r])
+        hit = np.flatnonzero(np.abs(f - f_r) <= UNDAMPED_RESONANCE_RTOL * f_r)
+        if hit.size:
+            i = int(hit[0])
+            raise InputError(field, f"frequencies off the natural frequency of mode {r + 1} ({f_r:.12g} Hz) by more "
+                             f"than {UNDAMPED_RESONANCE_RTOL:.0e} of it: no damping acts on that mode, so its "
+                             "response there is infinite (add damping or move the frequency)",
+                             Plain(f"{f[i]:.12g} Hz (frequency {i + 1} of {f.size})"))
+
+
 def receptance(system: System, f_hz, method: str = "direct", basis: str = "auto") -> FRF:
     """Generalized 6x6 receptance ``H(w) = (K + i K_h - w^2 M + i w C)^-1``.
 
@@ -416,12 +459,14 @@ def receptance(system: System, f_hz, method: str = "direct", basis: str = "auto"
     Raises
     ------
     InputError
-        Bad frequencies (negative, non-finite; zero for an unrestrained system), method or basis.
+        Bad frequencies (negative, non-finite; zero for an unrestrained system; on the natural
+        frequency of an undamped mode, :func:`check_resonances`), method or basis.
     SolverError
-        The dynamic stiffness is singular at a requested frequency (an undamped resonance hit
-        exactly), or the complex modes are nearly defective.
+        The dynamic stiffness is singular at a requested frequency, or the complex modes are nearly
+        defective.
     """
     f = _frequencies(f_hz)
+    check_resonances(system, f)
     _check_method(method, "method")
     _check_basis(basis, "basis")
     if np.any(f == 0.0) and system.modes.zero_modes:

@@ -309,6 +309,21 @@ class Excitation(Frozen):
             times.update(self.ground.signal.breakpoints)
         return tuple(sorted(times))
 
+    def idle(self, t0: float, t1: float) -> tuple[str, ...]:
+        """What never acts from ``t0`` to ``t1`` [s]: one description per load (and the ground motion)
+        whose signals are all zero over ``[t0, t1)`` (see ``Signal.support``). A load starting at ``t1``
+        acts only after the run."""
+        sources = [(f"loads[{i}] ({load.name})", [s for _, s in load.components()])
+                   for i, load in enumerate(self.loads)]
+        if self.ground is not None:
+            sources.append(("ground motion", [self.ground.signal]))
+        found = []
+        for label, signals in sources:
+            if all(s.support[1] <= t0 or s.support[0] >= t1 for s in signals):
+                first, end = signals[0].support
+                found.append(f"{label}: its {signals[0].kind} signal is zero outside [{first:.6g}, {end:.6g}) s")
+        return tuple(found)
+
     def initial_state(self, system, t0: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
         """``(q0, qd0)`` at the start ``t0`` [s], (6,) each, absolute [m, rad; m/s, rad/s].
 

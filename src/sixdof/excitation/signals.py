@@ -107,6 +107,12 @@ class Signal(Frozen):
         return tuple(sorted({float(x) for x in (self.start, self.start + self.duration) if math.isfinite(x)}))
 
     @property
+    def support(self) -> tuple[float, float]:
+        """``(first, end)`` [s]: the signal is zero outside ``[first, end)`` (``inf`` when it never
+        ends); by default its active window ``[start, start + duration)``."""
+        return float(self.start), float(self.start + self.duration)
+
+    @property
     def peak(self) -> float:
         """An estimate of ``max |s(t)|``, used to scale the solver's tolerances."""
         return 1.0
@@ -281,6 +287,10 @@ class Step(Signal):
         return jnp.where(t >= self.start, 1.0, 0.0)
 
     @property
+    def support(self) -> tuple[float, float]:
+        return float(self.start), math.inf
+
+    @property
     def breakpoints(self) -> tuple[float, ...]:
         return (float(self.start),)
 
@@ -305,6 +315,10 @@ class Ramp(Signal):
         # Branches on half-open pieces, not a clip: the slope at either end is the one after it.
         rising = jnp.where(t >= self.start, (t - self.start) / self.duration, 0.0)
         return jnp.where(t >= self.start + self.duration, 1.0, rising)
+
+    @property
+    def support(self) -> tuple[float, float]:
+        return float(self.start), math.inf
 
 
 @dataclass(frozen=True, eq=False)
@@ -346,6 +360,18 @@ class Table(Signal):
     @property
     def breakpoints(self) -> tuple[float, ...]:
         return tuple(float(x) for x in self.t)
+
+    @property
+    def support(self) -> tuple[float, float]:
+        # Zero outside the segments that touch a non-zero sample (and beyond a held non-zero end).
+        nonzero = np.flatnonzero(self.values)
+        if nonzero.size == 0:
+            return math.inf, math.inf  # zero everywhere
+        first, last = int(nonzero[0]), int(nonzero[-1])
+        held = self.outside == "hold"
+        start = -math.inf if held and first == 0 else float(self.t[max(first - 1, 0)])
+        end = math.inf if held and last == self.t.size - 1 else float(self.t[min(last + 1, self.t.size - 1)])
+        return start, end
 
     @property
     def peak(self) -> float:

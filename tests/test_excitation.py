@@ -84,7 +84,8 @@ def test_pulses_step_ramp_closed_form():
 
 def test_table_interpolates_and_lists_its_knots():
     s = Table(t=[0.0, 1.0, 2.0], values=[1.0, 3.0, -1.0])
-    assert close(s(np.array([-1.0, 0.0, 0.5, 1.5, 2.0, 2.5])), [0.0, 1.0, 2.0, 1.0, -1.0, 0.0])
+    # Right-continuous at the last knot (issue 13: it gave the value before it, -1): zero from there on.
+    assert close(s(np.array([-1.0, 0.0, 0.5, 1.5, 2.0, 2.5])), [0.0, 1.0, 2.0, 1.0, 0.0, 0.0])
     held = Table(t=[0.0, 1.0, 2.0], values=[1.0, 3.0, -1.0], outside="hold")
     assert close(held(np.array([-1.0, 2.5])), [1.0, -1.0])
     assert s.breakpoints == (0.0, 1.0, 2.0)

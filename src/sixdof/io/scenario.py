@@ -250,6 +250,10 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
         simulation = build(SimulationSettings, simulation, "simulation")
     frf = top.table("frf", default=None)
     frf = None if frf is None else _frf(frf)
+    if frf is not None:  # before any computation: a grid point on an undamped resonance has no response
+        from sixdof.analysis.frf import check_resonances
+
+        check_resonances(system, frf.grid(), "frf.f_hz")
     superposition = build(SuperpositionSettings, top.table("superposition", default={}), "superposition")
     points = tuple(build(Point, t, f"points[{i}]") for i, t in enumerate(top.tables("points")))
     unique([p.name for p in points], "points")

@@ -162,7 +162,7 @@ class FreeDecay:
     mode : int
         1-based mode number.
     history : sixdof.results.TimeHistory
-        The body's motion after release from the mode shape.
+        The body's motion after release in the damped (complex) mode shape.
     eta : ndarray, shape (n,)
         Modal coordinate ``phi_r' M q`` at ``history.t`` [sqrt(kg) m].
     estimate : DecayEstimate

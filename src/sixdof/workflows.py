@@ -243,7 +243,7 @@ def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_lin
 
     Runs :func:`sixdof.validation.validate` (free decays released from each mode shape, random-force
     runs with H1 estimates) and writes ``results.h5``, figures and ``validation.md`` to
-    ``out_root/<name>_validation/``, all or nothing.
+    ``out_root/<name>_validation/``, all or nothing, whatever the report's verdict (PASS or FAIL).
 
     Returns
     -------

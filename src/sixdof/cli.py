@@ -1,9 +1,10 @@
 """The ``sixdof`` command: parses arguments, calls the library, prints tables, writes under outputs/.
 
-Exit status: 0 done; 1 the solve failed; 2 bad input (nothing computed, nothing written); 74 a file
-could not be written (full disk, file-size limit, permissions); 130 interrupted (SIGINT), 143
-terminated (SIGTERM). Whatever the status, results already in place are left whole: a results folder
-is replaced completely or not at all (:mod:`sixdof.io.output`).
+Exit status: 0 done; 1 the solve failed; 2 bad input (nothing computed, nothing written); 3
+``validate`` found the model and the time histories disagreeing beyond their limits (verdict FAIL;
+its results were written); 74 a file could not be written (full disk, file-size limit, permissions);
+130 interrupted (SIGINT), 143 terminated (SIGTERM). Whatever the status, results already in place are
+left whole: a results folder is replaced completely or not at all (:mod:`sixdof.io.output`).
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from sixdof.errors import InputError, SolverError
 
 EXIT_FAILED = 1
 EXIT_BAD_INPUT = 2
+EXIT_VALIDATION_FAILED = 3
 EXIT_CANNOT_WRITE = 74  # EX_IOERR of sysexits.h
 EXIT_INTERRUPTED = 130  # 128 + SIGINT, as a shell reports a process killed by it
 EXIT_TERMINATED = 143  # 128 + SIGTERM
@@ -214,6 +216,11 @@ def _validate(args) -> int:
     report, directory = validate_scenario(scenario, args.out, command_line=" ".join(sys.argv))
     print(validation_text(report))
     print(f"\nWrote {directory}")
+    if report.verdict != "PASS":
+        failed = sorted({c.mode for c in report.checks if c.verdict != "PASS"})
+        print(f"sixdof: validation FAILED for mode(s) {', '.join(map(str, failed))}: the model and the time "
+              "histories disagree beyond the limits above", file=sys.stderr)
+        return EXIT_VALIDATION_FAILED
     return 0
 
 

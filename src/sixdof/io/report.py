@@ -132,14 +132,35 @@ def summary_table(result) -> str:
 
 
 def validation_text(report) -> str:
-    """The validation table of a :class:`sixdof.validation.ValidationReport`, then its notes."""
-    from sixdof.validation.experiment import COLUMNS
+    """The validation of a :class:`sixdof.validation.ValidationReport`: its table with each mode's
+    verdict, each check against its limit, the thresholds, the notes and the overall verdict."""
+    from sixdof.validation import experiment
 
     headers, rows = report.table()
-    cells = [[fmt.format(v) for (_, _, fmt), v in zip(COLUMNS, row)] for row in rows]
-    return "\n".join([table(headers, cells),
-                      f"{len(report.random_runs)} random runs ({report.random_duration_s:.4g} s simulated) and "
-                      f"{len(report.decays)} free decays in {report.wall_time_s:.3g} s", *report.notes])
+    cells = [[fmt.format(v) for (_, _, fmt), v in zip(experiment.COLUMNS, row)] for row in rows]
+    verdicts = report.mode_verdicts
+    if len(verdicts) == len(cells):
+        headers, cells = (*headers, "verdict"), [[*row, v] for row, v in zip(cells, verdicts)]
+    parts = [table(headers, cells),
+             f"{len(report.random_runs)} random runs ({report.random_duration_s:.4g} s simulated) and "
+             f"{len(report.decays)} free decays in {report.wall_time_s:.3g} s", *report.notes]
+    if not report.checks:
+        return "\n".join(parts)
+    checks = [[c.mode, c.name, f"{c.value:.3g}", f"{c.limit:.3g}", c.unit, c.verdict] for c in report.checks]
+    limits = "\n".join(f"  {name}: {rule}" for name, _, rule in experiment.CHECKS)
+    failed = [f"mode {c.mode} {c.name}" for c in report.checks if c.verdict != experiment.PASS]
+    parts += ["", "Checks (measured disagreement against its limit):",
+              table(["mode", "check", "measured", "limit", "unit", "verdict"], checks, "llrrlr"),
+              f"Limits: K_SIGMA = {experiment.K_SIGMA:g} standard errors, DECAY_RTOL = {experiment.DECAY_RTOL:g}, "
+              f"DECAY_ZETA_ATOL = {experiment.DECAY_ZETA_ATOL:g}, PEAK_BINS = {experiment.PEAK_BINS:g}, "
+              f"H1_FLOOR = {experiment.H1_FLOOR:g}, RAYLEIGH_MEDIAN = {experiment.RAYLEIGH_MEDIAN:.4f}, "
+              f"MEDIAN_SPREAD = {experiment.MEDIAN_SPREAD:.4f}, BINS_PER_INDEPENDENT = "
+              f"{experiment.BINS_PER_INDEPENDENT:g} (N: bins of the band with coherence >= 0.9; eps: the random "
+              f"error of H1; G: the model FRF with the force's first-order hold):\n{limits}",
+              f"Verdict: {report.verdict}" + (f" ({', '.join(failed)} beyond the limit)" if failed else
+                                              f" (all {len(report.checks)} checks of {len(verdicts)} modes within "
+                                              "their limits)")]
+    return "\n".join(parts)
 
 
 # ----------------------------------------------------------------------------------------------------

@@ -19,7 +19,17 @@ import numpy as np
 
 from sixdof._jax import jax, jnp
 from sixdof.dofs import DOF_UNITS, UNITS
-from sixdof.errors import InputError, boolean, finite_array, label_check, number, optional, point_check, readonly
+from sixdof.errors import (
+    InputError,
+    boolean,
+    finite_array,
+    label_check,
+    number,
+    optional,
+    point_check,
+    readonly,
+    real_array,
+)
 from sixdof.frozen import Frozen, checked
 from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import mount_matrix_jax
@@ -63,10 +73,7 @@ def mass_matrix(mass, inertia):
 
 def _inertia_tensor(value, field: str = "inertia") -> np.ndarray:
     expected = "3 principal moments [Jxx, Jyy, Jzz] or a symmetric 3x3 tensor in kg m^2"
-    try:
-        array = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError("inertia", expected, value) from None
+    array = real_array(value, "inertia", expected, 2)
     if array.shape == (3,):
         array = np.diag(array)
     if array.shape != (3, 3) or not np.all(np.isfinite(array)):
@@ -89,13 +96,7 @@ def _inertia_tensor(value, field: str = "inertia") -> np.ndarray:
 
 
 def _mass(value, field: str) -> float:
-    try:
-        mass = float(value)
-    except (TypeError, ValueError):
-        raise InputError(field, "a positive number in kg", value) from None
-    if not np.isfinite(mass) or mass <= 0.0:
-        raise InputError(field, "a positive number in kg", value)
-    return mass
+    return number(value, field, "a positive number in kg", low=0.0, strict=True)
 
 
 def _lengths(value, field: str) -> np.ndarray:
@@ -125,15 +126,13 @@ def _orthonormal(value, field: str) -> np.ndarray:
 
 
 def _coefficient(value, field: str) -> float:
-    if not isinstance(value, (int, float)) or not np.isfinite(value) or value < 0:
-        raise InputError(field, "a finite number >= 0", value)
-    return float(value)
+    return number(value, field, "a finite number >= 0", low=0.0)
 
 
 def _modal_ratios(value, field: str):
     if value is None:
         return None
-    ratios = np.atleast_1d(np.asarray(value, dtype=float))
+    ratios = np.atleast_1d(real_array(value, "damping.modal", "one damping ratio in [0, 1) or 6 of them", 1))
     if ratios.shape not in ((1,), (6,)) or np.any(~np.isfinite(ratios)) or np.any((ratios < 0) | (ratios >= 1)):
         raise InputError("damping.modal", "one damping ratio in [0, 1) or 6 of them", value)
     return float(ratios[0]) if ratios.shape == (1,) else tuple(float(r) for r in ratios)
@@ -305,6 +304,11 @@ class System(Frozen):
         for i, mount in enumerate(mounts):
             if not isinstance(mount, Mount):
                 raise InputError(f"mounts[{i}]", "a Mount", mount)
+            with np.errstate(over="ignore"):  # moments of a mount's forces go as its coefficients x position^2
+                largest = max(mount.stiffness.max(), mount.damping.max()) * (1.0 + np.abs(mount.position).max()) ** 2
+            if not np.isfinite(largest):
+                raise InputError(f"mounts[{i}].position", "coordinates in m small enough that the mount's stiffness "
+                                 "and damping matrices stay finite", mount.position)
         names = [m.name for m in mounts]
         duplicated = sorted({n for n in names if names.count(n) > 1})
         if duplicated:

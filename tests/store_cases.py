@@ -23,8 +23,10 @@ from sixdof import (
     simulate,
 )
 from sixdof.analysis import frf as frf_module
+from sixdof.analysis.mountcheck import mount_check
 from sixdof.analysis.response import points_motion
 from sixdof.analysis.statespace import modal_damping_ratios
+from sixdof.analysis.statics import gravity_statics
 from sixdof.analysis.superposition import modal_solve
 from sixdof.model.kinematics import generalized_force
 from sixdof.results import TimeHistory
@@ -67,13 +69,15 @@ def run_parts() -> dict:
         "vertical_load": force_transmissibility(system, f, [0.0, 10.0, 1.0], "z"),
         "ground_y": ground_transmissibility(system, f, "y", [0.0, 20.0, 1.0]),
     }
+    forces = mount_forces(system, direct)
     return dict(
         validation=validation_report(modes, zeta),
         system=system,
         modes=modes,
         damping_ratios=zeta,
         response=direct,
-        mount_forces=mount_forces(system, direct),
+        mount_forces=forces,
+        mount_check=mount_check(system, forces, direct.t, gravity_statics(system)),
         points=points_motion(direct, {"deck_end": [0.0, 20.0, 1.0], "bearing_1": BRIDGE_POSITIONS[0]}),
         superposition=modal,
         agreement=agreement,

@@ -84,7 +84,8 @@ def test_pulses_step_ramp_closed_form():
 
 def test_table_interpolates_and_lists_its_knots():
     s = Table(t=[0.0, 1.0, 2.0], values=[1.0, 3.0, -1.0])
-    assert close(s(np.array([-1.0, 0.0, 0.5, 1.5, 2.0, 2.5])), [0.0, 1.0, 2.0, 1.0, -1.0, 0.0])
+    # Right-continuous at the last knot (issue 13: it gave the value before it, -1): zero from there on.
+    assert close(s(np.array([-1.0, 0.0, 0.5, 1.5, 2.0, 2.5])), [0.0, 1.0, 2.0, 1.0, 0.0, 0.0])
     held = Table(t=[0.0, 1.0, 2.0], values=[1.0, 3.0, -1.0], outside="hold")
     assert close(held(np.array([-1.0, 2.5])), [1.0, -1.0])
     assert s.breakpoints == (0.0, 1.0, 2.0)
@@ -146,7 +147,8 @@ def test_signals_are_pytrees_that_jit_without_retracing():
         (Random, {"f_hz": [1.0, 2.0], "rms": 0.0, "seed": 1}, "rms: expected a positive rms"),
         (Random, {"f_hz": [1.0, 2.0], "rms": 1.0, "seed": -1}, "seed: expected an integer >= 0"),
         (Random, {"f_hz": [1.0, 2.0], "rms": 1.0, "seed": 1.5}, "seed: expected an integer >= 0"),
-        (Random, {"f_hz": [1.0, 2.0], "rms": 1.0, "seed": 1, "components": 0}, "components: expected an integer >= 1"),
+        (Random, {"f_hz": [1.0, 2.0], "rms": 1.0, "seed": 1, "components": 0}, "components: expected an integer from 1 to 10000"),
+        (Random, {"f_hz": [1.0, 2.0], "rms": 1.0, "seed": 1, "components": 10_001}, "components: expected an integer from 1 to 10000, got 10001"),
         (Load, {"name": "", "point": [0, 0, 0], "force": [1, 0, 0], "signal": Step()}, "name: expected a non-empty string"),
         (Load, {"name": "a", "point": [0, 0], "force": [1, 0, 0], "signal": Step()}, r"point: expected 3 coordinates \[x, y, z\] in m"),
         (Load, {"name": "a", "point": [0, 0, 0], "signal": Step()}, "force: expected a non-zero force or moment"),

@@ -191,11 +191,12 @@ def test_point_frf_reciprocity_and_quantities():
 
 
 @pytest.mark.parametrize("case", ["dashpots (complex modes)", "hysteretic (complex modes)",
-                                  "skewed, coupled"])
+                                  "skewed, coupled", "rayleigh (real modes)", "modal damping (real modes)",
+                                  "hysteretic + dashpots + rayleigh"])
 def test_foundation_load_balances_applied_load_and_inertia(case):
-    # Mount by mount, the forces on the foundation sum to the applied load minus the body's inertia
-    # force, Q + w^2 M q (no global damping in these cases): an independent path through the
-    # mount-level assembly.
+    # Mount by mount, the forces on the foundation (plus the global damping's, which acts on the
+    # motion relative to the ground like the dashpots) sum to the applied load minus the body's
+    # inertia force, Q + w^2 M q: an independent path through the mount-level assembly.
     system = CASES[case]()
     point, direction = np.array([0.2, 5.0, 1.0]), np.array([0.3, -0.2, 1.0])
     result = force_transmissibility(system, F_BRIDGE, point, direction)

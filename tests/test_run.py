@@ -91,8 +91,10 @@ def outcome(scenario, tmp_path_factory):
 
 def test_run_writes_results_figures_and_summary(outcome):
     assert sorted(p.name for p in outcome.directory.iterdir()) == sorted(
-        ["results.h5", "summary.md", *(f.name for f in outcome.figures)]
+        [".sixdof-files", "results.h5", "summary.md", *(f.name for f in outcome.figures)]
     )
+    listed = (outcome.directory / ".sixdof-files").read_text().splitlines()
+    assert listed == sorted(["results.h5", "summary.md", *(f.name for f in outcome.figures)])
     assert not [p for p in outcome.directory.parent.iterdir() if p.name.startswith(".")]
     results = load_tree(outcome.results_path)
     q = results.array("time/q")

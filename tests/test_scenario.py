@@ -198,5 +198,5 @@ def test_unparsable_csv_names_the_line(tmp_path):
         'signal = { kind = "table", file = "record.csv" }',
     )
     (tmp_path / "case.toml").write_text(text)
-    with pytest.raises(ScenarioError, match=r"ground.signal.file: expected rows of two numbers: time in s, value, got .line 3 of record.csv: \['0.1', 'oops'\]"):
+    with pytest.raises(ScenarioError, match=r"ground.signal.file: expected a UTF-8 CSV file of rows of two numbers: time in s, value, got line 3 of record.csv: \['0.1', 'oops'\]"):
         load_scenario(tmp_path / "case.toml")

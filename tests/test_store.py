@@ -142,12 +142,14 @@ def test_load_results_gives_back_the_typed_objects(parts, written):
 
     for name in ("system.M", "system.C", "system.K", "modes.shapes", "response.t", "response.q", "response.qd",
                  "response.qdd", "response.Q", "superposition.q", "superposition.superposition.eigenvalues",
-                 "mount_forces.total", "frf.direct.H", "frf.modal.H"):
+                 "mount_forces.total", "mount_check.force", "mount_check.compression", "mount_check.peak_deflection_t",
+                 "mount_check.tension_start_t", "frf.direct.H", "frf.modal.H"):
         np.testing.assert_array_equal(*read_and_written(name), err_msg=name)
     for name in ("system.mount_names", "system.rayleigh", "system.modal_damping", "modes.subsystems",
                  "modes.zero_modes", "response.stats.num_steps", "superposition.superposition.method",
                  "superposition.superposition.modes_kept", "agreement.worst", "agreement.ok", "mount_forces.names",
-                 "frf.max_relative_difference", "validation.rows"):
+                 "mount_check.names", "mount_check.preload", "mount_check.violations", "frf.max_relative_difference",
+                 "validation.rows"):
         read, written_value = read_and_written(name)
         assert read == written_value, name
     assert run.response.ground_displacement is None

@@ -1,17 +1,35 @@
-"""The ``sixdof`` command: parses arguments, calls the library, prints tables, writes under outputs/."""
+"""The ``sixdof`` command: parses arguments, calls the library, prints tables, writes under outputs/.
+
+Exit status: 0 done; 1 the solve failed; 2 bad input (nothing computed, nothing written); 3
+``validate`` found the model and the time histories disagreeing beyond their limits (verdict FAIL;
+its results were written); 74 a file could not be written (full disk, file-size limit, permissions);
+130 interrupted (SIGINT), 143 terminated (SIGTERM). Whatever the status, results already in place are
+left whole: a results folder is replaced completely or not at all (:mod:`sixdof.io.output`).
+"""
 
 from __future__ import annotations
 
 import argparse
 import json
+import signal
 import sys
+import threading
 import traceback
+import warnings
+from contextlib import contextmanager
 
 from sixdof.errors import InputError, SolverError
 
-EXIT_BAD_INPUT = 2
 EXIT_FAILED = 1
-EXIT_INTERRUPTED = 130
+EXIT_BAD_INPUT = 2
+EXIT_VALIDATION_FAILED = 3
+EXIT_CANNOT_WRITE = 74  # EX_IOERR of sysexits.h
+EXIT_INTERRUPTED = 130  # 128 + SIGINT, as a shell reports a process killed by it
+EXIT_TERMINATED = 143  # 128 + SIGTERM
+
+
+class Terminated(BaseException):
+    """SIGTERM, raised like KeyboardInterrupt so that a run cleans up after itself."""
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -19,13 +37,61 @@ def main(argv: list[str] | None = None) -> int:
     parser = _parser()
     args = parser.parse_args(argv)
     try:
-        return args.command(args)
+        with _signals(), _cleanup_errors(args.debug), warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", UserWarning)
+            try:
+                return args.command(args)
+            finally:
+                for warning in caught:  # after the command's own output, one line each
+                    print(f"WARNING: {warning.message}", file=sys.stderr)
     except InputError as exc:
         return _fail(args, f"error: {exc}", EXIT_BAD_INPUT)
     except SolverError as exc:
         return _fail(args, f"the solve failed, nothing was written: {exc}", EXIT_FAILED)
+    except OSError as exc:
+        where = f" {exc.filename}" if exc.filename else ""
+        return _fail(args, f"could not write{where}: {exc.strerror or exc}; results already in place are unchanged",
+                     EXIT_CANNOT_WRITE)
     except KeyboardInterrupt:
-        return _fail(args, "interrupted, nothing was written", EXIT_INTERRUPTED)
+        return _fail(args, "interrupted; no partial results were left", EXIT_INTERRUPTED)
+    except Terminated:
+        return _fail(args, "terminated (SIGTERM); no partial results were left", EXIT_TERMINATED)
+
+
+@contextmanager
+def _signals():
+    """SIGTERM raises :class:`Terminated`; a file-size limit (SIGXFSZ) makes writes fail with an OSError
+    instead of killing the process."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def terminate(signum, frame):
+        raise Terminated
+
+    previous = {signal.SIGTERM: signal.signal(signal.SIGTERM, terminate),
+                signal.SIGXFSZ: signal.signal(signal.SIGXFSZ, signal.SIG_IGN)}
+    try:
+        yield
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+
+
+@contextmanager
+def _cleanup_errors(debug: bool):
+    """Errors raised while objects are destroyed (h5py closing a file the disk refused, after the write
+    already failed) repeat the failure in tracebacks: printed only with ``--debug``."""
+    previous = sys.unraisablehook
+    if not debug:
+        sys.unraisablehook = lambda unraisable: None
+    try:
+        yield
+    finally:
+        import gc
+
+        gc.collect()  # destroy what the failure left behind while the hook is still in place
+        sys.unraisablehook = previous
 
 
 def _fail(args, message: str, status: int) -> int:
@@ -109,20 +175,17 @@ def _modes(args) -> int:
 
 
 def _run(args) -> int:
-    import warnings
+    import numpy as np
 
     from sixdof.io import report
     from sixdof.io.scenario import load_scenario
-    from sixdof.workflows import AgreementWarning, SamplingWarning, run_scenario
+    from sixdof.workflows import run_scenario
 
     _compile_cache()
     scenario = load_scenario(args.scenario)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", SamplingWarning)
-        warnings.simplefilter("always", AgreementWarning)
-        # A progress bar only where someone watches: redirected to a log it would be noise.
-        show_progress = not args.quiet and sys.stderr.isatty()
-        outcome = run_scenario(scenario, args.out, progress=show_progress, command_line=" ".join(sys.argv))
+    # A progress bar only where someone watches: redirected to a log it would be noise.
+    show_progress = not args.quiet and sys.stderr.isatty()
+    outcome = run_scenario(scenario, args.out, progress=show_progress, command_line=" ".join(sys.argv))
     print(f"{scenario.name}: {scenario.description}\n")
     print(report.modes_table(outcome.modes, outcome.damping_ratios))
     if outcome.agreement is not None:
@@ -135,10 +198,10 @@ def _run(args) -> int:
         stats = outcome.response.stats
         print(f"Solver {stats.solver}: {stats.num_accepted} steps, {stats.num_rejected} rejected, "
               f"{stats.wall_time_s:.2f} s")
+        limits = np.stack([m.max_deflection for m in scenario.system.mounts])
+        print(f"\nMount checks:\n{report.mount_check_text(outcome.mount_check, limits)}")
     if outcome.frf is not None:
         print(f"FRF direct vs modal: {outcome.frf.max_relative_difference:.1e} (worst relative difference)")
-    for warning in caught:
-        print(f"WARNING: {warning.message}", file=sys.stderr)
     print(f"\nWrote {outcome.results_path}, {len(outcome.figures)} figures and {outcome.summary_path}")
     return 0
 
@@ -153,24 +216,30 @@ def _validate(args) -> int:
     report, directory = validate_scenario(scenario, args.out, command_line=" ".join(sys.argv))
     print(validation_text(report))
     print(f"\nWrote {directory}")
+    if report.verdict != "PASS":
+        failed = sorted({c.mode for c in report.checks if c.verdict != "PASS"})
+        print(f"sixdof: validation FAILED for mode(s) {', '.join(map(str, failed))}: the model and the time "
+              "histories disagree beyond the limits above", file=sys.stderr)
+        return EXIT_VALIDATION_FAILED
     return 0
 
 
 def _sweep(args) -> int:
+    from sixdof.io.output import check_target, write_folder
     from sixdof.io.report import summary_table
     from sixdof.io.scenario import load_scenario
     from sixdof.io.store import write_results
     from sixdof.io.sweep import load_sweep_spec
     from sixdof.results import RunResults
-    from sixdof.workflows import check_output_root, sweep, write_all_or_nothing
+    from sixdof.workflows import sweep
 
     _compile_cache()
     scenario = load_scenario(args.scenario)
     spec = load_sweep_spec(args.spec)
-    root = check_output_root(args.out)
+    target = check_target(args.out, scenario.name, "_sweep")
     result = sweep(scenario, spec, chunk_size=args.chunk_size)
-    directory = write_all_or_nothing(
-        root / f"{scenario.name}_sweep",
+    directory = write_folder(
+        target,
         lambda stage: write_results(stage / "sweep.h5", RunResults(
             name=scenario.name, description=scenario.description, system=scenario.system, sweep=result,
             provenance={"scenario_text": scenario.text}), command_line=" ".join(sys.argv)),
@@ -191,10 +260,13 @@ def _compile_cache() -> None:
 def _plot(args) -> int:
     from pathlib import Path
 
+    from sixdof.io.output import replace_files
     from sixdof.io.store import load_results
     from sixdof.plots import save_all
 
-    figures = save_all(load_results(args.results), Path(args.out) if args.out else Path(args.results).parent)
+    run = load_results(args.results)
+    figures = replace_files(Path(args.out) if args.out else Path(args.results).parent,
+                            lambda stage: save_all(run, stage))
     for figure in figures:
         print(figure)
     return 0

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import math
+import os
+import re
 from typing import Any
 
 import numpy as np
@@ -56,14 +58,36 @@ def finite_array(value: object, field: str, expected: str, shape: tuple[int, ...
         Naming ``field`` and ``expected`` when ``value`` is not numeric, has another shape, or holds
         a NaN or an infinity.
     """
-    try:
-        array = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(field, expected, value) from None
+    array = real_array(value, field, expected, len(shape))
     if array.shape != tuple(shape) or not np.all(np.isfinite(array)):
         raise InputError(field, expected, value)
-    array.flags.writeable = False
     return array
+
+
+def real_array(value: object, field: str, expected: str, max_ndim: int) -> np.ndarray:
+    """``value`` as a read-only float64 array of at most ``max_ndim`` dimensions, built only from real
+    numbers: Python or numpy integers and floats, never strings or booleans (``"500"`` and ``true`` are
+    typing mistakes in a scenario file, not numbers). Nesting is followed no deeper than ``max_ndim``,
+    so a 10,000-deep list is refused, not recursed into."""
+    if not _real_numbers(value, max_ndim):
+        raise InputError(field, expected, value)
+    try:
+        return readonly(value)
+    except ValueError:  # ragged nesting
+        raise InputError(field, expected, value) from None
+
+
+def _real_numbers(value: object, depth: int) -> bool:
+    if isinstance(value, (list, tuple)):
+        return depth > 0 and all(_real_numbers(item, depth - 1) for item in value)
+    if isinstance(value, (bool, np.bool_)):
+        return False
+    if isinstance(value, (int, float, np.integer, np.floating)):
+        return True
+    if hasattr(value, "__array__") and not isinstance(value, (str, bytes)):  # numpy and JAX arrays
+        array = np.asarray(value)
+        return array.ndim <= depth and array.dtype.kind in "iuf"
+    return False
 
 
 def readonly(value: Any, dtype: Any = float) -> np.ndarray:
@@ -101,11 +125,42 @@ def integer(value: Any, field: str, expected: str, low: int) -> int:
     return int(value)
 
 
+def boolean(value: Any, field: str) -> bool:
+    """``value`` as a bool: ``True`` or ``False`` (numpy's too), never a number or a string."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputError(field, "true or false", value)
+    return bool(value)
+
+
 def label(value: Any, field: str = "name") -> str:
     """``value`` as a non-empty string (a name used in tables, files and figures)."""
     if not isinstance(value, str) or not value:
         raise InputError(field, "a non-empty string", value)
     return value
+
+
+#: A name that becomes a file or folder name: one path component, the same on every filesystem.
+FILE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
+
+
+def file_name(value: Any, field: str = "name") -> str:
+    """``value`` as a name that is one safe path component (a scenario's results folder)."""
+    if not isinstance(value, str) or not FILE_NAME.fullmatch(value):
+        raise InputError(field, "a name of 1 to 100 letters, digits, '.', '_' or '-' that starts with a letter or "
+                         "digit (it names the results folder)", value)
+    return value
+
+
+def memory_check(field: str, needed_bytes: float, expected: str, got: str) -> None:
+    """Refuse up front a size that cannot fit in this machine's physical memory, with the numbers: better
+    than a solve that swaps for an hour or is killed at its end.
+
+    The message reads "expected ``expected`` that fits in this machine's N GiB of memory, got ``got``, about
+    M GiB"."""
+    total = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    if needed_bytes > total:
+        raise InputError(field, f"{expected} that fits in this machine's {total / 2**30:.1f} GiB of memory",
+                         Plain(f"{got}, about {needed_bytes / 2**30:.3g} GiB"))
 
 
 def vector3(value: Any, field: str, expected: str) -> np.ndarray:
@@ -121,10 +176,7 @@ def point(value: Any, field: str = "position") -> np.ndarray:
 def increasing_times(value: Any, field: str) -> np.ndarray:
     """``value`` as a read-only 1-D array of at least 2 finite, strictly increasing times [s]."""
     expected = "at least 2 finite, strictly increasing times in s"
-    try:
-        times = readonly(value)
-    except (TypeError, ValueError):
-        raise InputError(field, expected, value) from None
+    times = real_array(value, field, expected, 1)
     if times.ndim != 1 or times.size < 2 or not np.all(np.isfinite(times)):
         raise InputError(field, expected, value)
     if np.any(np.diff(times) <= 0):

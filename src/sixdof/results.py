@@ -231,6 +231,8 @@ class RunResults(Frozen):
     response : TimeHistory or None
         The direct solve.
     mount_forces : sixdof.analysis.response.MountForces or None
+    mount_check : sixdof.analysis.mountcheck.MountCheck or None
+        Total (static + dynamic) mount loads and deflections, tension and limits.
     points : mapping of str to sixdof.analysis.response.PointMotion
     superposition : TimeHistory or None
         The modal-superposition cross-check.
@@ -255,6 +257,8 @@ class RunResults(Frozen):
     statics: Any = part(lambda: _class("sixdof.analysis.statics", "Statics"), group="statics", default=None)
     response: TimeHistory | None = part(lambda: TimeHistory, group="time", default=None)
     mount_forces: Any = part(lambda: _class("sixdof.analysis.response", "MountForces"), group="time", default=None)
+    mount_check: Any = part(lambda: _class("sixdof.analysis.mountcheck", "MountCheck"), group="time/mount_check",
+                            default=None)
     points: Any = stacked(lambda: _class("sixdof.analysis.response", "PointMotion"), dim="point", prefix="point_",
                           group="time", default_factory=dict)
     superposition: TimeHistory | None = part(lambda: TimeHistory, group="time/superposition", default=None)
@@ -268,8 +272,8 @@ class RunResults(Frozen):
     provenance: Any = field(default_factory=dict)
 
     def __check__(self) -> None:
-        if (self.mount_forces is not None or self.points) and self.response is None:
-            raise InputError("mount_forces" if self.mount_forces is not None else "points",
+        if (self.mount_forces is not None or self.mount_check is not None or self.points) and self.response is None:
+            raise InputError(next(n for n in ("mount_forces", "mount_check", "points") if getattr(self, n)),
                              "the time response they come from", Plain("none"))
         if (self.superposition is not None or self.agreement is not None) and self.response is None:
             raise InputError("superposition", "a direct response to compare with", Plain("none"))

@@ -2,16 +2,12 @@
 solver cross-checked by modal superposition, frequency responses; results, figures and a summary
 written under ``<out>/<scenario name>/``.
 
-Everything is written into a staging folder beside the target and moved into place only when complete:
-a failed or interrupted run leaves the previous results (or nothing) behind, never a partial set.
+Everything is written through :mod:`sixdof.io.output`: all or nothing, never outside ``out``, and nothing
+deleted that sixdof did not write.
 """
 
 from __future__ import annotations
 
-import os
-import shutil
-import tempfile
-import uuid
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -20,7 +16,7 @@ import numpy as np
 
 from sixdof.analysis.statespace import damping_ratios
 from sixdof.analysis.statics import try_gravity_statics
-from sixdof.errors import InputError
+from sixdof.io import output
 from sixdof.results import RunResults
 
 #: Fewest samples per period of the highest natural frequency or excitation frequency: below it the
@@ -51,7 +47,9 @@ class RunOutcome:
     modes, statics, damping_ratios, response, superposition, agreement, frf :
         The computed objects (``None`` for parts the scenario does not ask for).
     warnings : tuple of str
-        Warnings raised during the run (sampling, agreement), also shown in the summary.
+        Warnings raised during the run (sampling, agreement, mount limits), also shown in the summary.
+    mount_check : sixdof.analysis.mountcheck.MountCheck or None
+        Total mount loads and deflections, tension and limits (runs with a simulation).
     """
 
     directory: Path
@@ -66,25 +64,7 @@ class RunOutcome:
     agreement: object
     frf: object
     warnings: tuple[str, ...]
-
-
-def check_output_root(out_root: str | Path) -> Path:
-    """Make sure results can be written under ``out_root`` before any computing starts.
-
-    Raises
-    ------
-    InputError
-        If the folder cannot be created or written.
-    """
-    root = Path(out_root)
-    try:
-        root.mkdir(parents=True, exist_ok=True)
-        probe = root / f".write-test-{uuid.uuid4().hex}"
-        probe.write_bytes(b"")
-        probe.unlink()
-    except OSError as exc:
-        raise InputError("--out", "a folder where results can be written", f"{root} ({exc.strerror})") from None
-    return root
+    mount_check: object = None
 
 
 def sampling_warnings(scenario, modes) -> list[str]:
@@ -132,7 +112,8 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
     ----------
     scenario : sixdof.io.scenario.Scenario
     out_root : str or pathlib.Path
-        Results go to ``out_root/<scenario.name>/`` (replaced as a whole when the run succeeds).
+        Results go to ``out_root/<scenario.name>/``, replaced as a whole when the run succeeds (files
+        there that sixdof did not write are kept: :mod:`sixdof.io.output`).
     progress : bool
         Show the solver's progress (long runs).
     log : callable
@@ -149,7 +130,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
     from sixdof.analysis.superposition import superpose
     from sixdof.io import report, store
 
-    root = check_output_root(out_root)
+    target = output.check_target(out_root, scenario.name)
     system = scenario.system
     modes = system.modes
     statics, no_statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
@@ -163,18 +144,22 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
     for note in notes:
         warnings.warn(note, SamplingWarning, stacklevel=2)
 
-    response = superposition = agreement = forces = points = None
+    response = superposition = agreement = forces = points = check = None
     if scenario.simulation is not None:
         from sixdof.analysis.direct import simulate
+        from sixdof.analysis.mountcheck import MountLimitWarning, mount_check
         from sixdof.analysis.response import mount_forces, points_motion
+        from sixdof.analysis.validity import RangeWarning
         from sixdof.excitation import Excitation
 
         excitation = scenario.excitation if scenario.excitation is not None else Excitation()
         response = simulate(system, excitation, scenario.simulation, progress=progress or None)
         options = scenario.superposition
-        superposition = superpose(system, excitation, response.t, method=options.method,
-                                  n_modes=options.n_modes, f_max_hz=options.f_max_hz,
-                                  residual=options.residual)
+        with warnings.catch_warnings():  # the cross-check would repeat the direct solve's range warnings
+            warnings.simplefilter("ignore", RangeWarning)
+            superposition = superpose(system, excitation, response.t, method=options.method,
+                                      n_modes=options.n_modes, f_max_hz=options.f_max_hz,
+                                      residual=options.residual)
         # Both are absolute motion; rotations are judged beside translations through the body's size.
         agreement = compare(response, superposition, length=_body_length(system))
         if not agreement.ok:
@@ -185,6 +170,10 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
             notes.append(note)
             warnings.warn(note, AgreementWarning, stacklevel=2)
         forces = mount_forces(system, response)
+        check = mount_check(system, forces, response.t, statics)
+        for note in check.violations:
+            notes.append(note)
+            warnings.warn(note, MountLimitWarning, stacklevel=2)
         points = points_motion(response, {p.name: p.position for p in scenario.points}) if scenario.points else None
 
     frf = None
@@ -211,6 +200,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         statics=statics,
         response=response,
         mount_forces=forces,
+        mount_check=check,
         points=points or {},
         superposition=superposition,
         agreement=agreement,
@@ -224,10 +214,10 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         store.write_results(stage / "results.h5", run, command_line=command_line)
         figures.extend(plots.save_all(run, stage))
         text = report.summary_markdown(scenario, modes, statics, zeta, response, forces, agreement,
-                                        superposition, frf, figures, notes)
+                                        superposition, frf, figures, notes, mount_check=check)
         (stage / "summary.md").write_text(text, encoding="utf-8")
 
-    target = write_all_or_nothing(root / scenario.name, write)
+    output.write_folder(target, write)
     return RunOutcome(
         directory=target,
         results_path=target / "results.h5",
@@ -241,6 +231,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         agreement=agreement,
         frf=frf,
         warnings=tuple(notes),
+        mount_check=check,
     )
 
 
@@ -262,7 +253,7 @@ def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_lin
 
     Runs :func:`sixdof.validation.validate` (free decays released from each mode shape, random-force
     runs with H1 estimates) and writes ``results.h5``, figures and ``validation.md`` to
-    ``out_root/<name>_validation/``, all or nothing.
+    ``out_root/<name>_validation/``, all or nothing, whatever the report's verdict (PASS or FAIL).
 
     Returns
     -------
@@ -274,7 +265,7 @@ def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_lin
     from sixdof.io.report import validation_text
     from sixdof.validation import validate
 
-    root = check_output_root(out_root)
+    target = output.check_target(out_root, scenario.name, "_validation")
     system = scenario.system
     modes = system.modes
     report = validate(system)
@@ -290,33 +281,7 @@ def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_lin
                 f"{links}\n")
         (stage / "validation.md").write_text(text, encoding="utf-8")
 
-    return report, write_all_or_nothing(root / f"{scenario.name}_validation", write)
-
-
-def write_all_or_nothing(target: Path, write) -> Path:
-    """Call ``write(stage)`` on a fresh staging folder beside ``target``, then put it in place.
-
-    On any failure or interruption the staging folder is removed and ``target`` is left as it was.
-    """
-    stage = Path(tempfile.mkdtemp(prefix=f".{target.name}.partial-", dir=target.parent))
-    try:
-        write(stage)
-        _replace_directory(stage, target)
-    except BaseException:
-        shutil.rmtree(stage, ignore_errors=True)
-        raise
-    return target
-
-
-def _replace_directory(stage: Path, target: Path) -> None:
-    """Move the complete staging folder to ``target``, replacing a previous run's folder."""
-    old = None
-    if target.exists():
-        old = target.with_name(f".{target.name}.old-{uuid.uuid4().hex}")
-        os.replace(target, old)
-    os.replace(stage, target)
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
+    return report, output.write_folder(target, write)
 
 
 def sweep(scenario, spec, *, chunk_size: int | None = None):

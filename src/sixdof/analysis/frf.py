@@ -43,9 +43,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from sixdof import results as schema
+from sixdof.analysis.response import global_damping
 from sixdof.analysis.statespace import complex_modes, is_classical, modal_basis
 from sixdof.dofs import AXES, DOF_UNITS, DOFS, FORCE_UNITS, UNITS, mixed_units
-from sixdof.errors import InputError, SolverError, choice_check, direction_check, point, readonly
+from sixdof.errors import InputError, Plain, SolverError, choice_check, direction_check, point, readonly
 from sixdof.model.kinematics import mount_matrix, point_map, response_row, unit_load
 
 if TYPE_CHECKING:
@@ -53,8 +54,8 @@ if TYPE_CHECKING:
 
 __all__ = [
     "FRF", "FRFCrossCheck", "ForceTransmissibility", "GroundTransmissibility", "PointFRF", "QUANTITIES",
-    "cross_check", "dynamic_stiffness", "force_transmissibility", "frf_difference", "ground_transmissibility",
-    "hysteretic_stiffness", "point_frf", "receptance",
+    "cross_check", "check_resonances", "dynamic_stiffness", "force_transmissibility", "frf_difference",
+    "ground_transmissibility", "hysteretic_stiffness", "point_frf", "receptance",
 ]
 
 #: FRF quantities and the power of ``i w`` that turns receptance into each.
@@ -62,8 +63,13 @@ QUANTITIES: dict[str, int] = {"receptance": 0, "mobility": 1, "accelerance": 2}
 _QUANTITY_SUFFIX = {"receptance": "", "mobility": "/s", "accelerance": "/s^2"}
 
 #: A rigid-body mode counts as undamped when its modal damping is below this fraction of the
-#: system's frequency scale (largest natural circular frequency or modal damping term).
+#: system's frequency scale (largest natural circular frequency or modal damping term); an elastic
+#: mode when its damping ratio (viscous plus hysteretic) is below it.
 RIGID_DAMPING_RTOL = 1e-12
+#: A frequency this close (relative) to an undamped mode's natural frequency is refused: the dynamic
+#: stiffness is singular there to round-off (direct and modal receptances of the undamped bridge
+#: differ by ~1e-7 at 1e-9 off, by up to 87 % exactly on it).
+UNDAMPED_RESONANCE_RTOL = 1e-9
 #: Multiply-adds per row block of the modal sum's matrix product (see :meth:`_ModalTerms.evaluate`).
 _BLOCK_MACS = 200_000
 
@@ -205,8 +211,9 @@ class ForceTransmissibility(schema.Result):
 
     A mount's force is the one it exerts on the foundation, ``A' diag(k (1 + i eta) + i w c) A u``,
     with ``u`` the displacement of its attachment point and ``A`` its axes: stiffness, hysteretic and
-    dashpot parts. Global damping models (Rayleigh, modal) are not mount elements and carry no force
-    here.
+    dashpot parts. Global damping (Rayleigh, modal) acts on the motion relative to the ground like the
+    dashpots and reaches the foundation too, as ``other_damping``, not attributed to a mount
+    (:func:`sixdof.analysis.response.global_damping`: the same force as the time domain's).
 
     Attributes
     ----------
@@ -217,8 +224,11 @@ class ForceTransmissibility(schema.Result):
         Each mount's force on the foundation in body axes, per unit applied load [N/N, or N/(N m)
         for an applied moment].
     total : ndarray, shape (nf, 6), complex
-        Resultant of all mount forces on the foundation: force [N/N] and moment about the CG's rest
-        position [N m/N], in body axes (``sum_j T_j' F_j``).
+        Resultant of all forces on the foundation: force [N/N] and moment about the CG's rest
+        position [N m/N], in body axes (``sum_j T_j' F_j + other_damping``).
+    other_damping : ndarray, shape (nf, 6), complex
+        Generalized force of the Rayleigh and modal damping on the foundation, ``i w (C - C_mounts) q``,
+        per unit load (zero without them).
     load_point, load_direction : ndarray, shape (3,)
     load_kind : str
         ``"force"`` or ``"moment"``.
@@ -234,6 +244,10 @@ class ForceTransmissibility(schema.Result):
     total: np.ndarray = schema.quantity(
         lambda ft: f"{_per_load(ft.load_kind)} (Fx, Fy, Fz); {_per_load(ft.load_kind)} m (Mx, My, Mz)",
         ("f_hz", "load"), description="resultant force and moment (about the CG rest position) on the foundation")
+    other_damping: np.ndarray = schema.quantity(
+        lambda ft: f"{_per_load(ft.load_kind)} (Fx, Fy, Fz); {_per_load(ft.load_kind)} m (Mx, My, Mz)",
+        ("f_hz", "load"), name="other_damping_force",
+        description="generalized force of Rayleigh and modal damping on the foundation, i w (C - C_mounts) q")
     load_point: np.ndarray = schema.label()
     load_direction: np.ndarray = schema.label()
     load_kind: str = schema.label()
@@ -362,6 +376,44 @@ def dynamic_stiffness(system: System, f_hz) -> np.ndarray:
     return static[None] - w**2 * np.asarray(system.M)[None] + (1j * w) * np.asarray(system.C)[None]
 
 
+def check_resonances(system: System, f_hz, field: str = "f_hz") -> None:
+    """Refuse a frequency on the natural frequency of a mode no damping acts on (its response is infinite).
+
+    Parameters
+    ----------
+    system : System
+    f_hz : array_like, shape (nf,)
+        Frequencies [Hz].
+    field : str
+        Named in the error.
+
+    Raises
+    ------
+    InputError
+        Naming the first such frequency and the mode, when a frequency is within
+        :data:`UNDAMPED_RESONANCE_RTOL` (relative) of the natural frequency of an elastic mode whose
+        damping ratio, viscous plus hysteretic, is below :data:`RIGID_DAMPING_RTOL`.
+    """
+    f = _frequencies(f_hz)
+    modes = system.modes
+    phi, w = np.asarray(modes.shapes), np.asarray(modes.omega)
+    elastic = w > 0
+    # zeta_r = phi_r' C phi_r / (2 w_r) + phi_r' K_h phi_r / (2 w_r^2), mass-normalized shapes.
+    viscous = np.einsum("ir,ij,jr->r", phi, np.asarray(system.C), phi)
+    hysteretic = np.einsum("ir,ij,jr->r", phi, hysteretic_stiffness(system), phi)
+    w_elastic = np.where(elastic, w, 1.0)
+    zeta = np.where(elastic, viscous / (2 * w_elastic) + hysteretic / (2 * w_elastic**2), np.inf)
+    for r in np.flatnonzero(zeta <= RIGID_DAMPING_RTOL):
+        f_r = float(modes.frequency_hz[r])
+        hit = np.flatnonzero(np.abs(f - f_r) <= UNDAMPED_RESONANCE_RTOL * f_r)
+        if hit.size:
+            i = int(hit[0])
+            raise InputError(field, f"frequencies off the natural frequency of mode {r + 1} ({f_r:.12g} Hz) by more "
+                             f"than {UNDAMPED_RESONANCE_RTOL:.0e} of it: no damping acts on that mode, so its "
+                             "response there is infinite (add damping or move the frequency)",
+                             Plain(f"{f[i]:.12g} Hz (frequency {i + 1} of {f.size})"))
+
+
 def receptance(system: System, f_hz, method: str = "direct", basis: str = "auto") -> FRF:
     """Generalized 6x6 receptance ``H(w) = (K + i K_h - w^2 M + i w C)^-1``.
 
@@ -387,12 +439,14 @@ def receptance(system: System, f_hz, method: str = "direct", basis: str = "auto"
     Raises
     ------
     InputError
-        Bad frequencies (negative, non-finite; zero for an unrestrained system), method or basis.
+        Bad frequencies (negative, non-finite; zero for an unrestrained system; on the natural
+        frequency of an undamped mode, :func:`check_resonances`), method or basis.
     SolverError
-        The dynamic stiffness is singular at a requested frequency (an undamped resonance hit
-        exactly), or the complex modes are nearly defective.
+        The dynamic stiffness is singular at a requested frequency, or the complex modes are nearly
+        defective.
     """
     f = _frequencies(f_hz)
+    check_resonances(system, f)
     _check_method(method, "method")
     _check_basis(basis, "basis")
     if np.any(f == 0.0) and system.modes.zero_modes:
@@ -616,9 +670,10 @@ def force_transmissibility(system: System, f_hz, load_point, load_direction,
     Returns
     -------
     ForceTransmissibility
-        Mount forces (nf, n_mounts, 3) and resultant (nf, 6) per unit load, complex; the mounts'
-        stiffness, loss factor and dashpots carry force, global (Rayleigh, modal) damping does not.
+        Mount forces (nf, n_mounts, 3) and resultant (nf, 6) per unit load, complex: the mounts'
+        stiffness, loss factor and dashpots, and the global (Rayleigh, modal) damping's force.
     """
+
     lp = point(load_point, "load_point")
     ld, moment = parse_direction(load_direction, "load_direction")
     frf = receptance(system, f_hz, method=method)
@@ -629,9 +684,11 @@ def force_transmissibility(system: System, f_hz, load_point, load_direction,
     local = system.stiffnesses * (1.0 + 1j * system.loss_factors) + 1j * frf.omega[:, None, None] * system.dampings
     impedances = np.einsum("nai,fna,naj->fnij", system.axes, local, system.axes)
     forces = np.einsum("fnij,fnj->fni", impedances, u)
-    total = np.einsum("nia,fni->fa", t, forces)
+    other = 1j * frf.omega[:, None] * (q @ global_damping(system).T)
+    total = np.einsum("nia,fni->fa", t, forces) + other
     return ForceTransmissibility(f_hz=frf.f_hz, mount_names=system.mount_names, mount_forces=readonly(forces, complex),
-                                 total=readonly(total, complex), load_point=lp, load_direction=ld,
+                                 total=readonly(total, complex), other_damping=readonly(other, complex),
+                                 load_point=lp, load_direction=ld,
                                  load_kind="moment" if moment else "force", method=method)
 
 

@@ -78,6 +78,21 @@ def points_motion(response: TimeHistory, points, *, relative: bool = False) -> d
     return {name: point_motion(response, pos, relative=relative) for name, pos in items}
 
 
+def global_damping(system: System) -> np.ndarray:
+    """The damping matrix of the global models, Rayleigh and modal: ``C - C_mounts`` (6, 6) [N s/m, N s, N m s/rad].
+
+    What reaches the foundation, in the time domain (:func:`mount_forces`) and in the frequency domain
+    (:func:`sixdof.analysis.frf.force_transmissibility`) alike: every damping model of eq. (1) acts on the
+    body's motion relative to the ground (it stands for dissipation in the mounts), so its force
+    ``(C - C_mounts) q_rel'`` reacts on the foundation as the dashpots' does. Any other choice would break
+    the body's momentum balance: the generalized force on the foundation is ``Q - M q''`` only when all
+    of ``C`` is in it. Exactly zero without Rayleigh or modal damping (no round-off from ``C - C``).
+    """
+    if system.rayleigh is None and system.modal_damping is None:
+        return np.zeros((6, 6))
+    return np.asarray(system.C) - np.asarray(system.C_mounts)
+
+
 _ON = "exerted by each mount on the foundation, body axes (dynamic part about static equilibrium)"
 
 
@@ -150,10 +165,7 @@ def mount_forces(system: System, response: TimeHistory) -> MountForces:
                                     for x, k in ((deformation, system.stiffnesses), (rate, system.dampings)))
     elastic, damping = (np.einsum("mji,mnj->mni", A, x) for x in (local_elastic, local_damping))
     total = elastic + damping
-    if system.rayleigh is None and system.modal_damping is None:
-        other = np.zeros_like(zd)  # exactly: C and C_mounts differ only by round-off then
-    else:
-        other = zd @ (np.asarray(system.C) - np.asarray(system.C_mounts)).T
+    other = zd @ global_damping(system).T
     force = total.sum(axis=0) + other[:, :3]
     moment = np.cross(system.positions[:, None, :], total).sum(axis=0) + other[:, 3:]
     return MountForces(
@@ -163,4 +175,4 @@ def mount_forces(system: System, response: TimeHistory) -> MountForces:
     )
 
 
-__all__ = ["PointMotion", "MountForces", "point_motion", "points_motion", "mount_forces"]
+__all__ = ["PointMotion", "MountForces", "point_motion", "points_motion", "mount_forces", "global_damping"]

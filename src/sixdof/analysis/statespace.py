@@ -11,8 +11,9 @@
 - :func:`complex_modes`: eigenvalues and right and left eigenvectors of the first-order modal system
   ``eta'' + D eta' + K_m eta = g`` (``K_m`` may be complex: hysteresis), with the condition check that
   refuses nearly defective systems.
-- :func:`damping_ratios`: the exact damping ratio of each mode from the complex eigenvalues, and
-  :func:`modal_damping_ratios`, the diagonal approximation ``phi' C phi / (2 omega)``.
+- :func:`damped_modes` and :func:`damping_ratios`: the damped pole and shape paired with each mode and
+  the exact damping ratio from it; :func:`modal_damping_ratios`, the diagonal approximation
+  ``phi' C phi / (2 omega)``.
 """
 
 from __future__ import annotations
@@ -175,15 +176,68 @@ def modal_damping_ratios(C, modes) -> np.ndarray:
         return np.where(modes.omega > 0, diag / (2.0 * modes.omega), np.nan)
 
 
+def damped_modes(C, modes) -> tuple[np.ndarray, np.ndarray]:
+    """The damped pole of each undamped mode and its (complex) displacement shape.
+
+    Each undamped mode r is paired with the complex mode whose displacement shape matches it best
+    (mass-weighted MAC, which in mass-normalized modal coordinates is ``|v_r|^2 / |v|^2``), each
+    complex mode used once. For classical damping the pole is the closed form
+    ``omega_r (-zeta_r + i sqrt(1 - zeta_r^2))`` and the shape the real mode.
+
+    Parameters
+    ----------
+    C : array_like, shape (6, 6)
+        Viscous damping [N s/m ...].
+    modes : sixdof.analysis.modal.Modes
+        The undamped modes.
+
+    Returns
+    -------
+    poles : ndarray, shape (6,), complex
+        ``lambda_r = -zeta_r omega_r + i omega_r sqrt(1 - zeta_r^2)`` [1/s], the one with
+        ``Im > 0``; ``nan`` for rigid-body modes and modes damped at or beyond critical.
+    shapes : ndarray, shape (6, 6), complex
+        Column r: displacement part of the eigenvector of ``poles[r]`` in physical coordinates
+        [m, rad] (any scale; its velocity part is ``poles[r]`` times it). A free response started
+        from ``q = Re(s), q' = Re(lambda s)`` stays ``Re(s e^{lambda t})``: that mode alone.
+    """
+    phi = np.asarray(modes.shapes)
+    D = phi.T @ np.asarray(C, dtype=float) @ phi
+    n = phi.shape[1]
+    poles = np.full(n, np.nan + 0j)
+    shapes = np.zeros((n, n), dtype=complex)
+    if is_classical(D):
+        zeta = modal_damping_ratios(C, modes)
+        under = (modes.omega > 0) & (zeta < 1)
+        poles[under] = modes.omega[under] * (-zeta[under] + 1j * np.sqrt(1.0 - zeta[under] ** 2))
+        return poles, phi.astype(complex)
+    complex_ = complex_modes(np.diag(modes.eigenvalues), D, remedy=None)
+    eigenvalues, vectors = complex_.eigenvalues, complex_.right
+    oscillating = np.flatnonzero(eigenvalues.imag > 1e-9 * np.abs(eigenvalues).max())
+    pairs = []
+    for r in np.flatnonzero(modes.omega > 0):
+        for k in oscillating:
+            v = vectors[:n, k]
+            pairs.append((abs(v[r]) ** 2 / np.real(np.vdot(v, v)), r, k))
+    # Pair undamped and complex modes by shape, most similar first, each used once.
+    paired_modes, paired_poles = set(), set()
+    for _, r, k in sorted(pairs, reverse=True):
+        if r not in paired_modes and k not in paired_poles:
+            paired_modes.add(r)
+            paired_poles.add(k)
+            poles[r] = eigenvalues[k]
+            shapes[:, r] = phi @ vectors[:n, k]
+    return poles, shapes
+
+
 def damping_ratios(C, modes) -> np.ndarray:
     """Exact damping ratio of each mode, from the complex eigenvalues of the damped system.
 
-    Each undamped mode r is paired with the complex mode whose displacement shape matches it best
-    (mass-weighted MAC, which in mass-normalized modal coordinates is ``|v_r|^2 / |v|^2``), and
-    ``zeta_r = -Re(lambda) / |lambda|``. For classical damping this equals
-    :func:`modal_damping_ratios`; for non-proportional damping (mount dashpots) it is the ratio a free
-    decay shows, where the diagonal approximation is only first-order. Modes whose damping is critical
-    or more (real eigenvalues) and rigid-body modes keep the diagonal value (``nan`` for rigid ones).
+    ``zeta_r = -Re(lambda_r) / |lambda_r|`` with ``lambda_r`` the pole paired with mode r
+    (:func:`damped_modes`). For classical damping this equals :func:`modal_damping_ratios`; for
+    non-proportional damping (mount dashpots) it is the ratio a free decay shows, where the diagonal
+    approximation is only first-order. Modes whose damping is critical or more (real eigenvalues) and
+    rigid-body modes keep the diagonal value (``nan`` for rigid ones).
 
     Parameters
     ----------
@@ -199,20 +253,10 @@ def damping_ratios(C, modes) -> np.ndarray:
     """
     approximate = modal_damping_ratios(C, modes)
     phi = np.asarray(modes.shapes)
-    D = phi.T @ np.asarray(C, dtype=float) @ phi
-    if is_classical(D):
+    if is_classical(phi.T @ np.asarray(C, dtype=float) @ phi):
         return approximate
-    n = phi.shape[1]
-    complex_ = complex_modes(np.diag(modes.eigenvalues), D, remedy=None)
-    eigenvalues, vectors = complex_.eigenvalues, complex_.right
-    oscillating = np.flatnonzero(eigenvalues.imag > 1e-9 * np.abs(eigenvalues).max())
+    poles, _ = damped_modes(C, modes)
+    paired = np.isfinite(poles)
     exact = approximate.copy()
-    pairs = [(abs(vectors[r, k]) ** 2 / np.real(np.vdot(vectors[:n, k], vectors[:n, k])), r, k)
-             for r in np.flatnonzero(modes.omega > 0) for k in oscillating]
-    # Pair undamped and complex modes by shape, most similar first, each used once.
-    paired = {}
-    for _, r, k in sorted(pairs, reverse=True):
-        if r not in paired and k not in paired.values():
-            paired[r] = k
-            exact[r] = -eigenvalues[k].real / abs(eigenvalues[k])
+    exact[paired] = -poles[paired].real / np.abs(poles[paired])
     return exact

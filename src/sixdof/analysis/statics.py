@@ -29,12 +29,15 @@ class Statics(Result):
     q : ndarray, shape (6,)
         Static deflection of the CG [m] and rotation [rad] from the unloaded state.
     mount_forces : ndarray, shape (n_mounts, 3)
-        Force each mount exerts on the body, in body axes [N].
+        Load on each mount: the force the body exerts on it, which the mount passes to the
+        foundation, in body axes [N] (the sign convention of every mount force of sixdof: a mount
+        carrying the weight under ``-z`` gravity has ``Fz < 0``).
     mount_forces_local : ndarray, shape (n_mounts, 3)
-        The same forces along each mount's own axes [N].
+        The same forces along each mount's own axes u, v, w [N]: ``k delta`` for the static
+        deflection ``delta`` of the mount along its axes.
     support : ndarray, shape (n_mounts,)
-        Component of each mount's force against gravity [N]: positive in compression (the mount
-        carries the body), negative in tension.
+        Component of each mount's load along gravity [N]: positive in compression (the mount
+        carries the body), negative in tension (uplift).
     uplift : tuple of str
         Names of the mounts in tension (uplift): they would have to pull the body down.
     """
@@ -43,11 +46,12 @@ class Statics(Result):
     q: np.ndarray = quantity(UNITS["q"], ("dof",), dof_units=dof_units(0),
                              description="static deflection under gravity from the unloaded state")
     mount_forces: np.ndarray = quantity("N", ("mount", "axis"), name="mount_force",
-                                        description="force of each mount on the body, body axes")
+                                        description="load on each mount (force of the body on it, passed to the "
+                                        "foundation), body axes")
     mount_forces_local: np.ndarray = quantity("N", ("mount", "mount_axis"), name="mount_force_local",
-                                              description="force of each mount on the body, along the mount's own axes")
+                                              description="load on each mount along the mount's own axes u, v, w")
     support: np.ndarray = quantity("N", ("mount",),
-                                   description="force against gravity: > 0 compression, < 0 tension (uplift)")
+                                   description="load along gravity: > 0 compression, < 0 tension (uplift)")
     uplift: tuple[str, ...] = label()
 
 
@@ -101,9 +105,11 @@ def gravity_statics(system: System, g: float = STANDARD_GRAVITY, direction=(0.0,
     if np.linalg.norm(K @ q - Q) > 1e-8 * np.linalg.norm(Q):
         raise InputError("mounts", "mounts that can carry the body's weight along gravity",
                          "a layout with no stiffness against gravity (the body would fall freely)")
-    local = -system.stiffnesses * (mount_local_map(system.positions, system.axes) @ q)
+    # The load on a mount is k delta along its axes (the spring pushes the body back with -k delta):
+    # the same sign as the dynamic forces of sixdof.analysis.response, so that the two add up.
+    local = system.stiffnesses * (mount_local_map(system.positions, system.axes) @ q)
     forces = np.einsum("nji,nj->ni", system.axes, local)
-    support = -forces @ (gravity / g)
+    support = forces @ (gravity / g)
     # Round-off can leave a mount carrying nothing with a tiny negative value: not uplift.
     uplift_tol = 1e-9 * system.body.mass * g
     uplift = tuple(n for n, s in zip(system.mount_names, support) if s < -uplift_tol)

@@ -33,6 +33,7 @@ from sixdof.analysis.compare import Agreement, compare
 from sixdof.analysis.modal import modal_analysis
 from sixdof.analysis.statespace import CLASSICAL_RTOL, complex_modes, modal_basis
 from sixdof.analysis.statespace import coupling as coupling_of
+from sixdof.analysis.validity import warn_idle, warn_large_rotations
 from sixdof.errors import InputError, SolverError, finite_array, increasing_times, integer, number, readonly
 from sixdof.excitation import Excitation
 from sixdof.results import TimeHistory, label, part, quantity
@@ -160,11 +161,19 @@ def superpose(
         On bad times or options.
     SolverError
         If the complex modes cannot be computed reliably.
+
+    Warns
+    -----
+    sixdof.analysis.validity.RangeWarning
+        For a load that never acts from ``t[0]`` to ``t[-1]``, and for rotations beyond
+        :data:`~sixdof.analysis.validity.SMALL_ANGLE_RAD`.
     """
     if excitation is None:
         excitation = Excitation()
     components = excitation.components()
-    q0, qd0 = excitation.initial_state(system)
+    t = increasing_times(t, "t")
+    q0, qd0 = excitation.initial_state(system, t[0])  # in equilibrium with a ground displaced at t[0]
+    warn_idle(excitation, t[0], t[-1])
 
     force = force_rates = None
     if components:
@@ -191,11 +200,13 @@ def superpose(
         omegas.append(2 * np.pi * signal.max_frequency_hz)
         force_rates = None  # the residual's rates would need the ground's too: q only
 
-    return modal_solve(
+    history = modal_solve(
         system.M, system.C, system.K, t, force, excitation.breakpoints, q0, qd0,
         method=method, n_modes=n_modes, f_max_hz=f_max_hz, residual=residual,
         force_rates=force_rates, signal_omega=max(omegas, default=0.0), ground=ground, **options,
     )
+    warn_large_rotations(history.t, history.q)
+    return history
 
 
 @partial(jax.jit, static_argnums=2)

@@ -155,7 +155,8 @@ class GroundMotion(Frozen):
     mount springs and dashpots then act on the body's motion *relative to the ground*.
     ``velocity`` and ``acceleration`` grounds start at rest at zero displacement at the start of a
     simulation and are integrated with the body. A ``displacement`` signal must be continuous (a
-    jump would need an infinite force); its slope may jump.
+    jump would need an infinite force); its slope may jump. Where it is not zero at the start, the
+    body starts displaced with it, in equilibrium (:meth:`Excitation.equilibrium`).
 
     Parameters
     ----------
@@ -207,14 +208,16 @@ class GroundMotion(Frozen):
 
 @dataclass(frozen=True, eq=False)
 class InitialState(Frozen):
-    """Initial displacement and velocity of the body (absolute: in the fixed frame).
+    """Initial displacement and velocity of the body.
 
     Parameters
     ----------
     q : array_like, shape (6,), optional
-        ``q(start)`` [m, m, m, rad, rad, rad]. Default zero (static equilibrium).
+        Displacement at the start from the static equilibrium there [m, m, m, rad, rad, rad]:
+        absolute, unless a ground displacement is not zero at the start, when the equilibrium
+        follows the ground (:meth:`Excitation.equilibrium`). Default zero (in equilibrium).
     qd : array_like, shape (6,), optional
-        ``q'(start)`` [m/s, rad/s]. Default zero.
+        ``q'(start)``, absolute [m/s, rad/s]. Default zero.
     """
 
     q: np.ndarray = checked(array_check("6 values [x, y, z, rx, ry, rz] in m and rad", (6,)),
@@ -223,7 +226,7 @@ class InitialState(Frozen):
                              default_factory=lambda: np.zeros(6))
 
     def state(self, system) -> tuple[np.ndarray, np.ndarray]:
-        """``(q0, qd0)``, each (6,) [m, rad; m/s, rad/s]."""
+        """``(q0, qd0)``, each (6,) [m, rad; m/s, rad/s], ``q0`` from the static equilibrium."""
         return np.array(self.q), np.array(self.qd)
 
 
@@ -233,7 +236,8 @@ class ModeRelease(Frozen):
 
     ``q(0) = amplitude phi / phi[d]`` with ``phi`` the mode's shape and ``d`` its dominant DOF (the
     DOF holding the largest share of the mode's kinetic energy, :attr:`sixdof.analysis.modal.Modes.dominant_dof`),
-    so ``amplitude`` is the initial displacement of that DOF; ``q'(0) = 0``.
+    so ``amplitude`` is the initial displacement of that DOF; ``q'(0) = 0``. ``q(0)`` is measured from
+    the static equilibrium (:meth:`Excitation.equilibrium`).
 
     Parameters
     ----------
@@ -305,9 +309,42 @@ class Excitation(Frozen):
             times.update(self.ground.signal.breakpoints)
         return tuple(sorted(times))
 
-    def initial_state(self, system) -> tuple[np.ndarray, np.ndarray]:
-        """``(q0, qd0)`` (6,) each, absolute [m, rad; m/s, rad/s]; zeros without ``initial``."""
-        return (self.initial or InitialState()).state(system)
+    def idle(self, t0: float, t1: float) -> tuple[str, ...]:
+        """What never acts from ``t0`` to ``t1`` [s]: one description per load (and the ground motion)
+        whose signals are all zero over ``[t0, t1)`` (see ``Signal.support``). A load starting at ``t1``
+        acts only after the run."""
+        sources = [(f"loads[{i}] ({load.name})", [s for _, s in load.components()])
+                   for i, load in enumerate(self.loads)]
+        if self.ground is not None:
+            sources.append(("ground motion", [self.ground.signal]))
+        found = []
+        for label, signals in sources:
+            if all(s.support[1] <= t0 or s.support[0] >= t1 for s in signals):
+                first, end = signals[0].support
+                found.append(f"{label}: its {signals[0].kind} signal is zero outside [{first:.6g}, {end:.6g}) s")
+        return tuple(found)
+
+    def initial_state(self, system, t0: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+        """``(q0, qd0)`` at the start ``t0`` [s], (6,) each, absolute [m, rad; m/s, rad/s].
+
+        ``q0`` is the static equilibrium at ``t0`` (:meth:`equilibrium`) plus ``initial``'s displacement
+        from it; without ``initial`` the body is at rest in equilibrium.
+        """
+        q0, qd0 = (self.initial or InitialState()).state(system)
+        return q0 + self.equilibrium(t0), qd0
+
+    def equilibrium(self, t0: float = 0.0) -> np.ndarray:
+        """Static equilibrium ``q`` (6,) at ``t0`` [s] about the unloaded one [m, rad].
+
+        A ground displaced at ``t0`` carries the body with it, so that no mount deflects:
+        ``r u_g(t0)`` (``r``: :attr:`GroundMotion.rigid_vector`). Zero otherwise, and for grounds given
+        as a velocity or an acceleration, which start at zero displacement. (Gravity's static
+        deflection is not in ``q``: every response here is the dynamic part about it.)
+        """
+        ground = self.ground
+        if ground is None or ground.quantity != "displacement":
+            return np.zeros(6)
+        return ground.rigid_vector * float(ground.scale * ground.signal(float(t0)))
 
     def generalized_force(self, t) -> np.ndarray:
         """The loads' generalized force ``Q(t) = sum_k Q_k s_k(t)`` (ground motion not included).

@@ -34,6 +34,7 @@ from sixdof.errors import (
     choice_check,
     finite_array,
     increasing_times,
+    integer,
     integer_check,
     number_check,
     readonly,
@@ -105,6 +106,12 @@ class Signal(Frozen):
         """Sorted times [s] where the signal or one of its derivatives jumps: by default the ends of its
         active window, ``start`` and ``start + duration`` (when finite)."""
         return tuple(sorted({float(x) for x in (self.start, self.start + self.duration) if math.isfinite(x)}))
+
+    @property
+    def support(self) -> tuple[float, float]:
+        """``(first, end)`` [s]: the signal is zero outside ``[first, end)`` (``inf`` when it never
+        ends); by default its active window ``[start, start + duration)``."""
+        return float(self.start), float(self.start + self.duration)
 
     @property
     def peak(self) -> float:
@@ -200,7 +207,9 @@ class Sweep(Signal):
 
     def _evaluate(self, t):
         T = self.duration
-        tau = jnp.clip(t - self.start, 0.0, T)  # keeps exp() finite outside the window
+        # 0 outside the window keeps exp() finite there; not a clip, whose derivative at the window's
+        # start is halved (the mean of both sides).
+        tau = jnp.where(self._inside(t), t - self.start, 0.0)
         if self.law == "linear":
             phase = 2 * jnp.pi * (self.f0_hz * tau + (self.f1_hz - self.f0_hz) * tau**2 / (2 * T))
         else:
@@ -279,6 +288,10 @@ class Step(Signal):
         return jnp.where(t >= self.start, 1.0, 0.0)
 
     @property
+    def support(self) -> tuple[float, float]:
+        return float(self.start), math.inf
+
+    @property
     def breakpoints(self) -> tuple[float, ...]:
         return (float(self.start),)
 
@@ -300,7 +313,13 @@ class Ramp(Signal):
     start: float = checked(_TIME, default=0.0)
 
     def _evaluate(self, t):
-        return jnp.clip((t - self.start) / self.duration, 0.0, 1.0)
+        # Branches on half-open pieces, not a clip: the slope at either end is the one after it.
+        rising = jnp.where(t >= self.start, (t - self.start) / self.duration, 0.0)
+        return jnp.where(t >= self.start + self.duration, 1.0, rising)
+
+    @property
+    def support(self) -> tuple[float, float]:
+        return float(self.start), math.inf
 
 
 @dataclass(frozen=True, eq=False)
@@ -314,8 +333,9 @@ class Table(Signal):
     values : sequence of float
         Samples (dimensionless multiplier, or ground motion before ``scale``), one per time.
     outside : {"zero", "hold"}, optional
-        Value before the first and after the last sample: zero (default: a record that starts and
-        ends at rest) or the end samples held.
+        Value before the first sample and from the last sample's time on: zero (default: a record
+        that starts and ends at rest) or the end samples held. Right-continuous like every signal:
+        with ``"zero"`` the value *at* the last time is already 0.
 
     Every sample time is a breakpoint (the slope changes there).
     """
@@ -332,15 +352,43 @@ class Table(Signal):
 
     def _evaluate(self, t):
         edge = 0.0 if self.outside == "zero" else None  # None: the end samples held
-        return jnp.interp(t, jnp.asarray(self.t), jnp.asarray(self.values), left=edge, right=edge)
+        inside = jnp.interp(t, jnp.asarray(self.t), jnp.asarray(self.values), left=edge, right=edge)
+        # interp takes the segment after every knot but the last, where it gives the value and slope
+        # before it; right-continuity wants what follows: the held end sample or zero, flat.
+        after = self.values[-1] if self.outside == "hold" else 0.0
+        return jnp.where(t >= self.t[-1], after, inside)
 
     @property
     def breakpoints(self) -> tuple[float, ...]:
         return tuple(float(x) for x in self.t)
 
     @property
+    def support(self) -> tuple[float, float]:
+        # Zero outside the segments that touch a non-zero sample (and beyond a held non-zero end).
+        nonzero = np.flatnonzero(self.values)
+        if nonzero.size == 0:
+            return math.inf, math.inf  # zero everywhere
+        first, last = int(nonzero[0]), int(nonzero[-1])
+        held = self.outside == "hold"
+        start = -math.inf if held and first == 0 else float(self.t[max(first - 1, 0)])
+        end = math.inf if held and last == self.t.size - 1 else float(self.t[min(last + 1, self.t.size - 1)])
+        return start, end
+
+    @property
     def peak(self) -> float:
         return float(np.max(np.abs(self.values)))
+
+
+#: Most sines of a random signal: evaluated at n times a signal builds an (n, components) array, and
+#: far fewer sines already make its values Gaussian and its spectrum flat.
+MAX_RANDOM_COMPONENTS = 10_000
+
+
+def _components(value: Any, field: str) -> int:
+    expected = f"an integer from 1 to {MAX_RANDOM_COMPONENTS}"
+    if integer(value, field, expected, 1) > MAX_RANDOM_COMPONENTS:
+        raise InputError(field, expected, value)
+    return int(value)
 
 
 @dataclass(frozen=True, eq=False)
@@ -363,7 +411,7 @@ class Random(Signal):
     seed : int
         Seed, >= 0.
     components : int, optional
-        Number of sines, >= 1. Default 64.
+        Number of sines, 1 to :data:`MAX_RANDOM_COMPONENTS`. Default 64.
     start : float, optional
         Start time [s]. Default 0 (the signal jumps from 0 to its first value there).
     duration : float, optional
@@ -376,7 +424,7 @@ class Random(Signal):
     f_hz: tuple[float, float] = checked(_band)
     rms: float = checked(number_check("a positive rms value", low=0.0, strict=True))
     seed: int = checked(integer_check("an integer >= 0", 0))
-    components: int = checked(integer_check("an integer >= 1", 1), default=64)
+    components: int = checked(_components, default=64)
     start: float = checked(_TIME, default=0.0)
     duration: float = checked(_LASTING, default=math.inf)
 

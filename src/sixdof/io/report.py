@@ -72,7 +72,53 @@ def statics_table(statics, mount_names: Sequence[str]) -> str:
              "TENSION (uplift)" if name in statics.uplift else "compression"]
             for name, force, support in zip(mount_names, statics.mount_forces, statics.support)]
     forces = table(["mount", "Fx [kN]", "Fy [kN]", "Fz [kN]", "carried [kN]", "state"], rows, "lrrrrl")
-    return deflection + "\n\nForce of each mount on the body (body axes):\n" + forces
+    return (deflection + "\n\nLoad on each mount (force of the body on it, passed to the foundation; body axes; "
+            "carried: along gravity, > 0 compression):\n" + forces)
+
+
+#: How every mount table states its signs.
+MOUNT_SIGNS = ("Loads are the force of the body on each mount (passed to the foundation), static under gravity "
+               "plus dynamic, along the mount's axes u, v, w; the normal force is along w (from the foundation "
+               "towards the body): > 0 compression, < 0 tension (uplift). Deflections are from the unloaded mount.")
+
+
+def mount_loads_table(check) -> str:
+    """Normal force of each mount over a run (static, extremes, tension) and its peak shear loads."""
+    rows = []
+    for j, name in enumerate(check.names):
+        tension = ("none" if not np.isfinite(check.tension_start_t[j]) else
+                   f"TENSION {-check.min_compression[j] / 1e3:.4g} kN, from t = {check.tension_start_t[j]:.4g} s")
+        rows.append([name, f"{-check.static_force[j, 2] / 1e3:.4g}",
+                     f"{check.max_compression[j] / 1e3:.4g}", f"{check.max_compression_t[j]:.4g}",
+                     f"{check.min_compression[j] / 1e3:.4g}", f"{check.min_compression_t[j]:.4g}",
+                     *(f"{check.peak_force[j, i] / 1e3:.4g}" for i in (0, 1)), tension])
+    return table(["mount", "static N [kN]", "max N [kN]", "at t [s]", "min N [kN]", "at t [s]",
+                  "peak Fu [kN]", "peak Fv [kN]", "tension"], rows, "lrrrrrrrl")
+
+
+def mount_deflections_table(check, limits=None) -> str:
+    """Peak total deflection of each mount per axis, when, and its limit (``limits``: (m, 3) [m], inf none)."""
+    scale, unit = display_unit(check.peak_deflection, "m")
+    rows = []
+    for j, name in enumerate(check.names):
+        cells = [f"{check.peak_deflection[j, i] * scale:.4g} @ {check.peak_deflection_t[j, i]:.4g} s"
+                 for i in range(3)]
+        if limits is not None:
+            shown = [f"{v * scale:.4g}" if np.isfinite(v) else "-" for v in limits[j]]
+            cells.append(", ".join(shown) if len(set(shown)) > 1 else shown[0])
+        rows.append([name, *cells])
+    headers = ["mount", f"peak u [{unit}]", f"peak v [{unit}]", f"peak w [{unit}]"]
+    return table(headers + ([f"max_deflection [{unit}]"] if limits is not None else []), rows)
+
+
+def mount_check_text(check, limits=None) -> str:
+    """The mount checks of a run: sign convention, loads, deflections and the limits exceeded."""
+    if limits is not None and not np.isfinite(limits).any():
+        limits = None  # no mount has one: no column of dashes
+    parts = [MOUNT_SIGNS, "", mount_loads_table(check), "", mount_deflections_table(check, limits)]
+    if not check.preload:
+        parts += ["", "No static preload: the mounts cannot carry the weight, only the dynamic part is shown."]
+    return "\n".join(parts)
 
 
 def summary_table(result) -> str:
@@ -86,14 +132,35 @@ def summary_table(result) -> str:
 
 
 def validation_text(report) -> str:
-    """The validation table of a :class:`sixdof.validation.ValidationReport`, then its notes."""
-    from sixdof.validation.experiment import COLUMNS
+    """The validation of a :class:`sixdof.validation.ValidationReport`: its table with each mode's
+    verdict, each check against its limit, the thresholds, the notes and the overall verdict."""
+    from sixdof.validation import experiment
 
     headers, rows = report.table()
-    cells = [[fmt.format(v) for (_, _, fmt), v in zip(COLUMNS, row)] for row in rows]
-    return "\n".join([table(headers, cells),
-                      f"{len(report.random_runs)} random runs ({report.random_duration_s:.4g} s simulated) and "
-                      f"{len(report.decays)} free decays in {report.wall_time_s:.3g} s", *report.notes])
+    cells = [[fmt.format(v) for (_, _, fmt), v in zip(experiment.COLUMNS, row)] for row in rows]
+    verdicts = report.mode_verdicts
+    if len(verdicts) == len(cells):
+        headers, cells = (*headers, "verdict"), [[*row, v] for row, v in zip(cells, verdicts)]
+    parts = [table(headers, cells),
+             f"{len(report.random_runs)} random runs ({report.random_duration_s:.4g} s simulated) and "
+             f"{len(report.decays)} free decays in {report.wall_time_s:.3g} s", *report.notes]
+    if not report.checks:
+        return "\n".join(parts)
+    checks = [[c.mode, c.name, f"{c.value:.3g}", f"{c.limit:.3g}", c.unit, c.verdict] for c in report.checks]
+    limits = "\n".join(f"  {name}: {rule}" for name, _, rule in experiment.CHECKS)
+    failed = [f"mode {c.mode} {c.name}" for c in report.checks if c.verdict != experiment.PASS]
+    parts += ["", "Checks (measured disagreement against its limit):",
+              table(["mode", "check", "measured", "limit", "unit", "verdict"], checks, "llrrlr"),
+              f"Limits: K_SIGMA = {experiment.K_SIGMA:g} standard errors, DECAY_RTOL = {experiment.DECAY_RTOL:g}, "
+              f"DECAY_ZETA_ATOL = {experiment.DECAY_ZETA_ATOL:g}, PEAK_BINS = {experiment.PEAK_BINS:g}, "
+              f"H1_FLOOR = {experiment.H1_FLOOR:g}, RAYLEIGH_MEDIAN = {experiment.RAYLEIGH_MEDIAN:.4f}, "
+              f"MEDIAN_SPREAD = {experiment.MEDIAN_SPREAD:.4f}, BINS_PER_INDEPENDENT = "
+              f"{experiment.BINS_PER_INDEPENDENT:g} (N: bins of the band with coherence >= 0.9; eps: the random "
+              f"error of H1; G: the model FRF with the force's first-order hold):\n{limits}",
+              f"Verdict: {report.verdict}" + (f" ({', '.join(failed)} beyond the limit)" if failed else
+                                              f" (all {len(report.checks)} checks of {len(verdicts)} modes within "
+                                              "their limits)")]
+    return "\n".join(parts)
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -102,7 +169,7 @@ def validation_text(report) -> str:
 
 
 def summary_markdown(scenario, modes, statics, damping_ratios, response, forces, agreement,
-                     superposition, frf, figures, notes) -> str:
+                     superposition, frf, figures, notes, mount_check=None) -> str:
     """The run summary as Markdown text (see :func:`sixdof.workflows.run_scenario`)."""
     parts = [f"# {scenario.name}", "", scenario.description, ""]
     if notes:
@@ -117,7 +184,11 @@ def summary_markdown(scenario, modes, statics, damping_ratios, response, forces,
         stats = response.stats
         parts += [f"Solver: {stats.solver}, rtol {stats.rtol:g}, atol {stats.atol:g} (per-DOF scaled), "
                   f"{stats.num_accepted} accepted and {stats.num_rejected} rejected steps", ""]
-        parts += ["### Peak mount forces", "", _mount_peaks_table(forces), ""]
+        if mount_check is not None:
+            limits = np.stack([m.max_deflection for m in scenario.system.mounts])
+            parts += ["### Mount checks", "", mount_check_text(mount_check, limits), ""]
+        parts += ["### Peak mount forces (dynamic part, about static equilibrium; body axes)", "",
+                  _mount_peaks_table(forces), ""]
         parts += ["### Direct solve vs modal superposition", "",
                   _agreement_table(agreement, superposition.superposition), ""]
     if frf is not None:

@@ -29,6 +29,9 @@ def parse(text: str, source: str, read: Callable[[dict], Any]) -> Any:
         raw = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ScenarioError(source, InputError("", "valid TOML", str(exc))) from None
+    except RecursionError:  # tomllib recurses once per level of nested arrays or inline tables
+        raise ScenarioError(source, InputError("", "valid TOML", Plain("arrays or tables nested too deep to "
+                                                                       "read"))) from None
     try:
         return read(raw)
     except InputError as exc:

@@ -19,7 +19,19 @@ import numpy as np
 
 from sixdof._jax import jax, jnp
 from sixdof.dofs import DOF_UNITS, UNITS
-from sixdof.errors import InputError, finite_array, label_check, number_check, optional, point_check, readonly, vector3
+from sixdof.errors import (
+    InputError,
+    boolean,
+    finite_array,
+    label_check,
+    number,
+    number_check,
+    optional,
+    point_check,
+    readonly,
+    real_array,
+    vector3,
+)
 from sixdof.frozen import Frozen, checked
 from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import mount_matrix_jax
@@ -95,7 +107,7 @@ def _orthonormal(value, field: str) -> np.ndarray:
 def _modal_ratios(value, field: str):
     if value is None:
         return None
-    ratios = np.atleast_1d(np.asarray(value, dtype=float))
+    ratios = np.atleast_1d(real_array(value, "damping.modal", "one damping ratio in [0, 1) or 6 of them", 1))
     if ratios.shape not in ((1,), (6,)) or not np.all((ratios >= 0) & (ratios < 1)):  # NaN fails too
         raise InputError("damping.modal", "one damping ratio in [0, 1) or 6 of them", value)
     return float(ratios[0]) if ratios.shape == (1,) else tuple(float(r) for r in ratios)
@@ -124,6 +136,20 @@ class RigidBody(Frozen):
         check=optional(_three("3 positive lengths [Lx, Ly, Lz] in m", lambda dims: np.all(dims > 0))))
 
 
+def _deflection_limits(value, field: str) -> np.ndarray:
+    """A mount's deflection limit [m]: one value for its three axes, or one per axis u, v, w;
+    ``inf`` means no limit."""
+    expected = "a deflection limit in m > 0 (inf: none), or 3 of them for the axes u, v, w"
+    values = value if isinstance(value, (list, tuple)) or np.ndim(value) == 1 else [value] * 3
+    if len(values) != 3:
+        raise InputError(field, expected, value)
+    try:  # number() refuses strings and booleans, which np.array would turn into numbers or fail on
+        limits = [number(v, field, expected, low=0.0, strict=True, allow_inf=True) for v in values]
+    except InputError:
+        raise InputError(field, expected, value) from None
+    return readonly(limits)
+
+
 @dataclass(frozen=True, eq=False)
 class Mount(Frozen):
     """A triaxial visco-elastic mount (bearing, isolator) attached to the body.
@@ -143,6 +169,17 @@ class Mount(Frozen):
     loss_factor : array_like, shape (3,), optional
         Hysteretic loss factor per axis (complex stiffness ``k (1 + i eta)``), used by frequency
         responses only. Default zero.
+    max_deflection : float or array_like, shape (3,), optional
+        Largest allowed deflection from the unloaded mount (static plus dynamic), one value for
+        every axis or one per axis u, v, w [m]; ``inf`` means no limit. Default: no limit.
+        A run that exceeds it warns (:mod:`sixdof.analysis.mountcheck`).
+    allow_tension : bool, optional
+        Whether the mount may pull on the body (normal force along its ``w`` axis below zero). Default
+        True: bonded elastomer mounts, wire ropes and lateral mounts work both ways, so tension is
+        reported but not warned about; False makes tension during a run a warning.
+
+    The mount's ``w`` axis is its normal (compression) axis, pointing from the foundation towards
+    the body: the mount is compressed when its body point moves along ``-w`` relative to the ground.
     """
 
     name: str = checked(label_check)
@@ -160,6 +197,13 @@ class Mount(Frozen):
                                        check=_three("3 loss factors >= 0 (dimensionless)"),
                                        description="hysteretic loss factor along each mount's own axes "
                                        "(frequency responses)")
+    max_deflection: np.ndarray = quantity("m", ("mount_axis",), default_factory=lambda: np.full(3, np.inf),
+                                          check=_deflection_limits,
+                                          description="largest allowed deflection from the unloaded mount along "
+                                          "its own axes (inf: no limit)")
+    allow_tension: bool = quantity("1", (), default=True, check=boolean, encode=bool, decode=bool,
+                                   description="1: the mount may pull on the body (tension along w), "
+                                   "0: tension is warned about")
 
 
 @dataclass(frozen=True)
@@ -243,6 +287,11 @@ class System(Frozen):
         for i, mount in enumerate(mounts):
             if not isinstance(mount, Mount):
                 raise InputError(f"mounts[{i}]", "a Mount", mount)
+            with np.errstate(over="ignore"):  # moments of a mount's forces go as its coefficients x position^2
+                largest = max(mount.stiffness.max(), mount.damping.max()) * (1.0 + np.abs(mount.position).max()) ** 2
+            if not np.isfinite(largest):
+                raise InputError(f"mounts[{i}].position", "coordinates in m small enough that the mount's stiffness "
+                                 "and damping matrices stay finite", mount.position)
         names = [m.name for m in mounts]
         duplicated = sorted({n for n in names if names.count(n) > 1})
         if duplicated:

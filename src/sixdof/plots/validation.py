@@ -1,5 +1,5 @@
 """The modal results against time histories: H1 estimates of each mode's FRF from random runs, and
-free decays from each mode shape (see :func:`sixdof.validation.validate`)."""
+free decays from each damped (complex) mode shape (see :func:`sixdof.validation.validate`)."""
 
 from __future__ import annotations
 
@@ -112,7 +112,7 @@ def plot_free_decays(report: ValidationReport, *, name: str = "") -> Figure:
     n = len(decays)
     columns, grid = panel_grid(n)
     fig = Figure(figsize=(5.0 * columns, 3.6 * grid))
-    fig.suptitle(title(name, "free decay from each mode shape: modal coordinate eta_r = phi_r' M q"), fontsize=12)
+    fig.suptitle(title(name, "free decay from each damped mode shape: eta_r = phi_r' M q"), fontsize=12)
     margins(fig, left=0.8, right=0.15, top=0.6, bottom=0.5, wspace=0.9, hspace=0.95, columns=columns, rows=grid)
     axes = fig.subplots(grid, columns, squeeze=False).ravel()
     for ax, decay in zip(axes, decays):

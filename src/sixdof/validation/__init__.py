@@ -12,6 +12,7 @@ from sixdof.validation.estimation import (
     peak_frequency,
 )
 from sixdof.validation.experiment import (
+    Check,
     FreeDecay,
     ModeCheck,
     RandomRun,
@@ -21,7 +22,7 @@ from sixdof.validation.experiment import (
 )
 
 __all__ = [
-    "DecayEstimate", "EstimatedFRF", "FreeDecay", "ModeCheck", "RandomRun", "ValidationReport",
+    "Check", "DecayEstimate", "EstimatedFRF", "FreeDecay", "ModeCheck", "RandomRun", "ValidationReport",
     "ValidationSettings", "decay_estimate", "effective_averages", "estimate_frf", "h1_random_error",
     "held_model_frf", "peak_frequency", "validate",
 ]

@@ -1,0 +1,59 @@
+"""Where a time solve leaves the model's range, said as warnings: loads that never act in the simulated
+time, and rotations beyond small-angle theory.
+
+Both time paths (:func:`sixdof.analysis.direct.simulate`, :func:`sixdof.analysis.superposition.superpose`)
+call these, so a notebook user of either one is told; the results are computed all the same.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+
+from sixdof.dofs import DOFS
+
+#: Largest rotation [rad] for which eq. (1) holds: it linearizes the rotations (sin theta ~ theta,
+#: cos theta ~ 1), whose error grows as theta^2 / 2, 0.5 % at 0.1 rad (5.7 deg).
+SMALL_ANGLE_RAD = 0.1
+
+
+class RangeWarning(UserWarning):
+    """The input or the response leaves the range where the model means something."""
+
+
+def warn_idle(excitation, t0: float, t1: float) -> None:
+    """One :class:`RangeWarning` per load (or ground motion) that is zero over the whole run ``[t0, t1]`` [s]."""
+    for what in excitation.idle(t0, t1):
+        warnings.warn(f"{what}, so it never acts in the simulated time [{t0:.6g}, {t1:.6g}] s", RangeWarning,
+                      stacklevel=3)
+
+
+def warn_large_rotations(t: np.ndarray, q: np.ndarray) -> None:
+    """A :class:`RangeWarning` naming every rotation beyond :data:`SMALL_ANGLE_RAD`, with its peak and time.
+
+    Parameters
+    ----------
+    t : ndarray, shape (n,)
+        Times [s].
+    q : ndarray, shape (n, 6)
+        Displacements [m, rad] (the rotations are the last three columns).
+    """
+    rotations = np.abs(np.asarray(q)[:, 3:])
+    peaks = rotations.max(axis=0, initial=0.0)
+    beyond = [
+        f"|{DOFS[3 + j]}| reaches {peaks[j]:.3g} rad ({math.degrees(peaks[j]):.3g} deg) at "
+        f"t = {t[int(np.argmax(rotations[:, j]))]:.6g} s"
+        for j in np.flatnonzero(peaks > SMALL_ANGLE_RAD)
+    ]
+    if beyond:
+        warnings.warn(
+            f"rotations beyond small-angle theory: {'; '.join(beyond)}. Eq. (1) is linear in the rotations, "
+            f"valid to |theta| <= {SMALL_ANGLE_RAD:g} rad ({math.degrees(SMALL_ANGLE_RAD):.3g} deg, error "
+            f"theta^2/2 = {SMALL_ANGLE_RAD**2 / 2:.1%}); the response computed is that of the linear model",
+            RangeWarning, stacklevel=3,
+        )
+
+
+__all__ = ["SMALL_ANGLE_RAD", "RangeWarning", "warn_idle", "warn_large_rotations"]

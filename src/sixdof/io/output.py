@@ -1,0 +1,286 @@
+"""Results folders on disk: written all or nothing, never outside ``--out``, and nothing deleted that
+sixdof did not write.
+
+A run fills a staging folder ``<out>/.<name>.partial-<id>`` and swaps it into ``<out>/<name>`` once it
+is complete:
+
+* The writer holds an exclusive ``flock`` on its staging folder. The kernel releases it when the process
+  ends, however it ends (SIGKILL included), so the next run into the same ``--out`` removes every staging
+  folder whose lock it can take: no debris outlives a killed run.
+* The swap (previous folder renamed aside, new one renamed into place, the user's files moved across,
+  previous one removed) runs under an exclusive ``flock`` on ``<out>`` itself: two runs into the same
+  target publish one after the other. SIGINT and SIGTERM are held back while files are written and
+  swapped, and acted on once the folder is whole again. A SIGKILL in the middle of a swap leaves the
+  previous folder as ``.<name>.old-<id>``; the next run finishes or undoes that swap before anything else.
+* Each results folder lists the files sixdof wrote in ``.sixdof-files``. Any other file in a folder being
+  replaced is the user's: it is moved into the new folder and reported, never deleted. A folder that
+  exists and is not a sixdof results folder is not replaced at all (:func:`check_target`, before any
+  computing).
+* Folders are made with ``os.mkdir`` and files with ``open`` or h5py: both honour the umask.
+
+POSIX only (``fcntl``), like the command-line tool.
+"""
+
+from __future__ import annotations
+
+import errno
+import fcntl
+import os
+import resource
+import shutil
+import signal
+import threading
+import uuid
+import warnings
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+from sixdof.errors import InputError, Plain, file_name
+
+#: The list of files sixdof wrote into a results folder (one name per line).
+MANIFEST = ".sixdof-files"
+#: Files that earlier versions wrote without a manifest (``*.png`` figures are judged by the new run).
+_UNLISTED = frozenset({"results.h5", "sweep.h5", "summary.md", "validation.md"})
+_HELD_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
+class KeptFilesWarning(UserWarning):
+    """A results folder being replaced held files that sixdof did not write; they were kept."""
+
+
+def check_output_root(out_root: str | Path) -> Path:
+    """``out_root`` created if missing, after making sure files can be written in it.
+
+    Raises
+    ------
+    InputError
+        If the folder cannot be created or written.
+    """
+    root = Path(out_root)
+    try:
+        root.mkdir(parents=True, exist_ok=True)
+        probe = root / f".write-test-{uuid.uuid4().hex}"
+        probe.write_bytes(b"")
+        probe.unlink()
+    except OSError as exc:
+        raise InputError("--out", "a folder where results can be written", f"{root} ({exc.strerror})") from None
+    return root
+
+
+def check_target(out_root: str | Path, name: str, suffix: str = "") -> Path:
+    """``<out_root>/<name><suffix>``, once sure that a run may write it: ``name`` is one safe path component
+    (:func:`sixdof.errors.file_name`), ``out_root`` is writable and the target is absent or a sixdof results
+    folder (anything else is the user's and is never replaced).
+
+    Raises
+    ------
+    InputError
+        Naming the field or the folder, before any computing.
+    """
+    name = file_name(name)
+    target = check_output_root(out_root) / (name + suffix)
+    _check_replaceable(target)
+    return target
+
+
+def _check_replaceable(target: Path) -> None:
+    """Raise unless ``target`` is absent or a sixdof results folder."""
+    if target.is_symlink() or (target.exists() and not target.is_dir()):
+        raise InputError("--out", f"no file or link named {target.name} in {target.parent} (results go to a "
+                         "folder there)", Plain(str(target)))
+    if target.is_dir() and not _is_results_folder(target):
+        found = sorted(p.name for p in target.iterdir())
+        raise InputError("--out", f"{target} to be a sixdof results folder (or absent) before it is replaced; "
+                         "choose another --out or scenario name",
+                         Plain(f"a folder holding {len(found)} other entries: {', '.join(found[:5])}"
+                               + (", ..." if len(found) > 5 else "")))
+
+
+def write_folder(target: Path, write: Callable[[Path], None]) -> Path:
+    """Have ``write(stage)`` fill a fresh staging folder, then swap it into ``target`` (see the module).
+
+    Files of the user's found in a previous ``target`` are moved into the new one, with a
+    :class:`KeptFilesWarning`. On any failure or interruption the staging folder is removed and
+    ``target`` is left as it was. Returns ``target``.
+    """
+    root = target.parent
+    with _locked(root):
+        _clean_debris(root)
+        stage, stage_lock = _new_stage(root, target.name)
+    try:
+        with held_signals():  # a signal received while writing is raised here, before the swap
+            write(stage)
+            _write_manifest(stage, [p.name for p in stage.iterdir()])
+        with held_signals(), _locked(root):
+            _check_replaceable(target)  # something else may have been put there meanwhile
+            kept = _swap(stage, target)
+    except BaseException:
+        shutil.rmtree(stage, ignore_errors=True)
+        raise
+    finally:
+        os.close(stage_lock)
+    if kept:
+        warnings.warn(f"{target} held {len(kept)} file(s) that sixdof did not write; kept them: {', '.join(kept)}",
+                      KeptFilesWarning, stacklevel=2)
+    return target
+
+
+def replace_files(directory: Path, write: Callable[[Path], list[Path]]) -> list[Path]:
+    """Have ``write(stage)`` write files into a staging folder, then move them all into ``directory``.
+
+    Each file replaces its namesake whole (no reader ever sees a truncated figure), and the set is moved
+    with SIGINT and SIGTERM held back. Nothing else in ``directory`` is touched, except that a results
+    folder's list of sixdof's files gains the new names. Returns the files in ``directory``.
+    """
+    directory.mkdir(parents=True, exist_ok=True)
+    with _locked(directory):
+        _clean_debris(directory)
+        stage, stage_lock = _new_stage(directory, "files")
+    try:
+        with held_signals():
+            names = [p.name for p in write(stage)]
+        with held_signals(), _locked(directory):
+            for name in names:
+                os.replace(stage / name, directory / name)
+            if (directory / MANIFEST).exists():
+                _write_manifest(directory, set(_listed(directory)) | set(names))
+    finally:
+        shutil.rmtree(stage, ignore_errors=True)
+        os.close(stage_lock)
+    return [directory / name for name in names]
+
+
+def check_room(path: Path, nbytes: int) -> None:
+    """Raise the OSError a write of ``nbytes`` to ``path`` would meet, before writing: no space left on its
+    filesystem, or over the process's file-size limit (``ulimit -f``).
+
+    Checked up front because HDF5 meets these errors deep in its own code and, once a write failed,
+    repeats them in a traceback for every object it closes.
+    """
+    free = shutil.disk_usage(path.parent).free
+    if nbytes > free:
+        raise OSError(errno.ENOSPC, f"No space left on device (needs at least {nbytes:,} bytes, {free:,} free)",
+                      str(path))
+    limit = resource.getrlimit(resource.RLIMIT_FSIZE)[0]
+    if limit != resource.RLIM_INFINITY and nbytes > limit:
+        raise OSError(errno.EFBIG, f"File too large (needs at least {nbytes:,} bytes, the file-size limit is "
+                      f"{limit:,})", str(path))
+
+
+@contextmanager
+def held_signals() -> Iterator[None]:
+    """Hold SIGINT and SIGTERM back during the block, then deliver the first one received.
+
+    A KeyboardInterrupt raised inside h5py's or matplotlib's C code can be swallowed there ("Exception
+    ignored in ..."), and the write would then go on as if nothing happened; held back, it is raised
+    where the caller can still clean up. Outside the main thread (where Python cannot handle signals)
+    the block runs as it is.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    received: list[int] = []
+    previous = {s: signal.signal(s, lambda signum, frame: received.append(signum)) for s in _HELD_SIGNALS}
+    try:
+        yield
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+        if received:
+            signal.raise_signal(received[0])
+
+
+@contextmanager
+def _locked(folder: Path) -> Iterator[None]:
+    """An exclusive ``flock`` on ``folder`` for the block (waits for other sixdof processes)."""
+    fd = os.open(folder, os.O_RDONLY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)
+
+
+def _new_stage(root: Path, name: str) -> tuple[Path, int]:
+    """A new staging folder in ``root`` (made under ``root``'s lock) and the descriptor holding its lock."""
+    stage = root / f".{name}.partial-{uuid.uuid4().hex}"
+    os.mkdir(stage)
+    fd = os.open(stage, os.O_RDONLY)
+    fcntl.flock(fd, fcntl.LOCK_EX)
+    return stage, fd
+
+
+def _clean_debris(root: Path) -> None:
+    """Remove the staging folders of dead runs and finish (or undo) their interrupted swaps; hold ``root``'s lock."""
+    for entry in root.iterdir():
+        if not entry.name.startswith(".") or not entry.is_dir() or entry.is_symlink():
+            continue
+        if ".partial-" in entry.name:
+            fd = os.open(entry, os.O_RDONLY)
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                continue  # a live run is filling it
+            finally:
+                os.close(fd)
+            shutil.rmtree(entry, ignore_errors=True)
+        elif ".old-" in entry.name:
+            target = root / entry.name[1:].rpartition(".old-")[0]
+            if target.exists():
+                _keep_users_files(entry, target)
+                shutil.rmtree(entry, ignore_errors=True)
+            else:
+                os.replace(entry, target)
+
+
+def _swap(stage: Path, target: Path) -> list[str]:
+    """Put ``stage`` in the place of ``target``; returns the names of the user's files moved across."""
+    if not target.exists():
+        os.replace(stage, target)
+        return []
+    old = target.with_name(f".{target.name}.old-{uuid.uuid4().hex}")
+    os.replace(target, old)
+    try:
+        os.replace(stage, target)
+    except BaseException:
+        os.replace(old, target)
+        raise
+    kept = _keep_users_files(old, target)
+    shutil.rmtree(old, ignore_errors=True)
+    return kept
+
+
+def _keep_users_files(old: Path, new: Path) -> list[str]:
+    """Move the entries of ``old`` that sixdof did not write into ``new``; returns their names."""
+    if (old / MANIFEST).exists():
+        ours = {MANIFEST, *_listed(old)}
+    else:  # written by an earlier version: only the names sixdof writes are its own
+        ours = _UNLISTED | set(os.listdir(new))
+    kept = []
+    for entry in sorted(os.listdir(old)):
+        if entry not in ours:
+            destination = new / entry
+            if destination.exists():
+                destination = new / f"{entry}.kept-{uuid.uuid4().hex[:8]}"
+            os.replace(old / entry, destination)
+            kept.append(destination.name)
+    return kept
+
+
+def _listed(folder: Path) -> list[str]:
+    """The names in ``folder``'s list of sixdof's files."""
+    return (folder / MANIFEST).read_text(encoding="utf-8").splitlines()
+
+
+def _write_manifest(folder: Path, names) -> None:
+    """Write ``folder``'s list of sixdof's files whole (under a temporary name, then renamed)."""
+    temporary = folder / f".{MANIFEST}.{uuid.uuid4().hex}.tmp"
+    temporary.write_text("".join(f"{n}\n" for n in sorted(set(names) - {MANIFEST})), encoding="utf-8")
+    os.replace(temporary, folder / MANIFEST)
+
+
+def _is_results_folder(folder: Path) -> bool:
+    """Written by sixdof (its list of files, or a results file of an earlier version), or empty."""
+    names = set(os.listdir(folder))
+    return not names or MANIFEST in names or bool(names & {"results.h5", "sweep.h5"})

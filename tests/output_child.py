@@ -1,0 +1,60 @@
+"""A real ``sixdof`` process for tests/test_output.py, stopped where a test wants to hit it.
+
+Usage: ``python output_child.py HOOK sixdof-arguments...``; with SIXDOF_TEST_FSIZE set, the process
+first limits the size of the files it writes to that many bytes (as ``ulimit -f`` does). HOOK says where the process prints a word on
+stdout and pauses for a signal: ``write`` (inside the results write), ``swap`` (between the two renames
+of a results folder), ``plot`` (after the figures are drawn, before they are moved into place) or
+``swapped`` (after the new folder is in place, before the user's files are moved across) or ``none``.
+"""
+
+import os
+import resource
+import sys
+import time
+from pathlib import Path
+
+from sixdof import cli
+from sixdof.io import output, store
+from sixdof.plots import save_all
+
+PAUSE_S = 1.5
+
+
+def pause(word: str) -> None:
+    print(word, flush=True)
+    time.sleep(PAUSE_S)
+
+
+def hook(name: str) -> None:
+    if name == "write":
+        write = store.write_results
+
+        def paused_write(*args, **kwargs):
+            write(*args, **kwargs)
+            pause("WRITING")
+
+        store.write_results = paused_write
+    elif name in ("swap", "swapped"):
+        replace = os.replace
+
+        def paused_replace(source, destination):
+            replace(source, destination)
+            if ".old-" in str(destination) if name == "swap" else ".partial-" in Path(source).name:
+                pause("SWAPPING")
+
+        output.os.replace = paused_replace
+    elif name == "plot":
+        def paused_save_all(*args, **kwargs):
+            written = save_all(*args, **kwargs)
+            pause("PLOTTED")
+            return written
+
+        sys.modules["sixdof.plots"].save_all = paused_save_all
+
+
+if __name__ == "__main__":
+    if "SIXDOF_TEST_FSIZE" in os.environ:
+        limit = int(os.environ["SIXDOF_TEST_FSIZE"])
+        resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
+    hook(sys.argv[1])
+    sys.exit(cli.main(sys.argv[2:]))

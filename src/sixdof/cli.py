@@ -120,7 +120,7 @@ def _parser() -> argparse.ArgumentParser:
     run.set_defaults(command=_run)
 
     check = commands.add_parser(
-        "validate", help="check modal frequencies, damping and FRFs against simulated time histories"
+        "validate", help="check modal frequencies, damping and FRFs against simulated time histories (exit 3 on FAIL)"
     )
     check.add_argument("scenario", help="scenario file (TOML)")
     check.add_argument("--out", default="outputs", help="results go to OUT/<name>_validation/ (default: outputs)")

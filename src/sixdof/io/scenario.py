@@ -17,6 +17,7 @@ import numpy as np
 from sixdof.errors import (
     InputError,
     Plain,
+    boolean,
     choice_check,
     direction_check,
     file_name,
@@ -29,7 +30,7 @@ from sixdof.errors import (
     point,
 )
 from sixdof.frozen import Frozen, checked
-from sixdof.io.toml import Table, boolean, build, choices, make, parse, read_text, unique
+from sixdof.io.toml import Table, build, choices, make, parse, read_text, unique
 from sixdof.model.system import Mount, Rayleigh, RigidBody, System
 
 

@@ -15,9 +15,9 @@ import numpy as np
 
 from sixdof.analysis.batch import Variants, make_variants
 from sixdof.dofs import AXES, MOUNT_AXES
-from sixdof.errors import InputError, Plain, integer, integer_check, number_check, optional
+from sixdof.errors import InputError, Plain, boolean, integer, integer_check, number_check, optional
 from sixdof.frozen import Frozen, checked
-from sixdof.io.toml import Table, boolean, build, is_number, parse, read_text
+from sixdof.io.toml import Table, build, is_number, parse, read_text
 from sixdof.model.system import System
 
 PARAMETERS = ("stiffness", "damping", "position")

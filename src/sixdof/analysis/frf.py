@@ -44,7 +44,7 @@ import numpy as np
 
 from sixdof import results as schema
 from sixdof.analysis.response import global_damping
-from sixdof.analysis.statespace import complex_modes, is_classical, modal_basis
+from sixdof.analysis.statespace import complex_modes, is_classical, modal_basis, modal_damping_ratios
 from sixdof.dofs import AXES, DOF_UNITS, DOFS, FORCE_UNITS, UNITS, mixed_units
 from sixdof.errors import InputError, Plain, SolverError, choice_check, direction_check, point, readonly
 from sixdof.model.kinematics import mount_matrix, point_map, response_row, unit_load
@@ -396,13 +396,10 @@ def check_resonances(system: System, f_hz, field: str = "f_hz") -> None:
     """
     f = _frequencies(f_hz)
     modes = system.modes
-    phi, w = np.asarray(modes.shapes), np.asarray(modes.omega)
-    elastic = w > 0
-    # zeta_r = phi_r' C phi_r / (2 w_r) + phi_r' K_h phi_r / (2 w_r^2), mass-normalized shapes.
-    viscous = np.einsum("ir,ij,jr->r", phi, np.asarray(system.C), phi)
-    hysteretic = np.einsum("ir,ij,jr->r", phi, hysteretic_stiffness(system), phi)
-    w_elastic = np.where(elastic, w, 1.0)
-    zeta = np.where(elastic, viscous / (2 * w_elastic) + hysteretic / (2 * w_elastic**2), np.inf)
+    # zeta_r = phi_r' C phi_r / (2 w_r) + phi_r' K_h phi_r / (2 w_r^2); nan for rigid-body modes (never hit).
+    hysteretic = modal_damping_ratios(hysteretic_stiffness(system), modes)
+    with np.errstate(invalid="ignore"):
+        zeta = modal_damping_ratios(system.C, modes) + hysteretic / modes.omega
     for r in np.flatnonzero(zeta <= RIGID_DAMPING_RTOL):
         f_r = float(modes.frequency_hz[r])
         hit = np.flatnonzero(np.abs(f - f_r) <= UNDAMPED_RESONANCE_RTOL * f_r)

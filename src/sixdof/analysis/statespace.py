@@ -214,17 +214,13 @@ def damped_modes(C, modes) -> tuple[np.ndarray, np.ndarray]:
     complex_ = complex_modes(np.diag(modes.eigenvalues), D, remedy=None)
     eigenvalues, vectors = complex_.eigenvalues, complex_.right
     oscillating = np.flatnonzero(eigenvalues.imag > 1e-9 * np.abs(eigenvalues).max())
-    pairs = []
-    for r in np.flatnonzero(modes.omega > 0):
-        for k in oscillating:
-            v = vectors[:n, k]
-            pairs.append((abs(v[r]) ** 2 / np.real(np.vdot(v, v)), r, k))
+    pairs = [(abs(vectors[r, k]) ** 2 / np.real(np.vdot(vectors[:n, k], vectors[:n, k])), r, k)
+             for r in np.flatnonzero(modes.omega > 0) for k in oscillating]
     # Pair undamped and complex modes by shape, most similar first, each used once.
-    paired_modes, paired_poles = set(), set()
+    paired = {}
     for _, r, k in sorted(pairs, reverse=True):
-        if r not in paired_modes and k not in paired_poles:
-            paired_modes.add(r)
-            paired_poles.add(k)
+        if r not in paired and k not in paired.values():
+            paired[r] = k
             poles[r] = eigenvalues[k]
             shapes[:, r] = phi @ vectors[:n, k]
     return poles, shapes

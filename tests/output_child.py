@@ -9,6 +9,7 @@ of a results folder), ``plot`` (after the figures are drawn, before they are mov
 
 import os
 import resource
+import signal
 import sys
 import time
 from pathlib import Path
@@ -53,6 +54,9 @@ def hook(name: str) -> None:
 
 
 if __name__ == "__main__":
+    # A user at a terminal: Ctrl-C raises KeyboardInterrupt even where the test runner was started in the
+    # background, whose children inherit SIGINT ignored (and rightly keep ignoring it, as under nohup).
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     if "SIXDOF_TEST_FSIZE" in os.environ:
         limit = int(os.environ["SIXDOF_TEST_FSIZE"])
         resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))

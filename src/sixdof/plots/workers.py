@@ -52,9 +52,9 @@ class FigureWorkers:
     submitted yet, so the modal and FRF figures are drawn while the solve runs; :meth:`save` waits for
     them and writes the PNG bytes they come back as. Only this process writes files (into a run's
     staging folder: all or nothing, :mod:`sixdof.io.output`). A figure that fails, or a worker that
-    dies, raises :class:`FigureError` in :meth:`save`. Use it as a context manager: leaving the block on an error or an
-    interrupt stops the workers at once (they ignore SIGINT: Ctrl-C reaches the whole process group,
-    and this process alone handles it).
+    dies, raises :class:`FigureError` in :meth:`save`. Use it as a context manager: leaving the block
+    on an error or an interrupt stops the workers at once (they ignore SIGINT: Ctrl-C reaches the
+    whole process group, and this process alone handles it).
 
     Parameters
     ----------

@@ -78,7 +78,7 @@ class FigureWorkers:
         context.set_forkserver_preload(_PRELOAD)
         with _sigint_ignored():  # the server and its workers inherit it: Ctrl-C is this process' business
             forkserver.ensure_running()  # returns at once; the server imports matplotlib meanwhile
-        self._pool = ProcessPoolExecutor(processes or max(len(os.sched_getaffinity(0)), 2), mp_context=context,
+        self._pool = ProcessPoolExecutor(processes or max(_usable_cpus(), 2), mp_context=context,
                                          initializer=_start_worker)
         # Starting a worker waits for the server's imports: hand jobs over from a thread meanwhile.
         self._handover = ThreadPoolExecutor(1, thread_name_prefix="sixdof-figures")
@@ -128,6 +128,11 @@ class FigureWorkers:
 
     def __exit__(self, kind, error, traceback) -> None:
         self.close(cancel=kind is not None)
+
+
+def _usable_cpus() -> int:
+    """CPUs this process may run on (all of the machine's where the system cannot tell)."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
 
 
 @contextlib.contextmanager

@@ -1,9 +1,16 @@
 """Imported by the figure workers' server before it forks them (:mod:`sixdof.plots.workers`): imports
 every plot module and draws a small figure, which loads what matplotlib otherwise loads on a first
 drawing (the Agg canvas and PNG writer, the fonts, mathtext's parser for log-axis labels, 3-D axes), so
-that each worker forked from the server starts warm."""
+that each worker forked from the server starts warm.
 
+The server ends with the command that started it, with nothing to clean up: it skips the interpreter's
+teardown of matplotlib's modules (~0.3 s), during which it would hold the command's output open (a
+caller reading that output through a pipe would wait for it).
+"""
+
+import atexit
 import io
+import os
 
 from matplotlib.figure import Figure
 
@@ -17,3 +24,5 @@ _figure.add_subplot(1, 2, 1, yscale="log").plot([1.0, 1e3])
 _figure.add_subplot(1, 2, 2, projection="3d").set_title("warm")
 _figure.savefig(io.BytesIO(), format="png", dpi=30)
 del _figure
+
+atexit.register(os._exit, 0)

@@ -16,7 +16,7 @@ statistics (``stats``) or the superposition's method and truncation (``superposi
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import MISSING, dataclass, field
 from importlib import import_module
 from typing import Any
@@ -328,3 +328,23 @@ def to_xarray(result):
         if dim in dims and dim not in coords:
             coords[dim] = (dim, list(labels))
     return xr.Dataset(variables, coords=coords, attrs=attrs)
+
+
+def time_slice(result, index):
+    """``result`` with every quantity that has a time axis ``t`` cut to ``index`` (a slice or an array of
+    sample indices) along that axis, nested results likewise: a window of a run, or the samples a figure
+    draws."""
+    changes = {}
+    for f in dataclasses.fields(result):
+        meta, value = f.metadata.get("store"), getattr(result, f.name)
+        if meta is None or value is None:
+            continue
+        if meta["kind"] == "quantity" and "t" in meta["dims"]:
+            where = [slice(None)] * np.ndim(value)
+            where[meta["dims"].index("t")] = index
+            changes[f.name] = np.asarray(value)[tuple(where)]
+        elif meta["kind"] == "part" and time_slice(value, index) is not value:
+            changes[f.name] = time_slice(value, index)
+        elif meta["kind"] == "stacked" and isinstance(value, Mapping) and value:
+            changes[f.name] = {name: time_slice(item, index) for name, item in value.items()}
+    return dataclasses.replace(result, **changes) if changes else result

@@ -1,0 +1,67 @@
+"""A results file written window by window holds exactly what the same run written at once holds."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from sixdof.analysis.compare import compare
+from sixdof.analysis.direct import SimulationSettings, simulate
+from sixdof.analysis.mountcheck import mount_check
+from sixdof.analysis.response import mount_forces, points_motion
+from sixdof.analysis.statics import try_gravity_statics
+from sixdof.analysis.superposition import superpose
+from sixdof.io.scenario import load_scenario
+from sixdof.io.store import load_tree, write_results
+from sixdof.io.stream import ResultsStream
+from sixdof.results import RunResults, time_slice
+
+SCENARIOS = Path(__file__).parents[1] / "scenarios"
+
+
+@pytest.fixture(scope="module")
+def run():
+    scenario = load_scenario(SCENARIOS / "bridge_beam_traffic.toml")
+    system = scenario.system
+    settings = SimulationSettings(duration=0.5, sample_rate_hz=200.0)
+    response = simulate(system, scenario.excitation, settings)
+    statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)[0]
+    forces = mount_forces(system, response)
+    modal = superpose(system, scenario.excitation, response.t)
+    return RunResults(name=scenario.name, system=system, modes=system.modes, statics=statics, response=response,
+                      mount_forces=forces, mount_check=mount_check(system, forces, response.t, statics),
+                      points=points_motion(response, {"end": [0.0, 20.0, 0.0]}), superposition=modal,
+                      agreement=compare(response, modal))
+
+
+def test_windows_append_to_the_same_file(run, tmp_path):
+    whole = write_results(tmp_path / "whole.h5", run, created_utc="then")
+    n = run.response.t.size
+    with ResultsStream(tmp_path / "streamed.h5", created_utc="then") as stream:
+        for lo, hi in ((0, 30), (30, 31), (31, n)):
+            stream.append(time_slice(run, slice(lo, hi)))
+        stream.finish(run)
+    streamed = load_tree(tmp_path / "streamed.h5")
+    assert set(streamed.datasets) == set(whole.datasets)
+    for path, dataset in whole.datasets.items():
+        other = streamed[path]
+        assert (other.units, other.dims) == (dataset.units, dataset.dims), path
+        np.testing.assert_array_equal(other.data, dataset.data, err_msg=path)
+        assert set(other.attrs) == set(dataset.attrs), path
+    assert set(streamed.attrs) == set(whole.attrs)
+    for group, attrs in whole.attrs.items():
+        assert set(streamed.attrs[group]) == set(attrs), group
+        for key, value in attrs.items():
+            np.testing.assert_array_equal(streamed.attrs[group][key], value, err_msg=f"{group}: {key}")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["streamed.h5", "whole.h5"]  # no temporary file left
+
+
+def test_an_unfinished_stream_leaves_nothing(run, tmp_path):
+    (tmp_path / "results.h5").write_bytes(b"before")
+    with pytest.raises(RuntimeError), ResultsStream(tmp_path / "results.h5") as stream:
+        stream.append(time_slice(run, slice(0, 10)))
+        raise RuntimeError("interrupted")
+    assert [p.name for p in tmp_path.iterdir()] == ["results.h5"]
+    assert (tmp_path / "results.h5").read_bytes() == b"before"

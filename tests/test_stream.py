@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from sixdof.analysis.compare import compare
+from sixdof.analysis.compare import compare, merge_agreements
 from sixdof.analysis.direct import SimulationSettings, simulate
 from sixdof.analysis.mountcheck import mount_check
 from sixdof.analysis.response import mount_forces, points_motion
@@ -65,3 +65,11 @@ def test_an_unfinished_stream_leaves_nothing(run, tmp_path):
         raise RuntimeError("interrupted")
     assert [p.name for p in tmp_path.iterdir()] == ["results.h5"]
     assert (tmp_path / "results.h5").read_bytes() == b"before"
+
+
+def test_window_agreements_merge_to_the_whole_run_agreement(run):
+    parts = (slice(0, 7), slice(7, 50), slice(50, None))
+    merged = merge_agreements([compare(run.response.q[p], run.superposition.q[p]) for p in parts])
+    whole = run.agreement
+    np.testing.assert_array_equal(merged.per_dof, whole.per_dof)
+    assert (merged.worst_dof, merged.worst, merged.quiet) == (whole.worst_dof, whole.worst, whole.quiet)

@@ -7,16 +7,15 @@ the generalized force ``Q = T(p)' F + [0, M] = [F, p x F + M]`` (virtual work, :
 A mount's deformation along its own axes (rows of ``A``) is ``A T(p) q`` (:func:`mount_local_map`), and
 a triaxial mount element assembles as ``(A T)' diag(c) (A T)`` (:func:`mount_matrix`).
 
-Each map has a NumPy version, for results and post-processing (no JAX dispatch, ~1 ms, on 6x6
-arrays), and the JAX versions the model's assembly uses under ``jit``, ``vmap`` and ``grad``
-(:func:`point_map_jax`, :func:`mount_matrix_jax`), side by side so that they stay the same formula.
+Each map has a NumPy version, which the model's assembly and every result use (6x6 arrays: no JAX
+dispatch, no compilation), and JAX twins for the vectorized batches and gradients under ``jit``,
+``vmap`` and ``grad`` (:func:`point_map_jax`, :func:`mount_matrix_jax`), side by side so that they stay
+the same formula. The twins import JAX when first called: assembling a model never loads it.
 """
 
 from __future__ import annotations
 
 import numpy as np
-
-from sixdof._jax import jax, jnp
 
 
 def point_map(position) -> np.ndarray:
@@ -85,15 +84,15 @@ def mount_matrix(positions, coefficients, axes) -> np.ndarray:
     return 0.5 * (matrix + matrix.T)
 
 
-@jax.jit
 def point_map_jax(r):
     """:func:`point_map` in ``jax.numpy``: ``[I, -skew(r)]``, shape (..., 3, 6)."""
+    from sixdof._jax import jnp
+
     r = jnp.asarray(r, dtype=float)
     eye = jnp.broadcast_to(jnp.eye(3), r.shape[:-1] + (3, 3))
     return jnp.concatenate([eye, jnp.cross(r[..., None, :], eye)], axis=-1)
 
 
-@jax.jit
 def mount_matrix_jax(positions, coefficients, axes):
     """Assemble a 6x6 matrix from triaxial mount elements (eqs. 7-10 of the seed paper, generalized).
 
@@ -114,5 +113,7 @@ def mount_matrix_jax(positions, coefficients, axes):
     jax.Array, shape (6, 6)
         Symmetric matrix; for diagonal axes it reproduces eqs. (7)-(10) term by term.
     """
+    from sixdof._jax import jnp
+
     local = jnp.einsum("nij,njk->nik", jnp.asarray(axes, dtype=float), point_map_jax(positions))  # (n, 3, 6)
     return jnp.einsum("nia,ni,nib->ab", local, jnp.asarray(coefficients, dtype=float), local)

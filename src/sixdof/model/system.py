@@ -4,10 +4,10 @@ Coordinates ``q = [x, y, z, rx, ry, rz]`` (see :mod:`sixdof.dofs`): translations
 gravity (CG) in m and small rotations about the central body axes in rad. Every position is measured
 from the CG in body axes.
 
-The assembly functions are pure functions of arrays written with ``jax.numpy``, so that they run under
-``jax.jit``, ``jax.vmap`` and ``jax.grad`` (batches of design variants, gradients with respect to mount
-parameters). They are jitted themselves: called on plain arrays each compiles once per shape, instead of
-once per primitive operation. The model objects hold validated NumPy arrays and are immutable.
+The model objects hold validated NumPy arrays and are immutable; their 6x6 matrices are assembled in
+NumPy (:func:`sixdof.model.kinematics.mount_matrix`, :func:`mass_matrix`), so that building a model
+never imports JAX. The vectorized batches and gradients use the JAX twin of the same formula
+(:func:`sixdof.model.kinematics.mount_matrix_jax`).
 """
 
 from __future__ import annotations
@@ -17,7 +17,6 @@ from functools import cached_property
 
 import numpy as np
 
-from sixdof._jax import jax, jnp
 from sixdof.dofs import DOF_UNITS, UNITS
 from sixdof.errors import (
     InputError,
@@ -34,7 +33,7 @@ from sixdof.errors import (
 )
 from sixdof.frozen import Frozen, checked
 from sixdof.model.damping import damping_matrix
-from sixdof.model.kinematics import mount_matrix_jax
+from sixdof.model.kinematics import mount_matrix
 from sixdof.results import label, part, quantity, stacked
 
 # Relative tolerances for "physically possible" checks on user input.
@@ -42,8 +41,7 @@ _ORTHONORMAL_TOL = 1e-6
 _TRIANGLE_TOL = 1e-9
 
 
-@jax.jit
-def mass_matrix(mass, inertia):
+def mass_matrix(mass, inertia) -> np.ndarray:
     """Inertia matrix about the CG (eq. 6 of the seed paper, full tensor allowed).
 
     Parameters
@@ -55,10 +53,13 @@ def mass_matrix(mass, inertia):
 
     Returns
     -------
-    jax.Array, shape (6, 6)
+    numpy.ndarray, shape (6, 6)
         ``blockdiag(m I3, J)`` in SI units.
     """
-    return jax.scipy.linalg.block_diag(mass * jnp.eye(3), jnp.asarray(inertia, dtype=float))
+    M = np.zeros((6, 6))
+    M[:3, :3] = mass * np.eye(3)
+    M[3:, 3:] = inertia
+    return M
 
 
 def _inertia_tensor(value, field: str) -> np.ndarray:
@@ -318,12 +319,12 @@ class System(Frozen):
     @cached_property
     def K(self) -> np.ndarray:
         """Stiffness matrix (6, 6) [N/m, N, N m/rad]."""
-        return readonly(mount_matrix_jax(self.positions, self.stiffnesses, self.axes))
+        return readonly(mount_matrix(self.positions, self.stiffnesses, self.axes))
 
     @cached_property
     def C_mounts(self) -> np.ndarray:
         """Damping matrix of the mounts' dashpots alone (6, 6) [N s/m, N s, N m s/rad]."""
-        return readonly(mount_matrix_jax(self.positions, self.dampings, self.axes))
+        return readonly(mount_matrix(self.positions, self.dampings, self.axes))
 
     @cached_property
     def C(self) -> np.ndarray:

@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from functools import partial
+from functools import cache, partial
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -268,15 +268,17 @@ def superpose(
     if start is None:
         q0, qd0 = excitation.initial_state(system, t[0])  # in equilibrium with a ground displaced at t[0]
         warn_idle(excitation, t[0], t[-1])
-    loads = signal_loads(excitation)
+    components = excitation.components()
+    signals = [signal for _, signal in components]
     ground = None
     if excitation.ground is not None:
         r = np.asarray(excitation.ground.rigid_vector, dtype=float)
         ground = ground_input(excitation.ground, np.asarray(system.K) @ r, np.asarray(system.C) @ r)
+        signals.append(excitation.ground.signal)
     history = modal_solve(
-        system.M, system.C, system.K, t, loads, excitation.breakpoints, q0, qd0,
-        method=method, n_modes=n_modes, f_max_hz=f_max_hz, residual=residual,
-        signal_omega=excitation_omega(excitation), ground=ground, start=start, **options,
+        system.M, system.C, system.K, t, signal_loads(components), excitation.breakpoints, q0, qd0,
+        method=method, n_modes=n_modes, f_max_hz=f_max_hz, residual=residual, signal_omega=highest_omega(signals),
+        ground=ground, start=start, modes=system.modes, **options,
     )
     warn_large_rotations(history.t, history.q)
     return history
@@ -292,7 +294,7 @@ class Loads:
         Generalized force per unit of each signal [N, N m].
     values : callable
         ``values(times, order)`` for a sorted 1-D array of times [s] and ``order`` 0, 1 or 2 returns
-        the signals or their time derivatives, one row per signal, shape (n_c, len(times)).
+        the signals or their time derivatives, one column per signal, shape (len(times), n_c).
     rates : bool
         Whether ``values`` knows the derivatives (orders 1 and 2).
     """
@@ -302,18 +304,18 @@ class Loads:
     rates: bool = True
 
 
-def signal_loads(excitation) -> Loads | None:
-    """The loads of an excitation as :class:`Loads`, one column per signal component (None without loads)."""
-    components = excitation.components()
+def signal_loads(components) -> Loads | None:
+    """Load components ``(Q, signal)`` (:meth:`~sixdof.excitation.Excitation.components`) as :class:`Loads`,
+    one column per component (None without any)."""
     if not components:
         return None
     vectors = np.array([np.asarray(vector, dtype=float) for vector, _ in components]).reshape(-1, 6)
     signals = [signal for _, signal in components]
 
     def values(times, order=0):
-        out = np.empty((len(signals), times.size))
-        for row, signal in zip(out, signals):
-            row[:] = signal_values(signal, times, order)
+        out = np.empty((times.size, len(signals)))
+        for c, signal in enumerate(signals):
+            out[:, c] = signal_values(signal, times, order)
         return out
 
     return Loads(vectors=vectors, values=values)
@@ -331,11 +333,8 @@ def ground_input(motion, k_g, c_g) -> GroundInput:
     )
 
 
-def excitation_omega(excitation) -> float:
-    """Highest circular frequency [rad/s] any signal of the excitation carries (0 for piecewise-linear ones)."""
-    signals = [s for _, s in excitation.components()]
-    if excitation.ground is not None:
-        signals.append(excitation.ground.signal)
+def highest_omega(signals) -> float:
+    """Highest circular frequency [rad/s] the signals carry (0 for piecewise-linear ones)."""
     return 2 * np.pi * max((s.max_frequency_hz for s in signals), default=0.0)
 
 
@@ -386,6 +385,7 @@ def modal_solve(
     quadrature_nodes: int | None = None,
     ground=None,
     start: SuperpositionState | None = None,
+    modes=None,
 ) -> TimeHistory:
     """Response of ``M q'' + C q' + K q = Q(t)`` by modal superposition.
 
@@ -435,6 +435,8 @@ def modal_solve(
     start : SuperpositionState, optional
         Continue a run from its end state (``superposition.end`` of the previous window; ``q0``,
         ``qd0`` are then ignored): its time must be at most ``t[0]``.
+    modes : sixdof.analysis.modal.Modes, optional
+        The undamped modes of ``(M, K)`` when already known (``System.modes``).
 
     Returns
     -------
@@ -465,7 +467,7 @@ def modal_solve(
     breakpoints = _breakpoints(breakpoints)
     t_start = _start_time(start, t)
 
-    plan = _Plan(M, C, K, method, n_modes, f_max_hz)
+    plan = _Plan(M, C, K if modes is None else modes, method, n_modes, f_max_hz)
     loads = _as_loads(force, force_rates)
     residual_rates = bool(residual and plan.dropped.size and loads is not None and loads.rates and ground is None)
     times = t if t_start == t[0] else np.concatenate([[t_start], t])
@@ -501,7 +503,7 @@ def _as_loads(force, force_rates) -> Loads | None:
     functions = (force,) + (tuple(force_rates) if force_rates is not None else ())
 
     def values(times, order=0):
-        return _evaluate(functions[order], times, "force" if order == 0 else f"force_rates[{order - 1}]").T
+        return _evaluate(functions[order], times, "force" if order == 0 else f"force_rates[{order - 1}]")
 
     return Loads(vectors=np.eye(6), values=values, rates=force_rates is not None)
 
@@ -509,14 +511,17 @@ def _as_loads(force, force_rates) -> Loads | None:
 class _Plan:
     """The modal basis, the method chosen and why, the modes kept, and the runs that make a result."""
 
-    def __init__(self, M, C, K, method, n_modes, f_max_hz):
-        self.basis, self.omega2 = modal_basis(modal_analysis(M, K), C)
+    def __init__(self, M, C, modes, method, n_modes, f_max_hz):
+        """``modes``: the undamped modes, or the stiffness matrix K to compute them from."""
+        if isinstance(modes, np.ndarray):
+            modes = modal_analysis(M, modes)
+        self.basis, self.omega2 = modal_basis(modes, C)
         D = self.basis.T @ C @ self.basis
         self.D = 0.5 * (D + D.T)
         self.coupling = float(np.max(coupling_of(self.D), initial=0.0))
         self.classical = self.coupling <= CLASSICAL_RTOL
         self.kept = _select(self.omega2, n_modes, f_max_hz)
-        self.dropped = np.setdiff1d(np.arange(6), self.kept)
+        self.dropped = np.flatnonzero(~np.isin(np.arange(6), self.kept))
         self.method = method
         self.chosen = "real" if method == "real" or (method == "auto" and self.classical) else "complex"
         self.reason = _reason(method, self.coupling, self.classical)
@@ -556,15 +561,15 @@ def _respond(plan, drive, M, q0, qd0, start, residual, residual_rates) -> TimeHi
     if start is not None and start.runs != plan.runs:
         raise InputError("start", f"the state of the same computation (runs {plan.runs})", f"runs {start.runs}")
     outputs, ends = [], []
-    force_out = drive.force_out
     for index, run in enumerate(plan.runs):
         modal = plan.coordinates(run)
         B = plan.basis[:, list(run[1])]
         z0 = modal.initial @ np.concatenate([B.T @ (M @ q0), B.T @ (M @ qd0)]) if start is None else \
             np.asarray(start.coordinates[index])
         z = run_coordinates(modal, drive, z0)
-        ends.append(readonly(z[:, -1], complex))
-        outputs.append(modal.motion(z[:, drive.first:], force_out, second=index == 0))
+        half = z.shape[0] // 2
+        ends.append(readonly(z[:half, -1] + 1j * z[half:, -1], complex))
+        outputs.append(modal.motion(z[:, drive.first:], drive, second=index == 0))
         if index == 0:
             eigenvalues = modal.eigenvalues
     q, qd, qdd = outputs[0]
@@ -573,7 +578,7 @@ def _respond(plan, drive, M, q0, qd0, start, residual, residual_rates) -> TimeHi
     if dropped.size and residual:
         Bd = plan.basis[:, dropped]
         R = Bd @ np.diag(1.0 / plan.omega2[dropped]) @ Bd.T  # static flexibility of the dropped modes
-        q = q + force_out @ R.T
+        q = q + drive.force_out @ R.T
         if residual_rates:
             qd = qd + drive.rates_out[0] @ R.T
             qdd = qdd + drive.rates_out[1] @ R.T
@@ -584,9 +589,9 @@ def _respond(plan, drive, M, q0, qd0, start, residual, residual_rates) -> TimeHi
     if plan.chosen == "real" and not plan.classical:
         approximation = compare(outputs[-1][0], full)
 
-    for name, value in (("q", q), ("qd", qd), ("qdd", qdd)):
-        if not np.all(np.isfinite(value)):
-            raise SolverError(f"modal superposition produced non-finite values in {name}")
+    if not np.isfinite(np.sum(q) + np.sum(qd) + np.sum(qdd)):  # one pass each; a NaN or inf anywhere shows
+        bad = next(name for name, value in (("q", q), ("qd", qd), ("qdd", qdd)) if not np.all(np.isfinite(value)))
+        raise SolverError(f"modal superposition produced non-finite values in {bad}")
     end = SuperpositionState(t=float(drive.times[-1]), coordinates=tuple(ends), runs=plan.runs,
                              ground=drive.ground_end)
     info = SuperpositionInfo(
@@ -665,8 +670,9 @@ class ModalCoordinates:
     stiffness: np.ndarray
     eigenvalues: np.ndarray
 
-    def motion(self, z, force, second=True):
-        """``q, q', q''`` (n, 6) from the coordinates z (m, n) and the generalized force (n, 6).
+    def motion(self, z, drive, second=True):
+        """``q, q', q''`` (n, 6) from the coordinates z (2m, n: real parts, then imaginary parts) at the
+        drive's output times.
 
         ``q''`` (and ``q'``) only when ``second`` (else None): ``eta'' = f - D eta' - Omega^2 eta``.
         """
@@ -675,14 +681,13 @@ class ModalCoordinates:
         maps = [self.basis @ eta]
         if second:
             maps += [self.basis @ eta_d, -self.basis @ (self.damping @ eta_d + self.stiffness[:, None] * eta)]
-        # Re(maps @ z) as one real product, [Re z; Im z] times [Re, -Im] of the maps (contiguous operands:
-        # numpy hands them to BLAS).
-        maps = np.vstack(maps)
-        motion = np.vstack([z.real, z.imag]).T @ np.ascontiguousarray(np.hstack([maps.real, -maps.imag]).T)
-        if not second:
-            return motion, None, None
-        motion[:, 12:] += force @ (self.basis @ self.basis.T)  # B B' symmetric
-        return motion[:, :6], motion[:, 6:12], motion[:, 12:]
+        # Re(maps @ z) = [Re, -Im] of the maps times [Re z; Im z]: one real product per output, each
+        # operand contiguous or transposed (numpy hands them to BLAS).
+        q, qd, qdd = [z.T @ np.ascontiguousarray(np.hstack([a.real, -a.imag]).T) for a in maps] + [None] * (
+            3 - len(maps))
+        if second:  # the generalized force's part, B B' Q
+            qdd += drive.columns_out @ (drive.vectors @ (self.basis @ self.basis.T))
+        return q, qd, qdd
 
 
 def _modal_coordinates(basis, omega2, D, kept, method, all_complex=False) -> ModalCoordinates:
@@ -771,8 +776,15 @@ def _divided_exp(a, b, tau):
 
 
 def run_coordinates(modal: ModalCoordinates, drive: Drive, z0) -> np.ndarray:
-    """The modal coordinates at every time of the drive's grid (m, n_intervals + 1), from ``z0`` at its start."""
+    """The modal coordinates at every time of the drive's grid, from ``z0`` at its start.
+
+    Returns
+    -------
+    ndarray, shape (2m, n_intervals + 1)
+        Real parts of the m coordinates, then their imaginary parts (real arrays feed BLAS directly).
+    """
     lam, source = modal.poles, modal.source
+    m = lam.size
     fed = source >= 0
     feeder = np.where(fed, source, 0)
     # Modal force per unit of each signal column, to each coordinate directly and through its source.
@@ -784,45 +796,52 @@ def run_coordinates(modal: ModalCoordinates, drive: Drive, z0) -> np.ndarray:
         tau = tau[:, None]
         return np.exp(lam * tau), np.where(fed, _divided_exp(lam[feeder], lam, tau), 0.0)
 
-    d = np.zeros((lam.size, drive.n_intervals), complex)
     if drive.regular_values is not None:
         # Every regular interval shares one kernel: their increments are one real matrix product.
         direct, fed_through = kernels(drive.regular_tau)
         weights = (direct[:, None] * own + fed_through[:, None] * through) * drive.regular_weight[:, None, None]
-        weights = weights.reshape(-1, lam.size)  # (n_q * n_c, m), node-major like the values
+        weights = weights.reshape(-1, m)  # (n_q * n_c, m), node after node like the values
         product = np.ascontiguousarray(np.hstack([weights.real, weights.imag]).T) @ drive.regular_values.T
-        if drive.irregular.size:
-            d[:, drive.regular] = product[:lam.size] + 1j * product[lam.size:]
-        else:
-            d.real, d.imag = product[:lam.size], product[lam.size:]
-    if drive.irregular_tau.size:
+    if drive.irregular.size:
+        increments = np.zeros((2 * m, drive.n_intervals))
+        if drive.regular_values is not None:
+            increments[:, drive.regular] = product
         direct, fed_through = kernels(drive.irregular_tau)
         values = drive.irregular_values * drive.irregular_weight[:, None]
-        contribution = direct * (values @ own) + fed_through * (values @ through)
-        d[:, drive.irregular] = np.add.reduceat(contribution, drive.irregular_start, axis=0).T
+        contribution = np.add.reduceat(direct * (values @ own) + fed_through * (values @ through),
+                                       drive.irregular_start, axis=0).T
+        increments[:m, drive.irregular], increments[m:, drive.irregular] = contribution.real, contribution.imag
+    else:
+        increments = product
     h = drive.step if drive.step is not None else np.diff(drive.times)[:, None]  # (n_intervals, 1)
     transition = np.exp(lam * h)
     coupling = np.where(fed, _divided_exp(lam[feeder], lam, h), 0.0)
-    return _recursion(transition, coupling, feeder, fed, d, np.asarray(z0, dtype=complex))
+    return _recursion(transition, coupling, feeder, fed, increments, np.asarray(z0, dtype=complex))
 
 
 def _recursion(a, coupling, feeder, fed, d, z0):
-    """``z_{k+1} = a z_k + coupling z_k[feeder] + d_k`` (the coupling where ``fed``): z (m, n_intervals + 1)
-    at every grid time, from the increments d (m, n_intervals).
+    """``z_{k+1} = a z_k + coupling z_k[feeder] + d_k`` (the coupling where ``fed``) at every grid time.
 
-    ``a`` and ``coupling`` are (m,) on a uniform grid, (n_intervals, m) otherwise.
+    The increments d (2m, n_intervals) and the result (2m, n_intervals + 1) hold real parts, then
+    imaginary parts; ``a`` and ``coupling`` are (m,) on a uniform grid, (n_intervals, m) otherwise.
     """
-    z = np.empty((d.shape[0], d.shape[1] + 1), complex)
-    z[:, 0] = z0
+    m = z0.size
+    z = np.empty((2 * m, d.shape[1] + 1))
+    z[:m, 0], z[m:, 0] = z0.real, z0.imag
     if a.ndim == 1:
         # Constant coefficients: each coordinate is a first-order recursive filter, exact, in C. Sources
         # first, then the coordinates they feed.
         for i in np.concatenate([np.flatnonzero(~fed), np.flatnonzero(fed)]):
-            x = d[i] + coupling[i] * z[feeder[i], :-1] if fed[i] else d[i]
-            z[i, 1:] = scipy.signal.lfilter([1.0], [1.0, -a[i]], x, zi=[a[i] * z0[i]])[0]
+            x = d[i] + 1j * d[m + i]
+            if fed[i]:
+                x += coupling[i] * (z[feeder[i], :-1] + 1j * z[m + feeder[i], :-1])
+            y = scipy.signal.lfilter([1.0], [1.0, -a[i]], x, zi=[a[i] * z0[i]])[0]
+            z[i, 1:], z[m + i, 1:] = y.real, y.imag
         return z
+    state = z0.copy()
     for k in range(d.shape[1]):  # a non-uniform grid: one step at a time, every coordinate at once
-        z[:, k + 1] = a[k] * z[:, k] + coupling[k] * z[feeder, k] + d[:, k]
+        state = a[k] * state + coupling[k] * state[feeder] + (d[:m, k] + 1j * d[m:, k])
+        z[:m, k + 1], z[m:, k + 1] = state.real, state.imag
     return z
 
 
@@ -858,7 +877,7 @@ class Drive:
     regular_tau, regular_weight : ndarray, shape (n_q,)
         Time from each node to its interval's end [s] and quadrature weight [s].
     regular_values : ndarray, shape (len(regular), n_q * n_c), or None
-        The columns at the nodes of each regular interval, node by node (None on a non-uniform grid).
+        The columns at the nodes of each regular interval, node after node (None on a non-uniform grid).
     irregular : ndarray of int
         Indices of the other intervals.
     irregular_start : ndarray of int
@@ -866,7 +885,7 @@ class Drive:
     irregular_tau, irregular_weight : ndarray, shape (N,)
         Time to the interval's end [s] and weight [s] of each irregular node.
     irregular_values : ndarray, shape (N, n_c)
-    columns_out : ndarray, shape (n_c, n)
+    columns_out : ndarray, shape (n, n_c)
         The columns at the output times (right limits at breakpoints).
     rates_out : ndarray, shape (2, n, 6), or None
         The loads' first and second time derivatives at the output times, when asked for.
@@ -906,7 +925,7 @@ class Drive:
     @property
     def force_out(self) -> np.ndarray:
         """Generalized force at the output times (n, 6) [N, N m]."""
-        return self.columns_out.T @ self.vectors
+        return self.columns_out @ self.vectors
 
 
 def uniform_step(times) -> float | None:
@@ -955,39 +974,43 @@ def make_drive(times, n_out, breakpoints, loads, ground=None, *, nodes, pieces, 
     inner, position = inner[times[position] != inner], position[times[position] != inner]  # on a grid time: no split
     points = np.insert(times, position, inner)
     segments = np.bincount(position - 1, minlength=n_int) + 1  # per interval
-    interval = np.repeat(np.arange(n_int), segments)
     length = np.diff(points)
     longest = float(np.max(np.diff(times))) / pieces
     parts = np.maximum(np.ceil(length / longest * (1 - 1e-12)).astype(np.int64), 1)
-    piece_interval = np.repeat(interval, parts)
+    piece_interval = np.repeat(np.repeat(np.arange(n_int), segments), parts)
     piece_length = np.repeat(length / parts, parts)
     index = np.arange(piece_length.size) - np.repeat(np.cumsum(parts) - parts, parts)
     piece_start = np.repeat(points[:-1], parts) + index * piece_length
-    x, w = np.polynomial.legendre.leggauss(nodes)
-    node_times = piece_start[:, None] + piece_length[:, None] * (0.5 * (1.0 + x))  # (N_p, nodes), sorted
-    t_out = times[-n_out:]
+    last = np.append(np.flatnonzero(np.diff(piece_interval)), piece_interval.size - 1)  # of each interval
 
-    # Every column on every node and at the outputs, each signal once on each (sorted) set of times.
-    on_nodes, columns_out, vectors = [], [], []
+    # Each piece's nodes, then its end (the next piece's start; the grid's time after an interval's last
+    # piece): sorted, so that every signal is evaluated once, at the nodes and the outputs together.
+    x, w = _gauss_legendre(nodes)
+    grid = np.empty((piece_length.size, nodes + 1))
+    np.multiply.outer(piece_length, 0.5 * (1.0 + x), out=grid[:, :nodes])
+    grid[:, :nodes] += piece_start[:, None]
+    grid[:-1, nodes] = piece_start[1:]
+    grid[last, nodes] = times[1:]
+    head = times[:n_out - n_int]  # the grid's start when it is an output
+    everywhere = np.concatenate([head, grid.reshape(-1)])
+    columns, vectors = [], []
     if loads is not None:
-        on_nodes.append(loads.values(node_times.reshape(-1), 0))
-        columns_out.append(loads.values(t_out, 0))
+        columns.append(loads.values(everywhere, 0))
         vectors.append(loads.vectors)
     ground_end = (0.0, 0.0)
     if ground is not None:
         start = (0.0, 0.0) if ground_start is None else ground_start
-        u_nodes, v_nodes, u_out, v_out, ground_end = ground.motion(node_times, t_out, piece_length, piece_interval,
-                                                                   start)
-        on_nodes.append(np.stack([u_nodes, v_nodes]))
-        columns_out.append(np.stack([u_out, v_out]))
+        u, v, ground_end = ground.motion(everywhere, head.size, grid.shape, piece_length, start)
+        columns.append(np.stack([u, v], axis=1))
         vectors.append(np.stack([ground.k_g, ground.c_g]))
     vectors = np.vstack(vectors) if vectors else np.zeros((0, 6))
     n_c = vectors.shape[0]
-    on_nodes = np.vstack(on_nodes).reshape(n_c, -1, nodes) if on_nodes else np.zeros((0,) + node_times.shape)
-    columns_out = np.vstack(columns_out) if columns_out else np.zeros((0, n_out))
+    values = _side_by_side(columns, everywhere.size)
+    on_grid = values[head.size:].reshape(grid.shape + (n_c,))  # (pieces, nodes + 1, n_c)
+    columns_out = np.concatenate([values[:head.size], on_grid[last, nodes]])
     rates_out = None
     if rates:
-        rates_out = np.stack([loads.values(t_out, order).T @ loads.vectors for order in (1, 2)])
+        rates_out = np.stack([loads.values(times[-n_out:], order) @ loads.vectors for order in (1, 2)])
 
     split = segments > 1
     if step is None:
@@ -995,25 +1018,34 @@ def make_drive(times, n_out, breakpoints, loads, ground=None, *, nodes, pieces, 
     regular, irregular = np.flatnonzero(~split), np.flatnonzero(split)
     regular_values = regular_tau = regular_weight = None
     if step is not None:
-        fraction = (np.arange(pieces)[:, None] + 0.5 * (1.0 + x)) / pieces  # node position in its interval
+        # A regular interval: `pieces` pieces of `nodes` nodes and an end each (weight 0 at the ends).
+        fraction = (np.arange(pieces)[:, None] + 0.5 * (1.0 + np.append(x, 1.0))) / pieces
         regular_tau = (step * (1.0 - fraction)).reshape(-1)
-        regular_weight = np.broadcast_to(step * w / (2 * pieces), (pieces, nodes)).reshape(-1)
-        # The pieces are grouped by interval in time order, `pieces` of them per regular interval.
-        per_interval = np.bincount(piece_interval, minlength=n_int)
-        take = (np.cumsum(per_interval) - per_interval)[regular][:, None] + np.arange(pieces)
-        regular_values = np.moveaxis(on_nodes[:, take], 0, -1).reshape(regular.size, pieces * nodes * n_c)
+        regular_weight = np.broadcast_to(np.append(step * w / (2 * pieces), 0.0), (pieces, nodes + 1)).reshape(-1)
+        rows = on_grid.reshape(piece_length.size, (nodes + 1) * n_c)
+        if irregular.size:  # the pieces are grouped by interval in time order, `pieces` per regular interval
+            rows = rows[(last - pieces + 1)[regular][:, None] + np.arange(pieces)]
+        regular_values = rows.reshape(regular.size, pieces * (nodes + 1) * n_c)
     in_irregular = split[piece_interval]
     counts = np.bincount(piece_interval[in_irregular], minlength=n_int)[irregular] * nodes
-    irregular_nodes = node_times[in_irregular].reshape(-1)
+    irregular_nodes = grid[in_irregular, :nodes].reshape(-1)
     return Drive(
         times=times, first=times.size - n_out, step=step, vectors=vectors,
         regular=regular, regular_tau=regular_tau, regular_weight=regular_weight, regular_values=regular_values,
         irregular=irregular, irregular_start=np.cumsum(counts) - counts,
         irregular_tau=np.repeat(times[irregular + 1], counts) - irregular_nodes,
         irregular_weight=(piece_length[:, None] * (0.5 * w))[in_irregular].reshape(-1),
-        irregular_values=on_nodes[:, in_irregular].reshape(n_c, irregular_nodes.size).T,
-        columns_out=columns_out, rates_out=rates_out, ground_end=ground_end, nodes_per_interval=nodes * pieces,
+        irregular_values=on_grid[in_irregular, :nodes].reshape(irregular_nodes.size, n_c),
+        columns_out=columns_out, rates_out=rates_out, ground_end=ground_end,
+        nodes_per_interval=nodes * pieces,
     )
+
+
+def _side_by_side(blocks, rows):
+    """Column blocks, each (rows, k), side by side (the block itself when alone)."""
+    if len(blocks) == 1:
+        return blocks[0]
+    return np.hstack(blocks) if blocks else np.zeros((rows, 0))
 
 
 @dataclass(frozen=True, eq=False)
@@ -1050,45 +1082,55 @@ class GroundInput:
     k_g: np.ndarray
     c_g: np.ndarray
 
-    def motion(self, node_times, t_out, piece_length, piece_interval, start):
-        """``u_g, v_g`` at the nodes of consecutive pieces (``node_times`` (N_p, n), flattened) and at the
-        output times ``t_out`` (the grid's last times), and ``(u_g, v_g)`` at the grid's end, from
-        ``start`` at its beginning."""
-        on_nodes = _evaluate(self.signal, node_times, "ground.signal", ())
-        at_outputs = _evaluate(self.signal, t_out, "ground.signal", ())
+    def motion(self, times, head, shape, piece_length, start):
+        """``u_g, v_g`` at ``times``: ``head`` (0 or 1) times at the grid's start, then the nodes and the
+        end of each of consecutive pieces (``shape``: (pieces, nodes + 1)); and ``(u_g, v_g)`` at the
+        grid's end, from ``start`` at its beginning."""
+        s = _evaluate(self.signal, times, "ground.signal", ())
         if self.quantity == "displacement":
-            return (on_nodes.reshape(-1), _evaluate(self.rate, node_times, "ground.signal", ()).reshape(-1),
-                    at_outputs, _evaluate(self.rate, t_out, "ground.signal", ()), (0.0, 0.0))
-        # The last piece of interval k ends at the grid's time k + 1; the outputs are the grid's last times.
-        last = np.append(np.flatnonzero(np.diff(piece_interval)), piece_interval.size - 1)
+            return s, _evaluate(self.rate, times, "ground.signal", ()), (0.0, 0.0)
+        nodes = shape[1] - 1
 
         def integral(values, initial):
-            inside, ends = _running_integral(values, initial, piece_length, last)
-            return inside, np.append(initial, ends)[-t_out.size:], float(ends[-1])
+            """Running integral of values at ``times`` (the piece ends' values are not used)."""
+            on_pieces = values[head:].reshape(shape)
+            inside, ends = _running_integral(np.ascontiguousarray(on_pieces[:, :nodes]), initial, piece_length)
+            out = np.empty(values.size)
+            out[:head] = initial
+            grid = out[head:].reshape(shape)
+            grid[:, :nodes], grid[:, nodes] = inside, ends
+            return out, float(ends[-1])
 
         if self.quantity == "velocity":
-            u_nodes, u_out, u_end = integral(on_nodes, start[0])
-            return u_nodes.reshape(-1), on_nodes.reshape(-1), u_out, at_outputs, (u_end, 0.0)
-        v_nodes, v_out, v_end = integral(on_nodes, start[1])
-        u_nodes, u_out, u_end = integral(v_nodes, start[0])
-        return u_nodes.reshape(-1), v_nodes.reshape(-1), u_out, v_out, (u_end, v_end)
+            u, u_end = integral(s, start[0])
+            return u, s, (u_end, 0.0)
+        v, v_end = integral(s, start[1])
+        u, u_end = integral(v, start[0])
+        return u, v, (u_end, v_end)
 
 
-def _running_integral(values, initial, lengths, last):
+def _running_integral(values, initial, lengths):
     """Integral from the first piece's start (value ``initial``) of a function known on the nodes of
-    consecutive pieces (N_p, n): at those nodes (N_p, n) and at the ends of the pieces ``last``."""
+    consecutive pieces (N_p, n): at those nodes (N_p, n) and at each piece's end (N_p,)."""
     to_nodes, to_end = _integration_matrices(values.shape[1])
     half = 0.5 * lengths[:, None]
     within = half * (values @ to_nodes.T)  # from each piece's start to its nodes
     across = half[:, 0] * (values @ to_end)
     ends = initial + np.cumsum(across)
     starts = np.concatenate([[initial], ends[:-1]])
-    return starts[:, None] + within, ends[last]
+    return starts[:, None] + within, ends
 
 
+@cache
+def _gauss_legendre(n):
+    """Gauss-Legendre nodes on [-1, 1] and weights (n,) each, read-only."""
+    return tuple(readonly(a) for a in np.polynomial.legendre.leggauss(n))
+
+
+@cache
 def _integration_matrices(n):
     """Values at n Gauss-Legendre nodes -> integral of their interpolant from -1 to each node (n, n), to 1 (n,)."""
-    x, _ = np.polynomial.legendre.leggauss(n)
+    x, _ = _gauss_legendre(n)
     vandermonde = np.polynomial.legendre.legvander(x, n - 1)  # P_k(x_j)
     to_coefficients = np.linalg.inv(vandermonde)
     antiderivatives = np.stack(
@@ -1096,7 +1138,7 @@ def _integration_matrices(n):
     )  # column k: Legendre coefficients of int_{-1}^x P_k
     at_nodes = np.polynomial.legendre.legvander(x, n) @ antiderivatives
     at_end = np.polynomial.legendre.legvander(np.array([1.0]), n)[0] @ antiderivatives
-    return at_nodes @ to_coefficients, at_end @ to_coefficients
+    return readonly(at_nodes @ to_coefficients), readonly(at_end @ to_coefficients)
 
 
 def _evaluate(function, times, name, shape=(6,)):

@@ -16,7 +16,7 @@ from sixdof.analysis.superposition import superpose
 from sixdof.io.scenario import load_scenario
 from sixdof.io.store import load_tree, write_results
 from sixdof.io.stream import ResultsStream
-from sixdof.results import RunResults, time_slice
+from sixdof.results import RunResults, envelope_samples, time_slice
 
 SCENARIOS = Path(__file__).parents[1] / "scenarios"
 
@@ -73,3 +73,23 @@ def test_window_agreements_merge_to_the_whole_run_agreement(run):
     whole = run.agreement
     np.testing.assert_array_equal(merged.per_dof, whole.per_dof)
     assert (merged.worst_dof, merged.worst, merged.quiet) == (whole.worst_dof, whole.worst, whole.quiet)
+
+
+def test_window_envelopes_hold_every_bin_extreme_of_the_whole_run():
+    rng = np.random.default_rng(3)
+    t = np.linspace(0.0, 10.0, 5001)
+    series = np.column_stack([np.sin(7 * t) + 0.1 * rng.standard_normal(t.size), np.zeros_like(t), t])
+    bins = 40
+    whole = envelope_samples(t, series, 0.0, 10.0, bins)
+    parts = [(0, 1234), (1234, 1300), (1300, 5001)]
+    windows = np.concatenate([lo + envelope_samples(t[lo:hi], series[lo:hi], 0.0, 10.0, bins) for lo, hi in parts])
+    assert len(whole) <= 2 * bins * 3 + 2 and len(np.unique(windows)) <= len(whole) + 2 * 2 * 3 * 2 + 4
+    edges = np.minimum((t / 10.0 * bins).astype(int), bins - 1)
+    for kept in (whole, windows):
+        for b in range(bins):
+            inside = edges == b
+            chosen = inside[kept]
+            for column in series.T:
+                assert column[kept][chosen].max() == column[inside].max()
+                assert column[kept][chosen].min() == column[inside].min()
+    assert len(envelope_samples(t, np.zeros((t.size, 1)), 0.0, 10.0, bins)) <= bins + 2  # flat: one per bin

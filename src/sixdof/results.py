@@ -348,3 +348,44 @@ def time_slice(result, index):
         elif meta["kind"] == "stacked" and isinstance(value, Mapping) and value:
             changes[f.name] = {name: time_slice(item, index) for name, item in value.items()}
     return dataclasses.replace(result, **changes) if changes else result
+
+
+def envelope_samples(t, series, start: float, stop: float, bins: int) -> np.ndarray:
+    """Indices of the samples that hold each series' minimum and maximum in each of ``bins`` equal time bins
+    of ``[start, stop]``, with the first and last sample.
+
+    The bins are fixed by the whole run's span, not by ``t``: the windows of a long run each keep their own
+    extremes per bin, and together they draw every series exactly as the whole run would on an axis of
+    ``bins`` pixel columns or fewer (see :func:`sixdof.plots.common.envelope_indices`), in memory bounded by
+    ``bins`` whatever the run's length.
+
+    Parameters
+    ----------
+    t : ndarray, shape (n,)
+        Increasing times [s] within ``[start, stop]``.
+    series : ndarray, shape (n, k)
+        The series drawn, one per column (any units).
+    start, stop : float
+        The span of the whole run [s].
+    bins : int
+
+    Returns
+    -------
+    ndarray of int
+        Sorted sample indices, at most ``2 bins k + 2`` of them.
+    """
+    t, series = np.asarray(t, dtype=float), np.asarray(series, dtype=float).reshape(len(t), -1)
+    n = len(t)
+    if n == 0:
+        return np.arange(0)
+    width = max(stop - start, np.finfo(float).tiny)
+    bin_of = np.clip(((t - start) / width * bins).astype(np.int64), 0, bins - 1)
+    first = np.flatnonzero(np.diff(bin_of, prepend=-1))  # first sample of every non-empty bin
+    segment = np.repeat(np.arange(len(first)), np.diff(np.append(first, n)))
+    index = np.arange(n)[:, None]
+    kept = [[0, n - 1]]
+    for extreme in (np.maximum, np.minimum):
+        at = series == extreme.reduceat(series, first, axis=0)[segment]
+        # The first sample at each bin's extreme: a flat series keeps one sample per bin, not all.
+        kept.append(np.minimum.reduceat(np.where(at, index, n), first, axis=0).ravel())
+    return np.unique(np.concatenate(kept))

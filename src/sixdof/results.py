@@ -348,3 +348,17 @@ def time_slice(result, index):
         elif meta["kind"] == "stacked" and isinstance(value, Mapping) and value:
             changes[f.name] = {name: time_slice(item, index) for name, item in value.items()}
     return dataclasses.replace(result, **changes) if changes else result
+
+
+def time_concat(results, **changes):
+    """Consecutive windows of a run joined: every quantity with a time axis ``t`` concatenated along it, the
+    other fields those of the first window unless given in ``changes`` (the inverse of :func:`time_slice`)."""
+    first = results[0]
+    for f in dataclasses.fields(first):
+        meta = f.metadata.get("store")
+        if f.name in changes or meta is None or meta["kind"] != "quantity" or "t" not in meta["dims"]:
+            continue
+        values = [getattr(result, f.name) for result in results]
+        if values[0] is not None:
+            changes[f.name] = np.concatenate(values, axis=meta["dims"].index("t"))
+    return dataclasses.replace(first, **changes) if len(results) > 1 or changes else first

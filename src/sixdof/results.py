@@ -350,6 +350,26 @@ def time_slice(result, index):
     return dataclasses.replace(result, **changes) if changes else result
 
 
+def time_concat(results, **changes):
+    """Consecutive windows of a run joined: every quantity with a time axis ``t`` concatenated along it, the
+    other fields those of the first window unless given in ``changes`` (the inverse of :func:`time_slice`)."""
+    first = results[0]
+    if len(results) == 1 and not changes:
+        return first
+    for f in dataclasses.fields(first):
+        meta = f.metadata.get("store")
+        values = [getattr(result, f.name) for result in results]
+        if f.name in changes or meta is None or values[0] is None:
+            continue
+        if meta["kind"] == "quantity" and "t" in meta["dims"]:
+            changes[f.name] = np.concatenate(values, axis=meta["dims"].index("t"))
+        elif meta["kind"] == "part" and time_slice(values[0], slice(None)) is not values[0]:
+            changes[f.name] = time_concat(values)
+        elif meta["kind"] == "stacked" and isinstance(values[0], Mapping) and values[0]:
+            changes[f.name] = {name: time_concat([v[name] for v in values]) for name in values[0]}
+    return dataclasses.replace(first, **changes)
+
+
 def envelope_samples(t, series, start: float, stop: float, bins: int) -> np.ndarray:
     """Indices of the samples that hold each series' minimum and maximum in each of ``bins`` equal time bins
     of ``[start, stop]``, with the first and last sample.

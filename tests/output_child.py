@@ -16,7 +16,7 @@ from pathlib import Path
 
 from sixdof import cli
 from sixdof.io import output, store
-from sixdof.plots import save_all
+from sixdof.plots.workers import FigureWorkers
 
 PAUSE_S = 1.5
 
@@ -45,12 +45,14 @@ def hook(name: str) -> None:
 
         output.os.replace = paused_replace
     elif name == "plot":
-        def paused_save_all(*args, **kwargs):
-            written = save_all(*args, **kwargs)
+        save = FigureWorkers.save
+
+        def paused_save(*args, **kwargs):
+            written = save(*args, **kwargs)
             pause("PLOTTED")
             return written
 
-        sys.modules["sixdof.plots"].save_all = paused_save_all
+        FigureWorkers.save = paused_save
 
 
 if __name__ == "__main__":

@@ -18,6 +18,7 @@ from sixdof.analysis.response import MountForces
 from sixdof.dofs import DOFS
 from sixdof.errors import InputError
 from sixdof.model.system import System
+from sixdof.plots.workers import FigureError, FigureWorkers
 from sixdof.results import RunResults, TimeHistory
 from store_cases import run_parts
 from systems import bridge, four_mount
@@ -397,3 +398,27 @@ def test_plot_from_a_file_never_loads_pyplot(modal_only, tmp_path):
         f"files = plots.save_all(store.load_results({str(path)!r}), {str(tmp_path / 'png')!r})\n"
         "assert len(files) == 2, files\n"
     )
+
+
+def test_workers_draw_what_save_all_draws(run, tmp_path):
+    """The figures drawn in worker processes, submitted as the run's parts appear, are the files save_all
+    draws in this process, byte for byte."""
+    modal = RunResults(name=run.name, system=run.system, modes=run.modes, frf=run.frf, frf_extras=run.frf_extras)
+    with FigureWorkers(dpi=30) as workers:
+        workers.submit(modal)  # the modal and FRF figures start first
+        workers.submit(run)  # then the rest; nothing is drawn twice
+        (tmp_path / "workers").mkdir()
+        written = workers.save(tmp_path / "workers")
+    assert [p.name for p in written] == FIGURE_NAMES
+    for path in plots.save_all(run, tmp_path / "here", dpi=30):
+        assert (tmp_path / "workers" / path.name).read_bytes() == path.read_bytes(), path.name
+
+
+def test_a_figure_failing_in_a_worker_fails_loudly(parts, tmp_path):
+    """The worker's error comes back, named, from save: a run that cannot draw a figure writes nothing."""
+    short = dataclasses.replace(parts["mount_forces"], total=parts["mount_forces"].total[:, :3])
+    broken = RunResults(name="bridge_beam", response=parts["response"], mount_forces=short)
+    with FigureWorkers(processes=1, dpi=30) as workers:
+        workers.submit(broken)
+        with pytest.raises(FigureError, match=r"mount_forces.png: InputError: forces.total: expected shape \(4, "):
+            workers.save(tmp_path)

@@ -1,22 +1,31 @@
 """sixdof: forced, damped vibration of a rigid body with six degrees of freedom on elastic mounts.
 
-The public API is re-exported here. Names from the heavier modules (the diffrax solver, HDF5 files)
-are imported on first use, so ``import sixdof`` stays quick and never loads pyplot or h5py.
+The public API is re-exported here, each name imported from its module on first use: ``import sixdof``
+loads neither JAX, SciPy, h5py nor matplotlib, so that the ``sixdof`` command starts at once and
+library users pay only for what they call.
 """
 
 from importlib import import_module
 
-from sixdof.analysis.modal import Modes, modal_analysis
-from sixdof.analysis.statics import Statics, gravity_statics
-from sixdof.dofs import DOF_UNITS, DOFS
-from sixdof.errors import InputError, ScenarioError, SolverError
-from sixdof.io.scenario import Scenario, load_scenario, parse_scenario
-from sixdof.model.system import Mount, Rayleigh, RigidBody, System
-
 __version__ = "0.1.0"
 
-# name -> module that defines it, imported when the name is first used.
-_LAZY = {
+#: Public name -> module that defines it (relative to the package), imported when the name is first used.
+_PUBLIC = {
+    # Labels and errors.
+    "DOFS": "dofs",
+    "DOF_UNITS": "dofs",
+    "InputError": "errors",
+    "ScenarioError": "errors",
+    "SolverError": "errors",
+    # The model and scenarios.
+    "Mount": "model.system",
+    "Rayleigh": "model.system",
+    "RigidBody": "model.system",
+    "System": "model.system",
+    "Scenario": "io.scenario",
+    "load_scenario": "io.scenario",
+    "parse_scenario": "io.scenario",
+    # Excitation.
     "Excitation": "excitation",
     "Load": "excitation",
     "Unbalance": "excitation",
@@ -32,11 +41,16 @@ _LAZY = {
     "Step": "excitation",
     "Sweep": "excitation",
     "Table": "excitation",
+    # Analyses and their results.
+    "Modes": "analysis.modal",
+    "modal_analysis": "analysis.modal",
+    "Statics": "analysis.statics",
+    "gravity_statics": "analysis.statics",
     "SimulationSettings": "analysis.direct",
+    "simulate": "analysis.direct",
     "TimeHistory": "results",
     "RunResults": "results",
     "to_xarray": "results",
-    "simulate": "analysis.direct",
     "mount_forces": "analysis.response",
     "point_motion": "analysis.response",
     "mount_check": "analysis.mountcheck",
@@ -49,35 +63,22 @@ _LAZY = {
     "force_transmissibility": "analysis.frf",
     "ground_transmissibility": "analysis.frf",
     "validate": "validation",
+    # End to end and files.
     "run_scenario": "workflows",
     "load_results": "io.store",
     "write_results": "io.store",
 }
 
-__all__ = [
-    "DOFS",
-    "DOF_UNITS",
-    "InputError",
-    "ScenarioError",
-    "SolverError",
-    "Modes",
-    "modal_analysis",
-    "Mount",
-    "Rayleigh",
-    "RigidBody",
-    "System",
-    "Scenario",
-    "load_scenario",
-    "parse_scenario",
-    "Statics",
-    "gravity_statics",
-    *_LAZY,
-]
+__all__ = list(_PUBLIC)
 
 
 def __getattr__(name: str):
-    if name in _LAZY:
-        value = getattr(import_module(f".{_LAZY[name]}", __name__), name)
+    if name in _PUBLIC:
+        value = getattr(import_module(f".{_PUBLIC[name]}", __name__), name)
         globals()[name] = value
         return value
     raise AttributeError(f"module 'sixdof' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})

@@ -1,9 +1,9 @@
 """The ``sixdof`` command: parses arguments, calls the library, prints tables, writes under outputs/.
 
-Exit status: 0 done; 1 the solve failed; 2 bad input (nothing computed, nothing written); 3
-``validate`` found the model and the time histories disagreeing beyond their limits (verdict FAIL;
-its results were written); 74 a file could not be written (full disk, file-size limit, permissions);
-130 interrupted (SIGINT), 143 terminated (SIGTERM). Whatever the status, results already in place are
+Exit status: 0 done; 1 the solve failed or a figure could not be drawn; 2 bad input (nothing computed,
+nothing written); 3 ``validate`` found the model and the time histories disagreeing beyond their limits
+(verdict FAIL; its results were written); 74 a file could not be written (full disk, file-size limit,
+permissions); 130 interrupted (SIGINT), 143 terminated (SIGTERM). Whatever the status, results already in place are
 left whole: a results folder is replaced completely or not at all (:mod:`sixdof.io.output`).
 """
 
@@ -17,8 +17,6 @@ import threading
 import traceback
 import warnings
 from contextlib import contextmanager
-
-from sixdof.errors import InputError, SolverError
 
 EXIT_FAILED = 1
 EXIT_BAD_INPUT = 2
@@ -34,8 +32,10 @@ class Terminated(BaseException):
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``sixdof`` command. Returns the process exit status."""
-    parser = _parser()
-    args = parser.parse_args(argv)
+    args = _parser().parse_args(argv)
+    from sixdof.errors import InputError, SolverError  # after parsing: ``sixdof --help`` loads no NumPy
+    from sixdof.plots.workers import FigureError
+
     try:
         with _signals(), _cleanup_errors(args.debug), warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", UserWarning)
@@ -48,6 +48,8 @@ def main(argv: list[str] | None = None) -> int:
         return _fail(args, f"error: {exc}", EXIT_BAD_INPUT)
     except SolverError as exc:
         return _fail(args, f"the solve failed, nothing was written: {exc}", EXIT_FAILED)
+    except FigureError as exc:
+        return _fail(args, f"a figure could not be drawn, nothing was written: {exc}", EXIT_FAILED)
     except OSError as exc:
         where = f" {exc.filename}" if exc.filename else ""
         return _fail(args, f"could not write{where}: {exc.strerror or exc}; results already in place are unchanged",
@@ -175,17 +177,22 @@ def _modes(args) -> int:
 
 
 def _run(args) -> int:
-    import numpy as np
+    from sixdof.plots.workers import FigureWorkers
 
-    from sixdof.io import report
-    from sixdof.io.scenario import load_scenario
-    from sixdof.workflows import run_scenario
+    # Started first: the figure workers import matplotlib while this process loads the scenario and solves.
+    with FigureWorkers() as workers:
+        import numpy as np
 
-    _compile_cache()
-    scenario = load_scenario(args.scenario)
-    # A progress bar only where someone watches: redirected to a log it would be noise.
-    show_progress = not args.quiet and sys.stderr.isatty()
-    outcome = run_scenario(scenario, args.out, progress=show_progress, command_line=" ".join(sys.argv))
+        from sixdof.io import report
+        from sixdof.io.scenario import load_scenario
+        from sixdof.workflows import run_scenario
+
+        _compile_cache()
+        scenario = load_scenario(args.scenario)
+        # A progress bar only where someone watches: redirected to a log it would be noise.
+        show_progress = not args.quiet and sys.stderr.isatty()
+        outcome = run_scenario(scenario, args.out, progress=show_progress, command_line=" ".join(sys.argv),
+                               workers=workers)
     print(f"{scenario.name}: {scenario.description}\n")
     print(report.modes_table(outcome.modes, outcome.damping_ratios))
     if outcome.agreement is not None:
@@ -209,11 +216,13 @@ def _run(args) -> int:
 def _validate(args) -> int:
     from sixdof.io.report import validation_text
     from sixdof.io.scenario import load_scenario
+    from sixdof.plots.workers import FigureWorkers
     from sixdof.workflows import validate_scenario
 
-    _compile_cache()
-    scenario = load_scenario(args.scenario)
-    report, directory = validate_scenario(scenario, args.out, command_line=" ".join(sys.argv))
+    with FigureWorkers() as workers:  # started first: they import matplotlib while this process computes
+        _compile_cache()
+        scenario = load_scenario(args.scenario)
+        report, directory = validate_scenario(scenario, args.out, command_line=" ".join(sys.argv), workers=workers)
     print(validation_text(report))
     print(f"\nWrote {directory}")
     if report.verdict != "PASS":
@@ -258,15 +267,12 @@ def _compile_cache() -> None:
 
 
 def _plot(args) -> int:
-    from pathlib import Path
+    from sixdof.plots.workers import FigureWorkers
 
-    from sixdof.io.output import replace_files
-    from sixdof.io.store import load_results
-    from sixdof.plots import save_all
+    with FigureWorkers() as workers:  # started first: they import matplotlib while the file is read
+        from sixdof.workflows import redraw
 
-    run = load_results(args.results)
-    figures = replace_files(Path(args.out) if args.out else Path(args.results).parent,
-                            lambda stage: save_all(run, stage))
+        figures = redraw(args.results, args.out, workers=workers)
     for figure in figures:
         print(figure)
     return 0

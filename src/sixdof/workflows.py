@@ -8,6 +8,8 @@ deleted that sixdof did not write.
 
 from __future__ import annotations
 
+import contextlib
+import dataclasses
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -17,6 +19,7 @@ import numpy as np
 from sixdof.analysis.statespace import damping_ratios
 from sixdof.analysis.statics import try_gravity_statics
 from sixdof.io import output
+from sixdof.plots.workers import FigureWorkers
 from sixdof.results import RunResults
 
 #: Fewest samples per period of the highest natural frequency or excitation frequency: below it the
@@ -105,7 +108,7 @@ def excitation_frequencies(excitation) -> list[tuple[str, float]]:
 
 
 def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool = True,
-                 log=print, command_line: str | None = None) -> RunOutcome:
+                 log=print, command_line: str | None = None, workers: FigureWorkers | None = None) -> RunOutcome:
     """Run everything a scenario asks for and write results, figures and summary.
 
     Parameters
@@ -120,104 +123,82 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         Receives the text printed along the way (tables, agreement, warnings).
     command_line : str, optional
         Stored as provenance.
+    workers : sixdof.plots.workers.FigureWorkers, optional
+        Worker processes to draw the figures in while the run computes (the command line starts them
+        before it loads the scenario); default: drawn in this process.
 
     Returns
     -------
     RunOutcome
     """
-    from sixdof import plots
     from sixdof.analysis.compare import compare
     from sixdof.analysis.superposition import superpose
     from sixdof.io import report, store
 
     target = output.check_target(out_root, scenario.name)
-    system = scenario.system
-    modes = system.modes
-    statics, no_statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
-    zeta = damping_ratios(system.C, modes)
-    notes = sampling_warnings(scenario, modes)
-    if no_statics:
-        notes.append(no_statics)
-    if modes.zero_modes:
-        notes.append(f"the mounts leave the body unrestrained: {len(modes.zero_modes)} zero-frequency "
-                     f"mode(s), free DOFs {', '.join(modes.free_dofs)}")
-    for note in notes:
-        warnings.warn(note, SamplingWarning, stacklevel=2)
+    with FigureWorkers(processes=0) if workers is None else contextlib.nullcontext(workers) as drawing:
+        system = scenario.system
+        modes = system.modes
+        statics, no_statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
+        zeta = damping_ratios(system.C, modes)
+        notes = sampling_warnings(scenario, modes)
+        if no_statics:
+            notes.append(no_statics)
+        if modes.zero_modes:
+            notes.append(f"the mounts leave the body unrestrained: {len(modes.zero_modes)} zero-frequency "
+                         f"mode(s), free DOFs {', '.join(modes.free_dofs)}")
+        for note in notes:
+            warnings.warn(note, SamplingWarning, stacklevel=2)
+        frf, frf_extras = _frequency_responses(scenario)
+        run = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
+                         damping_ratios=zeta, statics=statics, frf=frf, frf_extras=frf_extras,
+                         provenance=_provenance(scenario))
+        drawing.submit(run)  # the modal and FRF figures are drawn while the solve runs
 
-    response = superposition = agreement = forces = points = check = None
-    if scenario.simulation is not None:
-        from sixdof.analysis.direct import simulate
-        from sixdof.analysis.mountcheck import MountLimitWarning, mount_check
-        from sixdof.analysis.response import mount_forces, points_motion
-        from sixdof.analysis.validity import RangeWarning
-        from sixdof.excitation import Excitation
+        response = superposition = agreement = forces = check = None
+        if scenario.simulation is not None:
+            from sixdof.analysis.direct import simulate
+            from sixdof.analysis.mountcheck import MountLimitWarning, mount_check
+            from sixdof.analysis.response import mount_forces, points_motion
+            from sixdof.analysis.validity import RangeWarning
+            from sixdof.excitation import Excitation
 
-        excitation = scenario.excitation if scenario.excitation is not None else Excitation()
-        response = simulate(system, excitation, scenario.simulation, progress=progress or None)
-        options = scenario.superposition
-        with warnings.catch_warnings():  # the cross-check would repeat the direct solve's range warnings
-            warnings.simplefilter("ignore", RangeWarning)
-            superposition = superpose(system, excitation, response.t, method=options.method,
-                                      n_modes=options.n_modes, f_max_hz=options.f_max_hz,
-                                      residual=options.residual)
-        # Both are absolute motion; rotations are judged beside translations through the body's size.
-        agreement = compare(response, superposition, length=_body_length(system))
-        if not agreement.ok:
-            note = (
-                f"direct and modal superposition disagree: worst DOF {agreement.worst_dof} at "
-                f"{agreement.worst:.3g} of its peak (tolerance {agreement.tolerance:.0e})"
-            )
-            notes.append(note)
-            warnings.warn(note, AgreementWarning, stacklevel=2)
-        forces = mount_forces(system, response)
-        check = mount_check(system, forces, response.t, statics)
-        for note in check.violations:
-            notes.append(note)
-            warnings.warn(note, MountLimitWarning, stacklevel=2)
-        points = points_motion(response, {p.name: p.position for p in scenario.points}) if scenario.points else None
+            excitation = scenario.excitation if scenario.excitation is not None else Excitation()
+            response = simulate(system, excitation, scenario.simulation, progress=progress or None)
+            options = scenario.superposition
+            with warnings.catch_warnings():  # the cross-check would repeat the direct solve's range warnings
+                warnings.simplefilter("ignore", RangeWarning)
+                superposition = superpose(system, excitation, response.t, method=options.method,
+                                          n_modes=options.n_modes, f_max_hz=options.f_max_hz,
+                                          residual=options.residual)
+            # Both are absolute motion; rotations are judged beside translations through the body's size.
+            agreement = compare(response, superposition, length=_body_length(system))
+            if not agreement.ok:
+                note = (
+                    f"direct and modal superposition disagree: worst DOF {agreement.worst_dof} at "
+                    f"{agreement.worst:.3g} of its peak (tolerance {agreement.tolerance:.0e})"
+                )
+                notes.append(note)
+                warnings.warn(note, AgreementWarning, stacklevel=2)
+            forces = mount_forces(system, response)
+            check = mount_check(system, forces, response.t, statics)
+            for note in check.violations:
+                notes.append(note)
+                warnings.warn(note, MountLimitWarning, stacklevel=2)
+            points = points_motion(response, {p.name: p.position for p in scenario.points}) if scenario.points else {}
+            run = dataclasses.replace(run, response=response, mount_forces=forces, mount_check=check, points=points,
+                                      superposition=superposition, agreement=agreement)
+            drawing.submit(run)
+        figures = []
 
-    frf = None
-    frf_extras = {}
-    if scenario.frf is not None:
-        from sixdof.analysis.frf import cross_check, force_transmissibility, ground_transmissibility, point_frf
+        def write(stage: Path) -> None:
+            store.write_results(stage / "results.h5", run, command_line=command_line)
+            figures.extend(drawing.save(stage))
+            text = report.summary_markdown(scenario, modes, statics, zeta, response, forces, agreement,
+                                            superposition, frf, figures, notes, mount_check=check)
+            (stage / "summary.md").write_text(text, encoding="utf-8")
 
-        f_hz = scenario.frf.grid()
-        frf = cross_check(system, f_hz)
-        for r in scenario.frf.point:
-            frf_extras[r.name] = point_frf(system, f_hz, r.load_point, r.load_direction, r.response_point,
-                                           r.response_direction, quantity=r.quantity)
-        for r in scenario.frf.force_transmissibility:
-            frf_extras[r.name] = force_transmissibility(system, f_hz, r.load_point, r.load_direction)
-        for r in scenario.frf.ground_transmissibility:
-            frf_extras[r.name] = ground_transmissibility(system, f_hz, r.ground_direction, r.response_point)
-
-    run = RunResults(
-        name=scenario.name,
-        description=scenario.description,
-        system=system,
-        modes=modes,
-        damping_ratios=zeta,
-        statics=statics,
-        response=response,
-        mount_forces=forces,
-        mount_check=check,
-        points=points or {},
-        superposition=superposition,
-        agreement=agreement,
-        frf=frf,
-        frf_extras=frf_extras,
-        provenance=_provenance(scenario),
-    )
-    figures = []
-
-    def write(stage: Path) -> None:
-        store.write_results(stage / "results.h5", run, command_line=command_line)
-        figures.extend(plots.save_all(run, stage))
-        text = report.summary_markdown(scenario, modes, statics, zeta, response, forces, agreement,
-                                        superposition, frf, figures, notes, mount_check=check)
-        (stage / "summary.md").write_text(text, encoding="utf-8")
-
-    output.write_folder(target, write)
+        output.write_folder(target, write)
     return RunOutcome(
         directory=target,
         results_path=target / "results.h5",
@@ -235,6 +216,26 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
     )
 
 
+def _frequency_responses(scenario) -> tuple[object, dict[str, object]]:
+    """The receptance cross-check and the named point FRFs and transmissibilities a scenario asks for
+    (``None`` and ``{}`` without an ``[frf]`` table)."""
+    if scenario.frf is None:
+        return None, {}
+    from sixdof.analysis.frf import cross_check, force_transmissibility, ground_transmissibility, point_frf
+
+    system, f_hz = scenario.system, scenario.frf.grid()
+    receptance = cross_check(system, f_hz)
+    extras = {}
+    for r in scenario.frf.point:
+        extras[r.name] = point_frf(system, f_hz, r.load_point, r.load_direction, r.response_point,
+                                   r.response_direction, quantity=r.quantity)
+    for r in scenario.frf.force_transmissibility:
+        extras[r.name] = force_transmissibility(system, f_hz, r.load_point, r.load_direction)
+    for r in scenario.frf.ground_transmissibility:
+        extras[r.name] = ground_transmissibility(system, f_hz, r.ground_direction, r.response_point)
+    return receptance, extras
+
+
 def _provenance(scenario) -> dict[str, str]:
     """What a run records about where it came from (the file adds the command line, creation time and
     versions)."""
@@ -248,40 +249,67 @@ def _body_length(system) -> float:
     return float(max(np.linalg.norm(system.positions, axis=1).max(), 1e-3))
 
 
-def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_line: str | None = None):
+def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_line: str | None = None,
+                      workers: FigureWorkers | None = None):
     """Validate a scenario's modal results against simulated time histories (issue 5).
 
     Runs :func:`sixdof.validation.validate` (free decays released from each mode shape, random-force
     runs with H1 estimates) and writes ``results.h5``, figures and ``validation.md`` to
     ``out_root/<name>_validation/``, all or nothing, whatever the report's verdict (PASS or FAIL).
 
+    The figures are drawn by ``workers`` (:class:`sixdof.plots.workers.FigureWorkers`), the modal ones
+    while the validation runs; default: in this process.
+
     Returns
     -------
     tuple of (sixdof.validation.ValidationReport, pathlib.Path)
         The report and the folder written.
     """
-    from sixdof import plots
     from sixdof.io import store
     from sixdof.io.report import validation_text
     from sixdof.validation import validate
 
     target = output.check_target(out_root, scenario.name, "_validation")
-    system = scenario.system
-    modes = system.modes
-    report = validate(system)
-    zeta = damping_ratios(system.C, modes)
-    run = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
-                     damping_ratios=zeta, validation=report, provenance=_provenance(scenario))
+    with FigureWorkers(processes=0) if workers is None else contextlib.nullcontext(workers) as drawing:
+        system = scenario.system
+        modes = system.modes
+        run = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
+                         damping_ratios=damping_ratios(system.C, modes), provenance=_provenance(scenario))
+        drawing.submit(run)  # the modal figures are drawn while the validation experiment runs
+        report = validate(system)
+        run = dataclasses.replace(run, validation=report)
+        drawing.submit(run)
 
-    def write(stage: Path) -> None:
-        store.write_results(stage / "results.h5", run, command_line=command_line)
-        figures = plots.save_all(run, stage)
-        links = "\n".join(f"![{p.stem}]({p.name})" for p in figures)
-        text = (f"# {scenario.name}: modal results against time histories\n\n{validation_text(report)}\n\n"
-                f"{links}\n")
-        (stage / "validation.md").write_text(text, encoding="utf-8")
+        def write(stage: Path) -> None:
+            store.write_results(stage / "results.h5", run, command_line=command_line)
+            figures = drawing.save(stage)
+            links = "\n".join(f"![{p.stem}]({p.name})" for p in figures)
+            text = (f"# {scenario.name}: modal results against time histories\n\n{validation_text(report)}\n\n"
+                    f"{links}\n")
+            (stage / "validation.md").write_text(text, encoding="utf-8")
 
-    return report, output.write_folder(target, write)
+        return report, output.write_folder(target, write)
+
+
+def redraw(results: str | Path, directory: str | Path | None = None, *,
+           workers: FigureWorkers | None = None) -> list[Path]:
+    """Draw every figure of a results file again (``sixdof plot``) and put them into ``directory``
+    (default: beside the file), each replacing its namesake and all of them at once
+    (:func:`sixdof.io.output.replace_files`).
+
+    The figures are drawn by ``workers`` (:class:`sixdof.plots.workers.FigureWorkers`; the command line
+    starts them before it reads the file); default: in this process.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The figures written.
+    """
+    from sixdof.io.store import load_results
+
+    with FigureWorkers(processes=0) if workers is None else contextlib.nullcontext(workers) as drawing:
+        drawing.submit(load_results(results))
+        return output.replace_files(Path(directory) if directory else Path(results).parent, drawing.save)
 
 
 def sweep(scenario, spec, *, chunk_size: int | None = None):

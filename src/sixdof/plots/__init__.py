@@ -12,11 +12,15 @@ Each function takes the objects it draws (:class:`~sixdof.analysis.modal.Modes`,
 :class:`~sixdof.results.TimeHistory`, :class:`~sixdof.analysis.frf.FRF`,
 :class:`~sixdof.validation.ValidationReport`...) and returns its figure so that tests and users can
 inspect or restyle it; :func:`save_all` draws every figure a :class:`~sixdof.results.RunResults`
-allows (a live run, or a stored one from :func:`sixdof.io.store.load_results`) and writes each as PNG.
+allows (a live run, or a stored one from :func:`sixdof.io.store.load_results`) and writes each as PNG,
+and :func:`render` draws one of them to PNG bytes (what the worker processes of
+:class:`~sixdof.plots.workers.FigureWorkers` do for the command line).
 
 Figures are built as :class:`matplotlib.figure.Figure` objects without pyplot: no backend, no display
 and no global figure list are involved (they render with Agg when saved, work headless, and show in
-Jupyter), and nothing needs closing.
+Jupyter), and nothing needs closing. Importing this package loads no matplotlib: each name is imported
+from its module on first use, so that a process can decide which figures a run allows (:data:`FIGURES`)
+and leave the drawing to worker processes (:class:`sixdof.plots.workers.FigureWorkers`).
 
 Modules: :mod:`~sixdof.plots.common` (display units, envelope decimation, margins, panel grid,
 titles), :mod:`~sixdof.plots.modes`, :mod:`~sixdof.plots.time`, :mod:`~sixdof.plots.frf`,
@@ -25,53 +29,58 @@ titles), :mod:`~sixdof.plots.modes`, :mod:`~sixdof.plots.time`, :mod:`~sixdof.pl
 
 from __future__ import annotations
 
+import io
+import sys
 from collections.abc import Callable, Mapping
+from importlib import import_module
 from pathlib import Path
 
-from matplotlib.figure import Figure
+#: Public name -> module of this package that defines it, imported when the name is first used.
+_PUBLIC = {
+    "DPI": "common",
+    "MAX_POINTS": "common",
+    "PNG_COMPRESS_LEVEL": "common",
+    "envelope_indices": "common",
+    "FLAT_SIDE": "modes",
+    "MAX_DRAWN_ROTATION": "modes",
+    "MIN_ASPECT": "modes",
+    "MODE_SCALE": "modes",
+    "body_box": "modes",
+    "plot_ke_distribution": "modes",
+    "plot_mode_shapes": "modes",
+    "plot_mount_forces": "time",
+    "plot_superposition": "time",
+    "plot_time_histories": "time",
+    "plot_bode": "frf",
+    "plot_point_frfs": "frf",
+    "plot_free_decays": "validation",
+    "plot_validation_frf": "validation",
+}
 
-from sixdof.analysis.frf import ForceTransmissibility, GroundTransmissibility, PointFRF
-from sixdof.plots.common import DPI, MAX_POINTS, PNG_COMPRESS_LEVEL, envelope_indices, require
-from sixdof.plots.frf import plot_bode, plot_point_frfs
-from sixdof.plots.modes import (
-    FLAT_SIDE,
-    MAX_DRAWN_ROTATION,
-    MIN_ASPECT,
-    MODE_SCALE,
-    body_box,
-    plot_ke_distribution,
-    plot_mode_shapes,
-)
-from sixdof.plots.time import plot_mount_forces, plot_superposition, plot_time_histories
-from sixdof.plots.validation import plot_free_decays, plot_validation_frf
-from sixdof.results import RunResults
+__all__ = sorted([*_PUBLIC, "FIGURES", "figure_names", "render", "save_all"])
 
-__all__ = [
-    "DPI",
-    "FIGURES",
-    "FLAT_SIDE",
-    "MAX_DRAWN_ROTATION",
-    "MAX_POINTS",
-    "MIN_ASPECT",
-    "MODE_SCALE",
-    "PNG_COMPRESS_LEVEL",
-    "body_box",
-    "envelope_indices",
-    "plot_bode",
-    "plot_free_decays",
-    "plot_ke_distribution",
-    "plot_mode_shapes",
-    "plot_mount_forces",
-    "plot_point_frfs",
-    "plot_superposition",
-    "plot_time_histories",
-    "plot_validation_frf",
-    "save_all",
-]
+
+def __getattr__(name: str):
+    if name in _PUBLIC:
+        value = getattr(import_module(f".{_PUBLIC[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'sixdof.plots' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})
+
+
+# Drawing calls the plot functions through the module object, whose __getattr__ imports them: deciding
+# which figures a run allows loads no matplotlib.
+_plots = sys.modules[__name__]
 
 
 def _file_order(extras: Mapping[str, object]) -> dict[str, object]:
     """``extras`` in the results file's order (by kind, then name): a live and a loaded run draw alike."""
+    from sixdof.analysis.frf import ForceTransmissibility, GroundTransmissibility, PointFRF
+
     kinds = (ForceTransmissibility, GroundTransmissibility, PointFRF)
 
     def key(item):
@@ -81,31 +90,58 @@ def _file_order(extras: Mapping[str, object]) -> dict[str, object]:
     return dict(sorted(extras.items(), key=key))
 
 
-#: File name of each figure of a run, whether the run allows it, and how it is drawn.
-FIGURES: tuple[tuple[str, Callable[[RunResults], bool], Callable[[RunResults], Figure]], ...] = (
-    ("mode_shapes.png", lambda run: run.modes is not None,
-     lambda run: plot_mode_shapes(run.modes, run.system, name=run.name)),
-    ("ke_distribution.png", lambda run: run.modes is not None,
-     lambda run: plot_ke_distribution(run.modes, name=run.name)),
-    ("time_dofs.png", lambda run: run.response is not None,
-     lambda run: plot_time_histories(run.response, name=run.name)),
-    ("mount_forces.png", lambda run: run.response is not None and run.mount_forces is not None,
-     lambda run: plot_mount_forces(run.mount_forces, run.response.t, name=run.name)),
-    ("superposition.png", lambda run: run.response is not None and run.superposition is not None,
-     lambda run: plot_superposition(run.response, run.superposition, run.agreement, name=run.name)),
-    ("bode.png", lambda run: run.frf is not None,
-     lambda run: plot_bode(run.frf, run.modes, name=run.name)),
-    ("point_frfs.png", lambda run: bool(run.frf_extras),
-     lambda run: plot_point_frfs(_file_order(run.frf_extras), run.modes, name=run.name)),
-    ("validation_frf.png", lambda run: run.validation is not None and bool(run.validation.random_runs),
-     lambda run: plot_validation_frf(run.validation, name=run.name)),
-    ("free_decays.png", lambda run: run.validation is not None and bool(run.validation.decays),
-     lambda run: plot_free_decays(run.validation, name=run.name)),
+#: Each figure of a run: its file name, the fields of :class:`~sixdof.results.RunResults` it draws
+#: from, whether a run allows it, and how it is drawn (returns a :class:`matplotlib.figure.Figure`).
+FIGURES: tuple[tuple[str, tuple[str, ...], Callable[[object], bool], Callable[[object], object]], ...] = (
+    ("mode_shapes.png", ("modes", "system"), lambda run: run.modes is not None,
+     lambda run: _plots.plot_mode_shapes(run.modes, run.system, name=run.name)),
+    ("ke_distribution.png", ("modes",), lambda run: run.modes is not None,
+     lambda run: _plots.plot_ke_distribution(run.modes, name=run.name)),
+    ("time_dofs.png", ("response",), lambda run: run.response is not None,
+     lambda run: _plots.plot_time_histories(run.response, name=run.name)),
+    ("mount_forces.png", ("response", "mount_forces"),
+     lambda run: run.response is not None and run.mount_forces is not None,
+     lambda run: _plots.plot_mount_forces(run.mount_forces, run.response.t, name=run.name)),
+    ("superposition.png", ("response", "superposition", "agreement"),
+     lambda run: run.response is not None and run.superposition is not None,
+     lambda run: _plots.plot_superposition(run.response, run.superposition, run.agreement, name=run.name)),
+    ("bode.png", ("frf", "modes"), lambda run: run.frf is not None,
+     lambda run: _plots.plot_bode(run.frf, run.modes, name=run.name)),
+    ("point_frfs.png", ("frf", "frf_extras", "modes"), lambda run: bool(run.frf_extras),
+     lambda run: _plots.plot_point_frfs(_file_order(run.frf_extras), run.modes, name=run.name)),
+    ("validation_frf.png", ("validation",), lambda run: run.validation is not None and bool(run.validation.random_runs),
+     lambda run: _plots.plot_validation_frf(run.validation, name=run.name)),
+    ("free_decays.png", ("validation",), lambda run: run.validation is not None and bool(run.validation.decays),
+     lambda run: _plots.plot_free_decays(run.validation, name=run.name)),
 )
+_DRAW = {name: draw for name, _, _, draw in FIGURES}
 
 
-def save_all(run: RunResults, directory: str | Path, dpi: int = DPI) -> list[Path]:
-    """Draw every figure the run allows and write each as a PNG in ``directory``.
+def figure_names(run) -> list[str]:
+    """File names of the figures a :class:`~sixdof.results.RunResults` allows, in the order of
+    :data:`FIGURES`."""
+    from sixdof.errors import InputError
+    from sixdof.results import RunResults
+
+    if not isinstance(run, RunResults):
+        raise InputError("run", "a sixdof.results.RunResults", run)
+    return [name for name, _, drawable, _ in FIGURES if drawable(run)]
+
+
+def render(run, file_name: str, dpi: int | None = None) -> bytes:
+    """Draw the figure ``file_name`` of :data:`FIGURES` from a :class:`~sixdof.results.RunResults` and
+    return it as PNG bytes, ``dpi`` dots per inch (default :data:`DPI`).
+
+    One draw per figure (no layout engine) and fast zlib: see :data:`PNG_COMPRESS_LEVEL`.
+    """
+    buffer = io.BytesIO()
+    _DRAW[file_name](run).savefig(buffer, format="png", dpi=dpi or _plots.DPI,
+                                  pil_kwargs={"compress_level": _plots.PNG_COMPRESS_LEVEL})
+    return buffer.getvalue()
+
+
+def save_all(run, directory: str | Path, dpi: int | None = None) -> list[Path]:
+    """Draw every figure the run allows, in this process, and write each as a PNG in ``directory``.
 
     Titles start with the run's name.
 
@@ -115,22 +151,20 @@ def save_all(run: RunResults, directory: str | Path, dpi: int = DPI) -> list[Pat
         A live run's results, or a stored one from :func:`sixdof.io.store.load_results`.
     directory : str or pathlib.Path
         Created when missing.
-    dpi : int
-        Resolution of the PNG files [dots per inch].
+    dpi : int, optional
+        Resolution of the PNG files [dots per inch]; default :data:`DPI`.
 
     Returns
     -------
     list of pathlib.Path
         The files written, in the order of :data:`FIGURES`.
     """
-    require(run, "run", RunResults, "a sixdof.results.RunResults")
+    names = figure_names(run)
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
     written = []
-    for file_name, drawable, draw in FIGURES:
-        if drawable(run):
-            path = directory / file_name
-            # One draw per figure (no layout engine), fast zlib: see PNG_COMPRESS_LEVEL.
-            draw(run).savefig(path, dpi=dpi, pil_kwargs={"compress_level": PNG_COMPRESS_LEVEL})
-            written.append(path)
+    for name in names:
+        path = directory / name
+        path.write_bytes(render(run, name, dpi))
+        written.append(path)
     return written

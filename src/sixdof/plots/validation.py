@@ -3,16 +3,22 @@ free decays from each damped (complex) mode shape (see :func:`sixdof.validation.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 from matplotlib.figure import Figure
 
 from sixdof.errors import InputError, Plain
 from sixdof.plots.common import margins, panel_grid, plot_long, require, title
-from sixdof.validation import ValidationReport
+
+if TYPE_CHECKING:  # sixdof.validation loads scipy.signal (about a second): imported where drawn
+    from sixdof.validation import ValidationReport
 
 
 def _by_mode(report: ValidationReport, field: str, expected: str) -> tuple[list, dict]:
     """The report's ``field`` sorted by mode, and the validation table's row (ModeCheck) of each mode."""
+    from sixdof.validation import ValidationReport
+
     require(report, "report", ValidationReport, "a sixdof.validation.ValidationReport")
     items = sorted(getattr(report, field), key=lambda item: item.mode)
     if not items:

@@ -1,0 +1,155 @@
+"""Figures drawn in worker processes while a run computes (the command line's ``run``, ``validate`` and
+``plot``).
+
+Importing this module loads neither matplotlib nor NumPy: the command line starts the workers before
+anything else.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import multiprocessing
+import multiprocessing.connection
+import os
+import signal
+import threading
+from concurrent.futures import Future, ProcessPoolExecutor, ThreadPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from sixdof.plots import FIGURES, render
+
+if TYPE_CHECKING:
+    from sixdof.results import RunResults
+
+#: Modules the worker server imports once, before it forks the workers: matplotlib and every plot module.
+_PRELOAD = ["sixdof.plots.frf", "sixdof.plots.modes", "sixdof.plots.time", "sixdof.plots.validation"]
+
+
+class FigureError(RuntimeError):
+    """A figure could not be drawn in a worker process; the message names the figure and the error (the
+    worker's traceback is the exception's cause)."""
+
+
+class FigureWorkers:
+    """The figures of a run, drawn to PNG in worker processes while the run computes.
+
+    The workers are forked from a server process that imports matplotlib and the plotting code once
+    (:mod:`multiprocessing`'s "forkserver"), started when this object is made: the command line makes
+    it before it loads anything else, so that the imports overlap the scenario's parsing and solve. A
+    fresh server, not a fork of this process, which may hold JAX's threads (forking them is unsafe).
+    As with any such server, a script that starts workers must guard its main code with
+    ``if __name__ == "__main__":`` (the workers import the main module).
+
+    :meth:`submit` hands over every figure a :class:`~sixdof.results.RunResults` allows that was not
+    submitted yet, so the modal and FRF figures are drawn while the solve runs; :meth:`save` waits for
+    them and writes the PNG bytes they come back as. Only this process writes files (into a run's
+    staging folder: all or nothing, :mod:`sixdof.io.output`). A figure that fails, or a worker that
+    dies, raises :class:`FigureError` in :meth:`save`. Use it as a context manager: leaving the block on an error or an
+    interrupt stops the workers at once (they ignore SIGINT: Ctrl-C reaches the whole process group,
+    and this process alone handles it).
+
+    Parameters
+    ----------
+    processes : int, optional
+        Number of workers; default: the CPUs this process may use (at least 2: the main process
+        mostly waits once the solve is done). 0: no workers, :meth:`save` draws in this process (what
+        the library's workflows do unless given workers).
+    dpi : int, optional
+        Resolution of the PNG files [dots per inch]; default :data:`sixdof.plots.DPI`.
+    """
+
+    def __init__(self, processes: int | None = None, dpi: int | None = None) -> None:
+        self.dpi = dpi
+        self._jobs: dict[str, Future | RunResults] = {}  # a figure's PNG to come, or the run to draw it from
+        self._pool = self._handover = None
+        if processes == 0:
+            return
+        from multiprocessing import forkserver
+
+        context = multiprocessing.get_context("forkserver")
+        context.set_forkserver_preload(_PRELOAD)
+        forkserver.ensure_running()  # returns at once; the server imports matplotlib meanwhile
+        self._pool = ProcessPoolExecutor(processes or max(len(os.sched_getaffinity(0)), 2), mp_context=context,
+                                         initializer=_start_worker)
+        # Starting a worker waits for the server's imports: hand jobs over from a thread meanwhile.
+        self._handover = ThreadPoolExecutor(1, thread_name_prefix="sixdof-figures")
+
+    def submit(self, run: RunResults) -> None:
+        """Start drawing every figure ``run`` allows that was not submitted before."""
+        for name, reads, drawable, _ in FIGURES:
+            if name not in self._jobs and drawable(run):
+                self._jobs[name] = run if self._pool is None else self._handover.submit(
+                    self._pool.submit, _render, _drawn(run, reads), name, self.dpi)
+
+    def save(self, directory: Path) -> list[Path]:
+        """Wait for the submitted figures and write them into ``directory``; the files, in the order of
+        :data:`sixdof.plots.FIGURES`."""
+        written = []
+        for name in [name for name, *_ in FIGURES if name in self._jobs]:
+            job = self._jobs[name]
+            if self._pool is None:
+                png = render(job, name, self.dpi)
+            else:
+                try:
+                    png = job.result().result()
+                except BrokenProcessPool as exc:
+                    raise FigureError(f"{name}: a figure worker ended abruptly ({exc})") from exc
+            path = directory / name
+            path.write_bytes(png)
+            written.append(path)
+        return written
+
+    def close(self, cancel: bool = False) -> None:
+        """Let the workers go; with ``cancel``, stop them where they are."""
+        if self._pool is None:
+            return
+        self._handover.shutdown(wait=not cancel, cancel_futures=cancel)
+        if cancel:
+            # ProcessPoolExecutor can only wait for running jobs: end the workers instead (SIGTERM).
+            for process in list((getattr(self._pool, "_processes", None) or {}).values()):
+                process.terminate()
+        self._pool.shutdown(wait=True, cancel_futures=cancel)
+
+    def __enter__(self) -> FigureWorkers:
+        return self
+
+    def __exit__(self, kind, error, traceback) -> None:
+        self.close(cancel=kind is not None)
+
+
+def _render(run: RunResults, name: str, dpi: int | None) -> bytes:
+    """:func:`sixdof.plots.render` in a worker; its errors come back as :class:`FigureError` (sixdof's
+    own errors take arguments that do not survive the trip between processes)."""
+    try:
+        return render(run, name, dpi)
+    except Exception as exc:
+        raise FigureError(f"{name}: {type(exc).__name__}: {exc}") from exc
+
+
+def _start_worker() -> None:
+    """Set up a worker: it ignores SIGINT (Ctrl-C reaches the whole process group; the main process handles
+    it and stops the workers) and ends when the main process ends, however it ends (a process killed with
+    SIGKILL cannot stop its workers, which would wait for jobs forever)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    threading.Thread(target=_exit_with, args=(multiprocessing.parent_process().sentinel,), daemon=True).start()
+
+
+def _exit_with(sentinel: int) -> None:
+    multiprocessing.connection.wait([sentinel])  # ready when the main process is gone
+    os._exit(1)
+
+
+def _drawn(run: RunResults, reads: tuple[str, ...]) -> RunResults:
+    """What a worker gets of ``run`` to draw a figure: its name and the fields ``reads``. Time histories go
+    without their solver statistics and superposition details: no figure draws them, and their classes
+    would load JAX in the worker."""
+    from sixdof.results import RunResults, TimeHistory
+
+    def drawn(value):
+        if isinstance(value, TimeHistory):
+            return dataclasses.replace(value, stats=None, superposition=None)
+        return value
+
+    return RunResults(name=run.name, **{field: drawn(getattr(run, field)) for field in reads})

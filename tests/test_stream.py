@@ -13,7 +13,7 @@ from sixdof.analysis.mountcheck import mount_check
 from sixdof.analysis.response import mount_forces, points_motion
 from sixdof.analysis.statics import try_gravity_statics
 from sixdof.analysis.superposition import superpose
-from sixdof.io.scenario import load_scenario
+from sixdof.io.scenario import load_scenario, parse_scenario
 from sixdof.io.store import load_tree, write_results
 from sixdof.io.stream import ResultsStream
 from sixdof.results import RunResults, envelope_samples, time_slice
@@ -93,3 +93,47 @@ def test_window_envelopes_hold_every_bin_extreme_of_the_whole_run():
                 assert column[kept][chosen].max() == column[inside].max()
                 assert column[kept][chosen].min() == column[inside].min()
     assert len(envelope_samples(t, np.zeros((t.size, 1)), 0.0, 10.0, bins)) <= bins + 2  # flat: one per bin
+
+
+def test_a_long_run_streams_its_windows_and_keeps_only_what_its_figures_draw(tmp_path, monkeypatch):
+    import functools
+
+    from sixdof import workflows
+    from sixdof.analysis import direct
+    from sixdof.io import scenario as scenario_module
+    from sixdof.workflows import run_scenario
+
+    text = (SCENARIOS / "bridge_beam_traffic.toml").read_text()
+    scenario = parse_scenario(text.replace("duration = 20.0", "duration = 1.5"), "traffic.toml")
+    assert scenario.simulation.samples == 1501
+    whole = run_scenario(scenario, tmp_path / "whole", progress=False)
+    monkeypatch.setattr(scenario_module, "MEMORY_SAMPLES", 1000)
+    monkeypatch.setattr(workflows, "ENVELOPE_BINS", 100)
+    monkeypatch.setattr(direct, "simulate_windows", functools.partial(direct.simulate_windows, window_samples=512))
+    long = run_scenario(scenario, tmp_path / "long", progress=False)
+    stored, reference = (load_tree(o.results_path) for o in (long, whole))
+    assert stored.attrs["time"]["solver_num_windows"] == 3 and reference.attrs["time"]["solver_num_windows"] == 1
+    q, q_whole = stored.array("time/q"), reference.array("time/q")
+    np.testing.assert_array_equal(stored.array("time/t"), reference.array("time/t"))
+    assert np.all(np.max(np.abs(q - q_whole), axis=0) <= 1e-7 * np.max(np.abs(q_whole), axis=0))
+    # The superposition continues window to window on its own: its agreement with the file's direct solve,
+    # recomputed from every stored sample, is the one stored.
+    agreement = compare(q, stored.array("time/superposition/q"), length=long.agreement.length)
+    np.testing.assert_array_equal(stored.attrs["time/superposition"]["agreement_per_dof"], agreement.per_dof)
+    assert agreement.worst < 1e-6
+    # In memory only the samples the figures draw, holding every peak of the run exactly.
+    assert 2 < long.response.t.size < 1501 and set(long.response.t) <= set(stored.array("time/t"))
+    np.testing.assert_array_equal(np.max(np.abs(long.response.q), axis=0), np.max(np.abs(q), axis=0))
+    np.testing.assert_array_equal(long.mount_check.peak_force, stored.array("time/mount_check/peak_force"))
+    assert sorted(p.name for p in long.figures) == sorted(p.name for p in whole.figures)
+    assert long.summary_path.read_text().count("|") == whole.summary_path.read_text().count("|")
+
+
+def test_a_run_whose_file_cannot_fit_on_the_disk_is_refused_before_it_starts(tmp_path):
+    from sixdof.workflows import run_scenario
+
+    text = (SCENARIOS / "bridge_beam_traffic.toml").read_text()
+    scenario = parse_scenario(text.replace("sample_rate_hz = 1000.0", "sample_rate_hz = 1e10"), "traffic.toml")
+    with pytest.raises(OSError, match="No space left on device"):  # memory is bounded: windows go to the file
+        run_scenario(scenario, tmp_path, progress=False)
+    assert list(tmp_path.iterdir()) == []

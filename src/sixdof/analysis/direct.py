@@ -757,7 +757,7 @@ class _Progress:
             print(file=sys.stderr, flush=True)
 
 
-def _progress(progress: Any, settings: SimulationSettings) -> _Progress | None:
+def progress_meter(progress: Any, settings: SimulationSettings) -> _Progress | None:
     if progress is None or progress is False:
         return None
     if progress is True:
@@ -808,7 +808,7 @@ def simulate(system: System, excitation: Excitation | None, settings: Simulation
         raise InputError("settings", "a SimulationSettings", settings)
     memory_check("sample_rate_hz", settings.samples * SOLVE_BYTES_PER_SAMPLE, "a number of output samples",
                  f"{settings.samples:.3g} samples")
-    meter = _progress(progress, settings)
+    meter = progress_meter(progress, settings)
     windows = []
     for window in simulate_windows(system, excitation, settings, window_samples=window_samples):
         windows.append(window)

@@ -313,6 +313,8 @@ def signal_loads(components) -> Loads | None:
     signals = [signal for _, signal in components]
 
     def values(times, order=0):
+        if len(signals) == 1:
+            return signal_values(signals[0], times, order)[:, None]
         out = np.empty((times.size, len(signals)))
         for c, signal in enumerate(signals):
             out[:, c] = signal_values(signal, times, order)
@@ -358,11 +360,16 @@ def signal_values(signal, times, order=0) -> np.ndarray:
             values[low:high] = signal_values(signal, times[low:high], order)
         return values
     n = times.size
+    size = _padded_size(n)
+    padded = times if size == n else np.concatenate([times, np.full(size - n, times[-1] if n else 0.0)])
+    return np.asarray(_compiled_signal(signal, padded, order), dtype=float)[:n]
+
+
+def _padded_size(n: int) -> int:
+    """At least n and 1024, with four significant bits."""
     size = max(1024, n)
     step = 1 << max(size.bit_length() - 4, 0)
-    size = -(-size // step) * step
-    padded = np.concatenate([times, np.full(size - n, times[-1] if n else 0.0)])
-    return np.asarray(_compiled_signal(signal, padded, order), dtype=float)[:n]
+    return -(-size // step) * step
 
 
 def modal_solve(
@@ -831,8 +838,9 @@ def _recursion(a, coupling, feeder, fed, d, z0):
     if a.ndim == 1:
         # Constant coefficients: each coordinate is a first-order recursive filter, exact, in C. Sources
         # first, then the coordinates they feed.
+        x = np.empty(d.shape[1], complex)
         for i in np.concatenate([np.flatnonzero(~fed), np.flatnonzero(fed)]):
-            x = d[i] + 1j * d[m + i]
+            x.real, x.imag = d[i], d[m + i]
             if fed[i]:
                 x += coupling[i] * (z[feeder[i], :-1] + 1j * z[m + feeder[i], :-1])
             y = scipy.signal.lfilter([1.0], [1.0, -a[i]], x, zi=[a[i] * z0[i]])[0]
@@ -975,39 +983,47 @@ def make_drive(times, n_out, breakpoints, loads, ground=None, *, nodes, pieces, 
     points = np.insert(times, position, inner)
     segments = np.bincount(position - 1, minlength=n_int) + 1  # per interval
     length = np.diff(points)
-    longest = float(np.max(np.diff(times))) / pieces
-    parts = np.maximum(np.ceil(length / longest * (1 - 1e-12)).astype(np.int64), 1)
-    piece_interval = np.repeat(np.repeat(np.arange(n_int), segments), parts)
-    piece_length = np.repeat(length / parts, parts)
-    index = np.arange(piece_length.size) - np.repeat(np.cumsum(parts) - parts, parts)
-    piece_start = np.repeat(points[:-1], parts) + index * piece_length
+    if inner.size == 0 and pieces == 1:  # one piece per interval
+        piece_interval, piece_length, piece_start = np.arange(n_int), length, times[:-1]
+    else:
+        longest = float(np.max(np.diff(times))) / pieces
+        parts = np.maximum(np.ceil(length / longest * (1 - 1e-12)).astype(np.int64), 1)
+        piece_interval = np.repeat(np.repeat(np.arange(n_int), segments), parts)
+        piece_length = np.repeat(length / parts, parts)
+        index = np.arange(piece_length.size) - np.repeat(np.cumsum(parts) - parts, parts)
+        piece_start = np.repeat(points[:-1], parts) + index * piece_length
     last = np.append(np.flatnonzero(np.diff(piece_interval)), piece_interval.size - 1)  # of each interval
 
-    # Each piece's nodes, then its end (the next piece's start; the grid's time after an interval's last
-    # piece): sorted, so that every signal is evaluated once, at the nodes and the outputs together.
+    # The times every signal is evaluated at, once: the grid's start when it is an output, then each
+    # piece's nodes and its end (the next piece's start; the grid's time after an interval's last piece),
+    # sorted; padded as signal_values pads them.
     x, w = _gauss_legendre(nodes)
-    grid = np.empty((piece_length.size, nodes + 1))
+    head = n_out - n_int
+    count = head + piece_length.size * (nodes + 1)
+    padded = np.empty(_padded_size(count))
+    padded[:head] = times[0]
+    grid = padded[head:count].reshape(piece_length.size, nodes + 1)
     np.multiply.outer(piece_length, 0.5 * (1.0 + x), out=grid[:, :nodes])
     grid[:, :nodes] += piece_start[:, None]
     grid[:-1, nodes] = piece_start[1:]
     grid[last, nodes] = times[1:]
-    head = times[:n_out - n_int]  # the grid's start when it is an output
-    everywhere = np.concatenate([head, grid.reshape(-1)])
+    padded[count:] = times[-1]
+    everywhere = padded[:count]
     columns, vectors = [], []
     if loads is not None:
-        columns.append(loads.values(everywhere, 0))
+        columns.append(loads.values(padded, 0)[:count])
         vectors.append(loads.vectors)
     ground_end = (0.0, 0.0)
     if ground is not None:
         start = (0.0, 0.0) if ground_start is None else ground_start
-        u, v, ground_end = ground.motion(everywhere, head.size, grid.shape, piece_length, start)
+        u, v, ground_end = ground.motion(everywhere, head, grid.shape, piece_length, start)
         columns.append(np.stack([u, v], axis=1))
         vectors.append(np.stack([ground.k_g, ground.c_g]))
     vectors = np.vstack(vectors) if vectors else np.zeros((0, 6))
     n_c = vectors.shape[0]
     values = _side_by_side(columns, everywhere.size)
-    on_grid = values[head.size:].reshape(grid.shape + (n_c,))  # (pieces, nodes + 1, n_c)
-    columns_out = np.concatenate([values[:head.size], on_grid[last, nodes]])
+    on_grid = values[head:].reshape(grid.shape + (n_c,))  # (pieces, nodes + 1, n_c)
+    columns_out = np.concatenate([values[:head], on_grid[last, nodes]])
     rates_out = None
     if rates:
         rates_out = np.stack([loads.values(times[-n_out:], order) @ loads.vectors for order in (1, 2)])

@@ -111,6 +111,13 @@ RTOL_DIRECT_STEADY_STATE = 1e-6
 # Vectorized batch peaks against sixdof.analysis.direct.simulate run one by one, per DOF relative to that
 # DOF's own peak (issue 7): both solves are ~1e-8 from exact; measured ~1e-9.
 RTOL_BATCH_DIRECT = 1e-6
+# The exact engine's batch peaks against superpose of each variant alone (the same arithmetic, the
+# variants' coordinates side by side in chunks of any size), relative to each DOF's peak: round-off
+# (measured ~5e-13).
+RTOL_BATCH_CHUNKS = 1e-11
+# The exact engine's batch peaks against scipy's DOP853 at rtol 1e-12 on the 12-state system, relative
+# to each DOF's peak: bounded by DOP853's global error (measured ~1e-12).
+RTOL_BATCH_SCIPY = 1e-10
 # Batched jnp.linalg.eigh of the mass-scaled stiffness against scipy's eigh(K, M) per variant:
 # measured ~5e-13 on the bridge.
 RTOL_BATCH_FREQUENCY = 1e-10

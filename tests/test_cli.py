@@ -96,3 +96,17 @@ def test_plot_of_modal_results_imports_no_jax(tmp_path):
     write_results(path, system=system, modes=system.modes)
     assert "jax" not in loaded_modules(f"from sixdof.cli import main\nassert main(['plot', {str(path)!r}]) == 0")
     assert sorted(p.name for p in tmp_path.glob("*.png")) == ["ke_distribution.png", "mode_shapes.png"]
+
+
+@pytest.mark.parametrize(("arguments", "status"), [(["modes", "scenarios/bridge_beam.toml", "--json"], 0),
+                                                    (["modes", "missing.toml"], 2)])
+def test_the_command_ends_with_its_status_and_all_its_output(arguments, status):
+    """As the ``sixdof`` command (main() reading sys.argv), the process skips the interpreter's teardown:
+    its exit status and every line it printed still come through a pipe."""
+    code = f"import sys\nfrom sixdof.cli import main\nsys.argv = ['sixdof', *{arguments!r}]\nsys.exit(main())\n"
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert result.returncode == status, result.stderr
+    if status == 0:
+        assert json.loads(result.stdout)["name"] == "bridge_beam"
+    else:
+        assert result.stderr.startswith("sixdof: error: ") and "missing.toml" in result.stderr

@@ -422,3 +422,27 @@ def test_a_figure_failing_in_a_worker_fails_loudly(parts, tmp_path):
         workers.submit(broken)
         with pytest.raises(FigureError, match=r"mount_forces.png: InputError: forces.total: expected shape \(4, "):
             workers.save(tmp_path)
+
+
+def test_frozen_minor_log_ticks_draw_the_same_pixels(run):
+    """render() draws the unlabelled minor ticks of log axes as two collections (fast): at the resolution
+    of the files, the PNG is the one matplotlib's own tick objects draw, but for one level in 255 where
+    grid lines cross (blending round-off)."""
+    import io
+
+    from matplotlib.image import imread
+
+    def pixels(fig):
+        buffer = io.BytesIO()
+        fig.savefig(buffer, format="png", dpi=plots.DPI)
+        return imread(io.BytesIO(buffer.getvalue()), format="png")
+
+    for name in ("bode.png", "point_frfs.png", "validation_frf.png"):  # the figures with log axes
+        draw = next(draw for file_name, _, _, draw in plots.FIGURES if file_name == name)
+        frozen = draw(run)
+        plots.common.freeze_minor_log_ticks(frozen)
+        np.testing.assert_allclose(pixels(frozen), pixels(draw(run)), rtol=0, atol=1.01 / 255, err_msg=name)
+    frozen = plots.plot_bode(run.frf, run.modes)
+    plots.common.freeze_minor_log_ticks(frozen)
+    pixels(frozen)
+    assert all(len(axis.get_minor_ticks()) <= 1 for ax in frozen.axes for axis in (ax.xaxis, ax.yaxis))

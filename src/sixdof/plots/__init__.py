@@ -132,11 +132,16 @@ def render(run, file_name: str, dpi: int | None = None) -> bytes:
     """Draw the figure ``file_name`` of :data:`FIGURES` from a :class:`~sixdof.results.RunResults` and
     return it as PNG bytes, ``dpi`` dots per inch (default :data:`DPI`).
 
-    One draw per figure (no layout engine) and fast zlib: see :data:`PNG_COMPRESS_LEVEL`.
+    One draw per figure (no layout engine), minor log ticks drawn as collections
+    (:func:`~sixdof.plots.common.freeze_minor_log_ticks`) and fast zlib (:data:`PNG_COMPRESS_LEVEL`).
     """
+    from sixdof.plots.common import freeze_minor_log_ticks
+
+    figure = _DRAW[file_name](run)
+    freeze_minor_log_ticks(figure)
     buffer = io.BytesIO()
-    _DRAW[file_name](run).savefig(buffer, format="png", dpi=dpi or _plots.DPI,
-                                  pil_kwargs={"compress_level": _plots.PNG_COMPRESS_LEVEL})
+    figure.savefig(buffer, format="png", dpi=dpi or _plots.DPI,
+                   pil_kwargs={"compress_level": _plots.PNG_COMPRESS_LEVEL})
     return buffer.getvalue()
 
 

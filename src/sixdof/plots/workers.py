@@ -23,8 +23,12 @@ from sixdof.plots import FIGURES, render
 if TYPE_CHECKING:
     from sixdof.results import RunResults
 
-#: Modules the worker server imports once, before it forks the workers: matplotlib and every plot module.
-_PRELOAD = ["sixdof.plots.frf", "sixdof.plots.modes", "sixdof.plots.time", "sixdof.plots.validation"]
+#: Imported once by the worker server before it forks the workers: every plot module, and a small
+#: drawing that loads the rest (Agg, the fonts, mathtext's parser, 3-D axes): each worker starts warm.
+_PRELOAD = ["sixdof.plots._warm"]
+#: Handed out first when several figures are submitted at once: the slowest of each batch (measured),
+#: so that the workers finish together.
+_SLOWEST_FIRST = ("superposition.png", "bode.png", "point_frfs.png", "mode_shapes.png")
 
 
 class FigureError(RuntimeError):
@@ -78,10 +82,14 @@ class FigureWorkers:
 
     def submit(self, run: RunResults) -> None:
         """Start drawing every figure ``run`` allows that was not submitted before."""
-        for name, reads, drawable, _ in FIGURES:
-            if name not in self._jobs and drawable(run):
-                self._jobs[name] = run if self._pool is None else self._handover.submit(
-                    self._pool.submit, _render, _drawn(run, reads), name, self.dpi)
+        new = [(name, reads) for name, reads, drawable, _ in FIGURES if name not in self._jobs and drawable(run)]
+        if self._pool is None:
+            self._jobs.update((name, run) for name, _ in new)
+            return
+        new.sort(key=lambda job: _SLOWEST_FIRST.index(job[0]) if job[0] in _SLOWEST_FIRST else len(_SLOWEST_FIRST))
+        fields = _Drawn(run)
+        for name, reads in new:
+            self._jobs[name] = self._handover.submit(self._pool.submit, _render, fields.run(reads), name, self.dpi)
 
     def save(self, directory: Path) -> list[Path]:
         """Wait for the submitted figures and write them into ``directory``; the files, in the order of
@@ -141,15 +149,25 @@ def _exit_with(sentinel: int) -> None:
     os._exit(1)
 
 
-def _drawn(run: RunResults, reads: tuple[str, ...]) -> RunResults:
-    """What a worker gets of ``run`` to draw a figure: its name and the fields ``reads``. Time histories go
-    without their solver statistics and superposition details: no figure draws them, and their classes
-    would load JAX in the worker."""
-    from sixdof.results import RunResults, TimeHistory
+class _Drawn:
+    """What workers get of a run to draw a figure: its name and the fields the figure reads. Time histories
+    go without their solver statistics and superposition details: no figure draws them, and their classes
+    would load JAX in the worker. Each field is prepared once for every figure that reads it."""
 
-    def drawn(value):
-        if isinstance(value, TimeHistory):
-            return dataclasses.replace(value, stats=None, superposition=None)
-        return value
+    def __init__(self, run: RunResults) -> None:
+        self._source, self._fields = run, {}
 
-    return RunResults(name=run.name, **{field: drawn(getattr(run, field)) for field in reads})
+    def field(self, name: str):
+        if name not in self._fields:
+            from sixdof.results import TimeHistory
+
+            value = getattr(self._source, name)
+            if isinstance(value, TimeHistory):
+                value = dataclasses.replace(value, stats=None, superposition=None)
+            self._fields[name] = value
+        return self._fields[name]
+
+    def run(self, reads: tuple[str, ...]) -> RunResults:
+        from sixdof.results import RunResults
+
+        return RunResults(name=self._source.name, **{name: self.field(name) for name in reads})

@@ -417,9 +417,9 @@ def test_simulate_is_the_join_of_its_windows(beam):
     assert run.stats.num_steps == sum(w.stats.num_steps for w in windows) and run.stats.num_windows == 3
 
 
-@pytest.mark.parametrize("samples, most, expected", [(1501, 16384, 1536), (20001, 16384, 10240),
-                                                     (2_000_001, 16384, 16384), (101, 16384, 512),
-                                                     (25001, 2000, 2000), (201, 20, 20)])
+@pytest.mark.parametrize("samples, most, expected", [(1501, 32768, 1536), (20001, 32768, 20480),
+                                                     (2_000_001, 32768, 32768), (101, 32768, 512),
+                                                     (20001, 16384, 10240), (25001, 2000, 2000), (201, 20, 20)])
 def test_window_length(samples, most, expected):
     assert window_length(samples, most) == expected
 

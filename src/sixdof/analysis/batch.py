@@ -407,22 +407,12 @@ def _exact_peaks(system, K, C, lam, shapes, excitation, settings, chunks) -> np.
 
     M = np.asarray(system.M, dtype=float)
     t = settings.times
-    components = excitation.components()
-    loads = sp.signal_loads(components)
-    signals = [signal for _, signal in components]
-    ground = r = None
-    if excitation.ground is not None:
-        r = np.asarray(excitation.ground.rigid_vector, dtype=float)
-        ground = sp.ground_input(excitation.ground, np.asarray(system.K) @ r, np.asarray(system.C) @ r)
-        signals.append(excitation.ground.signal)
+    loads, ground, omega = sp.excitation_inputs(excitation, system.K, system.C)
     q0, qd0 = excitation.initial_state(system, t[0])  # the same for every variant (no mode release)
     plans = [sp.Plan(M, C[i], _Modes(lam[i], shapes[i])) for i in range(len(lam))]
-    # One quadrature for every variant: the phase of the fastest.
-    step = float(np.max(np.diff(t)))
-    omega = sp.highest_omega(signals)
-    nodes, pieces = sp.quadrature_size((max(p.fastest for p in plans) + omega) * step,
-                                       omega * step if ground is not None and ground.quantity != "displacement"
-                                       else 0.0)
+    # One quadrature for every variant: that of the fastest.
+    nodes, pieces = sp.quadrature_for(float(np.max(np.diff(t))), max(p.fastest for p in plans), omega, ground)
+    r = None if ground is None else np.asarray(excitation.ground.rigid_vector, dtype=float)
     stacks = [_Stack([plans[i].coordinates(plans[i].runs[0]) for i in index],
                      None if r is None else [np.stack([K[i] @ r, C[i] @ r]) for i in index]) for index in chunks]
     z = [stack.initial(M, q0, qd0) for stack in stacks]

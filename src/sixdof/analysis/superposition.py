@@ -107,6 +107,14 @@ def quadrature_size(theta: float, theta_ground: float = 0.0) -> tuple[int, int]:
     return nodes, pieces
 
 
+def quadrature_for(step, fastest, omega, ground) -> tuple[int, int]:
+    """:func:`quadrature_size` for intervals of at most ``step`` [s], the fastest pole ``|lambda|`` and
+    the highest signal frequency ``omega`` [rad/s], and a ground motion (a :class:`GroundInput` or None,
+    integrated on the nodes unless given as a displacement)."""
+    integrated = ground is not None and ground.quantity != "displacement"
+    return quadrature_size((fastest + omega) * step, omega * step if integrated else 0.0)
+
+
 @dataclass(frozen=True, eq=False)
 class SuperpositionState:
     """Where a modal-superposition run ended: what the next window starts from (see ``start``).
@@ -269,17 +277,11 @@ def superpose(
     if start is None:
         q0, qd0 = excitation.initial_state(system, t[0])  # in equilibrium with a ground displaced at t[0]
         warn_idle(excitation, t[0], t[-1])
-    components = excitation.components()
-    signals = [signal for _, signal in components]
-    ground = None
-    if excitation.ground is not None:
-        r = np.asarray(excitation.ground.rigid_vector, dtype=float)
-        ground = ground_input(excitation.ground, np.asarray(system.K) @ r, np.asarray(system.C) @ r)
-        signals.append(excitation.ground.signal)
+    loads, ground, omega = excitation_inputs(excitation, system.K, system.C)
     history = modal_solve(
-        system.M, system.C, system.K, t, signal_loads(components), excitation.breakpoints, q0, qd0,
-        method=method, n_modes=n_modes, f_max_hz=f_max_hz, residual=residual, signal_omega=highest_omega(signals),
-        ground=ground, start=start, modes=system.modes, **options,
+        system.M, system.C, system.K, t, loads, excitation.breakpoints, q0, qd0, method=method, n_modes=n_modes,
+        f_max_hz=f_max_hz, residual=residual, signal_omega=omega, ground=ground, start=start, modes=system.modes,
+        **options,
     )
     warn_large_rotations(history.t, history.q)
     return history
@@ -303,6 +305,28 @@ class Loads:
     vectors: np.ndarray
     values: object
     rates: bool = True
+
+
+def excitation_inputs(excitation, K, C):
+    """An :class:`~sixdof.excitation.Excitation` as the engine's inputs for the stiffness and damping K, C.
+
+    Returns
+    -------
+    loads : Loads or None
+        One column per load component.
+    ground : GroundInput or None
+        The ground motion, entering as ``K r u_g + C r v_g``.
+    omega : float
+        Highest circular frequency [rad/s] the signals carry (0 for piecewise-linear ones).
+    """
+    components = excitation.components()
+    signals = [signal for _, signal in components]
+    ground = None
+    if excitation.ground is not None:
+        r = np.asarray(excitation.ground.rigid_vector, dtype=float)
+        ground = ground_input(excitation.ground, np.asarray(K) @ r, np.asarray(C) @ r)
+        signals.append(excitation.ground.signal)
+    return signal_loads(components), ground, 2 * np.pi * max((s.max_frequency_hz for s in signals), default=0.0)
 
 
 def signal_loads(components) -> Loads | None:
@@ -334,11 +358,6 @@ def ground_input(motion, k_g, c_g) -> GroundInput:
         rate=lambda times: scale * signal_values(signal, times, 1),
         k_g=np.asarray(k_g, dtype=float), c_g=np.asarray(c_g, dtype=float),
     )
-
-
-def highest_omega(signals) -> float:
-    """Highest circular frequency [rad/s] the signals carry (0 for piecewise-linear ones)."""
-    return 2 * np.pi * max((s.max_frequency_hz for s in signals), default=0.0)
 
 
 @partial(jax.jit, static_argnums=2)
@@ -480,10 +499,7 @@ def modal_solve(
     residual_rates = bool(residual and plan.dropped.size and loads is not None and loads.rates and ground is None)
     times = t if t_start == t[0] else np.concatenate([[t_start], t])
     step = float(np.max(np.diff(times)))
-    omega = np.pi / step if signal_omega is None else float(signal_omega)
-    theta = (plan.fastest + omega) * step
-    theta_ground = omega * step if ground is not None and ground.quantity != "displacement" else 0.0
-    nodes, pieces = quadrature_size(theta, theta_ground)
+    nodes, pieces = quadrature_for(step, plan.fastest, np.pi / step if signal_omega is None else signal_omega, ground)
     if quadrature_nodes is not None:
         nodes, pieces = int(quadrature_nodes), 1
     if max_step is not None:
@@ -912,7 +928,8 @@ class Drive:
     regular : ndarray of int
         Indices of the regular intervals.
     regular_tau, regular_weight : ndarray, shape (n_q,)
-        Time from each node to its interval's end [s] and quadrature weight [s].
+        Time from each node to its interval's end [s] and quadrature weight [s], for the nodes of each
+        piece and the piece's end (weight 0: the ends are evaluated for the outputs).
     regular_values : ndarray, shape (len(regular), n_q * n_c), or None
         The columns at the nodes of each regular interval, node after node (None on a non-uniform grid).
     irregular : ndarray of int

@@ -96,10 +96,7 @@ def test_window_envelopes_hold_every_bin_extreme_of_the_whole_run():
 
 
 def test_a_long_run_streams_its_windows_and_keeps_only_what_its_figures_draw(tmp_path, monkeypatch):
-    import functools
-
     from sixdof import workflows
-    from sixdof.analysis import direct
     from sixdof.io import scenario as scenario_module
     from sixdof.workflows import run_scenario
 
@@ -109,7 +106,7 @@ def test_a_long_run_streams_its_windows_and_keeps_only_what_its_figures_draw(tmp
     whole = run_scenario(scenario, tmp_path / "whole", progress=False)
     monkeypatch.setattr(scenario_module, "MEMORY_SAMPLES", 1000)
     monkeypatch.setattr(workflows, "ENVELOPE_BINS", 100)
-    monkeypatch.setattr(direct, "simulate_windows", functools.partial(direct.simulate_windows, window_samples=512))
+    monkeypatch.setattr(workflows, "LONG_RUN_WINDOW", 512)
     long = run_scenario(scenario, tmp_path / "long", progress=False)
     stored, reference = (load_tree(o.results_path) for o in (long, whole))
     assert stored.attrs["time"]["solver_num_windows"] == 3 and reference.attrs["time"]["solver_num_windows"] == 1

@@ -22,9 +22,12 @@ from sixdof.io import output
 from sixdof.plots.workers import FigureWorkers
 from sixdof.results import RunResults, envelope_samples, time_concat, time_slice
 
-#: Time bins in which a long run keeps each drawn series' extremes: one per pixel column of the widest time
-#: axis of the figures (see :data:`sixdof.plots.common.MAX_POINTS`, whose slices are as many).
-ENVELOPE_BINS = 2000
+#: Time bins in which a long run keeps each drawn series' extremes: at least one per pixel column of the
+#: widest figure with time axes (13 in at 120 dpi).
+ENVELOPE_BINS = 1600
+#: Output samples per window of a run too long to hold in memory: a window's arrays (~4 kB per sample with its
+#: cross-check, mount forces and checks) stay near 30 MB, while a window costs ~1 ms besides its steps.
+LONG_RUN_WINDOW = 8192
 
 #: Fewest samples per period of the highest natural frequency or excitation frequency: below it the
 #: sampled peaks of a sine are off by more than 5 % (1 - cos(pi / 10)).
@@ -235,7 +238,8 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
     span = (settings.start, settings.start + settings.duration)
     meter = progress_meter(progress or None, settings)
     kept, stats, agreement, check, info, modal = [], None, None, None, None, None
-    for window in simulate_windows(system, excitation, settings):
+    window_samples = {} if keep_all else {"window_samples": LONG_RUN_WINDOW}
+    for window in simulate_windows(system, excitation, settings, **window_samples):
         with warnings.catch_warnings():  # the cross-check would repeat the direct solve's range warnings
             warnings.simplefilter("ignore", RangeWarning)
             modal = superpose(system, excitation, window.t, method=options.method, n_modes=options.n_modes,
@@ -259,6 +263,7 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
     if meter is not None:
         meter.close()
     joined = time_concat(kept)
+    del kept  # the joined copy is what stays
     drawn = dict(agreement=agreement, response=dataclasses.replace(joined.response, stats=stats),
                  superposition=dataclasses.replace(joined.superposition, superposition=info),
                  points=joined.points, mount_forces=joined.mount_forces,

@@ -161,6 +161,40 @@ def test_a_signal_during_the_write_keeps_the_previous_results(previous, scenario
     assert debris(out) == []
 
 
+def test_ctrl_c_reaches_the_whole_process_group_and_leaves_no_process(previous, scenario_file, tmp_path):
+    """Ctrl-C at a terminal signals every process of the command's group, the figure workers and their
+    server too: the main process alone reports it, in one line, and no process of the run outlives it."""
+    out = tmp_path / "out"
+    scenario_file.write_text(SCENARIO.replace("points = 50", "points = 60"))
+    process = subprocess.Popen([sys.executable, str(HERE / "output_child.py"), "write", "run", str(scenario_file),
+                                "--out", str(out), "--quiet"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                               text=True, env={**os.environ, "SIXDOF_JAX_CACHE": "off"}, start_new_session=True)
+    for line in process.stdout:
+        if line.strip() == "WRITING":
+            os.killpg(process.pid, signal.SIGINT)
+            break
+    _, err = process.communicate(timeout=120)  # returns once every process holding its pipes has ended
+    assert process.returncode == EXIT_INTERRUPTED
+    assert err.strip().splitlines() == ["sixdof: interrupted; no partial results were left"]
+    assert snapshot(out / "pump") == previous
+    assert debris(out) == []
+    assert living_in_group(process.pid) == []
+
+
+def living_in_group(pgid: int) -> list[str]:
+    """Command lines of the processes of group ``pgid`` that still run (zombies aside: whether a container's
+    init reaps them is not the run's doing); empty where /proc is missing."""
+    living = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rpartition(")")[2].split()  # after "pid (name)": state, ppid, pgrp...
+            if int(fields[2]) == pgid and fields[0] != "Z":
+                living.append((stat.parent / "cmdline").read_text().replace("\0", " "))
+        except (OSError, IndexError, ValueError):
+            continue  # ended meanwhile
+    return living
+
+
 def test_sigkill_debris_is_removed_by_the_next_run(previous, scenario_file, tmp_path):
     out = tmp_path / "out"
     returncode, _ = signal_at(child("write", "run", str(scenario_file), "--out", str(out)), "WRITING", signal.SIGKILL)

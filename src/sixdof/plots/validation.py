@@ -51,10 +51,11 @@ def plot_validation_frf(report: ValidationReport, *, name: str = "") -> Figure:
     """
     runs, rows = _by_mode(report, "random_runs", "at least one random run")
     columns, grid = panel_grid(len(runs))
-    fig = Figure(figsize=(5.0 * columns, 4.6 * grid))
+    # The top margin holds the figure's title above the first row's two-line panel titles.
+    fig = Figure(figsize=(5.0 * columns, 4.6 * grid + 0.35))
     fig.suptitle(title(name, "modal FRFs: H1 estimate from a random force vs the model"), fontsize=12)
     cells = fig.add_gridspec(grid, columns)
-    margins(fig, left=0.85, right=0.15, top=0.6, bottom=0.5, wspace=1.0, hspace=1.2, columns=columns, rows=grid,
+    margins(fig, left=0.85, right=0.15, top=0.95, bottom=0.5, wspace=1.0, hspace=1.2, columns=columns, rows=grid,
             target=cells)
     for k, run in enumerate(runs):
         mode = int(run.mode)
@@ -117,9 +118,9 @@ def plot_free_decays(report: ValidationReport, *, name: str = "") -> Figure:
     decays, rows = _by_mode(report, "decays", "at least one free decay")
     n = len(decays)
     columns, grid = panel_grid(n)
-    fig = Figure(figsize=(5.0 * columns, 3.6 * grid))
+    fig = Figure(figsize=(5.0 * columns, 3.6 * grid + 0.25))
     fig.suptitle(title(name, "free decay from each damped mode shape: eta_r = phi_r' M q"), fontsize=12)
-    margins(fig, left=0.8, right=0.15, top=0.6, bottom=0.5, wspace=0.9, hspace=0.95, columns=columns, rows=grid)
+    margins(fig, left=0.8, right=0.15, top=0.85, bottom=0.5, wspace=0.9, hspace=0.95, columns=columns, rows=grid)
     axes = fig.subplots(grid, columns, squeeze=False).ravel()
     for ax, decay in zip(axes, decays):
         mode = int(decay.mode)

@@ -7,12 +7,14 @@ anything else.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import multiprocessing
 import multiprocessing.connection
 import os
 import signal
 import threading
+from collections.abc import Iterator
 from concurrent.futures import Future, ProcessPoolExecutor, ThreadPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
@@ -50,9 +52,9 @@ class FigureWorkers:
     submitted yet, so the modal and FRF figures are drawn while the solve runs; :meth:`save` waits for
     them and writes the PNG bytes they come back as. Only this process writes files (into a run's
     staging folder: all or nothing, :mod:`sixdof.io.output`). A figure that fails, or a worker that
-    dies, raises :class:`FigureError` in :meth:`save`. Use it as a context manager: leaving the block on an error or an
-    interrupt stops the workers at once (they ignore SIGINT: Ctrl-C reaches the whole process group,
-    and this process alone handles it).
+    dies, raises :class:`FigureError` in :meth:`save`. Use it as a context manager: leaving the block
+    on an error or an interrupt stops the workers at once (they ignore SIGINT: Ctrl-C reaches the
+    whole process group, and this process alone handles it).
 
     Parameters
     ----------
@@ -74,8 +76,9 @@ class FigureWorkers:
 
         context = multiprocessing.get_context("forkserver")
         context.set_forkserver_preload(_PRELOAD)
-        forkserver.ensure_running()  # returns at once; the server imports matplotlib meanwhile
-        self._pool = ProcessPoolExecutor(processes or max(len(os.sched_getaffinity(0)), 2), mp_context=context,
+        with _sigint_ignored():  # the server and its workers inherit it: Ctrl-C is this process' business
+            forkserver.ensure_running()  # returns at once; the server imports matplotlib meanwhile
+        self._pool = ProcessPoolExecutor(processes or max(_usable_cpus(), 2), mp_context=context,
                                          initializer=_start_worker)
         # Starting a worker waits for the server's imports: hand jobs over from a thread meanwhile.
         self._handover = ThreadPoolExecutor(1, thread_name_prefix="sixdof-figures")
@@ -127,6 +130,25 @@ class FigureWorkers:
         self.close(cancel=kind is not None)
 
 
+def _usable_cpus() -> int:
+    """CPUs this process may run on (all of the machine's where the system cannot tell)."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+
+
+@contextlib.contextmanager
+def _sigint_ignored() -> Iterator[None]:
+    """SIGINT ignored during the block, in the main thread (where Python handles signals): a process
+    started meanwhile inherits the ignoring, from its first instruction on."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
 def _render(run: RunResults, name: str, dpi: int | None) -> bytes:
     """:func:`sixdof.plots.render` in a worker; its errors come back as :class:`FigureError` (sixdof's
     own errors take arguments that do not survive the trip between processes)."""
@@ -138,8 +160,9 @@ def _render(run: RunResults, name: str, dpi: int | None) -> bytes:
 
 def _start_worker() -> None:
     """Set up a worker: it ignores SIGINT (Ctrl-C reaches the whole process group; the main process handles
-    it and stops the workers) and ends when the main process ends, however it ends (a process killed with
-    SIGKILL cannot stop its workers, which would wait for jobs forever)."""
+    it and stops the workers; inherited from the server already, unless something else started it) and
+    ends when the main process ends, however it ends (a process killed with SIGKILL cannot stop its
+    workers, which would wait for jobs forever)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     threading.Thread(target=_exit_with, args=(multiprocessing.parent_process().sentinel,), daemon=True).start()
 

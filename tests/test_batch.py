@@ -358,3 +358,10 @@ def test_step_limit_raises_a_solver_error_naming_the_variant(beam, variants):
     tight = SimulationSettings(duration=1.5, sample_rate_hz=400.0, max_steps=50)
     with pytest.raises(SolverError, match=r"failed for 3 of 3 variants \(first: index 0\)"):
         run_batch(beam, variants, EXCITATION, tight, chunk_size=CHUNK, engine="diffrax", cross_check=0)
+
+
+def test_the_specs_engine_and_cross_check_reach_the_batch():
+    spec = parse_sweep_spec(SPEC.replace("count = ", 'engine = "diffrax"\ncross_check = 1\ncount = ', 1))
+    result = sweep(SCENARIO, spec, chunk_size=CHUNK)
+    assert (spec.engine, spec.cross_check) == ("diffrax", 1)
+    assert result.engine == "diffrax" and len(result.cross_check_variants) == 1

@@ -431,4 +431,5 @@ def sweep(scenario, spec, *, chunk_size: int | None = None):
 
     variants = spec.variants(scenario.system)
     return run_batch(scenario.system, variants, scenario.excitation, scenario.simulation,
-                     chunk_size=chunk_size or spec.chunk_size)
+                     chunk_size=chunk_size or spec.chunk_size, engine=spec.engine, cross_check=spec.cross_check,
+                     seed=spec.seed)

@@ -5,8 +5,8 @@ command, as a user runs it:
 - cold: every cache of sixdof empty (a fresh ``XDG_CACHE_HOME``: JAX's compilation cache and the solver's
   stored traces start empty; matplotlib keeps its font list, which it builds once when installed);
 - repeated: the same command again (best and median of 5);
-- ``sixdof --help``, and ``sixdof plot`` of the run's results: their time, and whether JAX was imported
-  (it must not be);
+- ``sixdof --help``, and ``sixdof plot`` of the run's results: their time (best of 3), and whether JAX is
+  imported (it must not be; if it is, the sixdof modules that hold it are named);
 - a profile of one repeated run, so that a missed target says where the time goes: the main process'
   stages as they happen, then each figure's drawing time in one process (best of 2; the command draws
   them in worker processes, two at a time on this machine).
@@ -34,8 +34,16 @@ REPEATS = 5
 
 # Run in a fresh process: the main process' stages, stamped as they start and end.
 PROFILE = r"""
-import functools, importlib, json, sys, time
-T0 = time.perf_counter()
+import functools, importlib, json, os, sys, time
+
+def process_age():  # seconds since this process started (Linux), so that stamps count the start-up too
+    try:
+        ticks = int(open("/proc/self/stat").read().rpartition(")")[2].split()[19])
+        return time.clock_gettime(time.CLOCK_BOOTTIME) - ticks / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, AttributeError):
+        return 0.0
+
+T0 = time.perf_counter() - process_age()
 stamps = []
 
 def stamp(what):
@@ -61,14 +69,16 @@ def numerics():  # modules that loading the scenario imports: wrapped once they 
                          ("sixdof.io.store", "write_results"), ("sixdof.workflows", "_frequency_responses")]:
         timed(importlib.import_module(module), name)
 
+def scenario():  # imported once the workers are started, as the command does
+    timed(importlib.import_module("sixdof.io.scenario"), "load_scenario", after=numerics)
+
 if __name__ == "__main__":
-    from sixdof.io import scenario
     from sixdof.plots.workers import FigureWorkers
+    timed(FigureWorkers, "__init__", after=scenario)
     for name in ("submit", "save"):
         timed(FigureWorkers, name)
-    timed(scenario, "load_scenario", after=numerics)
     from sixdof.cli import main
-    stamp("start")
+    stamp("sixdof.cli imported")
     status = main()
     stamp("main returned")
     print("STAMPS " + json.dumps(stamps), flush=True)
@@ -101,10 +111,13 @@ def timed(args, env, cwd):
     return wall, proc.stdout + proc.stderr
 
 
-def imports_jax(importtime_log: str) -> bool:
-    """Whether ``python -X importtime`` imported JAX."""
-    return any(line.startswith("import time:") and line.split("|")[-1].strip() == "jax"
-               for line in importtime_log.splitlines())
+def jax_users(args: list[str], env, cwd) -> list[str]:
+    """The sixdof modules holding JAX after ``main(args)`` in a fresh process (empty: JAX never imported)."""
+    code = ("import sys\nfrom sixdof.cli import main\ntry:\n    main(sys.argv[1:])\nexcept SystemExit:\n    pass\n"
+            "print('JAX', *sorted(m for m, module in list(sys.modules.items()) if m == 'jax' or "
+            "m.startswith('sixdof') and 'jax' in vars(module)))")
+    _, log = timed([sys.executable, "-c", code, *args], env, cwd)
+    return next(line for line in log.splitlines() if line.startswith("JAX")).split()[1:]
 
 
 def beside(value: float, target: float) -> str:
@@ -131,26 +144,27 @@ def main():
     print(f"sixdof run, repeated (best of {REPEATS}):  {beside(best, TARGET_REPEATED_S)}; median {median:.2f} s, "
           f"all {', '.join(f'{t:.2f}' for t in repeated)}", flush=True)
 
-    help_s, log = min((timed([sys.executable, "-X", "importtime", exe, "--help"], env, work) for _ in range(3)),
-                      key=lambda r: r[0])
-    help_jax = imports_jax(log)
-    print(f"sixdof --help: {help_s:.2f} s (with -X importtime), imports JAX: {'YES' if help_jax else 'no'} "
+    help_s = min(timed([sys.executable, exe, "--help"], env, work)[0] for _ in range(3))
+    help_jax = jax_users(["--help"], env, work)
+    print(f"sixdof --help: {help_s:.2f} s (best of 3); imports JAX: {'YES: ' + ', '.join(help_jax) if help_jax else 'no'} "
           "(target: no)", flush=True)
-    plot_s, log = min((timed([sys.executable, "-X", "importtime", exe, "plot", str(results), "--out",
-                              str(work / "replot")], env, work) for _ in range(2)), key=lambda r: r[0])
-    plot_jax = imports_jax(log)
-    print(f"sixdof plot: {plot_s:.2f} s (with -X importtime), imports JAX: {'YES' if plot_jax else 'no'} "
+    replot = ["plot", str(results), "--out", str(work / "replot")]
+    plot_s = min(timed([sys.executable, exe, *replot], env, work)[0] for _ in range(3))
+    plot_jax = jax_users(replot, env, work)
+    print(f"sixdof plot: {plot_s:.2f} s (best of 3); imports JAX: {'YES: ' + ', '.join(plot_jax) if plot_jax else 'no'} "
           "(target: no)", flush=True)
 
     wall, log = timed([sys.executable, "-c", PROFILE, "run", str(common.SCENARIO), "--quiet", "--out",
                        str(work / "out")], env, work)
     stamps = json.loads(next(line for line in log.splitlines() if line.startswith("STAMPS "))[7:])
-    print(f"\nProfile of one repeated run (main process; {wall:.2f} s until the process ended):")
+    print(f"\nProfile of one repeated run, main process (times since the process started; it ended "
+          f"{wall:.2f} s after it was launched):")
     previous = 0.0
     for at, what in stamps:
         print(f"  {at:6.2f} s  (+{at - previous:5.2f})  {what}")
         previous = at
-    print(f"  {wall:6.2f} s  (+{wall - previous:5.2f})  process ended (exit handlers, output flushed)")
+    print(f"  {wall:6.2f} s  (+{wall - previous:5.2f})  process ended (exit handlers, output flushed; launching "
+          "it counts too)")
     _, log = timed([sys.executable, "-c", FIGURES, str(results)], env, work)
     figures = json.loads(next(line for line in log.splitlines() if line.startswith("FIGURES "))[8:])
     print(f"Figures, CPU time of each drawn in one process ({sum(figures.values()):.2f} s in all; the command "

@@ -124,10 +124,9 @@ def main():
                   + verdict(c["repeated_best_s"] <= c["target_repeated_s"],
                             f"by {c['repeated_best_s'] - c['target_repeated_s']:.2f} s") + " |",
                   f"| `sixdof --help` | {c['help_s']:.2f} s | imports no JAX: "
-                  + verdict(not c["help_imports_jax"], "it does") + " |",
+                  + verdict(not c["help_imports_jax"], "held by " + ", ".join(c["help_imports_jax"])) + " |",
                   f"| `sixdof plot` of the run's results | {c['plot_s']:.2f} s | imports no JAX: "
-                  + verdict(not c["plot_imports_jax"], "it does (the stored solver statistics' class lives in "
-                            "analysis.direct)") + " |", "",
+                  + verdict(not c["plot_imports_jax"], "held by " + ", ".join(c["plot_imports_jax"])) + " |", "",
                   f"Profile of one repeated run, main process: {stages}; process ended at {c['profile_wall_s']:.2f} s. "
                   f"Figures drawn in worker processes meanwhile (CPU time of each: {figures}).",
                   f"Machine: {c['machine']}", ""]

@@ -126,11 +126,10 @@ def table_pieces(knots, values, t_end, c=(1.0, 0.0)):
 
 
 def relative_error_per_dof(actual, expected):
-    """``max |actual - expected| / max |expected|`` per column (6,). A DOF that the exact answer leaves at
-    rest (a decoupled one: the model's matrices hold exact zeros) must stay exactly at rest: 0, else inf."""
-    difference = np.max(np.abs(actual - expected), axis=0)
-    peak = np.max(np.abs(expected), axis=0)
-    return np.divide(difference, peak, out=np.where(difference > 0, np.inf, 0.0), where=peak > 0)
+    """``max |actual - expected| / max |expected|`` per column (6,); a column the reference leaves exactly at
+    zero (a DOF decoupled from the input, to the bit with the NumPy assembly) must be exactly zero too."""
+    error, peak = np.max(np.abs(actual - expected), axis=0), np.max(np.abs(expected), axis=0)
+    return np.divide(error, peak, out=np.where(error > 0, np.inf, 0.0), where=peak > 0)
 
 
 def sdof_receptance(m, k, c, eta, w):

@@ -1,13 +1,17 @@
-"""Batches of design variants (sixdof.analysis.batch) against the one-at-a-time library calls.
+"""Batches of design variants (sixdof.analysis.batch) against the one-at-a-time library calls and scipy.
 
-The batch is an independent code path (vmapped assembly, batched eigh, a vmapped 12-state solve):
-its frequencies are compared with scipy's eigh through modal_analysis, its peaks with
-sixdof.analysis.direct.simulate run on each variant's own System, per DOF relative to that DOF's own peak.
+The batch is an independent code path (vmapped assembly, batched eigh; the exact engine's modal
+coordinates of many variants side by side, or a vmapped 12-state diffrax solve): its frequencies are
+compared with scipy's eigh through modal_analysis, its peaks with sixdof.analysis.direct.simulate (and
+superpose) run on each variant's own System and with scipy's DOP853, per DOF relative to that DOF's own
+peak.
 """
 
 import numpy as np
 import pytest
+import scipy.integrate
 
+from references import state_matrices
 from sixdof import (
     Excitation,
     GroundMotion,
@@ -21,12 +25,13 @@ from sixdof import (
     modal_analysis,
     parse_scenario,
     simulate,
+    superpose,
 )
 from sixdof.analysis.batch import batch_frequencies, make_variants, run_batch, variant_matrices, variant_system
 from sixdof.io.sweep import parse_sweep_spec
 from sixdof.workflows import sweep
 from systems import bridge, bridge_toml
-from tolerances import RTOL_BATCH_DIRECT, RTOL_BATCH_FREQUENCY, RTOL_BATCH_MATRIX
+from tolerances import RTOL_BATCH_CHUNKS, RTOL_BATCH_DIRECT, RTOL_BATCH_FREQUENCY, RTOL_BATCH_MATRIX, RTOL_BATCH_SCIPY
 
 # Loads that move all six DOFs: an off-centre harmonic force and a pulse near one end.
 SCENARIO_TOML = 'name = "beam"\n' + bridge_toml("elastomer") + """[[loads]]
@@ -45,7 +50,7 @@ sample_rate_hz = 400.0
 """
 SCENARIO = parse_scenario(SCENARIO_TOML)
 EXCITATION, SETTINGS = SCENARIO.excitation, SCENARIO.simulation
-CHUNK = 2  # 3 variants in chunks of 2: the padded last chunk is exercised
+CHUNK = 2  # 3 variants in chunks of 2 and 1: diffrax repeats a variant in the short chunk
 
 
 @pytest.fixture(scope="module")
@@ -64,12 +69,13 @@ def variants(beam):
     )
 
 
-@pytest.fixture(scope="module")
-def batch(beam, variants):
-    return run_batch(beam, variants, EXCITATION, SETTINGS, histories=(2,), chunk_size=CHUNK)
+@pytest.fixture(scope="module", params=["exact", "diffrax"])
+def batch(request, beam, variants):
+    return run_batch(beam, variants, EXCITATION, SETTINGS, histories=(2,), chunk_size=CHUNK, engine=request.param)
 
 
 def test_batch_peaks_equal_direct_simulation_one_by_one(beam, variants, batch):
+    assert batch.chunk_size == CHUNK
     for i in range(variants.count):
         direct = simulate(variant_system(beam, variants, i), EXCITATION, SETTINGS)
         for name, peak in (("q", batch.peak_q[i]), ("qdd", batch.peak_qdd[i])):
@@ -83,13 +89,87 @@ def test_batch_peaks_equal_direct_simulation_one_by_one(beam, variants, batch):
     assert np.all(np.ptp(batch.frequency_hz, axis=0) > 1e-3)
 
 
-def test_kept_history_is_the_direct_response(beam, variants, batch):
+def test_kept_history_is_the_engines_response(beam, variants, batch):
     assert set(batch.histories) == {2}
     history = batch.histories[2]
     assert history.q.shape == (SETTINGS.times.size, 6)
     error = np.abs(np.max(np.abs(history.q), axis=0) - batch.peak_q[2]) / batch.peak_q[2]
-    assert np.all(error < RTOL_BATCH_DIRECT)
-    assert batch.num_steps.shape == (3,) and np.all(batch.num_steps > 0)
+    if batch.engine == "exact":  # superpose: the same engine, one variant at a time
+        assert history.superposition is not None and batch.num_steps is None
+        assert np.all(error < RTOL_BATCH_CHUNKS)
+    else:  # simulate: the same diffrax solve, not vmapped
+        assert batch.num_steps.shape == (3,) and np.all(batch.num_steps > 0)
+        assert np.all(error < RTOL_BATCH_DIRECT)
+
+
+def test_a_sample_is_cross_checked_by_diffrax(beam, variants, batch):
+    # The default: three variants (here all of them), solved by simulate, their peaks against the engine's.
+    np.testing.assert_array_equal(batch.cross_check_variants, [0, 1, 2])
+    expected = np.array([np.max(np.abs(simulate(variant_system(beam, variants, i), EXCITATION, SETTINGS).q), axis=0)
+                         for i in range(3)])
+    error = np.max(np.abs(batch.peak_q - expected), axis=0) / np.max(expected, axis=0)
+    assert batch.cross_check.worst >= np.max(error) and batch.cross_check.ok
+    assert batch.cross_check.worst < RTOL_BATCH_DIRECT
+
+
+def test_cross_checked_variants_are_drawn_with_the_seed(beam):
+    many = make_variants(beam, stiffness_factor=np.linspace(0.8, 1.2, 8))
+    first = run_batch(beam, many, EXCITATION, SETTINGS, cross_check=2, seed=4)
+    again = run_batch(beam, many, EXCITATION, SETTINGS, cross_check=2, seed=4)
+    np.testing.assert_array_equal(first.cross_check_variants, again.cross_check_variants)
+    assert first.cross_check_variants.size == 2 and first.cross_check.ok
+    none = run_batch(beam, many, EXCITATION, SETTINGS, cross_check=0)
+    assert none.cross_check is None and none.cross_check_variants is None
+
+
+@pytest.mark.parametrize("damping", ["dashpots", "rayleigh", "near_critical"])
+def test_exact_batch_equals_superpose_per_variant_and_chunking_changes_nothing(beam, damping):
+    # Non-proportional dashpots (complex modes), classical damping (single oscillators), and modal
+    # damping near critical on two modes (chains of two coordinates): the variants' coordinates side by
+    # side give each variant's own superposition, in any chunks.
+    system = {"dashpots": beam, "rayleigh": System(beam.body, beam.mounts, rayleigh=Rayleigh.from_ratio(0.03, (0.6, 38.0))),
+              "near_critical": System(beam.body, bridge().mounts, modal_damping=(0.02, 0.99, 0.03, 0.995, 0.05, 0.02))}[damping]
+    rng = np.random.default_rng(11)
+    many = make_variants(system, stiffness_factor=rng.uniform(0.7, 1.3, (5, 4, 3)))
+    results = [run_batch(system, many, EXCITATION, SETTINGS, chunk_size=size, cross_check=0) for size in (5, 2, 1)]
+    assert [r.chunk_size for r in results] == [5, 2, 1]  # 5 in chunks of at most 2: 2, 2 and 1
+    for i in range(5):
+        one = superpose(variant_system(system, many, i), EXCITATION, SETTINGS.times)
+        for name, peak in (("q", "peak_q"), ("qdd", "peak_qdd")):
+            expected = np.max(np.abs(getattr(one, name)), axis=0)
+            for result in results:
+                assert np.all(np.abs(getattr(result, peak)[i] - expected) <= RTOL_BATCH_CHUNKS * expected), (i, name)
+
+
+def test_exact_batch_peaks_equal_scipy_dop853(beam, variants):
+    # An independent integration of one variant's state-space system (scipy, tight tolerances, stepping
+    # onto the pulse's edges), sampled at the output times.
+    batch = run_batch(beam, variants, EXCITATION, SETTINGS, cross_check=0)
+    one = variant_system(beam, variants, 1)
+    A, B = state_matrices(one.M, one.C, one.K)
+    force = EXCITATION.generalized_force
+    t = SETTINGS.times
+    edges = [t[0], *[b for b in EXCITATION.breakpoints if t[0] < b < t[-1]], t[-1]]
+    x, peaks = np.zeros(12), np.zeros(12)
+    for low, high in zip(edges[:-1], edges[1:]):
+        inside = t[(t >= low) & (t <= high)]
+        sol = scipy.integrate.solve_ivp(lambda s, y: A @ y + B @ force([s])[0], (low, high), x, method="DOP853",
+                                        t_eval=inside, rtol=1e-12, atol=1e-16)
+        peaks = np.maximum(peaks, np.max(np.abs(sol.y), axis=1))
+        x = sol.y[:, -1]
+    assert np.all(np.abs(batch.peak_q[1] - peaks[:6]) <= RTOL_BATCH_SCIPY * peaks[:6])
+
+
+def test_ground_motion_in_an_exact_batch_equals_simulate(beam, variants):
+    ground = Excitation(loads=EXCITATION.loads, ground=GroundMotion("acceleration", [0.3, 1.0, 0.2],
+                                                                     Harmonic(f_hz=2.0), scale=0.5))
+    result = run_batch(beam, variants, ground, SETTINGS, chunk_size=CHUNK)
+    assert result.cross_check.ok and result.cross_check.worst < RTOL_BATCH_DIRECT
+    for i in range(variants.count):
+        direct = simulate(variant_system(beam, variants, i), ground, SETTINGS)
+        for name, peak in (("q", result.peak_q[i]), ("qdd", result.peak_qdd[i])):
+            expected = np.max(np.abs(getattr(direct, name)), axis=0)
+            assert np.all(np.abs(peak - expected) < RTOL_BATCH_DIRECT * expected), (i, name)
 
 
 def test_batch_frequencies_equal_modal_analysis_per_variant(beam):
@@ -133,6 +213,25 @@ distribution = "normal"
 mean = 1.0
 std = 0.1
 """
+
+def test_spec_names_the_engine_and_the_cross_check():
+    spec = parse_sweep_spec(SPEC)
+    assert spec.engine == "exact" and spec.cross_check == 3
+    spec = parse_sweep_spec("engine = 'diffrax'\ncross_check = 0\n" + SPEC)
+    assert spec.engine == "diffrax" and spec.cross_check == 0
+
+
+def test_sweep_command_prints_the_cross_check(tmp_path, capsys):
+    from sixdof.cli import main
+
+    scenario, spec = tmp_path / "beam.toml", tmp_path / "spec.toml"
+    scenario.write_text(SCENARIO_TOML)
+    spec.write_text(SPEC)
+    assert main(["sweep", str(scenario), "--spec", str(spec), "--out", str(tmp_path / "out")]) == 0
+    out = capsys.readouterr().out
+    assert "Cross-check of the exact engine: diffrax solved variants 0, 1, 2; peak agreement worst " in out
+    assert ": ok; per DOF: x " in out and "3 variants, exact engine" in out
+
 
 def test_spec_draws_only_what_it_names(beam):
     spec = parse_sweep_spec(SPEC)
@@ -180,10 +279,13 @@ def test_sweep_of_a_scenario_and_its_file(tmp_path, beam):
     assert back["sweep/frequency_hz"].units == "Hz"
     assert back["sweep/position_offset"].units == "m"
     assert back.attrs["sweep"]["count"] == result.variants.count and back.attrs["sweep"]["solver"] == "Tsit5"
+    assert back.attrs["sweep"]["engine"] == "exact" and back.attrs["sweep"]["cross_check_worst"] == result.cross_check.worst
     typed = load_results(written.path).sweep
     np.testing.assert_array_equal(typed.peak_qdd, result.peak_qdd)
     np.testing.assert_array_equal(typed.variants.stiffness_factor, result.variants.stiffness_factor)
-    assert typed.settings == result.settings and typed.chunk_size == result.chunk_size
+    np.testing.assert_array_equal(typed.cross_check_variants, result.cross_check_variants)
+    np.testing.assert_array_equal(typed.cross_check.per_dof, result.cross_check.per_dof)
+    assert typed.settings == result.settings and typed.chunk_size == result.chunk_size and typed.engine == "exact"
 
 
 @pytest.mark.parametrize("text, match", [
@@ -205,7 +307,12 @@ def test_sweep_of_a_scenario_and_its_file(tmp_path, beam):
     ("count = 5\n[[vary]]\nparameter='stiffness'\ndistribution='grid'\nvalues=[1.0, 2.0]",
      r"count: expected the product of the grid sizes, 2 \(or no count\), got 5"),
     ("count = 2\nseeds = 1\n[[vary]]\nparameter='stiffness'\ndistribution='grid'\nvalues=[1.0, 2.0]",
-     r"seeds: expected one of the keys chunk_size, count, seed, vary, got an unknown key; did you mean 'seed'\?"),
+     r"seeds: expected one of the keys chunk_size, count, cross_check, engine, seed, vary, got an unknown key; "
+     r"did you mean 'seed'\?"),
+    ("count = 2\nengine = 'rk4'\n[[vary]]\nparameter='stiffness'\ndistribution='grid'\nvalues=[1.0, 2.0]",
+     r"engine: expected one of exact, diffrax, got 'rk4'"),
+    ("count = 2\ncross_check = -1\n[[vary]]\nparameter='stiffness'\ndistribution='grid'\nvalues=[1.0, 2.0]",
+     r"cross_check: expected a number of variants >= 0, got -1"),
     ("count = 2\n[[vary]\n", r"spec\.toml: expected valid TOML"),
 ])
 def test_bad_specs_are_named(text, match):
@@ -234,8 +341,12 @@ def test_bad_variants_and_unsupported_excitations_are_named(beam, variants):
     with pytest.raises(InputError, match=r"position_offset: expected shape \(nv, 3\) or \(nv, 4, 3\) in m"):
         make_variants(beam, position_offset=np.zeros((2, 2)))
     ground = Excitation(ground=GroundMotion("acceleration", [0, 0, 1], Harmonic(f_hz=2.0)))
-    with pytest.raises(InputError, match=r"excitation\.ground: expected no ground motion in a batch"):
-        run_batch(beam, variants, ground, SETTINGS)
+    with pytest.raises(InputError, match=r"excitation\.ground: expected no ground motion in a diffrax batch"):
+        run_batch(beam, variants, ground, SETTINGS, engine="diffrax")
+    with pytest.raises(InputError, match=r"engine: expected one of 'exact', 'diffrax', got 'rk4'"):
+        run_batch(beam, variants, EXCITATION, SETTINGS, engine="rk4")
+    with pytest.raises(InputError, match=r"cross_check: expected a number of variants >= 0, got -1"):
+        run_batch(beam, variants, EXCITATION, SETTINGS, cross_check=-1)
     release = Excitation(initial=ModeRelease(1, 1e-3))
     with pytest.raises(InputError, match=r"excitation\.initial: expected an InitialState in a batch"):
         run_batch(beam, variants, release, SETTINGS)
@@ -246,4 +357,11 @@ def test_bad_variants_and_unsupported_excitations_are_named(beam, variants):
 def test_step_limit_raises_a_solver_error_naming_the_variant(beam, variants):
     tight = SimulationSettings(duration=1.5, sample_rate_hz=400.0, max_steps=50)
     with pytest.raises(SolverError, match=r"failed for 3 of 3 variants \(first: index 0\)"):
-        run_batch(beam, variants, EXCITATION, tight, chunk_size=CHUNK)
+        run_batch(beam, variants, EXCITATION, tight, chunk_size=CHUNK, engine="diffrax", cross_check=0)
+
+
+def test_the_specs_engine_and_cross_check_reach_the_batch():
+    spec = parse_sweep_spec(SPEC.replace("count = ", 'engine = "diffrax"\ncross_check = 1\ncount = ', 1))
+    result = sweep(SCENARIO, spec, chunk_size=CHUNK)
+    assert (spec.engine, spec.cross_check) == ("diffrax", 1)
+    assert result.engine == "diffrax" and len(result.cross_check_variants) == 1

@@ -39,7 +39,8 @@ from sixdof import (
     modal_analysis,
     simulate,
 )
-from sixdof.analysis.direct import SOLVERS, state_scale
+from sixdof.analysis.direct import SOLVERS, simulate_windows, state_scale, window_length
+from sixdof.results import time_concat
 from systems import bridge, skewed_machine
 from tolerances import (
     ATOL_UNIT_ROUNDOFF,
@@ -313,8 +314,17 @@ def test_new_parameters_reuse_the_compiled_solver(beam):
 
 def test_step_limit_raises_a_solver_error(beam):
     settings = SimulationSettings(duration=2.0, sample_rate_hz=100.0, max_steps=20)
+    with pytest.raises(SolverError, match=r"failed in \[0, 2\] s: .*maximum number of solver steps"):
+        simulate(beam, load(Harmonic(f_hz=5.0)), settings)
+
+
+def test_step_limit_applies_per_window(beam):
+    # A run that needs more steps than max_steps in all runs through in windows that each need fewer.
+    settings = SimulationSettings(duration=2.0, sample_rate_hz=100.0, max_steps=400)
     with pytest.raises(SolverError, match="maximum number of solver steps"):
         simulate(beam, load(Harmonic(f_hz=5.0)), settings)
+    run = simulate(beam, load(Harmonic(f_hz=5.0)), settings, window_samples=20)
+    assert run.stats.num_windows == 11 and run.stats.num_steps > settings.max_steps
 
 
 def test_no_excitation_stays_at_rest(beam):
@@ -358,3 +368,95 @@ def test_sample_times_never_pass_the_end(rate):
         times = settings.times
         assert times.size == n
         assert times[-1] <= settings.start + settings.duration
+
+
+# --- windows ---------------------------------------------------------------------------------------
+
+
+def test_windows_carry_the_state_across_a_breakpoint(beam, pulse_run):
+    # Windows of 2000 samples: one ends exactly at the pulse's start (sample 20000), the next holds the
+    # pulse's end. The solver restarts from the state it reached, and the run stays exact.
+    start, length, end = PULSE
+    settings = SimulationSettings(duration=end, sample_rate_hz=5000.0)
+    assert window_length(settings.samples, 2000) == 2000
+    windows = list(simulate_windows(beam, load(HalfSine(start=start, duration=length)), settings,
+                                    window_samples=2000))
+    assert [w.t.size for w in windows] == [2000] * 12 + [1001]
+    assert windows[10].t[0] == start and sum(w.stats.num_jumps for w in windows) == 2
+    run = time_concat(windows)
+    np.testing.assert_array_equal(run.t, settings.times)
+    pieces = [(0.0, start, FREE), (start, start + length, oscillator(np.pi / length, 0.0, start)),
+              (start + length, end, FREE)]
+    q, qd = exact_response(beam.M, beam.C, beam.K, Q0, pieces, run.t)
+    assert_each_dof((run.q, q), (run.qd, qd), (run.q, pulse_run.q))
+
+
+def test_windows_carry_the_ground_integration(beam):
+    # A ground acceleration is integrated twice inside the solve: its velocity and displacement states
+    # cross every window boundary.
+    a0, f = 0.5, 1.5
+    w = 2 * np.pi * f
+    ground = GroundMotion("acceleration", [0.0, 1.0, 0.0], Harmonic(f_hz=f), scale=a0)
+    run = simulate(beam, Excitation(ground=ground), THREE_SECONDS, window_samples=256)
+    assert run.stats.num_windows == 6
+    r = np.array([0.0, 1.0, 0.0, 0.0, 0.0, 0.0])
+    z, zd = exact_response(beam.M, beam.C, beam.K, -beam.M @ r * a0, [(0.0, 3.0, oscillator(w, 0.0, 0.0))], run.t)
+    assert_each_dof((run.q_relative, z), (run.qd_relative, zd))
+    v, u = harmonic_from_rest(a0, w, run.t)
+    assert np.allclose(run.ground_displacement[:, 1], u, rtol=0, atol=RTOL_DIRECT_EXACT * u.max())
+    assert np.allclose(run.ground_velocity[:, 1], v, rtol=0, atol=RTOL_DIRECT_EXACT * v.max())
+
+
+def test_simulate_is_the_join_of_its_windows(beam):
+    excitation = load(Harmonic(f_hz=5.0, phase_deg=30.0))
+    windows = list(simulate_windows(beam, excitation, THREE_SECONDS, window_samples=512))
+    run = simulate(beam, excitation, THREE_SECONDS, window_samples=512)
+    assert [w.t.size for w in windows] == [512, 512, 477]
+    for name in ("t", "q", "qd", "qdd", "Q"):
+        np.testing.assert_array_equal(getattr(run, name), np.concatenate([getattr(w, name) for w in windows]))
+    assert run.stats.num_steps == sum(w.stats.num_steps for w in windows) and run.stats.num_windows == 3
+
+
+@pytest.mark.parametrize("samples, most, expected", [(1501, 32768, 1536), (20001, 32768, 20480),
+                                                     (2_000_001, 32768, 32768), (101, 32768, 512),
+                                                     (20001, 16384, 10240), (25001, 2000, 2000), (201, 20, 20)])
+def test_window_length(samples, most, expected):
+    assert window_length(samples, most) == expected
+
+
+def test_progress_is_shown_between_windows(beam, capsys):
+    simulate(beam, load(Harmonic(f_hz=5.0)), SimulationSettings(duration=1.0, sample_rate_hz=100.0),
+             progress="text", window_samples=40)
+    shown = capsys.readouterr().err
+    assert "direct solve: 0.39 / 1 s (39%)" in shown and shown.endswith("direct solve: 1 / 1 s (100%)\n")
+    with pytest.raises(InputError, match="progress: expected None, True, 'text' or 'tqdm'"):
+        simulate(beam, None, THREE_SECONDS, progress="bar")
+
+
+# --- the solver's stages ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("name", ["Tsit5", "Dopri8", "Heun"])  # first same as last, or not; 7 and 14 stages
+def test_unrolled_stages_are_diffrax_s_method(name):
+    # The same tableau, error estimate, first-same-as-last reuse across a jump and dense output as
+    # diffrax's own solver: the same steps, and the same values to round-off.
+    import diffrax
+
+    from sixdof.analysis.unrolled import UnrolledERK
+
+    A = jax.numpy.array([[0.0, 1.0], [-40.0, -0.3]])
+
+    def field(t, y, args):
+        return A @ y + jax.numpy.array([0.0, jax.numpy.where(t >= 0.31, 1.0, 0.0) + jax.numpy.sin(3 * t)])
+
+    ts = jax.numpy.linspace(0.0, 2.0, 41)
+    results = []
+    for solver in (getattr(diffrax, name)(), UnrolledERK(getattr(diffrax, name)())):
+        control = diffrax.ClipStepSizeController(diffrax.PIDController(rtol=1e-8, atol=1e-8),
+                                                 jump_ts=jax.numpy.array([0.31]))
+        sol = diffrax.diffeqsolve(diffrax.ODETerm(field), solver, 0.0, 2.0, None, jax.numpy.array([1.0, 0.0]),
+                                  saveat=diffrax.SaveAt(ts=ts), stepsize_controller=control, max_steps=100_000)
+        results.append((np.asarray(sol.ys), int(sol.stats["num_steps"])))
+    (expected, expected_steps), (ys, steps) = results
+    assert steps == expected_steps
+    assert np.abs(ys - expected).max() < 1e-12 * np.abs(expected).max()

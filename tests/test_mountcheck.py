@@ -20,10 +20,12 @@ from sixdof import (
     parse_scenario,
     simulate,
 )
+from sixdof.analysis.mountcheck import merge_mount_checks
 from sixdof.analysis.statics import STANDARD_GRAVITY, gravity_statics
 from sixdof.cli import main
 from sixdof.errors import ScenarioError
 from sixdof.io.store import load_results, load_tree
+from sixdof.results import time_slice
 from sixdof.workflows import run_scenario
 from systems import four_mount
 from tolerances import RTOL_DIRECT_EXACT, RTOL_STATICS
@@ -213,3 +215,18 @@ def test_limits_parse_per_axis_and_scalar():
     assert list(mounts[1].max_deflection) == [np.inf, 0.01, 0.003]
     assert np.all(np.isinf(mounts[2].max_deflection)) and mounts[2].allow_tension is True
     assert mounts[0].allow_tension is False
+
+
+def test_windows_merge_to_the_whole_run_check():
+    scenario = parse_scenario(LIFTED, "lifted.toml")
+    system = scenario.system
+    response = simulate(system, scenario.excitation, scenario.simulation)
+    forces, statics = mount_forces(system, response), gravity_statics(system)
+    whole = mount_check(system, forces, response.t, statics)
+    windows = [mount_check(system, time_slice(forces, part), response.t[part], statics)
+               for part in (slice(0, 5), slice(5, 21), slice(21, 60), slice(60, None))]
+    merged = merge_mount_checks(system, windows)
+    assert merged.violations == whole.violations and len(whole.violations) == 1
+    for name in ("peak_deflection", "peak_deflection_t", "peak_force", "peak_force_t", "max_compression",
+                 "max_compression_t", "min_compression", "min_compression_t", "tension_start_t", "over_limit_t"):
+        np.testing.assert_array_equal(getattr(merged, name), getattr(whole, name), err_msg=name)

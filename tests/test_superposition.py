@@ -9,6 +9,7 @@
 
 from __future__ import annotations
 
+import math
 from functools import cache
 from types import SimpleNamespace
 
@@ -38,7 +39,7 @@ from sixdof import (
 )
 from sixdof import excitation as ex
 from sixdof.analysis.compare import Agreement
-from sixdof.analysis.superposition import modal_solve
+from sixdof.analysis.superposition import QUADRATURE_RTOL, modal_solve, quadrature_size
 from sixdof.results import TimeHistory
 from systems import BRIDGE_MASS, BRIDGE_POSITIONS, bridge, bridge_body, four_mount
 from tolerances import (
@@ -47,7 +48,9 @@ from tolerances import (
     MODAL_RESIDUAL_GAIN,
     RTOL_MODAL_DIRECT,
     RTOL_MODAL_EXACT,
+    RTOL_QUADRATURE_NODES,
     RTOL_REPORTED_TRUNCATION,
+    RTOL_WINDOWS,
 )
 
 # The seed paper's bridge beam (tests/systems.py): mounts 1, 2 and 3, 4 differ, so every mode couples
@@ -74,12 +77,13 @@ def sine(w, phase=0.0, amplitude=1.0):
     return oscillator(w, phase, 0.0, amplitude)
 
 
-def exact(system, pieces, q0=None, qd0=None):
-    """q (n, 6) on T of ``M q'' + C q' + K q = LOAD s(t)``; s is the sum of the generators of each
-    ``(start, end, generators)`` piece on ``[start, end)``, zero elsewhere."""
+def exact(system, pieces, q0=None, qd0=None, t=None):
+    """q (n, 6) on t (default T) of ``M q'' + C q' + K q = LOAD s(t)``; s is the sum of the generators of
+    each ``(start, end, generators)`` piece on ``[start, end)``, zero elsewhere."""
+    t = T if t is None else t
     x0 = None if q0 is None else np.concatenate([q0, qd0])
-    pieces = windowed_pieces(pieces, T[-1], T[0])
-    return exact_response(system.M, system.C, system.K, LOAD, pieces, T, x0)[0]
+    pieces = windowed_pieces(pieces, t[-1], t[0])
+    return exact_response(system.M, system.C, system.K, LOAD, pieces, t, x0)[0]
 
 
 def pieces_signal(pieces):
@@ -119,10 +123,10 @@ def exact_case(system_name, case):
     return exact(SYSTEMS[system_name], CASES[case])
 
 
-def solve(system, pieces, **options):
+def solve(system, pieces, t=None, **options):
     signal, breakpoints = pieces_signal(pieces)
-    return modal_solve(system.M, system.C, system.K, T, lambda times: signal(times)[:, None] * LOAD,
-                       breakpoints, **options)
+    return modal_solve(system.M, system.C, system.K, T if t is None else t,
+                       lambda times: signal(times)[:, None] * LOAD, breakpoints, **options)
 
 
 @pytest.mark.parametrize("system_name", list(SYSTEMS))
@@ -430,3 +434,112 @@ def test_truncated_superposition_reports_error_against_full_set():
     # solution, up to the direct solver's own error.
     assert truncated.superposition.truncation.worst == pytest.approx(actual, rel=RTOL_REPORTED_TRUNCATION)
     assert truncated.superposition.truncation.worst > RTOL_MODAL_DIRECT
+
+
+# ----------------------------------------------------------------------------------------------------
+# The exact engine: windows, non-uniform grids, chains near critical damping, breakpoints between samples.
+# ----------------------------------------------------------------------------------------------------
+
+# Loads, a ground accelerating (integrated twice, the integrals carried across windows) and an initial state.
+WINDOWED = ex.Excitation(
+    loads=_loads(ex.Harmonic(f_hz=5.0, phase_deg=20.0), ex.HalfSine(start=0.2005, duration=0.05)).loads,
+    ground=ex.GroundMotion("acceleration", [0.3, 1.0, 0.2], ex.Random(f_hz=(0.5, 20.0), rms=1.0, seed=1), scale=0.5),
+    initial=ex.InitialState(q=Q0, qd=QD0))
+
+
+def per_dof_error(actual, expected):
+    """max over DOFs of max_t |actual - expected| / max_t |expected|."""
+    return float(np.max(np.max(np.abs(actual - expected), axis=0) / np.max(np.abs(expected), axis=0)))
+
+
+@pytest.mark.parametrize("system_name", ["rayleigh", "dashpots"])
+@pytest.mark.parametrize("options", [{}, {"n_modes": 4}, {"method": "real"}], ids=["all", "truncated", "real"])
+@pytest.mark.parametrize("overlap", [True, False], ids=["from_last_sample", "from_next_sample"])
+def test_windows_continue_one_run_exactly(system_name, options, overlap):
+    system = SYSTEMS[system_name]
+    whole = superpose(system, WINDOWED, T, **options)
+    histories, state, low = [], None, 0
+    for high in (300, 302, 650, len(T)):  # the second window: two samples
+        window = T[low - 1:high] if overlap and state is not None else T[low:high]
+        history = superpose(system, WINDOWED, window, start=state, **options)
+        state = history.superposition.end
+        histories.append(history)
+        low = high
+    assert state.t == T[-1]
+    for name in ("q", "qd", "qdd"):
+        chained = np.concatenate([getattr(h, name)[int(overlap and k > 0):] for k, h in enumerate(histories)])
+        assert per_dof_error(chained, getattr(whole, name)) < RTOL_WINDOWS, name
+
+
+def test_a_window_continues_only_its_own_computation():
+    state = superpose(SYSTEMS["dashpots"], WINDOWED, T[:300]).superposition.end
+    with pytest.raises(InputError, match=r"start: expected the state of the same computation"):
+        superpose(SYSTEMS["dashpots"], WINDOWED, T[299:400], start=state, n_modes=4)
+    with pytest.raises(InputError, match=r"start: expected a state at or before t\[0\] = 0.1 s, got 'a state at "
+                                         r"0.299 s'"):
+        superpose(SYSTEMS["dashpots"], WINDOWED, T[100:400], start=state)
+
+
+# Steps of 0.5 to 1.5 ms in random order, so that no two neighbours are equal.
+T_UNEVEN = np.concatenate([[0.0], np.cumsum(np.random.default_rng(4).uniform(0.5e-3, 1.5e-3, 400))])
+
+
+@pytest.mark.parametrize("system_name", ["rayleigh", "dashpots", "overdamped"])
+@pytest.mark.parametrize("case", ["half_sine", "table"])
+def test_non_uniform_grid_matches_exact_response(system_name, case):
+    system = SYSTEMS[system_name]
+    result = solve(system, CASES[case], t=T_UNEVEN)
+    assert result.superposition.n_intervals == T_UNEVEN.size - 1
+    assert compare(exact(system, CASES[case], t=T_UNEVEN), result).worst < RTOL_MODAL_EXACT
+
+
+def modal_damping_matrix(system, zeta):
+    """``C = M Phi diag(2 zeta omega) Phi' M``: exactly the ratios zeta (up to and beyond critical)."""
+    modes = modal_analysis(system.M, system.K)
+    return system.M @ modes.shapes @ np.diag(2 * np.asarray(zeta) * modes.omega) @ modes.shapes.T @ system.M
+
+
+@pytest.mark.parametrize("zeta", [1.0, 0.99, 0.97, 3.0], ids=["critical", "near_critical", "just_under", "over"])
+def test_modes_damped_near_or_beyond_critical_match_exact_response(zeta):
+    # Two modes at zeta, each a defective (critical) or nearly defective first-order system: solved as
+    # a chain of two coordinates (or, just under 0.968, as one complex mode), exactly either way.
+    base = SYSTEMS["rayleigh"]
+    system = SimpleNamespace(M=base.M, K=base.K, C=modal_damping_matrix(base, (0.02, zeta, 0.03, zeta, 0.05, 0.02)))
+    for case in ("half_sine", "ramp"):
+        result = solve(system, CASES[case], q0=Q0, qd0=QD0)
+        assert result.superposition.method == "real"
+        assert compare(exact(system, CASES[case], Q0, QD0), result).worst < RTOL_MODAL_EXACT, case
+
+
+def test_a_pulse_between_two_samples_is_felt_exactly():
+    # A 0.4 ms half-sine inside the output step [0.300, 0.301): the recursion keeps that step, the
+    # quadrature splits it at both ends of the pulse.
+    pieces = [(0.30012, 0.30052, [sine(np.pi / 0.0004)])]
+    for system_name in ("rayleigh", "dashpots"):
+        result = solve(SYSTEMS[system_name], pieces)
+        assert result.superposition.n_intervals == T.size - 1
+        assert compare(exact(SYSTEMS[system_name], pieces), result).worst < RTOL_MODAL_EXACT
+
+
+@pytest.mark.parametrize("case", ["harmonic_late_start", "half_sine", "table"])
+def test_the_automatic_quadrature_adds_no_error(case):
+    signal_omega = 2 * np.pi * 21.0 if case == "harmonic_late_start" else 2 * np.pi * 20.0
+    automatic = solve(SYSTEMS["dashpots"], CASES[case], signal_omega=signal_omega)
+    many = solve(SYSTEMS["dashpots"], CASES[case], quadrature_nodes=16, max_step=3e-4)
+    assert many.superposition.quadrature_nodes == 64 and automatic.superposition.quadrature_nodes < 16
+    for name in ("q", "qd", "qdd"):
+        assert per_dof_error(getattr(automatic, name), getattr(many, name)) < RTOL_QUADRATURE_NODES, name
+
+
+@pytest.mark.parametrize("theta, theta_ground", [(0.0, 0.0), (0.37, 0.0), (0.37, 0.13), (4.0, 0.0), (300.0, 5.0)])
+def test_quadrature_size_keeps_the_error_bound(theta, theta_ground):
+    nodes, pieces = quadrature_size(theta, theta_ground)
+    n = nodes
+    gauss = math.factorial(n) ** 4 / ((2 * n + 1) * math.factorial(2 * n) ** 3) * (theta / pieces) ** (2 * n)
+    interpolation = math.factorial(n) / math.factorial(2 * n) * (theta_ground / pieces) ** n
+    assert gauss <= QUADRATURE_RTOL and interpolation <= QUADRATURE_RTOL
+    if nodes > 3:  # the fewest nodes: one fewer breaks the bound
+        n = nodes - 1
+        fewer = max(math.factorial(n) ** 4 / ((2 * n + 1) * math.factorial(2 * n) ** 3) * (theta / pieces) ** (2 * n),
+                    math.factorial(n) / math.factorial(2 * n) * (theta_ground / pieces) ** n)
+        assert fewer > QUADRATURE_RTOL

@@ -53,6 +53,13 @@ RTOL_MODAL_EXACT = 1e-9
 # Modal superposition against the direct (diffrax) solver, all modes kept, per DOF relative to its
 # own peak: the issue's requirement.
 RTOL_MODAL_DIRECT = 1e-6
+# A run continued window by window from its end states (modal coordinates and ground integrals
+# carried exactly) against the same run in one piece, per DOF relative to its peak: the same
+# recursion from the same states, so round-off only (measured ~3e-15).
+RTOL_WINDOWS = 1e-13
+# The automatic count of quadrature nodes against many more on the same grid, per DOF relative to its
+# peak: the quadrature adds no error of its own beyond round-off (measured <= 2e-14 on the bridge).
+RTOL_QUADRATURE_NODES = 1e-12
 # Real modes on the bridge with mount dashpots (modal damping coupling ~0.3) miss the response by
 # ~1e-1 of a DOF's peak: a disagreement that must show, far above any round-off.
 MODAL_DAMPING_COUPLING_MIN = 1e-3
@@ -104,6 +111,13 @@ RTOL_DIRECT_STEADY_STATE = 1e-6
 # Vectorized batch peaks against sixdof.analysis.direct.simulate run one by one, per DOF relative to that
 # DOF's own peak (issue 7): both solves are ~1e-8 from exact; measured ~1e-9.
 RTOL_BATCH_DIRECT = 1e-6
+# The exact engine's batch peaks against superpose of each variant alone (the same arithmetic, the
+# variants' coordinates side by side in chunks of any size), relative to each DOF's peak: round-off
+# (measured ~5e-13).
+RTOL_BATCH_CHUNKS = 1e-11
+# The exact engine's batch peaks against scipy's DOP853 at rtol 1e-12 on the 12-state system, relative
+# to each DOF's peak: bounded by DOP853's global error (measured ~1e-12).
+RTOL_BATCH_SCIPY = 1e-10
 # Batched jnp.linalg.eigh of the mass-scaled stiffness against scipy's eigh(K, M) per variant:
 # measured ~5e-13 on the bridge.
 RTOL_BATCH_FREQUENCY = 1e-10

@@ -287,7 +287,12 @@ def _sweep(args) -> int:
     )
     print(f"{scenario.name}: {scenario.description}\n")
     print(summary_table(result))
-    print(f"\nWrote {directory / 'sweep.h5'} ({result.wall_time_s:.2f} s)")
+    if result.cross_check is not None:
+        checked = ", ".join(str(i) for i in result.cross_check_variants)
+        print(f"\nCross-check of the {result.engine} engine: diffrax solved variants {checked}; peak agreement "
+              f"{result.cross_check}")
+    print(f"\nWrote {directory / 'sweep.h5'} ({result.count} variants, {result.engine} engine, "
+          f"{result.wall_time_s:.2f} s)")
     return 0
 
 

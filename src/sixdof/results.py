@@ -16,7 +16,7 @@ statistics (``stats``) or the superposition's method and truncation (``superposi
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import MISSING, dataclass, field
 from importlib import import_module
 from typing import Any
@@ -328,3 +328,84 @@ def to_xarray(result):
         if dim in dims and dim not in coords:
             coords[dim] = (dim, list(labels))
     return xr.Dataset(variables, coords=coords, attrs=attrs)
+
+
+def time_slice(result, index):
+    """``result`` with every quantity that has a time axis ``t`` cut to ``index`` (a slice or an array of
+    sample indices) along that axis, nested results likewise: a window of a run, or the samples a figure
+    draws."""
+    changes = {}
+    for f in dataclasses.fields(result):
+        meta, value = f.metadata.get("store"), getattr(result, f.name)
+        if meta is None or value is None:
+            continue
+        if meta["kind"] == "quantity" and "t" in meta["dims"]:
+            where = [slice(None)] * np.ndim(value)
+            where[meta["dims"].index("t")] = index
+            changes[f.name] = np.asarray(value)[tuple(where)]
+        elif meta["kind"] == "part" and time_slice(value, index) is not value:
+            changes[f.name] = time_slice(value, index)
+        elif meta["kind"] == "stacked" and isinstance(value, Mapping) and value:
+            changes[f.name] = {name: time_slice(item, index) for name, item in value.items()}
+    return dataclasses.replace(result, **changes) if changes else result
+
+
+def time_concat(results, **changes):
+    """Consecutive windows of a run joined: every quantity with a time axis ``t`` concatenated along it, the
+    other fields those of the first window unless given in ``changes`` (the inverse of :func:`time_slice`)."""
+    first = results[0]
+    if len(results) == 1 and not changes:
+        return first
+    for f in dataclasses.fields(first):
+        meta = f.metadata.get("store")
+        values = [getattr(result, f.name) for result in results]
+        if f.name in changes or meta is None or values[0] is None:
+            continue
+        if meta["kind"] == "quantity" and "t" in meta["dims"]:
+            changes[f.name] = np.concatenate(values, axis=meta["dims"].index("t"))
+        elif meta["kind"] == "part" and time_slice(values[0], slice(None)) is not values[0]:
+            changes[f.name] = time_concat(values)
+        elif meta["kind"] == "stacked" and isinstance(values[0], Mapping) and values[0]:
+            changes[f.name] = {name: time_concat([v[name] for v in values]) for name in values[0]}
+    return dataclasses.replace(first, **changes)
+
+
+def envelope_samples(t, series, start: float, stop: float, bins: int) -> np.ndarray:
+    """Indices of the samples that hold each series' minimum and maximum in each of ``bins`` equal time bins
+    of ``[start, stop]``, with the first and last sample.
+
+    The bins are fixed by the whole run's span, not by ``t``: the windows of a long run each keep their own
+    extremes per bin, and together they draw every series exactly as the whole run would on an axis of
+    ``bins`` pixel columns or fewer (see :func:`sixdof.plots.common.envelope_indices`), in memory bounded by
+    ``bins`` whatever the run's length.
+
+    Parameters
+    ----------
+    t : ndarray, shape (n,)
+        Increasing times [s] within ``[start, stop]``.
+    series : ndarray, shape (n, k)
+        The series drawn, one per column (any units).
+    start, stop : float
+        The span of the whole run [s].
+    bins : int
+
+    Returns
+    -------
+    ndarray of int
+        Sorted sample indices, at most ``2 bins k + 2`` of them.
+    """
+    t, series = np.asarray(t, dtype=float), np.asarray(series, dtype=float).reshape(len(t), -1)
+    n = len(t)
+    if n == 0:
+        return np.arange(0)
+    width = max(stop - start, np.finfo(float).tiny)
+    bin_of = np.clip(((t - start) / width * bins).astype(np.int64), 0, bins - 1)
+    first = np.flatnonzero(np.diff(bin_of, prepend=-1))  # first sample of every non-empty bin
+    segment = np.repeat(np.arange(len(first)), np.diff(np.append(first, n)))
+    index = np.arange(n)[:, None]
+    kept = [[0, n - 1]]
+    for extreme in (np.maximum, np.minimum):
+        at = series == extreme.reduceat(series, first, axis=0)[segment]
+        # The first sample at each bin's extreme: a flat series keeps one sample per bin, not all.
+        kept.append(np.minimum.reduceat(np.where(at, index, n), first, axis=0).ravel())
+    return np.unique(np.concatenate(kept))

@@ -20,7 +20,14 @@ from sixdof.analysis.statespace import damping_ratios
 from sixdof.analysis.statics import try_gravity_statics
 from sixdof.io import output
 from sixdof.plots.workers import FigureWorkers
-from sixdof.results import RunResults
+from sixdof.results import RunResults, envelope_samples, time_concat, time_slice
+
+#: Time bins in which a long run keeps each drawn series' extremes: at least one per pixel column of the
+#: widest figure with time axes (13 in at 120 dpi).
+ENVELOPE_BINS = 1600
+#: Output samples per window of a run too long to hold in memory: a window's arrays (~4 kB per sample with its
+#: cross-check, mount forces and checks) stay near 30 MB, while a window costs ~1 ms besides its steps.
+LONG_RUN_WINDOW = 8192
 
 #: Fewest samples per period of the highest natural frequency or excitation frequency: below it the
 #: sampled peaks of a sine are off by more than 5 % (1 - cos(pi / 10)).
@@ -131,9 +138,8 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
     -------
     RunOutcome
     """
-    from sixdof.analysis.compare import compare
-    from sixdof.analysis.superposition import superpose
     from sixdof.io import report, store
+    from sixdof.io.stream import ResultsStream
 
     target = output.check_target(out_root, scenario.name)
     with FigureWorkers(processes=0) if workers is None else contextlib.nullcontext(workers) as drawing:
@@ -155,49 +161,28 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
                          provenance=_provenance(scenario))
         drawing.submit(run)  # the modal and FRF figures are drawn while the solve runs
 
-        response = superposition = agreement = forces = check = None
-        if scenario.simulation is not None:
-            from sixdof.analysis.direct import simulate
-            from sixdof.analysis.mountcheck import MountLimitWarning, mount_check
-            from sixdof.analysis.response import mount_forces, points_motion
-            from sixdof.analysis.validity import RangeWarning
-            from sixdof.excitation import Excitation
-
-            excitation = scenario.excitation if scenario.excitation is not None else Excitation()
-            response = simulate(system, excitation, scenario.simulation, progress=progress or None)
-            options = scenario.superposition
-            with warnings.catch_warnings():  # the cross-check would repeat the direct solve's range warnings
-                warnings.simplefilter("ignore", RangeWarning)
-                superposition = superpose(system, excitation, response.t, method=options.method,
-                                          n_modes=options.n_modes, f_max_hz=options.f_max_hz,
-                                          residual=options.residual)
-            # Both are absolute motion; rotations are judged beside translations through the body's size.
-            agreement = compare(response, superposition, length=_body_length(system))
-            if not agreement.ok:
-                note = (
-                    f"direct and modal superposition disagree: worst DOF {agreement.worst_dof} at "
-                    f"{agreement.worst:.3g} of its peak (tolerance {agreement.tolerance:.0e})"
-                )
-                notes.append(note)
-                warnings.warn(note, AgreementWarning, stacklevel=2)
-            forces = mount_forces(system, response)
-            check = mount_check(system, forces, response.t, statics)
-            for note in check.violations:
-                notes.append(note)
-                warnings.warn(note, MountLimitWarning, stacklevel=2)
-            points = points_motion(response, {p.name: p.position for p in scenario.points}) if scenario.points else {}
-            run = dataclasses.replace(run, response=response, mount_forces=forces, mount_check=check, points=points,
-                                      superposition=superposition, agreement=agreement)
-            drawing.submit(run)
-        figures = []
+        timed = None
 
         def write(stage: Path) -> None:
-            store.write_results(stage / "results.h5", run, command_line=command_line)
+            nonlocal run, timed
+            if scenario.simulation is None:
+                store.write_results(stage / "results.h5", run, command_line=command_line)
+            else:
+                with ResultsStream(stage / "results.h5", command_line=command_line) as stream:
+                    timed = _time_response(scenario, statics, stream, progress)
+                    run = dataclasses.replace(run, **timed.drawn)
+                    drawing.submit(run)
+                    stream.finish(run)
+                notes.extend(timed.notes)
             figures.extend(drawing.save(stage))
-            text = report.summary_markdown(scenario, modes, statics, zeta, response, forces, agreement,
-                                            superposition, frf, figures, notes, mount_check=check)
+            text = report.summary_markdown(scenario, modes, statics, zeta, run.response, run.mount_forces,
+                                            run.agreement, run.superposition, frf, figures, notes,
+                                            mount_check=run.mount_check)
             (stage / "summary.md").write_text(text, encoding="utf-8")
 
+        figures = []
+        if scenario.simulation is not None:
+            output.check_room(target, file_bytes(scenario))
         output.write_folder(target, write)
     return RunOutcome(
         directory=target,
@@ -207,13 +192,129 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         modes=modes,
         statics=statics,
         damping_ratios=zeta,
-        response=response,
-        superposition=superposition,
-        agreement=agreement,
+        response=run.response,
+        superposition=run.superposition,
+        agreement=run.agreement,
         frf=frf,
         warnings=tuple(notes),
-        mount_check=check,
+        mount_check=run.mount_check,
     )
+
+
+@dataclass(frozen=True, eq=False)
+class _TimeResponse:
+    """A run's time response as :func:`_time_response` leaves it: ``drawn`` are the RunResults fields the
+    figures and the summary take (every sample, or for a long run only the samples the figures draw; the
+    summaries over every window), ``notes`` its warnings."""
+
+    drawn: dict
+    notes: list
+
+
+def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
+    """The direct solve and its cross-check, window by window, each window appended to ``stream`` as it is done.
+
+    Every window of :func:`sixdof.analysis.direct.simulate_windows` gets its own modal superposition
+    (continued from the previous window's end: independent of the direct solve), mount forces and checks and
+    point motions; the agreement, mount checks and solver statistics are merged over the windows. A run of at
+    most :data:`~sixdof.io.scenario.MEMORY_SAMPLES` samples keeps every sample in memory; a longer one keeps
+    only the samples that hold each drawn series' extremes per pixel column (:func:`envelope_samples`), so its
+    memory is bounded whatever its duration.
+    """
+    from sixdof.analysis.compare import compare, merge_agreements
+    from sixdof.analysis.direct import merge_stats, progress_meter, simulate_windows
+    from sixdof.analysis.mountcheck import MountLimitWarning, merge_mount_checks, mount_check
+    from sixdof.analysis.response import mount_forces, points_motion
+    from sixdof.analysis.superposition import superpose
+    from sixdof.analysis.validity import RangeWarning
+    from sixdof.excitation import Excitation
+    from sixdof.io.scenario import MEMORY_SAMPLES
+
+    system, settings, options = scenario.system, scenario.simulation, scenario.superposition
+    excitation = scenario.excitation if scenario.excitation is not None else Excitation()
+    points = {p.name: p.position for p in scenario.points}
+    length = _body_length(system)
+    keep_all = settings.samples <= MEMORY_SAMPLES
+    span = (settings.start, settings.start + settings.duration)
+    meter = progress_meter(progress or None, settings)
+    kept, stats, agreement, check, info, modal = [], None, None, None, None, None
+    window_samples = {} if keep_all else {"window_samples": LONG_RUN_WINDOW}
+    for window in simulate_windows(system, excitation, settings, **window_samples):
+        with warnings.catch_warnings():  # the cross-check would repeat the direct solve's range warnings
+            warnings.simplefilter("ignore", RangeWarning)
+            modal = superpose(system, excitation, window.t, method=options.method, n_modes=options.n_modes,
+                              f_max_hz=options.f_max_hz, residual=options.residual,
+                              start=None if modal is None else modal.superposition.end)
+        forces = mount_forces(system, window)
+        piece = RunResults(response=window, superposition=modal, mount_forces=forces,
+                           mount_check=mount_check(system, forces, window.t, statics),
+                           points=points_motion(window, points) if points else {},
+                           agreement=compare(window, modal, length=length))
+        stream.append(piece)
+        # Merged window by window: what is kept of the past stays bounded.
+        stats = _merged(merge_stats, stats, window.stats)
+        agreement = _merged(merge_agreements, agreement, piece.agreement)
+        check = piece.mount_check if check is None else merge_mount_checks(system, [check, piece.mount_check])
+        info = _merged(_merge_superposition, info, modal.superposition)
+        kept.append(piece if keep_all else time_slice(piece, envelope_samples(
+            window.t, _drawn_series(piece), *span, ENVELOPE_BINS)))
+        if meter is not None:
+            meter.show(float(window.t[-1]))
+    if meter is not None:
+        meter.close()
+    joined = time_concat(kept)
+    del kept  # the joined copy is what stays
+    drawn = dict(agreement=agreement, response=dataclasses.replace(joined.response, stats=stats),
+                 superposition=dataclasses.replace(joined.superposition, superposition=info),
+                 points=joined.points, mount_forces=joined.mount_forces,
+                 mount_check=dataclasses.replace(check, deflection=joined.mount_check.deflection,
+                                                 force=joined.mount_check.force,
+                                                 compression=joined.mount_check.compression))
+    notes = []
+    if not agreement.ok:
+        notes.append(f"direct and modal superposition disagree: worst DOF {agreement.worst_dof} at "
+                     f"{agreement.worst:.3g} of its peak (tolerance {agreement.tolerance:.0e})")
+        warnings.warn(notes[-1], AgreementWarning, stacklevel=3)
+    for note in check.violations:
+        notes.append(note)
+        warnings.warn(note, MountLimitWarning, stacklevel=3)
+    return _TimeResponse(drawn=drawn, notes=notes)
+
+
+def _merged(merge, merged, new):
+    return new if merged is None else merge([merged, new])
+
+
+def _merge_superposition(infos):
+    """One :class:`~sixdof.analysis.superposition.SuperpositionInfo` over consecutive windows: intervals add up,
+    truncation and approximation errors merge, the end is the last window's."""
+    from sixdof.analysis.compare import merge_agreements
+
+    def agreements(name):
+        found = [getattr(info, name) for info in infos]
+        return None if found[0] is None else merge_agreements(found)
+
+    return dataclasses.replace(infos[-1], n_intervals=sum(info.n_intervals for info in infos),
+                               truncation=agreements("truncation"), approximation=agreements("approximation"))
+
+
+def _drawn_series(piece) -> np.ndarray:
+    """The (n, k) series of a window that the figures and the summary show: the motion (and the motion
+    relative to the ground), the superposition's difference, the mount and foundation forces."""
+    response, n = piece.response, piece.response.t.size
+    series = [response.q, response.qd, response.qdd, piece.superposition.q - response.q,
+              np.moveaxis(piece.mount_forces.total, 0, 1).reshape(n, -1), piece.mount_forces.foundation_force]
+    if response.has_ground:
+        series.append(response.q_relative)
+    return np.hstack(series)
+
+
+def file_bytes(scenario) -> int:
+    """About the smallest size [bytes] of a run's results file: its time series (float64), for the disk check
+    made before a run starts."""
+    simulation = scenario.simulation
+    per_sample = 64 + 22 * len(scenario.system.mounts) + 27 * len(scenario.points)
+    return int(8 * per_sample * simulation.samples)
 
 
 def _frequency_responses(scenario) -> tuple[object, dict[str, object]]:
@@ -330,4 +431,5 @@ def sweep(scenario, spec, *, chunk_size: int | None = None):
 
     variants = spec.variants(scenario.system)
     return run_batch(scenario.system, variants, scenario.excitation, scenario.simulation,
-                     chunk_size=chunk_size or spec.chunk_size)
+                     chunk_size=chunk_size or spec.chunk_size, engine=spec.engine, cross_check=spec.cross_check,
+                     seed=spec.seed)

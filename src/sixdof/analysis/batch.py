@@ -2,25 +2,36 @@
 
 A batch varies the mounts of one system: stiffness factors, damping factors and position offsets,
 per variant, per mount and per mount axis (:class:`Variants`). :func:`run_batch` assembles every
-variant's M, K, C and its natural frequencies in one ``jax.vmap`` of the pure assembly functions of
-:mod:`sixdof.model.system` (``jnp.linalg.eigh`` of the mass-scaled stiffness), then integrates all variants
-together with ``jax.vmap`` of one diffrax solve, in chunks of variants that bound memory, keeping only
-what is asked for: the peak of ``|q|`` and ``|q''|`` per DOF at the output samples, and the full
-:class:`~sixdof.results.TimeHistory` of a few chosen variants.
+variant's M, K, C, natural frequencies and mode shapes in one ``jax.vmap`` of the pure assembly
+functions of :mod:`sixdof.model.system` (``jnp.linalg.eigh`` of the mass-scaled stiffness), then
+computes every variant's response, keeping only what is asked for: the peak of ``|q|`` and ``|q''|`` per
+DOF at the output samples, and the full :class:`~sixdof.results.TimeHistory` of a few chosen variants.
 
-The solve is :func:`sixdof.analysis.direct.solve_ode` with the settings of
-:func:`~sixdof.analysis.direct.simulate` (tolerances on the state scaled by the *nominal* system's
-:func:`~sixdof.analysis.direct.state_scale`: it only weights the error control). Unlike ``simulate``,
-which keeps the 14-value state, loads and ground motion at every sample (4.6 MB per variant for 20 s
-at 1 kHz), it builds each variant's first-order matrix ``A`` (12x12) once and keeps only ``q`` and
-``q''``: half the time per variant and the memory per chunk. Ground motion and mode-release initial
-states (which depend on each variant's modes) are not batched yet: they raise
-:class:`~sixdof.errors.InputError`; run those variants through ``simulate``.
+Two engines compute the responses:
+
+- ``"exact"`` (default): the exact linear engine of :mod:`sixdof.analysis.superposition`. The excitation
+  is evaluated once on the quadrature nodes (a :class:`~sixdof.analysis.superposition.Drive` per
+  window of output steps, shared by every variant); each variant contributes only its modal coordinates
+  (method chosen per variant as in :func:`~sixdof.analysis.superposition.superpose`). The coordinates of
+  a chunk of variants advance side by side, window by window, and only the peaks are kept. Loads,
+  initial states and ground motion.
+- ``"diffrax"``: ``jax.vmap`` of one diffrax solve (:func:`sixdof.analysis.direct.solve_ode` with the
+  settings of :func:`~sixdof.analysis.direct.simulate`, tolerances on the state scaled by the *nominal*
+  system's :func:`~sixdof.analysis.direct.state_scale`), each variant's first-order matrix ``A``
+  (12x12) built once, in chunks of equal size. Loads and initial states; what nonlinear mounts will
+  need.
+
+A sample of the variants (``cross_check``, drawn with a seed) is also solved by
+:func:`sixdof.analysis.direct.simulate` (diffrax); the worst agreement of its peaks with the engine's,
+DOF by DOF, is kept in :attr:`BatchResult.cross_check`. Mode-release initial states (which depend on
+each variant's modes) are not batched: they raise :class:`~sixdof.errors.InputError`.
 """
 
 from __future__ import annotations
 
+import math
 import time
+from collections import namedtuple
 from dataclasses import dataclass, field
 from functools import partial
 from importlib import import_module
@@ -29,6 +40,7 @@ from typing import Any
 import numpy as np
 
 from sixdof._jax import jax, jnp
+from sixdof.analysis.compare import Agreement, compare
 from sixdof.analysis.modal import ZERO_MODE_RTOL
 from sixdof.dofs import UNITS, dof_units
 from sixdof.errors import InputError, Plain, SolverError, integer, readonly
@@ -37,10 +49,20 @@ from sixdof.model.kinematics import mount_matrix_jax
 from sixdof.model.system import Mount, System
 from sixdof.results import label, part, quantity
 
-#: Memory allowed for the samples kept per chunk of variants [bytes] (``q`` and ``q''``, float64).
+ENGINES = ("exact", "diffrax")
+#: Memory allowed for the samples kept per chunk of variants of the diffrax engine [bytes] (``q`` and
+#: ``q''``, float64).
 CHUNK_BYTES = 256 * 2**20
-#: Largest chunk of variants integrated together (beyond it vectorizing gains nothing on CPU).
+#: Largest chunk of variants integrated together by diffrax (beyond it vectorizing gains nothing on CPU).
 MAX_CHUNK = 256
+#: Variants whose modal coordinates the exact engine advances side by side: enough that one time step
+#: of all of them costs little more than of one, few enough that a window's arrays stay small.
+EXACT_CHUNK = 64
+#: Output steps per window of the exact engine: bounds its memory (the coordinates of a chunk of
+#: variants over a window).
+WINDOW = 2048
+#: Variants solved by diffrax (:func:`sixdof.analysis.direct.simulate`) as a cross-check, by default.
+CROSS_CHECK = 3
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -91,14 +113,21 @@ class BatchResult:
     peak_qdd : ndarray, shape (nv, 6) or None
         ``max |q''|`` over the output samples per DOF [m/s^2, rad/s^2].
     num_steps, num_rejected : ndarray, shape (nv,), int, or None
-        Solver steps attempted and rejected per variant.
+        Solver steps attempted and rejected per variant (diffrax engine).
     histories : dict of int to sixdof.results.TimeHistory
-        Full time responses of the variants asked for (by index).
+        Full time responses of the variants asked for (by index), by the engine's method.
     settings : sixdof.analysis.direct.SimulationSettings or None
+    engine : str
+        ``"exact"`` or ``"diffrax"`` (see the module).
     chunk_size : int
-        Variants integrated together.
+        Variants computed together.
+    cross_check_variants : ndarray of int, shape (n_check,), or None
+        The variants also solved by :func:`sixdof.analysis.direct.simulate` (diffrax).
+    cross_check : sixdof.analysis.compare.Agreement or None
+        Their peaks against the engine's: the worst of ``peak_q`` and ``peak_qdd``, each DOF relative
+        to its largest peak over the sample.
     wall_time_s : float
-        Wall-clock time of the whole batch [s], compilation included when it happened.
+        Wall-clock time of the whole batch [s], compilation and cross-check included.
     """
 
     variants: Variants = part(lambda: Variants, prefix="")
@@ -111,7 +140,11 @@ class BatchResult:
                                            description="max |q''| over the output samples")
     num_steps: np.ndarray | None = quantity("1", ("variant",), default=None, description="solver steps attempted")
     num_rejected: np.ndarray | None = quantity("1", ("variant",), default=None, description="solver steps rejected")
+    engine: str = label(default="diffrax")  # what files written before the exact engine used
     chunk_size: int = label(default=0)
+    cross_check_variants: np.ndarray | None = quantity(
+        "1", ("checked_variant",), default=None, description="variants also solved by sixdof.simulate (diffrax)")
+    cross_check: Agreement | None = part(lambda: Agreement, prefix="cross_check_", default=None)
     wall_time_s: float = label(default=0.0)
     histories: dict = field(default_factory=dict)
 
@@ -203,8 +236,8 @@ def variant_system(system: System, variants: Variants, index: int) -> System:
 
 @jax.jit
 def _assemble(M, positions, stiffness, damping, axes, alpha, beta, zeta):
-    """K, C (nv, 6, 6) and eigenvalues omega^2 (nv, 6) of every variant: the model's own assembly
-    and damping matrix, vmapped."""
+    """K, C (nv, 6, 6), eigenvalues omega^2 (nv, 6) and mass-normalized mode shapes (nv, 6, 6) of every
+    variant: the model's own assembly and damping matrix, vmapped."""
     chol = jnp.linalg.cholesky(M)
     chol_inv = jnp.linalg.inv(chol)
 
@@ -216,22 +249,31 @@ def _assemble(M, positions, stiffness, damping, axes, alpha, beta, zeta):
         shapes = chol_inv.T @ V  # mass-normalized: phi = L^-T V
         omega = jnp.sqrt(jnp.maximum(lam, 0.0))
         C = damping_matrix(M, K, mount_matrix_jax(pos, d, axes), alpha, beta, zeta, shapes, omega)
-        return K, C, lam
+        return K, C, lam, shapes
 
     return jax.vmap(one)(positions, stiffness, damping)
+
+
+#: The undamped modes of one variant, as :func:`sixdof.analysis.statespace.modal_basis` reads them.
+_Modes = namedtuple("_Modes", "eigenvalues shapes")
+
+
+def _assembled(system: System, variants: Variants):
+    """K, C (nv, 6, 6), omega^2 (nv, 6) [rad^2/s^2] and mode shapes (nv, 6, 6) of every variant."""
+    zeta = np.broadcast_to(np.asarray(system.modal_damping or 0.0, dtype=float), (6,))
+    alpha, beta = (system.rayleigh.alpha, system.rayleigh.beta) if system.rayleigh is not None else (0.0, 0.0)
+    out = _assemble(
+        np.asarray(system.M), system.positions[None] + variants.position_offset,
+        system.stiffnesses[None] * variants.stiffness_factor,
+        system.dampings[None] * variants.damping_factor, system.axes, alpha, beta, zeta,
+    )
+    return tuple(np.asarray(a) for a in out)
 
 
 def variant_matrices(system: System, variants: Variants) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Stiffness and damping matrices (nv, 6, 6) and undamped eigenvalues omega^2 (nv, 6) [rad^2/s^2]
     of every variant, in one vectorized call of the model's assembly."""
-    zeta = np.broadcast_to(np.asarray(system.modal_damping or 0.0, dtype=float), (6,))
-    alpha, beta = (system.rayleigh.alpha, system.rayleigh.beta) if system.rayleigh is not None else (0.0, 0.0)
-    K, C, lam = _assemble(
-        np.asarray(system.M), system.positions[None] + variants.position_offset,
-        system.stiffnesses[None] * variants.stiffness_factor,
-        system.dampings[None] * variants.damping_factor, system.axes, alpha, beta, zeta,
-    )
-    return np.asarray(K), np.asarray(C), np.asarray(lam)
+    return _assembled(system, variants)[:3]
 
 
 def batch_frequencies(system: System, variants: Variants) -> np.ndarray:
@@ -241,8 +283,212 @@ def batch_frequencies(system: System, variants: Variants) -> np.ndarray:
 
 
 # ----------------------------------------------------------------------------------------------------
-# Vectorized time integration.
+# The engines.
 # ----------------------------------------------------------------------------------------------------
+
+
+def run_batch(system: System, variants: Variants, excitation=None, settings=None, *,
+              histories=(), chunk_size: int | None = None, engine: str = "exact", cross_check: int = CROSS_CHECK,
+              seed: int = 0) -> BatchResult:
+    """Natural frequencies and peak responses of many variants of ``system`` in one vectorized call.
+
+    Parameters
+    ----------
+    system : System
+        The nominal system; :class:`Variants` scale and move its mounts.
+    variants : Variants
+        From :func:`make_variants` (or :func:`load_sweep_spec`).
+    excitation : sixdof.excitation.Excitation, optional
+        Loads, ground motion (exact engine) and an optional :class:`~sixdof.excitation.InitialState`
+        (no mode release). Without it (or without ``settings``) only frequencies are computed.
+    settings : sixdof.analysis.direct.SimulationSettings, optional
+        The same settings as :func:`sixdof.analysis.direct.simulate` (the exact engine uses its output
+        times only).
+    histories : sequence of int, optional
+        Indices of variants whose full :class:`~sixdof.results.TimeHistory` is wanted (computed by the
+        engine's method: :func:`sixdof.analysis.superposition.superpose` or
+        :func:`sixdof.analysis.direct.simulate` on :func:`variant_system`).
+    chunk_size : int, optional
+        Variants computed together; default :data:`EXACT_CHUNK` (exact) or :func:`default_chunk_size`
+        (diffrax, memory bound). The variants are split into chunks of equal size.
+    engine : {"exact", "diffrax"}
+        See the module.
+    cross_check : int
+        Number of variants also solved by :func:`sixdof.analysis.direct.simulate` (default
+        :data:`CROSS_CHECK`; 0 for none), drawn with ``seed``.
+    seed : int
+        Seed of :func:`numpy.random.default_rng` drawing the cross-checked variants.
+
+    Returns
+    -------
+    BatchResult
+
+    Raises
+    ------
+    InputError
+        Unsupported excitation (mode release; ground motion with the diffrax engine), bad ``histories``,
+        ``chunk_size``, ``engine`` or ``cross_check``.
+    SolverError
+        When the solve of any variant fails (its index is named) or gives non-finite values.
+    """
+    from sixdof.excitation import ModeRelease
+
+    if not isinstance(variants, Variants):
+        raise InputError("variants", "a Variants (see make_variants)", variants)
+    if variants.stiffness_factor.shape[1] != len(system.mounts):
+        raise InputError("variants", f"parameters for {len(system.mounts)} mounts",
+                         Plain(f"{variants.stiffness_factor.shape[1]} mounts"))
+    histories = tuple(histories)
+    for i in histories:
+        if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not 0 <= i < variants.count:
+            raise InputError("histories", f"variant indices in [0, {variants.count})", list(histories))
+    if engine not in ENGINES:
+        raise InputError("engine", "one of 'exact', 'diffrax'", engine)
+    cross_check = integer(cross_check, "cross_check", "a number of variants >= 0", 0)
+    start = time.perf_counter()
+    K, C, lam, shapes = _assembled(system, variants)
+    frequency = readonly(np.sqrt(lam) / (2.0 * np.pi))
+    if excitation is None or settings is None:
+        return BatchResult(variants=variants, frequency_hz=frequency, engine=engine,
+                           wall_time_s=time.perf_counter() - start)
+    if isinstance(excitation.initial, ModeRelease):
+        raise InputError("excitation.initial", "an InitialState in a batch (a mode release depends "
+                         "on each variant's modes)", Plain("a ModeRelease"))
+    nv = variants.count
+    if chunk_size is None:
+        chunk_size = EXACT_CHUNK if engine == "exact" else default_chunk_size(settings.times.size)
+    chunk_size = min(integer(chunk_size, "chunk_size", "a positive integer", 1), nv)
+    chunks = np.array_split(np.arange(nv), math.ceil(nv / chunk_size))  # sizes differ by one at most
+    steps = rejected = None
+    if engine == "exact":
+        peaks = _exact_peaks(system, K, C, lam, shapes, excitation, settings, chunks)
+    else:
+        peaks, steps, rejected = _diffrax_peaks(system, K, C, excitation, settings, chunks)
+    if not np.all(np.isfinite(peaks)):
+        bad = np.flatnonzero(~np.all(np.isfinite(peaks), axis=1))
+        raise SolverError(f"batch ({engine}) produced non-finite values for variant {int(bad[0])}")
+    kept = {int(i): _history(system, variants, int(i), excitation, settings, engine) for i in histories}
+    checked = np.sort(np.random.default_rng(seed).choice(nv, min(cross_check, nv), replace=False))
+    return BatchResult(variants=variants, frequency_hz=frequency, peak_q=readonly(peaks[:, :6]),
+                       peak_qdd=readonly(peaks[:, 6:]), num_steps=steps, num_rejected=rejected, histories=kept,
+                       settings=settings, engine=engine, chunk_size=int(chunks[0].size),
+                       cross_check_variants=readonly(checked, int) if checked.size else None,
+                       cross_check=_cross_check(system, variants, checked, peaks, excitation, settings),
+                       wall_time_s=time.perf_counter() - start)
+
+
+def _history(system, variants, index, excitation, settings, engine):
+    """The full response of one variant by the engine's method."""
+    from sixdof.analysis.direct import simulate
+    from sixdof.analysis.superposition import superpose
+
+    one = variant_system(system, variants, index)
+    return superpose(one, excitation, settings.times) if engine == "exact" else simulate(one, excitation, settings)
+
+
+def _cross_check(system, variants, checked, peaks, excitation, settings) -> Agreement | None:
+    """The engine's peaks of the ``checked`` variants against :func:`~sixdof.analysis.direct.simulate`'s:
+    the worse of ``|q|`` and ``|q''|``, each DOF relative to its largest peak over the sample."""
+    from sixdof.analysis.direct import simulate
+
+    if not checked.size:
+        return None
+    direct = np.zeros((checked.size, 12))
+    for row, i in enumerate(checked):
+        response = simulate(variant_system(system, variants, int(i)), excitation, settings)
+        direct[row] = np.concatenate([np.max(np.abs(response.q), axis=0), np.max(np.abs(response.qdd), axis=0)])
+    return max((compare(direct[:, part], peaks[checked][:, part]) for part in (slice(0, 6), slice(6, 12))),
+               key=lambda agreement: agreement.worst)
+
+
+def _exact_peaks(system, K, C, lam, shapes, excitation, settings, chunks) -> np.ndarray:
+    """``max |q|`` and ``max |q''|`` (nv, 12) at the output samples by the exact linear engine."""
+    from sixdof.analysis import superposition as sp
+
+    M = np.asarray(system.M, dtype=float)
+    t = settings.times
+    loads, ground, omega = sp.excitation_inputs(excitation, system.K, system.C)
+    q0, qd0 = excitation.initial_state(system, t[0])  # the same for every variant (no mode release)
+    plans = [sp.Plan(M, C[i], _Modes(lam[i], shapes[i])) for i in range(len(lam))]
+    # One quadrature for every variant: that of the fastest.
+    nodes, pieces = sp.quadrature_for(float(np.max(np.diff(t))), max(p.fastest for p in plans), omega, ground)
+    r = None if ground is None else np.asarray(excitation.ground.rigid_vector, dtype=float)
+    stacks = [_Stack([plans[i].coordinates(plans[i].runs[0]) for i in index],
+                     None if r is None else [np.stack([K[i] @ r, C[i] @ r]) for i in index]) for index in chunks]
+    z = [stack.initial(M, q0, qd0) for stack in stacks]
+    peaks = np.zeros((len(lam), 12))
+    breakpoints = np.asarray(excitation.breakpoints, dtype=float)
+    ground_start = None
+    for low in range(0, t.size - 1, WINDOW):  # windows of output steps, each evaluated once for all
+        high = min(low + WINDOW, t.size - 1)
+        drive = sp.make_drive(t[low:high + 1], high - low + (low == 0), breakpoints, loads, ground, nodes=nodes,
+                              pieces=pieces, ground_start=ground_start)
+        ground_start = drive.ground_end
+        for k, (stack, index) in enumerate(zip(stacks, chunks)):
+            coordinates = sp.run_coordinates(stack, drive, z[k])
+            z[k] = coordinates[-1]
+            peaks[index] = np.maximum(peaks[index], stack.peaks(coordinates[drive.first:], drive))
+    return peaks
+
+
+class _Stack:
+    """The first-order modal coordinates of several variants side by side (a block-diagonal system),
+    each padded with inert coordinates to the same count so that their outputs are one batched product.
+
+    Parameters
+    ----------
+    members : list of sixdof.analysis.superposition.ModalCoordinates
+    ground_vectors : list of ndarray (2, 6), or None
+        Each variant's ``K r`` and ``C r``: the generalized force per unit ground displacement and
+        velocity (the drive's last two columns).
+    """
+
+    def __init__(self, members, ground_vectors=None):
+        self.members, self.ground_vectors = members, ground_vectors
+        self.width = max(member.poles.size for member in members)
+        self.size = self.width * len(members)
+        # An inert coordinate: pole 0, no input, no output, zero initially (it stays 0).
+        self.poles = self._side_by_side([m.poles for m in members])
+        self.source = self._side_by_side([np.where(m.source >= 0, m.source + j * self.width, -1)
+                                          for j, m in enumerate(members)], fill=-1).astype(np.int64)
+        # Each member's q, then q'' without B B' Q, from its coordinates' real and imaginary parts
+        # interleaved: (members, 2 width, 12).
+        maps = self._side_by_side([m.output_maps()[[0, 2]].reshape(12, -1) for m in members])  # (12, size)
+        self.maps = np.ascontiguousarray(np.stack([maps.real, -maps.imag], axis=2).reshape(
+            12, len(members), 2 * self.width).transpose(1, 0, 2))  # (members, 12, 2 width)
+        self._forcing = None
+
+    def _side_by_side(self, blocks, fill=0):
+        """Per-member arrays (..., m_j) padded to the common width and put side by side (..., size)."""
+        out = np.full(blocks[0].shape[:-1] + (self.size,), fill, dtype=np.result_type(*blocks))
+        for j, block in enumerate(blocks):
+            out[..., j * self.width:j * self.width + block.shape[-1]] = block
+        return out
+
+    def _vectors(self, vectors, j):
+        return vectors if self.ground_vectors is None else np.vstack([vectors[:-2], self.ground_vectors[j]])
+
+    def forcing(self, vectors):
+        """(n_c, size): each variant's modal force per unit of each column, with its own ground vectors."""
+        if self._forcing is None or not np.array_equal(self._forcing[0], vectors):  # the same on every window
+            self._forcing = (vectors, self._side_by_side([m.forcing(self._vectors(vectors, j))
+                                                          for j, m in enumerate(self.members)]),
+                             np.stack([self._vectors(vectors, j) @ (m.basis @ m.basis.T)
+                                       for j, m in enumerate(self.members)]))
+        return self._forcing[1]
+
+    def initial(self, M, q0, qd0):
+        """The coordinates (size,) of the state ``q0, qd0`` [m, rad; m/s, rad/s]."""
+        return self._side_by_side([m.initial @ np.concatenate([m.basis.T @ (M @ q0), m.basis.T @ (M @ qd0)])
+                                   for m in self.members])
+
+    def peaks(self, z, drive):
+        """``max |q|`` and ``max |q''|`` (n_members, 12) over the drive's outputs from the coordinates z (n, size)."""
+        parts = z.view(float).reshape(z.shape[0], len(self.members), 2 * self.width).transpose(1, 2, 0)
+        motion = np.matmul(self.maps, parts)  # (members, 12, n): each member's q and q'' in time
+        self.forcing(drive.vectors)
+        motion[:, 6:] += np.matmul(self._forcing[2].transpose(0, 2, 1), drive.columns_out.T)  # B B' Q
+        return np.maximum(motion.max(axis=2), -motion.min(axis=2))
 
 
 @partial(jax.jit, static_argnames=("solver", "max_steps"))
@@ -277,74 +523,21 @@ def _solve_chunk(A, B, x0, sigma, signals, ts, t0, t1, jump_ts, rtol, atol, *, s
 
 
 def default_chunk_size(n_samples: int) -> int:
-    """Variants per chunk so that the kept samples stay within :data:`CHUNK_BYTES`."""
+    """Variants per chunk of the diffrax engine so that the kept samples stay within :data:`CHUNK_BYTES`."""
     return int(max(1, min(MAX_CHUNK, CHUNK_BYTES // (max(n_samples, 1) * 12 * 8))))
 
 
-def run_batch(system: System, variants: Variants, excitation=None, settings=None, *,
-              histories=(), chunk_size: int | None = None) -> BatchResult:
-    """Natural frequencies and peak responses of many variants of ``system`` in one vectorized call.
+def _diffrax_peaks(system, K, C, excitation, settings, chunks):
+    """``max |q|`` and ``max |q''|`` (nv, 12), steps and rejected steps (nv,) by the vmapped diffrax solve."""
+    from sixdof.analysis.direct import jump_times, loads_of, state_scale
 
-    Parameters
-    ----------
-    system : System
-        The nominal system; :class:`Variants` scale and move its mounts.
-    variants : Variants
-        From :func:`make_variants` (or :func:`load_sweep_spec`).
-    excitation : sixdof.excitation.Excitation, optional
-        Loads and an optional :class:`~sixdof.excitation.InitialState` (no ground motion, no mode
-        release). Without it (or without ``settings``) only frequencies are computed.
-    settings : sixdof.analysis.direct.SimulationSettings, optional
-        The same settings as :func:`sixdof.analysis.direct.simulate`.
-    histories : sequence of int, optional
-        Indices of variants whose full :class:`~sixdof.results.TimeHistory` is wanted (computed
-        with :func:`sixdof.analysis.direct.simulate` on :func:`variant_system`).
-    chunk_size : int, optional
-        Variants integrated together; default :func:`default_chunk_size` (memory bound).
-
-    Returns
-    -------
-    BatchResult
-
-    Raises
-    ------
-    InputError
-        Unsupported excitation (ground motion, mode release), bad ``histories`` or ``chunk_size``.
-    SolverError
-        When the solve of any variant fails (its index is named) or gives non-finite values.
-    """
-    from sixdof.analysis.direct import jump_times, loads_of, simulate, state_scale
-    from sixdof.excitation import ModeRelease
-
-    if not isinstance(variants, Variants):
-        raise InputError("variants", "a Variants (see make_variants)", variants)
-    if variants.stiffness_factor.shape[1] != len(system.mounts):
-        raise InputError("variants", f"parameters for {len(system.mounts)} mounts",
-                         Plain(f"{variants.stiffness_factor.shape[1]} mounts"))
-    histories = tuple(histories)
-    for i in histories:
-        if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not 0 <= i < variants.count:
-            raise InputError("histories", f"variant indices in [0, {variants.count})", list(histories))
-    start = time.perf_counter()
-    K, C, lam = variant_matrices(system, variants)
-    frequency = readonly(np.sqrt(lam) / (2.0 * np.pi))
-    if excitation is None or settings is None:
-        return BatchResult(variants=variants, frequency_hz=frequency, wall_time_s=time.perf_counter() - start)
-    vectors, signals = loads_of(excitation, settings)
     if excitation.ground is not None:
-        raise InputError("excitation.ground", "no ground motion in a batch (not supported yet; "
-                         "use sixdof.analysis.direct.simulate per variant)", Plain("a ground motion"))
-    if isinstance(excitation.initial, ModeRelease):
-        raise InputError("excitation.initial", "an InitialState in a batch (a mode release depends "
-                         "on each variant's modes)", Plain("a ModeRelease"))
-    ts = settings.times
-    if chunk_size is None:
-        chunk_size = default_chunk_size(ts.size)
-    chunk_size = min(integer(chunk_size, "chunk_size", "a positive integer", 1), variants.count)
-
+        raise InputError("excitation.ground", "no ground motion in a diffrax batch (not supported yet; use "
+                         "engine='exact', or sixdof.analysis.direct.simulate per variant)", Plain("a ground motion"))
+    vectors, signals = loads_of(excitation, settings)
     M = np.asarray(system.M, dtype=float)
     Minv = np.linalg.inv(M)
-    nv = variants.count
+    nv = K.shape[0]
     A = np.zeros((nv, 12, 12))
     A[:, :6, 6:] = np.eye(6)
     A[:, 6:, :6] = -Minv[None] @ K
@@ -356,26 +549,18 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     sigma = state_scale(system, excitation, settings)[:12]
     t0, t1 = settings.start, settings.start + settings.duration
     padded, _ = jump_times(excitation, t0, t1)
-
-    chunks = []
-    for first in range(0, nv, chunk_size):
-        # The last chunk is padded with copies of the last variant: one compiled shape for all chunks.
-        index = np.minimum(np.arange(first, first + chunk_size), nv - 1)
-        chunks.append(_solve_chunk(A[index], B[index], x0[index], sigma, signals, ts, t0, t1, padded,
-                                   settings.rtol, settings.atol, solver=settings.solver,
-                                   max_steps=settings.max_steps))
-    peaks, ok, steps, rejected = (np.concatenate([np.asarray(out[k]) for out in chunks])[:nv] for k in range(4))
+    size = chunks[0].size
+    outputs = []
+    for index in chunks:
+        # One compiled shape: a chunk one short (sizes differ by one at most) repeats its last variant.
+        full = np.append(index, np.full(size - index.size, index[-1]))
+        out = _solve_chunk(A[full], B[full], x0[full], sigma, signals, settings.times, t0, t1, padded,
+                           settings.rtol, settings.atol, solver=settings.solver, max_steps=settings.max_steps)
+        outputs.append([np.asarray(o)[:index.size] for o in out])
+    peaks, ok, steps, rejected = (np.concatenate([o[k] for o in outputs]) for k in range(4))
     if not np.all(ok):
         bad = np.flatnonzero(~ok)
         raise SolverError(f"batch solve with {settings.solver} (rtol={settings.rtol:g}, atol={settings.atol:g}, "
                           f"max_steps={settings.max_steps}) failed for {bad.size} of {nv} variants "
                           f"(first: index {int(bad[0])})")
-    if not np.all(np.isfinite(peaks)):
-        bad = np.flatnonzero(~np.all(np.isfinite(peaks), axis=1))
-        raise SolverError(f"batch solve produced non-finite values for variant {int(bad[0])}")
-    kept = {int(i): simulate(variant_system(system, variants, int(i)), excitation, settings)
-            for i in histories}
-    return BatchResult(variants=variants, frequency_hz=frequency, peak_q=readonly(peaks[:, :6]),
-                       peak_qdd=readonly(peaks[:, 6:]), num_steps=readonly(steps, int),
-                       num_rejected=readonly(rejected, int), histories=kept, settings=settings,
-                       chunk_size=chunk_size, wall_time_s=time.perf_counter() - start)
+    return peaks, readonly(steps, int), readonly(rejected, int)

@@ -36,6 +36,8 @@ class Agreement:
         ``worst <= tolerance``.
     peak : ndarray, shape (6,)
         ``peak_t |q_ref|`` of each DOF [m, rad].
+    error : ndarray, shape (6,)
+        ``max_t |q_ref - q_other|`` of each DOF [m, rad].
     quiet : tuple of str
         DOFs whose response is negligible, judged against the largest peak.
     length : float
@@ -48,6 +50,7 @@ class Agreement:
     tolerance: float = label()
     ok: bool = label(decode=bool)
     peak: np.ndarray = label()
+    error: np.ndarray = label()
     quiet: tuple[str, ...] = label()
     length: float = label()
 
@@ -106,9 +109,16 @@ def compare(direct_q, modal_q, tolerance: float = AGREEMENT_TOLERANCE, *, length
         raise InputError("modal_q", f"shape {ref.shape} like direct_q", f"shape {other.shape}")
     for name, value in (("tolerance", tolerance), ("length", length), ("quiet_rtol", quiet_rtol)):
         number(value, name, "a positive number", low=0.0, strict=True)
+    return agreement_of(np.max(np.abs(ref), axis=0), np.max(np.abs(ref - other), axis=0), tolerance,
+                        length=length, quiet_rtol=quiet_rtol)
+
+
+def agreement_of(peak, error, tolerance: float = AGREEMENT_TOLERANCE, *, length: float = 1.0,
+                 quiet_rtol: float = QUIET_RTOL) -> Agreement:
+    """The :class:`Agreement` of histories with these per-DOF peaks of the reference and largest differences
+    [m, rad] (see :func:`compare`): how a run made of time windows combines its windows' maxima."""
+    peak, error = (np.asarray(x, dtype=float) for x in (peak, error))
     scale = np.array([1.0, 1.0, 1.0, length, length, length])
-    peak = np.max(np.abs(ref), axis=0)
-    error = np.max(np.abs(ref - other), axis=0)
     largest = float(np.max(peak * scale))
     quiet = peak * scale < quiet_rtol * largest
     denominator = np.where(quiet, largest / scale, peak)
@@ -117,8 +127,15 @@ def compare(direct_q, modal_q, tolerance: float = AGREEMENT_TOLERANCE, *, length
     worst_index = int(np.argmax(per_dof))
     worst = float(per_dof[worst_index])
     return Agreement(per_dof=readonly(per_dof), worst_dof=DOFS[worst_index], worst=worst, tolerance=float(tolerance),
-                     ok=bool(worst <= tolerance), peak=readonly(peak), length=float(length),
+                     ok=bool(worst <= tolerance), peak=readonly(peak), error=readonly(error), length=float(length),
                      quiet=tuple(d for d, flag in zip(DOFS, quiet) if flag and largest > 0))
+
+
+def merge_agreements(agreements) -> Agreement:
+    """One :class:`Agreement` over consecutive time windows from each window's (same tolerance and length)."""
+    first = agreements[0]
+    return agreement_of(np.max([a.peak for a in agreements], axis=0), np.max([a.error for a in agreements], axis=0),
+                        first.tolerance, length=first.length)
 
 
 def _history(value, name: str) -> np.ndarray:

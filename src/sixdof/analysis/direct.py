@@ -16,48 +16,60 @@ which needs at most the *first* derivative of a prescribed ground displacement (
 displacements is handled exactly; a relative formulation with ``-M r u_g''`` would need Dirac
 deltas at every knot). Without ground motion ``z = q`` and it is the plain first-order form.
 All damping (mount dashpots, Rayleigh, modal) acts on the motion relative to the ground, since all of
-it stands for dissipation in the mounts.
+it stands for dissipation in the mounts. It is linear, ``x' = A x + B u(t)`` with the input
+``u = [s_1(t) ... s_n(t), v_g or a_g]`` (:func:`first_order_form`).
 
-The solver steps onto every signal breakpoint inside the run (``jump_ts``). The state is divided by
-a per-component scale (:func:`state_scale`), so that ``rtol`` and ``atol`` hold relative to each
-component's own expected size, translations (~1e-4 m) and rotations (~1e-7 rad) alike. Compiled code
-is cached per problem *structure* (solver, signal kinds, numbers of loads, samples and breakpoints);
-matrices, signal parameters, times and tolerances are arguments, so new values reuse it.
+The solver steps onto every signal breakpoint (``jump_ts``). The state is divided by a per-component
+scale (:func:`state_scale`), so that ``rtol`` and ``atol`` hold relative to each component's own
+expected size, translations (~1e-4 m) and rotations (~1e-7 rad) alike.
+
+A run proceeds in time windows of at most :data:`WINDOW_SAMPLES` output samples
+(:func:`simulate_windows`): the solver's state at the end of a window starts the next one as it is, so
+memory stays bounded whatever the duration; :func:`simulate` joins the windows. Explicit Runge-Kutta
+methods run with their stages unrolled (:mod:`sixdof.analysis.unrolled`). The traced solve of one
+window depends only on the problem's *structure* (solver, signal kinds, numbers of loads, window
+samples and breakpoints, ground kind); matrices, signal parameters, times and tolerances are
+arguments. It is traced once per process, and with the persistent JAX compilation cache on (the command
+line turns it on, :func:`sixdof._jax.enable_compilation_cache`) also serialized with
+:mod:`jax.export` beside it: a later process loads it without tracing and without importing diffrax.
 """
 
 from __future__ import annotations
 
+import hashlib
 import importlib.util
+import json
 import math
+import os
+import sys
 import time
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
-from functools import partial
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from sixdof._jax import jax, jnp
 from sixdof.analysis.validity import warn_idle, warn_large_rotations
-from sixdof.errors import InputError, SolverError, integer_check, memory_check, number, number_check, readonly
+from sixdof.errors import InputError, SolverError, integer, integer_check, memory_check, number, number_check, readonly
 from sixdof.excitation import Excitation
 from sixdof.frozen import Frozen
-from sixdof.results import TimeHistory, label
-
-# isort: split
-import diffrax  # noqa: E402  (after ._jax: float64 must be on first)
+from sixdof.results import TimeHistory, label, time_concat
 
 if TYPE_CHECKING:
     from sixdof.model.system import System
 
-#: Explicit Runge-Kutta solvers (the problem is not stiff) and, for comparison, implicit ones.
-SOLVERS: dict[str, type] = {
-    "Tsit5": diffrax.Tsit5,
-    "Dopri5": diffrax.Dopri5,
-    "Dopri8": diffrax.Dopri8,
-    "Bosh3": diffrax.Bosh3,
-    "Heun": diffrax.Heun,
-    "Kvaerno3": diffrax.Kvaerno3,
-    "Kvaerno5": diffrax.Kvaerno5,
+#: The solvers (diffrax's methods of these names). Explicit Runge-Kutta methods suit the problem (it is not
+#: stiff: 0.6 to 38 Hz for the bridge beam); the implicit ones are there for comparison.
+SOLVERS: dict[str, str] = {
+    "Tsit5": "explicit Runge-Kutta, order 5(4), Tsitouras",
+    "Dopri5": "explicit Runge-Kutta, order 5(4), Dormand-Prince",
+    "Dopri8": "explicit Runge-Kutta, order 8(7), Dormand-Prince",
+    "Bosh3": "explicit Runge-Kutta, order 3(2), Bogacki-Shampine",
+    "Heun": "explicit Runge-Kutta, order 2(1)",
+    "Kvaerno3": "implicit (ESDIRK), order 3(2)",
+    "Kvaerno5": "implicit (ESDIRK), order 5(4)",
 }
 
 #: A state component's scale is at least this fraction of the largest, in energy-consistent units
@@ -65,14 +77,23 @@ SOLVERS: dict[str, type] = {
 #: finite, small tolerance instead of an infinitely tight or a meaningless one.
 SCALE_FLOOR = 1e-6
 
-#: Peak memory of :func:`simulate` per output sample [bytes]: 480 measured (engine scenario, 1.6e6 samples).
-SOLVE_BYTES_PER_SAMPLE = 500
+#: The most output samples of one window: the bridge beam's 20 s at 1 kHz in one window, 2000 s in 62. A
+#: window's arrays take ~0.5 kB per sample in the solve (16 MB) and a few kB in a whole run's workflow; each
+#: window costs ~1 ms besides its steps (measured: 40 s in windows of 2048 samples took 1.2x one window).
+WINDOW_SAMPLES = 32768
+
+#: Window lengths are multiples of this (windows of a run are equal but the last), so that runs of
+#: similar lengths share one compiled solve.
+WINDOW_GRANULE = 512
+
+#: Peak memory of :func:`simulate` per output sample [bytes]: the windows, their join and its read-only copy
+#: (measured 594 on the bridge traffic scenario, 5e5 samples; a ground motion adds three (n, 3) arrays).
+SOLVE_BYTES_PER_SAMPLE = 800
 
 _GROUND_CODES = {None: 0, "displacement": 1, "velocity": 2, "acceleration": 3}
 
-#: Progress display of long solves.
-PROGRESS_METERS = {"none": diffrax.NoProgressMeter, "text": diffrax.TextProgressMeter,
-                   "tqdm": diffrax.TqdmProgressMeter}
+#: Progress meters of :func:`simulate` (drawn between windows, never inside the compiled solve).
+PROGRESS = ("text", "tqdm")
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -107,16 +128,23 @@ class SimulationSettings(Frozen):
     start : float, optional
         Start time [s]. Default 0.
     solver : str, optional
-        A key of :data:`SOLVERS`. Default ``"Tsit5"`` (explicit, 5th order; measured fastest here).
+        A key of :data:`SOLVERS`. Default ``"Tsit5"``, chosen by measurement (benchmarks/bench_direct.py,
+        bridge beam, 20 s at 1 kHz): at today's accuracy it runs ~10x faster than scipy's DOP853; Dopri8 at
+        1e-10, as accurate, takes a third of the steps but only ~0.8x the time (the stages are unrolled
+        and saving the 20,001 samples costs the same for both) for ~1 s more tracing and compilation at
+        a process's first run of a structure. Choose ``"Dopri8"`` for long runs, or with tolerances of
+        1e-11 for a 7x smaller error at about Tsit5's cost.
     rtol : float, optional
         Relative tolerance per step. Default 1e-9.
     atol : float, optional
         Absolute tolerance per step *as a fraction of each state component's scale*
         (:func:`state_scale`). Default 1e-9. With the defaults every DOF of the bridge beam stays
-        within about 1e-7 of its own peak over a 20 s run (global error grows with the number of
-        cycles of the fastest mode, hence the margin).
+        within 3e-8 of its own peak over a 20 s run (global error grows with the number of cycles of
+        the fastest mode, hence the margin to the 1e-7 asked).
     max_steps : int, optional
-        Step limit; default 1e6 (diffrax's own default, 4096, is too small for 20 s runs).
+        Step limit *per window* (:func:`simulate_windows`: at most :data:`WINDOW_SAMPLES` samples), so a
+        run of any duration that needs fewer than ``max_steps / WINDOW_SAMPLES`` steps per sample
+        (30 by default; the bridge beam at 1 kHz needs 0.9 with Tsit5) never reaches it. Default 1e6.
     """
 
     duration: float = label(check=number_check("a positive, finite duration in s", low=0.0, strict=True))
@@ -127,22 +155,25 @@ class SimulationSettings(Frozen):
     atol: float = label(check=_tolerance, default=1e-9)
     max_steps: int = label(check=integer_check("a positive integer", 1), default=1_000_000)
 
-    def __check__(self) -> None:
-        samples = self.duration * self.sample_rate_hz
-        memory_check("sample_rate_hz", samples * SOLVE_BYTES_PER_SAMPLE, "a number of output samples",
-                     f"{samples:.3g} samples")
+    @property
+    def samples(self) -> int:
+        """Number of output samples."""
+        return int(math.floor(self.duration * self.sample_rate_hz * (1 + 1e-12))) + 1
 
     @property
     def times(self) -> np.ndarray:
         """Output times (n,) [s]."""
-        n = int(math.floor(self.duration * self.sample_rate_hz * (1 + 1e-12))) + 1
+        return self.times_between(0, self.samples)
+
+    def times_between(self, first: int, stop: int) -> np.ndarray:
+        """Output times [s] of the samples ``first`` to ``stop - 1``."""
         # Clipped: the tolerance above admits a last sample a rounding past the end, where diffrax won't save.
-        return np.minimum(self.start + np.arange(n) / self.sample_rate_hz, self.start + self.duration)
+        return np.minimum(self.start + np.arange(first, stop) / self.sample_rate_hz, self.start + self.duration)
 
 
 @dataclass(frozen=True)
 class SolverStats:
-    """Statistics of one solve (stored with the results).
+    """Statistics of one solve (stored with the results); of a window, or of a run's windows together.
 
     Attributes
     ----------
@@ -154,11 +185,14 @@ class SolverStats:
     num_steps, num_accepted, num_rejected : int
         Steps attempted, accepted, rejected.
     max_steps : int
+        The step limit per window.
     num_jumps : int
         Breakpoints (discontinuities) inside the run the solver stepped onto.
     wall_time_s : float
-        Wall-clock time of the solve call [s] (includes compilation when it was the first call of
-        its structure).
+        Wall-clock time of the solve calls [s] (includes compilation when it was the first call of
+        its structure in the process).
+    num_windows : int
+        Time windows the run proceeded in.
     """
 
     solver: str = label(name="solver")
@@ -171,6 +205,19 @@ class SolverStats:
     max_steps: int = label()
     num_jumps: int = label()
     wall_time_s: float = label()
+    num_windows: int = label(default=1)
+
+
+def merge_stats(stats) -> SolverStats:
+    """One :class:`SolverStats` for consecutive windows of a run: counts and times add up."""
+    first = stats[0]
+    return SolverStats(
+        solver=first.solver, rtol=first.rtol, atol=first.atol, scale=first.scale,
+        num_steps=sum(s.num_steps for s in stats), num_accepted=sum(s.num_accepted for s in stats),
+        num_rejected=sum(s.num_rejected for s in stats), max_steps=first.max_steps,
+        num_jumps=sum(s.num_jumps for s in stats), wall_time_s=sum(s.wall_time_s for s in stats),
+        num_windows=sum(s.num_windows for s in stats),
+    )
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -253,51 +300,232 @@ def _ground_peaks(ground, settings: SimulationSettings) -> tuple[float, float, f
 
 
 # ----------------------------------------------------------------------------------------------------
-# The compiled solve.
+# The first-order form and the traced solve of one window.
 # ----------------------------------------------------------------------------------------------------
 
 
-def _ground_kinematics(code: int, ground_signal, ground_scale, t, g):
-    """Ground displacement, velocity and acceleration along its direction at ``t``."""
+def first_order_form(system: System, excitation: Excitation) -> tuple[np.ndarray, np.ndarray]:
+    """``A`` (14, 14) and ``B`` (14, n_loads + 1) of ``x' = A x + B u(t)`` for the state ``x = [z, w, u_g, v_g]``.
+
+    The input is ``u = [s_1(t) ... s_n(t), g(t)]``: the load signals, then the ground's velocity ``v_g``
+    (ground given as a displacement or a velocity) or acceleration ``a_g`` (given as an acceleration,
+    whose velocity is then the state ``v_g``); ``g = 0`` without ground motion.
+    """
+    vectors, _ = _load_vectors(excitation)
+    n = vectors.shape[0]
+    Minv = np.linalg.inv(np.asarray(system.M, dtype=float))
+    C, K = np.asarray(system.C, dtype=float), np.asarray(system.K, dtype=float)
+    A = np.zeros((14, 14))
+    A[:6, 6:12] = np.eye(6)
+    A[6:12, :6] = -Minv @ K
+    A[6:12, 6:12] = -Minv @ C
+    B = np.zeros((14, n + 1))
+    B[6:12, :n] = Minv @ vectors.T
+    ground = excitation.ground
+    if ground is not None:
+        # The ground's velocity v_g enters z' = w - r v_g and the dashpots' force -C (w - r v_g).
+        r = ground.rigid_vector
+        by_velocity = np.concatenate([-r, Minv @ C @ r, [0.0, 0.0]])
+        if ground.quantity == "acceleration":
+            A[:, 13] += by_velocity
+            A[12, 13] = 1.0  # u_g' = v_g
+            B[13, n] = 1.0  # v_g' = a_g
+        else:
+            B[:, n] = by_velocity
+            if ground.quantity == "velocity":
+                B[12, n] = 1.0  # u_g' = v_g
+    return A, B
+
+
+def _ground_kinematics(code: int, p, t, g):
+    """Ground displacement, velocity and acceleration along its direction at ``t`` (``g``: the state's ``u_g, v_g``)."""
+    signal, scale = p["ground_signal"], p["ground_scale"]
     if code == 0:
         zero = jnp.zeros_like(t)
         return zero, zero, zero
     if code == 1:
-        return (ground_scale * ground_signal(t), ground_scale * ground_signal.derivative(t),
-                ground_scale * ground_signal.derivative(t, 2))
+        return scale * signal(t), scale * signal.derivative(t), scale * signal.derivative(t, 2)
     if code == 2:
-        return g[0], ground_scale * ground_signal(t), ground_scale * ground_signal.derivative(t)
-    return g[0], g[1], ground_scale * ground_signal(t)
+        return g[0], scale * signal(t), scale * signal.derivative(t)
+    return g[0], g[1], scale * signal(t)
 
 
-def _rates(t, x, p, code: int):
-    """Unscaled state derivative ``x'``, the loads' generalized force ``Q(t)`` and the ground's ``u, v, a``."""
-    z, w, g = x[:6], x[6:12], x[12:]
-    Q = jnp.zeros(6)
-    for k, signal in enumerate(p["signals"]):
-        Q = Q + p["vectors"][k] * signal(t)
-    u_g, v_g, a_g = _ground_kinematics(code, p["ground_signal"], p["ground_scale"], t, g)
-    relative_velocity = w - p["r"] * v_g
-    w_dot = p["Minv"] @ (Q - p["C"] @ relative_velocity - p["K"] @ z)
-    # u_g, v_g are integrated only for grounds given as a velocity (u_g) or an acceleration (both).
-    g_dot = jnp.stack([v_g if code >= 2 else 0.0, a_g if code == 3 else 0.0])
-    return jnp.concatenate([relative_velocity, w_dot, g_dot]), Q, jnp.stack([u_g, v_g, a_g])
+def _input(t, g, p, code: int):
+    """The input ``u(t)`` of :func:`first_order_form` (``g``: the state's ``u_g, v_g``)."""
+    _, v_g, a_g = _ground_kinematics(code, p, t, g)
+    return jnp.stack([*(signal(t) for signal in p["signals"]), a_g if code == 3 else v_g])
 
 
-def solve_ode(field, x0, t0, t1, saveat, jump_ts, rtol, atol, *, solver: str, max_steps: int, args=None,
-              progress: str = "none"):
-    """The one diffrax call of sixdof, shared by :func:`simulate` and the batch engine (traceable).
+def solve_ode(field, x0, t0, t1, saveat, jump_ts, rtol, atol, *, solver: str, max_steps: int, args=None):
+    """The one diffrax call of sixdof, shared by :func:`simulate_windows` and the batch engine (traceable).
 
-    ``solver`` (a key of :data:`SOLVERS`) with PID step control at ``rtol`` and ``atol`` on the (scaled)
+    ``solver`` (a key of :data:`SOLVERS`; explicit methods with unrolled stages,
+    :mod:`sixdof.analysis.unrolled`) with PID step control at ``rtol`` and ``atol`` on the (scaled)
     state, stepping onto every time of ``jump_ts`` (:func:`jump_times`), ``max_steps`` at most; with
     ``throw=False``, the caller turns a failed result code into a :class:`~sixdof.errors.SolverError`.
     """
+    import diffrax
+
+    from sixdof.analysis import unrolled
+
     controller = diffrax.ClipStepSizeController(diffrax.PIDController(rtol=rtol, atol=atol), jump_ts=jump_ts)
     return diffrax.diffeqsolve(
-        diffrax.ODETerm(field), SOLVERS[solver](), t0, t1, None, x0, args=args, saveat=saveat,
+        diffrax.ODETerm(field), unrolled.solver(solver), t0, t1, None, x0, args=args, saveat=saveat,
         stepsize_controller=controller, max_steps=max_steps, throw=False,
-        progress_meter=PROGRESS_METERS[progress](),
     )
+
+
+def _solve_window(p, xs0, ts, t0, t1, jump_ts, rtol, atol, *, solver: str, code: int, max_steps: int):
+    """One window from ``t0`` to ``t1``, saved at ``ts`` (traced): scaled end state, states and outputs at ``ts``."""
+    import diffrax
+
+    A, B, sigma = p["A"], p["B"], p["sigma"]
+    # On the scaled state xs = x / sigma the field is one product [A_s | B_s] [xs; u(t)] (A and B scaled
+    # once): a single dot per stage, which XLA runs fastest on the CPU (measured against A_s xs + B_s u).
+    AB = jnp.concatenate([A * sigma[None, :], B], axis=1) / sigma[:, None]
+
+    def field(t, xs, AB):
+        return AB @ jnp.concatenate([xs, _input(t, xs[12:] * sigma[12:], p, code)])
+
+    sol = solve_ode(field, xs0, t0, t1, diffrax.SaveAt(ts=ts), jump_ts, rtol, atol, args=AB,
+                    solver=solver, max_steps=max_steps)
+    xs = sol.ys * sigma
+
+    def outputs(t, x):
+        u = _input(t, x[12:], p, code)
+        return (A @ x + B @ u)[6:12], p["vectors"].T @ u[:-1], jnp.stack(_ground_kinematics(code, p, t, x[12:]))
+
+    qdd, Q, ground = jax.vmap(outputs)(ts, xs)
+    stats = jnp.stack([sol.stats["num_steps"], sol.stats["num_accepted_steps"], sol.stats["num_rejected_steps"]])
+    # The result as its integer code (a pytree leaf), so that the compiled solve returns plain arrays.
+    result = jax.tree.leaves(sol.result)[0]
+    return sol.ys[-1], xs, qdd, Q, ground, sol.result == diffrax.RESULTS.successful, result, stats
+
+
+def _failure(result) -> str:
+    """diffrax's message for a result code returned by :func:`_solve_window`."""
+    import diffrax
+
+    item = jax.tree.unflatten(jax.tree.structure(diffrax.RESULTS.successful), [np.asarray(result)])
+    return diffrax.RESULTS[item]
+
+
+# ----------------------------------------------------------------------------------------------------
+# The compiled solve of a window, per problem structure: traced once per process, exported across them.
+# ----------------------------------------------------------------------------------------------------
+
+#: Compiled window solves of this process, by structure key.
+_COMPILED: dict[str, Callable] = {}
+
+#: The files whose code the traced solve runs: a change to any of them makes exported solves stale.
+_TRACED_SOURCES = ("analysis/direct.py", "analysis/unrolled.py", "excitation/signals.py")
+
+
+def _export_dir() -> Path | None:
+    """Folder of the exported solves, or ``None`` when they are not kept.
+
+    They are kept beside the persistent JAX compilation cache, when that is on (it holds the compiled code
+    they need), when equinox's runtime checks compile to NaNs (``EQX_ON_ERROR=nan`` or ``off``, as the
+    command line sets: the default checks are host callbacks, which cannot be exported) and when
+    flatbuffers, which :mod:`jax.export` writes with, is installed.
+    """
+    cache = jax.config.jax_compilation_cache_dir
+    if not cache or os.environ.get("EQX_ON_ERROR") not in ("nan", "off") or not importlib.util.find_spec("flatbuffers"):
+        return None
+    return Path(cache) / "sixdof_solves"
+
+
+def _installed(module: str) -> str:
+    """Where ``module`` is installed and when, without importing it (part of the structure key)."""
+    spec = importlib.util.find_spec(module)
+    if spec is None or spec.origin is None:
+        return "absent"
+    stat = os.stat(spec.origin)
+    return f"{spec.origin}:{stat.st_mtime_ns}:{stat.st_size}"
+
+
+def _structure_key(treedef, specs, statics: dict) -> str:
+    """Everything the traced solve depends on besides its arguments' values."""
+    package = Path(__file__).resolve().parent.parent
+    sources = hashlib.sha256(b"".join((package / name).read_bytes() for name in _TRACED_SOURCES)).hexdigest()
+    return json.dumps({
+        "statics": statics, "treedef": str(treedef), "arguments": [f"{s.dtype}{list(s.shape)}" for s in specs],
+        "sources": sources, "jax": jax.__version__, "backend": jax.default_backend(),
+        "x64": bool(jax.config.jax_enable_x64), "eqx_on_error": os.environ.get("EQX_ON_ERROR", "raise"),
+        "diffrax": _installed("diffrax"), "equinox": _installed("equinox"),
+    }, sort_keys=True)
+
+
+def _load_exported(path: Path, key: str, specs) -> Callable | None:
+    """The exported solve stored at ``path`` for ``key``, compiled; ``None`` when it is absent, for another
+    key, damaged or unusable (then the solve is traced anew)."""
+    try:
+        header, payload = path.read_bytes().split(b"\n", 1)
+        meta = json.loads(header)
+        if meta["key"] != key or meta["sha256"] != hashlib.sha256(payload).hexdigest():
+            return None
+        exported = jax.export.deserialize(bytearray(payload))
+        if [(a.shape, a.dtype) for a in exported.in_avals] != [(s.shape, s.dtype) for s in specs]:
+            return None
+        solve = jax.jit(exported.call)
+        solve.lower(*specs)  # what can fail before a call fails here
+        return solve
+    except Exception:  # noqa: BLE001 - a cache entry of any damage is ignored; the solve is traced instead
+        return None
+
+
+def _save_exported(path: Path, key: str, traced, specs) -> Callable:
+    """Export ``traced`` and store it for ``key`` (atomically); the exported solve, or ``traced`` when it cannot
+    be exported (the cache is then left alone: a run never fails for its cache)."""
+    try:
+        exported = jax.export.export(traced)(*specs)
+        payload = bytes(exported.serialize())
+    except Exception:  # noqa: BLE001 - e.g. host callbacks after all: compile it without exporting
+        return traced
+    header = json.dumps({"key": key, "sha256": hashlib.sha256(payload).hexdigest()}).encode()
+    temporary = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        temporary.write_bytes(header + b"\n" + payload)
+        os.replace(temporary, path)
+    except OSError:
+        temporary.unlink(missing_ok=True)
+    return jax.jit(exported.call)
+
+
+def _compiled_window(args: tuple, *, solver: str, code: int, max_steps: int) -> Callable:
+    """The jitted :func:`_solve_window` for the structure of ``args``, called with ``jax.tree.leaves(args)`` (a
+    jitted function, not an ahead-of-time compiled one: its calls take JAX's fast path, ~1 ms less each)."""
+    leaves, treedef = jax.tree.flatten(args)
+    specs = [jax.ShapeDtypeStruct(np.shape(leaf), np.asarray(leaf).dtype) for leaf in leaves]
+    statics = {"solver": solver, "code": code, "max_steps": max_steps}
+    key = _structure_key(treedef, specs, statics)
+    compiled = _COMPILED.get(key)
+    if compiled is not None:
+        return compiled
+    folder = _export_dir()
+    path = None if folder is None else folder / f"{hashlib.sha256(key.encode()).hexdigest()[:32]}.jaxexport"
+    compiled = None if path is None else _load_exported(path, key, specs)
+    if compiled is None:
+
+        def _solve(*leaves):
+            return _solve_window(*jax.tree.unflatten(treedef, leaves), **statics)
+
+        compiled = jax.jit(_solve)  # compiled at its first call
+        if path is not None:
+            compiled = _save_exported(path, key, compiled, specs)
+    _COMPILED[key] = compiled
+    return compiled
+
+
+# ----------------------------------------------------------------------------------------------------
+# Windows of a run.
+# ----------------------------------------------------------------------------------------------------
+
+
+def _load_vectors(excitation: Excitation) -> tuple[np.ndarray, tuple]:
+    components = excitation.components()
+    return np.array([v for v, _ in components]).reshape(len(components), 6), tuple(s for _, s in components)
 
 
 def loads_of(excitation: Excitation, settings: SimulationSettings) -> tuple[np.ndarray, tuple]:
@@ -306,51 +534,253 @@ def loads_of(excitation: Excitation, settings: SimulationSettings) -> tuple[np.n
         raise InputError("excitation", "an Excitation", excitation)
     if not isinstance(settings, SimulationSettings):
         raise InputError("settings", "a SimulationSettings", settings)
-    components = excitation.components()
-    return np.array([v for v, _ in components]).reshape(len(components), 6), tuple(s for _, s in components)
+    return _load_vectors(excitation)
 
 
 def jump_times(excitation: Excitation, t0: float, t1: float) -> tuple[np.ndarray, int]:
     """The excitation's breakpoints [s] inside ``(t0, t1)`` for the step control, padded beyond ``t1`` with
     distinct, never reached times to a power-of-two length >= 8 (few compiled shapes), and their count."""
     jumps = np.array(sorted(b for b in excitation.breakpoints if t0 < b < t1), dtype=float)
-    size = max(8, 1 << max(0, jumps.size - 1).bit_length())
-    return np.concatenate([jumps, t1 + 1.0 + np.arange(size - jumps.size)]), int(jumps.size)
+    return _padded(jumps, t1, _jump_slots(jumps.size)), int(jumps.size)
 
 
-@partial(jax.jit, static_argnames=("solver", "code", "max_steps", "progress"))
-def _solve(p, x0, ts, t0, t1, jump_ts, rtol, atol, *, solver, code, max_steps, progress):
-    sigma = p["sigma"]
-
-    def field(t, xs, args):
-        return _rates(t, xs * sigma, args, code)[0] / sigma
-
-    sol = solve_ode(field, x0 / sigma, t0, t1, diffrax.SaveAt(ts=ts), jump_ts, rtol, atol, args=p,
-                    solver=solver, max_steps=max_steps, progress=progress)
-    xs = sol.ys * sigma
-
-    def outputs(t, x):
-        rate, Q, ground = _rates(t, x, p, code)
-        return rate[6:12], Q, ground
-
-    qdd, Q, ground = jax.vmap(outputs)(ts, xs)
-    stats = (sol.stats["num_steps"], sol.stats["num_accepted_steps"], sol.stats["num_rejected_steps"])
-    return xs, qdd, Q, ground, sol.result, stats
+def _jump_slots(count: int) -> int:
+    return max(8, 1 << max(0, count - 1).bit_length())
 
 
-def _progress_key(progress: Any) -> str:
+def _inside(breakpoints: np.ndarray, t0: float, t1: float) -> slice:
+    """The sorted ``breakpoints`` strictly inside ``(t0, t1)``: those the step control must step onto."""
+    return slice(int(np.searchsorted(breakpoints, t0, "right")), int(np.searchsorted(breakpoints, t1, "left")))
+
+
+def _padded(jumps: np.ndarray, t1: float, size: int) -> np.ndarray:
+    return np.concatenate([jumps, t1 + 1.0 + np.arange(size - jumps.size)])
+
+
+def window_length(samples: int, most: int = WINDOW_SAMPLES) -> int:
+    """Samples per window of a run of ``samples`` samples: as equal as possible, at most ``most``, a
+    multiple of :data:`WINDOW_GRANULE` (so that similar runs share one compiled solve) where that fits."""
+    windows = -(-samples // most)
+    return min(most, WINDOW_GRANULE * -(-samples // (windows * WINDOW_GRANULE)))
+
+
+@dataclass(frozen=True)
+class _Run:
+    """What every window of a run shares: its arrays and the compiled window solve."""
+
+    params: dict
+    r: np.ndarray
+    sigma: np.ndarray
+    breakpoints: np.ndarray
+    jump_slots: int
+    window: int
+    solve: Callable
+
+
+def _prepare(system: System, excitation: Excitation, settings: SimulationSettings,
+             window: int) -> tuple[_Run, np.ndarray]:
+    """The run's shared arrays and compiled solve, and its scaled initial state."""
+    vectors, signals = loads_of(excitation, settings)
+    t0, t1 = settings.start, settings.start + settings.duration
+    ground = excitation.ground
+    code = _GROUND_CODES[None if ground is None else ground.quantity]
+    r = np.zeros(6) if ground is None else ground.rigid_vector
+    sigma = state_scale(system, excitation, settings)
+    A, B = first_order_form(system, excitation)
+    params = {"A": A, "B": B, "sigma": sigma, "vectors": vectors, "signals": signals,
+              "ground_signal": None if ground is None else ground.signal,
+              "ground_scale": 0.0 if ground is None else float(ground.scale)}
+    params = jax.tree.map(np.asarray, params)
+    # Initial state: z = q - r u_g with the ground's displacement at t0 (zero for integrated grounds);
+    # q0 includes the equilibrium r u_g(t0), so that at rest no mount is deflected.
+    q0, qd0 = excitation.initial_state(system, t0)
+    u0 = float(ground.scale * ground.signal(t0)) if code == 1 else 0.0
+    x0 = np.concatenate([q0 - r * u0, qd0, [0.0, 0.0]])
+
+    breakpoints = np.array(sorted(b for b in excitation.breakpoints if t0 < b < t1), dtype=float)
+    inside = [_inside(breakpoints, ts[0], end) for ts, end in window_spans(settings, window)]
+    slots = _jump_slots(max(part.stop - part.start for part in inside))
+    example = _window_args(params, x0 / sigma, np.zeros(window + 1), t0, t1, np.zeros(slots), settings)
+    solve = _compiled_window(example, solver=settings.solver, code=code, max_steps=settings.max_steps)
+    return _Run(params, r, sigma, breakpoints, slots, window, solve), x0 / sigma
+
+
+def _window_args(params, xs0, ts, t0, t1, jumps, settings) -> tuple:
+    """The arguments of :func:`_solve_window`, as float64 arrays."""
+    scalars = (np.float64(t0), np.float64(t1))
+    return (params, np.asarray(xs0), ts, *scalars, jumps, np.float64(settings.rtol), np.float64(settings.atol))
+
+
+def simulate_windows(system: System, excitation: Excitation | None, settings: SimulationSettings, *,
+                     window_samples: int = WINDOW_SAMPLES) -> Iterator[TimeHistory]:
+    """Integrate eq. (1) in time windows: an iterator of one :class:`~sixdof.results.TimeHistory` per window.
+
+    The windows hold consecutive samples of the run, at most ``window_samples`` each
+    (:func:`window_length`). Each starts from the solver's state where the previous one ended, as it is
+    (ground integration states included), with the breakpoints inside it; so memory stays bounded by one
+    window whatever the duration, and ``settings.max_steps`` applies per window. Joined
+    (:func:`simulate` does it), the windows are the run.
+
+    Parameters
+    ----------
+    system, excitation, settings
+        As :func:`simulate`.
+    window_samples : int, optional
+        The most samples of a window; default :data:`WINDOW_SAMPLES`.
+
+    Yields
+    ------
+    sixdof.results.TimeHistory
+        The window's samples, as :func:`simulate` describes them, with the window's solver statistics.
+
+    Raises
+    ------
+    InputError
+        For arguments of the wrong kind (when called, before any window is solved).
+    SolverError
+        If the solver fails in a window (step limit, step size collapse) or produces non-finite values
+        (while iterating).
+
+    Warns
+    -----
+    sixdof.analysis.validity.RangeWarning
+        For a load that never acts in the simulated time (when called), and, after the last window, for
+        rotations of the run beyond :data:`~sixdof.analysis.validity.SMALL_ANGLE_RAD`.
+    """
+    if excitation is None:
+        excitation = Excitation()
+    window = window_length(settings.samples, integer(window_samples, "window_samples", "a positive integer", 1))
+    warn_idle(excitation, settings.start, settings.start + settings.duration)
+    run, xs = _prepare(system, excitation, settings, window)
+    return _windows(run, xs, settings)
+
+
+def _windows(run: _Run, xs: np.ndarray, settings: SimulationSettings) -> Iterator[TimeHistory]:
+    rotations = _RotationPeaks()
+    for ts, end in window_spans(settings, run.window):
+        history, xs = _window(run, xs, ts, end, settings)
+        rotations.add(history.t, history.q)
+        yield history
+    rotations.warn()
+
+
+def window_spans(settings: SimulationSettings, window: int) -> Iterator[tuple[np.ndarray, float]]:
+    """The sample times [s] of each window of ``window`` samples, and the time it ends [s]: the next
+    window's first sample, or the run's end (where the sample after the last is clipped to)."""
+    for first in range(0, settings.samples, window):
+        stop = min(first + window, settings.samples)
+        yield settings.times_between(first, stop), float(settings.times_between(stop, stop + 1)[0])
+
+
+def _window(run: _Run, xs0: np.ndarray, ts: np.ndarray, end: float, settings: SimulationSettings):
+    """Solve one window from ``ts[0]`` to ``end``: its :class:`TimeHistory` and the scaled state at ``end``."""
+    n = ts.size
+    # Saved at the samples, then at the end (the next window's start), repeated to fill the compiled slots.
+    saves = np.concatenate([ts, np.full(run.window + 1 - n, end)])
+    inside = _inside(run.breakpoints, ts[0], end)
+    jumps = _padded(run.breakpoints[inside], end, run.jump_slots)
+    args = _window_args(run.params, xs0, saves, ts[0], end, jumps, settings)
+    start = time.perf_counter()
+    xs_end, x, qdd, Q, kin, ok, result, steps = run.solve(*jax.tree.leaves(args))
+    x = np.asarray(x)[:n]
+    wall = time.perf_counter() - start
+    if not bool(ok):
+        raise SolverError(f"direct solve with {settings.solver} (rtol={settings.rtol:g}, atol={settings.atol:g}, "
+                          f"max_steps={settings.max_steps} per window) failed in [{ts[0]:.6g}, {end:.6g}] s: "
+                          f"{_failure(result)}")
+    qdd, Q, kin = np.asarray(qdd)[:n], np.asarray(Q)[:n], np.asarray(kin)[:n]
+    bad = np.flatnonzero(~np.all(np.isfinite(x), axis=1))
+    if bad.size or not np.all(np.isfinite(qdd)):
+        what = f"values (first at t = {ts[bad[0]]:.6g} s)" if bad.size else "accelerations"
+        raise SolverError(f"direct solve with {settings.solver} produced non-finite {what}")
+    r = run.r
+    has_ground = run.params["ground_signal"] is not None
+    ground = {f"ground_{m}": np.outer(kin[:, i], r[:3]) for i, m in enumerate(_MOTION)} if has_ground else {}
+    n_steps, n_accepted, n_rejected = (int(s) for s in np.asarray(steps))
+    history = TimeHistory(
+        t=ts, q=x[:, :6] + np.outer(kin[:, 0], r), qd=x[:, 6:12], qdd=qdd, Q=Q, **ground,
+        stats=SolverStats(
+            solver=settings.solver, rtol=settings.rtol, atol=settings.atol, scale=readonly(run.sigma),
+            num_steps=n_steps, num_accepted=n_accepted, num_rejected=n_rejected,
+            # A breakpoint at the window's start was stepped onto as the previous window's end: counted here.
+            max_steps=settings.max_steps, num_jumps=int(inside.stop - np.searchsorted(run.breakpoints, ts[0])),
+            wall_time_s=wall,
+        ),
+    )
+    return history, np.asarray(xs_end)
+
+
+_MOTION = ("displacement", "velocity", "acceleration")
+
+
+class _RotationPeaks:
+    """The largest rotation of each axis over a run's windows and its time, for one warning at the end."""
+
+    def __init__(self) -> None:
+        self.peak = np.zeros(3)
+        self.time = np.zeros(3)
+
+    def add(self, t: np.ndarray, q: np.ndarray) -> None:
+        rotations = np.abs(q[:, 3:])
+        at = rotations.argmax(axis=0)
+        larger = rotations[at, range(3)] > self.peak
+        self.peak = np.where(larger, rotations[at, range(3)], self.peak)
+        self.time = np.where(larger, t[at], self.time)
+
+    def warn(self) -> None:
+        # One row per axis, holding that axis's peak at its time: the run's rotations as the warning sees them.
+        q = np.zeros((3, 6))
+        q[:, 3:] = np.diag(self.peak)
+        warn_large_rotations(self.time, q)
+
+
+# ----------------------------------------------------------------------------------------------------
+# The whole run.
+# ----------------------------------------------------------------------------------------------------
+
+
+class _Progress:
+    """The simulated time reached, shown on stderr after each window (never inside the compiled solve)."""
+
+    def __init__(self, kind: str, settings: SimulationSettings) -> None:
+        self.start, self.total = settings.start, settings.duration
+        self.bar = None
+        if kind == "tqdm":
+            from tqdm.auto import tqdm
+
+            self.bar = tqdm(total=self.total, unit="s", desc="direct solve",
+                            bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} s [{elapsed}<{remaining}]")
+
+    def show(self, reached: float) -> None:
+        done = reached - self.start
+        if self.bar is not None:
+            self.bar.update(done - self.bar.n)
+        else:
+            print(f"\rdirect solve: {done:.4g} / {self.total:.4g} s ({done / self.total:.0%})", end="",
+                  file=sys.stderr, flush=True)
+
+    def close(self) -> None:
+        self.show(self.start + self.total)
+        if self.bar is not None:
+            self.bar.close()
+        else:
+            print(file=sys.stderr, flush=True)
+
+
+def progress_meter(progress: Any, settings: SimulationSettings) -> _Progress | None:
     if progress is None or progress is False:
-        return "none"
+        return None
     if progress is True:
-        return "tqdm" if importlib.util.find_spec("tqdm") else "text"
-    if progress in ("text", "tqdm", "none"):
-        return progress
-    raise InputError("progress", "None, True, 'text' or 'tqdm'", progress)
+        progress = "tqdm" if importlib.util.find_spec("tqdm") else "text"
+    if progress not in PROGRESS:
+        raise InputError("progress", "None, True, 'text' or 'tqdm'", progress)
+    return _Progress(progress, settings)
 
 
 def simulate(system: System, excitation: Excitation | None, settings: SimulationSettings,
-             progress: Any = None) -> TimeHistory:
-    """Integrate eq. (1) in time for ``system`` under ``excitation``.
+             progress: Any = None, *, window_samples: int = WINDOW_SAMPLES) -> TimeHistory:
+    """Integrate eq. (1) in time for ``system`` under ``excitation``: the windows of
+    :func:`simulate_windows`, joined.
 
     Parameters
     ----------
@@ -360,17 +790,21 @@ def simulate(system: System, excitation: Excitation | None, settings: Simulation
         Loads, ground motion, initial state. ``None``: at rest, nothing happens.
     settings : SimulationSettings
     progress : None, bool, "text" or "tqdm", optional
-        Show progress of long runs (diffrax's progress meters; ``True`` picks tqdm when installed).
-        Default: silent.
+        Show the simulated time reached after each window on stderr (``True`` picks tqdm when
+        installed). Drawn between windows, it costs nothing inside the solve. Default: silent.
+    window_samples : int, optional
+        The most samples of a window (:func:`simulate_windows`).
 
     Returns
     -------
     sixdof.results.TimeHistory
         Absolute motion, the ground's motion when it moves, the loads' generalized force and the
-        solver's statistics (``stats``).
+        solver's statistics (``stats``, over all windows).
 
     Raises
     ------
+    InputError
+        If the run's samples cannot fit in memory (:func:`simulate_windows` runs in bounded memory).
     SolverError
         If the solver fails (step limit, step size collapse) or produces non-finite values.
 
@@ -380,67 +814,20 @@ def simulate(system: System, excitation: Excitation | None, settings: Simulation
         For a load that never acts in the simulated time, and for rotations beyond
         :data:`~sixdof.analysis.validity.SMALL_ANGLE_RAD`.
     """
-    if excitation is None:
-        excitation = Excitation()
-    vectors, signals = loads_of(excitation, settings)
-    progress = _progress_key(progress)
-    ts = settings.times
-    t0, t1 = settings.start, settings.start + settings.duration
-    warn_idle(excitation, t0, t1)
-    M = np.asarray(system.M, dtype=float)
-    ground = excitation.ground
-    code = _GROUND_CODES[None if ground is None else ground.quantity]
-    r = np.zeros(6) if ground is None else ground.rigid_vector
-    sigma = state_scale(system, excitation, settings)
-
-    # Initial state: z = q - r u_g with the ground's displacement at t0 (zero for integrated grounds);
-    # q0 includes the equilibrium r u_g(t0), so that at rest no mount is deflected.
-    q0, qd0 = excitation.initial_state(system, t0)
-    u0 = float(ground.scale * ground.signal(t0)) if code == 1 else 0.0
-    x0 = np.concatenate([q0 - r * u0, qd0, [0.0, 0.0]])
-
-    padded, n_jumps = jump_times(excitation, t0, t1)
-
-    params = {
-        "Minv": np.linalg.inv(M),
-        "C": np.asarray(system.C, dtype=float),
-        "K": np.asarray(system.K, dtype=float),
-        "r": r,
-        "vectors": vectors,
-        "signals": signals,
-        "ground_signal": None if ground is None else ground.signal,
-        "ground_scale": 0.0 if ground is None else ground.scale,
-        "sigma": sigma,
-    }
-    start = time.perf_counter()
-    xs, qdd, Q, kin, result, stats = _solve(
-        params, x0, ts, t0, t1, padded, settings.rtol, settings.atol,
-        solver=settings.solver, code=code, max_steps=settings.max_steps, progress=progress,
-    )
-    xs = np.asarray(jax.block_until_ready(xs))
-    wall = time.perf_counter() - start
-    if not bool(result == diffrax.RESULTS.successful):
-        raise SolverError(f"direct solve with {settings.solver} (rtol={settings.rtol:g}, atol={settings.atol:g}, "
-                          f"max_steps={settings.max_steps}) failed: {diffrax.RESULTS[result]}")
-    qdd, Q, kin = np.asarray(qdd), np.asarray(Q), np.asarray(kin)
-    bad = np.flatnonzero(~np.all(np.isfinite(xs), axis=1))
-    if bad.size or not np.all(np.isfinite(qdd)):
-        what = f"values (first at t = {ts[bad[0]]:.6g} s)" if bad.size else "accelerations"
-        raise SolverError(f"direct solve with {settings.solver} produced non-finite {what}")
-    motion = ("displacement", "velocity", "acceleration")
-    ground_motion = {} if ground is None else {f"ground_{m}": np.outer(kin[:, i], r[:3]) for i, m in enumerate(motion)}
-    n_steps, n_accepted, n_rejected = (int(s) for s in stats)
-    q = xs[:, :6] + np.outer(kin[:, 0], r)
-    warn_large_rotations(ts, q)
-    return TimeHistory(
-        t=ts, q=q, qd=xs[:, 6:12], qdd=qdd, Q=Q, **ground_motion,
-        stats=SolverStats(
-            solver=settings.solver, rtol=settings.rtol, atol=settings.atol, scale=readonly(sigma),
-            num_steps=n_steps, num_accepted=n_accepted, num_rejected=n_rejected,
-            max_steps=settings.max_steps, num_jumps=n_jumps, wall_time_s=wall,
-        ),
-    )
+    if not isinstance(settings, SimulationSettings):
+        raise InputError("settings", "a SimulationSettings", settings)
+    memory_check("sample_rate_hz", settings.samples * SOLVE_BYTES_PER_SAMPLE, "a number of output samples",
+                 f"{settings.samples:.3g} samples")
+    meter = progress_meter(progress, settings)
+    windows = []
+    for window in simulate_windows(system, excitation, settings, window_samples=window_samples):
+        windows.append(window)
+        if meter is not None:
+            meter.show(float(window.t[-1]))
+    if meter is not None:
+        meter.close()
+    return time_concat(windows, stats=merge_stats([w.stats for w in windows]))
 
 
-__all__ = ["SOLVERS", "SCALE_FLOOR", "SimulationSettings", "SolverStats",
-           "simulate", "state_scale"]
+__all__ = ["SOLVERS", "SCALE_FLOOR", "WINDOW_SAMPLES", "SimulationSettings", "SolverStats", "first_order_form",
+           "merge_stats", "simulate", "simulate_windows", "state_scale", "window_length"]

@@ -71,6 +71,8 @@ class MountCheck(Result):
         Extremes of the normal force [N] and their times [s]; ``min_compression < 0`` is tension.
     tension_start_t : ndarray, shape (m,)
         First time the mount is in tension [s] (``nan``: never).
+    over_limit_t : ndarray, shape (m, 3)
+        First time the deflection along each axis exceeds the mount's ``max_deflection`` [s] (``nan``: never).
     violations : tuple of str
         One message per mount beyond its limits (``max_deflection``, ``allow_tension``).
     """
@@ -98,6 +100,8 @@ class MountCheck(Result):
     min_compression: np.ndarray = quantity("N", ("mount",), description=f"smallest {_COMPRESSION}")
     min_compression_t: np.ndarray = quantity("s", ("mount",), description="time of min_compression")
     tension_start_t: np.ndarray = quantity("s", ("mount",), description="first time in tension (nan: never)")
+    over_limit_t: np.ndarray = quantity("s", ("mount", "mount_axis"),
+                                        description="first time the deflection exceeds max_deflection (nan: never)")
     violations: tuple[str, ...] = label(decode=lambda v: tuple(str(m) for m in v))
 
     @property
@@ -149,6 +153,8 @@ def mount_check(system: System, forces: MountForces, t, statics: Statics | None 
     pulling = compression < -TENSION_TOL * max(float(np.abs(compression).max()), np.finfo(float).tiny)
     tension_start = np.where(pulling.any(axis=1), t[np.argmax(pulling, axis=1)], np.nan)
     rows = np.arange(len(compression))
+    limits = np.array([mount.max_deflection for mount in system.mounts], dtype=float).reshape(-1, 3)
+    over = np.abs(deflection) > limits[:, None, :]
     check = dict(
         names=tuple(system.mount_names), preload=statics is not None,
         static_deflection=readonly(static_deflection), static_force=readonly(static_force),
@@ -158,22 +164,54 @@ def mount_check(system: System, forces: MountForces, t, statics: Statics | None 
         max_compression=readonly(compression[rows, k_max]), max_compression_t=readonly(t[k_max]),
         min_compression=readonly(compression[rows, k_min]), min_compression_t=readonly(t[k_min]),
         tension_start_t=readonly(tension_start),
+        over_limit_t=readonly(np.where(over.any(axis=1), t[np.argmax(over, axis=1)], np.nan)),
     )
-    violations = tuple(filter(None, (_violation(mount, j, t, check) for j, mount in enumerate(system.mounts))))
-    return MountCheck(**check, violations=violations)
+    return MountCheck(**check, violations=_violations(system, check))
 
 
-def _violation(mount, j: int, t: np.ndarray, check: dict) -> str:
+def merge_mount_checks(system: System, checks) -> MountCheck:
+    """One :class:`MountCheck` over consecutive time windows of a run from each window's.
+
+    Peaks and extremes are the windows' largest (the earliest of equal ones), first times the earliest; the
+    time series are the last window's (a windowed run has written the others already).
+    """
+    def first_of(values):  # the earliest window's finite time, else nan
+        stacked = np.stack(values)
+        found = np.isfinite(stacked)
+        return np.where(found.any(axis=0), np.take_along_axis(stacked, np.argmax(found, axis=0)[None], 0)[0], np.nan)
+
+    def pick(name, rank):  # value and time of the window whose value ranks highest (ties: earliest)
+        k = np.argmax(np.stack([rank(getattr(c, name)) for c in checks]), axis=0)[None]
+        value, when = (np.take_along_axis(np.stack([getattr(c, n) for c in checks]), k, 0)[0]
+                       for n in (name, f"{name}_t"))
+        return {name: readonly(value), f"{name}_t": readonly(when)}
+
+    last = checks[-1]
+    check = dict(
+        names=last.names, preload=last.preload, static_deflection=last.static_deflection,
+        static_force=last.static_force, deflection=last.deflection, force=last.force, compression=last.compression,
+        **pick("peak_deflection", np.abs), **pick("peak_force", np.abs), **pick("max_compression", np.asarray),
+        **pick("min_compression", np.negative),
+        tension_start_t=readonly(first_of([c.tension_start_t for c in checks])),
+        over_limit_t=readonly(first_of([c.over_limit_t for c in checks])),
+    )
+    return MountCheck(**check, violations=_violations(system, check))
+
+
+def _violations(system: System, check: dict) -> tuple[str, ...]:
+    return tuple(filter(None, (_violation(mount, j, check) for j, mount in enumerate(system.mounts))))
+
+
+def _violation(mount, j: int, check: dict) -> str:
     """The message for mount ``j`` beyond its limits, or ``""``."""
     found = []
     for i, axis in enumerate(MOUNT_AXES):
-        values, limit = check["deflection"][j, :, i], mount.max_deflection[i]
-        over = np.abs(values) > limit
-        if over.any():
+        limit = mount.max_deflection[i]
+        if np.isfinite(check["over_limit_t"][j, i]):
             scale, unit = display_unit(limit, "m")
             found.append(f"deflection along {axis} {check['peak_deflection'][j, i] * scale:.4g} {unit} at "
                          f"t = {check['peak_deflection_t'][j, i]:.4g} s, beyond its max_deflection "
-                         f"{limit * scale:.4g} {unit} (first at t = {t[np.argmax(over)]:.4g} s)")
+                         f"{limit * scale:.4g} {unit} (first at t = {check['over_limit_t'][j, i]:.4g} s)")
     if not mount.allow_tension and np.isfinite(check["tension_start_t"][j]):
         scale, unit = display_unit(check["min_compression"][j], "N")
         found.append(f"in tension (allow_tension = false): {-check['min_compression'][j] * scale:.4g} {unit} "
@@ -181,4 +219,4 @@ def _violation(mount, j: int, t: np.ndarray, check: dict) -> str:
     return f"mount {mount.name!r}: " + "; ".join(found) if found else ""
 
 
-__all__ = ["MountCheck", "MountLimitWarning", "mount_check", "TENSION_TOL"]
+__all__ = ["MountCheck", "MountLimitWarning", "mount_check", "merge_mount_checks", "TENSION_TOL"]

@@ -269,6 +269,9 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
 #: 3.5 kB measured (engine scenario: 3 mounts, 1 point, 1.6e6 samples). A random signal adds an (n, components)
 #: array of sines.
 RUN_BYTES_PER_SAMPLE = 4000
+#: A run holds at most this many output samples in memory: a longer one proceeds in windows written to its
+#: file as they are done, keeping only what its figures draw (:mod:`sixdof.workflows`).
+MEMORY_SAMPLES = 1 << 16
 #: Complex values kept per frequency and per (load DOF, response) pair, counting the modal cross-check's copy.
 FRF_COPIES = 4
 
@@ -278,7 +281,7 @@ def _check_memory(system, excitation, simulation, frf) -> None:
         samples = simulation.duration * simulation.sample_rate_hz
         sources = (*excitation.loads, excitation.ground) if excitation else ()
         sines = sum(getattr(getattr(source, "signal", None), "components", 0) for source in sources)
-        memory_check("simulation.sample_rate_hz", samples * (RUN_BYTES_PER_SAMPLE + 8 * sines),
+        memory_check("simulation.sample_rate_hz", min(samples, MEMORY_SAMPLES) * (RUN_BYTES_PER_SAMPLE + 8 * sines),
                      "a number of output samples", f"{samples:.3g} samples")
     if frf is not None:  # per frequency: the 6x6 receptance and every mount's 3 forces per load DOF
         per_frequency = 16 * 6 * (6 + 3 * len(system.mounts)) * FRF_COPIES

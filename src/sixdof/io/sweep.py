@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from sixdof.analysis.batch import Variants, make_variants
+from sixdof.analysis.batch import CROSS_CHECK, ENGINES, Variants, make_variants
 from sixdof.dofs import AXES, MOUNT_AXES
 from sixdof.errors import InputError, Plain, boolean, integer, integer_check, number_check, optional
 from sixdof.frozen import Frozen, checked
@@ -115,12 +115,18 @@ class SweepSpec:
         Seed of :func:`numpy.random.default_rng`.
     vary : tuple of Vary
     chunk_size : int or None
+    engine : {"exact", "diffrax"}
+        How the responses are computed (:func:`sixdof.analysis.batch.run_batch`).
+    cross_check : int
+        Variants also solved by diffrax (drawn with ``seed``).
     """
 
     count: int
     seed: int
     vary: tuple[Vary, ...]
     chunk_size: int | None = None
+    engine: str = "exact"
+    cross_check: int = CROSS_CHECK
 
     def variants(self, system: System) -> Variants:
         """Draw the variants for ``system`` (deterministic for a given seed)."""
@@ -179,6 +185,9 @@ def parse_sweep_spec(text: str, source: str = "<string>") -> SweepSpec:
         axes = ["w"]                 # optional: u, v, w (mount axes) or x, y, z (positions)
         independent = true           # one draw per mount and axis (default: one shared draw)
 
+    Optional top-level keys: ``engine`` (``"exact"``, default, or ``"diffrax"``), ``cross_check``
+    (variants also solved by diffrax, default 3), ``chunk_size``.
+
     Raises
     ------
     InputError
@@ -193,12 +202,16 @@ def load_sweep_spec(path: str | Path) -> SweepSpec:
 
 
 def _spec(raw: dict) -> SweepSpec:
-    top = Table(raw, "", ("count", "seed", "chunk_size", "vary"))
+    top = Table(raw, "", ("count", "seed", "chunk_size", "engine", "cross_check", "vary"))
     # A missing parameter or distribution is None, named in field order like a wrong one.
     vary = tuple(build(Vary, {"parameter": None, "distribution": None, **v}, f"vary[{i}]")
                  for i, v in enumerate(top.tables("vary", required=True)))
     seed = integer(top.value("seed", 0), "seed", "an integer >= 0", 0)
     chunk = optional(integer_check("a positive integer", 1))(top.value("chunk_size", None), "chunk_size")
+    engine = top.value("engine", "exact")
+    if engine not in ENGINES:
+        raise InputError("engine", "one of " + ", ".join(ENGINES), engine)
+    cross_check = integer(top.value("cross_check", CROSS_CHECK), "cross_check", "a number of variants >= 0", 0)
     grids = [len(v.values) for v in vary if v.distribution == "grid"]
     count = top.value("count", math.prod(grids) if grids else None)
     if count is None:
@@ -206,4 +219,4 @@ def _spec(raw: dict) -> SweepSpec:
     count = integer(count, "count", "a positive integer", 1)
     if grids and count != math.prod(grids):
         raise InputError("count", f"the product of the grid sizes, {math.prod(grids)} (or no count)", count)
-    return SweepSpec(count=count, seed=seed, vary=vary, chunk_size=chunk)
+    return SweepSpec(count=count, seed=seed, vary=vary, chunk_size=chunk, engine=engine, cross_check=cross_check)

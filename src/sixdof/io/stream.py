@@ -1,0 +1,118 @@
+"""A results file written while a long run proceeds: its time series appended window by window.
+
+A run of any duration proceeds in time windows (:func:`sixdof.analysis.direct.simulate_windows`); each
+window's results are encoded like a whole run's (:func:`sixdof.io.store.build_results`) and every dataset
+with a time axis ``t`` is appended along that axis, so memory stays bounded by one window whatever the
+duration. The datasets without a time axis (modes, statics, summaries merged over the windows: solver
+statistics, agreement, mount peaks) are written once, by :meth:`ResultsStream.finish`, from the run's
+final results. The file is written under a temporary name and renamed into place only when finished,
+like :func:`sixdof.io.store.save_results`: a reader never sees a half-written results file.
+"""
+
+from __future__ import annotations
+
+import os
+import uuid
+from pathlib import Path
+
+from sixdof.io.output import check_room
+from sixdof.io.store import _is_scale, _scale_path, _write_attributes, _write_dataset, build_results
+
+#: Samples per HDF5 chunk along the time axis: large enough for fast appends and reads of whole series,
+#: small enough that a short run's file holds little padding.
+TIME_CHUNK = 4096
+
+
+class ResultsStream:
+    """An HDF5 results file whose time series arrive window by window.
+
+    Use as a context manager: on an exception the temporary file is removed and ``path`` left as it was.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The results file written by :meth:`finish`.
+    **parts
+        Passed to :func:`sixdof.io.store.build_results` with every window and the final results
+        (``command_line``...).
+    """
+
+    def __init__(self, path: str | os.PathLike, **parts) -> None:
+        import h5py
+
+        self.path = Path(path)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self._parts = parts
+        self._temporary = self.path.with_name(f".{self.path.name}.{uuid.uuid4().hex}.tmp")
+        self._file = h5py.File(self._temporary, "x")
+        self._series: dict[str, tuple[str, ...]] = {}  # path -> dims of the time series appended
+        self.samples = 0
+
+    def __enter__(self) -> ResultsStream:
+        return self
+
+    def __exit__(self, kind, value, traceback) -> None:
+        if kind is not None:
+            self.abort()
+
+    def append(self, run) -> None:
+        """Append one window's time series (a :class:`~sixdof.results.RunResults` of that window)."""
+        tree = build_results(run, **self._parts)
+        series = {path: d for path, d in tree.datasets.items() if "t" in d.dims}
+        if self._series and set(series) != set(self._series):
+            raise ValueError(f"window {self.samples} has the series {sorted(series)}, not {sorted(self._series)}")
+        check_room(self._temporary, sum(d.data.nbytes for d in series.values()))
+        n = tree["time/t"].data.shape[0]
+        for path, dataset in series.items():
+            axis = dataset.dims.index("t")
+            if path not in self._series:
+                shape = list(dataset.data.shape)
+                shape[axis] = 0
+                maxshape = list(shape)
+                maxshape[axis] = None
+                chunks = list(shape)
+                chunks[axis] = TIME_CHUNK
+                node = self._file.create_dataset(path, shape=tuple(shape), maxshape=tuple(maxshape),
+                                                 chunks=tuple(max(c, 1) for c in chunks), dtype=dataset.data.dtype)
+                node.attrs["units"] = dataset.units
+                _write_attributes(node, dataset.attrs)
+                self._series[path] = dataset.dims
+            node = self._file[path]
+            node.resize(self.samples + n, axis=axis)
+            index = [slice(None)] * dataset.data.ndim
+            index[axis] = slice(self.samples, self.samples + n)
+            node[tuple(index)] = dataset.data
+        self.samples += n
+
+    def finish(self, run) -> Path:
+        """Write the datasets without a time axis from the run's final results, close, and rename into place."""
+        tree = build_results(run, **self._parts)
+        f = self._file
+        for group, attrs in tree.attrs.items():
+            _write_attributes(f.require_group(group) if group else f, attrs)
+        datasets = dict(tree.datasets)
+        for path, dataset in datasets.items():
+            if path not in self._series and "t" not in dataset.dims:
+                _write_dataset(f, path, dataset)
+        for path, dataset in datasets.items():
+            if _is_scale(path, dataset):
+                f[path].make_scale(dataset.dims[0])
+        for path, dataset in datasets.items():
+            if not _is_scale(path, dataset):
+                for axis, dim in enumerate(dataset.dims):
+                    f[path].dims[axis].attach_scale(f[_scale_path(datasets, path, dim)])
+        f.close()
+        with open(self._temporary, "rb+") as handle:
+            os.fsync(handle.fileno())
+        os.replace(self._temporary, self.path)
+        return self.path
+
+    def abort(self) -> None:
+        """Close and remove the unfinished file."""
+        try:
+            self._file.close()
+        finally:
+            self._temporary.unlink(missing_ok=True)
+
+
+__all__ = ["ResultsStream", "TIME_CHUNK"]

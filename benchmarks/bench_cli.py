@@ -65,9 +65,12 @@ def timed(owner, name, after=None):
     setattr(owner, name, wrapper)
 
 def numerics():  # modules that loading the scenario imports: wrapped once they are there
-    for module, name in [("sixdof.analysis.direct", "simulate"), ("sixdof.analysis.superposition", "superpose"),
-                         ("sixdof.io.store", "write_results"), ("sixdof.workflows", "_frequency_responses")]:
+    from sixdof.io.stream import ResultsStream
+    for module, name in [("sixdof.workflows", "_frequency_responses"), ("sixdof.workflows", "_time_response"),
+                         ("sixdof.analysis.superposition", "superpose")]:
         timed(importlib.import_module(module), name)
+    for name in ("append", "finish"):
+        timed(ResultsStream, name)
 
 def scenario():  # imported once the workers are started, as the command does
     timed(importlib.import_module("sixdof.io.scenario"), "load_scenario", after=numerics)

@@ -12,6 +12,7 @@ import contextlib
 import dataclasses
 import warnings
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -254,7 +255,7 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
         # Merged window by window: what is kept of the past stays bounded.
         stats = _merged(merge_stats, stats, window.stats)
         agreement = _merged(merge_agreements, agreement, piece.agreement)
-        check = piece.mount_check if check is None else merge_mount_checks(system, [check, piece.mount_check])
+        check = _merged(partial(merge_mount_checks, system), check, piece.mount_check)
         info = _merged(_merge_superposition, info, modal.superposition)
         kept.append(piece if keep_all else time_slice(piece, envelope_samples(
             window.t, _drawn_series(piece), *span, ENVELOPE_BINS)))
@@ -282,6 +283,7 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
 
 
 def _merged(merge, merged, new):
+    """``new`` merged into what the previous windows merged to (``merge`` takes a list of two)."""
     return new if merged is None else merge([merged, new])
 
 

@@ -7,6 +7,7 @@ import os
 import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -178,6 +179,9 @@ def test_ctrl_c_reaches_the_whole_process_group_and_leaves_no_process(previous, 
     assert err.strip().splitlines() == ["sixdof: interrupted; no partial results were left"]
     assert snapshot(out / "pump") == previous
     assert debris(out) == []
+    deadline = time.monotonic() + 5.0  # a process that closed its pipes may still be ending
+    while living_in_group(process.pid) and time.monotonic() < deadline:
+        time.sleep(0.05)
     assert living_in_group(process.pid) == []
 
 

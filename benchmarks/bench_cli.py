@@ -78,7 +78,7 @@ def scenario():  # imported once the workers are started, as the command does
 if __name__ == "__main__":
     from sixdof.plots.workers import FigureWorkers
     timed(FigureWorkers, "__init__", after=scenario)
-    for name in ("submit", "save"):
+    for name in ("submit", "save", "close"):
         timed(FigureWorkers, name)
     from sixdof.cli import main
     stamp("sixdof.cli imported")

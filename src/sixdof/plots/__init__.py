@@ -132,13 +132,13 @@ def render(run, file_name: str, dpi: int | None = None) -> bytes:
     """Draw the figure ``file_name`` of :data:`FIGURES` from a :class:`~sixdof.results.RunResults` and
     return it as PNG bytes, ``dpi`` dots per inch (default :data:`DPI`).
 
-    One draw per figure (no layout engine), minor log ticks drawn as collections
-    (:func:`~sixdof.plots.common.freeze_minor_log_ticks`) and fast zlib (:data:`PNG_COMPRESS_LEVEL`).
+    One draw per figure (no layout engine), unlabelled ticks drawn as collections
+    (:func:`~sixdof.plots.common.freeze_unlabelled_ticks`) and fast zlib (:data:`PNG_COMPRESS_LEVEL`).
     """
-    from sixdof.plots.common import freeze_minor_log_ticks
+    from sixdof.plots.common import freeze_unlabelled_ticks
 
     figure = _DRAW[file_name](run)
-    freeze_minor_log_ticks(figure)
+    freeze_unlabelled_ticks(figure)
     buffer = io.BytesIO()
     figure.savefig(buffer, format="png", dpi=dpi or _plots.DPI,
                    pil_kwargs={"compress_level": _plots.PNG_COMPRESS_LEVEL})

@@ -8,10 +8,11 @@ Only this package imports matplotlib, and never pyplot: figures are
 from __future__ import annotations
 
 import numpy as np
+from matplotlib.axis import Ticker
 from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
-from matplotlib.ticker import NullLocator
+from matplotlib.ticker import NullFormatter, NullLocator
 
 from sixdof.analysis.modal import Modes
 from sixdof.errors import InputError
@@ -137,30 +138,45 @@ def mark_modes(ax, frequency_hz: np.ndarray | None, label: bool = False) -> None
                         color="dimgrey", va="top", ha="left")
 
 
-def freeze_minor_log_ticks(fig: Figure) -> None:
-    """Draw the minor ticks of every log axis of ``fig`` as two artists that look the same: one line
-    collection for their grid lines and one line of tick marks, at the positions the axis' own minor
-    locator gives for its final limits.
+def freeze_unlabelled_ticks(fig: Figure) -> None:
+    """Draw every set of unlabelled ticks of ``fig`` as two artists that look the same: one line
+    collection for their grid lines and one line of tick marks, at the positions the axis' own locator
+    gives for its final limits.
 
-    matplotlib makes a tick object of five artists for each minor tick: the ~300 of a Bode plot cost
-    ~40 % of its drawing. Minor ticks with labels are left as they are. For a finished figure only
-    (:func:`sixdof.plots.render`): frozen ticks no longer follow the limits.
+    matplotlib makes a tick object of five artists for each tick, labelled or not: the ~300 minor ticks of
+    a Bode plot cost ~40 % of its drawing, the unlabelled time ticks of the panels stacked above a shared
+    time axis ~20 % of theirs. Which ticks have no label: the minor ticks of a log axis spanning more than
+    about a decade, the major ticks whose labels are hidden (panels sharing an axis). Labelled ticks stay
+    as they are. For a finished figure only (:func:`sixdof.plots.render`): frozen ticks no longer follow
+    the limits.
     """
-    found = []  # every axis' positions first, then the locators: shared axes share their locators
+    found = []  # every axis' positions first, then its ticker: axes sharing an axis share their tickers
     for ax in fig.axes:
         if ax.name != "rectilinear":
             continue
         for axis in (ax.xaxis, ax.yaxis):
-            if axis.get_scale() == "log":
-                values = np.asarray(axis.get_minor_locator()(), dtype=float)
+            for which in ("major", "minor"):
+                ticker = getattr(axis, which)
+                values = np.asarray(ticker.locator(), dtype=float)
                 values = values[_inside(axis, values)]
-                # Labelled minor ticks (a log axis spanning about a decade) keep their tick objects.
-                if not any(axis.get_minor_formatter().format_ticks(values)):
-                    found.append((axis, values, axis.get_minor_ticks(1)[0]))
-    for axis, values, tick in found:
-        axis.set_minor_locator(NullLocator())
+                tick = (axis.get_major_ticks if which == "major" else axis.get_minor_ticks)(1)[0]
+                if _unlabelled(axis, ticker, values, tick):
+                    found.append((axis, which, values, tick))
+    for axis, which, values, tick in found:
+        setattr(axis, which, Ticker())  # its own: the axes sharing this axis keep theirs
+        (axis.set_major_locator if which == "major" else axis.set_minor_locator)(NullLocator())
+        (axis.set_major_formatter if which == "major" else axis.set_minor_formatter)(NullFormatter())
         if len(values):
             _draw_ticks(axis, values, tick)
+
+
+def _unlabelled(axis, ticker, values: np.ndarray, tick) -> bool:
+    """Whether the ticks at ``values`` show no text: their labels are hidden or empty, and so is the
+    axis' offset text (``1e-11``, drawn from the major ticks)."""
+    labels = ticker.formatter.format_ticks(values)
+    if (tick.label1.get_visible() or tick.label2.get_visible()) and any(labels):
+        return False
+    return ticker is not axis.major or not (axis.offsetText.get_visible() and ticker.formatter.get_offset())
 
 
 def _inside(axis, values: np.ndarray) -> np.ndarray:

@@ -64,11 +64,10 @@ def timed(owner, name, after=None):
 
     setattr(owner, name, wrapper)
 
-def numerics():  # modules that loading the scenario imports: wrapped once they are there
+def numerics():  # the run's stages, wrapped once the scenario is loaded (importing nothing the run would not)
     from sixdof.io.stream import ResultsStream
-    for module, name in [("sixdof.workflows", "_frequency_responses"), ("sixdof.workflows", "_time_response"),
-                         ("sixdof.analysis.superposition", "superpose")]:
-        timed(importlib.import_module(module), name)
+    for name in ("_frequency_responses", "_time_response"):
+        timed(importlib.import_module("sixdof.workflows"), name)
     for name in ("append", "finish"):
         timed(ResultsStream, name)
 

@@ -8,8 +8,8 @@ command, as a user runs it:
 - ``sixdof --help``, and ``sixdof plot`` of the run's results: their time (best of 3), and whether JAX is
   imported (it must not be; if it is, the sixdof modules that hold it are named);
 - a profile of one repeated run, so that a missed target says where the time goes: the main process'
-  stages as they happen, then each figure's drawing time in one process (best of 2; the command draws
-  them in worker processes, two at a time on this machine).
+  stages as they happen, what it imports (in its order), and each figure's drawing time in one process
+  (best of 2; the command draws them in worker processes, two at a time on this machine).
 
 Python keeps its bytecode caches, as an installed package has them (``PYTHONDONTWRITEBYTECODE`` is
 dropped). Run: ``python benchmarks/bench_cli.py``; writes ``results/cli.json``.
@@ -64,11 +64,10 @@ def timed(owner, name, after=None):
 
     setattr(owner, name, wrapper)
 
-def numerics():  # modules that loading the scenario imports: wrapped once they are there
+def numerics():  # the run's stages, wrapped once the scenario is loaded (importing nothing the run would not)
     from sixdof.io.stream import ResultsStream
-    for module, name in [("sixdof.workflows", "_frequency_responses"), ("sixdof.workflows", "_time_response"),
-                         ("sixdof.analysis.superposition", "superpose")]:
-        timed(importlib.import_module(module), name)
+    for name in ("_frequency_responses", "_time_response"):
+        timed(importlib.import_module("sixdof.workflows"), name)
     for name in ("append", "finish"):
         timed(ResultsStream, name)
 
@@ -101,6 +100,20 @@ for _ in range(2):
         plots.render(run, name)
         costs[name] = min(costs.get(name, 1e9), time.process_time() - start)
 print("FIGURES " + json.dumps(costs))
+"""
+
+
+# Run in a fresh process: what the run's main process imports, in its order, each with what it pulls in.
+IMPORTS = r"""
+import json, time
+costs = []
+for name in ["sixdof.cli", "sixdof.plots.workers", "numpy", "sixdof.io.scenario", "sixdof.workflows", "sixdof._jax",
+             "sixdof.excitation", "sixdof.analysis.direct", "sixdof.analysis.frf", "h5py", "sixdof.io.stream",
+             "sixdof.analysis.superposition", "sixdof.analysis.mountcheck"]:
+    start = time.perf_counter()
+    __import__(name)
+    costs.append((name, time.perf_counter() - start))
+print("IMPORTS " + json.dumps(costs))
 """
 
 
@@ -168,6 +181,12 @@ def main():
         previous = at
     print(f"  {wall:6.2f} s  (+{wall - previous:5.2f})  process ended (exit handlers, output flushed; launching "
           "it counts too)")
+    _, log = timed([sys.executable, "-c", IMPORTS], env, work)
+    imports = json.loads(next(line for line in log.splitlines() if line.startswith("IMPORTS "))[8:])
+    print(f"Imports of the main process, in its order ({sum(t for _, t in imports):.2f} s in all; each with what it "
+          "pulls in first):")
+    for name, seconds in imports:
+        print(f"  {seconds:5.2f} s  {name}")
     _, log = timed([sys.executable, "-c", FIGURES, str(results)], env, work)
     figures = json.loads(next(line for line in log.splitlines() if line.startswith("FIGURES "))[8:])
     print(f"Figures, CPU time of each drawn in one process ({sum(figures.values()):.2f} s in all; the command "
@@ -179,7 +198,7 @@ def main():
         "command": f"sixdof run {common.SCENARIO.relative_to(common.ROOT)} --quiet",
         "cold_s": cold, "repeated_best_s": best, "repeated_median_s": median, "repeated_s": repeated,
         "help_s": help_s, "help_imports_jax": help_jax, "plot_s": plot_s, "plot_imports_jax": plot_jax,
-        "profile_stamps": stamps, "profile_wall_s": wall, "figure_cpu_s": figures,
+        "profile_stamps": stamps, "profile_wall_s": wall, "imports_s": imports, "figure_cpu_s": figures,
         "target_cold_s": TARGET_COLD_S, "target_repeated_s": TARGET_REPEATED_S,
     })
     shutil.rmtree(work, ignore_errors=True)

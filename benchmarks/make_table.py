@@ -118,6 +118,7 @@ def main():
     if c:
         stages = "; ".join(f"{at:.2f} s {what}" for at, what in c["profile_stamps"])
         figures = ", ".join(f"{name} {seconds:.2f} s" for name, seconds in c["figure_cpu_s"].items())
+        imports = ", ".join(f"{name} {seconds:.2f} s" for name, seconds in c["imports_s"])
         lines += ["## `sixdof run scenarios/bridge_beam_traffic.toml --quiet`, end to end with its figures "
                   "(fresh processes)", "",
                   "| case | wall time | target |", "|---|---|---|",
@@ -132,6 +133,7 @@ def main():
                   f"| `sixdof plot` of the run's results | {c['plot_s']:.2f} s | imports no JAX: "
                   + verdict(not c["plot_imports_jax"], "held by " + ", ".join(c["plot_imports_jax"])) + " |", "",
                   f"Profile of one repeated run, main process: {stages}; process ended at {c['profile_wall_s']:.2f} s. "
+                  f"Its imports, in its order: {imports}. "
                   f"Figures drawn in worker processes meanwhile (CPU time of each: {figures}).",
                   f"Machine: {c['machine']}", ""]
     out = common.HERE / "results.md"

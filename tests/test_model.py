@@ -1,5 +1,7 @@
 """Assembly of M and K against closed forms and invariants (issue 2)."""
 
+import re
+
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
@@ -207,3 +209,14 @@ def test_exact_damping_ratios_of_non_proportional_damping():
     roots = np.linalg.eigvals(state_matrices(system.M, system.C, system.K)[0])
     from_roots = np.sort(-roots.real[roots.imag > 0] / np.abs(roots[roots.imag > 0]))
     assert np.sort(zeta) == pytest.approx(from_roots, rel=RTOL_COMPLEX_DAMPING_RATIO)
+
+
+@pytest.mark.parametrize(("mass", "inertia", "field", "got"), [
+    (5e-324, (40.0, 60.0, 80.0), "body.mass", "mass 4.94e-324"),  # stiffness over mass overflows
+    (1.7e308, (40.0, 60.0, 80.0), "body.mass", "mass 1.7e+308"),  # its square does
+    (500.0, (1e160, 1e160, 1e160), "body.inertia", "a principal moment 1e+160"),
+])
+def test_a_body_beyond_floating_point_for_its_modes_is_named(mass, inertia, field, got):
+    with pytest.raises(InputError, match=rf"^{field}: expected a mass in kg and moments of inertia in kg m\^2 whose "
+                                         rf"squares, .* got {re.escape(got)}$"):
+        four_mount(mass, inertia)

@@ -20,6 +20,7 @@ import numpy as np
 from sixdof.dofs import DOF_UNITS, UNITS
 from sixdof.errors import (
     InputError,
+    Plain,
     boolean,
     finite_array,
     label_check,
@@ -297,8 +298,24 @@ class System(Frozen):
         duplicated = sorted({n for n in names if names.count(n) > 1})
         if duplicated:
             raise InputError("mounts", "unique mount names", f"{', '.join(duplicated)} repeated")
+        self._check_modal_range()
         if self.rayleigh is not None and not isinstance(self.rayleigh, Rayleigh):
             raise InputError("damping.rayleigh", "a Rayleigh", self.rayleigh)
+
+    def _check_modal_range(self) -> None:
+        """The modal analysis normalizes the shapes by the mass (``phi' M phi = 1``, effective masses go as
+        its square) and its frequencies go as stiffness over mass: the body's mass and moments of inertia
+        must keep both within floating point (a mass of 5e-324 kg or 1.8e308 kg does not)."""
+        inertias = np.concatenate([[self.body.mass], np.linalg.eigvalsh(self.body.inertia)])
+        with np.errstate(over="ignore", divide="ignore"):
+            too_light = not np.isfinite(np.abs(self.K).max() / inertias.min())
+            too_heavy = not np.isfinite(inertias.max() ** 2)
+        if too_light or too_heavy:
+            k = int(np.argmin(inertias) if too_light else np.argmax(inertias))
+            raise InputError("body.mass" if k == 0 else "body.inertia",
+                             "a mass in kg and moments of inertia in kg m^2 whose squares, and the mounts' stiffness "
+                             "over them, stay within floating point (for the modal analysis)",
+                             Plain(f"{'mass' if k == 0 else 'a principal moment'} {inertias[k]:.3g}"))
 
     # Arrays of mount parameters, stacked for the pure assembly functions.
     @cached_property

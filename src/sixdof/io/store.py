@@ -532,35 +532,41 @@ def save_results(results: Results, path: str | os.PathLike) -> Path:
     try:
         with h5py.File(temporary, "x") as f:
             _write(f, results)
-        # h5py has closed the file: force its bytes to disk before the rename makes it visible.
-        with open(temporary, "rb+") as handle:
-            os.fsync(handle.fileno())
-        os.replace(temporary, path)
+        publish(temporary, path)
     except BaseException:
         temporary.unlink(missing_ok=True)
         raise
-    with contextlib.suppress(OSError):  # make the rename itself durable (POSIX), where folders can be opened
+    return path
+
+
+def publish(temporary: Path, path: Path) -> None:
+    """Make a closed, complete file visible as ``path`` in one step: its bytes forced to disk, renamed over
+    ``path`` (:func:`os.replace`), and the rename itself made durable where folders can be opened (POSIX)."""
+    with open(temporary, "rb+") as handle:
+        os.fsync(handle.fileno())
+    os.replace(temporary, path)
+    with contextlib.suppress(OSError):
         fd = os.open(path.parent, os.O_RDONLY)
         try:
             os.fsync(fd)
         finally:
             os.close(fd)
-    return path
 
 
-def _write(f, results: Results) -> None:
+def _write(f, results: Results, written=frozenset()) -> None:
+    """Write the tree into the open file ``f``: attributes, datasets (those in ``written`` are in ``f`` already,
+    as a streamed run's time series are), dimension scales."""
     for group, attrs in results.attrs.items():
         _write_attributes(f.require_group(group) if group else f, attrs)
-    created = {}
     for path, dataset in results.datasets.items():
-        created[path] = _write_dataset(f, path, dataset)
+        node = f[path] if path in written else _write_dataset(f, path, dataset)
         if _is_scale(path, dataset):
-            created[path].make_scale(dataset.dims[0])
+            node.make_scale(dataset.dims[0])
     # Attach once every scale is made: h5py refuses to attach a dataset that is not yet a scale.
     for path, dataset in results.datasets.items():
         if not _is_scale(path, dataset):
             for axis, dim in enumerate(dataset.dims):
-                created[path].dims[axis].attach_scale(created[_scale_path(results.datasets, path, dim)])
+                f[path].dims[axis].attach_scale(f[_scale_path(results.datasets, path, dim)])
 
 
 def _write_dataset(f, path: str, dataset: Dataset):

@@ -16,7 +16,7 @@ import uuid
 from pathlib import Path
 
 from sixdof.io.output import check_room
-from sixdof.io.store import _is_scale, _scale_path, _write_attributes, _write_dataset, build_results
+from sixdof.io.store import Results, _write, _write_attributes, build_results, publish
 
 #: Samples per HDF5 chunk along the time axis: large enough for fast appends and reads of whole series,
 #: small enough that a short run's file holds little padding.
@@ -87,24 +87,11 @@ class ResultsStream:
     def finish(self, run) -> Path:
         """Write the datasets without a time axis from the run's final results, close, and rename into place."""
         tree = build_results(run, **self._parts)
-        f = self._file
-        for group, attrs in tree.attrs.items():
-            _write_attributes(f.require_group(group) if group else f, attrs)
-        datasets = dict(tree.datasets)
-        for path, dataset in datasets.items():
-            if path not in self._series and "t" not in dataset.dims:
-                _write_dataset(f, path, dataset)
-        for path, dataset in datasets.items():
-            if _is_scale(path, dataset):
-                f[path].make_scale(dataset.dims[0])
-        for path, dataset in datasets.items():
-            if not _is_scale(path, dataset):
-                for axis, dim in enumerate(dataset.dims):
-                    f[path].dims[axis].attach_scale(f[_scale_path(datasets, path, dim)])
-        f.close()
-        with open(self._temporary, "rb+") as handle:
-            os.fsync(handle.fileno())
-        os.replace(self._temporary, self.path)
+        # The time series in the tree are the run's final ones; the file has every window's.
+        datasets = {path: d for path, d in tree.datasets.items() if path in self._series or "t" not in d.dims}
+        _write(self._file, Results(datasets, tree.attrs), written=self._series)
+        self._file.close()
+        publish(self._temporary, self.path)
         return self.path
 
     def abort(self) -> None:

@@ -37,21 +37,6 @@ TARGET_ERROR = 1e-9  # each DOF within 1e-9 of its own peak
 BLOCK = 128  # samples per block of the fast discretization
 
 
-def generator(M, C, K, pulse_on: bool) -> np.ndarray:
-    """F (16, 16) of y = [x (12), harmonic sin/cos (2), pulse sin/cos (2)], as in common.exact."""
-    A, B = common.state_matrices(M, C, K)
-    V = common.load_vectors()
-    w, wp = 2 * np.pi * common.HARMONIC_HZ, np.pi / common.PULSE_DURATION
-    F = np.zeros((16, 16))
-    F[:12, :12] = A
-    F[:12, 12] = B @ V[0]
-    F[12:14, 12:14] = [[0.0, w], [-w, 0.0]]
-    if pulse_on:
-        F[:12, 14] = B @ V[1]
-        F[14:16, 14:16] = [[0.0, wp], [-wp, 0.0]]
-    return F
-
-
 def powers(step: np.ndarray, count: int) -> np.ndarray:
     """``step^0 .. step^(count-1)`` (count, 16, 16), by doubling."""
     P = np.eye(step.shape[0])[None]
@@ -74,7 +59,7 @@ def blocked_states(step: np.ndarray, y0: np.ndarray, count: int) -> np.ndarray:
 
 def fast_exact(M, C, K, t):
     """q, q', q'' (n, 6) at the uniform samples t of the exact discretization, by blocked powers."""
-    off, on = generator(M, C, K, False), generator(M, C, K, True)
+    off, on = common.generator(M, C, K, False), common.generator(M, C, K, True)
     h = t[1] - t[0]
     end = common.PULSE_START + common.PULSE_DURATION
     pieces = [(0.0, common.PULSE_START, off), (common.PULSE_START, end, on), (end, t[-1], off)]

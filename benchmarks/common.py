@@ -75,6 +75,21 @@ def signals(t):
     return np.array([harmonic, pulse])
 
 
+def generator(M, C, K, pulse_on: bool) -> np.ndarray:
+    """F (16, 16) of y = [x (12), harmonic sin/cos (2), pulse sin/cos (2)], as in exact."""
+    A, B = state_matrices(M, C, K)
+    V = load_vectors()
+    w, wp = 2 * np.pi * HARMONIC_HZ, np.pi / PULSE_DURATION
+    F = np.zeros((16, 16))
+    F[:12, :12] = A
+    F[:12, 12] = B @ V[0]
+    F[12:14, 12:14] = [[0.0, w], [-w, 0.0]]
+    if pulse_on:
+        F[:12, 14] = B @ V[1]
+        F[14:16, 14:16] = [[0.0, wp], [-wp, 0.0]]
+    return F
+
+
 def exact(M, C, K, t_out):
     """Exact discretization: the state-space system augmented with the loads' linear generators.
 
@@ -83,19 +98,6 @@ def exact(M, C, K, t_out):
     propagator per piece and output spacing (round-off only, ~n eps).
     Returns q (n, 6).
     """
-    A, B = state_matrices(M, C, K)
-    V = load_vectors()
-    w, wp = 2 * np.pi * HARMONIC_HZ, np.pi / PULSE_DURATION
-    # y = [x (12), h (2): sin/cos of the harmonic, p (2): sin/cos of the pulse]
-    def generator(pulse_on: bool):
-        F = np.zeros((16, 16))
-        F[:12, :12] = A
-        F[:12, 12] = B @ V[0]
-        F[12:14, 12:14] = [[0.0, w], [-w, 0.0]]
-        if pulse_on:
-            F[:12, 14] = B @ V[1]
-            F[14:16, 14:16] = [[0.0, wp], [-wp, 0.0]]
-        return F
 
     pieces = [(0.0, PULSE_START, False), (PULSE_START, PULSE_START + PULSE_DURATION, True),
               (PULSE_START + PULSE_DURATION, t_out[-1], False)]
@@ -107,7 +109,7 @@ def exact(M, C, K, t_out):
             y[14], y[15] = 0.0, 1.0  # pulse starts at sin(0)
         else:
             y[14:16] = 0.0
-        F = generator(on)
+        F = generator(M, C, K, on)
         last = k == len(pieces) - 1
         idx = np.flatnonzero((t_out >= ta) & ((t_out < tb) | (last & (t_out <= tb))))
         if idx.size:

@@ -343,11 +343,22 @@ def time_slice(result, index):
             where = [slice(None)] * np.ndim(value)
             where[meta["dims"].index("t")] = index
             changes[f.name] = np.asarray(value)[tuple(where)]
-        elif meta["kind"] == "part" and time_slice(value, index) is not value:
+        elif meta["kind"] == "part" and _has_series(value):
             changes[f.name] = time_slice(value, index)
         elif meta["kind"] == "stacked" and isinstance(value, Mapping) and value:
             changes[f.name] = {name: time_slice(item, index) for name, item in value.items()}
     return dataclasses.replace(result, **changes) if changes else result
+
+
+def _has_series(result) -> bool:
+    """Whether ``result`` or a result nested in it (:func:`part`) has a quantity with a time axis ``t``."""
+    for f in dataclasses.fields(result):
+        meta, value = f.metadata.get("store"), getattr(result, f.name)
+        if meta is None or value is None:
+            continue
+        if (meta["kind"] == "quantity" and "t" in meta["dims"]) or (meta["kind"] == "part" and _has_series(value)):
+            return True
+    return False
 
 
 def time_concat(results, **changes):
@@ -363,7 +374,7 @@ def time_concat(results, **changes):
             continue
         if meta["kind"] == "quantity" and "t" in meta["dims"]:
             changes[f.name] = np.concatenate(values, axis=meta["dims"].index("t"))
-        elif meta["kind"] == "part" and time_slice(values[0], slice(None)) is not values[0]:
+        elif meta["kind"] == "part" and _has_series(values[0]):
             changes[f.name] = time_concat(values)
         elif meta["kind"] == "stacked" and isinstance(values[0], Mapping) and values[0]:
             changes[f.name] = {name: time_concat([v[name] for v in values]) for name in values[0]}

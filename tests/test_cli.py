@@ -81,8 +81,6 @@ def test_help_and_import_load_no_numerics():
                           "except SystemExit:\n    pass") == []
 
 
-@pytest.mark.xfail(strict=True, reason="SolverStats (analysis.direct) and SuperpositionInfo (analysis.superposition) "
-                   "are defined in modules that import JAX, and a stored response holds both")
 def test_plot_never_imports_jax(tmp_path):
     path = tmp_path / "results.h5"
     write_results(path, **run_parts())

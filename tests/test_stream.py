@@ -134,3 +134,39 @@ def test_a_run_whose_file_cannot_fit_on_the_disk_is_refused_before_it_starts(tmp
     with pytest.raises(OSError, match="No space left on device"):  # memory is bounded: windows go to the file
         run_scenario(scenario, tmp_path, progress=False)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_ctrl_c_stops_a_long_run_at_once_and_leaves_nothing(tmp_path, monkeypatch):
+    """SIGINT is held back only while a file is written: a run interrupted while it computes stops in the window
+    it is in, not after the whole run, and leaves no partial output."""
+    import signal
+
+    from sixdof import workflows
+    from sixdof.analysis import direct
+    from sixdof.io import scenario as scenario_module
+    from sixdof.workflows import run_scenario
+
+    text = (SCENARIOS / "bridge_beam_traffic.toml").read_text()
+    scenario = parse_scenario(text.replace("duration = 20.0", "duration = 1.5"), "traffic.toml")
+    monkeypatch.setattr(scenario_module, "MEMORY_SAMPLES", 1000)
+    monkeypatch.setattr(workflows, "LONG_RUN_WINDOW", 256)  # 6 windows
+    solved = []
+
+    def interrupted_after_the_first(*args, **kwargs):
+        for window in windows(*args, **kwargs):
+            solved.append(window)
+            if len(solved) == 1:
+                signal.raise_signal(signal.SIGINT)  # as Ctrl-C: the handler runs at the next bytecode
+            yield window
+
+    windows = direct.simulate_windows
+    monkeypatch.setattr(direct, "simulate_windows", interrupted_after_the_first)
+    # A test runner started in the background inherits SIGINT ignored; a user's terminal raises it.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            run_scenario(scenario, tmp_path, progress=False)
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert len(solved) == 1
+    assert list(tmp_path.iterdir()) == []

@@ -143,9 +143,9 @@ class TimeHistory(Frozen, Result):
         Rigid translation of the foundation in body axes [m, m/s, m/s^2].
     Q : ndarray, shape (n, 6), or None
         Generalized force of the applied loads [N, N m] (ground motion not included).
-    stats : sixdof.analysis.direct.SolverStats or None
+    stats : sixdof.analysis.records.SolverStats or None
         Direct solve: the solver's settings and step counts.
-    superposition : sixdof.analysis.superposition.SuperpositionInfo or None
+    superposition : sixdof.analysis.records.SuperpositionInfo or None
         Modal superposition: the method used, modes kept, truncation and approximation errors.
     """
 
@@ -161,8 +161,8 @@ class TimeHistory(Frozen, Result):
                                                       description="foundation acceleration in body axes")
     Q: np.ndarray | None = quantity(UNITS["Q"], ("t", "load"), default=None,
                                     description="generalized force of the applied loads (ground motion not included)")
-    stats: Any = part(lambda: _class("sixdof.analysis.direct", "SolverStats"), prefix="solver_", default=None)
-    superposition: Any = part(lambda: _class("sixdof.analysis.superposition", "SuperpositionInfo"), prefix="",
+    stats: Any = part(lambda: _class("sixdof.analysis.records", "SolverStats"), prefix="solver_", default=None)
+    superposition: Any = part(lambda: _class("sixdof.analysis.records", "SuperpositionInfo"), prefix="",
                               default=None)
 
     #: Stored beside the fields when the ground moves (read back through the properties).

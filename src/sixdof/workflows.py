@@ -223,8 +223,9 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
     memory is bounded whatever its duration.
     """
     from sixdof.analysis.compare import compare, merge_agreements
-    from sixdof.analysis.direct import merge_stats, progress_meter, simulate_windows
+    from sixdof.analysis.direct import progress_meter, simulate_windows
     from sixdof.analysis.mountcheck import MountLimitWarning, merge_mount_checks, mount_check
+    from sixdof.analysis.records import merge_stats, merge_superposition
     from sixdof.analysis.response import mount_forces, points_motion
     from sixdof.analysis.superposition import superpose
     from sixdof.analysis.validity import RangeWarning
@@ -256,7 +257,7 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
         stats = _merged(merge_stats, stats, window.stats)
         agreement = _merged(merge_agreements, agreement, piece.agreement)
         check = _merged(partial(merge_mount_checks, system), check, piece.mount_check)
-        info = _merged(_merge_superposition, info, modal.superposition)
+        info = _merged(merge_superposition, info, modal.superposition)
         kept.append(piece if keep_all else time_slice(piece, envelope_samples(
             window.t, _drawn_series(piece), *span, ENVELOPE_BINS)))
         if meter is not None:
@@ -285,19 +286,6 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
 def _merged(merge, merged, new):
     """``new`` merged into what the previous windows merged to (``merge`` takes a list of two)."""
     return new if merged is None else merge([merged, new])
-
-
-def _merge_superposition(infos):
-    """One :class:`~sixdof.analysis.superposition.SuperpositionInfo` over consecutive windows: intervals add up,
-    truncation and approximation errors merge, the end is the last window's."""
-    from sixdof.analysis.compare import merge_agreements
-
-    def agreements(name):
-        found = [getattr(info, name) for info in infos]
-        return None if found[0] is None else merge_agreements(found)
-
-    return dataclasses.replace(infos[-1], n_intervals=sum(info.n_intervals for info in infos),
-                               truncation=agreements("truncation"), approximation=agreements("approximation"))
 
 
 def _drawn_series(piece) -> np.ndarray:

@@ -51,6 +51,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from sixdof._jax import jax, jnp
+from sixdof.analysis.records import SolverStats, merge_stats
 from sixdof.analysis.validity import warn_idle, warn_large_rotations
 from sixdof.errors import InputError, SolverError, integer, integer_check, memory_check, number, number_check, readonly
 from sixdof.excitation import Excitation
@@ -169,55 +170,6 @@ class SimulationSettings(Frozen):
         """Output times [s] of the samples ``first`` to ``stop - 1``."""
         # Clipped: the tolerance above admits a last sample a rounding past the end, where diffrax won't save.
         return np.minimum(self.start + np.arange(first, stop) / self.sample_rate_hz, self.start + self.duration)
-
-
-@dataclass(frozen=True)
-class SolverStats:
-    """Statistics of one solve (stored with the results); of a window, or of a run's windows together.
-
-    Attributes
-    ----------
-    solver : str
-    rtol, atol : float
-        As given (``atol`` is relative to ``scale``).
-    scale : ndarray, shape (14,)
-        Per-component scale of the state ``[z (6), w (6), u_g, v_g]`` [m, rad, m/s, rad/s].
-    num_steps, num_accepted, num_rejected : int
-        Steps attempted, accepted, rejected.
-    max_steps : int
-        The step limit per window.
-    num_jumps : int
-        Breakpoints (discontinuities) inside the run the solver stepped onto.
-    wall_time_s : float
-        Wall-clock time of the solve calls [s] (includes compilation when it was the first call of
-        its structure in the process).
-    num_windows : int
-        Time windows the run proceeded in.
-    """
-
-    solver: str = label(name="solver")
-    rtol: float = label()
-    atol: float = label()
-    scale: np.ndarray = label()
-    num_steps: int = label()
-    num_accepted: int = label()
-    num_rejected: int = label()
-    max_steps: int = label()
-    num_jumps: int = label()
-    wall_time_s: float = label()
-    num_windows: int = label(default=1)
-
-
-def merge_stats(stats) -> SolverStats:
-    """One :class:`SolverStats` for consecutive windows of a run: counts and times add up."""
-    first = stats[0]
-    return SolverStats(
-        solver=first.solver, rtol=first.rtol, atol=first.atol, scale=first.scale,
-        num_steps=sum(s.num_steps for s in stats), num_accepted=sum(s.num_accepted for s in stats),
-        num_rejected=sum(s.num_rejected for s in stats), max_steps=first.max_steps,
-        num_jumps=sum(s.num_jumps for s in stats), wall_time_s=sum(s.wall_time_s for s in stats),
-        num_windows=sum(s.num_windows for s in stats),
-    )
 
 
 # ----------------------------------------------------------------------------------------------------

@@ -9,8 +9,9 @@ is complete:
   folder whose lock it can take: no debris outlives a killed run.
 * The swap (previous folder renamed aside, new one renamed into place, the user's files moved across,
   previous one removed) runs under an exclusive ``flock`` on ``<out>`` itself: two runs into the same
-  target publish one after the other. SIGINT and SIGTERM are held back while files are written and
-  swapped, and acted on once the folder is whole again. A SIGKILL in the middle of a swap leaves the
+  target publish one after the other. SIGINT and SIGTERM are held back while a file is written (by its
+  writer: :func:`held_signals`) and while the folder is swapped, and acted on once that is done; while a
+  run computes they act at once. A SIGKILL in the middle of a swap leaves the
   previous folder as ``.<name>.old-<id>``; the next run finishes or undoes that swap before anything else.
 * Each results folder lists the files sixdof wrote in ``.sixdof-files``. Any other file in a folder being
   replaced is the user's: it is moved into the new folder and reported, never deleted. A folder that
@@ -109,9 +110,10 @@ def write_folder(target: Path, write: Callable[[Path], None]) -> Path:
         _clean_debris(root)
         stage, stage_lock = _new_stage(root, target.name)
     try:
-        with held_signals():  # a signal received while writing is raised here, before the swap
-            write(stage)
-            _write_manifest(stage, [p.name for p in stage.iterdir()])
+        # Not held while ``write`` computes (a long run must stop on Ctrl-C at once): the writers hold
+        # signals around their own file writes (:func:`held_signals`), and an interruption anywhere ends here.
+        write(stage)
+        _write_manifest(stage, [p.name for p in stage.iterdir()])
         with held_signals(), _locked(root):
             _check_replaceable(target)  # something else may have been put there meanwhile
             kept = _swap(stage, target)

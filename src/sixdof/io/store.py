@@ -45,7 +45,7 @@ import numpy as np
 from sixdof.dofs import DOFS
 from sixdof.errors import InputError, Plain, readonly
 from sixdof.frozen import Frozen
-from sixdof.io.output import check_room
+from sixdof.io.output import check_room, held_signals
 from sixdof.results import FIXED_SCALES, RunResults, descriptions
 
 #: Identifies the file layout; bump FORMAT_VERSION when a fixed name changes meaning.
@@ -530,7 +530,7 @@ def save_results(results: Results, path: str | os.PathLike) -> Path:
     temporary = path.with_name(f".{path.name}.{uuid.uuid4().hex}.tmp")
     check_room(temporary, sum(d.data.nbytes for d in results.datasets.values()))
     try:
-        with h5py.File(temporary, "x") as f:
+        with held_signals(), h5py.File(temporary, "x") as f:
             _write(f, results)
         publish(temporary, path)
     except BaseException:

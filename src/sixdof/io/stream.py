@@ -15,7 +15,7 @@ import os
 import uuid
 from pathlib import Path
 
-from sixdof.io.output import check_room
+from sixdof.io.output import check_room, held_signals
 from sixdof.io.store import Results, _write, _write_attributes, build_results, publish
 
 #: Samples per HDF5 chunk along the time axis: large enough for fast appends and reads of whole series,
@@ -62,7 +62,11 @@ class ResultsStream:
         if self._series and set(series) != set(self._series):
             raise ValueError(f"window {self.samples} has the series {sorted(series)}, not {sorted(self._series)}")
         check_room(self._temporary, sum(d.data.nbytes for d in series.values()))
-        n = tree["time/t"].data.shape[0]
+        with held_signals():
+            self._append(series, tree["time/t"].data.shape[0])
+
+    def _append(self, series, n) -> None:
+        """Append ``n`` samples of each of a window's ``series`` (path -> Dataset), creating them at the first."""
         for path, dataset in series.items():
             axis = dataset.dims.index("t")
             if path not in self._series:
@@ -89,8 +93,9 @@ class ResultsStream:
         tree = build_results(run, **self._parts)
         # The time series in the tree are the run's final ones; the file has every window's.
         datasets = {path: d for path, d in tree.datasets.items() if path in self._series or "t" not in d.dims}
-        _write(self._file, Results(datasets, tree.attrs), written=self._series)
-        self._file.close()
+        with held_signals():
+            _write(self._file, Results(datasets, tree.attrs), written=self._series)
+            self._file.close()
         publish(self._temporary, self.path)
         return self.path
 

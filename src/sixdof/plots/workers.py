@@ -101,7 +101,10 @@ class FigureWorkers:
         for name in [name for name, *_ in FIGURES if name in self._jobs]:
             job = self._jobs[name]
             if self._pool is None:
-                png = render(job, name, self.dpi)
+                from sixdof.io.output import held_signals  # not at import: the workers start before numpy loads
+
+                with held_signals():  # matplotlib's C code can swallow a KeyboardInterrupt
+                    png = render(job, name, self.dpi)
             else:
                 try:
                     png = job.result().result()

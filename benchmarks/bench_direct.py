@@ -279,7 +279,7 @@ def main(argv):
     for kind in ("text", "tqdm"):
         def draw(kind=kind):
             with contextlib.redirect_stderr(quiet):
-                shown = direct._progress(kind, settings)
+                shown = direct.progress_meter(kind, settings)
                 for ts, _ in direct.window_spans(settings, direct.window_length(settings.samples)):
                     shown.show(float(ts[-1]))
                 shown.close()

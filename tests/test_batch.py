@@ -230,7 +230,7 @@ def test_sweep_command_prints_the_cross_check(tmp_path, capsys):
     assert main(["sweep", str(scenario), "--spec", str(spec), "--out", str(tmp_path / "out")]) == 0
     out = capsys.readouterr().out
     assert "Cross-check of the exact engine: diffrax solved variants 0, 1, 2; peak agreement worst " in out
-    assert ": ok; per DOF: x " in out and "3 variants, exact engine" in out
+    assert ": ok\n  per DOF: x " in out and "3 variants, exact engine" in out
 
 
 def test_spec_draws_only_what_it_names(beam):

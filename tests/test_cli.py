@@ -3,12 +3,13 @@
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from sixdof import DOFS
-from sixdof.cli import main
+from sixdof.cli import _parser, main
 from sixdof.io.store import write_results
 from store_cases import run_parts
 from systems import BRIDGE_INERTIA, BRIDGE_MASS, bridge
@@ -33,6 +34,67 @@ def test_modes_json_has_the_documented_keys(capsys):
     M = np.diag([BRIDGE_MASS] * 3 + BRIDGE_INERTIA)
     assert shapes.T @ M @ shapes == pytest.approx(np.eye(6), abs=RTOL_LINALG)
     assert data["subsystems"] == [["x", "ry", "rz"], ["y", "z", "rx"]]
+
+
+def test_modes_json_keys_are_the_results_file_s_names(tmp_path, capsys):
+    """Every dataset and attribute of the file's modal and statics groups under its own name, same values."""
+    from sixdof.io.store import load_tree
+
+    assert main(["run", "scenarios/bridge_beam_traffic.toml", "--out", str(tmp_path), "--quiet"]) == 0
+    tree = load_tree(tmp_path / "bridge_beam_traffic" / "results.h5")
+    capsys.readouterr()
+    assert main(["modes", "scenarios/bridge_beam_traffic.toml", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    for group, found in (("modal", data), ("statics", data["statics"])):
+        names = [p.split("/", 1)[1] for p in tree.datasets if p.startswith(f"{group}/") and p.count("/") == 1]
+        assert len(names) >= 8
+        for name in names:
+            stored = tree.array(f"{group}/{name}")
+            if stored.dtype.kind == "f":
+                np.testing.assert_allclose(np.array(found[name], dtype=float), stored, rtol=1e-12, atol=0)
+            else:
+                assert found[name] == stored.tolist(), name
+    assert data["rigid_body_modes"] == [] and data["statics"]["uplift"] == []
+    assert data["frequencies_hz"] == data["frequency_hz"]  # the name of earlier versions, kept
+
+
+def test_version_module_entry_and_options_after_the_command(capsys):
+    from sixdof import __version__
+
+    result = subprocess.run([sys.executable, "-m", "sixdof", "--version"], capture_output=True, text=True)
+    assert result.returncode == 0 and result.stdout.strip() == f"sixdof {__version__}"
+    args = _parser().parse_args(["run", "scenario.toml", "--debug", "--quiet"])
+    assert args.debug and args.quiet
+    args = _parser().parse_args(["--debug", "modes", "scenario.toml"])
+    assert args.debug and not args.quiet  # given before the command, not reset by the command's default
+
+
+def test_plot_of_a_sweep_file_is_an_error_not_an_empty_success(tmp_path, capsys):
+    from sixdof.io.store import write_results
+    from sixdof.results import RunResults
+
+    path = tmp_path / "sweep.h5"
+    write_results(path, RunResults(name="s", system=bridge("equal")))
+    assert main(["plot", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "results: expected a results file with something to draw" in err and str(path) in err
+    assert list(tmp_path.glob("*.png")) == []
+
+
+def test_warnings_go_to_stderr_and_prose_lines_stay_short(tmp_path, capsys):
+    """``modes`` warns of uplift on stderr, as every command warns; the run's report has no line over 120
+    characters (the agreement's per-DOF values on a line of their own)."""
+    overhang = tmp_path / "overhang.toml"
+    overhang.write_text('name = "overhang"\n[body]\nmass = 100.0\ninertia = [5.0, 5.0, 5.0]\n'
+                        '[[mounts]]\nname = "near"\nposition = [0, 0.5, 0]\nstiffness = [1e5, 1e5, 1e6]\n'
+                        '[[mounts]]\nname = "far"\nposition = [0, 1.5, 0]\nstiffness = [1e5, 1e5, 1e6]\n')
+    assert main(["modes", str(overhang)]) == 0
+    out, err = capsys.readouterr()
+    assert "WARNING: mounts in tension (uplift): far" in err and "WARNING" not in out
+    assert main(["run", "scenarios/bridge_beam_traffic.toml", "--out", str(tmp_path), "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert "  per DOF: x " in out
+    assert max(len(line.replace(str(tmp_path), "")) for line in out.splitlines() if not line.startswith("|")) <= 120
 
 
 def test_bad_input_exits_2_without_traceback(tmp_path, capsys):
@@ -108,3 +170,52 @@ def test_the_command_ends_with_its_status_and_all_its_output(arguments, status):
         assert json.loads(result.stdout)["name"] == "bridge_beam"
     else:
         assert result.stderr.startswith("sixdof: error: ") and "missing.toml" in result.stderr
+
+
+def test_examples_are_copied_runnable_and_never_overwritten(tmp_path, capsys):
+    from sixdof.io.scenario import load_scenario
+
+    folder = tmp_path / "mine"
+    assert main(["examples", str(folder)]) == 0
+    repository = Path("scenarios")
+    bundled = sorted(p.relative_to(repository).as_posix() for p in repository.rglob("*") if p.suffix in (".toml", ".csv"))
+    copied = sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*") if p.is_file())
+    assert copied == bundled and "bridge_beam_traffic.toml" in copied
+    assert all((folder / name).read_bytes() == (repository / name).read_bytes() for name in copied)
+    assert load_scenario(folder / "cabinet_earthquake.toml").excitation is not None  # reads its CSV beside it
+    capsys.readouterr()
+    (folder / "bridge_beam.toml").write_text("# my edits\n")
+    (folder / "machine_unbalance.toml").unlink()
+    assert main(["examples", str(folder)]) == 2
+    err = capsys.readouterr().err
+    assert "none is overwritten" in err and "bridge_beam.toml" in err
+    assert (folder / "bridge_beam.toml").read_text() == "# my edits\n"
+    assert not (folder / "machine_unbalance.toml").exists()  # nothing copied at all
+
+
+def test_a_sweep_shows_its_progress(capsys):
+    from sixdof.analysis.batch import make_variants, run_batch
+    from sixdof.analysis.direct import SimulationSettings
+    from sixdof.excitation import Excitation, Harmonic, Load
+
+    system = bridge("equal")
+    variants = make_variants(system, stiffness_factor=np.random.default_rng(1).uniform(0.9, 1.1, (5, 4, 3)))
+    excitation = Excitation(loads=(Load("traffic", point=[0.0, 5.0, 0.0], force=[0.0, 0.0, 1e4],
+                                        signal=Harmonic(f_hz=3.0)),))
+    run_batch(system, variants, excitation, SimulationSettings(duration=0.5, sample_rate_hz=200.0), chunk_size=2,
+              cross_check=2, progress="text")
+    err = capsys.readouterr().err
+    assert "sweep (exact engine): 5 / 5 variants (100%)\n" in err
+    assert err.endswith("cross-check (diffrax): 2 / 2 variants (100%)\n")
+    assert "sweep (exact engine): 1 / 5 variants (33%)" in err  # after the first of 3 chunks
+
+
+def test_the_damping_ratios_say_what_they_include():
+    from sixdof import Rayleigh
+    from sixdof.io.report import damping_note
+
+    assert "no viscous damping is given" in damping_note(bridge())
+    note = damping_note(bridge(((1e4, 1e4, 2e4),) * 4, rayleigh=Rayleigh(alpha=0.1, beta=0.0))).replace("\n", " ")
+    assert "from mount dashpots + Rayleigh damping, added together" in note and "loss factors" not in note
+    note = damping_note(bridge(((1e4, 1e4, 2e4),) * 4, loss_factor=(0.1, 0.1, 0.1)))
+    assert "from mount dashpots;" in note and "not the mounts' loss factors" in note.replace("\n", " ")

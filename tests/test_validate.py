@@ -197,7 +197,7 @@ def test_a_model_that_disagrees_fails_with_exit_status_3(tmp_path, capsys, monke
 
     real_validate = sixdof.validation.validate
     monkeypatch.setattr(sixdof.validation, "validate",
-                        lambda system, settings=None: real_validate(system, settings, model=_more_damped(system, 1.5)))
+                        lambda system, settings=None, **kw: real_validate(system, settings, model=_more_damped(system, 1.5), **kw))
     assert main(["validate", ENGINE, "--out", str(tmp_path)]) == EXIT_VALIDATION_FAILED == 3
     captured = capsys.readouterr()
     assert "Verdict: FAIL (mode 1 decay_damping, mode 1 frf_h1, mode 2 decay_damping" in captured.out

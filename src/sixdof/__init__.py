@@ -3,6 +3,10 @@
 The public API is re-exported here, each name imported from its module on first use: ``import sixdof``
 loads neither JAX, SciPy, h5py nor matplotlib, so that the ``sixdof`` command starts at once and
 library users pay only for what they call.
+
+JAX runs in float64: the first computation that needs JAX imports it from :mod:`sixdof._jax`, which
+switches ``jax_enable_x64`` on for the whole process (your own JAX code in it then defaults to float64
+too). JAX's float32 default would silently give sixdof's per-DOF accuracy away.
 """
 
 from importlib import import_module

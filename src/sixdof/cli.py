@@ -19,6 +19,7 @@ import threading
 import traceback
 import warnings
 from contextlib import contextmanager, suppress
+from functools import partial
 
 EXIT_FAILED = 1
 EXIT_BAD_INPUT = 2
@@ -136,31 +137,39 @@ def _fail(args, message: str, status: int) -> int:
 
 
 def _parser() -> argparse.ArgumentParser:
+    from sixdof import __version__
+
     parser = argparse.ArgumentParser(
         prog="sixdof", description="Vibration of a rigid body with six degrees of freedom on elastic mounts."
     )
-    parser.add_argument("--debug", action="store_true", help="show the traceback of errors")
+    parser.add_argument("--version", action="version", version=f"sixdof {__version__}")
+    # Accepted before the command and after it (``sixdof --debug run ...``, ``sixdof run ... --debug``): the
+    # command's copies default to SUPPRESS, so that they do not reset what was given before the command.
+    shared = argparse.ArgumentParser(add_help=False)
+    for parsers, default in ((parser, False), (shared, argparse.SUPPRESS)):
+        parsers.add_argument("--debug", action="store_true", default=default, help="show the traceback of errors")
+        parsers.add_argument("--quiet", action="store_true", default=default, help="no progress meter")
     commands = parser.add_subparsers(required=True, metavar="COMMAND")
+    add = partial(commands.add_parser, parents=[shared])
 
-    modes = commands.add_parser("modes", help="natural frequencies, mode shapes, statics of a scenario")
+    modes = add("modes", help="natural frequencies, mode shapes, statics of a scenario")
     modes.add_argument("scenario", help="scenario file (TOML)")
     modes.add_argument("--json", action="store_true", help="print one JSON object instead of tables")
     modes.set_defaults(command=_modes)
 
-    run = commands.add_parser("run", help="simulate a scenario; write results, figures and a summary")
+    run = add("run", help="simulate a scenario; write results, figures and a summary")
     run.add_argument("scenario", help="scenario file (TOML)")
     run.add_argument("--out", default="outputs", help="results go to OUT/<scenario name>/ (default: outputs)")
-    run.add_argument("--quiet", action="store_true", help="no progress bar")
     run.set_defaults(command=_run)
 
-    check = commands.add_parser(
+    check = add(
         "validate", help="check modal frequencies, damping and FRFs against simulated time histories (exit 3 on FAIL)"
     )
     check.add_argument("scenario", help="scenario file (TOML)")
     check.add_argument("--out", default="outputs", help="results go to OUT/<name>_validation/ (default: outputs)")
     check.set_defaults(command=_validate)
 
-    sweep = commands.add_parser(
+    sweep = add(
         "sweep", help="run many mount variants of a scenario; store frequency and peak distributions"
     )
     sweep.add_argument("scenario", help="scenario file (TOML)")
@@ -170,7 +179,11 @@ def _parser() -> argparse.ArgumentParser:
                        help="variants integrated together (default: bounded by memory)")
     sweep.set_defaults(command=_sweep)
 
-    plot = commands.add_parser("plot", help="redraw every figure from a results file, without re-running")
+    examples = add("examples", help="copy the bundled example scenarios into a folder, to run and adapt")
+    examples.add_argument("folder", help="where the scenario files go (created; files already there are kept)")
+    examples.set_defaults(command=_examples)
+
+    plot = add("plot", help="redraw every figure from a results file, without re-running")
     plot.add_argument("results", help="results file (results.h5 of a run)")
     plot.add_argument("--out", help="folder for the PNG files (default: beside the results file)")
     plot.set_defaults(command=_plot)
@@ -180,7 +193,6 @@ def _parser() -> argparse.ArgumentParser:
 def _modes(args) -> int:
     from sixdof.analysis.statespace import damping_ratios
     from sixdof.analysis.statics import try_gravity_statics
-    from sixdof.dofs import DOFS
     from sixdof.io import report
     from sixdof.io.scenario import load_scenario
 
@@ -190,10 +202,11 @@ def _modes(args) -> int:
     statics, no_statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
     zeta = damping_ratios(system.C, modes)
     if args.json:
-        print(json.dumps(_modes_json(scenario, modes, statics, zeta, DOFS)))
+        print(json.dumps(_modes_json(scenario, modes, statics, zeta)))
         return 0
     print(f"{scenario.name}: {scenario.description}\n")
     print(report.modes_table(modes, zeta if system.C.any() else None))
+    print(report.damping_note(system))
     print("\nKinetic energy distribution [%] (share of each mode's kinetic energy in each DOF):")
     print(report.ke_table(modes))
     print()
@@ -204,7 +217,7 @@ def _modes(args) -> int:
         return 0
     print(report.statics_table(statics, system.mount_names))
     if statics.uplift:
-        print(f"\nWARNING: mounts in tension (uplift): {', '.join(statics.uplift)}")
+        warnings.warn(f"mounts in tension (uplift): {', '.join(statics.uplift)}", stacklevel=1)
     return 0
 
 
@@ -221,12 +234,16 @@ def _run(args) -> int:
 
         _compile_cache()
         scenario = load_scenario(args.scenario)
-        # A progress bar only where someone watches: redirected to a log it would be noise.
-        show_progress = not args.quiet and sys.stderr.isatty()
-        outcome = run_scenario(scenario, args.out, progress=show_progress, command_line=" ".join(sys.argv),
+        outcome = run_scenario(scenario, args.out, progress=_progress(args), command_line=" ".join(sys.argv),
                                workers=workers)
     print(f"{scenario.name}: {scenario.description}\n")
     print(report.modes_table(outcome.modes, outcome.damping_ratios))
+    print(report.damping_note(scenario.system))
+    if outcome.statics is not None:
+        print(f"\nStatics under gravity ({scenario.statics.gravity} m/s^2 along {list(scenario.statics.direction)}):")
+        print(report.statics_table(outcome.statics, scenario.system.mount_names))
+    if outcome.steady_state is not None:
+        print(f"\n{report.steady_state_text(outcome.steady_state)}")
     if outcome.agreement is not None:
         info = outcome.superposition.superposition
         print(f"\nDirect solve vs modal superposition ({info.method} modes): {outcome.agreement}")
@@ -239,9 +256,12 @@ def _run(args) -> int:
               f"{stats.wall_time_s:.2f} s")
         limits = np.stack([m.max_deflection for m in scenario.system.mounts])
         print(f"\nMount checks:\n{report.mount_check_text(outcome.mount_check, limits)}")
+        if outcome.points:
+            print(f"\nBody points: {report.points_table(outcome.points)}")
     if outcome.frf is not None:
         print(f"FRF direct vs modal: {outcome.frf.max_relative_difference:.1e} (worst relative difference)")
-    print(f"\nWrote {outcome.results_path}, {len(outcome.figures)} figures and {outcome.summary_path}")
+    print(f"\nWrote {outcome.directory}: {outcome.results_path.name}, {len(outcome.figures)} figures, "
+          f"{outcome.summary_path.name}")
     return 0
 
 
@@ -254,7 +274,8 @@ def _validate(args) -> int:
     with FigureWorkers() as workers:  # started first: they import matplotlib while this process computes
         _compile_cache()
         scenario = load_scenario(args.scenario)
-        report, directory = validate_scenario(scenario, args.out, command_line=" ".join(sys.argv), workers=workers)
+        report, directory = validate_scenario(scenario, args.out, command_line=" ".join(sys.argv), workers=workers,
+                                              progress=_progress(args))
     print(validation_text(report))
     print(f"\nWrote {directory}")
     if report.verdict != "PASS":
@@ -278,7 +299,7 @@ def _sweep(args) -> int:
     scenario = load_scenario(args.scenario)
     spec = load_sweep_spec(args.spec)
     target = check_target(args.out, scenario.name, "_sweep")
-    result = sweep(scenario, spec, chunk_size=args.chunk_size)
+    result = sweep(scenario, spec, chunk_size=args.chunk_size, progress=_progress(args))
     directory = write_folder(
         target,
         lambda stage: write_results(stage / "sweep.h5", RunResults(
@@ -296,11 +317,26 @@ def _sweep(args) -> int:
     return 0
 
 
+def _progress(args) -> bool:
+    """Whether to show progress: not with ``--quiet``, and only where someone watches (redirected to a log,
+    a meter redrawn in place would be noise)."""
+    return not args.quiet and sys.stderr.isatty()
+
+
 def _compile_cache() -> None:
     """Reuse compiled solvers across runs (JAX's persistent cache; SIXDOF_JAX_CACHE=off disables)."""
     from sixdof._jax import enable_compilation_cache
 
     enable_compilation_cache()
+
+
+def _examples(args) -> int:
+    from sixdof.examples import copy_examples
+
+    copied = copy_examples(args.folder)
+    print(f"Copied {len(copied)} files into {args.folder}; run one with\n"
+          f"  sixdof run {os.path.join(args.folder, 'bridge_beam_traffic.toml')}")
+    return 0
 
 
 def _plot(args) -> int:
@@ -315,29 +351,40 @@ def _plot(args) -> int:
     return 0
 
 
-def _modes_json(scenario, modes, statics, zeta, dofs) -> dict:
-    def finite(values):
-        return [None if v != v else float(v) for v in values]  # NaN (rigid-body mode) -> null
+def _modes_json(scenario, modes, statics, zeta) -> dict:
+    """The modal and statics groups of the results file (:func:`sixdof.io.store.build_results`), each key the
+    name of its dataset or attribute there (mode numbers from 1, like the file's), NaN as null; and, for
+    scripts written before those names, the keys of earlier versions (``frequencies_hz``, ``omega_rad_s``,
+    ``damping_ratios``, ``zero_modes`` (indices from 0), and in ``statics`` ``mounts``, ``mount_forces_n``,
+    ``support_n``)."""
+    import numpy as np
 
-    return {
-        "name": scenario.name,
-        "dofs": list(dofs),
-        "frequencies_hz": modes.frequency_hz.tolist(),
-        "omega_rad_s": modes.omega.tolist(),
-        "eigenvalues": modes.eigenvalues.tolist(),
-        "shapes": modes.shapes.tolist(),
-        "dominant_dof": list(modes.dominant_dof),
-        "ke_distribution": modes.ke_distribution.tolist(),
-        "effective_mass": modes.effective_mass.tolist(),
-        "damping_ratios": finite(zeta),
-        "subsystems": [list(s) for s in modes.subsystems],
-        "zero_modes": list(modes.zero_modes),
-        "free_dofs": list(modes.free_dofs),
-        "statics": None if statics is None else {
-            "q": statics.q.tolist(),
-            "mounts": list(scenario.system.mount_names),
-            "mount_forces_n": statics.mount_forces.tolist(),
-            "support_n": statics.support.tolist(),
-            "uplift": list(statics.uplift),
-        },
-    }
+    from sixdof.io.store import build_results
+    from sixdof.results import RunResults
+
+    tree = build_results(RunResults(name=scenario.name, system=scenario.system, modes=modes, statics=statics,
+                                    damping_ratios=zeta))
+
+    def plain(value):
+        if isinstance(value, (tuple, list)):
+            return [plain(v) for v in value]
+        value = np.asarray(value)
+        if value.dtype.kind == "f":
+            return np.where(np.isnan(value), None, value.astype(object)).tolist()  # NaN (rigid-body mode) -> null
+        return value.tolist()
+
+    def group(name):
+        found = {path.split("/", 1)[1]: plain(d.data) for path, d in tree.datasets.items()
+                 if path.startswith(f"{name}/") and "/" not in path[len(name) + 1:]}
+        return {**found, **{key: plain(value) for key, value in tree.attrs.get(name, {}).items()}}
+
+    modal = group("modal")
+    modal["subsystems"] = [list(g) for g in modes.subsystems]  # stored comma-joined: HDF5 has no ragged lists
+    out = {"name": scenario.name, "dofs": modal["dof"], **modal,
+           "frequencies_hz": modal["frequency_hz"], "omega_rad_s": modal["omega"],
+           "damping_ratios": modal["damping_ratio"], "zero_modes": list(modes.zero_modes), "statics": None}
+    if statics is not None:
+        fixed = group("statics")
+        out["statics"] = {**fixed, "mounts": fixed["mount"], "mount_forces_n": fixed["mount_force"],
+                          "support_n": fixed["support"]}
+    return out

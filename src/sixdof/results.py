@@ -241,6 +241,8 @@ class RunResults(Frozen):
     frf : sixdof.analysis.frf.FRFCrossCheck or sixdof.analysis.frf.FRF or None
     frf_extras : mapping of str to PointFRF, ForceTransmissibility or GroundTransmissibility
         Named point FRFs and transmissibilities on the frequencies of ``frf``.
+    steady_state : sixdof.analysis.steady.SteadyState or None
+        Amplitudes and isolation at the excitation's operating frequencies (harmonic loads without end).
     validation : sixdof.validation.ValidationReport or None
     sweep : sixdof.analysis.batch.BatchResult or None
         A design sweep's frequencies and peaks per variant (``sixdof sweep``).
@@ -267,6 +269,8 @@ class RunResults(Frozen):
     frf: Any = part(lambda: _class("sixdof.analysis.frf", "FRFCrossCheck"), group="frf", default=None)
     frf_extras: Any = parts(lambda: {name: _class("sixdof.analysis.frf", name) for name in (
         "PointFRF", "ForceTransmissibility", "GroundTransmissibility")}, group="frf", default_factory=dict)
+    steady_state: Any = part(lambda: _class("sixdof.analysis.steady", "SteadyState"), group="steady_state",
+                             default=None)
     validation: Any = part(lambda: _class("sixdof.validation", "ValidationReport"), group="validation", default=None)
     sweep: Any = part(lambda: _class("sixdof.analysis.batch", "BatchResult"), group="sweep", default=None)
     provenance: Any = field(default_factory=dict)

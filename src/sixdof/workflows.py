@@ -11,7 +11,7 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import partial
 from pathlib import Path
 
@@ -19,6 +19,7 @@ import numpy as np
 
 from sixdof.analysis.statespace import damping_ratios
 from sixdof.analysis.statics import try_gravity_statics
+from sixdof.errors import InputError, Plain
 from sixdof.io import output
 from sixdof.plots.workers import FigureWorkers
 from sixdof.results import RunResults, envelope_samples, time_concat, time_slice
@@ -61,6 +62,10 @@ class RunOutcome:
         Warnings raised during the run (sampling, agreement, mount limits), also shown in the summary.
     mount_check : sixdof.analysis.mountcheck.MountCheck or None
         Total mount loads and deflections, tension and limits (runs with a simulation).
+    steady_state : sixdof.analysis.steady.SteadyState or None
+        Amplitudes and isolation at the operating frequencies (harmonic loads without end).
+    points : dict of str to sixdof.analysis.response.PointMotion
+        The motion of the scenario's ``[[points]]`` (what the figures and the summary show of a long run).
     """
 
     directory: Path
@@ -76,6 +81,8 @@ class RunOutcome:
     frf: object
     warnings: tuple[str, ...]
     mount_check: object = None
+    steady_state: object = None
+    points: dict = field(default_factory=dict)
 
 
 def sampling_warnings(scenario, modes) -> list[str]:
@@ -139,6 +146,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
     -------
     RunOutcome
     """
+    from sixdof.analysis.steady import steady_state
     from sixdof.io import report, store
     from sixdof.io.stream import ResultsStream
 
@@ -157,8 +165,9 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         for note in notes:
             warnings.warn(note, SamplingWarning, stacklevel=2)
         frf, frf_extras = _frequency_responses(scenario)
+        steady = None if scenario.excitation is None else steady_state(system, scenario.excitation)
         run = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
-                         damping_ratios=zeta, statics=statics, frf=frf, frf_extras=frf_extras,
+                         damping_ratios=zeta, statics=statics, frf=frf, frf_extras=frf_extras, steady_state=steady,
                          provenance=_provenance(scenario))
         drawing.submit(run)  # the modal and FRF figures are drawn while the solve runs
 
@@ -178,7 +187,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
             figures.extend(drawing.save(stage))
             text = report.summary_markdown(scenario, modes, statics, zeta, run.response, run.mount_forces,
                                             run.agreement, run.superposition, frf, figures, notes,
-                                            mount_check=run.mount_check)
+                                            mount_check=run.mount_check, steady=steady, points=run.points)
             (stage / "summary.md").write_text(text, encoding="utf-8")
 
         figures = []
@@ -199,6 +208,8 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         frf=frf,
         warnings=tuple(notes),
         mount_check=run.mount_check,
+        steady_state=steady,
+        points=run.points,
     )
 
 
@@ -341,7 +352,7 @@ def _body_length(system) -> float:
 
 
 def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_line: str | None = None,
-                      workers: FigureWorkers | None = None):
+                      workers: FigureWorkers | None = None, progress=None):
     """Validate a scenario's modal results against simulated time histories (issue 5).
 
     Runs :func:`sixdof.validation.validate` (free decays released from each mode shape, random-force
@@ -349,7 +360,8 @@ def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_lin
     ``out_root/<name>_validation/``, all or nothing, whatever the report's verdict (PASS or FAIL).
 
     The figures are drawn by ``workers`` (:class:`sixdof.plots.workers.FigureWorkers`), the modal ones
-    while the validation runs; default: in this process.
+    while the validation runs; default: in this process. ``progress`` shows the validation's simulations
+    (:func:`sixdof.progress.meter`).
 
     Returns
     -------
@@ -367,7 +379,7 @@ def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_lin
         run = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
                          damping_ratios=damping_ratios(system.C, modes), provenance=_provenance(scenario))
         drawing.submit(run)  # the modal figures are drawn while the validation experiment runs
-        report = validate(system)
+        report = validate(system, progress=progress)
         run = dataclasses.replace(run, validation=report)
         drawing.submit(run)
 
@@ -397,13 +409,19 @@ def redraw(results: str | Path, directory: str | Path | None = None, *,
         The figures written.
     """
     from sixdof.io.store import load_results
+    from sixdof.plots import figure_names
 
+    run = load_results(results)
+    if not figure_names(run):
+        what = "a sweep's results (`sixdof sweep`): no figures" if run.sweep is not None else "nothing to draw"
+        raise InputError("results", "a results file with something to draw (the results.h5 of `sixdof run` or "
+                         "`sixdof validate`)", Plain(f"{results}: {what}"))
     with FigureWorkers(processes=0) if workers is None else contextlib.nullcontext(workers) as drawing:
-        drawing.submit(load_results(results))
+        drawing.submit(run)
         return output.replace_files(Path(directory) if directory else Path(results).parent, drawing.save)
 
 
-def sweep(scenario, spec, *, chunk_size: int | None = None):
+def sweep(scenario, spec, *, chunk_size: int | None = None, progress=None):
     """Run a scenario's variants: frequencies always, peak responses when it has a simulation.
 
     Parameters
@@ -412,6 +430,8 @@ def sweep(scenario, spec, *, chunk_size: int | None = None):
     spec : sixdof.io.sweep.SweepSpec
     chunk_size : int, optional
         Variants integrated together (default: the spec's, else bounded by memory).
+    progress : None, bool, "text" or "tqdm", optional
+        Show the variants done (:func:`sixdof.progress.meter`).
 
     Returns
     -------
@@ -422,4 +442,4 @@ def sweep(scenario, spec, *, chunk_size: int | None = None):
     variants = spec.variants(scenario.system)
     return run_batch(scenario.system, variants, scenario.excitation, scenario.simulation,
                      chunk_size=chunk_size or spec.chunk_size, engine=spec.engine, cross_check=spec.cross_check,
-                     seed=spec.seed)
+                     seed=spec.seed, progress=progress)

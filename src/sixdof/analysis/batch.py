@@ -47,6 +47,7 @@ from sixdof.errors import InputError, Plain, SolverError, integer, readonly
 from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import mount_matrix_jax
 from sixdof.model.system import Mount, System
+from sixdof.progress import meter
 from sixdof.results import label, part, quantity
 
 ENGINES = ("exact", "diffrax")
@@ -289,7 +290,7 @@ def batch_frequencies(system: System, variants: Variants) -> np.ndarray:
 
 def run_batch(system: System, variants: Variants, excitation=None, settings=None, *,
               histories=(), chunk_size: int | None = None, engine: str = "exact", cross_check: int = CROSS_CHECK,
-              seed: int = 0) -> BatchResult:
+              seed: int = 0, progress=None) -> BatchResult:
     """Natural frequencies and peak responses of many variants of ``system`` in one vectorized call.
 
     Parameters
@@ -318,6 +319,8 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
         :data:`CROSS_CHECK`; 0 for none), drawn with ``seed``.
     seed : int
         Seed of :func:`numpy.random.default_rng` drawing the cross-checked variants.
+    progress : None, bool, "text" or "tqdm", optional
+        Show the variants done on stderr (:func:`sixdof.progress.meter`), then the cross-check's.
 
     Returns
     -------
@@ -360,10 +363,18 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     chunk_size = min(integer(chunk_size, "chunk_size", "a positive integer", 1), nv)
     chunks = np.array_split(np.arange(nv), math.ceil(nv / chunk_size))  # sizes differ by one at most
     steps = rejected = None
+    shown = meter(progress, nv, "variants", f"sweep ({engine} engine)")
+
+    def done(fraction):  # of the variants' work
+        if shown is not None:
+            shown.show(nv * fraction)
+
     if engine == "exact":
-        peaks = _exact_peaks(system, K, C, lam, shapes, excitation, settings, chunks)
+        peaks = _exact_peaks(system, K, C, lam, shapes, excitation, settings, chunks, done)
     else:
-        peaks, steps, rejected = _diffrax_peaks(system, K, C, excitation, settings, chunks)
+        peaks, steps, rejected = _diffrax_peaks(system, K, C, excitation, settings, chunks, done)
+    if shown is not None:
+        shown.close()
     if not np.all(np.isfinite(peaks)):
         bad = np.flatnonzero(~np.all(np.isfinite(peaks), axis=1))
         raise SolverError(f"batch ({engine}) produced non-finite values for variant {int(bad[0])}")
@@ -373,7 +384,7 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
                        peak_qdd=readonly(peaks[:, 6:]), num_steps=steps, num_rejected=rejected, histories=kept,
                        settings=settings, engine=engine, chunk_size=int(chunks[0].size),
                        cross_check_variants=readonly(checked, int) if checked.size else None,
-                       cross_check=_cross_check(system, variants, checked, peaks, excitation, settings),
+                       cross_check=_cross_check(system, variants, checked, peaks, excitation, settings, progress),
                        wall_time_s=time.perf_counter() - start)
 
 
@@ -386,23 +397,29 @@ def _history(system, variants, index, excitation, settings, engine):
     return superpose(one, excitation, settings.times) if engine == "exact" else simulate(one, excitation, settings)
 
 
-def _cross_check(system, variants, checked, peaks, excitation, settings) -> Agreement | None:
+def _cross_check(system, variants, checked, peaks, excitation, settings, progress=None) -> Agreement | None:
     """The engine's peaks of the ``checked`` variants against :func:`~sixdof.analysis.direct.simulate`'s:
     the worse of ``|q|`` and ``|q''|``, each DOF relative to its largest peak over the sample."""
     from sixdof.analysis.direct import simulate
 
     if not checked.size:
         return None
+    shown = meter(progress, checked.size, "variants", "cross-check (diffrax)")
     direct = np.zeros((checked.size, 12))
     for row, i in enumerate(checked):
         response = simulate(variant_system(system, variants, int(i)), excitation, settings)
         direct[row] = np.concatenate([np.max(np.abs(response.q), axis=0), np.max(np.abs(response.qdd), axis=0)])
+        if shown is not None:
+            shown.show(row + 1)
+    if shown is not None:
+        shown.close()
     return max((compare(direct[:, part], peaks[checked][:, part]) for part in (slice(0, 6), slice(6, 12))),
                key=lambda agreement: agreement.worst)
 
 
-def _exact_peaks(system, K, C, lam, shapes, excitation, settings, chunks) -> np.ndarray:
-    """``max |q|`` and ``max |q''|`` (nv, 12) at the output samples by the exact linear engine."""
+def _exact_peaks(system, K, C, lam, shapes, excitation, settings, chunks, done=None) -> np.ndarray:
+    """``max |q|`` and ``max |q''|`` (nv, 12) at the output samples by the exact linear engine; ``done``
+    receives the fraction of the work done after each window of each chunk."""
     from sixdof.analysis import superposition as sp
 
     M = np.asarray(system.M, dtype=float)
@@ -428,6 +445,8 @@ def _exact_peaks(system, K, C, lam, shapes, excitation, settings, chunks) -> np.
             coordinates = sp.run_coordinates(stack, drive, z[k])
             z[k] = coordinates[-1]
             peaks[index] = np.maximum(peaks[index], stack.peaks(coordinates[drive.first:], drive))
+            if done is not None:
+                done((low + (high - low) * (k + 1) / len(stacks)) / (t.size - 1))
     return peaks
 
 
@@ -527,8 +546,9 @@ def default_chunk_size(n_samples: int) -> int:
     return int(max(1, min(MAX_CHUNK, CHUNK_BYTES // (max(n_samples, 1) * 12 * 8))))
 
 
-def _diffrax_peaks(system, K, C, excitation, settings, chunks):
-    """``max |q|`` and ``max |q''|`` (nv, 12), steps and rejected steps (nv,) by the vmapped diffrax solve."""
+def _diffrax_peaks(system, K, C, excitation, settings, chunks, done=None):
+    """``max |q|`` and ``max |q''|`` (nv, 12), steps and rejected steps (nv,) by the vmapped diffrax solve;
+    ``done`` receives the fraction of the variants done after each chunk."""
     from sixdof.analysis.direct import jump_times, loads_of, state_scale
 
     if excitation.ground is not None:
@@ -557,6 +577,8 @@ def _diffrax_peaks(system, K, C, excitation, settings, chunks):
         out = _solve_chunk(A[full], B[full], x0[full], sigma, signals, settings.times, t0, t1, padded,
                            settings.rtol, settings.atol, solver=settings.solver, max_steps=settings.max_steps)
         outputs.append([np.asarray(o)[:index.size] for o in out])
+        if done is not None:
+            done(sum(o[0].shape[0] for o in outputs) / nv)
     peaks, ok, steps, rejected = (np.concatenate([o[k] for o in outputs]) for k in range(4))
     if not np.all(ok):
         bad = np.flatnonzero(~ok)

@@ -65,7 +65,7 @@ class Agreement:
     def __str__(self) -> str:
         values = ", ".join(f"{d} {v:.2e}" for d, v in zip(DOFS, self.per_dof))
         return (f"worst {self.worst:.2e} ({self.worst_dof}) vs tolerance {self.tolerance:.0e}: "
-                f"{'ok' if self.ok else 'OVER TOLERANCE'}; per DOF: {values}")
+                f"{'ok' if self.ok else 'OVER TOLERANCE'}\n  per DOF: {values}")
 
 
 def compare(direct_q, modal_q, tolerance: float = AGREEMENT_TOLERANCE, *, length: float = 1.0,

@@ -41,7 +41,6 @@ import importlib.util
 import json
 import math
 import os
-import sys
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
@@ -56,6 +55,7 @@ from sixdof.analysis.validity import warn_idle, warn_large_rotations
 from sixdof.errors import InputError, SolverError, integer, integer_check, memory_check, number, number_check, readonly
 from sixdof.excitation import Excitation
 from sixdof.frozen import Frozen
+from sixdof.progress import Meter, meter
 from sixdof.results import TimeHistory, label, time_concat
 
 if TYPE_CHECKING:
@@ -92,9 +92,6 @@ WINDOW_GRANULE = 512
 SOLVE_BYTES_PER_SAMPLE = 800
 
 _GROUND_CODES = {None: 0, "displacement": 1, "velocity": 2, "acceleration": 3}
-
-#: Progress meters of :func:`simulate` (drawn between windows, never inside the compiled solve).
-PROGRESS = ("text", "tqdm")
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -691,42 +688,10 @@ class _RotationPeaks:
 # ----------------------------------------------------------------------------------------------------
 
 
-class _Progress:
-    """The simulated time reached, shown on stderr after each window (never inside the compiled solve)."""
-
-    def __init__(self, kind: str, settings: SimulationSettings) -> None:
-        self.start, self.total = settings.start, settings.duration
-        self.bar = None
-        if kind == "tqdm":
-            from tqdm.auto import tqdm
-
-            self.bar = tqdm(total=self.total, unit="s", desc="direct solve",
-                            bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} s [{elapsed}<{remaining}]")
-
-    def show(self, reached: float) -> None:
-        done = reached - self.start
-        if self.bar is not None:
-            self.bar.update(done - self.bar.n)
-        else:
-            print(f"\rdirect solve: {done:.4g} / {self.total:.4g} s ({done / self.total:.0%})", end="",
-                  file=sys.stderr, flush=True)
-
-    def close(self) -> None:
-        self.show(self.start + self.total)
-        if self.bar is not None:
-            self.bar.close()
-        else:
-            print(file=sys.stderr, flush=True)
-
-
-def progress_meter(progress: Any, settings: SimulationSettings) -> _Progress | None:
-    if progress is None or progress is False:
-        return None
-    if progress is True:
-        progress = "tqdm" if importlib.util.find_spec("tqdm") else "text"
-    if progress not in PROGRESS:
-        raise InputError("progress", "None, True, 'text' or 'tqdm'", progress)
-    return _Progress(progress, settings)
+def progress_meter(progress: Any, settings: SimulationSettings) -> Meter | None:
+    """The meter of the simulated time that ``progress`` asks for (:func:`sixdof.progress.meter`), shown
+    with the time reached after each window."""
+    return meter(progress, settings.duration, "s", "direct solve", origin=settings.start)
 
 
 def simulate(system: System, excitation: Excitation | None, settings: SimulationSettings,

@@ -54,7 +54,8 @@ if TYPE_CHECKING:
 
 __all__ = [
     "FRF", "FRFCrossCheck", "ForceTransmissibility", "GroundTransmissibility", "PointFRF", "QUANTITIES",
-    "cross_check", "check_resonances", "dynamic_stiffness", "force_transmissibility", "frf_difference",
+    "cross_check", "check_resonances", "dynamic_stiffness", "force_transmissibility", "foundation_forces",
+    "frf_difference",
     "ground_transmissibility", "hysteretic_stiffness", "point_frf", "receptance",
 ]
 
@@ -674,19 +675,29 @@ def force_transmissibility(system: System, f_hz, load_point, load_direction,
     lp = point(load_point, "load_point")
     ld, moment = parse_direction(load_direction, "load_direction")
     frf = receptance(system, f_hz, method=method)
-    q = frf.H @ unit_load(lp, ld, moment)  # (nf, 6)
-    t = point_map(system.positions)  # (n, 3, 6)
-    u = np.einsum("nij,fj->fni", t, q)  # mount point displacements (nf, n, 3)
-    # Each mount's complex stiffness in body axes, A' diag(k (1 + i eta) + i w c) A: (nf, n, 3, 3).
-    local = system.stiffnesses * (1.0 + 1j * system.loss_factors) + 1j * frf.omega[:, None, None] * system.dampings
-    impedances = np.einsum("nai,fna,naj->fnij", system.axes, local, system.axes)
-    forces = np.einsum("fnij,fnj->fni", impedances, u)
-    other = 1j * frf.omega[:, None] * (q @ global_damping(system).T)
-    total = np.einsum("nia,fni->fa", t, forces) + other
+    forces, other, total = foundation_forces(system, frf.omega, frf.H @ unit_load(lp, ld, moment))
     return ForceTransmissibility(f_hz=frf.f_hz, mount_names=system.mount_names, mount_forces=readonly(forces, complex),
                                  total=readonly(total, complex), other_damping=readonly(other, complex),
                                  load_point=lp, load_direction=ld,
                                  load_kind="moment" if moment else "force", method=method)
+
+
+def foundation_forces(system: System, omega, q) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """What the mounts and the global damping pass to the foundation for the complex motion amplitudes ``q``
+    (nf, 6) at the circular frequencies ``omega`` (nf,) [rad/s], the ground at rest.
+
+    Returns each mount's force in body axes, ``A' diag(k (1 + i eta) + i w c) A u`` (nf, n_mounts, 3), the
+    global damping's generalized force ``i w (C - C_mounts) q`` (nf, 6), and their resultant about the CG's
+    rest position (nf, 6); complex, in the units of ``q`` times stiffness.
+    """
+    t = point_map(system.positions)  # (n, 3, 6)
+    u = np.einsum("nij,fj->fni", t, q)  # mount point displacements (nf, n, 3)
+    # Each mount's complex stiffness in body axes, A' diag(k (1 + i eta) + i w c) A: (nf, n, 3, 3).
+    local = system.stiffnesses * (1.0 + 1j * system.loss_factors) + 1j * omega[:, None, None] * system.dampings
+    impedances = np.einsum("nai,fna,naj->fnij", system.axes, local, system.axes)
+    forces = np.einsum("fnij,fnj->fni", impedances, u)
+    other = 1j * omega[:, None] * (q @ global_damping(system).T)
+    return forces, other, np.einsum("nia,fni->fa", t, forces) + other
 
 
 def ground_transmissibility(system: System, f_hz, ground_direction, response_point,

@@ -3,6 +3,7 @@ validation table and the sweep percentiles, through one table formatter (:func:`
 
 from __future__ import annotations
 
+import textwrap
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -44,6 +45,23 @@ def modes_table(modes, damping_ratios=None) -> str:
     return table(headers, rows)
 
 
+def damping_note(system) -> str:
+    """What the printed damping ratios (zeta) include: the viscous damping models given, added together,
+    and never the loss factors (hysteretic damping exists in the frequency domain only)."""
+    given = [name for name, present in (("mount dashpots", np.any(system.dampings)),
+                                        ("Rayleigh damping", system.rayleigh is not None),
+                                        ("modal damping ratios", system.modal_damping is not None)) if present]
+    if not given:
+        text = "zeta: no viscous damping is given (dashpots, Rayleigh or modal): every mode has zeta = 0"
+    else:
+        text = (f"zeta: the exact damping ratio of each mode (complex eigenvalues) from {' + '.join(given)}"
+                + (", added together" if len(given) > 1 else ""))
+    if np.any(system.loss_factors):
+        text += ("; not the mounts' loss factors, which act in the frequency domain only (FRFs, steady state), "
+                 "not in the time response")
+    return _wrapped(text + ".")
+
+
 def ke_table(modes) -> str:
     """Kinetic-energy distribution [%]: rows are DOFs, columns are modes (the decoupling table)."""
     headers = ["DOF"] + [f"mode {j + 1} ({f:.3g} Hz)" for j, f in enumerate(modes.frequency_hz)]
@@ -68,18 +86,33 @@ def statics_table(statics, mount_names: Sequence[str]) -> str:
         factor, shown = display_unit(statics.q[i], unit)
         rows.append([dof, f"{statics.q[i] * factor:.5g} {shown}"])
     deflection = table(["DOF", "static deflection"], rows)
-    rows = [[name, *(f"{v / 1e3:.3f}" for v in force), f"{support / 1e3:.3f}",
+    rows = [[name, *(_fixed(v / 1e3, 3) for v in force), _fixed(support / 1e3, 3),
              "TENSION (uplift)" if name in statics.uplift else "compression"]
             for name, force, support in zip(mount_names, statics.mount_forces, statics.support)]
     forces = table(["mount", "Fx [kN]", "Fy [kN]", "Fz [kN]", "carried [kN]", "state"], rows, "lrrrrl")
-    return (deflection + "\n\nLoad on each mount (force of the body on it, passed to the foundation; body axes; "
-            "carried: along gravity, > 0 compression):\n" + forces)
+    return (deflection + "\n\n" + _wrapped("Load on each mount (force of the body on it, passed to the foundation; "
+                                            "body axes; carried: along gravity, > 0 compression):") + "\n" + forces)
 
+
+def _fixed(value: float, digits: int) -> str:
+    """``value`` with ``digits`` decimals, never "-0.000" (a value that rounds to zero has no sign)."""
+    text = f"{value:.{digits}f}"
+    return text.lstrip("-") if float(text) == 0 else text
+
+
+def _wrapped(text: str) -> str:
+    """Prose for the terminal and the summary: lines of at most :data:`LINE` characters."""
+    return textwrap.fill(text, LINE)
+
+
+#: Longest line of prose printed.
+LINE = 100
 
 #: How every mount table states its signs.
-MOUNT_SIGNS = ("Loads are the force of the body on each mount (passed to the foundation), static under gravity "
-               "plus dynamic, along the mount's axes u, v, w; the normal force is along w (from the foundation "
-               "towards the body): > 0 compression, < 0 tension (uplift). Deflections are from the unloaded mount.")
+MOUNT_SIGNS = _wrapped("Loads are the force of the body on each mount (passed to the foundation), static under "
+                       "gravity plus dynamic, along the mount's axes u, v, w; the normal force is along w (from the "
+                       "foundation towards the body): > 0 compression, < 0 tension (uplift). Deflections are from "
+                       "the unloaded mount.")
 
 
 def mount_loads_table(check) -> str:
@@ -169,24 +202,29 @@ def validation_text(report) -> str:
 
 
 def summary_markdown(scenario, modes, statics, damping_ratios, response, forces, agreement,
-                     superposition, frf, figures, notes, mount_check=None) -> str:
+                     superposition, frf, figures, notes, mount_check=None, steady=None, points=None) -> str:
     """The run summary as Markdown text (see :func:`sixdof.workflows.run_scenario`)."""
     parts = [f"# {scenario.name}", "", scenario.description, ""]
     if notes:
         parts += ["## Warnings", "", *(f"- {n}" for n in notes), ""]
-    parts += ["## Natural frequencies", "", modes_table(modes, damping_ratios), ""]
+    parts += ["## Natural frequencies", "", modes_table(modes, damping_ratios), "", damping_note(scenario.system), ""]
     parts += ["## Kinetic energy distribution [%]", "", ke_table(modes), ""]
     parts += [subsystems_text(modes).replace("\n  ", "\n- ").replace(":\n", ":\n\n", 1), ""]
     if statics is not None:
         parts += ["## Statics under gravity", "", statics_table(statics, scenario.system.mount_names), ""]
+    if steady is not None:
+        parts += ["## Steady state", "", steady_state_text(steady), ""]
     if response is not None:
-        parts += ["## Time response", "", _peaks_table(response), ""]
+        parts += ["## Time response", "", "Peaks over the whole run, the switch-on transient included.", "",
+                  _peaks_table(response), ""]
         stats = response.stats
         parts += [f"Solver: {stats.solver}, rtol {stats.rtol:g}, atol {stats.atol:g} (per-DOF scaled), "
                   f"{stats.num_accepted} accepted and {stats.num_rejected} rejected steps", ""]
         if mount_check is not None:
             limits = np.stack([m.max_deflection for m in scenario.system.mounts])
             parts += ["### Mount checks", "", mount_check_text(mount_check, limits), ""]
+        if points:
+            parts += ["### Body points", "", points_table(points), ""]
         parts += ["### Peak mount forces (dynamic part, about static equilibrium; body axes)", "",
                   _mount_peaks_table(forces), ""]
         parts += ["### Direct solve vs modal superposition", "",
@@ -210,6 +248,50 @@ def _peaks_table(response) -> str:
             cells.append(f"{scale * (values[k] if order == 0 else np.max(np.abs(values))):.5g} {shown}")
         rows.append([dof, cells[0], f"{response.t[k]:.3f}", cells[1], cells[2]])
     return table(["DOF", "peak q", "at t [s]", "peak |q'|", "peak |q''|"], rows)
+
+
+def steady_state_text(steady) -> str:
+    """The steady-state amplitude of each DOF and the isolation at each operating frequency
+    (:class:`sixdof.analysis.steady.SteadyState`)."""
+    amplitude = np.abs(steady.q)
+    rows = []
+    for dof, unit, values in zip(DOFS, DOF_UNITS, amplitude.T):
+        scale, shown = display_unit(values, unit)
+        rows.append([dof, *(f"{scale * v:.4g} {shown}" for v in values)])
+    headers = ["DOF", *(f"{f:.4g} Hz" for f in steady.f_hz)]
+    motion = table(headers, rows)
+
+    def percent(value):
+        return "n/a (no force applied)" if not np.isfinite(value) else f"{100 * value:.1f} %"
+
+    rows = [["applied force amplitude [kN]", *(f"{v / 1e3:.4g}" for v in steady.applied_force)],
+            ["force on the foundation [kN]", *(f"{v / 1e3:.4g}" for v in steady.transmitted_force)],
+            ["force transmissibility", *(f"{v:.3g}" for v in steady.transmissibility)],
+            ["isolation efficiency", *(percent(v) for v in steady.isolation_efficiency)]]
+    isolation = table(["", *headers[1:]], rows, "l" + "r" * len(steady.f_hz))
+    return (_wrapped("Steady state at the operating frequencies (harmonic loads without end, once the switch-on "
+                     "transient has died out; from the frequency response, loss factors included): amplitude "
+                     "of each DOF of the CG:") + "\n" + motion + "\n\n" + isolation)
+
+
+#: Standard gravity [m/s^2]: accelerations are also shown in g.
+G = 9.80665
+
+
+def points_table(points) -> str:
+    """Peak motion of each body point over the run (:class:`sixdof.analysis.response.PointMotion` by name),
+    per body axis: displacement and acceleration, and the largest acceleration in g."""
+    displacements = {name: np.max(np.abs(m.displacement), axis=0) for name, m in points.items()}
+    accelerations = {name: np.max(np.abs(m.acceleration), axis=0) for name, m in points.items()}
+    scale, shown = display_unit(np.concatenate(list(displacements.values())), "m")
+    rows = [[name, ", ".join(f"{v:.4g}" for v in motion.position),
+             *(f"{scale * v:.4g}" for v in displacements[name]), *(f"{a:.4g}" for a in accelerations[name]),
+             f"{accelerations[name].max() / G:.3g}"] for name, motion in points.items()]
+    relative = any(motion.relative for motion in points.values())
+    headers = ["point", "position [m]", *(f"peak {a} [{shown}]" for a in "xyz"),
+               *(f"peak a{a} [m/s^2]" for a in "xyz"), "peak a [g]"]
+    return (("Motion relative to the ground. " if relative else "")
+            + "Peaks over the run, the switch-on transient included:\n" + table(headers, rows, "llrrrrrrr"))
 
 
 def _mount_peaks_table(forces) -> str:

@@ -45,6 +45,7 @@ from sixdof.analysis.statespace import damped_modes
 from sixdof.dofs import DOFS
 from sixdof.errors import InputError, SolverError, point, readonly
 from sixdof.model.kinematics import unit_load
+from sixdof.progress import meter
 from sixdof.results import TimeHistory, label, part, quantity, sequence, stacked
 from sixdof.validation.estimation import (
     DecayEstimate,
@@ -378,7 +379,7 @@ class ValidationReport:
 
 
 def validate(system: System, settings: ValidationSettings | None = None, *,
-             model: System | None = None) -> ValidationReport:
+             model: System | None = None, progress=None) -> ValidationReport:
     """Validate the modal results of a model against simulated time histories of ``system``.
 
     Runs one free decay per elastic mode and one random-force simulation per elastic mode with
@@ -396,6 +397,8 @@ def validate(system: System, settings: ValidationSettings | None = None, *,
         define the release states and modal coordinates). Default: ``system`` itself. Give another
         one to check, say, an updated or simplified model against the reference system's time
         histories (the same number of DOFs and the same load point apply).
+    progress : None, bool, "text" or "tqdm", optional
+        Show the simulations done (:func:`sixdof.progress.meter`).
 
     Returns
     -------
@@ -446,6 +449,14 @@ def validate(system: System, settings: ValidationSettings | None = None, *,
     f_d = np.full(6, np.nan)
     f_d[elastic] = poles[elastic].imag / (2 * np.pi)
     start = time.perf_counter()
+    shown = meter(progress, 2 * len(elastic), "runs", "validation (free decays, random-force runs)")
+    runs_done = 0
+
+    def one_more_run():
+        nonlocal runs_done
+        runs_done += 1
+        if shown is not None:
+            shown.show(runs_done)
 
     # 1. Free decays, one per elastic mode, each released in its damped shape so that it moves in that
     # mode alone; same sample count, so one compiled solver.
@@ -462,6 +473,7 @@ def validate(system: System, settings: ValidationSettings | None = None, *,
         eta = run.q @ M @ phi[:, r]
         decays.append(FreeDecay(mode=r + 1, history=run, eta=readonly(eta),
                                 estimate=decay_estimate(run.t, eta, unit="kg^1/2 m")))
+        one_more_run()
 
     # 2. Random force, one run per elastic mode (see the module docstring).
     lp = point(settings.load_point if settings.load_point is not None else system.positions[0], "load_point")
@@ -496,6 +508,7 @@ def validate(system: System, settings: ValidationSettings | None = None, *,
                                           rtol=settings.rtol, atol=settings.atol))
         if run.t.size != n:
             raise SolverError(f"validation run returned {run.t.size} samples, expected {n}")
+        one_more_run()
         total_s += run.t[-1]
         est = estimate_frf(settings.force_rms * samples, run.q @ M @ phi[:, r], fs, nperseg, unit="kg^1/2 m/N")
         # Aliases up to twice the highest natural frequency keep the held model exact in band.
@@ -527,6 +540,8 @@ def validate(system: System, settings: ValidationSettings | None = None, *,
         if not np.any(good):
             notes.append(f"mode {r + 1}: no bin of its band has coherence >= 0.9: its H1 cannot be checked (FAIL)")
         checks += mode_checks(row, int(np.count_nonzero(good)))
+    if shown is not None:
+        shown.close()
     wall = time.perf_counter() - start
     if modes.zero_modes:
         notes.append(f"rigid-body modes {[m + 1 for m in modes.zero_modes]} "

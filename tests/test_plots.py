@@ -416,11 +416,11 @@ def test_workers_draw_what_save_all_draws(run, tmp_path):
 
 def test_a_figure_failing_in_a_worker_fails_loudly(parts, tmp_path):
     """The worker's error comes back, named, from save: a run that cannot draw a figure writes nothing."""
-    short = dataclasses.replace(parts["mount_forces"], total=parts["mount_forces"].total[:, :3])
-    broken = RunResults(name="bridge_beam", response=parts["response"], mount_forces=short)
+    short = dataclasses.replace(parts["mount_check"], compression=parts["mount_check"].compression[:, :3])
+    broken = RunResults(name="bridge_beam", response=parts["response"], mount_check=short)
     with FigureWorkers(processes=1, dpi=30) as workers:
         workers.submit(broken)
-        with pytest.raises(FigureError, match=r"mount_forces.png: InputError: forces.total: expected shape \(4, "):
+        with pytest.raises(FigureError, match=r"mount_forces.png: InputError: check.compression: expected shape \(4, "):
             workers.save(tmp_path)
 
 

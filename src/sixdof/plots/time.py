@@ -1,5 +1,5 @@
-"""Time histories: the centre of gravity's motion per DOF, the mount forces on the foundation, and the
-direct solution against the modal superposition."""
+"""Time histories: the centre of gravity's motion per DOF, the mount forces on the foundation, each
+mount's total normal force, and the direct solution against the modal superposition."""
 
 from __future__ import annotations
 
@@ -7,6 +7,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from sixdof.analysis.compare import Agreement
+from sixdof.analysis.mountcheck import MountCheck
 from sixdof.analysis.response import MountForces
 from sixdof.dofs import DOFS, FORCE_UNITS, display_unit, dof_units
 from sixdof.errors import InputError
@@ -61,9 +62,19 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "")
     relative = getattr(history, f"{key}_relative") if ground is not None and np.any(ground != 0) else None
     axes = fig.subplots(3, 2, sharex=True)
     time_axes(axes, t)
+    quiet = unexcited(values if relative is None else np.concatenate([values, relative]))
     for i, ax in enumerate(axes.T.flat):  # translations left, rotations right
         shown = values[:, i] if relative is None else np.concatenate([values[:, i], relative[:, i]])
         factor, label = display_unit(shown, _UNITS[key][i])
+        if quiet[i]:
+            peak = float(np.max(np.abs(shown)))
+            what = "exactly zero" if peak == 0 else f"peak {peak:.2g} {_UNITS[key][i]}, round-off"
+            ax.text(0.5, 0.5, f"not excited: {what}",
+                    transform=ax.transAxes, ha="center", va="center", fontsize=10, color="0.4")
+            ax.set_yticks([])
+            ax.set_ylabel(f"{DOFS[i]}")
+            ax.set_title(f"{DOFS[i]}: not excited", fontsize=10)
+            continue
         plot_long(ax, t, factor * values[:, i], color=TRANSLATION if i < 3 else ROTATION, linewidth=1.0,
                   label="absolute")
         if relative is not None:
@@ -75,6 +86,18 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "")
         peak = float(np.max(np.abs(values[:, i])))
         ax.set_title(f"{DOFS[i]}: peak {factor * peak:.4g} {label}", fontsize=10)
     return fig
+
+
+#: A DOF whose peak is below this fraction of the largest (rotations times 1 m) is not excited: what it
+#: holds is round-off of the others, drawn as a line it would look like a signal.
+UNEXCITED_RTOL = 1e-9
+
+
+def unexcited(values: np.ndarray) -> np.ndarray:
+    """Which DOF columns of ``values`` (n, 6) are :data:`UNEXCITED_RTOL` of the largest or less (bool (6,))."""
+    peaks = np.max(np.abs(values), axis=0) if len(values) else np.zeros(6)
+    largest = float(peaks.max())
+    return peaks <= UNEXCITED_RTOL * largest if largest > 0 else np.zeros(6, bool)
 
 
 def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agreement | None = None, *,
@@ -198,3 +221,104 @@ def plot_mount_forces(forces: MountForces, t, *, name: str = "") -> Figure:
                    frameon=False)
     time_axes(axes, t)
     return fig
+
+
+#: The zoom panel of :func:`plot_mount_loads` spans this many periods of the dominant motion.
+ZOOM_PERIODS = 6
+
+
+def plot_mount_loads(check: MountCheck, t, *, name: str = "") -> Figure:
+    """Total normal force of each mount over the run (static preload plus dynamic, > 0 compression), one
+    row per mount, all in one unit: the whole record on the left, tension shaded red and the static load
+    dashed; on the right a zoom on the largest dynamic excursion (:data:`ZOOM_PERIODS` periods of the
+    dominant motion, its span marked on the left), where single cycles and short events can be read.
+    A record too short for a zoom is drawn alone.
+
+    Parameters
+    ----------
+    check : sixdof.analysis.mountcheck.MountCheck
+        ``compression`` (n_mounts, n) [N] and ``static_force`` of the mounts ``names``.
+    t : array_like, shape (n,)
+        Times [s] of ``compression`` (the response's ``t``).
+    name : str
+        Name of the run, put before the title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    require(check, "check", MountCheck, "a sixdof.analysis.mountcheck.MountCheck")
+    t = np.asarray(t, dtype=float)
+    compression = np.asarray(check.compression, dtype=float)
+    if compression.shape != (len(check.names), len(t)):
+        raise InputError("check.compression", f"shape ({len(check.names)}, {len(t)}) (mounts, len(t))",
+                         f"shape {compression.shape}")
+    static = -np.asarray(check.static_force)[:, 2] if check.preload else np.zeros(len(check.names))
+    dynamic = compression - static[:, None]
+    window = zoom_window(t, dynamic)
+    factor, unit = display_unit(compression, "N")
+    rows = len(check.names)
+    fig = Figure(figsize=(12, 1.4 + 1.55 * rows + 0.6))
+    fig.suptitle(title(name, "normal force of each mount (static + dynamic; > 0 compression, < 0 tension)"),
+                 fontsize=12)
+    columns = 1 if window is None else 2
+    grid = fig.add_gridspec(rows, columns, width_ratios=None if window is None else (3, 2))
+    margins(fig, left=0.9, right=0.2, top=1.05, bottom=0.55, wspace=0.5, hspace=0.45, columns=columns, rows=rows,
+            target=grid)
+    low = factor * min(compression.min(), 0.0 if np.any(compression < 0) else compression.min())
+    high = factor * compression.max()
+    pad = 0.08 * max(high - low, 1e-30)
+    for k, mount in enumerate(check.names):
+        panels = [fig.add_subplot(grid[k, 0])] + ([] if window is None else [fig.add_subplot(grid[k, 1])])
+        for ax in panels:
+            plot_long(ax, t, factor * compression[k], color="tab:blue", linewidth=1.0, label="normal force N")
+            ax.axhline(factor * static[k], color="0.35", linestyle="--", linewidth=0.9, label="static (gravity)")
+            ax.axhline(0.0, color="black", linewidth=0.6)
+            ax.fill_between(t, factor * np.minimum(compression[k], 0.0), 0.0, where=compression[k] < 0,
+                            color="tab:red", alpha=0.35, linewidth=0, label="tension (lift-off)")
+            ax.set_ylim(low - pad, high + pad)
+            ax.grid(True, alpha=0.3)
+        whole = panels[0]
+        whole.set_xlim(t[0], t[-1])
+        whole.set_ylabel(f"N [{unit}]")
+        tension = "" if check.min_compression[k] >= 0 else f", TENSION from t = {check.tension_start_t[k]:.4g} s"
+        whole.set_title(f"mount {mount}: {factor * check.min_compression[k]:.4g} to "
+                        f"{factor * check.max_compression[k]:.4g} {unit} (static {factor * static[k]:.4g}){tension}",
+                        fontsize=9, loc="left")
+        if window is not None:
+            whole.axvspan(*window, color="0.85", zorder=0)
+            panels[1].set_xlim(*window)
+            if k == 0:
+                panels[1].set_title("zoom on the largest excursion", fontsize=9, loc="left")
+        if k == rows - 1:
+            for ax in panels:
+                ax.set_xlabel("time t [s]")
+        else:
+            for ax in panels:
+                ax.tick_params(labelbottom=False)
+    handles, labels = fig.axes[0].get_legend_handles_labels()
+    if not np.any(compression < 0):  # no tension: its patch would say what is not there
+        handles, labels = handles[:2], labels[:2]
+    fig.legend(handles, labels, fontsize=9, loc="upper left", bbox_to_anchor=(0.9 / 12, 1 - 0.4 / fig.get_figheight()),
+               ncols=len(labels), frameon=False)
+    return fig
+
+
+def zoom_window(t: np.ndarray, dynamic: np.ndarray) -> tuple[float, float] | None:
+    """The span [s] around the largest ``|dynamic|`` (any row of (rows, n)) covering :data:`ZOOM_PERIODS`
+    periods of its row's dominant motion (from its zero crossings), within the record; None when that
+    span would cover more than a third of the record (the whole record shows it already) or the row
+    does not move."""
+    k, i = np.unravel_index(np.argmax(np.abs(dynamic)), dynamic.shape)
+    row = dynamic[k]
+    duration = t[-1] - t[0]
+    if duration <= 0 or not np.any(row):
+        return None
+    crossings = np.count_nonzero(np.diff(np.signbit(row - np.mean(row))))
+    if crossings < 2:
+        return None
+    width = ZOOM_PERIODS * 2.0 * duration / crossings  # a period is two crossings
+    if width > duration / 3:
+        return None
+    start = min(max(t[i] - width / 2, t[0]), t[-1] - width)
+    return float(start), float(start + width)

@@ -1,0 +1,92 @@
+"""The mount-load figure (mount_forces.png) draws what the mount check computed: each mount's total normal
+force in one unit, its static load, tension shaded where and only where the mount is in tension, and a
+zoom on the largest excursion."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from sixdof import Excitation, Harmonic, Load, SimulationSettings, Step, mount_check, mount_forces, simulate
+from sixdof.analysis.statics import STANDARD_GRAVITY, gravity_statics
+from sixdof.plots import plot_mount_loads
+from sixdof.plots.time import ZOOM_PERIODS, zoom_window
+from systems import four_mount
+
+MASS = 500.0
+
+
+def checked(load_z, signal, duration):
+    system = four_mount(m=MASS, k=(2e5, 3e5, 8e5))
+    loads = (Load("l", [0.1, 0.0, 0.0], force=[0, 0, load_z], signal=signal),)
+    response = simulate(system, Excitation(loads=loads), SimulationSettings(duration=duration, sample_rate_hz=1000.0))
+    check = mount_check(system, mount_forces(system, response), response.t, gravity_statics(system))
+    return check, response.t
+
+
+def drawn(ax):
+    """The normal-force line of a panel (x, y) and the y of its horizontal lines."""
+    lines = [line for line in ax.get_lines() if line.get_label() == "normal force N"]
+    flat = [line.get_ydata()[0] for line in ax.get_lines() if line.get_label() == "static (gravity)"]
+    return lines[0].get_xdata(), lines[0].get_ydata(), flat
+
+
+def test_each_mount_is_drawn_in_one_unit_with_its_static_load_and_a_zoom():
+    check, t = checked(300.0, Harmonic(f_hz=7.0), 4.0)
+    fig = plot_mount_loads(check, t, name="machine")
+    assert len(fig.axes) == 2 * len(check.names)
+    units = {ax.get_ylabel() for ax in fig.axes[::2]}
+    assert units == {"N [kN]"}
+    window = zoom_window(t, check.compression - check.compression[:, :1])
+    for k in range(len(check.names)):
+        whole, zoom = fig.axes[2 * k], fig.axes[2 * k + 1]
+        x, y, flat = drawn(whole)
+        assert y.max() == pytest.approx(check.max_compression[k] / 1e3) and y.min() == pytest.approx(
+            check.min_compression[k] / 1e3)
+        assert flat == [pytest.approx(-check.static_force[k, 2] / 1e3)]
+        assert -check.static_force[k, 2] == pytest.approx(MASS * STANDARD_GRAVITY / 4, rel=0.3)  # the preload
+        assert whole.get_xlim() == (t[0], t[-1]) and zoom.get_xlim() == pytest.approx(window)
+        assert not [c for c in whole.collections if c.get_label() == "tension (lift-off)" and len(c.get_paths())]
+    # The zoom spans ZOOM_PERIODS periods of the 7 Hz steady motion (from zero crossings) around the largest excursion.
+    assert window[1] - window[0] == pytest.approx(ZOOM_PERIODS / 7.0, rel=0.1)
+    worst = np.unravel_index(np.argmax(np.abs(check.compression - check.compression.mean(axis=1, keepdims=True))),
+                             check.compression.shape)[1]
+    assert window[0] <= t[worst] <= window[1] or window[0] == t[0]
+    labels = [text.get_text() for text in fig.legends[0].get_texts()]
+    assert labels == ["normal force N", "static (gravity)"]  # no tension: not in the legend
+
+
+def test_tension_is_shaded_exactly_where_a_mount_lifts_off():
+    # A step upward of twice the weight: every mount goes into tension for part of each cycle.
+    check, t = checked(2 * MASS * STANDARD_GRAVITY, Step(start=0.0), 0.3)
+    fig = plot_mount_loads(check, t)
+    assert len(fig.axes) == len(check.names)  # 0.3 s: too short for a zoom
+    for k, ax in enumerate(fig.axes):
+        shade = [c for c in ax.collections if c.get_label() == "tension (lift-off)"][0]
+        vertices = np.concatenate([p.vertices for p in shade.get_paths()])
+        assert vertices[:, 1].min() == pytest.approx(check.min_compression[k] / 1e3)
+        assert vertices[:, 1].max() == pytest.approx(0.0, abs=1e-12)
+        inside = (vertices[:, 0].min(), vertices[:, 0].max())
+        in_tension = t[check.compression[k] < 0]
+        assert inside[0] <= in_tension[0] and inside[1] >= in_tension[-1]
+        assert "TENSION from t =" in ax.get_title(loc="left")
+    assert "tension (lift-off)" in [text.get_text() for text in fig.legends[0].get_texts()]
+
+
+def test_unexcited_dofs_are_said_to_be_so_not_drawn_as_noise():
+    from sixdof.plots import plot_time_histories
+
+    system = four_mount(m=MASS, k=(2e5, 3e5, 8e5), damping=(100.0, 100.0, 300.0))
+    vertical = (Load("l", [0.0, 0.0, 0.0], force=[0, 0, 500.0], signal=Harmonic(f_hz=5.0)),)
+    response = simulate(system, Excitation(loads=vertical), SimulationSettings(duration=1.0, sample_rate_hz=500.0))
+    peaks = np.max(np.abs(response.q), axis=0)
+    assert peaks[2] > 1e-5 and np.all(np.delete(peaks, 2) < 1e-12 * peaks[2])  # z alone moves
+    fig = plot_time_histories(response)
+    order = [0, 3, 1, 4, 2, 5]  # axes row by row: translations left, rotations right
+    for ax, i in zip(fig.axes, order):
+        texts = [text.get_text() for text in ax.texts]
+        if i == 2:
+            assert len(ax.get_lines()) == 1 and not texts
+        else:
+            assert not ax.get_lines() and texts and texts[0].startswith("not excited: ")
+            assert ax.get_title().endswith("not excited")

@@ -126,16 +126,35 @@ def natural_frequencies(modes) -> np.ndarray | None:
     return None if modes is None else modes.frequency_hz
 
 
+#: Natural frequencies closer than this factor get their mode numbers on staggered rows, so that they do
+#: not run together ("12" for modes 1 and 2).
+CLOSE_MODES = 1.12
+
+
 def mark_modes(ax, frequency_hz: np.ndarray | None, label: bool = False) -> None:
-    """Dotted verticals at the natural frequencies [Hz] above 0, numbered when ``label``."""
+    """Dotted verticals at the natural frequencies [Hz] above 0, numbered when ``label`` (the numbers of
+    modes within :data:`CLOSE_MODES` of the previous one a row lower, up to three rows)."""
     if frequency_hz is None:
         return
+    row, previous = 0, None
     for j, f in enumerate(frequency_hz):
         if f > 0:
             ax.axvline(f, color="grey", linewidth=0.8, linestyle=":", zorder=0)
             if label:
-                ax.text(f, 0.99, f"{j + 1}", transform=ax.get_xaxis_transform(), fontsize=8,
+                row = (row + 1) % 3 if previous is not None and f < CLOSE_MODES * previous else 0
+                ax.text(f, 0.99 - 0.055 * row, f"{j + 1}", transform=ax.get_xaxis_transform(), fontsize=8,
                         color="dimgrey", va="top", ha="left")
+            previous = f
+
+
+def mark_operating(ax, operating_hz, label: bool = False) -> None:
+    """Dash-dot red verticals at the operating frequencies [Hz] (a run's harmonic loads), labelled at the
+    bottom when ``label``."""
+    for f in np.atleast_1d(operating_hz if operating_hz is not None else []):
+        ax.axvline(f, color="tab:red", linewidth=1.0, linestyle="-.", zorder=1)
+        if label:
+            ax.text(f, 0.02, f" operating {f:.4g} Hz", transform=ax.get_xaxis_transform(), fontsize=8,
+                    color="tab:red", va="bottom", ha="left", rotation=90)
 
 
 def freeze_unlabelled_ticks(fig: Figure) -> None:

@@ -12,11 +12,20 @@ from sixdof.analysis.frf import FRF, ForceTransmissibility, FRFCrossCheck, Groun
 from sixdof.analysis.modal import Modes
 from sixdof.dofs import DOFS, LOADS
 from sixdof.errors import InputError, Plain
-from sixdof.plots.common import COMPONENT_COLORS, margins, mark_modes, natural_frequencies, require, title
+from sixdof.plots.common import (
+    COMPONENT_COLORS,
+    margins,
+    mark_modes,
+    mark_operating,
+    natural_frequencies,
+    require,
+    title,
+)
 
 
-def _finish(mag, phase, f: np.ndarray, frequency_hz: np.ndarray | None) -> None:
-    """Phase axis [deg], grids, natural frequencies and frequency span of a magnitude and phase pair."""
+def _finish(mag, phase, f: np.ndarray, frequency_hz: np.ndarray | None, operating_hz=None) -> None:
+    """Phase axis [deg], grids, natural and operating frequencies and frequency span of a magnitude and
+    phase pair."""
     phase.set_ylabel("phase [deg]")
     phase.set_ylim(-190, 190)
     phase.set_yticks([-180, -90, 0, 90, 180])
@@ -26,10 +35,12 @@ def _finish(mag, phase, f: np.ndarray, frequency_hz: np.ndarray | None) -> None:
         ax.grid(True, which="major", alpha=0.4)
         ax.grid(True, which="minor", alpha=0.12)
         mark_modes(ax, frequency_hz, label=ax is mag)
+        mark_operating(ax, operating_hz, label=ax is mag)
     mag.set_xlim(f[0], f[-1])
 
 
-def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, name: str = "") -> Figure:
+def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, name: str = "",
+              operating_hz=None) -> Figure:
     """Bode plot of the direct receptances ``H_ii`` (q_i per own generalized force).
 
     Magnitude on a log scale and phase; translations (m/N) and rotations (rad/(N m)) on separate
@@ -48,6 +59,8 @@ def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, 
         they are. Default: a new figure.
     name : str
         Name of the run, put before the title (new figure only).
+    operating_hz : array_like, optional
+        Operating frequencies [Hz] to mark (a run's harmonic loads: its ``steady_state.f_hz``).
 
     Returns
     -------
@@ -61,11 +74,13 @@ def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, 
     f, H = frf.f_hz, frf.H
     if ax is None:
         fig = Figure(figsize=(13, 8))
-        margins(fig, left=0.85, right=0.15, top=0.7, bottom=0.55, wspace=1.05, hspace=0.15, columns=2, rows=2)
+        margins(fig, left=0.85, right=0.15, top=0.9, bottom=0.55, wspace=1.05, hspace=0.15, columns=2, rows=2)
+        marks = ["dotted: natural frequencies (mode numbers)" if frequency_hz is not None else "",
+                 "dash-dot red: operating frequencies" if operating_hz is not None and np.size(operating_hz) else ""]
         heading = "receptance H_ii (response of each DOF to its own generalized force)"
-        if frequency_hz is not None:
-            heading += "; dotted: natural frequencies (mode numbers)"
-        fig.suptitle(title(name, heading), fontsize=13)
+        if any(marks):
+            heading += "\n" + "; ".join(m for m in marks if m)
+        fig.suptitle(title(name, heading), fontsize=12)
         axes = fig.subplots(2, 2, sharex=True, height_ratios=[2, 1])
     else:
         axes = np.asarray(ax, dtype=object)
@@ -84,7 +99,7 @@ def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, 
         mag.set_title("translations" if column == 0 else "rotations", fontsize=11)
         mag.legend(fontsize=9)
         phase.set_xlabel("frequency f [Hz]")
-        _finish(mag, phase, f, frequency_hz)
+        _finish(mag, phase, f, frequency_hz, operating_hz)
     return fig
 
 

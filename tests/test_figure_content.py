@@ -1,6 +1,7 @@
-"""The mount-load figure (mount_forces.png) draws what the mount check computed: each mount's total normal
-force in one unit, its static load, tension shaded where and only where the mount is in tension, and a
-zoom on the largest excursion."""
+"""What the figures draw, inspected (issue 15, point 1): the mount-load figure (mount_forces.png) draws what
+the mount check computed (each mount's total normal force in one unit, its static load, tension shaded where
+and only where the mount is in tension, a zoom on the largest excursion); time_dofs.png says which DOFs are
+not excited; bode.png marks the operating frequencies and numbers close modes without overprinting."""
 
 from __future__ import annotations
 
@@ -90,3 +91,28 @@ def test_unexcited_dofs_are_said_to_be_so_not_drawn_as_noise():
         else:
             assert not ax.get_lines() and texts and texts[0].startswith("not excited: ")
             assert ax.get_title().endswith("not excited")
+
+
+def test_bode_marks_the_operating_frequency_and_close_modes_stay_legible():
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from sixdof import receptance
+    from sixdof.plots import plot_bode
+    from systems import bridge
+
+    system = bridge()  # modes 1 and 2 at 0.63 and 0.69 Hz
+    frf = receptance(system, np.geomspace(0.1, 100.0, 400))
+    fig = plot_bode(frf, system.modes, operating_hz=[2.0], name="bridge")
+    FigureCanvasAgg(fig).draw()
+    for ax in fig.axes:
+        red = [line for line in ax.get_lines() if line.get_color() == "tab:red"]
+        assert [line.get_xdata()[0] for line in red] == [2.0]
+    renderer = fig.canvas.get_renderer()
+    for ax in fig.axes[:2]:  # the magnitude panels carry the labels
+        numbers = [text for text in ax.texts if text.get_text().isdigit()]
+        assert [text.get_text() for text in numbers] == ["1", "2", "3", "4", "5", "6"]
+        boxes = [text.get_window_extent(renderer) for text in numbers]
+        for a in range(len(boxes)):
+            for b in range(a + 1, len(boxes)):
+                assert not boxes[a].overlaps(boxes[b]), (numbers[a].get_text(), numbers[b].get_text())
+        assert any(text.get_text() == " operating 2 Hz" for text in ax.texts)

@@ -116,3 +116,14 @@ def test_bode_marks_the_operating_frequency_and_close_modes_stay_legible():
             for b in range(a + 1, len(boxes)):
                 assert not boxes[a].overlaps(boxes[b]), (numbers[a].get_text(), numbers[b].get_text())
         assert any(text.get_text() == " operating 2 Hz" for text in ax.texts)
+
+
+def test_the_phase_is_drawn_unwrapped():
+    from sixdof.plots.frf import phase_deg
+
+    w = np.geomspace(0.01, 100.0, 500)
+    three_poles = 1.0 / (1.0 + 1j * w) ** 3  # from 0 to -270 deg, through -180
+    phase = phase_deg(three_poles)
+    np.testing.assert_allclose(phase, -3 * np.degrees(np.arctan(w)), atol=1e-9)
+    assert np.all(np.abs(np.diff(phase)) < 10.0)  # no 360 deg jump
+    assert -180 < phase_deg(-np.exp(1j * np.linspace(0.1, 3.0, 50)))[0] <= 180

@@ -25,7 +25,7 @@ from systems import bridge, four_mount
 from tolerances import RTOL_DRAWN
 
 UNIT_WORDS = ("[m]", "[kg^1/2 m]", "[mm]", "[µm]", "[mrad]", "[µrad]", "[s]", "[Hz]", "[kN]", "[N]", "[deg]", "[%]",
-              "[m/N]", "[rad/(N m)]", "[1]", "[N/N]", "[m/m]", "[m/N/s^2]")
+              "[m/N]", "[rad/(N m)]", "[1]", "[N/N]", "[m/m]", "[(m/s^2)/N]")
 FIGURE_NAMES = ["mode_shapes.png", "ke_distribution.png", "time_dofs.png", "mount_forces.png", "superposition.png",
                 "bode.png", "point_frfs.png", "validation_frf.png", "free_decays.png"]
 

@@ -123,9 +123,9 @@ class FRF(schema.Result):
         return self.quantity("accelerance")
 
     def units(self, name: str = "receptance") -> np.ndarray:
-        """Unit of each entry of the (6, 6) matrix for ``name``, e.g. ``"m/N"``, ``"rad/(N m)/s"``."""
+        """Unit of each entry of the (6, 6) matrix for ``name``, e.g. ``"m/N"``, ``"(rad/s)/(N m)"``."""
         suffix = _QUANTITY_SUFFIX[_check_quantity(name, "quantity")]
-        return np.array([[_ratio_unit(dof, load) + suffix for load in FORCE_UNITS] for dof in DOF_UNITS])
+        return np.array([[_ratio_unit(dof + suffix, load) for load in FORCE_UNITS] for dof in DOF_UNITS])
 
 
 @dataclass(frozen=True, eq=False)
@@ -348,7 +348,12 @@ def parse_direction(value, field: str, rotations: bool = True) -> tuple[np.ndarr
 
 
 def _ratio_unit(numerator: str, denominator: str) -> str:
-    return f"{numerator}/({denominator})" if " " in denominator else f"{numerator}/{denominator}"
+    """``numerator`` per ``denominator``, each in parentheses where it is a compound: ``"m/N"``,
+    ``"(m/s^2)/(N m)"`` (a unit library reads it as written)."""
+    def grouped(unit):
+        return f"({unit})" if " " in unit or "/" in unit else unit
+
+    return f"{grouped(numerator)}/{grouped(denominator)}"
 
 
 def hysteretic_stiffness(system: System) -> np.ndarray:
@@ -641,7 +646,7 @@ def point_frf(system: System, f_hz, load_point, load_direction, response_point, 
     rd, rotation = parse_direction(response_direction, "response_direction")
     frf = receptance(system, f_hz, method=method)
     values = (frf.quantity(quantity) @ unit_load(lp, ld, moment)) @ response_row(rp, rd, rotation)
-    unit = _ratio_unit("rad" if rotation else "m", "N m" if moment else "N") + _QUANTITY_SUFFIX[quantity]
+    unit = _ratio_unit(("rad" if rotation else "m") + _QUANTITY_SUFFIX[quantity], "N m" if moment else "N")
     return PointFRF(f_hz=frf.f_hz, values=readonly(values, complex), quantity=quantity, unit=unit,
                     load_point=lp, load_direction=ld, response_point=rp, response_direction=rd,
                     load_kind="moment" if moment else "force",

@@ -23,12 +23,23 @@ from sixdof.plots.common import (
 )
 
 
+def phase_deg(values) -> np.ndarray:
+    """The phase [deg] of complex ``values`` along frequency, unwrapped (no jumps of 360 deg where it passes
+    +-180) and starting within (-180, 180]."""
+    phase = np.degrees(np.unwrap(np.angle(values)))
+    if phase.size:
+        phase -= 360.0 * np.round((phase[0] - 1e-9) / 360.0)
+    return phase
+
+
 def _finish(mag, phase, f: np.ndarray, frequency_hz: np.ndarray | None, operating_hz=None) -> None:
-    """Phase axis [deg], grids, natural and operating frequencies and frequency span of a magnitude and
-    phase pair."""
+    """Phase axis [deg] (ticks every 90 deg over what is drawn), grids, natural and operating frequencies
+    and frequency span of a magnitude and phase pair."""
     phase.set_ylabel("phase [deg]")
-    phase.set_ylim(-190, 190)
-    phase.set_yticks([-180, -90, 0, 90, 180])
+    drawn = np.concatenate([line.get_ydata() for line in phase.get_lines()] or [np.zeros(1)])
+    low, high = 90.0 * min(np.floor(drawn.min() / 90.0), -2), 90.0 * max(np.ceil(drawn.max() / 90.0), 2)
+    phase.set_ylim(low - 10, high + 10)
+    phase.set_yticks(np.arange(low, high + 1, 90.0 if high - low <= 720 else 180.0))
     for ax in (mag, phase):
         if f[0] > 0 and f[-1] / f[0] > 20:  # a log axis needs f > 0 and pays off over a wide span
             ax.set_xscale("log")
@@ -93,7 +104,7 @@ def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, 
         for k, i in enumerate(block):
             h = H[:, i, i]
             mag.plot(f, np.abs(h), color=COMPONENT_COLORS[k], label=f"{DOFS[i]} per {LOADS[i]}")
-            phase.plot(f, np.degrees(np.angle(h)), color=COMPONENT_COLORS[k])
+            phase.plot(f, phase_deg(h), color=COMPONENT_COLORS[k])
         mag.set_yscale("log")
         mag.set_ylabel(f"|H| [{unit}]")
         mag.set_title("translations" if column == 0 else "rotations", fontsize=11)
@@ -169,7 +180,7 @@ def plot_point_frfs(extras: Mapping[str, PointFRF | ForceTransmissibility | Grou
         if ratio:
             mag.axhline(1.0, color="black", linewidth=0.8, linestyle="--")
         if complex_values is not None:
-            phase.plot(f, np.degrees(np.angle(complex_values)), color="tab:blue")
+            phase.plot(f, phase_deg(complex_values), color="tab:blue")
         _finish(mag, phase, f, frequency_hz)
     for a in axes[-1]:
         a.set_xlabel("frequency f [Hz]")

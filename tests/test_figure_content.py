@@ -127,3 +127,32 @@ def test_the_phase_is_drawn_unwrapped():
     np.testing.assert_allclose(phase, -3 * np.degrees(np.arctan(w)), atol=1e-9)
     assert np.all(np.abs(np.diff(phase)) < 10.0)  # no 360 deg jump
     assert -180 < phase_deg(-np.exp(1j * np.linspace(0.1, 3.0, 50)))[0] <= 180
+
+
+def test_mode_shapes_give_their_scale_and_every_mount_with_its_axis():
+    from sixdof.io.scenario import load_scenario
+    from sixdof.plots import plot_mode_shapes
+    from sixdof.plots.modes import AXIS_LENGTH, body_box, mode_scale
+
+    system = load_scenario("scenarios/engine_inclined_mounts.toml").system  # V mounts at 40 degrees
+    modes = system.modes
+    fig = plot_mode_shapes(modes, system)
+    size = body_box(system)
+    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], float) * size / 2
+    points = np.vstack([corners, system.positions])
+    for j, ax in enumerate(fig.axes):
+        scale = mode_scale(points, modes.shapes[:, j], float(np.max(size)))
+        assert ax.get_title().endswith(f"drawn x {scale:.3g} (mass-normalized shape)")
+        assert sorted(text.get_text().strip() for text in ax.texts) == sorted(system.mount_names)
+        axis_lines = [line for line in ax.get_lines() if line.get_color() == "black" and len(line.get_xdata()) == 2]
+        assert len(axis_lines) == len(system.mounts)
+        for line, p, w in zip(axis_lines, system.positions, system.axes[:, 2]):
+            start, end = np.array(line.get_data_3d()).T
+            np.testing.assert_allclose(start, p)  # from the mount's ground side, along its w axis
+            np.testing.assert_allclose(end - start, AXIS_LENGTH * float(np.max(size)) * w)
+    # Mounts along the body axes: no axis lines.
+    from systems import four_mount
+
+    plain = four_mount()
+    fig = plot_mode_shapes(plain.modes, plain)
+    assert not [line for line in fig.axes[0].get_lines() if line.get_color() == "black"]

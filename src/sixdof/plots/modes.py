@@ -16,6 +16,8 @@ from sixdof.plots.common import margins, panel_grid, require, title
 MODE_SCALE = 0.15
 #: Largest rotation drawn in a mode-shape panel [rad]: larger ones stop reading as small rotations.
 MAX_DRAWN_ROTATION = 0.3
+#: Length of the mount axes drawn for inclined mounts, as a fraction of the body's largest side.
+AXIS_LENGTH = 0.12
 #: A box side is drawn at least this fraction of the largest side (a 40 m beam 1.2 m wide stays 3-D).
 MIN_ASPECT = 0.2
 #: Side of the fallback body box along an axis where every mount lies in a plane through the CG, as
@@ -68,15 +70,20 @@ def drawn_mode(points: np.ndarray, shape: np.ndarray, largest: float) -> np.ndar
     largest : float
         The body's largest size [m].
     """
+    q = mode_scale(points, shape, largest) * np.asarray(shape, dtype=float)
+    return q[:3] + Rotation.from_rotvec(q[3:]).apply(points)
+
+
+def mode_scale(points: np.ndarray, shape: np.ndarray, largest: float) -> float:
+    """The factor :func:`drawn_mode` multiplies ``shape`` by (0 for a zero shape): the largest point
+    displacement :data:`MODE_SCALE` of ``largest`` [m], the rotation at most :data:`MAX_DRAWN_ROTATION`."""
+    shape = np.asarray(shape, dtype=float)
     peak = float(np.max(np.linalg.norm(shape[:3] + np.cross(shape[3:], points), axis=1)))  # small-rotation map
     if peak == 0.0:
-        return points.copy()
+        return 0.0
     scale = MODE_SCALE * largest / peak
     rotation = float(np.linalg.norm(shape[3:]))
-    if rotation * scale > MAX_DRAWN_ROTATION:
-        scale = MAX_DRAWN_ROTATION / rotation
-    q = scale * np.asarray(shape, dtype=float)
-    return q[:3] + Rotation.from_rotvec(q[3:]).apply(points)
+    return MAX_DRAWN_ROTATION / rotation if rotation * scale > MAX_DRAWN_ROTATION else scale
 
 
 def _panel_zoom(aspect: np.ndarray, elev: float, azim: float) -> float:
@@ -99,8 +106,9 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, name: str = 
 
     Each mode shape is scaled so that the largest displacement of a box corner or mount is
     :data:`MODE_SCALE` of the box's largest side (rotations at most :data:`MAX_DRAWN_ROTATION`,
-    drawn as finite rotations); light grey is the rest position, colour the
-    deformed body; triangles mark the mounts' ground side, dots their body side.
+    drawn as finite rotations); each panel gives the factor the mass-normalized shape is drawn at. Light
+    grey is the rest position, colour the deformed body; triangles mark the mounts' ground side (named),
+    dots their body side; inclined mounts show their w axis.
 
     Parameters
     ----------
@@ -132,10 +140,12 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, name: str = 
     largest = float(np.max(size))
 
     drawn = [drawn_mode(points, shape, largest) for shape in modes.shapes.T]
+    scales = [mode_scale(points, shape, largest) for shape in modes.shapes.T]
+    inclined = system is not None and not np.allclose(system.axes, np.eye(3))
     columns, rows = panel_grid(len(drawn))
-    fig = Figure(figsize=(5.0 * columns, 4.6 * rows))
+    fig = Figure(figsize=(5.0 * columns, 4.6 * rows + 0.4))
     fig.suptitle(title(name, "mode shapes (displacements scaled for visibility)"), fontsize=13)
-    margins(fig, left=0.1, right=0.1, top=0.85, bottom=0.15, wspace=0.2, hspace=0.75, columns=columns, rows=rows)
+    margins(fig, left=0.1, right=0.1, top=1.15, bottom=0.15, wspace=0.2, hspace=0.95, columns=columns, rows=rows)
     # One set of limits for every panel, equal scales on the three axes (nothing distorted) except
     # that MIN_ASPECT keeps slender bodies visible.
     reach = 1.05 * np.max(np.abs(np.concatenate([points, *drawn])), axis=0)
@@ -152,13 +162,19 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, name: str = 
             ax.scatter(*body_side.T, marker="o", s=22, color="tab:red", depthshade=False, label="mount (body side)")
             for a, b in zip(mounts, body_side):
                 ax.plot(*np.stack([a, b]).T, color="tab:red", linewidth=1.0)
+            for mount, p in zip(names, mounts):
+                ax.text(*p, f" {mount}", fontsize=7, color="black")
+            if inclined:  # each mount's w axis (its normal direction), from its ground side
+                for p, w in zip(mounts, system.axes[:, 2]):
+                    ax.plot(*np.stack([p, p + AXIS_LENGTH * largest * w]).T, color="black", linewidth=1.3)
             if j == 0:
-                for mount, p in zip(names, mounts):
-                    ax.text(*p, f" {mount}", fontsize=8, color="black")
+                if inclined:
+                    ax.plot([], [], color="black", linewidth=1.3, label="mount w axis")
                 ax.legend(loc="upper left", fontsize=7, frameon=False)
         for axis, label in enumerate("xyz"):
             getattr(ax, f"set_{label}lim")(-aspect[axis], aspect[axis])
-            getattr(ax, f"set_{label}label")(f"{label} [m]", labelpad=1)
+            # y's label further out: the middle tick ("0") of the receding axis otherwise lands on it
+            getattr(ax, f"set_{label}label")(f"{label} [m]", labelpad=6 if label == "y" else 1)
         # matplotlib normalizes the array it is given in place
         ax.set_box_aspect(aspect.copy(), zoom=_panel_zoom(aspect, ax.elev, ax.azim))
         ax.tick_params(labelsize=7, pad=2)  # pad 0 puts a tick mark over a label's minus sign
@@ -166,7 +182,8 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, name: str = 
             axis.set_major_locator(MaxNLocator(4, symmetric=True))
         share = f" ({100 * modes.ke_distribution[DOFS.index(dominant[j]), j]:.0f} % KE)"
         frequency = "rigid-body mode (0 Hz)" if freqs[j] == 0 else f"{freqs[j]:.4g} Hz"
-        ax.set_title(f"Mode {j + 1}: {frequency}\ndominant {dominant[j]}{share}", fontsize=11)
+        ax.set_title(f"Mode {j + 1}: {frequency}\ndominant {dominant[j]}{share}\n"
+                     f"drawn x {scales[j]:.3g} (mass-normalized shape)", fontsize=10)
     return fig
 
 

@@ -292,6 +292,9 @@ def test_validation_figures(parts):
     for r, (ax, decay) in enumerate(zip(fig.axes, decays), start=1):
         assert decay.mode == r
         assert_drawn_from(ax.lines[0], decay.history.t, decay.eta)
+        # Greek letters as mathtext, drawn as symbols, not spelled out as "eta_1" and "zeta".
+        assert ax.get_ylabel().startswith(f"$\\eta_{{{r}}}$") and "$\\zeta$" in ax.get_title()
+    assert "$\\eta_r = \\phi_r^T M q$" in fig.get_suptitle()
 
 
 def _mount_forces(total: np.ndarray) -> MountForces:

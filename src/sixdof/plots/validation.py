@@ -55,7 +55,7 @@ def plot_validation_frf(report: ValidationReport, *, name: str = "") -> Figure:
     fig = Figure(figsize=(5.0 * columns, 4.6 * grid + 0.35))
     fig.suptitle(title(name, "modal FRFs: H1 estimate from a random force vs the model"), fontsize=12)
     cells = fig.add_gridspec(grid, columns)
-    margins(fig, left=0.85, right=0.15, top=0.95, bottom=0.5, wspace=1.0, hspace=1.2, columns=columns, rows=grid,
+    margins(fig, left=1.0, right=0.15, top=0.95, bottom=0.5, wspace=1.15, hspace=1.2, columns=columns, rows=grid,
             target=cells)
     for k, run in enumerate(runs):
         mode = int(run.mode)
@@ -77,9 +77,9 @@ def plot_validation_frf(report: ValidationReport, *, name: str = "") -> Figure:
             mag.axvline(row.f_model_hz, color="tab:blue", linestyle=":", linewidth=1.0, label="natural frequency")
             mag.axvline(row.f_peak_estimated_hz, color="tab:red", linestyle="--", linewidth=0.8, label="H1 peak")
             heading += (f": f = {row.f_model_hz:.4g} Hz, H1 peak {row.f_peak_estimated_hz:.4g} Hz"
-                        f"\nmedian |H1 - model| / |model| = {row.h1_median_error:.1e}")
+                        f"\nmedian $|H_1 - H_{{model}}| / |H_{{model}}|$ = {row.h1_median_error:.1e}")
         mag.set_title(heading, fontsize=10)
-        mag.set_ylabel(f"|eta_{mode} / F| [kg^1/2 m/N]")
+        mag.set_ylabel(f"$|\\eta_{{{mode}}} / F|$ [kg$^{{1/2}}$ m/N]")
         mag.grid(True, which="both", alpha=0.25)
         coh.plot(f[keep], coherence[keep], color="tab:green", linewidth=0.9)
         coh.set_ylim(0, 1.05)
@@ -119,7 +119,8 @@ def plot_free_decays(report: ValidationReport, *, name: str = "") -> Figure:
     n = len(decays)
     columns, grid = panel_grid(n)
     fig = Figure(figsize=(5.0 * columns, 3.6 * grid + 0.25))
-    fig.suptitle(title(name, "free decay from each damped mode shape: eta_r = phi_r' M q"), fontsize=12)
+    fig.suptitle(title(name, "free decay from each damped mode shape: modal coordinate "
+                       "$\\eta_r = \\phi_r^T M q$"), fontsize=12)
     margins(fig, left=0.8, right=0.15, top=0.85, bottom=0.5, wspace=0.9, hspace=0.95, columns=columns, rows=grid)
     axes = fig.subplots(grid, columns, squeeze=False).ravel()
     for ax, decay in zip(axes, decays):
@@ -136,13 +137,13 @@ def plot_free_decays(report: ValidationReport, *, name: str = "") -> Figure:
             for sign in (-1, 1):
                 plot_long(ax, t, sign * amplitude * np.exp(-sigma * t), color="black", linestyle="--",
                           linewidth=0.8, label="fitted envelope" if sign > 0 else None)
-        heading = f"mode {mode}: f_d {estimate.f_damped_hz:.5g} Hz, zeta {estimate.zeta:.4f}"
+        heading = f"mode {mode}: $f_d$ {estimate.f_damped_hz:.5g} Hz, $\\zeta$ {estimate.zeta:.4f}"
         if mode in rows:
             row = rows[mode]
-            heading += f"\nmodel: f_d {row.f_damped_model_hz:.5g} Hz, zeta {row.zeta_model:.4f}"
+            heading += f"\nmodel: $f_d$ {row.f_damped_model_hz:.5g} Hz, $\\zeta$ {row.zeta_model:.4f}"
         ax.set_title(heading, fontsize=9)
         ax.set_xlabel("time t [s]")
-        ax.set_ylabel(f"eta_{mode} [kg^1/2 m]")
+        ax.set_ylabel(f"$\\eta_{{{mode}}}$ [kg$^{{1/2}}$ m]")
         ax.grid(True, alpha=0.3)
         ax.set_xlim(t[0], t[-1])
     axes[0].legend(fontsize=7, loc="upper right")

@@ -211,14 +211,21 @@ def _modes(args) -> int:
     print(report.ke_table(modes))
     print()
     print(report.subsystems_text(modes))
+    _print_statics(scenario, statics, no_statics)
+    return 0
+
+
+def _print_statics(scenario, statics, no_statics: str | None = None) -> None:
+    """The statics under gravity (or why there are none), and a warning for mounts in tension."""
+    from sixdof.io import report
+
     print(f"\nStatics under gravity ({scenario.statics.gravity} m/s^2 along {list(scenario.statics.direction)}):")
     if statics is None:
         print(no_statics)
-        return 0
-    print(report.statics_table(statics, system.mount_names))
+        return
+    print(report.statics_table(statics, scenario.system.mount_names))
     if statics.uplift:
         warnings.warn(f"mounts in tension (uplift): {', '.join(statics.uplift)}", stacklevel=1)
-    return 0
 
 
 def _run(args) -> int:
@@ -240,8 +247,7 @@ def _run(args) -> int:
     print(report.modes_table(outcome.modes, outcome.damping_ratios))
     print(report.damping_note(scenario.system))
     if outcome.statics is not None:
-        print(f"\nStatics under gravity ({scenario.statics.gravity} m/s^2 along {list(scenario.statics.direction)}):")
-        print(report.statics_table(outcome.statics, scenario.system.mount_names))
+        _print_statics(scenario, outcome.statics)
     if outcome.steady_state is not None:
         print(f"\n{report.steady_state_text(outcome.steady_state)}")
     if outcome.agreement is not None:

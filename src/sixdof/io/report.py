@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.dofs import DOF_UNITS, DOFS, display_unit
 
 
@@ -274,10 +275,6 @@ def steady_state_text(steady) -> str:
                      "of each DOF of the CG:") + "\n" + motion + "\n\n" + isolation)
 
 
-#: Standard gravity [m/s^2]: accelerations are also shown in g.
-G = 9.80665
-
-
 def points_table(points) -> str:
     """Peak motion of each body point over the run (:class:`sixdof.analysis.response.PointMotion` by name),
     per body axis: displacement and acceleration, and the largest acceleration in g."""
@@ -286,7 +283,7 @@ def points_table(points) -> str:
     scale, shown = display_unit(np.concatenate(list(displacements.values())), "m")
     rows = [[name, ", ".join(f"{v:.4g}" for v in motion.position),
              *(f"{scale * v:.4g}" for v in displacements[name]), *(f"{a:.4g}" for a in accelerations[name]),
-             f"{accelerations[name].max() / G:.3g}"] for name, motion in points.items()]
+             f"{accelerations[name].max() / STANDARD_GRAVITY:.3g}"] for name, motion in points.items()]
     relative = any(motion.relative for motion in points.values())
     headers = ["point", "position [m]", *(f"peak {a} [{shown}]" for a in "xyz"),
                *(f"peak a{a} [m/s^2]" for a in "xyz"), "peak a [g]"]

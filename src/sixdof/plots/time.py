@@ -155,13 +155,16 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
             denominator, against = (largest / length if i >= 3 else largest), "largest peak"
         difference = q_modal[:, i] - q_direct[:, i]
         relative = difference / denominator if denominator > 0 else difference
-        plot_long(right, t, relative, color="tab:purple", linewidth=0.9)
-        right.set_ylabel(f"Δ{DOFS[i]} / {against} [1]")
-        right.ticklabel_format(axis="y", style="sci", scilimits=(-2, 2))
+        # The power of ten in the axis label, not in an offset text above the axes (where the title is).
+        largest = float(np.max(np.abs(relative))) if relative.size else 0.0
+        exponent = int(np.floor(np.log10(largest))) if largest > 0 else 0
+        unit = 10.0 ** exponent
+        plot_long(right, t, relative / unit, color="tab:purple", linewidth=0.9)
+        right.set_ylabel(f"Δ{DOFS[i]} / {against} [1e{exponent}]" if exponent else f"Δ{DOFS[i]} / {against} [1]")
         # Tolerance lines only where they do not flatten the curve into a line.
-        if agreement is not None and np.max(np.abs(relative)) > 0.1 * agreement.tolerance:
+        if agreement is not None and largest > 0.1 * agreement.tolerance:
             for sign in (-1, 1):
-                right.axhline(sign * agreement.tolerance, color="tab:red", linestyle="--", linewidth=0.8)
+                right.axhline(sign * agreement.tolerance / unit, color="tab:red", linestyle="--", linewidth=0.8)
         if agreement is not None:
             quiet = " (quiet DOF: round-off only)" if against != "peak" else ""
             right.set_title(f"{DOFS[i]}: max|Δ| / {against} = {agreement.per_dof[i]:.2e}{quiet}", fontsize=9)

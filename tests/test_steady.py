@@ -59,6 +59,17 @@ def test_components_at_one_frequency_add_with_their_phases_and_switch_on_times()
     assert steady_state(system, Excitation(loads=loads[2:])) is None
 
 
+def test_no_steady_state_is_given_where_there_is_none_or_it_would_be_wrong():
+    from sixdof.excitation import GroundMotion
+
+    # Undamped, driven at its natural frequency: the response grows without bound.
+    assert steady_state(sdof(MASS, STIFFNESS), Excitation(loads=(vertical(OMEGA_N / (2 * math.pi)),))) is None
+    # With a ground motion the loads' steady state is not the body's.
+    shaken = Excitation(loads=(vertical(7.0),),
+                        ground=GroundMotion("acceleration", direction=[0.0, 0.0, 1.0], signal=Harmonic(f_hz=3.0)))
+    assert steady_state(sdof(MASS, STIFFNESS, 100.0), shaken) is None
+
+
 def test_a_rotating_force_has_a_constant_amplitude():
     # m e Omega^2 turning in the y-z plane: the force vector's largest value over a period is its magnitude.
     unbalance = Unbalance("rotor", point=[0.2, 0.0, 0.25], unbalance=0.005, speed_rpm=1480.0, axis=[1.0, 0.0, 0.0])

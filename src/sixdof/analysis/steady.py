@@ -22,7 +22,7 @@ import numpy as np
 
 from sixdof import results as schema
 from sixdof.dofs import UNITS, dof_units
-from sixdof.errors import readonly
+from sixdof.errors import InputError, readonly
 
 #: Operating frequencies closer than this (relative) are one frequency: their components add up.
 SAME_FREQUENCY_RTOL = 1e-12
@@ -104,12 +104,20 @@ def operating_phasors(excitation) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def steady_state(system, excitation) -> SteadyState | None:
-    """The steady state of ``system`` at the operating frequencies of ``excitation`` (see the module); None
-    when it has no harmonic load without end."""
-    from sixdof.analysis.frf import foundation_forces, receptance
+    """The steady state of ``system`` at the operating frequencies of ``excitation`` (see the module).
+
+    None when there is none to give: no harmonic load without end; a ground motion (its own steady state
+    is not part of this one, which would then be wrong); or an operating frequency at the resonance of a
+    mode that no damping acts on (the response grows without bound).
+    """
+    from sixdof.analysis.frf import check_resonances, foundation_forces, receptance
 
     f_hz, applied, gross = operating_phasors(excitation)
-    if not f_hz.size:
+    if not f_hz.size or excitation.ground is not None:
+        return None
+    try:
+        check_resonances(system, f_hz)
+    except InputError:
         return None
     frf = receptance(system, f_hz)
     q = np.einsum("fij,fj->fi", frf.H, applied)

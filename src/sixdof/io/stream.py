@@ -17,6 +17,7 @@ from pathlib import Path
 
 from sixdof.io.output import check_room, held_signals
 from sixdof.io.store import Results, _write, _write_attributes, build_results, publish
+from sixdof.results import time_slice
 
 #: Samples per HDF5 chunk along the time axis: large enough for fast appends and reads of whole series,
 #: small enough that a short run's file holds little padding.
@@ -90,8 +91,9 @@ class ResultsStream:
 
     def finish(self, run) -> Path:
         """Write the datasets without a time axis from the run's final results, close, and rename into place."""
-        tree = build_results(run, **self._parts)
-        # The time series in the tree are the run's final ones; the file has every window's.
+        # The file has every window's time series already: only the rest is encoded, from the run cut to no
+        # samples (encoding a long run's kept samples again would double the memory they take).
+        tree = build_results(time_slice(run, slice(0, 0)), **self._parts)
         datasets = {path: d for path, d in tree.datasets.items() if path in self._series or "t" not in d.dims}
         with held_signals():
             _write(self._file, Results(datasets, tree.attrs), written=self._series)

@@ -29,6 +29,7 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import datetime as _dt
+import functools
 import os
 import shlex
 import sys
@@ -413,6 +414,7 @@ def build_results(run=None, *, command_line: str | None = None, created_utc: str
     return Results(tree.datasets, tree.attrs)
 
 
+@functools.cache  # a process's packages do not change; a long run builds a tree per window (~1 ms each)
 def _version(package: str) -> str:
     try:
         return metadata.version(package)

@@ -170,7 +170,7 @@ class PointFRF(schema.Result):
     quantity : str
         ``"receptance"``, ``"mobility"`` or ``"accelerance"``.
     unit : str
-        For example ``"m/N"`` (force in, translation out), ``"rad/(N m)/s"`` (moment in, rotational
+        For example ``"m/N"`` (force in, translation out), ``"(rad/s)/(N m)"`` (moment in, rotational
         velocity out).
     load_point, load_direction, response_point, response_direction : ndarray, shape (3,)
         Points [m] from the CG in body axes; unit direction vectors in body axes.
@@ -193,6 +193,15 @@ class PointFRF(schema.Result):
     method: str = schema.label()
 
     group = "point"  # stored under /frf/point/<name>
+    # ``values`` also as ``frf``: xarray's Dataset.values (a method) shadows a variable named "values".
+    derived = {"frf": schema.quantity(lambda frf: frf.unit, ("f_hz",),
+                                      description="the point FRF (the same as values, under a name xarray does "
+                                      "not shadow)")}
+
+    @property
+    def frf(self) -> np.ndarray:
+        """``values``, shape (nf,), complex, in ``unit``."""
+        return self.values
 
     @property
     def magnitude(self) -> np.ndarray:

@@ -17,10 +17,11 @@ KINDS = ("text", "tqdm")
 
 
 class Meter:
-    """``done`` of ``total`` ``unit`` (counted from ``origin``), shown by :meth:`show` and finished by :meth:`close`."""
+    """``done`` of ``total`` ``unit`` (counted from ``origin``), shown by :meth:`show` and finished by :meth:`close`;
+    of kind None, silent (so that callers need not ask whether progress is shown)."""
 
-    def __init__(self, kind: str, total: float, unit: str, description: str, origin: float = 0.0) -> None:
-        self.total, self.unit, self.description, self.origin = float(total), unit, description, origin
+    def __init__(self, kind: str | None, total: float, unit: str, description: str, origin: float = 0.0) -> None:
+        self.kind, self.total, self.unit, self.description, self.origin = kind, float(total), unit, description, origin
         self.bar = None
         if kind == "tqdm":
             from tqdm.auto import tqdm
@@ -31,6 +32,8 @@ class Meter:
 
     def show(self, reached: float) -> None:
         """Show ``reached`` (in the meter's unit, from ``origin``)."""
+        if self.kind is None:
+            return
         done = reached - self.origin
         if self.bar is not None:
             self.bar.update(done - self.bar.n)
@@ -41,6 +44,8 @@ class Meter:
 
     def close(self) -> None:
         """Show the whole as done and end the line."""
+        if self.kind is None:
+            return
         self.show(self.origin + self.total)
         if self.bar is not None:
             self.bar.close()
@@ -48,10 +53,10 @@ class Meter:
             print(file=sys.stderr, flush=True)
 
 
-def meter(progress: Any, total: float, unit: str, description: str, origin: float = 0.0) -> Meter | None:
-    """The :class:`Meter` that ``progress`` asks for (see the module), or None."""
+def meter(progress: Any, total: float, unit: str, description: str, origin: float = 0.0) -> Meter:
+    """The :class:`Meter` that ``progress`` asks for (see the module); a silent one for None or False."""
     if progress is None or progress is False:
-        return None
+        return Meter(None, total, unit, description, origin)
     if progress is True:
         progress = "tqdm" if importlib.util.find_spec("tqdm") else "text"
     if progress not in KINDS:

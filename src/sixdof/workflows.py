@@ -271,10 +271,8 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
         info = _merged(merge_superposition, info, modal.superposition)
         kept.append(piece if keep_all else time_slice(piece, envelope_samples(
             window.t, _drawn_series(piece), *span, ENVELOPE_BINS)))
-        if meter is not None:
-            meter.show(float(window.t[-1]))
-    if meter is not None:
-        meter.close()
+        meter.show(float(window.t[-1]))
+    meter.close()
     joined = time_concat(kept)
     del kept  # the joined copy is what stays
     drawn = dict(agreement=agreement, response=dataclasses.replace(joined.response, stats=stats),

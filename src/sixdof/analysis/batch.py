@@ -366,15 +366,13 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     shown = meter(progress, nv, "variants", f"sweep ({engine} engine)")
 
     def done(fraction):  # of the variants' work
-        if shown is not None:
-            shown.show(nv * fraction)
+        shown.show(nv * fraction)
 
     if engine == "exact":
         peaks = _exact_peaks(system, K, C, lam, shapes, excitation, settings, chunks, done)
     else:
         peaks, steps, rejected = _diffrax_peaks(system, K, C, excitation, settings, chunks, done)
-    if shown is not None:
-        shown.close()
+    shown.close()
     if not np.all(np.isfinite(peaks)):
         bad = np.flatnonzero(~np.all(np.isfinite(peaks), axis=1))
         raise SolverError(f"batch ({engine}) produced non-finite values for variant {int(bad[0])}")
@@ -409,15 +407,13 @@ def _cross_check(system, variants, checked, peaks, excitation, settings, progres
     for row, i in enumerate(checked):
         response = simulate(variant_system(system, variants, int(i)), excitation, settings)
         direct[row] = np.concatenate([np.max(np.abs(response.q), axis=0), np.max(np.abs(response.qdd), axis=0)])
-        if shown is not None:
-            shown.show(row + 1)
-    if shown is not None:
-        shown.close()
+        shown.show(row + 1)
+    shown.close()
     return max((compare(direct[:, part], peaks[checked][:, part]) for part in (slice(0, 6), slice(6, 12))),
                key=lambda agreement: agreement.worst)
 
 
-def _exact_peaks(system, K, C, lam, shapes, excitation, settings, chunks, done=None) -> np.ndarray:
+def _exact_peaks(system, K, C, lam, shapes, excitation, settings, chunks, done) -> np.ndarray:
     """``max |q|`` and ``max |q''|`` (nv, 12) at the output samples by the exact linear engine; ``done``
     receives the fraction of the work done after each window of each chunk."""
     from sixdof.analysis import superposition as sp
@@ -445,8 +441,7 @@ def _exact_peaks(system, K, C, lam, shapes, excitation, settings, chunks, done=N
             coordinates = sp.run_coordinates(stack, drive, z[k])
             z[k] = coordinates[-1]
             peaks[index] = np.maximum(peaks[index], stack.peaks(coordinates[drive.first:], drive))
-            if done is not None:
-                done((low + (high - low) * (k + 1) / len(stacks)) / (t.size - 1))
+            done((low + (high - low) * (k + 1) / len(stacks)) / (t.size - 1))
     return peaks
 
 
@@ -546,7 +541,7 @@ def default_chunk_size(n_samples: int) -> int:
     return int(max(1, min(MAX_CHUNK, CHUNK_BYTES // (max(n_samples, 1) * 12 * 8))))
 
 
-def _diffrax_peaks(system, K, C, excitation, settings, chunks, done=None):
+def _diffrax_peaks(system, K, C, excitation, settings, chunks, done):
     """``max |q|`` and ``max |q''|`` (nv, 12), steps and rejected steps (nv,) by the vmapped diffrax solve;
     ``done`` receives the fraction of the variants done after each chunk."""
     from sixdof.analysis.direct import jump_times, loads_of, state_scale
@@ -577,8 +572,7 @@ def _diffrax_peaks(system, K, C, excitation, settings, chunks, done=None):
         out = _solve_chunk(A[full], B[full], x0[full], sigma, signals, settings.times, t0, t1, padded,
                            settings.rtol, settings.atol, solver=settings.solver, max_steps=settings.max_steps)
         outputs.append([np.asarray(o)[:index.size] for o in out])
-        if done is not None:
-            done(sum(o[0].shape[0] for o in outputs) / nv)
+        done(sum(o[0].shape[0] for o in outputs) / nv)
     peaks, ok, steps, rejected = (np.concatenate([o[k] for o in outputs]) for k in range(4))
     if not np.all(ok):
         bad = np.flatnonzero(~ok)

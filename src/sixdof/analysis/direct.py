@@ -688,7 +688,7 @@ class _RotationPeaks:
 # ----------------------------------------------------------------------------------------------------
 
 
-def progress_meter(progress: Any, settings: SimulationSettings) -> Meter | None:
+def progress_meter(progress: Any, settings: SimulationSettings) -> Meter:
     """The meter of the simulated time that ``progress`` asks for (:func:`sixdof.progress.meter`), shown
     with the time reached after each window."""
     return meter(progress, settings.duration, "s", "direct solve", origin=settings.start)
@@ -739,10 +739,8 @@ def simulate(system: System, excitation: Excitation | None, settings: Simulation
     windows = []
     for window in simulate_windows(system, excitation, settings, window_samples=window_samples):
         windows.append(window)
-        if meter is not None:
-            meter.show(float(window.t[-1]))
-    if meter is not None:
-        meter.close()
+        meter.show(float(window.t[-1]))
+    meter.close()
     return time_concat(windows, stats=merge_stats([w.stats for w in windows]))
 
 

@@ -455,8 +455,7 @@ def validate(system: System, settings: ValidationSettings | None = None, *,
     def one_more_run():
         nonlocal runs_done
         runs_done += 1
-        if shown is not None:
-            shown.show(runs_done)
+        shown.show(runs_done)
 
     # 1. Free decays, one per elastic mode, each released in its damped shape so that it moves in that
     # mode alone; same sample count, so one compiled solver.
@@ -540,8 +539,7 @@ def validate(system: System, settings: ValidationSettings | None = None, *,
         if not np.any(good):
             notes.append(f"mode {r + 1}: no bin of its band has coherence >= 0.9: its H1 cannot be checked (FAIL)")
         checks += mode_checks(row, int(np.count_nonzero(good)))
-    if shown is not None:
-        shown.close()
+    shown.close()
     wall = time.perf_counter() - start
     if modes.zero_modes:
         notes.append(f"rigid-body modes {[m + 1 for m in modes.zero_modes]} "

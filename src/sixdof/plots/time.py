@@ -88,8 +88,8 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "")
     return fig
 
 
-#: A DOF whose peak is below this fraction of the largest (rotations times 1 m) is not excited: what it
-#: holds is round-off of the others, drawn as a line it would look like a signal.
+#: A DOF whose peak is below this fraction of the largest DOF's peak (in SI units, rotations in rad as they
+#: are) is not excited: what it holds is round-off of the others, drawn as a line it would look like a signal.
 UNEXCITED_RTOL = 1e-9
 
 
@@ -268,8 +268,7 @@ def plot_mount_loads(check: MountCheck, t, *, name: str = "") -> Figure:
     grid = fig.add_gridspec(rows, columns, width_ratios=None if window is None else (3, 2))
     margins(fig, left=0.9, right=0.2, top=1.05, bottom=0.55, wspace=0.5, hspace=0.45, columns=columns, rows=rows,
             target=grid)
-    low = factor * min(compression.min(), 0.0 if np.any(compression < 0) else compression.min())
-    high = factor * compression.max()
+    low, high = factor * compression.min(), factor * compression.max()
     pad = 0.08 * max(high - low, 1e-30)
     for k, mount in enumerate(check.names):
         panels = [fig.add_subplot(grid[k, 0])] + ([] if window is None else [fig.add_subplot(grid[k, 1])])

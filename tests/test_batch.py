@@ -275,7 +275,7 @@ def test_sweep_of_a_scenario_and_its_file(tmp_path, beam):
     back = load_tree(written.path)
     np.testing.assert_array_equal(back.array("sweep/frequency_hz"), result.frequency_hz)
     np.testing.assert_array_equal(back.array("sweep/peak_q"), result.peak_q)
-    assert back["sweep/peak_q"].units == "m (x, y, z); rad (rx, ry, rz)"
+    assert back["sweep/peak_q"].units.description == "m (x, y, z); rad (rx, ry, rz)"
     assert back["sweep/frequency_hz"].units == "Hz"
     assert back["sweep/position_offset"].units == "m"
     assert back.attrs["sweep"]["count"] == result.variants.count and back.attrs["sweep"]["solver"] == "Tsit5"

@@ -13,6 +13,7 @@ import pytest
 
 import sixdof
 from sixdof import DOFS, InputError, modal_analysis, write_results
+from sixdof.dofs import LOADS, UNITS
 from sixdof.io import store
 from sixdof.io.store import Dataset, Results, build_results, load_tree, save_results
 from store_cases import SCENARIO_TEXT, run_parts
@@ -181,13 +182,51 @@ def test_fixed_names_shapes_and_labels(loaded):
                        "frf/receptance": ("f_hz", "dof", "load"), "model/mount_stiffness": ("mount", "mount_axis")}.items():
         assert loaded[path].dims == dims, path
     assert np.all(np.diff(loaded.array("modal/frequency_hz")) > 0)
-    assert loaded["time/q"].units == "m (x, y, z); rad (rx, ry, rz)"
-    assert loaded["time/q"].attrs["dof_units"] == ("m", "m", "m", "rad", "rad", "rad")
-    assert loaded["time/qdd"].attrs["dof_units"] == ("m/s^2",) * 3 + ("rad/s^2",) * 3
+    assert loaded["time/q"].units.description == "m (x, y, z); rad (rx, ry, rz)"
+    assert dict(loaded["time/q"].units.factors) == {"dof": ("m", "m", "m", "rad", "rad", "rad")}
+    assert dict(loaded["time/qdd"].units.factors) == {"dof": ("m/s^2",) * 3 + ("rad/s^2",) * 3}
     assert loaded["modal/frequency_hz"].units == "Hz"
     assert loaded["time/t"].units == "s"
     # No ground motion: no relative motion either.
     assert "time/q_relative" not in loaded.datasets and "time/ground_acceleration" not in loaded.datasets
+
+
+def _unit_of(units, index: dict[str, int]) -> str:
+    """The unit of one element of an array: its ``units``, or the product of its mixed axes' factors."""
+    if isinstance(units, str):
+        return units
+    return " * ".join(f"({dict(units.factors)[dim][i]})" for dim, i in index.items() if dim in dict(units.factors))
+
+
+def test_units_parse_in_pint_with_the_right_dimensions(loaded):
+    pint = pytest.importorskip("pint")
+    ureg = pint.UnitRegistry()
+    for path, dataset in loaded.datasets.items():
+        if isinstance(dataset.units, str):
+            if dataset.units:  # "" marks text labels
+                ureg.parse_units(dataset.units)
+            continue
+        assert set(dict(dataset.units.factors)) <= set(dataset.dims), path
+        for _, factors in dataset.units.factors:
+            assert len(factors) == 6, path
+            for factor in factors:
+                ureg.parse_units(factor)
+    # Elements of the mixed arrays, against units derived by hand (rad counts as dimensionless).
+    expected = {
+        ("time/q", "dof", "z"): "m", ("time/q", "dof", "ry"): "rad", ("time/qdd", "dof", "rx"): "rad/s^2",
+        ("model/K", ("load", "dof"), ("Fz", "z")): "N/m", ("model/K", ("load", "dof"), ("Mx", "rx")): "N m/rad",
+        ("model/K", ("load", "dof"), ("Fx", "ry")): "N/rad", ("model/K", ("load", "dof"), ("My", "x")): "N",
+        ("model/M", ("load", "dof"), ("Fz", "z")): "kg", ("model/M", ("load", "dof"), ("Mz", "rz")): "kg m^2",
+        ("model/M", ("load", "dof"), ("Fy", "rx")): "kg m", ("model/C", ("load", "dof"), ("Mx", "y")): "N s",
+        ("frf/receptance", ("dof", "load"), ("x", "My")): "m/(N m)",
+        ("frf/receptance", ("dof", "load"), ("rz", "Fx")): "rad/N",
+        ("modal/shapes", "dof", "rx"): "kg^-0.5/m", ("modal/effective_mass", "dof", "rz"): "kg m^2",
+    }
+    for (path, dims, labels), unit in expected.items():
+        dims, labels = ((dims,), (labels,)) if isinstance(dims, str) else (dims, labels)
+        index = {dim: (DOFS if dim == "dof" else LOADS).index(label) for dim, label in zip(dims, labels)}
+        got = ureg.Quantity(1, _unit_of(loaded[path].units, index))
+        assert got.to(unit).magnitude == pytest.approx(1.0), (path, labels, got)
 
 
 def test_every_dataset_in_the_file_has_units_and_named_axes(written):
@@ -196,8 +235,11 @@ def test_every_dataset_in_the_file_has_units_and_named_axes(written):
     def visit(name, node):
         if isinstance(node, h5py.Dataset):
             seen.append(name)
-            assert "units" in node.attrs, name
-            assert isinstance(node.attrs["units"], str), name
+            if "units_description" in node.attrs:  # mixed translations and rotations: a unit per label
+                assert "units" not in node.attrs, name
+                assert any(f"{dim[0].name.rsplit('/', 1)[-1]}_units" in node.attrs for dim in node.dims), name
+            else:
+                assert isinstance(node.attrs["units"], str), name
             if node.is_scale:
                 return
             for axis in range(node.ndim):
@@ -255,7 +297,8 @@ def test_xarray_opens_every_group_with_labelled_axes_and_reads_complex(written, 
         assert list(ds["dof"].values) == list(DOFS)
         np.testing.assert_array_equal(ds["t"].values, parts["response"].t)
         np.testing.assert_array_equal(ds["q"].sel(dof="rz").values, parts["response"].q[:, 5])
-        assert ds["q"].attrs["units"] == "m (x, y, z); rad (rx, ry, rz)"
+        assert ds["q"].attrs["units_description"] == "m (x, y, z); rad (rx, ry, rz)"
+        assert list(ds["q"].attrs["dof_units"]) == ["m", "m", "m", "rad", "rad", "rad"]
         assert ds.attrs["solver"] == "Tsit5"
     with xr.open_dataset(written.path, group="time/superposition", engine="h5netcdf") as ds:
         assert ds["q"].dims == ("t", "dof")
@@ -362,7 +405,7 @@ def test_load_foreign_files(tmp_path):
 def test_dataset_checks():
     with pytest.raises(InputError, match=r"dims: expected 2 non-empty axis names for shape \(3, 2\), got \('t',\)"):
         Dataset(np.zeros((3, 2)), "m", ("t",))
-    with pytest.raises(InputError, match=r"units: expected a string, got 3"):
+    with pytest.raises(InputError, match=r"units: expected a string or MixedUnits, got 3"):
         Dataset(np.zeros(3), 3, ("t",))
     with pytest.raises(InputError, match=r"attrs: expected attribute names other than units and HDF5's own, got 'units'"):
         Dataset(np.zeros(3), "m", ("t",), {"units": "s"})
@@ -381,7 +424,7 @@ def test_axis_without_a_dimension_scale_is_refused():
 
 def test_extra_datasets_and_attributes_round_trip(tmp_path):
     system = bridge("equal")
-    extra = {"statics/q": Dataset(np.arange(6.0), "m (x, y, z); rad (rx, ry, rz)", ("dof",), {"gravity": 9.81}),
+    extra = {"statics/q": Dataset(np.arange(6.0), UNITS["q"], ("dof",), {"gravity": 9.81}),
              "statics/dof": Dataset(np.array(DOFS), "", ("dof",)),
              "statics/flag": Dataset(np.array([True, False]), "1", ("dof2",)),
              "statics/dof2": Dataset(np.array([0, 1]), "1", ("dof2",))}
@@ -390,9 +433,15 @@ def test_extra_datasets_and_attributes_round_trip(tmp_path):
     loaded = load_tree(tmp_path / "r.h5")
     assert_same(results, loaded)
     assert loaded.attrs["statics"]["uplift"] == ("1", "2")
-    assert loaded.attrs["statics"]["ok"] == 1 and loaded.attrs["statics"]["empty"] == ()
+    assert loaded.attrs["statics"]["ok"] is True and loaded.attrs["statics"]["empty"] == ()
     assert "none" not in loaded.attrs["statics"]
-    assert loaded["statics/flag"].data.dtype == np.int8
+    assert loaded["statics/flag"].data.dtype == bool
+    assert loaded["statics/q"].units == UNITS["q"]
+    # Booleans read back as booleans in xarray too.
+    xr = pytest.importorskip("xarray")
+    pytest.importorskip("h5netcdf")
+    with xr.open_dataset(tmp_path / "r.h5", group="statics", engine="h5netcdf") as ds:
+        assert ds["flag"].dtype == bool and ds.attrs["ok"] is np.True_
 
 
 def test_results_are_read_only(loaded):
@@ -420,7 +469,8 @@ def test_results_convert_to_xarray_with_dims_coordinates_and_units(parts):
     history = parts["response"].to_xarray()
     assert history["q"].dims == ("t", "dof") and list(history["dof"].values) == list(DOFS)
     np.testing.assert_array_equal(history["q"].sel(dof="rz").values, parts["response"].q[:, 5])
-    assert history["q"].attrs["units"] == "m (x, y, z); rad (rx, ry, rz)" and history["t"].attrs["units"] == "s"
+    assert history["q"].attrs["units_description"] == "m (x, y, z); rad (rx, ry, rz)"
+    assert history["q"].attrs["dof_units"] == ("m", "m", "m", "rad", "rad", "rad") and history["t"].attrs["units"] == "s"
     H = parts["frf"].direct.to_xarray()["receptance"]
     assert H.dims == ("f_hz", "dof", "load")
     np.testing.assert_array_equal(H.sel(dof="z", load="Fz").values, parts["frf"].direct.H[:, 2, 2])

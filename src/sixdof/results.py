@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from sixdof.dofs import AXES, DOFS, LOADS, MOUNT_AXES, UNITS, dof_units
+from sixdof.dofs import AXES, DOFS, LOADS, MOUNT_AXES, UNITS, MixedUnits, motion_units, unit_attrs
 from sixdof.errors import InputError, Plain, readonly
 from sixdof.frozen import Frozen
 
@@ -47,15 +47,16 @@ def _field(store: dict, default: Any, default_factory: Any, check: Callable | No
     return field(default=default, default_factory=default_factory, metadata={"store": store, "check": check})
 
 
-def quantity(units: str, dims: tuple[str, ...], *, name: str | None = None, description: str = "",
-             dof_units: tuple[str, ...] | None = None, default: Any = MISSING, default_factory: Any = MISSING,
+def quantity(units: str | MixedUnits | Callable, dims: tuple[str, ...], *, name: str | None = None,
+             description: str = "", default: Any = MISSING, default_factory: Any = MISSING,
              encode: Callable | None = None, decode: Callable | None = None, check: Callable | None = None) -> Any:
     """A dataclass field holding an array: its ``units`` (SI, ``"1"`` dimensionless, ``""`` text
-    labels), the name of each axis (``dims``), and optionally its stored ``name``, a
-    ``description``, the unit of each DOF (``dof_units``), converters to and from the stored array, and
-    the field's validation ``check`` (see :mod:`sixdof.frozen`)."""
+    labels, :class:`~sixdof.dofs.MixedUnits` where translations and rotations mix, or a function of the
+    result returning one of these), the name of each axis (``dims``), and optionally its stored ``name``,
+    a ``description``, converters to and from the stored array, and the field's validation ``check``
+    (see :mod:`sixdof.frozen`)."""
     return _field({"kind": "quantity", "units": units, "dims": tuple(dims), "name": name,
-                   "description": description, "dof_units": dof_units, "encode": encode or _same,
+                   "description": description, "encode": encode or _same,
                    "decode": decode or _same}, default, default_factory, check)
 
 
@@ -111,8 +112,7 @@ def descriptions(cls: type, result: Any = None) -> list[tuple[str, dict]]:
 
 def _motion(order: int, description: str = "absolute motion of the centre of gravity (fixed frame)") -> Any:
     """The (t, dof) quantity of the centre of gravity's motion differentiated ``order`` times: q, qd or qdd."""
-    return quantity(UNITS[("q", "qd", "qdd")[order]], ("t", "dof"), dof_units=dof_units(order),
-                    description=description)
+    return quantity(motion_units(order), ("t", "dof"), description=description)
 
 
 class Result:
@@ -300,8 +300,9 @@ FIXED_SCALES: dict[str, tuple[str, ...]] = {"dof": DOFS, "load": LOADS, "axis": 
 def to_xarray(result):
     """Any described result (its :func:`quantity` fields) as an :class:`xarray.Dataset`.
 
-    Each quantity becomes a variable with its named dims and ``units`` (and ``description``,
-    ``dof_units``) attributes; a quantity that is its own axis (``t``, ``f_hz``, mount names) becomes a
+    Each quantity becomes a variable with its named dims, its units as in the file (``units``, or for
+    mixed DOFs ``units_description`` and ``<axis>_units``, see :class:`~sixdof.dofs.MixedUnits`) and its
+    ``description``; a quantity that is its own axis (``t``, ``f_hz``, mount names) becomes a
     coordinate; ``dof``, ``load``, ``axis`` and ``mount_axis`` get their labels; scalar attributes
     (:func:`label` fields) go to the dataset's attributes. Needs xarray (``pip install xarray``).
 
@@ -319,8 +320,7 @@ def to_xarray(result):
         if meta["kind"] == "quantity":
             stored = meta["name"] or name
             units = meta["units"](result) if callable(meta["units"]) else meta["units"]
-            extra = {"units": units, **({"description": meta["description"]} if meta["description"] else {}),
-                     **({"dof_units": list(meta["dof_units"])} if meta["dof_units"] else {})}
+            extra = {**unit_attrs(units), **({"description": meta["description"]} if meta["description"] else {})}
             if tuple(meta["dims"]) == (stored,):
                 coords[stored] = (stored, np.asarray(value), extra)
             else:

@@ -42,7 +42,7 @@ import numpy as np
 from sixdof._jax import jax, jnp
 from sixdof.analysis.compare import Agreement, compare
 from sixdof.analysis.modal import ZERO_MODE_RTOL
-from sixdof.dofs import UNITS, dof_units
+from sixdof.dofs import UNITS
 from sixdof.errors import InputError, Plain, SolverError, integer, readonly
 from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import mount_matrix_jax
@@ -135,9 +135,9 @@ class BatchResult:
     frequency_hz: np.ndarray = quantity("Hz", ("variant", "mode"), description="undamped natural frequencies of each "
                                         "variant")
     settings: Any = part(lambda: import_module("sixdof.analysis.direct").SimulationSettings, prefix="", default=None)
-    peak_q: np.ndarray | None = quantity(UNITS["q"], ("variant", "dof"), dof_units=dof_units(0), default=None,
+    peak_q: np.ndarray | None = quantity(UNITS["q"], ("variant", "dof"), default=None,
                                          description="max |q| over the output samples")
-    peak_qdd: np.ndarray | None = quantity(UNITS["qdd"], ("variant", "dof"), dof_units=dof_units(2), default=None,
+    peak_qdd: np.ndarray | None = quantity(UNITS["qdd"], ("variant", "dof"), default=None,
                                            description="max |q''| over the output samples")
     num_steps: np.ndarray | None = quantity("1", ("variant",), default=None, description="solver steps attempted")
     num_rejected: np.ndarray | None = quantity("1", ("variant",), default=None, description="solver steps rejected")

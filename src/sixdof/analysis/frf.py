@@ -45,7 +45,7 @@ import numpy as np
 from sixdof import results as schema
 from sixdof.analysis.response import global_damping
 from sixdof.analysis.statespace import complex_modes, is_classical, modal_basis, modal_damping_ratios
-from sixdof.dofs import AXES, DOF_UNITS, DOFS, FORCE_UNITS, UNITS, mixed_units
+from sixdof.dofs import AXES, DOF_UNITS, DOFS, FORCE_UNITS, UNITS, per_load_units
 from sixdof.errors import InputError, Plain, SolverError, choice_check, direction_check, point, readonly
 from sixdof.model.kinematics import mount_matrix, point_map, response_row, unit_load
 
@@ -73,6 +73,11 @@ RIGID_DAMPING_RTOL = 1e-12
 UNDAMPED_RESONANCE_RTOL = 1e-9
 #: Multiply-adds per row block of the modal sum's matrix product (see :meth:`_ModalTerms.evaluate`).
 _BLOCK_MACS = 200_000
+
+
+def _load_unit(load_kind: str) -> str:
+    """Unit of an applied load: a force, or a moment."""
+    return "N m" if load_kind == "moment" else "N"
 
 
 def _per_load(load_kind: str) -> str:
@@ -252,11 +257,10 @@ class ForceTransmissibility(schema.Result):
         lambda ft: _per_load(ft.load_kind), ("f_hz", "mount", "axis"),
         description="each mount's force on the foundation in body axes per unit load")
     total: np.ndarray = schema.quantity(
-        lambda ft: f"{_per_load(ft.load_kind)} (Fx, Fy, Fz); {_per_load(ft.load_kind)} m (Mx, My, Mz)",
-        ("f_hz", "load"), description="resultant force and moment (about the CG rest position) on the foundation")
+        lambda ft: per_load_units(_load_unit(ft.load_kind)), ("f_hz", "load"),
+        description="resultant force and moment (about the CG rest position) on the foundation")
     other_damping: np.ndarray = schema.quantity(
-        lambda ft: f"{_per_load(ft.load_kind)} (Fx, Fy, Fz); {_per_load(ft.load_kind)} m (Mx, My, Mz)",
-        ("f_hz", "load"), name="other_damping_force",
+        lambda ft: per_load_units(_load_unit(ft.load_kind)), ("f_hz", "load"), name="other_damping_force",
         description="generalized force of Rayleigh and modal damping on the foundation, i w (C - C_mounts) q")
     load_point: np.ndarray = schema.label()
     load_direction: np.ndarray = schema.label()
@@ -310,7 +314,7 @@ class GroundTransmissibility(schema.Result):
     """
 
     f_hz: np.ndarray = schema.quantity("Hz", ("f_hz",))
-    q: np.ndarray = schema.quantity(mixed_units("m/m", "rad/m"), ("f_hz", "dof"),
+    q: np.ndarray = schema.quantity(UNITS["ground_transmissibility"], ("f_hz", "dof"),
                                     description="absolute generalized motion per unit ground displacement")
     absolute: np.ndarray = schema.quantity("m/m", ("f_hz", "axis"))
     relative: np.ndarray = schema.quantity("m/m", ("f_hz", "axis"))

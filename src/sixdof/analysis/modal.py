@@ -57,8 +57,7 @@ class Modes(Result):
         "1", ("dof", "mode"), description="share of each mode's kinetic energy in each DOF; columns sum to 1")
     dominant_dof: tuple[str, ...] = quantity("", ("mode",), decode=lambda a: tuple(str(d) for d in a),
                                              description="DOF holding the largest kinetic-energy share of each mode")
-    effective_mass: np.ndarray = quantity(UNITS["effective_mass"], ("dof", "mode"),
-                                          dof_units=("kg", "kg", "kg", "kg m^2", "kg m^2", "kg m^2"))
+    effective_mass: np.ndarray = quantity(UNITS["effective_mass"], ("dof", "mode"))
     subsystems: tuple[tuple[str, ...], ...] = label(encode=lambda s: tuple(",".join(g) for g in s),
                                                     decode=lambda s: tuple(tuple(g.split(",")) for g in s))
     zero_modes: tuple[int, ...] = label(name="rigid_body_modes",

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from sixdof.dofs import UNITS, dof_units
+from sixdof.dofs import UNITS
 from sixdof.errors import InputError, number
 from sixdof.model.kinematics import mount_local_map
 from sixdof.results import Result, label, quantity
@@ -43,7 +43,7 @@ class Statics(Result):
     """
 
     gravity: np.ndarray = quantity("m/s^2", ("axis",), description="gravity in body axes")
-    q: np.ndarray = quantity(UNITS["q"], ("dof",), dof_units=dof_units(0),
+    q: np.ndarray = quantity(UNITS["q"], ("dof",),
                              description="static deflection under gravity from the unloaded state")
     mount_forces: np.ndarray = quantity("N", ("mount", "axis"), name="mount_force",
                                         description="load on each mount (force of the body on it, passed to the "

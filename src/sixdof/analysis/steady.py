@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from sixdof import results as schema
-from sixdof.dofs import UNITS, dof_units
+from sixdof.dofs import UNITS
 from sixdof.errors import InputError, readonly
 
 #: Operating frequencies closer than this (relative) are one frequency: their components add up.
@@ -56,7 +56,7 @@ class SteadyState(schema.Result):
     """
 
     f_hz: np.ndarray = schema.quantity("Hz", ("f_hz",))
-    q: np.ndarray = schema.quantity(UNITS["q"], ("f_hz", "dof"), dof_units=dof_units(0),
+    q: np.ndarray = schema.quantity(UNITS["q"], ("f_hz", "dof"),
                                     description="steady-state motion phasors of the CG, q(t) = Im(q e^(i w t))")
     applied: np.ndarray = schema.quantity(UNITS["Q"], ("f_hz", "load"), description="applied load phasors at the CG")
     transmitted: np.ndarray = schema.quantity(UNITS["Q"], ("f_hz", "load"),

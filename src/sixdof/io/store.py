@@ -8,9 +8,12 @@ the typed objects the run produced (:func:`load_results`): a field added to a re
 
 Layout conventions:
 
-- every dataset has a ``units`` attribute: SI units, ``"1"`` for dimensionless numbers, ``""`` for
-  text labels. Arrays mixing translations and rotations say which unit goes with which DOF
-  (``"m (x, y, z); rad (rx, ry, rz)"``) and carry a machine-readable ``dof_units`` attribute;
+- every dataset has a ``units`` attribute that pint and UDUNITS parse: SI units (``"m/s^2"``,
+  ``"N m"``), ``"1"`` for dimensionless numbers, ``""`` for text labels. An array whose DOF or load
+  axis mixes translations and rotations has no single unit, hence no ``units``: it carries
+  ``units_description`` (``"m (x, y, z); rad (rx, ry, rz)"``) and, per mixed axis, ``<axis>_units``
+  with one parseable unit per label, the unit of an element being their product (``dof_units`` of
+  ``time/q`` is ``m, m, m, rad, rad, rad``; see :class:`sixdof.dofs.MixedUnits`);
 - every axis of every dataset is named by an HDF5 dimension scale (a 1-D dataset of the same name in
   the same group or a parent group: ``/time/t``, ``/time/dof``, ``/modal/mode``...);
 - complex arrays are HDF5 compound ``(r, i)`` (h5py's convention), read back as complex by h5py and
@@ -43,7 +46,7 @@ from typing import Any
 
 import numpy as np
 
-from sixdof.dofs import DOFS
+from sixdof.dofs import DOFS, MixedUnits, unit_attrs
 from sixdof.errors import InputError, Plain, readonly
 from sixdof.frozen import Frozen
 from sixdof.io.output import check_room, held_signals
@@ -61,8 +64,8 @@ UNITS_LABEL = ""
 PROVENANCE_PACKAGES: tuple[str, ...] = ("sixdof", "numpy", "scipy", "jax", "jaxlib", "diffrax", "equinox", "h5py")
 
 # HDF5 / netCDF bookkeeping attributes that are not user attributes.
-_RESERVED_ATTRS = frozenset({"units", "CLASS", "NAME", "DIMENSION_LIST", "REFERENCE_LIST", "_Netcdf4Dimid",
-                             "_Netcdf4Coordinates", "_NCProperties"})
+_RESERVED_ATTRS = frozenset({"units", "units_description", "CLASS", "NAME", "DIMENSION_LIST", "REFERENCE_LIST",
+                             "_Netcdf4Dimid", "_Netcdf4Coordinates", "_NCProperties"})
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -78,8 +81,9 @@ class Dataset(Frozen):
     ----------
     data : ndarray
         Read-only array (float, int, complex, or str for labels).
-    units : str
-        SI units; ``"1"`` dimensionless, ``""`` text labels.
+    units : str or MixedUnits
+        SI units; ``"1"`` dimensionless, ``""`` text labels; :class:`~sixdof.dofs.MixedUnits` where
+        translations and rotations mix.
     dims : tuple of str
         Name of each axis; each name is a dimension-scale dataset of the same group or a parent.
     attrs : mapping
@@ -87,16 +91,16 @@ class Dataset(Frozen):
     """
 
     data: np.ndarray
-    units: str
+    units: str | MixedUnits
     dims: tuple[str, ...]
     attrs: Mapping[str, Any] = field(default_factory=dict)
 
     def __check__(self) -> None:
         kind = np.asarray(self.data).dtype.kind
-        # Text as str; booleans as int8, since netCDF has no boolean type.
-        data = readonly(self.data, str if kind in "OSU" else np.int8 if kind == "b" else None)
-        if not isinstance(self.units, str):
-            raise InputError("units", "a string", self.units)
+        # Text as str. Booleans stay booleans (an HDF5 enum, which h5py, h5netcdf and xarray read as bool).
+        data = readonly(self.data, str if kind in "OSU" else None)
+        if not isinstance(self.units, (str, MixedUnits)):
+            raise InputError("units", "a string or MixedUnits", self.units)
         dims = tuple(self.dims)
         if len(dims) != data.ndim or not all(isinstance(d, str) and d for d in dims):
             raise InputError("dims", f"{data.ndim} non-empty axis names for shape {data.shape}", dims)
@@ -205,7 +209,7 @@ class _Encoder:
         self.attrs: dict[str, dict[str, Any]] = {"": {}}
         self.labels: dict[str, np.ndarray] = {}  # label scales seen so far (mount names), by axis
 
-    def add(self, path: str, data, units: str, dims, **attrs) -> None:
+    def add(self, path: str, data, units: str | MixedUnits, dims, **attrs) -> None:
         if path in self.datasets:
             raise InputError(path, "a dataset path used once", Plain("a second dataset"))
         self.datasets[path] = Dataset(data, units, tuple(dims), attrs)
@@ -250,7 +254,7 @@ class _Encoder:
             for dim, length in zip(dims, data.shape):
                 self.scale(group, dim, length)
         units = meta["units"](obj) if callable(meta["units"]) else meta["units"]
-        self.add(path, data, units, dims, description=meta["description"] or None, dof_units=meta["dof_units"])
+        self.add(path, data, units, dims, description=meta["description"] or None)
 
     def encode(self, obj, group: str, prefix: str = "") -> None:
         """Every described field of ``obj``, and the derived quantities it stores, into ``group``."""
@@ -442,11 +446,13 @@ def _attributes(attrs: Mapping[str, Any]) -> Mapping[str, Any]:
 
 
 def _attribute(value: Any) -> Any:
-    """``value`` as str, int, float, tuple of str or read-only array; ``None`` when it is none of these."""
+    """``value`` as str, bool, int, float, tuple of str or read-only array; ``None`` when it is none of these."""
     if isinstance(value, (str, np.str_)):
         return str(value)
-    if isinstance(value, (bool, np.bool_, int, np.integer)):
-        return int(value)  # netCDF has no boolean attribute
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (int, np.integer)):
+        return int(value)
     if isinstance(value, (float, np.floating)):
         return float(value)
     if isinstance(value, (list, tuple)) and len({isinstance(v, str) for v in value}) > 1:
@@ -458,7 +464,7 @@ def _attribute(value: Any) -> Any:
         strings = array.ndim == 1 and all(isinstance(v, str) for v in array.tolist())
         return tuple(array.tolist()) if strings else None
     if array.dtype.kind in "biuf":
-        return readonly(array, np.int8 if array.dtype.kind == "b" else None)
+        return readonly(array)
     return None
 
 
@@ -579,9 +585,13 @@ def _write_dataset(f, path: str, dataset: Dataset):
         node = f.create_dataset(path, data=data.astype(object), dtype=h5py.string_dtype())
     else:
         node = f.create_dataset(path, data=data)
-    node.attrs["units"] = dataset.units
-    _write_attributes(node, dataset.attrs)
+    _write_dataset_attributes(node, dataset)
     return node
+
+
+def _write_dataset_attributes(node, dataset: Dataset) -> None:
+    """A dataset's units (see :class:`~sixdof.dofs.MixedUnits`) and other attributes."""
+    _write_attributes(node, {**unit_attrs(dataset.units), **dataset.attrs})
 
 
 def _write_attributes(node, attrs: Mapping[str, Any]) -> None:
@@ -657,8 +667,14 @@ def load_tree(path: str | os.PathLike) -> Results:
             data = np.array(node.asstr()[()], dtype=str) if text else node[()]
             scales = [name] if node.is_scale else [dim[0].name for dim in node.dims]
             dims = tuple(scale.rsplit("/", 1)[-1] for scale in scales)
-            units = str(node.attrs.get("units", UNITS_LABEL))
-            datasets[name] = Dataset(data, units, dims, _read_attributes(node.attrs))
+            attributes = _read_attributes(node.attrs)
+            if "units_description" in node.attrs:
+                units = MixedUnits.from_attrs({**attributes, "units_description": str(node.attrs["units_description"])},
+                                              dims)
+                attributes = {k: v for k, v in attributes.items() if k not in {f"{d}_units" for d in dims}}
+            else:
+                units = str(node.attrs.get("units", UNITS_LABEL))
+            datasets[name] = Dataset(data, units, dims, attributes)
 
         f.visititems(visit)
     return Results(datasets, attrs, path)

@@ -16,7 +16,7 @@ import uuid
 from pathlib import Path
 
 from sixdof.io.output import check_room, held_signals
-from sixdof.io.store import Results, _write, _write_attributes, build_results, publish
+from sixdof.io.store import Results, _write, _write_dataset_attributes, build_results, publish
 from sixdof.results import time_slice
 
 #: Samples per HDF5 chunk along the time axis: large enough for fast appends and reads of whole series,
@@ -79,8 +79,7 @@ class ResultsStream:
                 chunks[axis] = TIME_CHUNK
                 node = self._file.create_dataset(path, shape=tuple(shape), maxshape=tuple(maxshape),
                                                  chunks=tuple(max(c, 1) for c in chunks), dtype=dataset.data.dtype)
-                node.attrs["units"] = dataset.units
-                _write_attributes(node, dataset.attrs)
+                _write_dataset_attributes(node, dataset)
                 self._series[path] = dataset.dims
             node = self._file[path]
             node.resize(self.samples + n, axis=axis)

@@ -17,7 +17,7 @@ from functools import cached_property
 
 import numpy as np
 
-from sixdof.dofs import DOF_UNITS, UNITS
+from sixdof.dofs import UNITS
 from sixdof.errors import (
     InputError,
     Plain,
@@ -273,10 +273,10 @@ class System(Frozen):
 
     #: Stored beside the fields (not read back: the system recomputes them).
     derived = {
-        "M": quantity(UNITS["M"], ("load", "dof"), dof_units=DOF_UNITS),
-        "C": quantity(UNITS["C"], ("load", "dof"), dof_units=DOF_UNITS),
-        "K": quantity(UNITS["K"], ("load", "dof"), dof_units=DOF_UNITS),
-        "C_mounts": quantity(UNITS["C"], ("load", "dof"), dof_units=DOF_UNITS,
+        "M": quantity(UNITS["M"], ("load", "dof")),
+        "C": quantity(UNITS["C"], ("load", "dof")),
+        "K": quantity(UNITS["K"], ("load", "dof")),
+        "C_mounts": quantity(UNITS["C"], ("load", "dof"),
                              description="damping of the mounts' dashpots alone"),
     }
 

@@ -171,7 +171,7 @@ class FreeDecay:
 
     mode: int = label()
     history: TimeHistory = part(lambda: TimeHistory, prefix="")
-    eta: np.ndarray = quantity("kg^1/2 m", ("t",), description="modal coordinate phi_r' M q")
+    eta: np.ndarray = quantity("kg^0.5 m", ("t",), description="modal coordinate phi_r' M q")
     estimate: DecayEstimate = part(lambda: DecayEstimate, prefix="")
 
 
@@ -471,7 +471,7 @@ def validate(system: System, settings: ValidationSettings | None = None, *,
                        SimulationSettings(duration=_span(settings.decay_samples, rate), sample_rate_hz=rate))
         eta = run.q @ M @ phi[:, r]
         decays.append(FreeDecay(mode=r + 1, history=run, eta=readonly(eta),
-                                estimate=decay_estimate(run.t, eta, unit="kg^1/2 m")))
+                                estimate=decay_estimate(run.t, eta, unit="kg^0.5 m")))
         one_more_run()
 
     # 2. Random force, one run per elastic mode (see the module docstring).
@@ -509,7 +509,7 @@ def validate(system: System, settings: ValidationSettings | None = None, *,
             raise SolverError(f"validation run returned {run.t.size} samples, expected {n}")
         one_more_run()
         total_s += run.t[-1]
-        est = estimate_frf(settings.force_rms * samples, run.q @ M @ phi[:, r], fs, nperseg, unit="kg^1/2 m/N")
+        est = estimate_frf(settings.force_rms * samples, run.q @ M @ phi[:, r], fs, nperseg, unit="kg^0.5 m/N")
         # Aliases up to twice the highest natural frequency keep the held model exact in band.
         aliases = int(math.ceil(2.0 * f_n[-1] / fs)) + 1
         G = held_model_frf(model_eta(est.f_hz)[:, r:r + 1], est.f_hz, fs,

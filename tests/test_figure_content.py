@@ -1,17 +1,33 @@
 """What the figures draw, inspected (issue 15, point 1): the mount-load figure (mount_forces.png) draws what
 the mount check computed (each mount's total normal force in one unit, its static load, tension shaded where
 and only where the mount is in tension, a zoom on the largest excursion); time_dofs.png says which DOFs are
-not excited; bode.png marks the operating frequencies and numbers close modes without overprinting."""
+not excited and zooms on the excitation's shock or switch-on beside the whole record; bode.png marks the
+operating frequencies and numbers close modes without overprinting."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from sixdof import Excitation, Harmonic, Load, SimulationSettings, Step, mount_check, mount_forces, simulate
+from sixdof import (
+    Excitation,
+    GroundMotion,
+    HalfSine,
+    Harmonic,
+    Load,
+    RunResults,
+    SimulationSettings,
+    Step,
+    load_results,
+    mount_check,
+    mount_forces,
+    simulate,
+    write_results,
+)
 from sixdof.analysis.statics import STANDARD_GRAVITY, gravity_statics
 from sixdof.plots import plot_mount_loads
-from sixdof.plots.time import ZOOM_PERIODS, zoom_window
+from sixdof.plots.time import ZOOM_PERIODS, ZOOM_PULSES, event_window, zoom_window
+from sixdof.results import Event
 from systems import four_mount
 
 MASS = 500.0
@@ -46,7 +62,7 @@ def test_each_mount_is_drawn_in_one_unit_with_its_static_load_and_a_zoom():
             check.min_compression[k] / 1e3)
         assert flat == [pytest.approx(-check.static_force[k, 2] / 1e3)]
         assert -check.static_force[k, 2] == pytest.approx(MASS * STANDARD_GRAVITY / 4, rel=0.3)  # the preload
-        assert whole.get_xlim() == (t[0], t[-1]) and zoom.get_xlim() == pytest.approx(window)
+        assert whole.get_xlim() == (t[0], t[-1]) and zoom.get_xlim() == pytest.approx(window[:2])
         assert not [c for c in whole.collections if c.get_label() == "tension (lift-off)" and len(c.get_paths())]
     # The zoom spans ZOOM_PERIODS periods of the 7 Hz steady motion (from zero crossings) around the largest excursion.
     assert window[1] - window[0] == pytest.approx(ZOOM_PERIODS / 7.0, rel=0.1)
@@ -156,3 +172,58 @@ def test_mode_shapes_give_their_scale_and_every_mount_with_its_axis():
     plain = four_mount()
     fig = plot_mode_shapes(plain.modes, plain)
     assert not [line for line in fig.axes[0].get_lines() if line.get_color() == "black"]
+
+
+def test_the_excitation_names_its_shocks_and_switch_ons_within_the_record():
+    loads = (Load("impact", [0, 0, 0], force=[0, 0, 1.0], signal=HalfSine(start=6.0, duration=0.02)),
+             Load("motor", [0, 0, 0], force=[1.0, 0, 0], signal=Harmonic(f_hz=4.0, start=1.0)),
+             Load("late", [0, 0, 0], force=[1.0, 0, 0], signal=Harmonic(f_hz=4.0, start=12.0)),
+             Load("held", [0, 0, 0], force=[0, 1.0, 0], signal=Step(start=2.0)))
+    ground = GroundMotion(direction=[0, 0, 1], signal=HalfSine(start=3.0, duration=0.1), quantity="acceleration")
+    events = Excitation(loads=loads, ground=ground).events(0.0, 10.0)
+    assert events == {"impact": ("shock", 6.0, 0.02), "motor": ("switch-on", 1.0, 0.25),
+                      "ground motion": ("shock", 3.0, 0.1)}  # "late" starts after the record, a step has no period
+
+
+def test_event_window_prefers_the_shortest_shock_and_needs_a_long_enough_record():
+    t = np.linspace(0.0, 10.0, 5001)
+    shock, switch_on = Event("shock", 6.0, 0.02), Event("switch-on", 0.0, 0.5)
+    start, end, label = event_window({"motor": switch_on, "impact": shock}, t)
+    assert (start, end) == pytest.approx((6.0 - 0.1 * ZOOM_PULSES * 0.02, 6.0 + 0.9 * ZOOM_PULSES * 0.02))
+    assert label.startswith("impact (shock, 20 ms at t = 6 s")
+    # A shock whose zoom would cover more than a third of the record: the switch-on gets the zoom.
+    assert event_window({"slow": Event("shock", 6.0, 0.2), "motor": switch_on}, t)[:2] == pytest.approx(
+        (0.0, ZOOM_PERIODS * 0.5))
+    assert event_window({}, t) is None and event_window({"motor": Event("switch-on", 0.0, 1.0)}, t) is None
+
+
+def test_time_dofs_zooms_on_the_shock_beside_the_whole_record_and_the_file_keeps_the_events(tmp_path):
+    from sixdof.plots import plot_time_histories
+
+    system = four_mount(m=MASS, k=(2e5, 3e5, 8e5), damping=(100.0, 100.0, 300.0))
+    pulse = HalfSine(start=2.0, duration=0.01)
+    loads = (Load("impact", [0.2, 0.1, 0.0], force=[0, 0, 5e3], signal=pulse),)
+    excitation = Excitation(loads=loads)
+    response = simulate(system, excitation, SimulationSettings(duration=5.0, sample_rate_hz=2000.0))
+    events = {name: Event(*event) for name, event in excitation.events(0.0, 5.0).items()}
+    fig = plot_time_histories(response, events=events)
+    assert len(fig.axes) == 12  # per DOF: the whole record, then the zoom
+    window = event_window(events, response.t)
+    assert window[:2] == pytest.approx((2.0 - 0.1 * ZOOM_PULSES * 0.01, 2.0 + 0.9 * ZOOM_PULSES * 0.01))
+    assert fig.axes[1].get_title(loc="left").startswith("zoom: impact (shock, 10 ms at t = 2 s")
+    for i in range(6):
+        whole, zoom = fig.axes[2 * i], fig.axes[2 * i + 1]
+        if not whole.get_lines():
+            continue  # not excited
+        assert whole.get_xlim() == (0.0, 5.0) and zoom.get_xlim() == pytest.approx(window[:2])
+        x, y = zoom.get_lines()[0].get_xdata(), zoom.get_lines()[0].get_ydata()
+        # The zoom draws its own samples, every one of them (not the whole record's per-pixel envelope).
+        inside = (response.t >= window[0]) & (response.t <= window[1])
+        assert np.all(np.isin(response.t[inside], x)) and x[0] <= window[0] and x[-1] >= window[1]
+        assert np.max(np.abs(y)) == pytest.approx(np.max(np.abs(whole.get_lines()[0].get_ydata())), rel=1e-9)
+        assert [p for p in whole.patches if p.get_facecolor()[:3] == pytest.approx((0.85,) * 3)]  # span shaded
+    # The run's file keeps the events: a figure redrawn from it zooms the same way.
+    back = load_results(write_results(tmp_path / "r.h5", RunResults(response=response, events=events)).path)
+    assert set(back.events) == {"impact"}
+    assert (back.events["impact"].kind, back.events["impact"].start, back.events["impact"].duration) == (
+        "shock", 2.0, 0.01)

@@ -183,3 +183,43 @@ def test_truncated_superposition_reports_its_error_and_warns(tmp_path):
     # Against the direct solve, the truncated superposition is off by what its truncation says.
     assert outcome.agreement.worst == pytest.approx(outcome.superposition.superposition.truncation.worst, rel=RTOL_REPORTED_TRUNCATION)
     assert "Truncated to modes 1, 2, 3" in outcome.summary_path.read_text()
+
+
+def test_output_table_leaves_derived_quantities_out_and_reading_derives_them_again(outcome, tmp_path):
+    import dataclasses
+
+    from sixdof import load_results
+
+    lean = parse_scenario(SCENARIO.replace("[simulation]", '[output]\nderived = ["mount_check"]\n\n[simulation]'))
+    assert lean.output.omitted == ("mount_forces",) and parse_scenario(SCENARIO).output.derived == (
+        "mount_forces", "mount_check")
+    written = run_scenario(lean, tmp_path, progress=False)
+    tree = load_tree(written.results_path)
+    assert "time/mount_force" not in tree.datasets and "time/mount_force_elastic" not in tree.datasets
+    assert "time/mount_check/compression" in tree.datasets and tree.attrs[""]["derived_omitted"] == ("mount_forces",)
+    assert written.results_path.stat().st_size < 0.75 * outcome.results_path.stat().st_size
+    # Read back, the file gives the same mount forces as the run that stored them: derived again, bit for bit.
+    full, back = load_results(outcome.results_path), load_results(written.results_path)
+    for field in dataclasses.fields(full.mount_forces):
+        np.testing.assert_array_equal(getattr(back.mount_forces, field.name), getattr(full.mount_forces, field.name))
+    # Nothing derived left out: the mount check too is derived on reading, equal to the stored one.
+    none = run_scenario(parse_scenario(SCENARIO.replace("[simulation]", "[output]\nderived = []\n\n[simulation]")),
+                        tmp_path / "none", progress=False)
+    back = load_results(none.results_path)
+    assert "time/mount_check" not in load_tree(none.results_path).attrs
+    for field in dataclasses.fields(full.mount_check):
+        a, b = getattr(back.mount_check, field.name), getattr(full.mount_check, field.name)
+        if isinstance(b, np.ndarray):
+            np.testing.assert_array_equal(a, b)
+        else:
+            assert a == b, field.name
+
+
+@pytest.mark.parametrize(("table", "message"), [
+    ('derived = ["mount_force"]', r"output\.derived\[0\]: expected 'mount_forces' or 'mount_check', got 'mount_force'"),
+    ('derived = "all"', r"output\.derived: expected a list of names from mount_forces, mount_check"),
+    ("keep = []", r"output"),
+])
+def test_output_table_errors_name_the_field(table, message):
+    with pytest.raises(InputError, match=message):
+        parse_scenario(SCENARIO.replace("[simulation]", f"[output]\n{table}\n\n[simulation]"))

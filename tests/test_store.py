@@ -508,13 +508,14 @@ def test_a_plain_frf_is_refused_and_files_of_another_version_are_named(parts, wr
         sixdof.load_results(old)
 
 
-@pytest.mark.xfail(strict=True, raises=ValueError,
-                   reason="a validation's free decays each have their own t and extremum axes under /validation/decay/"
-                   "mode_<r>, which xarray's datatree cannot align with the parent's: open those groups with "
-                   "open_dataset (layout to be changed with the results file's format, issue 15 point 4)")
-def test_open_datatree_reads_a_validation_file(written):
+def test_open_datatree_reads_a_file_with_a_validation(written, parts):
     xr = pytest.importorskip("xarray")
     pytest.importorskip("h5netcdf")
-    with xr.open_datatree(written.path, engine="h5netcdf"):
-        pass
+    with xr.open_datatree(written.path, engine="h5netcdf") as tree:
+        # Each free decay has its own time and extrema axes, the parents' labels inherited.
+        for decay in parts["validation"].decays:
+            node = tree[f"validation/decay/mode_{decay.mode}"]
+            np.testing.assert_array_equal(node["t"].values, decay.history.t)
+            assert node["extrema_t"].dims == ("extremum",) and len(node["extremum"]) == len(decay.estimate.extrema_t)
+            np.testing.assert_array_equal(node["q"].sel(dof="z").values, decay.history.q[:, 2])
 

@@ -211,6 +211,36 @@ class TimeHistory(Frozen, Result):
         return self._relative(self.qdd, self.ground_acceleration)
 
 
+#: Kinds of :class:`Event`.
+EVENT_KINDS = ("shock", "switch-on")
+
+
+@dataclass(frozen=True, eq=False)
+class Event(Frozen, Result):
+    """A moment of the excitation worth a closer look than the whole record gives: a shock pulse, or a
+    load switched on (a harmonic, a sweep, an unbalance, a step), where the transient starts.
+
+    Attributes
+    ----------
+    kind : {"shock", "switch-on"}
+    start : float
+        When it starts [s].
+    duration : float
+        The pulse's length [s] for a shock; the forcing's period for a switch-on (0 for a step).
+    """
+
+    kind: str = quantity("", (), decode=str, description="shock or switch-on")
+    start: float = quantity("s", (), decode=float, description="start of the event")
+    duration: float = quantity("s", (), decode=float,
+                               description="a shock's pulse length; a switch-on's forcing period (0: a step)")
+
+    def __check__(self) -> None:
+        if self.kind not in EVENT_KINDS:
+            raise InputError("kind", " or ".join(EVENT_KINDS), self.kind)
+        if not (np.isfinite(self.start) and np.isfinite(self.duration) and self.duration >= 0):
+            raise InputError("duration", "a finite start and a duration >= 0 [s]", (self.start, self.duration))
+
+
 @dataclass(frozen=True, eq=False)
 class RunResults(Frozen):
     """Everything one run computed, as the library's typed objects: what ``results.h5`` holds.
@@ -234,6 +264,8 @@ class RunResults(Frozen):
     mount_check : sixdof.analysis.mountcheck.MountCheck or None
         Total (static + dynamic) mount loads and deflections, tension and limits.
     points : mapping of str to sixdof.analysis.response.PointMotion
+    events : mapping of str to Event
+        The excitation's shocks and switch-ons within the record, by load name (figures zoom on them).
     superposition : TimeHistory or None
         The modal-superposition cross-check.
     agreement : sixdof.analysis.compare.Agreement or None
@@ -263,6 +295,7 @@ class RunResults(Frozen):
                             default=None)
     points: Any = stacked(lambda: _class("sixdof.analysis.response", "PointMotion"), dim="point", prefix="point_",
                           group="time", default_factory=dict)
+    events: Any = stacked(lambda: Event, dim="event", prefix="event_", group="time", default_factory=dict)
     superposition: TimeHistory | None = part(lambda: TimeHistory, group="time/superposition", default=None)
     agreement: Any = part(lambda: _class("sixdof.analysis.compare", "Agreement"), group="time/superposition",
                           prefix="agreement_", default=None)

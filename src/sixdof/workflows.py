@@ -22,7 +22,7 @@ from sixdof.analysis.statics import try_gravity_statics
 from sixdof.errors import InputError, Plain
 from sixdof.io import output
 from sixdof.plots.workers import FigureWorkers
-from sixdof.results import RunResults, envelope_samples, time_concat, time_slice
+from sixdof.results import Event, RunResults, envelope_samples, time_concat, time_slice
 
 #: Time bins in which a long run keeps each drawn series' extremes: at least one per pixel column of the
 #: widest figure with time axes (13 in at 120 dpi).
@@ -178,7 +178,8 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
             if scenario.simulation is None:
                 store.write_results(stage / "results.h5", run, command_line=command_line)
             else:
-                with ResultsStream(stage / "results.h5", command_line=command_line) as stream:
+                with ResultsStream(stage / "results.h5", command_line=command_line,
+                                   omit=scenario.output.omitted) as stream:
                     timed = _time_response(scenario, statics, stream, progress)
                     run = dataclasses.replace(run, **timed.drawn)
                     drawing.submit(run)
@@ -276,6 +277,7 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
     joined = time_concat(kept)
     del kept  # the joined copy is what stays
     drawn = dict(agreement=agreement, response=dataclasses.replace(joined.response, stats=stats),
+                 events={name: Event(*event) for name, event in excitation.events(*span).items()},
                  superposition=dataclasses.replace(joined.superposition, superposition=info),
                  points=joined.points, mount_forces=joined.mount_forces,
                  mount_check=dataclasses.replace(check, deflection=joined.mount_check.deflection,

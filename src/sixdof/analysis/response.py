@@ -43,7 +43,7 @@ class PointMotion(Result):
     acceleration: np.ndarray = quantity("m/s^2", ("t", "axis"),
                                         description="acceleration of each body point, body axes")
     relative: bool = quantity("1", (), encode=bool, decode=bool,
-                              description="1: the point's motion is relative to the ground, 0: absolute")
+                              description="true: the point's motion is relative to the ground; false: absolute")
 
 
 def point_motion(response: TimeHistory, position, *, relative: bool = False) -> PointMotion:

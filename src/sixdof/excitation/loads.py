@@ -309,6 +309,15 @@ class Excitation(Frozen):
             times.update(self.ground.signal.breakpoints)
         return tuple(sorted(times))
 
+    def events(self, t0: float, t1: float) -> dict[str, tuple[str, float, float]]:
+        """The shocks and switch-ons starting in ``[t0, t1)`` [s] (see ``Signal.event``): ``(kind, start,
+        duration)`` by load name, ``"ground motion"`` for the ground's."""
+        sources = [(load.name, load.components()[0][1]) for load in self.loads]
+        if self.ground is not None:
+            sources.append(("ground motion", self.ground.signal))
+        return {name: signal.event for name, signal in sources
+                if signal.event is not None and t0 <= signal.event[1] < t1}
+
     def idle(self, t0: float, t1: float) -> tuple[str, ...]:
         """What never acts from ``t0`` to ``t1`` [s]: one description per load (and the ground motion)
         whose signals are all zero over ``[t0, t1)`` (see ``Signal.support``). A load starting at ``t1``

@@ -124,6 +124,13 @@ class Signal(Frozen):
         tables); bounds the superposition's intervals and the sample-rate warnings."""
         return 0.0
 
+    @property
+    def event(self) -> tuple[str, float, float] | None:
+        """``(kind, start [s], duration [s])`` of what a figure should zoom on (see
+        :class:`sixdof.results.Event`): a pulse is a ``"shock"`` lasting its length, a periodic signal
+        a ``"switch-on"`` lasting its first period; None for the rest (steps, ramps, tables, random)."""
+        return None
+
 
 # Field checks shared by the signal kinds.
 _TIME = number_check("a finite time in s")
@@ -165,6 +172,10 @@ class Harmonic(Signal):
     @property
     def max_frequency_hz(self) -> float:
         return self.f_hz
+
+    @property
+    def event(self) -> tuple[str, float, float]:
+        return "switch-on", float(self.start), 1.0 / self.f_hz
 
     def _evaluate(self, t):
         value = jnp.sin(2 * jnp.pi * self.f_hz * (t - self.start) + jnp.deg2rad(self.phase_deg))
@@ -221,6 +232,10 @@ class Sweep(Signal):
     def max_frequency_hz(self) -> float:
         return max(self.f0_hz, self.f1_hz)
 
+    @property
+    def event(self) -> tuple[str, float, float]:
+        return "switch-on", float(self.start), 1.0 / self.f0_hz
+
     def frequency_hz(self, t):
         """Instantaneous frequency [Hz] at ``t`` (inside the sweep window)."""
         tau = jnp.clip(jnp.asarray(t, dtype=float) - self.start, 0.0, self.duration)
@@ -249,6 +264,10 @@ class HalfSine(Signal):
     def max_frequency_hz(self) -> float:
         return 1.0 / self.duration  # a pulse of duration d carries its energy below about 1/d
 
+    @property
+    def event(self) -> tuple[str, float, float]:
+        return "shock", float(self.start), float(self.duration)
+
     def _evaluate(self, t):
         return jnp.where(self._inside(t), jnp.sin(jnp.pi * (t - self.start) / self.duration), 0.0)
 
@@ -272,6 +291,10 @@ class Haversine(Signal):
     @property
     def max_frequency_hz(self) -> float:
         return 1.0 / self.duration
+
+    @property
+    def event(self) -> tuple[str, float, float]:
+        return "shock", float(self.start), float(self.duration)
 
     def _evaluate(self, t):
         return jnp.where(self._inside(t), 0.5 * (1.0 - jnp.cos(2 * jnp.pi * (t - self.start) / self.duration)), 0.0)

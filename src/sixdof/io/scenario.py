@@ -163,6 +163,35 @@ class SuperpositionSettings(Frozen):
             raise InputError("n_modes", "either n_modes or f_max_hz, not both", self.n_modes)
 
 
+#: Derived quantities a run may leave out of its file (``[output] derived``): each is computed again, to the
+#: same numbers, from what the file always keeps (the model, the statics and the response) when it is read
+#: back (:func:`sixdof.io.store.load_results`). ``mount_forces``: every mount's deformation, elastic, damping,
+#: total and local forces and the foundation's force and moment; ``mount_check``: the total mount loads and
+#: deflections, their peaks, tension and limit checks.
+DERIVED = ("mount_forces", "mount_check")
+
+
+def _derived_check(value, field):
+    if not isinstance(value, (list, tuple)) or not all(isinstance(v, str) for v in value):
+        raise InputError(field, f"a list of names from {', '.join(DERIVED)} (or [] for none)", value)
+    for i, name in enumerate(value):
+        choice_check(DERIVED)(name, f"{field}[{i}]")
+    return tuple(dict.fromkeys(value))
+
+
+@dataclass(frozen=True)
+class OutputSettings(Frozen):
+    """What ``sixdof run`` stores in ``results.h5`` (``[output]``): ``derived`` names the derived quantities
+    written (default all of :data:`DERIVED`, today's file); those left out are derived again on reading."""
+
+    derived: tuple[str, ...] = checked(_derived_check, default=DERIVED)
+
+    @property
+    def omitted(self) -> tuple[str, ...]:
+        """The derived quantities left out of the file."""
+        return tuple(name for name in DERIVED if name not in self.derived)
+
+
 @dataclass(frozen=True, eq=False)
 class Scenario:
     """A validated scenario: one system, the excitations acting together, and what to compute.
@@ -179,6 +208,7 @@ class Scenario:
     superposition : SuperpositionSettings
     points : tuple of Point
     statics : StaticsSettings
+    output : OutputSettings
     text : str
         The file's text (stored in results for provenance).
     path : pathlib.Path or None
@@ -193,6 +223,7 @@ class Scenario:
     superposition: SuperpositionSettings
     points: tuple[Point, ...]
     statics: StaticsSettings
+    output: OutputSettings
     text: str
     path: Path | None
 
@@ -260,8 +291,9 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     points = tuple(build(Point, t, f"points[{i}]") for i, t in enumerate(top.tables("points")))
     unique([p.name for p in points], "points")
     statics = build(StaticsSettings, top.table("statics", default={}), "statics")
+    output = build(OutputSettings, top.table("output", default={}), "output")
     return Scenario(name=name, description=description, system=system, excitation=excitation, simulation=simulation,
-                    frf=frf, superposition=superposition, points=points, statics=statics, text=text,
+                    frf=frf, superposition=superposition, points=points, statics=statics, output=output, text=text,
                     path=Path(source) if source != "<string>" else None)
 
 
@@ -367,5 +399,5 @@ def read_table_csv(file: Any, base_dir: Path, field: str) -> tuple[list[float], 
 
 _TOP_LEVEL_KEYS = (
     "name", "description", "body", "mounts", "damping", "loads", "ground", "initial", "simulation",
-    "frf", "superposition", "points", "statics",
+    "frf", "superposition", "points", "statics", "output",
 )

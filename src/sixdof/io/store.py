@@ -218,14 +218,17 @@ class _Encoder:
         self.attrs.setdefault(group, {}).update({k: v for k, v in attrs.items() if v is not None})
 
     def scale(self, group: str, dim: str, length: int) -> None:
-        """Make sure the axis ``dim`` of a dataset in ``group`` has a dimension scale: a label or index
-        scale is made in the top-level group (``frf/axis`` serves every FRF below ``/frf``)."""
+        """Make sure the axis ``dim`` of a dataset in ``group`` has a dimension scale: a label scale or the
+        mode numbers are made in the top-level group (``frf/axis`` serves every FRF below ``/frf``), other
+        index scales in ``group`` itself (one free decay's extrema are not another's: a subgroup's axis of
+        another length than its parent's would not align in xarray's datatree)."""
         found = _scale_path(self.datasets, _join(group, "_"), dim)
         if found is not None and self.datasets[found].data.shape == (length,):
             return
-        top = group.split("/")[0]
-        path = _join(top if _scale_path(self.datasets, _join(top, "_"), dim) is None else group, dim)
         labels = [v for v in (FIXED_SCALES.get(dim), self.labels.get(dim)) if v is not None and len(v) == length]
+        top = group.split("/")[0]
+        shared = (labels or dim == "mode") and _scale_path(self.datasets, _join(top, "_"), dim) is None
+        path = _join(top if shared else group, dim)
         if labels:
             self.add(path, np.asarray(list(labels[0]), dtype=str), UNITS_LABEL, (dim,))
         elif dim == "mode":
@@ -370,7 +373,8 @@ class _Decoder:
 
 def build_results(run=None, *, command_line: str | None = None, created_utc: str | None = None,
                   extra: Mapping[str, Dataset] | None = None,
-                  extra_attrs: Mapping[str, Mapping[str, Any]] | None = None, **parts) -> Results:
+                  extra_attrs: Mapping[str, Mapping[str, Any]] | None = None, omit: tuple[str, ...] = (),
+                  **parts) -> Results:
     """A run's results as a :class:`Results` tree (nothing is written), from their descriptions.
 
     Parameters
@@ -386,6 +390,9 @@ def build_results(run=None, *, command_line: str | None = None, created_utc: str
         More datasets, by path; their axes must name existing or added dimension scales.
     extra_attrs : mapping of str to mapping, optional
         More attributes, by group path (``""`` is the root).
+    omit : tuple of str, optional
+        Derived parts of ``run`` not to store (names from :data:`DERIVABLE`), recorded in the root's
+        ``derived_omitted`` attribute: :func:`load_results` computes them again.
 
     Returns
     -------
@@ -399,6 +406,10 @@ def build_results(run=None, *, command_line: str | None = None, created_utc: str
     if run is None:
         text = parts.pop("scenario_text", None)
         run = RunResults(**parts, provenance={"scenario_text": text or ""})
+    unknown = [name for name in omit if name not in DERIVABLE]
+    if unknown:
+        raise InputError("omit", f"names from {', '.join(DERIVABLE)}", unknown[0])
+    run = dataclasses.replace(run, **{name: None for name in omit})
     if command_line is None:
         command_line = shlex.join([Path(sys.argv[0]).name, *sys.argv[1:]]) if sys.argv else ""
     if created_utc is None:
@@ -406,7 +417,7 @@ def build_results(run=None, *, command_line: str | None = None, created_utc: str
     tree = _Encoder()
     tree.set_attrs("", format=FORMAT, format_version=FORMAT_VERSION,
                    scenario_text=run.provenance.get("scenario_text", "") or "", created_utc=created_utc,
-                   command_line=command_line, python_version=sys.version.split()[0],
+                   command_line=command_line, python_version=sys.version.split()[0], derived_omitted=tuple(omit),
                    **{f"version_{p}": _version(p) for p in PROVENANCE_PACKAGES})
     tree.encode(run, "")
     for path, dataset in (extra or {}).items():
@@ -624,7 +635,34 @@ def load_results(path: str | os.PathLike):
     if version != FORMAT_VERSION:
         raise InputError("results", f"a results file of format version {FORMAT_VERSION} (re-run the scenario to "
                          "write one; load_tree reads older files as a tree)", Plain(f"{path}: version {version}"))
-    return dataclasses.replace(_Decoder(tree).decode(RunResults, ""), provenance=dict(tree.attrs[""]))
+    run = _Decoder(tree).decode(RunResults, "")
+    return dataclasses.replace(run, **_derive(run, tree.attrs[""].get("derived_omitted", ())),
+                               provenance=dict(tree.attrs[""]))
+
+
+def _mount_forces(run):
+    from sixdof.analysis.response import mount_forces
+
+    return mount_forces(run.system, run.response)
+
+
+def _mount_check(run):
+    from sixdof.analysis.mountcheck import mount_check
+
+    forces = run.mount_forces if run.mount_forces is not None else _mount_forces(run)
+    return mount_check(run.system, forces, run.response.t, run.statics)
+
+
+#: The derived parts of a run a file may leave out (see ``[output]`` in :mod:`sixdof.io.scenario`) and how
+#: each is computed again from what the file keeps.
+DERIVABLE = {"mount_forces": _mount_forces, "mount_check": _mount_check}
+
+
+def _derive(run, omitted) -> dict[str, Any]:
+    """The parts of ``run`` its file left out (``omitted``), computed again from the model and the response."""
+    if run.response is None or run.system is None:
+        return {}
+    return {name: DERIVABLE[name](run) for name in omitted if name in DERIVABLE}
 
 
 def load_tree(path: str | os.PathLike) -> Results:

@@ -3,6 +3,8 @@ mount's total normal force, and the direct solution against the modal superposit
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 from matplotlib.figure import Figure
 
@@ -12,7 +14,7 @@ from sixdof.analysis.response import MountForces
 from sixdof.dofs import DOFS, FORCE_UNITS, display_unit, dof_units
 from sixdof.errors import InputError
 from sixdof.plots.common import ROTATION, TRANSLATION, margins, plot_long, require, time_axes, title
-from sixdof.results import TimeHistory
+from sixdof.results import Event, TimeHistory
 
 _HISTORY = "a sixdof.results.TimeHistory"
 #: SI unit of each DOF's column of each quantity of a TimeHistory.
@@ -21,12 +23,15 @@ _QUANTITIES = {"q": "displacement", "qd": "velocity", "qdd": "acceleration", "Q"
 _GROUND = {"q": "ground_displacement", "qd": "ground_velocity", "qdd": "ground_acceleration"}
 
 
-def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "") -> Figure:
+def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
+                        events: Mapping[str, Event] | None = None) -> Figure:
     """Time history of each DOF on its own axis: translations in mm, rotations in mrad.
 
     (µm or µrad when the peak is below 0.01 mm or 0.01 mrad; velocities and accelerations
     likewise.) With ground motion the motion relative to the ground is drawn dashed beside the
-    absolute one.
+    absolute one. Given ``events``, the one worth a zoom (:func:`event_window`: a shock first, else
+    a switch-on) is drawn again in a zoom panel beside each DOF's whole record, its span shaded there.
+    DOFs the excitation does not reach are said to be so instead of drawn.
 
     Parameters
     ----------
@@ -37,6 +42,8 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "")
         the applied generalized force [N, N m].
     name : str
         Name of the run, put before the title.
+    events : mapping of str to sixdof.results.Event, optional
+        The excitation's shocks and switch-ons, by load name (a run's ``events``).
 
     Returns
     -------
@@ -54,38 +61,93 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "")
     if values is None:
         raise InputError(f"history.{key}", "an (n, 6) array", values)
     t = history.t
-    fig = Figure(figsize=(12, 8))
+    zoom = event_window(events or {}, t)
+    fig = Figure(figsize=(12, 8) if zoom is None else (12, 11))
     fig.suptitle(title(name, f"{_QUANTITIES[key]} of the centre of gravity ({key})"), fontsize=13)
-    margins(fig, left=0.8, right=0.15, top=0.7, bottom=0.55, wspace=1.0, hspace=0.55, columns=2, rows=3)
     # The motion relative to the ground only when the ground moves (not merely present as zeros).
     ground = getattr(history, _GROUND[key]) if key in _GROUND else None
     relative = getattr(history, f"{key}_relative") if ground is not None and np.any(ground != 0) else None
-    axes = fig.subplots(3, 2, sharex=True)
-    time_axes(axes, t)
+    if zoom is None:  # translations left, rotations right
+        margins(fig, left=0.8, right=0.15, top=0.7, bottom=0.55, wspace=1.0, hspace=0.55, columns=2, rows=3)
+        grid = fig.subplots(3, 2, sharex=True)
+        panels = [[ax] for ax in grid.T.flat]
+        time_axes(grid, t)
+    else:  # one row per DOF: the whole record, then the zoom
+        spec = fig.add_gridspec(6, 2, width_ratios=(3, 2))
+        margins(fig, left=0.8, right=0.15, top=1.0, bottom=0.55, wspace=0.55, hspace=0.5, columns=2, rows=6,
+                target=spec)
+        panels = [[fig.add_subplot(spec[i, 0]), fig.add_subplot(spec[i, 1])] for i in range(6)]
+        for column, span in ((0, (t[0], t[-1])), (1, zoom[:2])):
+            column_axes = [row[column] for row in panels]
+            for ax in column_axes[1:]:
+                ax.sharex(column_axes[0])
+            for ax in column_axes:
+                ax.set_xlim(*span)
+                ax.grid(True, alpha=0.3)
+                ax.tick_params(labelbottom=ax is column_axes[-1])
+            column_axes[-1].set_xlabel("time t [s]")
+        panels[0][1].set_title(f"zoom: {zoom[2]}", fontsize=9, loc="left")
     quiet = unexcited(values if relative is None else np.concatenate([values, relative]))
-    for i, ax in enumerate(axes.T.flat):  # translations left, rotations right
+    for i, (whole, *rest) in enumerate(panels):
         shown = values[:, i] if relative is None else np.concatenate([values[:, i], relative[:, i]])
         factor, label = display_unit(shown, _UNITS[key][i])
         if quiet[i]:
             peak = float(np.max(np.abs(shown)))
             what = "exactly zero" if peak == 0 else f"peak {peak:.2g} {_UNITS[key][i]}, round-off"
-            ax.text(0.5, 0.5, f"not excited: {what}",
-                    transform=ax.transAxes, ha="center", va="center", fontsize=10, color="0.4")
-            ax.set_yticks([])
-            ax.set_ylabel(f"{DOFS[i]}")
-            ax.set_title(f"{DOFS[i]}: not excited", fontsize=10)
+            for ax in (whole, *rest):
+                ax.set_yticks([])
+            whole.text(0.5, 0.5, f"not excited: {what}", transform=whole.transAxes, ha="center", va="center",
+                       fontsize=10, color="0.4")
+            whole.set_ylabel(f"{DOFS[i]}")
+            whole.set_title(f"{DOFS[i]}: not excited", fontsize=10, loc="center" if zoom is None else "left")
             continue
-        plot_long(ax, t, factor * values[:, i], color=TRANSLATION if i < 3 else ROTATION, linewidth=1.0,
-                  label="absolute")
-        if relative is not None:
-            plot_long(ax, t, factor * relative[:, i], color="black", linestyle="--", linewidth=0.9,
-                      label="relative to the ground")
-            if i == 0:
-                ax.legend(fontsize=8, loc="best")
-        ax.set_ylabel(f"{DOFS[i]} [{label}]")
+        for ax, part in zip((whole, *rest), (slice(None), *(zoom_samples(t, zoom) for _ in rest))):
+            plot_long(ax, t[part], factor * values[part, i], color=TRANSLATION if i < 3 else ROTATION,
+                      linewidth=1.0, label="absolute")
+            if relative is not None:
+                plot_long(ax, t[part], factor * relative[part, i], color="black", linestyle="--", linewidth=0.9,
+                          label="relative to the ground")
+        if relative is not None and i == 0:
+            whole.legend(fontsize=8, loc="best")
+        if zoom is not None:
+            whole.axvspan(*zoom[:2], color="0.85", zorder=0)
+        whole.set_ylabel(f"{DOFS[i]} [{label}]")
         peak = float(np.max(np.abs(values[:, i])))
-        ax.set_title(f"{DOFS[i]}: peak {factor * peak:.4g} {label}", fontsize=10)
+        whole.set_title(f"{DOFS[i]}: peak {factor * peak:.4g} {label}", fontsize=10,
+                        loc="center" if zoom is None else "left")
     return fig
+
+
+#: A shock's zoom spans this many times its pulse; a switch-on's (and :func:`zoom_window`'s), this many
+#: periods of its forcing (of the dominant motion).
+ZOOM_PULSES = 25
+ZOOM_PERIODS = 6
+
+
+def zoom_samples(t: np.ndarray, window) -> slice:
+    """The samples of ``t`` a zoom on ``window`` (start, end [s], ...) draws: those inside and one either
+    side (a zoom draws its own samples, not the whole record's per-pixel envelope)."""
+    first = max(int(np.searchsorted(t, window[0], side="right")) - 1, 0)
+    return slice(first, int(np.searchsorted(t, window[1], side="left")) + 1)
+
+
+def event_window(events: Mapping[str, Event], t) -> tuple[float, float, str] | None:
+    """``(start, end, label)`` [s] of the zoom on the excitation's ``events`` over the record ``t``:
+    the shortest shock (:data:`ZOOM_PULSES` pulse lengths, from a tenth of that before it), else the
+    first switch-on (:data:`ZOOM_PERIODS` forcing periods); only when the zoom covers at most a third of
+    the record (else the whole record shows the event already). None when no event needs one."""
+    t = np.asarray(t, dtype=float)
+    duration = float(t[-1] - t[0]) if len(t) > 1 else 0.0
+    shocks = sorted((e.duration, e.start, n) for n, e in events.items() if e.kind == "shock")
+    starts = sorted((e.start, e.duration, n) for n, e in events.items() if e.kind == "switch-on" and e.duration > 0)
+    choices = [(ZOOM_PULSES * length, start, f"{n} (shock, {length * 1e3:.3g} ms at t = {start:.4g} s)")
+               for length, start, n in shocks]
+    choices += [(ZOOM_PERIODS * period, start, f"{n} (switch-on at t = {start:.4g} s)") for start, period, n in starts]
+    for width, start, label in choices:
+        if 0 < width <= duration / 3:
+            low = min(max(start - 0.1 * width, t[0]), t[-1] - width)
+            return float(low), float(low + width), label
+    return None
 
 
 #: A DOF whose peak is below this fraction of the largest DOF's peak (in SI units, rotations in rad as they
@@ -226,16 +288,12 @@ def plot_mount_forces(forces: MountForces, t, *, name: str = "") -> Figure:
     return fig
 
 
-#: The zoom panel of :func:`plot_mount_loads` spans this many periods of the dominant motion.
-ZOOM_PERIODS = 6
-
-
-def plot_mount_loads(check: MountCheck, t, *, name: str = "") -> Figure:
+def plot_mount_loads(check: MountCheck, t, *, name: str = "", events: Mapping[str, Event] | None = None) -> Figure:
     """Total normal force of each mount over the run (static preload plus dynamic, > 0 compression), one
     row per mount, all in one unit: the whole record on the left, tension shaded red and the static load
-    dashed; on the right a zoom on the largest dynamic excursion (:data:`ZOOM_PERIODS` periods of the
-    dominant motion, its span marked on the left), where single cycles and short events can be read.
-    A record too short for a zoom is drawn alone.
+    dashed; on the right a zoom, its span marked on the left, where single cycles and short events can
+    be read: on the excitation's shock or switch-on (:func:`event_window`), else on the largest dynamic
+    excursion (:func:`zoom_window`). A record too short for a zoom is drawn alone.
 
     Parameters
     ----------
@@ -245,6 +303,8 @@ def plot_mount_loads(check: MountCheck, t, *, name: str = "") -> Figure:
         Times [s] of ``compression`` (the response's ``t``).
     name : str
         Name of the run, put before the title.
+    events : mapping of str to sixdof.results.Event, optional
+        The excitation's shocks and switch-ons, by load name (a run's ``events``).
 
     Returns
     -------
@@ -258,7 +318,7 @@ def plot_mount_loads(check: MountCheck, t, *, name: str = "") -> Figure:
                          f"shape {compression.shape}")
     static = -np.asarray(check.static_force)[:, 2] if check.preload else np.zeros(len(check.names))
     dynamic = compression - static[:, None]
-    window = zoom_window(t, dynamic)
+    window = event_window(events or {}, t) or zoom_window(t, dynamic)
     factor, unit = display_unit(compression, "N")
     rows = len(check.names)
     fig = Figure(figsize=(12, 1.4 + 1.55 * rows + 0.6))
@@ -272,11 +332,12 @@ def plot_mount_loads(check: MountCheck, t, *, name: str = "") -> Figure:
     pad = 0.08 * max(high - low, 1e-30)
     for k, mount in enumerate(check.names):
         panels = [fig.add_subplot(grid[k, 0])] + ([] if window is None else [fig.add_subplot(grid[k, 1])])
-        for ax in panels:
-            plot_long(ax, t, factor * compression[k], color="tab:blue", linewidth=1.0, label="normal force N")
+        for ax, part in zip(panels, (slice(None), zoom_samples(t, window or (0, 0)))):
+            force = compression[k, part]
+            plot_long(ax, t[part], factor * force, color="tab:blue", linewidth=1.0, label="normal force N")
             ax.axhline(factor * static[k], color="0.35", linestyle="--", linewidth=0.9, label="static (gravity)")
             ax.axhline(0.0, color="black", linewidth=0.6)
-            ax.fill_between(t, factor * np.minimum(compression[k], 0.0), 0.0, where=compression[k] < 0,
+            ax.fill_between(t[part], factor * np.minimum(force, 0.0), 0.0, where=force < 0,
                             color="tab:red", alpha=0.35, linewidth=0, label="tension (lift-off)")
             ax.set_ylim(low - pad, high + pad)
             ax.grid(True, alpha=0.3)
@@ -288,10 +349,10 @@ def plot_mount_loads(check: MountCheck, t, *, name: str = "") -> Figure:
                         f"{factor * check.max_compression[k]:.4g} {unit} (static {factor * static[k]:.4g}){tension}",
                         fontsize=9, loc="left")
         if window is not None:
-            whole.axvspan(*window, color="0.85", zorder=0)
-            panels[1].set_xlim(*window)
+            whole.axvspan(*window[:2], color="0.85", zorder=0)
+            panels[1].set_xlim(*window[:2])
             if k == 0:
-                panels[1].set_title("zoom on the largest excursion", fontsize=9, loc="left")
+                panels[1].set_title(f"zoom: {window[2]}", fontsize=9, loc="left")
         if k == rows - 1:
             for ax in panels:
                 ax.set_xlabel("time t [s]")
@@ -306,9 +367,10 @@ def plot_mount_loads(check: MountCheck, t, *, name: str = "") -> Figure:
     return fig
 
 
-def zoom_window(t: np.ndarray, dynamic: np.ndarray) -> tuple[float, float] | None:
-    """The span [s] around the largest ``|dynamic|`` (any row of (rows, n)) covering :data:`ZOOM_PERIODS`
-    periods of its row's dominant motion (from its zero crossings), within the record; None when that
+def zoom_window(t: np.ndarray, dynamic: np.ndarray) -> tuple[float, float, str] | None:
+    """``(start, end, label)`` [s] of the span around the largest ``|dynamic|`` (any row of (rows, n))
+    covering :data:`ZOOM_PERIODS` periods of its row's dominant motion (from its zero crossings), within
+    the record; None when that
     span would cover more than a third of the record (the whole record shows it already) or the row
     does not move."""
     k, i = np.unravel_index(np.argmax(np.abs(dynamic)), dynamic.shape)
@@ -323,4 +385,4 @@ def zoom_window(t: np.ndarray, dynamic: np.ndarray) -> tuple[float, float] | Non
     if width > duration / 3:
         return None
     start = min(max(t[i] - width / 2, t[0]), t[-1] - width)
-    return float(start), float(start + width)
+    return float(start), float(start + width), "the largest excursion"

@@ -155,6 +155,8 @@ def _parser() -> argparse.ArgumentParser:
     modes = add("modes", help="natural frequencies, mode shapes, statics of a scenario")
     modes.add_argument("scenario", help="scenario file (TOML)")
     modes.add_argument("--json", action="store_true", help="print one JSON object instead of tables")
+    modes.add_argument("--sensitivity", action="store_true",
+                       help="with --json: derivatives of frequencies and decoupling per mount-axis stiffness")
     modes.set_defaults(command=_modes)
 
     run = add("run", help="simulate a scenario; write results, figures and a summary")
@@ -191,8 +193,10 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _modes(args) -> int:
+    from sixdof.analysis.design import design_metrics
     from sixdof.analysis.statespace import damping_ratios
     from sixdof.analysis.statics import try_gravity_statics
+    from sixdof.errors import InputError, Plain
     from sixdof.io import report
     from sixdof.io.scenario import load_scenario
 
@@ -202,8 +206,10 @@ def _modes(args) -> int:
     statics, no_statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
     zeta = damping_ratios(system.C, modes)
     if args.json:
-        print(json.dumps(_modes_json(scenario, modes, statics, zeta)))
+        print(json.dumps(_modes_json(scenario, modes, statics, zeta, sensitivity=args.sensitivity)))
         return 0
+    if args.sensitivity:
+        raise InputError("--sensitivity", "--json as well (the derivatives are arrays)", Plain("--sensitivity alone"))
     print(f"{scenario.name}: {scenario.description}\n")
     print(report.modes_table(modes, zeta if system.C.any() else None))
     print(report.damping_note(system))
@@ -211,6 +217,8 @@ def _modes(args) -> int:
     print(report.ke_table(modes))
     print()
     print(report.subsystems_text(modes))
+    print()
+    print(report.design_text(design_metrics(system, scenario.design.torque_axis)))
     _print_statics(scenario, statics, no_statics)
     return 0
 
@@ -357,7 +365,7 @@ def _plot(args) -> int:
     return 0
 
 
-def _modes_json(scenario, modes, statics, zeta) -> dict:
+def _modes_json(scenario, modes, statics, zeta, sensitivity: bool = False) -> dict:
     """The modal and statics groups of the results file (:func:`sixdof.io.store.build_results`), each key the
     name of its dataset or attribute there (mode numbers from 1, like the file's), NaN as null; and, for
     scripts written before those names, the keys of earlier versions (``frequencies_hz``, ``omega_rad_s``,
@@ -389,8 +397,29 @@ def _modes_json(scenario, modes, statics, zeta) -> dict:
     out = {"name": scenario.name, "dofs": modal["dof"], **modal,
            "frequencies_hz": modal["frequency_hz"], "omega_rad_s": modal["omega"],
            "damping_ratios": modal["damping_ratio"], "zero_modes": list(modes.zero_modes), "statics": None}
+    out.update(_design_json(scenario, sensitivity, plain))
     if statics is not None:
         fixed = group("statics")
         out["statics"] = {**fixed, "mounts": fixed["mount"], "mount_forces_n": fixed["mount_force"],
                           "support_n": fixed["support"]}
+    return out
+
+
+def _design_json(scenario, sensitivity: bool, plain) -> dict:
+    """The design metrics (:func:`sixdof.analysis.design.design_metrics`), modes numbered from 1, absent
+    values null; with ``sensitivity``, the derivatives (mode, mount, axis) per mount-axis stiffness [N/m]."""
+    from sixdof.analysis.design import design_metrics, sensitivities
+
+    metrics = design_metrics(scenario.system, scenario.design.torque_axis)
+    optional = {name: None if getattr(metrics, name) is None else plain(getattr(metrics, name))
+                for name in ("torque_axis", "torque_roll_axis", "roll_mode_tra_angle_deg", "decoupling_tra_percent",
+                             "elastic_center")}
+    out = {"decoupling_percent": plain(metrics.decoupling_percent), **optional,
+           "roll_mode": None if metrics.roll_mode is None else metrics.roll_mode + 1,
+           "elastic_axes": plain(metrics.elastic_axes), "principal_stiffness": plain(metrics.principal_stiffness)}
+    if sensitivity:
+        found = sensitivities(scenario.system)
+        out.update(frequency_sensitivity=plain(found.frequency), decoupling_sensitivity=plain(found.decoupling),
+                   repeated_modes=[[j + 1 for j in group] for group in found.repeated_modes],
+                   sensitivity_axes=["mode", "mount", "mount_axis"])
     return out

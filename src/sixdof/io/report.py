@@ -80,6 +80,23 @@ def subsystems_text(modes) -> str:
     return text
 
 
+def design_text(metrics) -> str:
+    """Decoupling per mode, the torque-roll axis and the elastic centre (a design.DesignMetrics)."""
+    modes = "  ".join(f"{j + 1}: {p:.1f} % {d}" for j, (p, d) in enumerate(zip(metrics.decoupling_percent,
+                                                                               metrics.dominant_dof)))
+    lines = [f"Decoupling (kinetic-energy share of each mode's dominant DOF):\n  {modes}"]
+    if metrics.torque_roll_axis is not None:
+        tra = ", ".join(f"{c:.4f}" for c in metrics.torque_roll_axis)
+        shares = "  ".join(f"{j + 1}: {p:.1f} %" for j, p in enumerate(metrics.decoupling_tra_percent))
+        lines += [f"Torque-roll axis (torque about [{', '.join(f'{c:.4g}' for c in metrics.torque_axis)}]): [{tra}]; "
+                  f"roll mode {metrics.roll_mode + 1} at {metrics.roll_mode_tra_angle_deg:.2f} deg from it",
+                  f"Decoupling in TRA coordinates:\n  {shares}"]
+    centre = metrics.elastic_center
+    lines.append("Elastic centre: none (no point decouples the mount stiffness)" if centre is None else
+                 f"Elastic centre: [{', '.join(f'{c:.4g}' for c in centre)}] m from the CG")
+    return "\n".join(lines)
+
+
 def statics_table(statics, mount_names: Sequence[str]) -> str:
     """Static deflection of the CG and the force in each mount under gravity."""
     rows = []

@@ -163,6 +163,14 @@ class SuperpositionSettings(Frozen):
             raise InputError("n_modes", "either n_modes or f_max_hz, not both", self.n_modes)
 
 
+@dataclass(frozen=True)
+class DesignSettings(Frozen):
+    """The mount-system design metrics' settings (``[design]``): ``torque_axis``, the axis of the exciting
+    torque in body axes (an engine's crankshaft), gives the torque-roll axis and the TRA decoupling."""
+
+    torque_axis: tuple[float, float, float] | None = checked(optional(_checked_vector), default=None)
+
+
 #: Derived quantities a run may leave out of its file (``[output] derived``): each is computed again, to the
 #: same numbers, from what the file always keeps (the model, the statics and the response) when it is read
 #: back (:func:`sixdof.io.store.load_results`). ``mount_forces``: every mount's deformation, elastic, damping,
@@ -209,6 +217,7 @@ class Scenario:
     points : tuple of Point
     statics : StaticsSettings
     output : OutputSettings
+    design : DesignSettings
     text : str
         The file's text (stored in results for provenance).
     path : pathlib.Path or None
@@ -224,6 +233,7 @@ class Scenario:
     points: tuple[Point, ...]
     statics: StaticsSettings
     output: OutputSettings
+    design: DesignSettings
     text: str
     path: Path | None
 
@@ -292,8 +302,10 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     unique([p.name for p in points], "points")
     statics = build(StaticsSettings, top.table("statics", default={}), "statics")
     output = build(OutputSettings, top.table("output", default={}), "output")
+    design = build(DesignSettings, top.table("design", default={}), "design")
     return Scenario(name=name, description=description, system=system, excitation=excitation, simulation=simulation,
-                    frf=frf, superposition=superposition, points=points, statics=statics, output=output, text=text,
+                    frf=frf, superposition=superposition, points=points, statics=statics, output=output,
+                    design=design, text=text,
                     path=Path(source) if source != "<string>" else None)
 
 
@@ -399,5 +411,5 @@ def read_table_csv(file: Any, base_dir: Path, field: str) -> tuple[list[float], 
 
 _TOP_LEVEL_KEYS = (
     "name", "description", "body", "mounts", "damping", "loads", "ground", "initial", "simulation",
-    "frf", "superposition", "points", "statics", "output",
+    "frf", "superposition", "points", "statics", "output", "design",
 )

@@ -163,14 +163,6 @@ class SuperpositionSettings(Frozen):
             raise InputError("n_modes", "either n_modes or f_max_hz, not both", self.n_modes)
 
 
-@dataclass(frozen=True)
-class DesignSettings(Frozen):
-    """The mount-system design metrics' settings (``[design]``): ``torque_axis``, the axis of the exciting
-    torque in body axes (an engine's crankshaft), gives the torque-roll axis and the TRA decoupling."""
-
-    torque_axis: tuple[float, float, float] | None = checked(optional(_checked_vector), default=None)
-
-
 #: Derived quantities a run may leave out of its file (``[output] derived``): each is computed again, to the
 #: same numbers, from what the file always keeps (the model, the statics and the response) when it is read
 #: back (:func:`sixdof.io.store.load_results`). ``mount_forces``: every mount's deformation, elastic, damping,
@@ -217,7 +209,8 @@ class Scenario:
     points : tuple of Point
     statics : StaticsSettings
     output : OutputSettings
-    design : DesignSettings
+    design : sixdof.design.spec.DesignSpec
+        The ``[design]`` table: torque axis, targets and variables (empty when absent).
     text : str
         The file's text (stored in results for provenance).
     path : pathlib.Path or None
@@ -233,7 +226,7 @@ class Scenario:
     points: tuple[Point, ...]
     statics: StaticsSettings
     output: OutputSettings
-    design: DesignSettings
+    design: Any
     text: str
     path: Path | None
 
@@ -302,11 +295,24 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     unique([p.name for p in points], "points")
     statics = build(StaticsSettings, top.table("statics", default={}), "statics")
     output = build(OutputSettings, top.table("output", default={}), "output")
-    design = build(DesignSettings, top.table("design", default={}), "design")
+    design = _design(top.table("design", default={}), system)
     return Scenario(name=name, description=description, system=system, excitation=excitation, simulation=simulation,
                     frf=frf, superposition=superposition, points=points, statics=statics, output=output,
                     design=design, text=text,
                     path=Path(source) if source != "<string>" else None)
+
+
+def _design(raw: dict, system: System):
+    from sixdof.design.spec import DesignSpec, Target, Vary, check_mounts
+
+    table = Table(raw, "design", ("torque_axis", "target", "vary", "tolerance", "samples", "seed", "starts"))
+    axis = table.value("torque_axis", None)
+    targets = tuple(build(Target, t, f"design.target[{i}]") for i, t in enumerate(table.tables("target")))
+    vary = tuple(build(Vary, t, f"design.vary[{i}]") for i, t in enumerate(table.tables("vary")))
+    settings = {k: raw[k] for k in ("tolerance", "samples", "seed", "starts") if k in raw}
+    spec = make(DesignSpec, "design", torque_axis=None if axis is None else _checked_vector(axis, "design.torque_axis"),
+                target=targets, vary=vary, **settings)
+    return make(check_mounts, "design", spec=spec, mount_names=tuple(m.name for m in system.mounts))
 
 
 #: Peak memory of ``sixdof run`` per output sample [bytes], with its superposition cross-check and figures:

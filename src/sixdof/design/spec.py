@@ -1,0 +1,184 @@
+"""What a mount-system design must achieve and what it may change: the ``[design]`` table of a scenario.
+
+``[[design.target]]`` entries (``kind``):
+
+- ``"frequency"``: ``dof`` and ``f_hz = [lo, hi]`` [Hz]: the mode dominated by that DOF lies in the window;
+- ``"decoupling"``: ``min_percent`` [%], ``coordinates = "body"`` or ``"tra"``, optional ``dof``: the
+  kinetic-energy share of its dominant coordinate, of every elastic mode or of the mode dominated by ``dof``;
+- ``"static_deflection"``: ``max`` [m]: the largest static deflection of a mount under gravity;
+- ``"tra_angle"``: ``max_deg`` [deg]: the roll mode's rotation axis within that angle of the torque-roll axis.
+
+``[[design.vary]]`` entries (``parameter``), each over ``mounts`` (names; default all) within ``bounds =
+[lo, hi]``, one variable per mount or, with ``tied = true``, one shared by the listed mounts:
+
+- ``"stiffness"``: factors on the stiffness along the mount's own ``axes`` (``"u"``, ``"v"``, ``"w"``;
+  default all three), one variable per axis;
+- ``"position"``: offsets [m] along the body ``axes`` (``"x"``, ``"y"``, ``"z"``), one variable per axis;
+- ``"angle"``: a rotation [deg] of the mount's axes about the body axis ``about`` (``"x"``, ``"y"``, ``"z"``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from sixdof.dofs import AXES, DOFS, MOUNT_AXES
+from sixdof.errors import InputError, Plain, boolean, choice_check, integer_check, number_check, optional
+from sixdof.frozen import Frozen, checked
+
+TARGET_KINDS = ("frequency", "decoupling", "static_deflection", "tra_angle")
+PARAMETERS = ("stiffness", "position", "angle")
+#: Each parameter's axes: the names it accepts and its default.
+_PARAMETER_AXES = {"stiffness": MOUNT_AXES, "position": AXES, "angle": ()}
+
+
+def _window(value: Any, field: str) -> tuple[float, float]:
+    expected = "a window [lo, hi] in Hz with 0 < lo < hi"
+    if (not isinstance(value, (list, tuple)) or len(value) != 2
+            or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)):
+        raise InputError(field, expected, value)
+    low, high = float(value[0]), float(value[1])
+    if not (0 < low < high and math.isfinite(high)):
+        raise InputError(field, expected, value)
+    return low, high
+
+
+def _bounds(value: Any, field: str) -> tuple[float, float]:
+    expected = "bounds [lo, hi] with lo < hi"
+    if (not isinstance(value, (list, tuple)) or len(value) != 2
+            or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)):
+        raise InputError(field, expected, value)
+    low, high = float(value[0]), float(value[1])
+    if not (math.isfinite(low) and math.isfinite(high) and low < high):
+        raise InputError(field, expected, value)
+    return low, high
+
+
+def _names(choices: tuple[str, ...], what: str):
+    def check(value, field):
+        if value is None:
+            return None
+        if not isinstance(value, (list, tuple)) or not value or not all(isinstance(v, str) for v in value):
+            raise InputError(field, f"a non-empty list of {what}", value)
+        for i, name in enumerate(value):
+            if name not in choices:
+                raise InputError(f"{field}[{i}]", f"one of {', '.join(choices)}", name)
+        if len(set(value)) != len(value):
+            raise InputError(field, f"{what} listed once each", value)
+        return tuple(value)
+
+    return check
+
+
+_PERCENT = number_check("a percentage from 0 to 100", low=0.0)
+_POSITIVE = number_check("a positive number", low=0.0, strict=True)
+
+
+@dataclass(frozen=True)
+class Target(Frozen):
+    """One ``[[design.target]]`` (see the module's list): ``kind`` and the fields that kind uses."""
+
+    kind: str = checked(choice_check(TARGET_KINDS))
+    dof: str | None = checked(optional(choice_check(DOFS)), default=None)
+    f_hz: tuple[float, float] | None = checked(optional(_window), default=None)
+    min_percent: float | None = checked(optional(_PERCENT), default=None)
+    coordinates: str = checked(choice_check(("body", "tra")), default="body")
+    max: float | None = checked(optional(_POSITIVE), default=None)
+    max_deg: float | None = checked(optional(_POSITIVE), default=None)
+
+    #: The fields each kind needs, and those it accepts besides.
+    NEEDS = {"frequency": ("dof", "f_hz"), "decoupling": ("min_percent",), "static_deflection": ("max",),
+             "tra_angle": ("max_deg",)}
+    ACCEPTS = {"decoupling": ("dof", "coordinates")}
+
+    def __check__(self) -> None:
+        for name in self.NEEDS[self.kind]:
+            if getattr(self, name) is None:
+                raise InputError(name, f"a value for a {self.kind} target", Plain("nothing"))
+        allowed = {"kind", *self.NEEDS[self.kind], *self.ACCEPTS.get(self.kind, ())}
+        for name in ("dof", "f_hz", "min_percent", "max", "max_deg"):
+            if name not in allowed and getattr(self, name) is not None:
+                raise InputError(name, f"no {name} for a {self.kind} target "
+                                 f"(it takes {', '.join(sorted(allowed - {'kind'}))})", getattr(self, name))
+        if self.kind == "decoupling" and self.min_percent > 100:
+            raise InputError("min_percent", "a percentage from 0 to 100", self.min_percent)
+
+    @property
+    def label(self) -> str:
+        """A short description: ``"frequency of the rx mode in [5, 8] Hz"``."""
+        if self.kind == "frequency":
+            return f"frequency of the {self.dof} mode in [{self.f_hz[0]:g}, {self.f_hz[1]:g}] Hz"
+        if self.kind == "decoupling":
+            which = f"the {self.dof} mode" if self.dof else "every elastic mode"
+            return f"decoupling ({self.coordinates}) of {which} >= {self.min_percent:g} %"
+        if self.kind == "static_deflection":
+            return f"static mount deflection <= {self.max * 1e3:g} mm"
+        return f"roll mode within {self.max_deg:g} deg of the TRA"
+
+
+@dataclass(frozen=True)
+class Vary(Frozen):
+    """One ``[[design.vary]]`` (see the module's list)."""
+
+    parameter: str = checked(choice_check(PARAMETERS))
+    bounds: tuple[float, float] = checked(_bounds)
+    mounts: tuple[str, ...] | None = None  # checked against the system's mounts by DesignSpec
+    axes: tuple[str, ...] | None = None
+    about: str | None = checked(optional(choice_check(AXES)), default=None)
+    tied: bool = checked(boolean, default=False)
+
+    def __check__(self) -> None:
+        if self.parameter == "angle":
+            if self.about is None:
+                raise InputError("about", "the body axis 'x', 'y' or 'z' an angle turns the mounts about",
+                                 Plain("nothing"))
+            if self.axes is not None:
+                raise InputError("axes", "no axes for an angle (it turns all three; 'about' names the axis)",
+                                 self.axes)
+        else:
+            if self.about is not None:
+                raise InputError("about", f"no 'about' for a {self.parameter} (only for an angle)", self.about)
+            choices = _PARAMETER_AXES[self.parameter]
+            axes = _names(choices, f"axes from {', '.join(choices)}")(self.axes, "axes")
+            self._derive(axes=axes or choices)
+        if self.parameter == "stiffness" and self.bounds[0] <= 0:
+            raise InputError("bounds", "positive stiffness factors [lo, hi] with 0 < lo < hi", list(self.bounds))
+
+
+@dataclass(frozen=True)
+class DesignSpec(Frozen):
+    """The ``[design]`` table: ``torque_axis`` (body axes; for the TRA metrics and targets), the targets,
+    the variables, and the robustness study of the optimized design: every mount-axis stiffness scaled by
+    an independent factor uniform in ``1 +- tolerance``, ``samples`` times (``seed``); ``starts``: how many
+    starting points the optimizer tries (the given design first, then random points within the bounds)."""
+
+    torque_axis: tuple[float, float, float] | None = None
+    target: tuple[Target, ...] = ()
+    vary: tuple[Vary, ...] = ()
+    tolerance: float = checked(number_check("a relative tolerance from 0 to 0.9", low=0.0), default=0.15)
+    samples: int = checked(integer_check("an integer >= 1", 1), default=1000)
+    seed: int = checked(integer_check("an integer >= 0", 0), default=0)
+    starts: int = checked(integer_check("an integer >= 1", 1), default=8)
+
+    def __check__(self) -> None:
+        if self.tolerance > 0.9:
+            raise InputError("tolerance", "a relative tolerance from 0 to 0.9", self.tolerance)
+        needs_tra = [i for i, t in enumerate(self.target) if t.kind == "tra_angle" or t.coordinates == "tra"]
+        if needs_tra and self.torque_axis is None:
+            raise InputError(f"target[{needs_tra[0]}]", "a torque_axis in [design] for a TRA target",
+                             Plain("no torque_axis"))
+
+
+def check_mounts(spec: DesignSpec, mount_names: tuple[str, ...]) -> DesignSpec:
+    """``spec`` with each variable's ``mounts`` checked against the system's (default: all)."""
+    import dataclasses
+
+    vary = []
+    for i, entry in enumerate(spec.vary):
+        try:
+            mounts = _names(mount_names, "mount names")(entry.mounts, "mounts") or mount_names
+        except InputError as exc:
+            raise exc.within(f"vary[{i}]") from None
+        vary.append(dataclasses.replace(entry, mounts=mounts))
+    return dataclasses.replace(spec, vary=tuple(vary))

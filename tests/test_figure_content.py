@@ -107,6 +107,20 @@ def test_unexcited_dofs_are_said_to_be_so_not_drawn_as_noise():
         else:
             assert not ax.get_lines() and texts and texts[0].startswith("not excited: ")
             assert ax.get_title().endswith("not excited")
+    # The cross-check figure says so too, on the left; on the right it draws a difference only where one exists.
+    from sixdof.analysis.compare import compare
+    from sixdof.analysis.superposition import superpose
+    from sixdof.plots import plot_superposition
+
+    modal = superpose(system, Excitation(loads=vertical), response.t)
+    fig = plot_superposition(response, modal, compare(response.q, modal.q, length=0.5))
+    for i in range(6):
+        left, right = fig.axes[2 * i], fig.axes[2 * i + 1]
+        if i == 2:
+            assert len(left.get_lines()) == 2 and right.get_lines()
+        else:
+            assert not left.get_lines() and left.texts[0].get_text().startswith("not excited: ")
+            assert right.get_lines() or right.texts[0].get_text() == "identical: both exactly zero"
 
 
 def test_bode_marks_the_operating_frequency_and_close_modes_stay_legible():
@@ -187,13 +201,15 @@ def test_the_excitation_names_its_shocks_and_switch_ons_within_the_record():
 
 def test_event_window_prefers_the_shortest_shock_and_needs_a_long_enough_record():
     t = np.linspace(0.0, 10.0, 5001)
-    shock, switch_on = Event("shock", 6.0, 0.02), Event("switch-on", 0.0, 0.5)
+    shock, switch_on = Event("shock", 6.0, 0.02), Event("switch-on", 0.0, 0.25)
     start, end, label = event_window({"motor": switch_on, "impact": shock}, t)
     assert (start, end) == pytest.approx((6.0 - 0.1 * ZOOM_PULSES * 0.02, 6.0 + 0.9 * ZOOM_PULSES * 0.02))
     assert label.startswith("impact (shock, 20 ms at t = 6 s")
-    # A shock whose zoom would cover more than a third of the record: the switch-on gets the zoom.
-    assert event_window({"slow": Event("shock", 6.0, 0.2), "motor": switch_on}, t)[:2] == pytest.approx(
-        (0.0, ZOOM_PERIODS * 0.5))
+    # A shock too long for a zoom of ZOOM_MIN_PULSES pulses within a quarter of the record: the switch-on's.
+    assert event_window({"slow": Event("shock", 6.0, 1.0), "motor": switch_on}, t)[:2] == pytest.approx(
+        (0.0, ZOOM_PERIODS * 0.25))
+    # A longer shock gets the widest zoom, a quarter of the record.
+    assert event_window({"slow": Event("shock", 6.0, 0.2)}, t)[:2] == pytest.approx((5.75, 8.25))
     assert event_window({}, t) is None and event_window({"motor": Event("switch-on", 0.0, 1.0)}, t) is None
 
 

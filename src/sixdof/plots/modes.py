@@ -218,7 +218,8 @@ def plot_ke_distribution(modes: Modes, ax=None, *, name: str = "") -> Figure:
         # Round-off leaves shares like -1e-15: print them as 0, not "-0".
         text = "0" if abs(value) < 0.05 else (f"{value:.0f}" if value >= 9.95 else f"{value:.1f}")
         ax.text(j, i, text, ha="center", va="center", fontsize=10, color="white" if value > 60 else "black")
-    ax.set_xticks(range(n), [f"{j + 1}\n{f:.3g} Hz" for j, f in enumerate(freqs)])
+    digits = next((d for d in range(3, 8) if len({f"{f:.{d}g}" for f in freqs}) == len(freqs)), 8)
+    ax.set_xticks(range(n), [f"{j + 1}\n{f:.{digits}g} Hz" for j, f in enumerate(freqs)])  # close modes told apart
     ax.set_yticks(range(len(DOFS)), DOFS)
     ax.set_xlabel("mode (natural frequency [Hz])")
     ax.set_ylabel("degree of freedom")

@@ -7,6 +7,7 @@ from collections.abc import Mapping
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.ticker import MaxNLocator
 
 from sixdof.analysis.compare import Agreement
 from sixdof.analysis.mountcheck import MountCheck
@@ -74,7 +75,7 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
         time_axes(grid, t)
     else:  # one row per DOF: the whole record, then the zoom
         spec = fig.add_gridspec(6, 2, width_ratios=(3, 2))
-        margins(fig, left=0.8, right=0.15, top=1.0, bottom=0.55, wspace=0.55, hspace=0.5, columns=2, rows=6,
+        margins(fig, left=0.8, right=0.15, top=1.0, bottom=0.55, wspace=0.9, hspace=0.5, columns=2, rows=6,
                 target=spec)
         panels = [[fig.add_subplot(spec[i, 0]), fig.add_subplot(spec[i, 1])] for i in range(6)]
         for column, span in ((0, (t[0], t[-1])), (1, zoom[:2])):
@@ -83,6 +84,7 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
                 ax.sharex(column_axes[0])
             for ax in column_axes:
                 ax.set_xlim(*span)
+                ax.xaxis.set_major_locator(MaxNLocator(6))  # a short zoom's ticks would crowd
                 ax.grid(True, alpha=0.3)
                 ax.tick_params(labelbottom=ax is column_axes[-1])
             column_axes[-1].set_xlabel("time t [s]")
@@ -107,7 +109,7 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
             if relative is not None:
                 plot_long(ax, t[part], factor * relative[part, i], color="black", linestyle="--", linewidth=0.9,
                           label="relative to the ground")
-        if relative is not None and i == 0:
+        if relative is not None and not np.any(~quiet[:i]):  # on the first DOF drawn
             whole.legend(fontsize=8, loc="best")
         if zoom is not None:
             whole.axvspan(*zoom[:2], color="0.85", zorder=0)
@@ -119,9 +121,12 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
 
 
 #: A shock's zoom spans this many times its pulse; a switch-on's (and :func:`zoom_window`'s), this many
-#: periods of its forcing (of the dominant motion).
+#: periods of its forcing (of the dominant motion); a zoom covers at most this fraction of the record
+#: (a wider one would show what the whole record shows), a shock's at least :data:`ZOOM_MIN_PULSES` pulses.
 ZOOM_PULSES = 25
 ZOOM_PERIODS = 6
+ZOOM_MAX_FRACTION = 0.25
+ZOOM_MIN_PULSES = 4
 
 
 def zoom_samples(t: np.ndarray, window) -> slice:
@@ -133,18 +138,20 @@ def zoom_samples(t: np.ndarray, window) -> slice:
 
 def event_window(events: Mapping[str, Event], t) -> tuple[float, float, str] | None:
     """``(start, end, label)`` [s] of the zoom on the excitation's ``events`` over the record ``t``:
-    the shortest shock (:data:`ZOOM_PULSES` pulse lengths, from a tenth of that before it), else the
-    first switch-on (:data:`ZOOM_PERIODS` forcing periods); only when the zoom covers at most a third of
-    the record (else the whole record shows the event already). None when no event needs one."""
+    the shortest shock (:data:`ZOOM_PULSES` pulse lengths, from a tenth of that before it, at most
+    :data:`ZOOM_MAX_FRACTION` of the record and at least :data:`ZOOM_MIN_PULSES` pulses), else the first
+    switch-on (:data:`ZOOM_PERIODS` forcing periods, at most that fraction of the record). None when no
+    event needs one (the whole record shows it already)."""
     t = np.asarray(t, dtype=float)
     duration = float(t[-1] - t[0]) if len(t) > 1 else 0.0
     shocks = sorted((e.duration, e.start, n) for n, e in events.items() if e.kind == "shock")
     starts = sorted((e.start, e.duration, n) for n, e in events.items() if e.kind == "switch-on" and e.duration > 0)
-    choices = [(ZOOM_PULSES * length, start, f"{n} (shock, {length * 1e3:.3g} ms at t = {start:.4g} s)")
-               for length, start, n in shocks]
+    longest = ZOOM_MAX_FRACTION * duration
+    choices = [(min(ZOOM_PULSES * length, longest), start, f"{n} (shock, {length * 1e3:.3g} ms at t = {start:.4g} s)")
+               for length, start, n in shocks if ZOOM_MIN_PULSES * length <= longest]
     choices += [(ZOOM_PERIODS * period, start, f"{n} (switch-on at t = {start:.4g} s)") for start, period, n in starts]
     for width, start, label in choices:
-        if 0 < width <= duration / 3:
+        if 0 < width <= longest:
             low = min(max(start - 0.1 * width, t[0]), t[-1] - width)
             return float(low), float(low + width), label
     return None
@@ -198,16 +205,25 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
         verdict = "within" if agreement.ok else "EXCEEDS"
         heading += (f"\nworst relative difference {agreement.worst:.2e} in "
                     f"{agreement.worst_dof} ({verdict} tolerance {agreement.tolerance:.0e})")
-    fig.suptitle(title(name, heading), fontsize=13)
     margins(fig, left=0.8, right=0.15, top=1.0, bottom=0.55, wspace=1.1, hspace=0.45, columns=2, rows=6)
     axes = fig.subplots(6, 2, sharex=True)
+    quiet = unexcited(q_direct)
+    tolerance_drawn = False
     for i in range(6):
         factor, label = display_unit(q_direct[:, i], _UNITS["q"][i])
         left, right = axes[i]
-        plot_long(left, t, factor * q_direct[:, i], color="black", linewidth=1.6, label="direct (diffrax)")
-        plot_long(left, t, factor * q_modal[:, i], color="tab:orange", linewidth=1.0, linestyle="--",
-                  label="modal superposition")
-        left.set_ylabel(f"{DOFS[i]} [{label}]")
+        if quiet[i]:  # round-off of the others: said, not drawn as a signal
+            peak = max(float(np.max(np.abs(q_direct[:, i]))), float(np.max(np.abs(q_modal[:, i]))))
+            what = "exactly zero" if peak == 0 else f"peak {peak:.2g} {_UNITS['q'][i]}, round-off"
+            left.text(0.5, 0.5, f"not excited: {what}", transform=left.transAxes, ha="center", va="center",
+                      fontsize=10, color="0.4")
+            left.set_yticks([])
+            left.set_ylabel(DOFS[i])
+        else:
+            plot_long(left, t, factor * q_direct[:, i], color="black", linewidth=1.6, label="direct (diffrax)")
+            plot_long(left, t, factor * q_modal[:, i], color="tab:orange", linewidth=1.0, linestyle="--",
+                      label="modal superposition")
+            left.set_ylabel(f"{DOFS[i]} [{label}]")
         # Divided as the agreement divides it: by the DOF's own peak, or for a quiet DOF (round-off
         # only) by the largest peak of all DOFs, rotations times the agreement's length (see compare).
         denominator, against = float(peaks[i]), "peak"
@@ -217,25 +233,41 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
             denominator, against = (largest / length if i >= 3 else largest), "largest peak"
         difference = q_modal[:, i] - q_direct[:, i]
         relative = difference / denominator if denominator > 0 else difference
+        if not np.any(relative):  # both exactly zero: nothing to compare
+            right.text(0.5, 0.5, "identical: both exactly zero", transform=right.transAxes, ha="center",
+                       va="center", fontsize=10, color="0.4")
+            right.set_yticks([])
+            right.set_title(f"{DOFS[i]}: not excited", fontsize=9)
+            continue
         # The power of ten in the axis label, not in an offset text above the axes (where the title is).
         largest = float(np.max(np.abs(relative))) if relative.size else 0.0
         exponent = int(np.floor(np.log10(largest))) if largest > 0 else 0
         unit = 10.0 ** exponent
         plot_long(right, t, relative / unit, color="tab:purple", linewidth=0.9)
-        right.set_ylabel(f"Δ{DOFS[i]} / {against} [1e{exponent}]" if exponent else f"Δ{DOFS[i]} / {against} [1]")
+        right.set_ylabel(f"Δ{DOFS[i]} / {against} [×10{_superscript(exponent)}]" if exponent
+                         else f"Δ{DOFS[i]} / {against} [1]")
         # Tolerance lines only where they do not flatten the curve into a line.
         if agreement is not None and largest > 0.1 * agreement.tolerance:
+            tolerance_drawn = True
             for sign in (-1, 1):
                 right.axhline(sign * agreement.tolerance / unit, color="tab:red", linestyle="--", linewidth=0.8)
         if agreement is not None:
-            quiet = " (quiet DOF: round-off only)" if against != "peak" else ""
-            right.set_title(f"{DOFS[i]}: max|Δ| / {against} = {agreement.per_dof[i]:.2e}{quiet}", fontsize=9)
-    axes[0, 0].legend(fontsize=9, loc="lower left", bbox_to_anchor=(0.0, 1.0), ncols=2, frameon=False)
-    if agreement is not None:
-        axes[0, 1].plot([], [], color="tab:red", linestyle="--", linewidth=0.8, label="± tolerance")
-        axes[0, 1].legend(fontsize=8, loc="upper right")
+            note = " (quiet DOF: round-off only)" if against != "peak" else ""
+            right.set_title(f"{DOFS[i]}: max|Δ| / {against} = {agreement.per_dof[i]:.2e}{note}", fontsize=9)
+    if tolerance_drawn:
+        heading += "; dashed red: ± tolerance"
+    fig.suptitle(title(name, heading), fontsize=13)
+    shown = [ax for ax in axes[:, 0] if ax.get_lines()]
+    if shown:  # above the first panel, whichever panel holds the first curves
+        axes[0, 0].legend(*shown[0].get_legend_handles_labels(), fontsize=9, loc="lower left",
+                          bbox_to_anchor=(0.0, 1.0), ncols=2, frameon=False)
     time_axes(axes, t)
     return fig
+
+
+def _superscript(exponent: int) -> str:
+    """``-9`` as ``⁻⁹``: a power of ten in a label without mathtext."""
+    return str(exponent).translate(str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹"))
 
 
 def plot_mount_forces(forces: MountForces, t, *, name: str = "") -> Figure:
@@ -351,6 +383,7 @@ def plot_mount_loads(check: MountCheck, t, *, name: str = "", events: Mapping[st
         if window is not None:
             whole.axvspan(*window[:2], color="0.85", zorder=0)
             panels[1].set_xlim(*window[:2])
+            panels[1].xaxis.set_major_locator(MaxNLocator(6))
             if k == 0:
                 panels[1].set_title(f"zoom: {window[2]}", fontsize=9, loc="left")
         if k == rows - 1:
@@ -382,7 +415,7 @@ def zoom_window(t: np.ndarray, dynamic: np.ndarray) -> tuple[float, float, str] 
     if crossings < 2:
         return None
     width = ZOOM_PERIODS * 2.0 * duration / crossings  # a period is two crossings
-    if width > duration / 3:
+    if width > ZOOM_MAX_FRACTION * duration:
         return None
     start = min(max(t[i] - width / 2, t[0]), t[-1] - width)
     return float(start), float(start + width), "the largest excursion"

@@ -121,7 +121,7 @@ def plot_free_decays(report: ValidationReport, *, name: str = "") -> Figure:
     fig = Figure(figsize=(5.0 * columns, 3.6 * grid + 0.25))
     fig.suptitle(title(name, "free decay from each damped mode shape: modal coordinate "
                        "$\\eta_r = \\phi_r^T M q$"), fontsize=12)
-    margins(fig, left=0.8, right=0.15, top=0.85, bottom=0.5, wspace=0.9, hspace=0.95, columns=columns, rows=grid)
+    margins(fig, left=1.0, right=0.15, top=0.85, bottom=0.5, wspace=1.1, hspace=0.95, columns=columns, rows=grid)
     axes = fig.subplots(grid, columns, squeeze=False).ravel()
     for ax, decay in zip(axes, decays):
         mode = int(decay.mode)

@@ -24,6 +24,7 @@ from functools import partial
 EXIT_FAILED = 1
 EXIT_BAD_INPUT = 2
 EXIT_VALIDATION_FAILED = 3
+EXIT_TARGETS_NOT_MET = 3  # optimize: the best compromise is written, as validate writes a failed validation
 EXIT_CANNOT_WRITE = 74  # EX_IOERR of sysexits.h
 EXIT_INTERRUPTED = 130  # 128 + SIGINT, as a shell reports a process killed by it
 EXIT_TERMINATED = 143  # 128 + SIGTERM
@@ -181,6 +182,11 @@ def _parser() -> argparse.ArgumentParser:
                        help="variants integrated together (default: bounded by memory)")
     sweep.set_defaults(command=_sweep)
 
+    design = add("optimize", help="optimize the mounts for the scenario's [design] targets (exit 3 if not all met)")
+    design.add_argument("scenario", help="scenario file (TOML) with [[design.target]] and [[design.vary]]")
+    design.add_argument("--out", default="outputs", help="results go to OUT/<name>_design/ (default: outputs)")
+    design.set_defaults(command=_optimize)
+
     examples = add("examples", help="copy the bundled example scenarios into a folder, to run and adapt")
     examples.add_argument("folder", help="where the scenario files go (created; files already there are kept)")
     examples.set_defaults(command=_examples)
@@ -297,6 +303,19 @@ def _validate(args) -> int:
         print(f"sixdof: validation FAILED for mode(s) {', '.join(map(str, failed))}: the model and the time "
               "histories disagree beyond the limits above", file=sys.stderr)
         return EXIT_VALIDATION_FAILED
+    return 0
+
+
+def _optimize(args) -> int:
+    from sixdof.design.workflow import optimize_scenario
+    from sixdof.io.scenario import load_scenario
+
+    scenario = load_scenario(args.scenario)
+    outcome = optimize_scenario(scenario, args.out, progress=_progress(args))
+    print(f"\nWrote {outcome.directory}: {', '.join(p.name for p in outcome.files)}")
+    if not outcome.met:
+        print("sixdof: the targets are not all met (see above); the best compromise is written", file=sys.stderr)
+        return EXIT_TARGETS_NOT_MET
     return 0
 
 

@@ -124,6 +124,12 @@ def design_metrics(system, torque_axis=None) -> DesignMetrics:
     )
 
 
+def mode_of_each_dof(modes) -> np.ndarray:
+    """Index of the mode with the largest kinetic-energy share in each DOF, (6,): the mode a design target
+    on that DOF means."""
+    return np.argmax(modes.ke_distribution, axis=1)
+
+
 def torque_roll_axis(M, torque_axis) -> np.ndarray:
     """Unit direction of ``J^-1 e`` (``J`` the rotational block of ``M``, the inertia tensor about the CG):
     the axis a free body starts to rotate about under a torque about the unit vector ``e``."""

@@ -97,6 +97,35 @@ def design_text(metrics) -> str:
     return "\n".join(lines)
 
 
+def _target_value(target, value: float) -> str:
+    """A target's value in its unit: Hz, %, mm or deg."""
+    if target.kind == "static_deflection":
+        return f"{value * 1e3:.3g} mm"
+    unit = {"frequency": " Hz", "decoupling": " %", "tra_angle": " deg"}[target.kind]
+    return f"{value:.4g}{unit}"
+
+
+def design_tables(problem, result, spread) -> str:
+    """The optimization's verdict, its targets before and after (with the robustness study) and its variables."""
+    short = [f"{t.label}: {_target_value(t, v)} (short by {100 * s:.3g} % of the bound)"
+             for t, v, s in zip(problem.targets, result.values, result.violations) if s > 0]
+    verdict = ("All targets met by the optimized design." if not short else
+               "NOT MET, the best compromise found:\n" + "\n".join(f"  {line}" for line in short))
+    tolerance = f"+-{100 * spread.tolerance:g} %"
+    targets = table(
+        ["target", "given design", "optimized", "met", f"5 / 50 / 95 % at stiffness {tolerance}", "P(met)"],
+        [[t.label, _target_value(t, a), _target_value(t, b), "yes" if s == 0 else "NO",
+          " / ".join(_target_value(t, p) for p in spread.percentiles[k]), f"{100 * spread.probability[k]:.0f} %"]
+         for k, (t, a, b, s) in enumerate(zip(problem.targets, result.values_initial, result.values,
+                                              result.violations))], "lrrlrr")
+    units = {"stiffness": "x", "position": "m", "angle": "deg"}
+    variables = table(["variable", "bounds", "given", "optimized"],
+                      [[v.name, f"[{v.bounds[0]:g}, {v.bounds[1]:g}] {units[v.parameter]}", f"{x0:.4g}", f"{x:.4g}"]
+                       for v, x0, x in zip(problem.variables, result.x_initial, result.x)], "lrrr")
+    return (f"{verdict}\n\nTargets ({len(spread.values)} samples with every mount-axis stiffness scattered "
+            f"uniformly {tolerance}):\n{targets}\n\nVariables (stiffness as factors):\n{variables}")
+
+
 def statics_table(statics, mount_names: Sequence[str]) -> str:
     """Static deflection of the CG and the force in each mount under gravity."""
     rows = []

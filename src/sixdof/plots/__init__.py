@@ -58,7 +58,7 @@ _PUBLIC = {
     "plot_validation_frf": "validation",
 }
 
-__all__ = sorted([*_PUBLIC, "FIGURES", "figure_names", "render", "save_all"])
+__all__ = sorted([*_PUBLIC, "FIGURES", "figure_names", "png", "render", "save_all"])
 
 
 def __getattr__(name: str):
@@ -137,9 +137,13 @@ def render(run, file_name: str, dpi: int | None = None) -> bytes:
     One draw per figure (no layout engine), unlabelled ticks drawn as collections
     (:func:`~sixdof.plots.common.freeze_unlabelled_ticks`) and fast zlib (:data:`PNG_COMPRESS_LEVEL`).
     """
+    return png(_DRAW[file_name](run), dpi)
+
+
+def png(figure, dpi: int | None = None) -> bytes:
+    """A figure as PNG bytes, the way :func:`render` draws it."""
     from sixdof.plots.common import freeze_unlabelled_ticks
 
-    figure = _DRAW[file_name](run)
     freeze_unlabelled_ticks(figure)
     buffer = io.BytesIO()
     figure.savefig(buffer, format="png", dpi=dpi or _plots.DPI,

@@ -1,0 +1,164 @@
+"""Find a mount design that meets its targets, and how robust it is.
+
+:func:`optimize` minimizes :meth:`DesignProblem.objective` (the squared violations) within the variables'
+bounds with scipy's L-BFGS-B, given exact gradients by JAX (``jax.value_and_grad``, compiled once): a
+bounded, smooth, small problem (a few to a few tens of variables) for which a quasi-Newton method with
+exact gradients converges in tens of iterations; optimistix and optax add nothing there and have no
+simple bounds. It starts from the given design and from ``spec.starts - 1`` points drawn uniformly within
+the bounds (seeded), stops a start once every target is met with its margin, and keeps the best design.
+
+:func:`robustness` scatters every mount-axis stiffness of a design by independent factors uniform in
+``1 +- tolerance`` and evaluates the targets of each sample exactly (the same function, ``jax.vmap``-ed).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from sixdof.design.problem import DesignProblem
+from sixdof.errors import InputError, Plain, readonly
+
+
+@dataclass(frozen=True, eq=False)
+class DesignResult:
+    """What :func:`optimize` found.
+
+    Attributes
+    ----------
+    x, x_initial : ndarray, shape (n_variables,)
+        The best design's variables and the given design's.
+    values, values_initial : ndarray, shape (n_targets,)
+        Each target's value for them (see :mod:`sixdof.design.problem`).
+    violations, violations_initial : ndarray, shape (n_targets,)
+        Each target's shortfall relative to its bound (0: met), without the optimizer's margin.
+    history : ndarray, shape (n_iterations, 2 + n_variables + n_targets)
+        Per iteration of every start: start index, objective, variables, target values.
+    starts : ndarray, shape (n_starts, n_variables)
+        The starting points.
+    """
+
+    x: np.ndarray
+    x_initial: np.ndarray
+    values: np.ndarray
+    values_initial: np.ndarray
+    violations: np.ndarray
+    violations_initial: np.ndarray
+    history: np.ndarray
+    starts: np.ndarray
+
+    @property
+    def met(self) -> np.ndarray:
+        """Whether each target is met by the best design (bool, (n_targets,))."""
+        return self.violations == 0
+
+
+def optimize(problem: DesignProblem, *, progress=None) -> DesignResult:
+    """The design within bounds that best meets ``problem``'s targets (see the module's description).
+
+    Parameters
+    ----------
+    problem : DesignProblem
+    progress : sixdof.progress.Meter, optional
+        Shown the number of starts done.
+
+    Returns
+    -------
+    DesignResult
+
+    Raises
+    ------
+    sixdof.errors.InputError
+        Without targets or variables.
+    """
+    import scipy.optimize
+
+    from sixdof._jax import jax, jnp
+
+    if not problem.targets or not problem.variables:
+        raise InputError("design", "at least one [[design.target]] and one [[design.vary]]",
+                         Plain(f"{len(problem.targets)} targets, {len(problem.variables)} variables"))
+    bounds = problem.bounds
+    rng = np.random.default_rng(problem.spec.seed)
+    starts = [np.clip(problem.initial, bounds[:, 0], bounds[:, 1])]
+    starts += [rng.uniform(bounds[:, 0], bounds[:, 1]) for _ in range(problem.spec.starts - 1)]
+    value_and_grad = jax.jit(jax.value_and_grad(problem.objective))
+    values = jax.jit(problem.values)
+    history = []
+
+    def fun(x):
+        f, g = value_and_grad(jnp.asarray(x))
+        g = np.asarray(g, dtype=float)
+        # A gradient through a repeated eigenvalue's shapes is undefined (inf/nan): treat as flat there.
+        return float(f), np.where(np.isfinite(g), g, 0.0)
+
+    best = None
+    for index, start in enumerate(starts):
+        def record(x, index=index):
+            history.append(np.concatenate([[index, float(value_and_grad(jnp.asarray(x))[0])], x,
+                                           np.asarray(values(jnp.asarray(x)))]))
+            if float(history[-1][1]) == 0.0:
+                raise StopIteration  # every target met with its margin
+
+        found = start
+        try:
+            record(start)
+        except StopIteration:
+            pass  # the start meets every target already
+        else:  # scipy ends a minimization whose callback raises StopIteration, with that iterate
+            # Tolerances far below the defaults: the objective is a sum of squared relative shortfalls, ~1e-6
+            # when a target is missed by 0.1 %, which the defaults (relative to max(|f|, 1)) call converged.
+            found = scipy.optimize.minimize(fun, start, jac=True, method="L-BFGS-B", bounds=bounds, callback=record,
+                                            options={"maxiter": 500, "ftol": 1e-15, "gtol": 1e-12}).x
+        score = float(value_and_grad(jnp.asarray(found))[0])
+        if best is None or score < best[0]:
+            best = (score, np.asarray(found, dtype=float))
+        if progress is not None:
+            progress.show(index + 1)
+        if score == 0.0:
+            break
+    x = best[1]
+    final, initial = (np.asarray(values(jnp.asarray(v))) for v in (x, starts[0]))
+    return DesignResult(
+        x=readonly(x), x_initial=readonly(problem.initial), values=readonly(final), values_initial=readonly(initial),
+        violations=readonly(np.asarray(problem.violations(final))),
+        violations_initial=readonly(np.asarray(problem.violations(initial))),
+        history=readonly(np.array(history)), starts=readonly(np.array(starts)))
+
+
+@dataclass(frozen=True, eq=False)
+class Robustness:
+    """What :func:`robustness` found: per target, the probability of meeting it and the 5th, 50th and 95th
+    percentiles of its value over the samples.
+
+    Attributes
+    ----------
+    probability : ndarray, shape (n_targets,)
+        Share of the samples meeting each target [1].
+    percentiles : ndarray, shape (n_targets, 3)
+        5th, 50th, 95th percentile of each target's value.
+    values : ndarray, shape (samples, n_targets)
+    tolerance : float
+    """
+
+    probability: np.ndarray
+    percentiles: np.ndarray
+    values: np.ndarray
+    tolerance: float
+
+
+def robustness(problem: DesignProblem, x) -> Robustness:
+    """Every mount-axis stiffness of design ``x`` scattered by independent factors uniform in
+    ``1 +- spec.tolerance``, ``spec.samples`` times (seed ``spec.seed``): how often each target holds."""
+    from sixdof._jax import jax, jnp
+
+    spec = problem.spec
+    rng = np.random.default_rng(spec.seed + 1)
+    scale = rng.uniform(1 - spec.tolerance, 1 + spec.tolerance, size=(spec.samples, len(problem.names), 3))
+    values = np.asarray(jax.jit(jax.vmap(lambda s: problem.values(jnp.asarray(x), s)))(jnp.asarray(scale)))
+    met = np.asarray(jax.vmap(problem.violations)(jnp.asarray(values))) == 0
+    return Robustness(probability=readonly(met.mean(axis=0)),
+                      percentiles=readonly(np.percentile(values, [5, 50, 95], axis=0).T),
+                      values=readonly(values), tolerance=spec.tolerance)
+

@@ -1,0 +1,207 @@
+"""A mount-system design as a differentiable function: the design variables of a :class:`DesignSpec` mapped to
+mount stiffnesses, positions and axes, and from them (assembly, eigen-solution, statics, all in JAX) to the
+value of every target and its violation.
+
+Each target's value: ``"frequency"``, the natural frequency [Hz] of the mode with the largest kinetic-energy
+share in its DOF; ``"decoupling"``, the smallest kinetic-energy share [%] of a mode's dominant coordinate over
+the modes it covers (every elastic mode, or the one dominated by its DOF), in body or TRA coordinates;
+``"static_deflection"``, the largest static deflection [m] of any mount under gravity; ``"tra_angle"``, the
+angle [deg] between the roll mode's rotation axis and the torque-roll axis. A violation is the shortfall
+relative to the target's bound (0 when met); the optimizer minimizes the sum of their squares, with each
+bound tightened by :data:`MARGIN` so that a design it finds meets the targets with room to spare.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from sixdof.analysis.design import _frame, torque_roll_axis
+from sixdof.dofs import AXES, DOFS, MOUNT_AXES
+
+#: Relative margin inside each target's bounds that the optimizer aims for.
+MARGIN = 0.01
+
+
+@dataclass(frozen=True)
+class Variable:
+    """One scalar design variable: what it changes (``parameter``, the mounts by index, the axis index:
+    a mount axis for a stiffness, a body axis for a position or an angle's rotation axis), its bounds, its
+    value in the given design, a name for tables (``"stiffness w: left, right"``), and the sign it acts
+    with on each of its mounts (see :func:`variables`)."""
+
+    parameter: str
+    mounts: tuple[int, ...]
+    axis: int
+    bounds: tuple[float, float]
+    initial: float
+    name: str
+    signs: tuple[float, ...]
+
+
+#: The body axis whose sign tells the mirrored mount of a tied pair, per offset or rotation axis (x, y, z):
+#: an offset along x moves a mount at -x the other way; a turn about y (in the x-z plane) or about z turns a
+#: mount at -x the other way, a turn about x one at -y.
+_MIRROR_AXIS = {"position": (0, 1, 2), "angle": (1, 0, 0)}
+
+
+def variables(spec, mount_names: tuple[str, ...], positions) -> tuple[Variable, ...]:
+    """The scalar variables of ``spec.vary``: per axis, one shared by the listed mounts when ``tied``, else one
+    per mount (an angle has one axis, ``about``). A tied offset or angle keeps a mirror-symmetric pair
+    symmetric: it acts the other way on a mount on the negative side of the mirror axis
+    (:data:`_MIRROR_AXIS`: for an offset along an axis, that axis; for a turn about y or z, x; about x, y), at
+    ``positions`` (n_mounts, 3) [m]. Stiffness factors act alike on every tied mount."""
+    positions = np.asarray(positions, dtype=float)
+    found = []
+    for entry in spec.vary:
+        indices = tuple(mount_names.index(m) for m in entry.mounts)
+        groups = [indices] if entry.tied else [(i,) for i in indices]
+        if entry.parameter == "angle":
+            axes = [(AXES.index(entry.about), f"about {entry.about}")]
+        else:
+            names = MOUNT_AXES if entry.parameter == "stiffness" else AXES
+            axes = [(names.index(a), a) for a in entry.axes]
+        initial = 1.0 if entry.parameter == "stiffness" else 0.0
+        for group in groups:
+            for axis, axis_name in axes:
+                label = f"{entry.parameter} {axis_name}: {', '.join(mount_names[i] for i in group)}"
+                mirror = _MIRROR_AXIS.get(entry.parameter)
+                signs = tuple(1.0 if mirror is None or len(group) == 1 or positions[i, mirror[axis]] >= 0 else -1.0
+                              for i in group)
+                found.append(Variable(entry.parameter, group, axis, entry.bounds, initial, label, signs))
+    return tuple(found)
+
+
+class DesignProblem:
+    """The targets of ``spec`` as functions of its variables, for ``system`` under gravity ``gravity``
+    [m/s^2] along ``direction`` (body axes). :meth:`values`, :meth:`violations` and :meth:`objective` take
+    the variables (n,) and are JAX-traceable (jit, grad, vmap); ``stiffness_scale`` (n_mounts, 3) multiplies
+    every mount-axis stiffness (the robustness study's scatter)."""
+
+    def __init__(self, system, spec, gravity: float = 9.80665, direction=(0.0, 0.0, -1.0)) -> None:
+        self.system, self.spec = system, spec
+        self.names = tuple(m.name for m in system.mounts)
+        self.variables = variables(spec, self.names, system.positions)
+        self.targets = spec.target
+        self.M = np.asarray(system.M, dtype=float)
+        self._L_inv = np.linalg.inv(np.linalg.cholesky(self.M))
+        weight = system.body.mass * gravity * np.asarray(direction, dtype=float) / np.linalg.norm(direction)
+        self._gravity = np.concatenate([weight, np.zeros(3)])  # at the CG
+        self._tra_frame = None
+        if spec.torque_axis is not None:
+            tra = torque_roll_axis(self.M, np.asarray(spec.torque_axis) / np.linalg.norm(spec.torque_axis))
+            self._tra = tra
+            self._tra_frame = np.kron(np.eye(2), _frame(tra))
+
+    @property
+    def initial(self) -> np.ndarray:
+        return np.array([v.initial for v in self.variables])
+
+    @property
+    def bounds(self) -> np.ndarray:
+        """(n, 2) lower and upper bounds."""
+        return np.array([v.bounds for v in self.variables], dtype=float).reshape(-1, 2)
+
+    def mounts(self, x, stiffness_scale=None):
+        """Positions (n_mounts, 3) [m], stiffnesses (n_mounts, 3) [N/m] and axes (n_mounts, 3, 3) of design ``x``."""
+        from sixdof._jax import jnp
+
+        system = self.system
+        positions = jnp.asarray(system.positions, dtype=float)
+        stiffness = jnp.asarray(system.stiffnesses, dtype=float)
+        axes = jnp.asarray(system.axes, dtype=float)
+        for k, variable in enumerate(self.variables):
+            rows = jnp.array(variable.mounts)
+            if variable.parameter == "stiffness":
+                stiffness = stiffness.at[rows, variable.axis].multiply(x[k], unique_indices=True)  # mounts listed once
+            elif variable.parameter == "position":
+                positions = positions.at[rows, variable.axis].add(x[k] * jnp.array(variable.signs))
+            else:  # the rows of each mount's axes turned about a body axis by +-x[k] degrees
+                for mount, sign in zip(variable.mounts, variable.signs):
+                    turn = _rotation(variable.axis, jnp.deg2rad(sign * x[k]))
+                    axes = axes.at[mount].set(axes[mount] @ turn.T)
+        if stiffness_scale is not None:
+            stiffness = stiffness * stiffness_scale
+        return positions, stiffness, axes
+
+    def values(self, x, stiffness_scale=None):
+        """The value of every target at design ``x`` (see the module's list), shape (n_targets,)."""
+        from sixdof._jax import jnp
+        from sixdof.model.kinematics import mount_matrix_jax
+
+        positions, stiffness, axes = self.mounts(x, stiffness_scale)
+        K = mount_matrix_jax(positions, stiffness, axes)
+        eigenvalues, vectors = jnp.linalg.eigh(self._L_inv @ K @ self._L_inv.T)
+        shapes = self._L_inv.T @ vectors
+        frequency = jnp.sqrt(jnp.maximum(eigenvalues, 0.0)) / (2 * jnp.pi)
+        body = shapes * (self.M @ shapes)
+        tra = None
+        if self._tra_frame is not None:
+            p = self._tra_frame.T @ shapes
+            tra = p * ((self._tra_frame.T @ self.M @ self._tra_frame) @ p)
+        elastic = eigenvalues > 1e-10 * jnp.max(eigenvalues)
+        found = []
+        for target in self.targets:
+            if target.kind == "frequency":
+                found.append(frequency[jnp.argmax(body[DOFS.index(target.dof)])])
+            elif target.kind == "decoupling":
+                shares = body if target.coordinates == "body" else tra
+                if target.dof is not None:  # the mode dominated by dof (in body axes), its dominant share
+                    found.append(100.0 * jnp.max(shares[:, jnp.argmax(body[DOFS.index(target.dof)])]))
+                else:
+                    found.append(100.0 * jnp.min(jnp.where(elastic, jnp.max(shares, axis=0), 1.0)))
+            elif target.kind == "static_deflection":
+                q = jnp.linalg.solve(K, self._gravity)
+                deflection = jnp.einsum("mij,j->mi", self._point_maps(positions), q)
+                found.append(jnp.sqrt(jnp.max(jnp.sum(deflection**2, axis=1)) + 1e-300))
+            else:  # tra_angle
+                roll = jnp.argmax(tra[3])
+                rotation = shapes[3:, roll]
+                cosine = jnp.abs(rotation @ self._tra) / jnp.sqrt(rotation @ rotation)
+                sine = jnp.sqrt(jnp.maximum(1.0 - cosine**2, 0.0) + 1e-300)
+                found.append(jnp.rad2deg(jnp.arctan2(sine, cosine)))
+        return jnp.stack(found) if found else jnp.zeros(0)
+
+    def _point_maps(self, positions):
+        from sixdof.model.kinematics import point_map_jax
+
+        return point_map_jax(positions)
+
+    def violations(self, values, margin: float = 0.0):
+        """Shortfall of each target's ``values`` relative to its bound, 0 where met; bounds tightened by the
+        relative ``margin``."""
+        from sixdof._jax import jnp
+
+        found = []
+        for target, value in zip(self.targets, values):
+            if target.kind == "frequency":
+                low, high = target.f_hz
+                inset = margin * (high - low)
+                below, above = jnp.maximum(low + inset - value, 0.0), jnp.maximum(value - high + inset, 0.0)
+                found.append(below / low + above / high)
+            elif target.kind == "decoupling":
+                bound = target.min_percent * (1 + margin) if target.min_percent < 100 else 100.0
+                found.append(jnp.maximum(jnp.minimum(bound, 100.0) - value, 0.0) / 100.0)
+            else:
+                bound = target.max if target.kind == "static_deflection" else target.max_deg
+                found.append(jnp.maximum(value - bound * (1 - margin), 0.0) / bound)
+        return jnp.stack(found) if found else jnp.zeros(0)
+
+    def objective(self, x):
+        """Sum of the squared violations (with :data:`MARGIN`): 0 when every target is met with room to spare."""
+        from sixdof._jax import jnp
+
+        return jnp.sum(self.violations(self.values(x), MARGIN) ** 2)
+
+
+def _rotation(axis: int, angle):
+    """Rotation matrix (3, 3) by ``angle`` [rad] about body axis ``axis`` (0, 1, 2): right-handed."""
+    from sixdof._jax import jnp
+
+    c, s = jnp.cos(angle), jnp.sin(angle)
+    i, j = [(1, 2), (2, 0), (0, 1)][axis]
+    turn = jnp.eye(3)
+    turn = turn.at[i, i].set(c).at[j, j].set(c)
+    return turn.at[i, j].set(-s).at[j, i].set(s)
+

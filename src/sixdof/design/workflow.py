@@ -1,0 +1,203 @@
+"""``sixdof optimize`` end to end: optimize a scenario's mount design, study its robustness, and write
+``<out>/<name>_design/``: ``optimized.toml`` (the scenario with the optimized mounts, which ``sixdof run``
+accepts as it is), ``design.h5`` (history, variables, targets, robustness), ``summary.md`` and figures.
+All or nothing, as every run (:mod:`sixdof.io.output`)."""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from sixdof.design.optimize import DesignResult, Robustness, optimize, robustness
+from sixdof.design.problem import DesignProblem
+from sixdof.io import output
+
+
+@dataclass(frozen=True, eq=False)
+class DesignOutcome:
+    """What :func:`optimize_scenario` found and where it wrote it.
+
+    Attributes
+    ----------
+    directory : pathlib.Path
+        ``<out>/<name>_design``.
+    problem : DesignProblem
+    result : DesignResult
+    robustness : Robustness
+    system : sixdof.model.system.System
+        The optimized system.
+    files : tuple of pathlib.Path
+    """
+
+    directory: Path
+    problem: DesignProblem
+    result: DesignResult
+    robustness: Robustness
+    system: object
+    files: tuple[Path, ...]
+
+    @property
+    def met(self) -> bool:
+        """Whether the optimized design meets every target."""
+        return bool(np.all(self.result.met))
+
+
+def optimized_system(problem: DesignProblem, x):
+    """The system with the mounts of design ``x``."""
+    positions, stiffness, axes = (np.asarray(a) for a in problem.mounts(np.asarray(x, dtype=float)))
+    mounts = [dataclasses.replace(m, position=positions[i], stiffness=stiffness[i], axes=axes[i])
+              for i, m in enumerate(problem.system.mounts)]
+    return dataclasses.replace(problem.system, mounts=mounts)
+
+
+def optimized_toml(scenario, system) -> str:
+    """The scenario's text with the mounts of ``system`` and the name ``<name>_optimized``: comments and
+    layout kept (tomlkit), relative file references made absolute (the file lives elsewhere)."""
+    import tomlkit
+
+    document = tomlkit.parse(scenario.text)
+    document["name"] = f"{scenario.name}_optimized"
+    for table, mount in zip(document["mounts"], system.mounts):
+        table["position"] = [float(v) for v in mount.position]
+        table["stiffness"] = [float(v) for v in mount.stiffness]
+        if "axes" in table or not np.allclose(mount.axes, np.eye(3), rtol=0, atol=1e-15):
+            table["axes"] = [[float(v) for v in row] for row in mount.axes]
+    base = scenario.path.parent if scenario.path is not None else Path(".")
+    _absolute_files(document, base.resolve())
+    return tomlkit.dumps(document)
+
+
+def _absolute_files(node, base: Path) -> None:
+    """Every ``file = "..."`` below ``node`` made absolute against ``base``."""
+    items = node.items() if hasattr(node, "items") else enumerate(node) if isinstance(node, list) else ()
+    for key, value in list(items):
+        if key == "file" and isinstance(value, str) and not Path(value).is_absolute():
+            node[key] = str(base / value)
+        elif hasattr(value, "items") or isinstance(value, list):
+            _absolute_files(value, base)
+
+
+def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool = True, log=print,
+                      workers=None) -> DesignOutcome:
+    """Optimize ``scenario``'s mounts for its ``[design]`` targets and write ``<out_root>/<name>_design/``.
+
+    Parameters
+    ----------
+    scenario : sixdof.io.scenario.Scenario
+        With ``[[design.target]]`` and ``[[design.vary]]`` entries.
+    out_root : str or pathlib.Path
+    progress : bool
+        Show the starts done.
+    log : callable
+        Receives the terminal's tables.
+    workers : sixdof.plots.workers.FigureWorkers, optional
+        Unused (figures are small); accepted for the command line's uniform call.
+
+    Returns
+    -------
+    DesignOutcome
+    """
+    from sixdof.io import report
+    from sixdof.plots import png
+    from sixdof.plots.design import plot_design_decoupling, plot_design_frequencies
+    from sixdof.progress import meter
+
+    problem = DesignProblem(scenario.system, scenario.design, scenario.statics.gravity, scenario.statics.direction)
+    target = output.check_target(out_root, scenario.name, "_design")
+    shown = meter(progress, scenario.design.starts, "starts", "optimize")
+    result = optimize(problem, progress=shown)
+    shown.close()
+    system = optimized_system(problem, result.x)
+    spread = robustness(problem, result.x)
+    text = optimized_toml(scenario, system)
+    decoupling = next((t for t in problem.targets if t.kind == "decoupling"), None)
+    coordinates = "body" if decoupling is None else decoupling.coordinates
+    before, after = (_decoupling(s, scenario.design.torque_axis, coordinates) for s in (scenario.system, system))
+    tables = report.design_tables(problem, result, spread)
+    log(tables)
+    figures = {
+        "frequencies.png": plot_design_frequencies(scenario.system.modes, system.modes, problem.targets,
+                                                   name=scenario.name),
+        "decoupling.png": plot_design_decoupling(
+            before, after, coordinates=coordinates, name=scenario.name,
+            minimum=None if decoupling is None else decoupling.min_percent,
+            covered=None if decoupling is None or decoupling.dof is None else [decoupling.dof]),
+    }
+
+    def write(stage: Path) -> None:
+        (stage / "optimized.toml").write_text(text, encoding="utf-8")
+        _write_h5(stage / "design.h5", problem, result, spread, scenario)
+        for file_name, fig in figures.items():
+            (stage / file_name).write_bytes(png(fig))
+        heading = f"# {scenario.name}: mount design\n\n"
+        images = "".join(f"![{n[:-4]}]({n})\n\n" for n in figures)
+        (stage / "summary.md").write_text(heading + tables + "\n\n" + images, encoding="utf-8")
+
+    output.write_folder(target, write)
+    files = tuple(target / n for n in ("optimized.toml", "design.h5", "summary.md", *figures))
+    return DesignOutcome(directory=target, problem=problem, result=result, robustness=spread, system=system,
+                         files=files)
+
+
+def _decoupling(system, torque_axis, coordinates: str) -> np.ndarray:
+    """Decoupling [%] of the mode each DOF dominates, in DOF order."""
+    from sixdof.analysis.design import design_metrics, mode_of_each_dof
+
+    metrics = design_metrics(system, torque_axis)
+    shares = metrics.decoupling_percent if coordinates == "body" else metrics.decoupling_tra_percent
+    return shares[mode_of_each_dof(system.modes)]
+
+
+#: Units of each kind of variable and target (pint-parseable).
+_VARIABLE_UNITS = {"stiffness": "1", "position": "m", "angle": "degree"}
+_TARGET_UNITS = {"frequency": "Hz", "decoupling": "percent", "static_deflection": "m", "tra_angle": "degree"}
+
+
+def _write_h5(path: Path, problem: DesignProblem, result: DesignResult, spread: Robustness, scenario) -> None:
+    """``design.h5``: the optimization's history, variables, targets and robustness (labelled axes)."""
+    from sixdof.dofs import MixedUnits
+    from sixdof.io.store import Dataset, Results, save_results
+
+    names = np.array([v.name for v in problem.variables])
+    labels = np.array([t.label for t in problem.targets])
+    n_var = len(names)
+    per_variable = MixedUnits((("variable", tuple(_VARIABLE_UNITS[v.parameter] for v in problem.variables)),),
+                              "stiffness factors 1, position offsets m, angles degree")
+    per_target = MixedUnits((("target", tuple(_TARGET_UNITS[t.kind] for t in problem.targets)),),
+                            "frequency Hz, decoupling percent, static deflection m, TRA angle degree")
+    history = result.history
+    datasets = {
+        "variable": Dataset(names, "", ("variable",)),
+        "target": Dataset(labels, "", ("target",)),
+        "iteration": Dataset(np.arange(len(history)), "1", ("iteration",)),
+        "start": Dataset(np.arange(len(result.starts)), "1", ("start",)),
+        "sample": Dataset(np.arange(len(spread.values)), "1", ("sample",)),
+        "percentile": Dataset(np.array([5.0, 50.0, 95.0]), "percent", ("percentile",)),
+        "history/start_index": Dataset(history[:, 0].astype(int), "1", ("iteration",)),
+        "history/objective": Dataset(history[:, 1], "1", ("iteration",),
+                                     {"description": "sum of squared relative violations (optimizer's margin)"}),
+        "history/x": Dataset(history[:, 2:2 + n_var], per_variable, ("iteration", "variable")),
+        "history/values": Dataset(history[:, 2 + n_var:], per_target, ("iteration", "target")),
+        "starts": Dataset(result.starts, per_variable, ("start", "variable")),
+        "x_initial": Dataset(result.x_initial, per_variable, ("variable",)),
+        "x": Dataset(result.x, per_variable, ("variable",)),
+        "lower_bound": Dataset(problem.bounds[:, 0], per_variable, ("variable",)),
+        "upper_bound": Dataset(problem.bounds[:, 1], per_variable, ("variable",)),
+        "values_initial": Dataset(result.values_initial, per_target, ("target",)),
+        "values": Dataset(result.values, per_target, ("target",)),
+        "violations_initial": Dataset(result.violations_initial, "1", ("target",)),
+        "violations": Dataset(result.violations, "1", ("target",),
+                              {"description": "shortfall relative to each target's bound; 0: met"}),
+        "met": Dataset(result.met, "1", ("target",)),
+        "robustness/probability": Dataset(spread.probability, "1", ("target",)),
+        "robustness/percentiles": Dataset(spread.percentiles, per_target, ("target", "percentile")),
+        "robustness/values": Dataset(spread.values, per_target, ("sample", "target")),
+    }
+    attrs = {"": {"format": "sixdof-design", "scenario_name": scenario.name, "scenario_text": scenario.text,
+                  "all_met": bool(np.all(result.met))},
+             "robustness": {"tolerance": spread.tolerance, "samples": len(spread.values),
+                            "seed": problem.spec.seed}}
+    save_results(Results(datasets, attrs), path)

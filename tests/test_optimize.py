@@ -1,0 +1,166 @@
+"""Mount-system optimization (issue 16, points 3-7): a decoupled layout known in closed form found from a
+coupled start, an infeasible target set reported as such, the robustness study, the files `sixdof optimize`
+writes, and bad design input."""
+
+from __future__ import annotations
+
+import math
+
+import h5py
+import numpy as np
+import pytest
+
+from sixdof import InputError, load_scenario, parse_scenario
+from sixdof.cli import main
+from sixdof.design.optimize import optimize, robustness
+from sixdof.design.problem import DesignProblem
+from sixdof.design.workflow import optimized_system
+
+# A body on a V pair of mounts at (+-A, 0, -H), each tilted by THETA0 in the x-z plane towards the other,
+# and a soft vertical mount under the front keeping it upright.
+A, H, KU, KW, THETA0 = 0.3, 0.1, 1e5, 4e5, 30.0
+
+
+def _v_pair(theta_deg: float, design: str) -> str:
+    s, c = math.sin(math.radians(theta_deg)), math.cos(math.radians(theta_deg))
+    return f"""
+name = "v_pair"
+[body]
+mass = 100.0
+inertia = [5.0, 6.0, 7.0]
+[[mounts]]
+name = "left"
+position = [-{A}, 0.0, -{H}]
+stiffness = [{KU}, {KU}, {KW}]
+axes = [[{c}, 0.0, {-s}], [0.0, 1.0, 0.0], [{s}, 0.0, {c}]]
+[[mounts]]
+name = "right"
+position = [{A}, 0.0, -{H}]
+stiffness = [{KU}, {KU}, {KW}]
+axes = [[{c}, 0.0, {s}], [0.0, 1.0, 0.0], [{-s}, 0.0, {c}]]
+{design}
+"""
+
+
+def _coupling(system) -> float:
+    """K[x, ry] scaled by sqrt(K[x, x] K[ry, ry]): the x-ry coupling at the CG."""
+    K = system.K
+    return K[0, 4] / math.sqrt(K[0, 0] * K[4, 4])
+
+
+def test_a_v_pair_is_turned_to_the_angle_that_decouples_x_from_ry():
+    # Closed form: the x-ry stiffness coupling of the pair vanishes when h (ku + kw t^2) = a t (kw - ku),
+    # t = tan(inclination); its smaller root is about 6.7 deg. From 30 deg (coupled), a tied angle turns both
+    # mounts mirror-symmetrically (+: the right one about +y, less inclined) until the x mode holds all its
+    # kinetic energy in x.
+    roots = np.roots([H * KW, -A * (KW - KU), H * KU])
+    theta_star = math.degrees(math.atan(min(roots)))
+    design = """
+[design]
+starts = 1
+[[design.target]]
+kind = "decoupling"
+dof = "x"
+min_percent = 99.999
+[[design.vary]]
+parameter = "angle"
+mounts = ["left", "right"]
+about = "y"
+bounds = [-10.0, 29.0]
+tied = true
+"""
+    scenario = parse_scenario(_v_pair(THETA0, design))
+    assert abs(_coupling(scenario.system)) > 0.1  # coupled at the start
+    problem = DesignProblem(scenario.system, scenario.design)
+    result = optimize(problem)
+    assert result.met.all() and result.values[0] >= 99.999
+    system = optimized_system(problem, result.x)
+    found = [math.degrees(math.atan2(abs(m.axes[2, 0]), m.axes[2, 2])) for m in system.mounts]
+    assert found == pytest.approx([theta_star, theta_star], abs=0.05)  # both, mirror-symmetric
+    assert abs(_coupling(system)) < 1e-3
+    # The decoupled design equals the closed-form layout built directly.
+    direct = parse_scenario(_v_pair(theta_star, "")).system
+    np.testing.assert_allclose(system.modes.frequency_hz, direct.modes.frequency_hz, rtol=1e-4)
+
+
+def test_robustness_without_scatter_is_the_design_itself():
+    scenario = load_scenario("scenarios/engine_inclined_mounts.toml")
+    problem = DesignProblem(scenario.system, _with(scenario.design, tolerance=0.0, samples=5))
+    x = problem.initial
+    spread = robustness(problem, x)
+    values = np.asarray(problem.values(x))
+    np.testing.assert_allclose(spread.values, np.broadcast_to(values, spread.values.shape), rtol=1e-12)
+    met = np.asarray(problem.violations(values)) == 0
+    np.testing.assert_array_equal(spread.probability, met.astype(float))
+
+
+def _with(spec, **changes):
+    import dataclasses
+
+    return dataclasses.replace(spec, **changes)
+
+
+def test_optimize_writes_a_scenario_that_reproduces_the_design_and_a_labelled_file(tmp_path, capsys):
+    assert main(["optimize", "scenarios/engine_inclined_mounts.toml", "--out", str(tmp_path), "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert "All targets met by the optimized design." in out and "P(met)" in out
+    folder = tmp_path / "engine_inclined_mounts_design"
+    names = sorted(p.name for p in folder.iterdir() if not p.name.startswith("."))
+    assert names == ["decoupling.png", "design.h5", "frequencies.png", "optimized.toml", "summary.md"]
+    optimized = load_scenario(folder / "optimized.toml")  # a complete, valid scenario
+    assert optimized.name == "engine_inclined_mounts_optimized" and optimized.simulation is not None
+    with h5py.File(folder / "design.h5") as f:
+        values, labels = f["values"][()], [s.decode() for s in f["target"][()]]
+        assert bool(f.attrs["all_met"]) and f["met"][()].all()
+        assert f["history/x"].shape[1] == len(f["variable"]) and list(f["x"].attrs["variable_units"])[-1] == "degree"
+    # The optimized scenario's modes give the file's target values.
+    modes = optimized.system.modes
+    ry_mode = int(np.argmax(modes.ke_distribution[4]))
+    assert labels[0].startswith("frequency of the ry mode") and values[0] == pytest.approx(
+        modes.frequency_hz[ry_mode], rel=1e-9)
+    # The V mounts stayed mirror images of each other (x -> -x): their compression axes w.
+    left, right = optimized.system.mounts[:2]
+    np.testing.assert_allclose(left.axes[2] * [-1, 1, 1], right.axes[2], atol=1e-12)
+
+
+def test_an_infeasible_target_set_is_reported_with_its_shortfall(tmp_path, capsys):
+    text = _v_pair(THETA0, """
+[design]
+starts = 2
+[[design.target]]
+kind = "frequency"
+dof = "z"
+f_hz = [1.0, 2.0]
+[[design.vary]]
+parameter = "stiffness"
+axes = ["u", "w"]
+bounds = [0.5, 2.0]
+""")
+    path = tmp_path / "v.toml"
+    path.write_text(text)
+    assert main(["optimize", str(path), "--out", str(tmp_path), "--quiet"]) == 3
+    captured = capsys.readouterr()
+    assert "NOT MET, the best compromise found:" in captured.out
+    assert "frequency of the z mode in [1, 2] Hz" in captured.out and "short by" in captured.out
+    assert "targets are not all met" in captured.err
+    # The best compromise: every stiffness in the x-z plane at its lower bound (the lowest frequency).
+    with h5py.File(tmp_path / "v_pair_design" / "design.h5") as f:
+        np.testing.assert_allclose(f["x"][()], 0.5)
+        assert not f["met"][()].any()
+
+
+@pytest.mark.parametrize(("design", "message"), [
+    ('[[design.vary]]\nparameter = "stiffness"\nmounts = ["lft"]\nbounds = [0.5, 2.0]',
+     r"design\.vary\[0\]\.mounts\[0\]: expected one of left, right, got 'lft'"),
+    ('[[design.vary]]\nparameter = "stiffness"\nbounds = [2.0, 2.0]',
+     r"design\.vary\[0\]\.bounds: expected bounds \[lo, hi\] with lo < hi, got \[2\.0, 2\.0\]"),
+    ('[[design.target]]\nkind = "frequency"\ndof = "rw"\nf_hz = [1.0, 2.0]',
+     r"design\.target\[0\]\.dof: expected 'x', 'y', 'z', 'rx', 'ry' or 'rz', got 'rw'"),
+    ('[[design.target]]\nkind = "tra_angle"\nmax_deg = 5.0',
+     r"design\.target\[0\]: expected a torque_axis in \[design\] for a TRA target, got no torque_axis"),
+    ('[[design.target]]\nkind = "frequency"\ndof = "z"',
+     r"design\.target\[0\]\.f_hz: expected a value for a frequency target, got nothing"),
+])
+def test_bad_design_input_is_one_clear_error(design, message):
+    with pytest.raises(InputError, match=message):
+        parse_scenario(_v_pair(THETA0, "[design]\n" + design))

@@ -99,8 +99,9 @@ def mutations(value):
         return [("number", 1), ("boolean", False), ("list", [value])]
     if isinstance(value, list):
         flat = np.ravel(value).tolist()
-        out = [("one entry short", value[:-1]), ("nested too deep", [value]),
-               ("a string entry", [str(flat[0])] + value[1:] if not isinstance(value[0], list) else None),
+        names = all(isinstance(v, str) for v in value)  # a list of names: any length, strings already
+        out = [("one entry short", value[:-1] if not names else None), ("nested too deep", [value]),
+               ("a string entry", [str(flat[0])] + value[1:] if not isinstance(value[0], list) and not names else None),
                ("a boolean entry", [True] + value[1:] if not isinstance(value[0], list) else None)]
         return [(label, mutated) for label, mutated in out if mutated is not None]
     return []

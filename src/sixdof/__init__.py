@@ -67,8 +67,11 @@ _PUBLIC = {
     "force_transmissibility": "analysis.frf",
     "ground_transmissibility": "analysis.frf",
     "validate": "validation",
+    "design_metrics": "analysis.design",
+    "sensitivities": "analysis.design",
     # End to end and files.
     "run_scenario": "workflows",
+    "optimize_scenario": "design.workflow",
     "load_results": "io.store",
     "write_results": "io.store",
 }

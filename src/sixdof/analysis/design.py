@@ -99,7 +99,7 @@ def design_metrics(system, torque_axis=None) -> DesignMetrics:
             raise InputError("torque_axis", "a nonzero vector [x, y, z] in body axes", torque_axis)
         axis = axis / np.linalg.norm(axis)
         tra = torque_roll_axis(M, axis)
-        frame = _frame(tra)
+        frame = tra_frame(tra)
         T = np.kron(np.eye(2), frame)  # body coordinates -> TRA coordinates, translations and rotations alike
         p = T.T @ modes.shapes
         tra_shares = p * ((T.T @ M @ T) @ p)
@@ -137,7 +137,7 @@ def torque_roll_axis(M, torque_axis) -> np.ndarray:
     return direction / np.linalg.norm(direction)
 
 
-def _frame(first: np.ndarray) -> np.ndarray:
+def tra_frame(first: np.ndarray) -> np.ndarray:
     """An orthonormal right-handed frame (3, 3), columns its axes, the first along ``first``."""
     helper = np.eye(3)[int(np.argmin(np.abs(first)))]
     second = np.cross(first, helper)
@@ -205,14 +205,11 @@ def sensitivities(system) -> Sensitivities:
     from sixdof.model.kinematics import mount_matrix_jax
 
     M = np.asarray(system.M, dtype=float)
-    L_inv = np.linalg.inv(np.linalg.cholesky(M))  # K v = l M v  ->  (L^-1 K L^-T) w = l w, v = L^-T w
+    L_inv = inverse_cholesky(M)
     positions, axes = np.asarray(system.positions), np.asarray(system.axes)
 
     def modal(stiffness):
-        K = mount_matrix_jax(positions, stiffness, axes)
-        eigenvalues, vectors = jnp.linalg.eigh(L_inv @ K @ L_inv.T)
-        shapes = L_inv.T @ vectors
-        shares = shapes * (M @ shapes)
+        eigenvalues, _, shares = modes_jax(M, L_inv, mount_matrix_jax(positions, stiffness, axes))
         return eigenvalues, 100.0 * jnp.max(shares, axis=0)
 
     stiffness = np.asarray(system.stiffnesses, dtype=float)
@@ -231,6 +228,21 @@ def sensitivities(system) -> Sensitivities:
     d_decoupling[rigid] = np.nan
     return Sensitivities(frequency=readonly(frequency), decoupling=readonly(d_decoupling),
                          repeated_modes=tuple(g for g in groups))
+
+
+def inverse_cholesky(M) -> np.ndarray:
+    """``L^-1`` with ``M = L L^T``: turns ``K v = l M v`` into the symmetric ``(L^-1 K L^-T) w = l w``."""
+    return np.linalg.inv(np.linalg.cholesky(np.asarray(M, dtype=float)))
+
+
+def modes_jax(M, L_inv, K):
+    """Eigenvalues (ascending) [rad^2/s^2], mass-normalized shapes (6, 6) and kinetic-energy shares (6, 6) of
+    ``K v = l M v`` in JAX: differentiable with respect to K (the design's sensitivities and optimizer)."""
+    from sixdof._jax import jnp
+
+    eigenvalues, vectors = jnp.linalg.eigh(L_inv @ K @ L_inv.T)
+    shapes = L_inv.T @ vectors
+    return eigenvalues, shapes, shapes * (M @ shapes)
 
 
 def _repeated(eigenvalues: np.ndarray, tolerance: float) -> list[tuple[int, ...]]:

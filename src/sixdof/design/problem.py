@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sixdof.analysis.design import _frame, torque_roll_axis
+from sixdof.analysis.design import inverse_cholesky, modes_jax, torque_roll_axis, tra_frame
 from sixdof.dofs import AXES, DOFS, MOUNT_AXES
 
 #: Relative margin inside each target's bounds that the optimizer aims for.
@@ -85,14 +85,14 @@ class DesignProblem:
         self.variables = variables(spec, self.names, system.positions)
         self.targets = spec.target
         self.M = np.asarray(system.M, dtype=float)
-        self._L_inv = np.linalg.inv(np.linalg.cholesky(self.M))
+        self._L_inv = inverse_cholesky(self.M)
         weight = system.body.mass * gravity * np.asarray(direction, dtype=float) / np.linalg.norm(direction)
         self._gravity = np.concatenate([weight, np.zeros(3)])  # at the CG
         self._tra_frame = None
         if spec.torque_axis is not None:
             tra = torque_roll_axis(self.M, np.asarray(spec.torque_axis) / np.linalg.norm(spec.torque_axis))
             self._tra = tra
-            self._tra_frame = np.kron(np.eye(2), _frame(tra))
+            self._tra_frame = np.kron(np.eye(2), tra_frame(tra))
 
     @property
     def initial(self) -> np.ndarray:
@@ -128,14 +128,12 @@ class DesignProblem:
     def values(self, x, stiffness_scale=None):
         """The value of every target at design ``x`` (see the module's list), shape (n_targets,)."""
         from sixdof._jax import jnp
-        from sixdof.model.kinematics import mount_matrix_jax
+        from sixdof.model.kinematics import mount_matrix_jax, point_map_jax
 
         positions, stiffness, axes = self.mounts(x, stiffness_scale)
         K = mount_matrix_jax(positions, stiffness, axes)
-        eigenvalues, vectors = jnp.linalg.eigh(self._L_inv @ K @ self._L_inv.T)
-        shapes = self._L_inv.T @ vectors
+        eigenvalues, shapes, body = modes_jax(self.M, self._L_inv, K)
         frequency = jnp.sqrt(jnp.maximum(eigenvalues, 0.0)) / (2 * jnp.pi)
-        body = shapes * (self.M @ shapes)
         tra = None
         if self._tra_frame is not None:
             p = self._tra_frame.T @ shapes
@@ -153,7 +151,7 @@ class DesignProblem:
                     found.append(100.0 * jnp.min(jnp.where(elastic, jnp.max(shares, axis=0), 1.0)))
             elif target.kind == "static_deflection":
                 q = jnp.linalg.solve(K, self._gravity)
-                deflection = jnp.einsum("mij,j->mi", self._point_maps(positions), q)
+                deflection = jnp.einsum("mij,j->mi", point_map_jax(positions), q)
                 found.append(jnp.sqrt(jnp.max(jnp.sum(deflection**2, axis=1)) + 1e-300))
             else:  # tra_angle
                 roll = jnp.argmax(tra[3])
@@ -162,11 +160,6 @@ class DesignProblem:
                 sine = jnp.sqrt(jnp.maximum(1.0 - cosine**2, 0.0) + 1e-300)
                 found.append(jnp.rad2deg(jnp.arctan2(sine, cosine)))
         return jnp.stack(found) if found else jnp.zeros(0)
-
-    def _point_maps(self, positions):
-        from sixdof.model.kinematics import point_map_jax
-
-        return point_map_jax(positions)
 
     def violations(self, values, margin: float = 0.0):
         """Shortfall of each target's ``values`` relative to its bound, 0 where met; bounds tightened by the

@@ -162,7 +162,7 @@ def test_the_phase_is_drawn_unwrapped():
 def test_mode_shapes_give_their_scale_and_every_mount_with_its_axis():
     from sixdof.io.scenario import load_scenario
     from sixdof.plots import plot_mode_shapes
-    from sixdof.plots.modes import AXIS_LENGTH, body_box, mode_scale
+    from sixdof.plots.modes import AXIS_LENGTH, MAX_DRAWN_ROTATION, MODE_SCALE, body_box, mode_scale
 
     system = load_scenario("scenarios/engine_inclined_mounts.toml").system  # V mounts at 40 degrees
     modes = system.modes
@@ -172,7 +172,15 @@ def test_mode_shapes_give_their_scale_and_every_mount_with_its_axis():
     points = np.vstack([corners, system.positions])
     for j, ax in enumerate(fig.axes):
         scale = mode_scale(points, modes.shapes[:, j], float(np.max(size)))
-        assert ax.get_title().endswith(f"drawn x {scale:.3g} (mass-normalized shape)")
+        assert ax.get_title().endswith(f"(shape x {scale:.3g})")
+        # The physical size of what is drawn: the largest point displacement is MODE_SCALE of the body's
+        # largest side, unless the drawn rotation reaches MAX_DRAWN_ROTATION first.
+        moved, turned = ax.get_title().rsplit("drawn: ", 1)[1].split(" (")[0].split(", ")
+        rotation = np.degrees(scale * np.linalg.norm(modes.shapes[3:, j]))
+        assert float(turned.rstrip("°")) == pytest.approx(rotation, rel=0.05)
+        assert float(moved.rstrip(" m")) <= MODE_SCALE * float(np.max(size)) * 1.05
+        assert (float(moved.rstrip(" m")) == pytest.approx(MODE_SCALE * float(np.max(size)), rel=0.05)
+                or rotation == pytest.approx(np.degrees(MAX_DRAWN_ROTATION), rel=0.05))
         assert sorted(text.get_text().strip() for text in ax.texts) == sorted(system.mount_names)
         axis_lines = [line for line in ax.get_lines() if line.get_color() == "black" and len(line.get_xdata()) == 2]
         assert len(axis_lines) == len(system.mounts)

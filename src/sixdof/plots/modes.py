@@ -162,8 +162,9 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, name: str = 
             ax.scatter(*body_side.T, marker="o", s=22, color="tab:red", depthshade=False, label="mount (body side)")
             for a, b in zip(mounts, body_side):
                 ax.plot(*np.stack([a, b]).T, color="tab:red", linewidth=1.0)
-            for mount, p in zip(names, mounts):
-                ax.text(*p, f" {mount}", fontsize=7, color="black")
+            for mount, p in zip(names, mounts):  # below the ground side, on white: clear of markers and edges
+                ax.text(p[0], p[1], p[2] - 0.04 * largest, mount, fontsize=7, color="black", ha="center", va="top",
+                        bbox={"facecolor": "white", "alpha": 0.8, "pad": 0.6, "linewidth": 0})
             if inclined:  # each mount's w axis (its normal direction), from its ground side
                 for p, w in zip(mounts, system.axes[:, 2]):
                     ax.plot(*np.stack([p, p + AXIS_LENGTH * largest * w]).T, color="black", linewidth=1.3)
@@ -182,8 +183,11 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, name: str = 
             axis.set_major_locator(MaxNLocator(4, symmetric=True))
         share = f" ({100 * modes.ke_distribution[DOFS.index(dominant[j]), j]:.0f} % KE)"
         frequency = "rigid-body mode (0 Hz)" if freqs[j] == 0 else f"{freqs[j]:.4g} Hz"
+        shape = scales[j] * modes.shapes[:, j]
+        moved_by = float(np.max(np.linalg.norm(shape[:3] + np.cross(shape[3:], points), axis=1)))
+        turned = float(np.degrees(np.linalg.norm(shape[3:])))
         ax.set_title(f"Mode {j + 1}: {frequency}\ndominant {dominant[j]}{share}\n"
-                     f"drawn x {scales[j]:.3g} (mass-normalized shape)", fontsize=10)
+                     f"drawn: {moved_by:.2g} m, {turned:.2g}° (shape x {scales[j]:.3g})", fontsize=10)
     return fig
 
 

@@ -300,7 +300,8 @@ def test_validation_figures(parts):
     assert len(fig.axes) == 12
     fig = plots.plot_free_decays(report)
     assert labelled_axes(fig)
-    assert [ax.get_title().split(":")[0] for ax in fig.axes] == [f"mode {r}" for r in range(1, 7)]
+    assert [ax.get_title().split(",")[0] for ax in fig.axes] == [f"mode {r}" for r in range(1, 7)]
+    assert all(ax.get_title().split(":")[0].endswith("fitted") for ax in fig.axes)  # not the model's values
     decays = sorted(report.decays, key=lambda d: d.mode)
     for r, (ax, decay) in enumerate(zip(fig.axes, decays), start=1):
         assert decay.mode == r

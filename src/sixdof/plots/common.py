@@ -143,7 +143,8 @@ def mark_modes(ax, frequency_hz: np.ndarray | None, label: bool = False) -> None
             if label:
                 row = (row + 1) % 3 if previous is not None and f < CLOSE_MODES * previous else 0
                 ax.text(f, 0.99 - 0.055 * row, f"{j + 1}", transform=ax.get_xaxis_transform(), fontsize=8,
-                        color="dimgrey", va="top", ha="left")
+                        color="dimgrey", va="top", ha="left", zorder=5,  # on white: legible over a curve
+                        bbox={"facecolor": "white", "alpha": 0.85, "pad": 0.4, "linewidth": 0})
             previous = f
 
 

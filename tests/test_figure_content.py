@@ -120,7 +120,7 @@ def test_unexcited_dofs_are_said_to_be_so_not_drawn_as_noise():
             assert len(left.get_lines()) == 2 and right.get_lines()
         else:
             assert not left.get_lines() and left.texts[0].get_text().startswith("not excited: ")
-            assert right.get_lines() or right.texts[0].get_text() == "identical: both exactly zero"
+            assert not right.get_lines() and right.texts[0].get_text().startswith(("identical", "round-off only"))
 
 
 def test_bode_marks_the_operating_frequency_and_close_modes_stay_legible():

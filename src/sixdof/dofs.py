@@ -126,10 +126,10 @@ UNITS: dict[str, MixedUnits] = {
 #: For each SI unit, (factor from SI, label, threshold): the first choice whose scaled peak is at
 #: least its threshold is used, so that a value prints between 1 and 1000 where it can (0.03 mm is 30 µm).
 DISPLAY_UNITS: dict[str, tuple[tuple[float, str, float], ...]] = {
-    "m": ((1e3, "mm", 1.0), (1e6, "µm", 0.0)),
+    "m": ((1e3, "mm", 1.0), (1e6, "µm", 1.0), (1e9, "nm", 0.0)),
     "m/s": ((1e3, "mm/s", 1.0), (1e6, "µm/s", 0.0)),
     "m/s^2": ((1.0, "m/s²", 1.0), (1e3, "mm/s²", 0.0)),
-    "rad": ((1e3, "mrad", 1.0), (1e6, "µrad", 0.0)),
+    "rad": ((1e3, "mrad", 1.0), (1e6, "µrad", 1.0), (1e9, "nrad", 0.0)),
     "rad/s": ((1e3, "mrad/s", 1.0), (1e6, "µrad/s", 0.0)),
     "rad/s^2": ((1.0, "rad/s²", 1.0), (1e3, "mrad/s²", 0.0)),
     "N": ((1e-3, "kN", 1.0), (1.0, "N", 0.0)),

@@ -131,11 +131,30 @@ def natural_frequencies(modes) -> np.ndarray | None:
 CLOSE_MODES = 1.12
 
 
+def distinct_digits(values, least: int) -> int:
+    """The fewest significant digits, at least ``least``, that print every one of ``values`` differently
+    (two close modes at 15.229 and 15.234 Hz are not both "15.23 Hz")."""
+    values = list(values)
+    return next((d for d in range(least, 9) if len({f"{v:.{d}g}" for v in values}) == len(set(values))), 9)
+
+
+#: Fraction of a magnitude panel's height, at its top, kept for the mode numbers.
+LABEL_BAND = 0.2
+
+
 def mark_modes(ax, frequency_hz: np.ndarray | None, label: bool = False) -> None:
     """Dotted verticals at the natural frequencies [Hz] above 0, numbered when ``label`` (the numbers of
-    modes within :data:`CLOSE_MODES` of the previous one a row lower, up to three rows)."""
+    modes within :data:`CLOSE_MODES` of the previous one a row lower, up to three rows) in a band at the top
+    that the curves are kept out of (the y range raised so what is drawn ends at :data:`LABEL_BAND` below
+    the top)."""
     if frequency_hz is None:
         return
+    if label:
+        low, high = ax.get_ylim()
+        if ax.get_yscale() == "log":
+            ax.set_ylim(low, low * (high / low) ** (1.0 / (1.0 - LABEL_BAND)))
+        else:
+            ax.set_ylim(low, low + (high - low) / (1.0 - LABEL_BAND))
     row, previous = 0, None
     for j, f in enumerate(frequency_hz):
         if f > 0:
@@ -143,8 +162,7 @@ def mark_modes(ax, frequency_hz: np.ndarray | None, label: bool = False) -> None
             if label:
                 row = (row + 1) % 3 if previous is not None and f < CLOSE_MODES * previous else 0
                 ax.text(f, 0.99 - 0.055 * row, f"{j + 1}", transform=ax.get_xaxis_transform(), fontsize=8,
-                        color="dimgrey", va="top", ha="left", zorder=5,  # on white: legible over a curve
-                        bbox={"facecolor": "white", "alpha": 0.85, "pad": 0.4, "linewidth": 0})
+                        color="dimgrey", va="top", ha="left")
             previous = f
 
 

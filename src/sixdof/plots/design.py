@@ -76,16 +76,17 @@ def plot_design_decoupling(before, after, *, covered=None, minimum: float | None
     margins(fig, left=0.9, right=0.3, top=0.9, bottom=0.6)
     ax = fig.add_subplot()
     x = np.arange(len(DOFS))
-    ax.bar(x - 0.2, before, width=0.38, color=_BEFORE, label="given design")
-    ax.bar(x + 0.2, after, width=0.38, color=_AFTER, label="optimized")
+    for shift, shares, color, label in ((-0.2, before, _BEFORE, "given design"), (0.2, after, _AFTER, "optimized")):
+        bars = ax.bar(x + shift, shares, width=0.38, color=color, label=label)
+        ax.bar_label(bars, fmt="%.1f", fontsize=7, padding=1)
     if minimum is not None:
         for k, dof in enumerate(covered or DOFS):
             i = DOFS.index(dof)
             ax.plot([i - 0.45, i + 0.45], [minimum, minimum], color="tab:red", linestyle="--", linewidth=1.2,
-                    label=f"target >= {minimum:g} %" if k == 0 else None)
+                    label=f"target ≥ {minimum:g} %" if k == 0 else None)
     ax.set_xticks(x, [f"{d} mode" for d in DOFS])
-    ax.set_ylim(0, 105)
-    ax.set_ylabel("decoupling [%]")
+    ax.set_ylim(0, 108)
+    ax.set_ylabel("kinetic energy in the dominant coordinate [%]")
     ax.grid(True, axis="y", alpha=0.3)
     ax.legend(fontsize=9, loc="lower left", bbox_to_anchor=(0.0, 1.0), ncols=3, frameon=False)
     return fig

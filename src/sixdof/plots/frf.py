@@ -88,7 +88,7 @@ def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, 
         margins(fig, left=0.85, right=0.15, top=0.9, bottom=0.55, wspace=1.05, hspace=0.15, columns=2, rows=2)
         marks = ["dotted: natural frequencies (mode numbers)" if frequency_hz is not None else "",
                  "dash-dot red: operating frequencies" if operating_hz is not None and np.size(operating_hz) else ""]
-        heading = "receptance H_ii (response of each DOF to its own generalized force)"
+        heading = "receptance $H_{ii}$ (response of each DOF to its own generalized force)"
         if any(marks):
             heading += "\n" + "; ".join(m for m in marks if m)
         fig.suptitle(title(name, heading), fontsize=12)
@@ -175,7 +175,7 @@ def plot_point_frfs(extras: Mapping[str, PointFRF | ForceTransmissibility | Grou
         mag, phase = axes[row]
         mag.plot(f, magnitude, color="tab:blue")
         mag.set_yscale("log")
-        mag.set_ylabel(f"magnitude [{unit}]")
+        mag.set_ylabel(f"magnitude [{unit.replace('^2', '²')}]")
         mag.set_title(heading, fontsize=10, loc="left")
         if ratio:
             mag.axhline(1.0, color="black", linewidth=0.8, linestyle="--")

@@ -10,7 +10,7 @@ from scipy.spatial.transform import Rotation
 from sixdof.analysis.modal import Modes
 from sixdof.dofs import DOFS
 from sixdof.model.system import System
-from sixdof.plots.common import margins, panel_grid, require, title
+from sixdof.plots.common import distinct_digits, margins, panel_grid, require, title
 
 #: Largest displacement of the drawn body in a mode-shape panel, as a fraction of its largest size.
 MODE_SCALE = 0.15
@@ -129,6 +129,7 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, name: str = 
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
     freqs = modes.frequency_hz
+    digits = distinct_digits(freqs, 4)
     dominant = modes.dominant_dof
     size = body_box(system)
     # The box's corners [m] about the CG and its six faces (corner indices).
@@ -175,14 +176,14 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, name: str = 
         for axis, label in enumerate("xyz"):
             getattr(ax, f"set_{label}lim")(-aspect[axis], aspect[axis])
             # y's label further out: the middle tick ("0") of the receding axis otherwise lands on it
-            getattr(ax, f"set_{label}label")(f"{label} [m]", labelpad=6 if label == "y" else 1)
+            getattr(ax, f"set_{label}label")(f"{label} [m]", labelpad={"x": 1, "y": 6, "z": 4}[label])
         # matplotlib normalizes the array it is given in place
         ax.set_box_aspect(aspect.copy(), zoom=_panel_zoom(aspect, ax.elev, ax.azim))
         ax.tick_params(labelsize=7, pad=2)  # pad 0 puts a tick mark over a label's minus sign
         for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
             axis.set_major_locator(MaxNLocator(4, symmetric=True))
         share = f" ({100 * modes.ke_distribution[DOFS.index(dominant[j]), j]:.0f} % KE)"
-        frequency = "rigid-body mode (0 Hz)" if freqs[j] == 0 else f"{freqs[j]:.4g} Hz"
+        frequency = "rigid-body mode (0 Hz)" if freqs[j] == 0 else f"{freqs[j]:.{digits}g} Hz"
         shape = scales[j] * modes.shapes[:, j]
         moved_by = float(np.max(np.linalg.norm(shape[:3] + np.cross(shape[3:], points), axis=1)))
         turned = float(np.degrees(np.linalg.norm(shape[3:])))
@@ -223,7 +224,7 @@ def plot_ke_distribution(modes: Modes, ax=None, *, name: str = "") -> Figure:
         # Round-off leaves shares like -1e-15: print them as 0, not "-0".
         text = "0" if abs(value) < 0.05 else (f"{value:.0f}" if value >= 9.95 else f"{value:.1f}")
         ax.text(j, i, text, ha="center", va="center", fontsize=10, color="white" if value > 60 else "black")
-    digits = next((d for d in range(3, 8) if len({f"{f:.{d}g}" for f in freqs}) == len(freqs)), 8)
+    digits = distinct_digits(freqs, 3)
     ax.set_xticks(range(n), [f"{j + 1}\n{f:.{digits}g} Hz" for j, f in enumerate(freqs)])  # close modes told apart
     ax.set_yticks(range(len(DOFS)), DOFS)
     ax.set_xlabel("mode (natural frequency [Hz])")

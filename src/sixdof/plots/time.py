@@ -233,9 +233,12 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
             denominator, against = (largest / length if i >= 3 else largest), "largest peak"
         difference = q_modal[:, i] - q_direct[:, i]
         relative = difference / denominator if denominator > 0 else difference
-        if not np.any(relative):  # both exactly zero: nothing to compare
-            right.text(0.5, 0.5, "identical: both exactly zero", transform=right.transAxes, ha="center",
-                       va="center", fontsize=10, color="0.4")
+        if quiet[i] or not np.any(relative):  # round-off against round-off: its size said, not drawn
+            size = float(np.max(np.abs(relative))) if relative.size else 0.0
+            text = ("identical: both exactly zero" if size == 0 else
+                    f"round-off only: max|Δ| / {against} = {size:.1e}")
+            right.text(0.5, 0.5, text, transform=right.transAxes, ha="center", va="center", fontsize=10,
+                       color="0.4")
             right.set_yticks([])
             right.set_title(f"{DOFS[i]}: not excited", fontsize=9)
             continue
@@ -378,7 +381,8 @@ def plot_mount_loads(check: MountCheck, t, *, name: str = "", events: Mapping[st
         whole.set_ylabel(f"N [{unit}]")
         tension = "" if check.min_compression[k] >= 0 else f", TENSION from t = {check.tension_start_t[k]:.4g} s"
         whole.set_title(f"mount {mount}: {factor * check.min_compression[k]:.4g} to "
-                        f"{factor * check.max_compression[k]:.4g} {unit} (static {factor * static[k]:.4g}){tension}",
+                        f"{factor * check.max_compression[k]:.4g} {unit} "
+                        f"(static {factor * static[k]:.4g} {unit}){tension}",
                         fontsize=9, loc="left")
         if window is not None:
             whole.axvspan(*window[:2], color="0.85", zorder=0)

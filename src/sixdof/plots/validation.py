@@ -127,7 +127,7 @@ def plot_free_decays(report: ValidationReport, *, name: str = "") -> Figure:
         mode = int(decay.mode)
         estimate = decay.estimate
         t, eta = np.asarray(decay.history.t), np.asarray(decay.eta)
-        plot_long(ax, t, eta, color="tab:blue", linewidth=1.0)
+        plot_long(ax, t, eta, color="tab:blue", linewidth=1.0, label="simulated η")
         te, ve = np.asarray(estimate.extrema_t), np.asarray(estimate.extrema_value)
         ax.plot(te, ve, "o", color="tab:red", markersize=3, label="extrema")
         if len(te):

@@ -32,8 +32,13 @@ def plot_design_frequencies(before, after, targets, *, name: str = "") -> Figure
     ax = fig.add_subplot()
     rows = np.arange(len(DOFS))
     pairs = [modes.frequency_hz[mode_of_each_dof(modes)] for modes in (before, after)]
-    for f, color, label, marker in zip(pairs, (_BEFORE, _AFTER), ("given design", "optimized"), ("o", "D")):
-        ax.scatter(f, rows, color=color, marker=marker, s=45, zorder=3, label=label)
+    # The given design hollow and larger: visible where the optimized one sits on it.
+    ax.scatter(pairs[0], rows, facecolors="none", edgecolors=_BEFORE, linewidths=1.5, marker="o", s=110, zorder=3,
+               label="given design")
+    ax.scatter(pairs[1], rows, color=_AFTER, marker="D", s=40, zorder=4, label="optimized")
+    for row, (f0, f1) in enumerate(zip(*pairs)):
+        ax.annotate(f"{f0:.3g} → {f1:.3g} Hz", (max(f0, f1), row), xytext=(10, 0), textcoords="offset points",
+                    va="center", fontsize=8, color="0.3")
     for row in rows:
         ax.annotate("", (pairs[1][row], row), (pairs[0][row], row),
                     arrowprops={"arrowstyle": "->", "color": "0.6", "linewidth": 0.8}, zorder=2)
@@ -45,7 +50,7 @@ def plot_design_frequencies(before, after, targets, *, name: str = "") -> Figure
     ax.set_yticks(rows, [f"{d} mode" for d in DOFS])
     ax.set_ylim(-0.6, rows[-1] + 0.6)
     top = max(np.max(pairs), *(t.f_hz[1] for t in windows)) if windows else np.max(pairs)
-    ax.set_xlim(0, 1.1 * top)
+    ax.set_xlim(0, 1.25 * top)  # room for the values written beside the markers
     ax.set_xlabel("natural frequency f [Hz]")
     ax.grid(True, axis="x", alpha=0.3)
     ax.legend(fontsize=9, loc="lower left", bbox_to_anchor=(0.0, 1.0), ncols=3, frameon=False)

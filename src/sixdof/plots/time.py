@@ -326,9 +326,10 @@ def plot_mount_forces(forces: MountForces, t, *, name: str = "") -> Figure:
 def plot_mount_loads(check: MountCheck, t, *, name: str = "", events: Mapping[str, Event] | None = None) -> Figure:
     """Total normal force of each mount over the run (static preload plus dynamic, > 0 compression), one
     row per mount, all in one unit: the whole record on the left, tension shaded red and the static load
-    dashed; on the right a zoom, its span marked on the left, where single cycles and short events can
-    be read: on the excitation's shock or switch-on (:func:`event_window`), else on the largest dynamic
-    excursion (:func:`zoom_window`). A record too short for a zoom is drawn alone.
+    dashed (the whole records share one force range); on the right a zoom, its span marked on the left and
+    its force range its own, where single cycles and short events can be read: on the excitation's shock
+    or switch-on (:func:`event_window`), else on the largest dynamic excursion (:func:`zoom_window`). A
+    record too short for a zoom is drawn alone.
 
     Parameters
     ----------
@@ -388,6 +389,11 @@ def plot_mount_loads(check: MountCheck, t, *, name: str = "", events: Mapping[st
             whole.axvspan(*window[:2], color="0.85", zorder=0)
             panels[1].set_xlim(*window[:2])
             panels[1].xaxis.set_major_locator(MaxNLocator(6))
+            # The zoom's own force range, static load kept in view: its cycles are what it is for.
+            seen = np.concatenate([factor * compression[k, zoom_samples(t, window)], [factor * static[k], 0.0]
+                                   if np.any(compression[k] < 0) else [factor * static[k]]])
+            spread = max(float(np.ptp(seen)), 1e-12 * max(abs(float(seen.max())), 1.0))
+            panels[1].set_ylim(float(seen.min()) - 0.08 * spread, float(seen.max()) + 0.08 * spread)
             if k == 0:
                 panels[1].set_title(f"zoom: {window[2]}", fontsize=9, loc="left")
         if k == rows - 1:

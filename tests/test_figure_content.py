@@ -251,3 +251,28 @@ def test_time_dofs_zooms_on_the_shock_beside_the_whole_record_and_the_file_keeps
     assert set(back.events) == {"impact"}
     assert (back.events["impact"].kind, back.events["impact"].start, back.events["impact"].duration) == (
         "shock", 2.0, 0.01)
+
+
+def test_superposition_zooms_on_the_shock_beside_the_whole_overlay():
+    from sixdof.analysis.compare import compare
+    from sixdof.analysis.superposition import superpose
+    from sixdof.plots import plot_superposition
+
+    system = four_mount(m=MASS, k=(2e5, 3e5, 8e5), damping=(100.0, 100.0, 300.0))
+    excitation = Excitation(loads=(Load("impact", [0.2, 0.1, 0.0], force=[0, 0, 5e3],
+                                        signal=HalfSine(start=2.0, duration=0.01)),))
+    response = simulate(system, excitation, SimulationSettings(duration=5.0, sample_rate_hz=2000.0))
+    modal = superpose(system, excitation, response.t)
+    events = {name: Event(*event) for name, event in excitation.events(0.0, 5.0).items()}
+    fig = plot_superposition(response, modal, compare(response.q, modal.q, length=0.5), events=events)
+    window = event_window(events, response.t)
+    assert len(fig.axes) == 18  # per DOF: the overlay, its zoom, the difference
+    zooms = [ax for ax in fig.axes if ax.get_xlim() == pytest.approx(window[:2])]
+    assert len(zooms) == 6 and zooms[0].get_title(loc="left").startswith("zoom: impact (shock")
+    drawn = [ax for ax in zooms if ax.get_lines()]
+    assert drawn  # the excited DOFs: both solutions, over the zoom's own samples
+    for ax in drawn:
+        direct, superposed = ax.get_lines()[:2]
+        assert direct.get_label() == "direct (diffrax)" and superposed.get_label() == "modal superposition"
+        x = direct.get_xdata()
+        assert x[0] <= window[0] and x[-1] >= window[1] and len(x) <= 1 + (window[1] - window[0]) * 2000 + 2

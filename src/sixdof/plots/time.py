@@ -170,7 +170,7 @@ def unexcited(values: np.ndarray) -> np.ndarray:
 
 
 def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agreement | None = None, *,
-                       name: str = "") -> Figure:
+                       name: str = "", events: Mapping[str, Event] | None = None) -> Figure:
     """Direct solution and modal superposition overlaid (left), and their difference divided by the
     DOF's peak (right, with the agreement tolerance dashed), per DOF.
 
@@ -186,6 +186,9 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
         peak (rotations times its ``length`` [m]).
     name : str
         Name of the run, put before the title.
+    events : mapping of str to sixdof.results.Event, optional
+        The excitation's shocks and switch-ons: the overlay of the one worth a zoom
+        (:func:`event_window`) is drawn again in a middle column.
 
     Returns
     -------
@@ -199,14 +202,33 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
     t = direct.t
     q_direct, q_modal = direct.q, modal.q
     peaks = np.max(np.abs(q_direct), axis=0)
-    fig = Figure(figsize=(13, 13))
+    zoom = event_window(events or {}, t)
+    fig = Figure(figsize=(13, 13) if zoom is None else (17, 13))
     heading = "direct solution vs modal superposition"
     if agreement is not None:
         verdict = "within" if agreement.ok else "EXCEEDS"
         heading += (f"\nworst relative difference {agreement.worst:.2e} in "
                     f"{agreement.worst_dof} ({verdict} tolerance {agreement.tolerance:.0e})")
-    margins(fig, left=0.8, right=0.15, top=1.0, bottom=0.55, wspace=1.1, hspace=0.45, columns=2, rows=6)
-    axes = fig.subplots(6, 2, sharex=True)
+    if zoom is None:
+        margins(fig, left=0.8, right=0.15, top=1.0, bottom=0.55, wspace=1.1, hspace=0.45, columns=2, rows=6)
+        axes = fig.subplots(6, 2, sharex=True)
+        zooms = [None] * 6
+    else:  # the overlay's zoom between the overlay and the difference
+        spec = fig.add_gridspec(6, 3, width_ratios=(3, 2, 3))
+        margins(fig, left=0.8, right=0.15, top=1.0, bottom=0.55, wspace=1.0, hspace=0.45, columns=3, rows=6,
+                target=spec)
+        grid = np.array([[fig.add_subplot(spec[i, c]) for c in range(3)] for i in range(6)])
+        for column in grid.T:
+            for ax in column[1:]:
+                ax.sharex(column[0])
+        axes, zooms = grid[:, [0, 2]], list(grid[:, 1])
+        for ax in zooms:
+            ax.set_xlim(*zoom[:2])
+            ax.xaxis.set_major_locator(MaxNLocator(6))
+            ax.grid(True, alpha=0.3)
+            ax.tick_params(labelbottom=ax is zooms[-1])
+        zooms[-1].set_xlabel("time t [s]")
+        zooms[0].set_title(f"zoom: {zoom[2]}", fontsize=9, loc="left")
     quiet = unexcited(q_direct)
     tolerance_drawn = False
     for i in range(6):
@@ -219,11 +241,19 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
                       fontsize=10, color="0.4")
             left.set_yticks([])
             left.set_ylabel(DOFS[i])
+            if zooms[i] is not None:
+                zooms[i].set_yticks([])
         else:
-            plot_long(left, t, factor * q_direct[:, i], color="black", linewidth=1.6, label="direct (diffrax)")
-            plot_long(left, t, factor * q_modal[:, i], color="tab:orange", linewidth=1.0, linestyle="--",
-                      label="modal superposition")
+            for ax, part in ((left, slice(None)), (zooms[i], None if zoom is None else zoom_samples(t, zoom))):
+                if ax is None:
+                    continue
+                plot_long(ax, t[part], factor * q_direct[part, i], color="black", linewidth=1.6,
+                          label="direct (diffrax)")
+                plot_long(ax, t[part], factor * q_modal[part, i], color="tab:orange", linewidth=1.0, linestyle="--",
+                          label="modal superposition")
             left.set_ylabel(f"{DOFS[i]} [{label}]")
+            if zoom is not None:
+                left.axvspan(*zoom[:2], color="0.85", zorder=0)
         # Divided as the agreement divides it: by the DOF's own peak, or for a quiet DOF (round-off
         # only) by the largest peak of all DOFs, rotations times the agreement's length (see compare).
         denominator, against = float(peaks[i]), "peak"

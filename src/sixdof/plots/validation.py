@@ -127,15 +127,18 @@ def plot_free_decays(report: ValidationReport, *, name: str = "") -> Figure:
         mode = int(decay.mode)
         estimate = decay.estimate
         t, eta = np.asarray(decay.history.t), np.asarray(decay.eta)
-        plot_long(ax, t, eta, color="tab:blue", linewidth=1.0, label="simulated η")
+        peak = float(np.max(np.abs(eta))) if eta.size else 0.0
+        exponent = 3 * int(np.floor(np.log10(peak) / 3)) if peak > 0 else 0  # engineering: 10^-3, 10^-6...
+        unit = 10.0 ** exponent
+        plot_long(ax, t, eta / unit, color="tab:blue", linewidth=1.0, label="simulated η")
         te, ve = np.asarray(estimate.extrema_t), np.asarray(estimate.extrema_value)
-        ax.plot(te, ve, "o", color="tab:red", markersize=3, label="extrema")
+        ax.plot(te, ve / unit, "o", color="tab:red", markersize=3, label="extrema")
         if len(te):
             omega_d = 2 * np.pi * estimate.f_damped_hz
             sigma = estimate.zeta * omega_d / np.sqrt(1.0 - estimate.zeta ** 2)
             amplitude = np.exp(np.mean(np.log(np.abs(ve)) + sigma * te))
             for sign in (-1, 1):
-                plot_long(ax, t, sign * amplitude * np.exp(-sigma * t), color="black", linestyle="--",
+                plot_long(ax, t, sign * amplitude * np.exp(-sigma * t) / unit, color="black", linestyle="--",
                           linewidth=0.8, label="fitted envelope" if sign > 0 else None)
         heading = f"mode {mode}, fitted: $f_d$ {estimate.f_damped_hz:.5g} Hz, $\\zeta$ {estimate.zeta:.4f}"
         if mode in rows:
@@ -143,7 +146,8 @@ def plot_free_decays(report: ValidationReport, *, name: str = "") -> Figure:
             heading += f"\nmodel: $f_d$ {row.f_damped_model_hz:.5g} Hz, $\\zeta$ {row.zeta_model:.4f}"
         ax.set_title(heading, fontsize=9)
         ax.set_xlabel("time t [s]")
-        ax.set_ylabel(f"$\\eta_{{{mode}}}$ [kg$^{{1/2}}$ m]")
+        scale = f"10$^{{{exponent}}}$ " if exponent else ""
+        ax.set_ylabel(f"$\\eta_{{{mode}}}$ [{scale}kg$^{{1/2}}$ m]")
         ax.grid(True, alpha=0.3)
         ax.set_xlim(t[0], t[-1])
     axes[0].legend(fontsize=7, loc="upper right")

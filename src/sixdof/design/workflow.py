@@ -80,8 +80,8 @@ def _absolute_files(node, base: Path) -> None:
             _absolute_files(value, base)
 
 
-def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool = True, log=print,
-                      workers=None) -> DesignOutcome:
+def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool = True,
+                      log=print) -> DesignOutcome:
     """Optimize ``scenario``'s mounts for its ``[design]`` targets and write ``<out_root>/<name>_design/``.
 
     Parameters
@@ -93,8 +93,6 @@ def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: b
         Show the starts done.
     log : callable
         Receives the terminal's tables.
-    workers : sixdof.plots.workers.FigureWorkers, optional
-        Unused (figures are small); accepted for the command line's uniform call.
 
     Returns
     -------

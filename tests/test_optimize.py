@@ -164,3 +164,12 @@ bounds = [0.5, 2.0]
 def test_bad_design_input_is_one_clear_error(design, message):
     with pytest.raises(InputError, match=message):
         parse_scenario(_v_pair(THETA0, "[design]\n" + design))
+
+
+def test_optimize_without_targets_is_refused_before_computing(tmp_path, capsys):
+    path = tmp_path / "v.toml"
+    path.write_text(_v_pair(THETA0, ""))
+    assert main(["optimize", str(path), "--out", str(tmp_path)]) == 2
+    assert "design: expected at least one [[design.target]] and one [[design.vary]], got 0 targets, 0 variables" \
+        in capsys.readouterr().err
+    assert not list(tmp_path.glob("*_design"))

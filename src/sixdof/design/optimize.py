@@ -119,7 +119,8 @@ def optimize(problem: DesignProblem, *, progress=None) -> DesignResult:
         if score == 0.0:
             break
     x = best[1]
-    final, initial = (np.asarray(values(jnp.asarray(v))) for v in (x, starts[0]))
+    # The given design's values even where its variables lie outside the bounds (its start is clipped).
+    final, initial = (np.asarray(values(jnp.asarray(v))) for v in (x, problem.initial))
     return DesignResult(
         x=readonly(x), x_initial=readonly(problem.initial), values=readonly(final), values_initial=readonly(initial),
         violations=readonly(np.asarray(problem.violations(final))),

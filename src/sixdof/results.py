@@ -211,6 +211,14 @@ class TimeHistory(Frozen, Result):
         return self._relative(self.qdd, self.ground_acceleration)
 
 
+#: Derived quantities a run may leave out of its file (``[output] derived``): each is computed again, to the
+#: same numbers, from what the file always keeps (the model, the statics and the response) when it is read
+#: back (:func:`sixdof.io.store.load_results`). ``mount_forces``: every mount's deformation, elastic, damping,
+#: total and local forces and the foundation's force and moment; ``mount_check``: the total mount loads and
+#: deflections, their peaks, tension and limit checks.
+DERIVED: tuple[str, ...] = ("mount_forces", "mount_check")
+
+
 #: Kinds of :class:`Event`.
 EVENT_KINDS = ("shock", "switch-on")
 

@@ -32,6 +32,7 @@ from sixdof.errors import (
 from sixdof.frozen import Frozen, checked
 from sixdof.io.toml import Table, build, choices, make, parse, read_text, unique
 from sixdof.model.system import Mount, Rayleigh, RigidBody, System
+from sixdof.results import DERIVED
 
 
 def _checked_direction(value: Any, field: str, rotations: bool = True):
@@ -163,12 +164,6 @@ class SuperpositionSettings(Frozen):
             raise InputError("n_modes", "either n_modes or f_max_hz, not both", self.n_modes)
 
 
-#: Derived quantities a run may leave out of its file (``[output] derived``): each is computed again, to the
-#: same numbers, from what the file always keeps (the model, the statics and the response) when it is read
-#: back (:func:`sixdof.io.store.load_results`). ``mount_forces``: every mount's deformation, elastic, damping,
-#: total and local forces and the foundation's force and moment; ``mount_check``: the total mount loads and
-#: deflections, their peaks, tension and limit checks.
-DERIVED = ("mount_forces", "mount_check")
 
 
 def _derived_check(value, field):

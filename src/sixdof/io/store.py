@@ -50,7 +50,7 @@ from sixdof.dofs import DOFS, MixedUnits, unit_attrs
 from sixdof.errors import InputError, Plain, readonly
 from sixdof.frozen import Frozen
 from sixdof.io.output import check_room, held_signals
-from sixdof.results import FIXED_SCALES, RunResults, descriptions
+from sixdof.results import DERIVED, FIXED_SCALES, RunResults, descriptions
 
 #: Identifies the file layout; bump FORMAT_VERSION when a fixed name changes meaning.
 FORMAT = "sixdof-results"
@@ -391,7 +391,7 @@ def build_results(run=None, *, command_line: str | None = None, created_utc: str
     extra_attrs : mapping of str to mapping, optional
         More attributes, by group path (``""`` is the root).
     omit : tuple of str, optional
-        Derived parts of ``run`` not to store (names from :data:`DERIVABLE`), recorded in the root's
+        Derived parts of ``run`` not to store (names from :data:`sixdof.results.DERIVED`), recorded in the root's
         ``derived_omitted`` attribute: :func:`load_results` computes them again.
 
     Returns
@@ -406,9 +406,9 @@ def build_results(run=None, *, command_line: str | None = None, created_utc: str
     if run is None:
         text = parts.pop("scenario_text", None)
         run = RunResults(**parts, provenance={"scenario_text": text or ""})
-    unknown = [name for name in omit if name not in DERIVABLE]
+    unknown = [name for name in omit if name not in DERIVED]
     if unknown:
-        raise InputError("omit", f"names from {', '.join(DERIVABLE)}", unknown[0])
+        raise InputError("omit", f"names from {', '.join(DERIVED)}", unknown[0])
     run = dataclasses.replace(run, **{name: None for name in omit})
     if command_line is None:
         command_line = shlex.join([Path(sys.argv[0]).name, *sys.argv[1:]]) if sys.argv else ""
@@ -653,8 +653,8 @@ def _mount_check(run):
     return mount_check(run.system, forces, run.response.t, run.statics)
 
 
-#: The derived parts of a run a file may leave out (see ``[output]`` in :mod:`sixdof.io.scenario`) and how
-#: each is computed again from what the file keeps.
+#: How each derived part of a run a file may leave out (:data:`sixdof.results.DERIVED`) is computed again
+#: from what the file keeps.
 DERIVABLE = {"mount_forces": _mount_forces, "mount_check": _mount_check}
 
 

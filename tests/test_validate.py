@@ -143,6 +143,15 @@ def test_validation_of_a_small_system():
     assert "Verdict: PASS (all 24 checks of 6 modes within their limits)" in text
     assert "K_SIGMA = 3 standard errors" in text and "H1_FLOOR = 0.01" in text
     assert "hysteretic" not in text  # nothing was left out of this model
+    # The figures' model curve: the same held model, on a fine grid across the band, peaking where the model
+    # does (within two of its steps, the hold's shift included), and equal to the model at the estimate's bins.
+    for run, row in zip(sorted(report.random_runs, key=lambda r: r.mode), report.rows):
+        f, curve = run.model_f_hz, run.model_curve
+        assert (f[0], f[-1]) == pytest.approx(run.band_hz) and len(f) == experiment.MODEL_CURVE_POINTS
+        assert abs(f[np.argmax(np.abs(curve))] - row.f_peak_model_hz) <= 2 * (f[1] - f[0])
+        bins = (run.estimated.f_hz >= f[0]) & (run.estimated.f_hz <= f[-1])
+        between = np.interp(run.estimated.f_hz[bins], f, np.abs(curve))
+        np.testing.assert_allclose(between, np.abs(run.model[bins, 0]), rtol=1e-3)
 
 
 def _state_matrix_poles(system):

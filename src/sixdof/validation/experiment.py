@@ -105,6 +105,8 @@ CHECKS = (
                     "<= RAYLEIGH_MEDIAN + K_SIGMA MEDIAN_SPREAD sqrt(BINS_PER_INDEPENDENT / N)"),
 )
 PASS, FAIL = "PASS", "FAIL"
+#: Points of a random run's model curve across its band (figures).
+MODEL_CURVE_POINTS = 801
 
 
 @dataclass(frozen=True)
@@ -322,6 +324,9 @@ class RandomRun:
         H1 and coherence of ``eta_r`` per unit force [sqrt(kg) m/N].
     model : ndarray, shape (nf, 1), complex
         The held model FRF at ``estimated.f_hz`` (:func:`held_model_frf`).
+    model_f_hz, model_curve : ndarray, shape (n,), or None
+        The same model on a grid :data:`MODEL_CURVE_POINTS` fine across the band [Hz], for figures: at the
+        estimate's bins a sharp resonance would be a polygon.
     """
 
     mode: int = label()
@@ -330,6 +335,9 @@ class RandomRun:
     estimated: EstimatedFRF = part(lambda: EstimatedFRF, prefix="")
     model: np.ndarray = quantity(lambda run: run.estimated.unit, ("f_hz",), encode=first_column, decode=as_column,
                                  description="model FRF of the same, with the first-order hold of the sampled force")
+    model_f_hz: np.ndarray | None = quantity("Hz", ("model_f_hz",), default=None)
+    model_curve: np.ndarray | None = quantity(lambda run: run.estimated.unit, ("model_f_hz",), default=None,
+                                              description="the model on a fine grid across the band (figures)")
 
 
 @dataclass(frozen=True, eq=False)
@@ -524,7 +532,11 @@ def validate(system: System, settings: ValidationSettings | None = None, *,
         f_pk_est = peak_frequency(est.f_hz, np.abs(est.H1[:, 0]), low, high)
         k = int(np.argmin(np.abs(est.f_hz - f_pk_est))) if np.isfinite(f_pk_est) else 0
         d = decay.estimate
-        runs.append(RandomRun(mode=r + 1, band_hz=(float(low), float(high)), estimated=est, model=readonly(G, None)))
+        curve_f = np.linspace(low, high, MODEL_CURVE_POINTS)
+        curve = held_model_frf(model_eta(curve_f)[:, r:r + 1], curve_f, fs,
+                               lambda f, r=r: model_eta(f)[:, r:r + 1], aliases=aliases)[:, 0]
+        runs.append(RandomRun(mode=r + 1, band_hz=(float(low), float(high)), estimated=est, model=readonly(G, None),
+                              model_f_hz=readonly(curve_f), model_curve=readonly(curve, None)))
         row = ModeCheck(
             mode=r + 1, dominant_dof=modes.dominant_dof[r], f_model_hz=float(f_n[r]), zeta_model=float(zeta[r]),
             f_damped_model_hz=float(f_d[r]), f_damped_estimated_hz=d.f_damped_hz, zeta_estimated=d.zeta,

@@ -68,6 +68,29 @@ def test_sweeps_closed_form_and_instantaneous_frequency():
     assert lin.breakpoints == (0.5, 2.5)
 
 
+def test_a_sweep_rate_in_octaves_per_minute_is_a_log_sweep():
+    # IEC 60068-2-6 style: 5 -> 80 Hz is 4 octaves; at 2 oct/min the sweep lasts 2 minutes and the
+    # frequency doubles every 30 s.
+    rated = Sweep(f0_hz=5.0, f1_hz=80.0, rate_oct_per_min=2.0, start=1.0)
+    assert rated.law == "log" and rated.duration == pytest.approx(120.0, rel=1e-15)
+    t = 1.0 + np.array([0.0, 30.0, 60.0, 90.0])
+    assert np.allclose(np.asarray(rated.frequency_hz(t)), [5.0, 10.0, 20.0, 40.0], rtol=RTOL_SIGNAL)
+    same = Sweep(f0_hz=5.0, f1_hz=80.0, duration=120.0, law="log", start=1.0)
+    assert close(rated(T * 50.0), same(T * 50.0))
+    down = Sweep(f0_hz=80.0, f1_hz=10.0, rate_oct_per_min=1.0)  # 3 octaves down
+    assert down.duration == pytest.approx(180.0)
+    for kwargs, message in [
+        ({"duration": 10.0}, r"rate_oct_per_min: expected either a duration or a rate, not both"),
+        ({"law": "linear"}, r"law: expected 'log' for a sweep at a rate in octaves per minute, got 'linear'"),
+    ]:
+        with pytest.raises(InputError, match=message):
+            Sweep(f0_hz=5.0, f1_hz=80.0, rate_oct_per_min=1.0, **kwargs)
+    with pytest.raises(InputError, match=r"duration: expected a sweep time in s, or rate_oct_per_min"):
+        Sweep(f0_hz=5.0, f1_hz=80.0)
+    with pytest.raises(InputError, match=r"rate_oct_per_min: expected a positive sweep rate"):
+        make_signal({"kind": "sweep", "f0_hz": 5.0, "f1_hz": 80.0, "rate_oct_per_min": -1.0})
+
+
 def test_pulses_step_ramp_closed_form():
     assert close(HalfSine(start=1.0, duration=0.5)(T),
                  np.where((T >= 1) & (T < 1.5), np.sin(np.pi * (T - 1) / 0.5), 0.0))

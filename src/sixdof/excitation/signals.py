@@ -37,6 +37,7 @@ from sixdof.errors import (
     integer,
     integer_check,
     number_check,
+    optional,
     readonly,
 )
 from sixdof.frozen import Frozen, checked
@@ -189,32 +190,48 @@ class Sweep(Signal):
     ``law = "linear"``: the frequency rises linearly, ``phi(tau) = 2 pi (f0 tau + (f1 - f0)
     tau^2 / (2 T))``. ``law = "log"``: exponentially (constant octaves per second),
     ``phi(tau) = 2 pi f0 T / ln(f1/f0) ((f1/f0)^(tau/T) - 1)``. Zero outside
-    ``[start, start + duration)``.
+    ``[start, start + duration)``. A sweep rate in octaves per minute, as test standards state it
+    (IEC 60068-2-6: 1 oct/min), gives a log sweep of ``T = 60 |log2(f1/f0)| / rate``.
 
     Parameters
     ----------
     f0_hz, f1_hz : float
         Start and end frequencies [Hz], > 0 (a downward sweep is allowed; a log sweep needs
         ``f0_hz != f1_hz``).
-    duration : float
-        Sweep time T [s], > 0.
+    duration : float, optional
+        Sweep time T [s], > 0; or give ``rate_oct_per_min``.
     start : float, optional
         Start time [s]. Default 0.
     law : {"linear", "log"}, optional
-        Default "linear".
+        Default "linear", or "log" with a rate.
+    rate_oct_per_min : float, optional
+        Sweep rate [octaves per minute], > 0, instead of ``duration``: a log sweep.
     """
 
     kind: ClassVar[str] = "sweep"
-    _static: ClassVar[tuple[str, ...]] = ("law",)
+    _static: ClassVar[tuple[str, ...]] = ("law", "rate_oct_per_min")
     f0_hz: float = checked(_FREQUENCY)
     f1_hz: float = checked(_FREQUENCY)
-    duration: float = checked(_DURATION)
+    duration: float | None = checked(optional(_DURATION), default=None)
     start: float = checked(_TIME, default=0.0)
-    law: str = checked(choice_check(("linear", "log")), default="linear")
+    law: str | None = checked(optional(choice_check(("linear", "log"))), default=None)
+    rate_oct_per_min: float | None = checked(
+        optional(number_check("a positive sweep rate in octaves per minute", low=0.0, strict=True)), default=None)
 
     def __check__(self) -> None:
-        if self.law == "log" and self.f0_hz == self.f1_hz:
+        rate = self.rate_oct_per_min
+        law = self.law or ("log" if rate is not None else "linear")
+        if law == "log" and self.f0_hz == self.f1_hz:
             raise InputError("f1_hz", "a frequency different from f0_hz for a log sweep", self.f1_hz)
+        if rate is not None:
+            if self.duration is not None:
+                raise InputError("rate_oct_per_min", "either a duration or a rate, not both", rate)
+            if law != "log":
+                raise InputError("law", "'log' for a sweep at a rate in octaves per minute", law)
+            self._derive(duration=60.0 * abs(math.log2(self.f1_hz / self.f0_hz)) / rate)
+        elif self.duration is None:
+            raise InputError("duration", "a sweep time in s, or rate_oct_per_min for a log sweep", Plain("neither"))
+        self._derive(law=law)
 
     def _evaluate(self, t):
         T = self.duration

@@ -1,0 +1,272 @@
+"""Stationary random vibration from the FRF matrix (issue 19): the response PSDs and RMS values of the body's
+motion, of its points' accelerations and of each mount's deflection and force, under a base-acceleration or
+a force PSD given by breakpoints (MIL-STD-810H 514, IEC 60068-2-64), and each mode's Miles estimate.
+
+For a single input of PSD ``S(f)`` and a response ``y = T(f) u``, ``S_y(f) = |T(f)|^2 S(f)`` and
+``y_rms^2 = integral S_y df`` (trapezoids on a log grid fine enough for every mode's half-power band).
+The FRFs are the receptance's (:func:`sixdof.analysis.frf.receptance`, with dashpots, Rayleigh and modal
+damping and the mounts' loss factors), so the random response models the same mounts as the FRFs.
+
+Miles' equation: a mode r of frequency f_r and quality factor Q_r = 1 / (2 zeta_r) under a PSD flat near
+f_r gives its dominant DOF an acceleration RMS of ``|phi_ir p_r| sqrt(pi/2 f_r Q_r S(f_r))`` with p_r the
+mode's participation in the input (``phi_r^T M r`` for the base, ``phi_r^T Q`` for a force); zeta_r
+includes the mounts' loss factors (half the modal loss factor) as the FRF does.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from sixdof.dofs import DOFS, MixedUnits, dof_units, mixed_units
+from sixdof.errors import InputError, Plain, choice_check, optional, point_check, readonly, real_array
+from sixdof.frozen import Frozen, checked
+from sixdof.results import Result, label, quantity
+
+STANDARD_GRAVITY = 9.80665
+#: PSD units accepted, and their factor to SI ((m/s^2)^2/Hz or N^2/Hz).
+PSD_UNITS = {"g^2/Hz": STANDARD_GRAVITY**2, "(m/s^2)^2/Hz": 1.0, "N^2/Hz": 1.0}
+INPUTS = ("ground_acceleration", "force")
+#: Frequency points per half-power bandwidth of the most lightly damped mode in band (the grid's density).
+POINTS_PER_BANDWIDTH = 20
+
+
+def _vector(value, field: str, expected: str) -> np.ndarray:
+    """``value`` as a read-only 1-D float array with finite entries."""
+    array = real_array(value, field, expected, 1)
+    if array.ndim != 1 or not np.all(np.isfinite(array)):
+        raise InputError(field, expected, value)
+    return readonly(array)
+
+
+def _breakpoints(value, field: str) -> np.ndarray:
+    expected = "increasing frequencies [Hz] > 0, at least 2"
+    f = _vector(value, field, expected)
+    if f.size < 2 or np.any(f <= 0) or np.any(np.diff(f) <= 0):
+        raise InputError(field, expected, value)
+    return f
+
+
+@dataclass(frozen=True)
+class PSD(Frozen):
+    """An input PSD by breakpoints, interpolated log-log between them and zero outside ``[f_hz[0], f_hz[-1]]``.
+
+    Parameters
+    ----------
+    f_hz : array_like
+        Increasing breakpoint frequencies [Hz] > 0.
+    value : array_like
+        The PSD at each breakpoint, > 0, in ``unit``.
+    unit : {"g^2/Hz", "(m/s^2)^2/Hz", "N^2/Hz"}
+    """
+
+    f_hz: np.ndarray = checked(_breakpoints)
+    value: np.ndarray = checked(lambda v, field: _vector(v, field, "PSD values > 0, one per frequency"))
+    unit: str = "g^2/Hz"
+
+    def __check__(self) -> None:
+        if self.value.shape != self.f_hz.shape or np.any(self.value <= 0):
+            raise InputError("value", f"{self.f_hz.size} PSD values > 0 (one per frequency)", self.value.tolist())
+        if self.unit not in PSD_UNITS:
+            raise InputError("unit", " or ".join(f"'{u}'" for u in PSD_UNITS), self.unit)
+
+    def __call__(self, f_hz) -> np.ndarray:
+        """The PSD in SI ((m/s^2)^2/Hz or N^2/Hz) at ``f_hz``."""
+        f = np.asarray(f_hz, dtype=float)
+        inside = (f >= self.f_hz[0]) & (f <= self.f_hz[-1])
+        logs = np.interp(np.log(np.where(inside, f, self.f_hz[0])), np.log(self.f_hz), np.log(self.value))
+        return np.where(inside, np.exp(logs), 0.0) * PSD_UNITS[self.unit]
+
+    @property
+    def rms(self) -> float:
+        """The input's RMS in SI (m/s^2 or N): the exact integral of the log-log segments."""
+        f, s = self.f_hz, self.value * PSD_UNITS[self.unit]
+        slope = np.diff(np.log(s)) / np.diff(np.log(f))
+        area = np.where(np.isclose(slope, -1.0), s[:-1] * f[:-1] * np.log(f[1:] / f[:-1]),
+                        s[:-1] * f[:-1] / (slope + 1) * ((f[1:] / f[:-1]) ** (slope + 1) - 1))
+        return float(np.sqrt(np.sum(area)))
+
+
+@dataclass(frozen=True)
+class RandomInput(Frozen):
+    """The ``[random]`` table: ``input`` (``"ground_acceleration"`` or ``"force"``), its ``direction`` (an axis
+    name or a 3-vector, body axes), the force's ``point`` [m], and the ``psd``."""
+
+    input: str = checked(choice_check(INPUTS))
+    direction: object = "z"
+    psd: PSD | None = None
+    point: np.ndarray | None = checked(optional(point_check), default=None)
+
+    def __check__(self) -> None:
+        from sixdof.analysis.frf import parse_direction
+
+        direction, _ = parse_direction(self.direction, "direction", rotations=False)
+        self._derive(direction=tuple(float(v) for v in direction))
+        if not isinstance(self.psd, PSD):
+            raise InputError("psd", "a table { f_hz = [...], value = [...], unit = \"g^2/Hz\" }", self.psd)
+        force = self.input == "force"
+        if force and self.point is None:
+            raise InputError("point", "the force's point [x, y, z] in m", Plain("nothing"))
+        if not force and self.point is not None:
+            raise InputError("point", "no point for a ground acceleration (the ground moves under every mount)",
+                             self.point)
+        unit_ok = (self.psd.unit == "N^2/Hz") == force
+        if not unit_ok:
+            raise InputError("psd.unit", "N^2/Hz for a force" if force else "g^2/Hz or (m/s^2)^2/Hz for an "
+                             "acceleration", self.psd.unit)
+
+
+@dataclass(frozen=True, eq=False)
+class RandomResponse(Result):
+    """Result of :func:`random_response` (stored in ``/random``).
+
+    Attributes
+    ----------
+    f_hz : ndarray, shape (nf,)
+    input_psd : ndarray, shape (nf,)
+        The input PSD in SI [(m/s^2)^2/Hz or N^2/Hz].
+    q_psd, qdd_psd : ndarray, shape (nf, 6)
+        PSD of the CG's absolute displacement [m^2/Hz, rad^2/Hz] and acceleration.
+    q_rms, qdd_rms : ndarray, shape (6,)
+        Their RMS [m, rad; m/s^2, rad/s^2]; 3-sigma values are three times these.
+    point_acceleration_psd : ndarray, shape (n_points, nf, 3) ; point_acceleration_rms : (n_points, 3)
+        Absolute acceleration of each ``[[points]]`` point along the body axes [(m/s^2)^2/Hz; m/s^2].
+    mount_deflection_rms, mount_force_rms : ndarray, shape (n_mounts, 3)
+        Along each mount's own axes u, v, w [m; N]: deflection relative to the ground, force through the
+        mount (spring, dashpot and loss factor).
+    miles_rms, exact_rms : ndarray, shape (6,)
+        Per mode: Miles' estimate of its dominant DOF's acceleration RMS, and that DOF's RMS from the PSD
+        [m/s^2 or rad/s^2]; nan for rigid-body modes.
+    input_rms : float
+        The input's RMS [m/s^2 or N].
+    """
+
+    f_hz: np.ndarray = quantity("Hz", ("f_hz",))
+    input_psd: np.ndarray = quantity(lambda r: r.input_unit, ("f_hz",))
+    q_psd: np.ndarray = quantity(lambda r: _psd_units(r.input_kind, 0), ("f_hz", "dof"))
+    qdd_psd: np.ndarray = quantity(lambda r: _psd_units(r.input_kind, 2), ("f_hz", "dof"))
+    q_rms: np.ndarray = quantity(MixedUnits((("dof", dof_units(0)),), mixed_units("m", "rad")), ("dof",))
+    qdd_rms: np.ndarray = quantity(MixedUnits((("dof", dof_units(2)),), mixed_units("m/s^2", "rad/s^2")), ("dof",))
+    point_acceleration_psd: np.ndarray = quantity("(m/s^2)^2/Hz", ("point", "f_hz", "axis"))
+    point_acceleration_rms: np.ndarray = quantity("m/s^2", ("point", "axis"))
+    mount_deflection_rms: np.ndarray = quantity("m", ("mount", "mount_axis"))
+    mount_force_rms: np.ndarray = quantity("N", ("mount", "mount_axis"))
+    miles_rms: np.ndarray = quantity(lambda r: _per_mode(r.dominant_dof), ("mode",))
+    exact_rms: np.ndarray = quantity(lambda r: _per_mode(r.dominant_dof), ("mode",))
+    points: tuple[str, ...] = quantity("", ("point",), name="point", decode=lambda a: tuple(str(n) for n in a))
+    dominant_dof: tuple[str, ...] = label()
+    input_kind: str = label()
+    input_rms: float = label(decode=float)
+
+    @property
+    def input_unit(self) -> str:
+        return "N^2/Hz" if self.input_kind == "force" else "(m/s^2)^2/Hz"
+
+
+def _per_mode(dominant: tuple[str, ...]) -> MixedUnits:
+    """Units of an acceleration of each mode's dominant DOF."""
+    units = tuple(dof_units(2)[DOFS.index(d)] for d in dominant)
+    return MixedUnits((("mode", units),), "m/s^2 or rad/s^2: the acceleration of each mode's dominant DOF")
+
+
+def _psd_units(kind: str, order: int) -> MixedUnits:
+    suffix = ("", "/s", "/s^2")[order]
+    units = tuple(f"{u}{suffix}" for u in ("m", "m", "m", "rad", "rad", "rad"))
+    squared = tuple(f"({u})^2/Hz" for u in units)
+    return MixedUnits((("dof", squared),), mixed_units(squared[0], squared[3]))
+
+
+def frequency_grid(system, psd: PSD) -> np.ndarray:
+    """A log grid over the PSD's band with :data:`POINTS_PER_BANDWIDTH` points per half-power bandwidth of
+    the most lightly damped mode in band (viscous and hysteretic damping together)."""
+    low, high = float(psd.f_hz[0]), float(psd.f_hz[-1])
+    zeta = _modal_damping(system)
+    f_n = system.modes.frequency_hz
+    inside = (f_n >= low) & (f_n <= high) & (f_n > 0)
+    least = float(np.min(zeta[inside])) if np.any(inside) else 0.05
+    step = np.log1p(2.0 * max(least, 1e-4) / POINTS_PER_BANDWIDTH)
+    return np.exp(np.linspace(np.log(low), np.log(high), int(np.ceil(np.log(high / low) / step)) + 1))
+
+
+def _modal_damping(system) -> np.ndarray:
+    """Each mode's damping ratio with the mounts' loss factors (half the modal loss factor) added: what the
+    FRF's resonances show."""
+    from sixdof.analysis.frf import hysteretic_stiffness
+    from sixdof.analysis.statespace import damping_ratios
+
+    modes = system.modes
+    viscous = np.nan_to_num(damping_ratios(system.C, modes))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        loss = np.einsum("ir,ij,jr->r", modes.shapes, hysteretic_stiffness(system), modes.shapes) / modes.eigenvalues
+    return viscous + 0.5 * np.nan_to_num(loss)
+
+
+def random_response(system, random: RandomInput, points=None) -> RandomResponse:
+    """The stationary random response of ``system`` to ``random`` (see the module).
+
+    Parameters
+    ----------
+    system : sixdof.model.system.System
+    random : RandomInput
+    points : mapping of str to array_like, optional
+        Named body points [m] whose absolute acceleration is reported.
+
+    Returns
+    -------
+    RandomResponse
+    """
+    from scipy.integrate import trapezoid
+
+    from sixdof.analysis.frf import hysteretic_stiffness, receptance
+    from sixdof.model.kinematics import mount_local_map, point_map, unit_load
+
+    points = dict(points or {})
+    f = frequency_grid(system, random.psd)
+    omega = 2 * np.pi * f
+    frf = receptance(system, f)
+    d = np.asarray(random.direction)
+    if random.input == "force":
+        drive = unit_load(random.point, d, moment=False)
+        q = frf.H @ drive  # (nf, 6) per N
+        ground = np.zeros((len(f), 6), complex)
+        participation = system.modes.shapes.T @ drive
+    else:
+        # Per unit ground acceleration: the ground's displacement is -1/w^2 of it; all damping acts on the
+        # motion relative to the ground (as in sixdof.analysis.frf.ground_transmissibility).
+        rigid = np.concatenate([d, np.zeros(3)])
+        impedance = (np.asarray(system.K) + 1j * hysteretic_stiffness(system)) @ rigid
+        drive = impedance[None, :] + 1j * omega[:, None] * (np.asarray(system.C) @ rigid)[None, :]
+        ground = -rigid[None, :] / omega[:, None] ** 2 * np.ones((len(f), 1))
+        q = np.einsum("fij,fj->fi", frf.H, drive) * (-1.0 / omega**2)[:, None]
+        participation = system.modes.shapes.T @ (np.asarray(system.M) @ rigid)
+    s = random.psd(f)
+    q_psd = np.abs(q) ** 2 * s[:, None]
+    qdd_psd = q_psd * omega[:, None] ** 4
+    def rms(psd, axis=0):
+        return np.sqrt(trapezoid(psd, f, axis=axis))
+
+    point_psd = np.stack([np.abs(q @ point_map(p).T) ** 2 * (omega**4 * s)[:, None] for p in points.values()]) \
+        if points else np.zeros((0, len(f), 3))
+    relative = q - ground  # the mounts deform with the motion relative to the ground
+    local = mount_local_map(system.positions, system.axes)  # (n_mounts, 3, 6)
+    deflection = np.einsum("mij,fj->mfi", local, relative)
+    stiffness = np.asarray(system.stiffnesses) * (1 + 1j * np.asarray(system.loss_factors))
+    force = deflection * (stiffness[:, None, :] + 1j * omega[None, :, None] * np.asarray(system.dampings)[:, None, :])
+    modes = system.modes
+    zeta = _modal_damping(system)
+    dominant = np.array([DOFS.index(dof) for dof in modes.dominant_dof])
+    elastic = modes.frequency_hz > 0
+    qdd_rms = rms(qdd_psd)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        miles = np.abs(modes.shapes[dominant, np.arange(6)] * participation) * np.sqrt(
+            np.pi / 2 * modes.frequency_hz / (2 * zeta) * random.psd(modes.frequency_hz))
+    return RandomResponse(
+        f_hz=readonly(f), input_psd=readonly(s), q_psd=readonly(q_psd), qdd_psd=readonly(qdd_psd),
+        q_rms=readonly(rms(q_psd)), qdd_rms=readonly(qdd_rms), point_acceleration_psd=readonly(point_psd),
+        point_acceleration_rms=readonly(rms(point_psd, axis=1) if points else np.zeros((0, 3))),
+        mount_deflection_rms=readonly(rms(np.abs(deflection) ** 2 * s[None, :, None], axis=1)),
+        mount_force_rms=readonly(rms(np.abs(force) ** 2 * s[None, :, None], axis=1)),
+        miles_rms=readonly(np.where(elastic, miles, np.nan)), exact_rms=readonly(np.where(elastic, qdd_rms[dominant],
+                                                                                          np.nan)),
+        points=tuple(points), dominant_dof=modes.dominant_dof, input_kind=random.input, input_rms=random.psd.rms)

@@ -1,0 +1,96 @@
+"""Random vibration from the FRF matrix (issue 19, point 1), against closed forms integrated independently
+(scipy.integrate.quad of the single-DOF transfer functions) and Miles' equation."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+from sixdof import InputError
+from sixdof.analysis.random import PSD, RandomInput, random_response
+from systems import sdof
+
+M, K, C = 120.0, 4e5, 200.0  # z alone is restrained: m z'' + c z' + k z
+F_N = np.sqrt(K / M) / (2 * np.pi)
+G = 9.80665
+#: Trapezoids on the log grid (20 points per half-power band) against adaptive quadrature: measured 1.7e-7.
+RTOL_GRID = 1e-5
+
+
+def _rms(transfer, psd: PSD) -> float:
+    """RMS of ``transfer(f) * input`` by adaptive quadrature of |transfer|^2 PSD over the PSD's band."""
+    # Relative tolerance only: the integrands are ~1e-11 (m^2/Hz), far below quad's default absolute one.
+    value, _ = quad(lambda f: abs(transfer(f)) ** 2 * float(psd(f)), psd.f_hz[0], psd.f_hz[-1],
+                    points=[F_N, *psd.f_hz[1:-1]], limit=1000, epsabs=0.0, epsrel=1e-10)
+    return float(np.sqrt(value))
+
+
+def _w(f):
+    return 2 * np.pi * f
+
+
+def test_a_base_excited_oscillator_matches_its_closed_form_and_miles():
+    psd = PSD(f_hz=[2.0, 20.0, 100.0], value=[0.02, 0.04, 0.01], unit="g^2/Hz")
+    random = RandomInput(input="ground_acceleration", direction="z", psd=psd)
+    response = random_response(sdof(M, K, C), random, {"top": [0.1, 0.0, 0.3]})
+    # Absolute acceleration per unit base acceleration, (k + i w c) / (k - m w^2 + i w c).
+    base = lambda f: (K + 1j * _w(f) * C) / (K - M * _w(f) ** 2 + 1j * _w(f) * C)  # noqa: E731
+    assert response.qdd_rms[2] == pytest.approx(_rms(base, psd), rel=RTOL_GRID)
+    assert response.point_acceleration_rms[0, 2] == pytest.approx(_rms(base, psd), rel=RTOL_GRID)
+    # The mount's force: its stiffness and dashpot times the deflection relative to the ground.
+    force = lambda f: (K + 1j * _w(f) * C) * M / (K - M * _w(f) ** 2 + 1j * _w(f) * C)  # noqa: E731
+    assert response.mount_force_rms[0, 2] == pytest.approx(_rms(force, psd), rel=RTOL_GRID)
+    deflection = lambda f: M / (K - M * _w(f) ** 2 + 1j * _w(f) * C)  # noqa: E731
+    assert response.mount_deflection_rms[0, 2] == pytest.approx(_rms(deflection, psd), rel=RTOL_GRID)
+    # Miles: sqrt(pi/2 f_n Q S(f_n)), Q = 1/(2 zeta); the exact RMS is within 1 % of it here (light damping,
+    # a PSD varying slowly across the resonance).
+    zeta = C / (2 * np.sqrt(K * M))
+    z_mode = response.dominant_dof.index("z")
+    miles = np.sqrt(np.pi / 2 * F_N / (2 * zeta) * float(psd(F_N)))
+    assert response.miles_rms[z_mode] == pytest.approx(miles, rel=1e-12)
+    assert response.exact_rms[z_mode] == pytest.approx(miles, rel=0.01)
+    assert np.all(np.isnan(np.delete(response.miles_rms, z_mode)))  # the rigid-body modes have none
+
+
+def test_a_force_on_the_oscillator_with_a_loss_factor_matches_its_closed_form():
+    eta = 0.1
+    psd = PSD(f_hz=[1.0, 200.0], value=[4.0, 4.0], unit="N^2/Hz")
+    random = RandomInput(input="force", direction=[0.0, 0.0, 1.0], point=[0.0, 0.0, 0.0], psd=psd)
+    response = random_response(sdof(M, K, C, eta=eta), random)
+    receptance = lambda f: 1 / (K * (1 + 1j * eta) - M * _w(f) ** 2 + 1j * _w(f) * C)  # noqa: E731
+    assert response.q_rms[2] == pytest.approx(_rms(receptance, psd), rel=RTOL_GRID)
+    acceleration = lambda f: -_w(f) ** 2 * receptance(f)  # noqa: E731
+    assert response.qdd_rms[2] == pytest.approx(_rms(acceleration, psd), rel=RTOL_GRID)
+    assert response.input_rms == pytest.approx(np.sqrt(4.0 * 199.0), rel=1e-12)
+
+
+def test_the_psd_is_log_log_between_breakpoints_and_its_rms_exact():
+    psd = PSD(f_hz=[10.0, 40.0, 200.0], value=[0.01, 0.04, 0.04], unit="g^2/Hz")
+    assert float(psd(20.0)) == pytest.approx(0.02 * G**2, rel=1e-12)  # log-log slope 1 from 10 to 40 Hz: S ~ f
+    assert float(psd(5.0)) == 0.0 and float(psd(300.0)) == 0.0
+    reference = quad(lambda f: float(psd(f)), 10.0, 200.0, points=[40.0], limit=200, epsabs=0.0, epsrel=1e-12)[0]
+    assert psd.rms == pytest.approx(np.sqrt(reference), rel=1e-9)
+    flat = PSD(f_hz=[20.0, 2000.0], value=[0.04, 0.04], unit="g^2/Hz")
+    assert flat.rms / G == pytest.approx(np.sqrt(0.04 * 1980.0), rel=1e-12)  # grms = sqrt(S (f2 - f1))
+
+
+@pytest.mark.parametrize(("kwargs", "message"), [
+    ({"f_hz": [20.0, 10.0], "value": [1.0, 1.0]}, r"f_hz: expected increasing frequencies \[Hz\] > 0, at least 2"),
+    ({"f_hz": [20.0], "value": [1.0]}, r"f_hz: expected increasing frequencies"),
+    ({"f_hz": [10.0, 20.0], "value": [1.0, -1.0]}, r"value: expected 2 PSD values > 0"),
+    ({"f_hz": [10.0, 20.0], "value": [1.0, 1.0], "unit": "g2/Hz"}, r"unit: expected 'g\^2/Hz'"),
+])
+def test_bad_psd_input_is_one_clear_error(kwargs, message):
+    with pytest.raises(InputError, match=message):
+        PSD(**kwargs)
+
+
+def test_the_input_and_its_psd_unit_must_agree():
+    g_psd = PSD(f_hz=[10.0, 20.0], value=[1.0, 1.0], unit="g^2/Hz")
+    with pytest.raises(InputError, match=r"psd\.unit: expected N\^2/Hz for a force"):
+        RandomInput(input="force", point=[0.0, 0.0, 0.0], psd=g_psd)
+    with pytest.raises(InputError, match=r"point: expected the force's point"):
+        RandomInput(input="force", psd=PSD(f_hz=[10.0, 20.0], value=[1.0, 1.0], unit="N^2/Hz"))
+    with pytest.raises(InputError, match=r"input: expected 'ground_acceleration' or 'force'"):
+        RandomInput(input="pressure", psd=g_psd)

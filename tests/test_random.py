@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from scipy.integrate import quad
@@ -94,3 +96,47 @@ def test_the_input_and_its_psd_unit_must_agree():
         RandomInput(input="force", psd=PSD(f_hz=[10.0, 20.0], value=[1.0, 1.0], unit="N^2/Hz"))
     with pytest.raises(InputError, match=r"input: expected 'ground_acceleration' or 'force'"):
         RandomInput(input="pressure", psd=g_psd)
+
+
+def test_a_run_with_a_random_table_stores_prints_and_draws_it(tmp_path, capsys):
+    from sixdof import load_results
+    from sixdof.cli import main
+    from sixdof.io.store import load_tree
+
+    text = Path("scenarios/machine_unbalance.toml").read_text() + """
+[random]
+input = "ground_acceleration"
+direction = "z"
+psd = { f_hz = [5.0, 20.0, 200.0, 500.0], value = [0.001, 0.01, 0.01, 0.002], unit = "g^2/Hz" }
+"""
+    path = tmp_path / "machine.toml"
+    path.write_text(text)
+    assert main(["run", str(path), "--out", str(tmp_path), "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert "Random vibration:" in out and "Miles' equation per mode" in out
+    folder = tmp_path / "machine_unbalance"
+    assert (folder / "random.png").exists() and "## Random vibration" in (folder / "summary.md").read_text()
+    tree = load_tree(folder / "results.h5")
+    for name in ("f_hz", "input_psd", "q_psd", "q_rms", "point_acceleration_rms", "mount_force_rms"):
+        assert f"random/{name}" in tree.datasets, name
+    assert tree["random/q_psd"].dims == ("f_hz", "dof") and tree["random/mount_force_rms"].dims == ("mount",
+                                                                                                    "mount_axis")
+    back = load_results(folder / "results.h5").random
+    assert back.points == ("top_corner",) and back.mounts[0] == "front_left"
+    assert back.input_rms == pytest.approx(PSD(f_hz=[5.0, 20.0, 200.0, 500.0], value=[0.001, 0.01, 0.01, 0.002]).rms)
+
+
+@pytest.mark.parametrize(("table", "message"), [
+    ('input = "ground_acceleration"\npsd = { f_hz = [5.0], value = [0.01] }',
+     r"random\.psd\.f_hz: expected increasing frequencies"),
+    ('input = "force"\ndirection = "z"\npsd = { f_hz = [5.0, 50.0], value = [1.0, 1.0], unit = "N^2/Hz" }',
+     r"random\.point: expected the force's point"),
+    ('input = "ground_acceleration"\npsd = { f_hz = [5.0, 50.0], value = [0.01, 0.01], unit = "g^2/Hz" }\n'
+     'colour = "red"', r"random\.colour: expected one of the keys direction, input, point, psd"),
+])
+def test_bad_random_tables_are_one_clear_error(table, message):
+    from sixdof import parse_scenario
+
+    text = Path("scenarios/machine_unbalance.toml").read_text() + f"\n[random]\n{table}\n"
+    with pytest.raises(InputError, match=message):
+        parse_scenario(text)

@@ -283,6 +283,8 @@ class RunResults(Frozen):
         Named point FRFs and transmissibilities on the frequencies of ``frf``.
     steady_state : sixdof.analysis.steady.SteadyState or None
         Amplitudes and isolation at the excitation's operating frequencies (harmonic loads without end).
+    random : sixdof.analysis.random.RandomResponse or None
+        The stationary random response to the ``[random]`` PSD.
     validation : sixdof.validation.ValidationReport or None
     sweep : sixdof.analysis.batch.BatchResult or None
         A design sweep's frequencies and peaks per variant (``sixdof sweep``).
@@ -312,6 +314,7 @@ class RunResults(Frozen):
         "PointFRF", "ForceTransmissibility", "GroundTransmissibility")}, group="frf", default_factory=dict)
     steady_state: Any = part(lambda: _class("sixdof.analysis.steady", "SteadyState"), group="steady_state",
                              default=None)
+    random: Any = part(lambda: _class("sixdof.analysis.random", "RandomResponse"), group="random", default=None)
     validation: Any = part(lambda: _class("sixdof.validation", "ValidationReport"), group="validation", default=None)
     sweep: Any = part(lambda: _class("sixdof.analysis.batch", "BatchResult"), group="sweep", default=None)
     provenance: Any = field(default_factory=dict)

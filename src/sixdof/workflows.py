@@ -66,6 +66,8 @@ class RunOutcome:
         Amplitudes and isolation at the operating frequencies (harmonic loads without end).
     points : dict of str to sixdof.analysis.response.PointMotion
         The motion of the scenario's ``[[points]]`` (what the figures and the summary show of a long run).
+    random : sixdof.analysis.random.RandomResponse or None
+        The response to the scenario's ``[random]`` PSD.
     """
 
     directory: Path
@@ -83,6 +85,7 @@ class RunOutcome:
     mount_check: object = None
     steady_state: object = None
     points: dict = field(default_factory=dict)
+    random: object = None
 
 
 def sampling_warnings(scenario, modes) -> list[str]:
@@ -146,6 +149,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
     -------
     RunOutcome
     """
+    from sixdof.analysis.random import random_response
     from sixdof.analysis.steady import steady_state
     from sixdof.io import report, store
     from sixdof.io.stream import ResultsStream
@@ -166,9 +170,11 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
             warnings.warn(note, SamplingWarning, stacklevel=2)
         frf, frf_extras = _frequency_responses(scenario)
         steady = None if scenario.excitation is None else steady_state(system, scenario.excitation)
+        random = None if scenario.random is None else random_response(
+            system, scenario.random, {p.name: p.position for p in scenario.points})
         run = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
                          damping_ratios=zeta, statics=statics, frf=frf, frf_extras=frf_extras, steady_state=steady,
-                         provenance=_provenance(scenario))
+                         random=random, provenance=_provenance(scenario))
         drawing.submit(run)  # the modal and FRF figures are drawn while the solve runs
 
         timed = None
@@ -188,7 +194,8 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
             figures.extend(drawing.save(stage))
             text = report.summary_markdown(scenario, modes, statics, zeta, run.response, run.mount_forces,
                                             run.agreement, run.superposition, frf, figures, notes,
-                                            mount_check=run.mount_check, steady=steady, points=run.points)
+                                            mount_check=run.mount_check, steady=steady, points=run.points,
+                                            random=random)
             (stage / "summary.md").write_text(text, encoding="utf-8")
 
         figures = []
@@ -211,6 +218,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         mount_check=run.mount_check,
         steady_state=steady,
         points=run.points,
+        random=random,
     )
 
 

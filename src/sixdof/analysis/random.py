@@ -155,6 +155,7 @@ class RandomResponse(Result):
     miles_rms: np.ndarray = quantity(lambda r: _per_mode(r.dominant_dof), ("mode",))
     exact_rms: np.ndarray = quantity(lambda r: _per_mode(r.dominant_dof), ("mode",))
     points: tuple[str, ...] = quantity("", ("point",), name="point", decode=lambda a: tuple(str(n) for n in a))
+    mounts: tuple[str, ...] = quantity("", ("mount",), name="mount", decode=lambda a: tuple(str(n) for n in a))
     dominant_dof: tuple[str, ...] = label()
     input_kind: str = label()
     input_rms: float = label(decode=float)
@@ -267,6 +268,7 @@ def random_response(system, random: RandomInput, points=None) -> RandomResponse:
         point_acceleration_rms=readonly(rms(point_psd, axis=1) if points else np.zeros((0, 3))),
         mount_deflection_rms=readonly(rms(np.abs(deflection) ** 2 * s[None, :, None], axis=1)),
         mount_force_rms=readonly(rms(np.abs(force) ** 2 * s[None, :, None], axis=1)),
-        miles_rms=readonly(np.where(elastic, miles, np.nan)), exact_rms=readonly(np.where(elastic, qdd_rms[dominant],
-                                                                                          np.nan)),
-        points=tuple(points), dominant_dof=modes.dominant_dof, input_kind=random.input, input_rms=random.psd.rms)
+        miles_rms=readonly(np.where(elastic, miles, np.nan)),
+        exact_rms=readonly(np.where(elastic, qdd_rms[dominant], np.nan)),
+        points=tuple(points), mounts=tuple(m.name for m in system.mounts), dominant_dof=modes.dominant_dof,
+        input_kind=random.input, input_rms=random.psd.rms)

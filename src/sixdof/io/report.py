@@ -249,7 +249,8 @@ def validation_text(report) -> str:
 
 
 def summary_markdown(scenario, modes, statics, damping_ratios, response, forces, agreement,
-                     superposition, frf, figures, notes, mount_check=None, steady=None, points=None) -> str:
+                     superposition, frf, figures, notes, mount_check=None, steady=None, points=None,
+                     random=None) -> str:
     """The run summary as Markdown text (see :func:`sixdof.workflows.run_scenario`)."""
     parts = [f"# {scenario.name}", "", scenario.description, ""]
     if notes:
@@ -261,6 +262,8 @@ def summary_markdown(scenario, modes, statics, damping_ratios, response, forces,
         parts += ["## Statics under gravity", "", statics_table(statics, scenario.system.mount_names), ""]
     if steady is not None:
         parts += ["## Steady state", "", steady_state_text(steady), ""]
+    if random is not None:
+        parts += ["## Random vibration", "", random_text(random), ""]
     if response is not None:
         parts += ["## Time response", "", "Peaks over the whole run, the switch-on transient included.", "",
                   _peaks_table(response), ""]
@@ -295,6 +298,35 @@ def _peaks_table(response) -> str:
             cells.append(f"{scale * (values[k] if order == 0 else np.max(np.abs(values))):.5g} {shown}")
         rows.append([dof, cells[0], f"{response.t[k]:.3f}", cells[1], cells[2]])
     return table(["DOF", "peak q", "at t [s]", "peak |q'|", "peak |q''|"], rows)
+
+
+def random_text(random) -> str:
+    """The random response: RMS and 3-sigma of each DOF, of the points' accelerations and of the mount forces,
+    and Miles' estimate beside the exact RMS per mode (:class:`~sixdof.analysis.random.RandomResponse`)."""
+    unit = "N" if random.input_kind == "force" else "m/s² (" + f"{random.input_rms / STANDARD_GRAVITY:.3g} g)"
+    lines = [f"Input: {random.input_kind.replace('_', ' ')}, RMS {random.input_rms:.4g} {unit}"]
+    rows = []
+    for i, dof in enumerate(DOFS):
+        factor, label = display_unit(random.q_rms[i], DOF_UNITS[i])
+        accel_unit = "m/s²" if i < 3 else "rad/s²"
+        rows.append([dof, f"{factor * random.q_rms[i]:.4g} {label}", f"{3 * factor * random.q_rms[i]:.4g} {label}",
+                     f"{random.qdd_rms[i]:.4g} {accel_unit}"])
+    lines.append(table(["DOF", "displacement RMS", "3 sigma", "acceleration RMS"], rows))
+    if len(random.points):
+        lines.append(table(["point", "acceleration RMS x, y, z [m/s²]", "3 sigma [g]"],
+                           [[name, ", ".join(f"{v:.4g}" for v in rms),
+                             ", ".join(f"{3 * v / STANDARD_GRAVITY:.3g}" for v in rms)]
+                            for name, rms in zip(random.points, random.point_acceleration_rms)]))
+    lines.append(table(["mount", "force RMS u, v, w [N]", "deflection RMS u, v, w [mm]"],
+                       [[mount, ", ".join(f"{v:.4g}" for v in force), ", ".join(f"{1e3 * v:.3g}" for v in defl)]
+                        for mount, force, defl in zip(random.mounts, random.mount_force_rms,
+                                                      random.mount_deflection_rms)]))
+    modes = [[str(j + 1), random.dominant_dof[j], f"{m:.4g}", f"{e:.4g}", f"{e / m:.3f}"]
+             for j, (m, e) in enumerate(zip(random.miles_rms, random.exact_rms)) if np.isfinite(m) and m > 0]
+    if modes:
+        lines.append("Miles' equation per mode (its dominant DOF's acceleration RMS, that mode alone) against the "
+                     "exact RMS (every mode):\n" + table(["mode", "DOF", "Miles", "exact", "exact / Miles"], modes))
+    return "\n\n".join(lines)
 
 
 def steady_state_text(steady) -> str:

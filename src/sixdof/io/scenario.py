@@ -204,6 +204,8 @@ class Scenario:
     points : tuple of Point
     statics : StaticsSettings
     output : OutputSettings
+    random : sixdof.analysis.random.RandomInput or None
+        The ``[random]`` table: a base-acceleration or force PSD.
     design : sixdof.design.spec.DesignSpec
         The ``[design]`` table: torque axis, targets and variables (empty when absent).
     text : str
@@ -221,6 +223,7 @@ class Scenario:
     points: tuple[Point, ...]
     statics: StaticsSettings
     output: OutputSettings
+    random: Any
     design: Any
     text: str
     path: Path | None
@@ -291,10 +294,22 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     statics = build(StaticsSettings, top.table("statics", default={}), "statics")
     output = build(OutputSettings, top.table("output", default={}), "output")
     design = _design(top.table("design", default={}), system)
+    random = top.table("random", default=None)
+    if random is not None:
+        random = _random(random)
     return Scenario(name=name, description=description, system=system, excitation=excitation, simulation=simulation,
                     frf=frf, superposition=superposition, points=points, statics=statics, output=output,
-                    design=design, text=text,
+                    random=random, design=design, text=text,
                     path=Path(source) if source != "<string>" else None)
+
+
+def _random(raw: dict):
+    from sixdof.analysis.random import PSD, RandomInput
+
+    table = Table(raw, "random", ("input", "direction", "point", "psd"))
+    psd = build(PSD, table.table("psd"), "random.psd")
+    return make(RandomInput, "random", input=table.value("input"), direction=table.value("direction", "z"),
+                point=table.value("point", None), psd=psd)
 
 
 def _design(raw: dict, system: System):
@@ -412,5 +427,5 @@ def read_table_csv(file: Any, base_dir: Path, field: str) -> tuple[list[float], 
 
 _TOP_LEVEL_KEYS = (
     "name", "description", "body", "mounts", "damping", "loads", "ground", "initial", "simulation",
-    "frf", "superposition", "points", "statics", "output", "design",
+    "frf", "superposition", "points", "statics", "output", "design", "random",
 )

@@ -56,6 +56,7 @@ _PUBLIC = {
     "plot_point_frfs": "frf",
     "plot_free_decays": "validation",
     "plot_validation_frf": "validation",
+    "plot_random": "random",
 }
 
 __all__ = sorted([*_PUBLIC, "FIGURES", "figure_names", "png", "render", "save_all"])
@@ -116,6 +117,8 @@ FIGURES: tuple[tuple[str, tuple[str, ...], Callable[[object], bool], Callable[[o
      lambda run: _plots.plot_validation_frf(run.validation, name=run.name)),
     ("free_decays.png", ("validation",), lambda run: run.validation is not None and bool(run.validation.decays),
      lambda run: _plots.plot_free_decays(run.validation, name=run.name)),
+    ("random.png", ("random",), lambda run: run.random is not None,
+     lambda run: _plots.plot_random(run.random, name=run.name)),
 )
 _DRAW = {name: draw for name, _, _, draw in FIGURES}
 

@@ -266,6 +266,8 @@ def _run(args) -> int:
         print(f"\n{report.steady_state_text(outcome.steady_state)}")
     if outcome.random is not None:
         print(f"\nRandom vibration:\n{report.random_text(outcome.random)}")
+    if outcome.srs is not None:
+        print(f"\n{report.srs_text(outcome.srs)}")
     if outcome.agreement is not None:
         info = outcome.superposition.superposition
         print(f"\nDirect solve vs modal superposition ({info.method} modes): {outcome.agreement}")

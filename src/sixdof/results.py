@@ -285,6 +285,8 @@ class RunResults(Frozen):
         Amplitudes and isolation at the excitation's operating frequencies (harmonic loads without end).
     random : sixdof.analysis.random.RandomResponse or None
         The stationary random response to the ``[random]`` PSD.
+    srs : sixdof.analysis.srs.ShockSpectra or None
+        Shock response spectra of the base and of the body points (``[shock_response_spectrum]``).
     validation : sixdof.validation.ValidationReport or None
     sweep : sixdof.analysis.batch.BatchResult or None
         A design sweep's frequencies and peaks per variant (``sixdof sweep``).
@@ -315,6 +317,7 @@ class RunResults(Frozen):
     steady_state: Any = part(lambda: _class("sixdof.analysis.steady", "SteadyState"), group="steady_state",
                              default=None)
     random: Any = part(lambda: _class("sixdof.analysis.random", "RandomResponse"), group="random", default=None)
+    srs: Any = part(lambda: _class("sixdof.analysis.srs", "ShockSpectra"), group="srs", default=None)
     validation: Any = part(lambda: _class("sixdof.validation", "ValidationReport"), group="validation", default=None)
     sweep: Any = part(lambda: _class("sixdof.analysis.batch", "BatchResult"), group="sweep", default=None)
     provenance: Any = field(default_factory=dict)

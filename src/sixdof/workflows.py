@@ -68,6 +68,8 @@ class RunOutcome:
         The motion of the scenario's ``[[points]]`` (what the figures and the summary show of a long run).
     random : sixdof.analysis.random.RandomResponse or None
         The response to the scenario's ``[random]`` PSD.
+    srs : sixdof.analysis.srs.ShockSpectra or None
+        The shock response spectra of the scenario's ``[shock_response_spectrum]``.
     """
 
     directory: Path
@@ -86,6 +88,7 @@ class RunOutcome:
     steady_state: object = None
     points: dict = field(default_factory=dict)
     random: object = None
+    srs: object = None
 
 
 def sampling_warnings(scenario, modes) -> list[str]:
@@ -150,6 +153,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
     RunOutcome
     """
     from sixdof.analysis.random import random_response
+    from sixdof.analysis.srs import shock_spectra
     from sixdof.analysis.steady import steady_state
     from sixdof.io import report, store
     from sixdof.io.stream import ResultsStream
@@ -188,6 +192,11 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
                                    omit=scenario.output.omitted) as stream:
                     timed = _time_response(scenario, statics, stream, progress)
                     run = dataclasses.replace(run, **timed.drawn)
+                    if scenario.shock_response_spectrum is not None:  # every sample is kept (checked on loading)
+                        ground = scenario.excitation.ground if scenario.excitation is not None else None
+                        run = dataclasses.replace(run, srs=shock_spectra(
+                            run.response, run.points, scenario.shock_response_spectrum,
+                            None if ground is None else ground.direction))
                     drawing.submit(run)
                     stream.finish(run)
                 notes.extend(timed.notes)
@@ -195,7 +204,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
             text = report.summary_markdown(scenario, modes, statics, zeta, run.response, run.mount_forces,
                                             run.agreement, run.superposition, frf, figures, notes,
                                             mount_check=run.mount_check, steady=steady, points=run.points,
-                                            random=random)
+                                            random=random, srs=run.srs)
             (stage / "summary.md").write_text(text, encoding="utf-8")
 
         figures = []
@@ -219,6 +228,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         steady_state=steady,
         points=run.points,
         random=random,
+        srs=run.srs,
     )
 
 

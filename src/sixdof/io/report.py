@@ -250,7 +250,7 @@ def validation_text(report) -> str:
 
 def summary_markdown(scenario, modes, statics, damping_ratios, response, forces, agreement,
                      superposition, frf, figures, notes, mount_check=None, steady=None, points=None,
-                     random=None) -> str:
+                     random=None, srs=None) -> str:
     """The run summary as Markdown text (see :func:`sixdof.workflows.run_scenario`)."""
     parts = [f"# {scenario.name}", "", scenario.description, ""]
     if notes:
@@ -264,6 +264,8 @@ def summary_markdown(scenario, modes, statics, damping_ratios, response, forces,
         parts += ["## Steady state", "", steady_state_text(steady), ""]
     if random is not None:
         parts += ["## Random vibration", "", random_text(random), ""]
+    if srs is not None:
+        parts += ["## Shock response spectra", "", srs_text(srs), ""]
     if response is not None:
         parts += ["## Time response", "", "Peaks over the whole run, the switch-on transient included.", "",
                   _peaks_table(response), ""]
@@ -298,6 +300,23 @@ def _peaks_table(response) -> str:
             cells.append(f"{scale * (values[k] if order == 0 else np.max(np.abs(values))):.5g} {shown}")
         rows.append([dof, cells[0], f"{response.t[k]:.3f}", cells[1], cells[2]])
     return table(["DOF", "peak q", "at t [s]", "peak |q'|", "peak |q''|"], rows)
+
+
+def srs_text(srs) -> str:
+    """The peak of each shock response spectrum and where it lies (:class:`~sixdof.analysis.srs.ShockSpectra`)."""
+    rows = []
+    if srs.input is not None:
+        k = int(np.argmax(srs.input))
+        rows.append(["base (input)", "along the ground", f"{srs.input[k] / STANDARD_GRAVITY:.4g}",
+                     f"{srs.f_hz[k]:.4g}"])
+    largest = float(np.max(srs.points)) if srs.points.size else 0.0
+    for name, spectra in zip(srs.names, srs.points):
+        for axis, spectrum in zip("xyz", spectra):
+            k = int(np.argmax(spectrum))
+            if spectrum[k] > 1e-9 * largest:  # an axis the shock does not reach is left out
+                rows.append([name, axis, f"{spectrum[k] / STANDARD_GRAVITY:.4g}", f"{srs.f_hz[k]:.4g}"])
+    return (f"Maximax absolute-acceleration SRS, Q = {srs.q:g}, {srs.f_hz[0]:g} to {srs.f_hz[-1]:g} Hz:\n"
+            + table(["signal", "axis", "peak SRS [g]", "at f [Hz]"], rows))
 
 
 def random_text(random) -> str:

@@ -204,6 +204,8 @@ class Scenario:
     points : tuple of Point
     statics : StaticsSettings
     output : OutputSettings
+    shock_response_spectrum : sixdof.analysis.srs.SRSSettings or None
+        The ``[shock_response_spectrum]`` table (needs a ``[simulation]``).
     random : sixdof.analysis.random.RandomInput or None
         The ``[random]`` table: a base-acceleration or force PSD.
     design : sixdof.design.spec.DesignSpec
@@ -223,6 +225,7 @@ class Scenario:
     points: tuple[Point, ...]
     statics: StaticsSettings
     output: OutputSettings
+    shock_response_spectrum: Any
     random: Any
     design: Any
     text: str
@@ -297,10 +300,30 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     random = top.table("random", default=None)
     if random is not None:
         random = _random(random)
+    spectrum = top.table("shock_response_spectrum", default=None)
+    if spectrum is not None:
+        spectrum = _spectrum(spectrum, simulation)
     return Scenario(name=name, description=description, system=system, excitation=excitation, simulation=simulation,
                     frf=frf, superposition=superposition, points=points, statics=statics, output=output,
-                    random=random, design=design, text=text,
+                    shock_response_spectrum=spectrum, random=random, design=design, text=text,
                     path=Path(source) if source != "<string>" else None)
+
+
+def _spectrum(raw: dict, simulation):
+    from sixdof.analysis.srs import SRSSettings
+
+    spectrum = build(SRSSettings, raw, "shock_response_spectrum")
+    if simulation is None:
+        raise InputError("shock_response_spectrum", "a [simulation] whose record it is computed from",
+                         Plain("no [simulation]"))
+    if simulation.samples > MEMORY_SAMPLES:
+        raise InputError("shock_response_spectrum", f"a [simulation] of at most {MEMORY_SAMPLES} samples (a "
+                         "longer run keeps only what its figures draw)", Plain(f"{simulation.samples} samples"))
+    nyquist = simulation.sample_rate_hz / 2
+    if spectrum.f_hz[1] >= nyquist:
+        raise InputError("shock_response_spectrum.f_hz", f"a band below half the sample rate ({nyquist:g} Hz)",
+                         list(spectrum.f_hz))
+    return spectrum
 
 
 def _random(raw: dict):
@@ -427,5 +450,5 @@ def read_table_csv(file: Any, base_dir: Path, field: str) -> tuple[list[float], 
 
 _TOP_LEVEL_KEYS = (
     "name", "description", "body", "mounts", "damping", "loads", "ground", "initial", "simulation",
-    "frf", "superposition", "points", "statics", "output", "design", "random",
+    "frf", "superposition", "points", "statics", "output", "design", "random", "shock_response_spectrum",
 )

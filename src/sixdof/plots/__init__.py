@@ -57,6 +57,7 @@ _PUBLIC = {
     "plot_free_decays": "validation",
     "plot_validation_frf": "validation",
     "plot_random": "random",
+    "plot_srs": "srs",
 }
 
 __all__ = sorted([*_PUBLIC, "FIGURES", "figure_names", "png", "render", "save_all"])
@@ -119,6 +120,7 @@ FIGURES: tuple[tuple[str, tuple[str, ...], Callable[[object], bool], Callable[[o
      lambda run: _plots.plot_free_decays(run.validation, name=run.name)),
     ("random.png", ("random",), lambda run: run.random is not None,
      lambda run: _plots.plot_random(run.random, name=run.name)),
+    ("srs.png", ("srs",), lambda run: run.srs is not None, lambda run: _plots.plot_srs(run.srs, name=run.name)),
 )
 _DRAW = {name: draw for name, _, _, draw in FIGURES}
 

@@ -1,0 +1,128 @@
+"""Shock response spectra (issue 19, point 3): the maximax absolute-acceleration SRS of a base shock and of
+the body points' accelerations, what the isolators let through.
+
+For each natural frequency f of a grid, a single-DOF oscillator of quality factor Q (damping 1/(2Q)) is
+driven at its base by the sampled acceleration; its absolute acceleration is computed with Smallwood's
+ramp-invariant digital filter (D. O. Smallwood, "An improved recursive formula for calculating shock
+response spectra", Shock and Vibration Bulletin 51, 1981), exact for an input varying linearly between
+samples; the SRS is the largest magnitude over the record (maximax: during and after the shock).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from sixdof.errors import InputError, integer_check, readonly
+from sixdof.frozen import Frozen, checked
+from sixdof.results import Result, label, quantity
+
+
+def _band(value, field: str) -> tuple[float, float]:
+    expected = "a band [lo, hi] in Hz with 0 < lo < hi"
+    if not isinstance(value, (list, tuple)) or len(value) != 2:
+        raise InputError(field, expected, value)
+    low, high = (float(v) for v in value)
+    if not 0 < low < high < np.inf:
+        raise InputError(field, expected, value)
+    return low, high
+
+
+def _positive(value, field: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value < np.inf:
+        raise InputError(field, "a positive quality factor Q (10 by custom)", value)
+    return float(value)
+
+
+@dataclass(frozen=True)
+class SRSSettings(Frozen):
+    """The ``[shock_response_spectrum]`` table: natural frequencies ``f_hz = [lo, hi]`` [Hz], ``points``
+    of them on a log grid (default 100), quality factor ``q`` (default 10)."""
+
+    f_hz: tuple[float, float] = checked(_band)
+    points: int = checked(integer_check("an integer >= 2", 2), default=100)
+    q: float = checked(_positive, default=10.0)
+
+    def grid(self) -> np.ndarray:
+        return np.geomspace(*self.f_hz, self.points)
+
+
+@dataclass(frozen=True, eq=False)
+class ShockSpectra(Result):
+    """Result of :func:`shock_spectra` (stored in ``/srs``).
+
+    Attributes
+    ----------
+    f_hz : ndarray, shape (nf,)
+        Natural frequencies of the oscillators [Hz].
+    input : ndarray, shape (nf,), or None
+        SRS of the base acceleration along the ground's direction [m/s^2]; None without ground motion.
+    points : ndarray, shape (n_points, 3, nf)
+        SRS of each body point's absolute acceleration along x, y, z [m/s^2].
+    names : tuple of str
+        The body points.
+    q : float
+    """
+
+    f_hz: np.ndarray = quantity("Hz", ("f_hz",))
+    points: np.ndarray = quantity("m/s^2", ("point", "axis", "f_hz"), name="point_srs",
+                                  description="maximax absolute-acceleration SRS of each body point")
+    names: tuple[str, ...] = quantity("", ("point",), name="point", decode=lambda a: tuple(str(n) for n in a))
+    q: float = label(decode=float)
+    input: np.ndarray | None = quantity("m/s^2", ("f_hz",), default=None,
+                                        description="maximax absolute-acceleration SRS of the base acceleration")
+
+
+def srs(t, acceleration, f_hz, q: float = 10.0) -> np.ndarray:
+    """Maximax absolute-acceleration SRS of a base acceleration sampled uniformly.
+
+    Parameters
+    ----------
+    t : array_like, shape (n,)
+        Uniform times [s].
+    acceleration : array_like, shape (n,)
+        Base acceleration [any unit; the SRS is in the same].
+    f_hz : array_like, shape (nf,)
+        Natural frequencies [Hz], each below half the sample rate.
+    q : float
+        Quality factor, damping ratio 1/(2q).
+
+    Returns
+    -------
+    ndarray, shape (nf,)
+    """
+    from scipy.signal import lfilter  # only when spectra are asked for: scipy.signal pulls in scipy.stats
+
+    t, x, f = np.asarray(t, float), np.asarray(acceleration, float), np.asarray(f_hz, float)
+    dt = float(t[1] - t[0])
+    if not np.allclose(np.diff(t), dt, rtol=1e-9, atol=0):
+        raise InputError("t", "uniform sample times", "non-uniform times")
+    if np.any(f >= 0.5 / dt):
+        raise InputError("f_hz", f"natural frequencies below half the sample rate ({0.5 / dt:.6g} Hz)",
+                         float(f.max()))
+    zeta = 1.0 / (2.0 * q)
+    out = np.empty(f.size)
+    for k, fn in enumerate(f):
+        a = 2 * np.pi * fn * zeta * dt  # Smallwood's A and B
+        b = 2 * np.pi * fn * np.sqrt(1 - zeta**2) * dt
+        e, sinc = np.exp(-a), np.sin(b) / b
+        num = [1 - e * sinc, 2 * e * (sinc - np.cos(b)), e**2 - e * sinc]
+        den = [1.0, -2 * e * np.cos(b), e**2]
+        out[k] = np.max(np.abs(lfilter(num, den, x)))
+    return out
+
+
+def shock_spectra(response, points: dict, settings: SRSSettings, ground_direction=None) -> ShockSpectra:
+    """The SRS of the base acceleration (along ``ground_direction``, when the ground moves) and of every body
+    point's absolute acceleration in ``points`` (name -> PointMotion) over the run's record ``response``."""
+    f = settings.grid()
+    t = response.t
+    base = None
+    if ground_direction is not None and response.ground_acceleration is not None:
+        d = np.asarray(ground_direction, float) / np.linalg.norm(ground_direction)
+        base = readonly(srs(t, response.ground_acceleration @ d, f, settings.q))
+    spectra = [[srs(t, motion.acceleration[:, axis], f, settings.q) for axis in range(3)]
+               for motion in points.values()]
+    return ShockSpectra(f_hz=readonly(f), input=base, names=tuple(points), q=settings.q,
+                        points=readonly(np.array(spectra).reshape(len(points), 3, f.size)))

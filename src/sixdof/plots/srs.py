@@ -1,0 +1,61 @@
+"""The shock-response-spectrum figure: the base shock's SRS against the body points', what the isolators remove."""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.figure import Figure
+from matplotlib.ticker import FuncFormatter
+
+from sixdof.analysis.srs import ShockSpectra
+from sixdof.dofs import AXES
+from sixdof.plots.common import margins, require, title
+
+G = 9.80665
+
+
+def _plain(value: float, _position=None) -> str:
+    """A log-axis tick as a plain number, only at 1, 2 and 5 times a power of ten."""
+    if value <= 0:
+        return ""
+    mantissa = round(value / 10 ** np.floor(np.log10(value)), 6)
+    return f"{value:g}" if mantissa in (1.0, 2.0, 5.0) else ""
+
+
+def plot_srs(spectra: ShockSpectra, *, name: str = "") -> Figure:
+    """Maximax absolute-acceleration SRS [g] against natural frequency [Hz], log-log: the base acceleration's
+    (black) and each body point's along each axis that sees at least 1 % of the largest peak.
+
+    Parameters
+    ----------
+    spectra : sixdof.analysis.srs.ShockSpectra
+    name : str
+        Name of the run, put before the title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    require(spectra, "spectra", ShockSpectra, "a sixdof.analysis.srs.ShockSpectra")
+    f = spectra.f_hz
+    fig = Figure(figsize=(10, 6))
+    fig.suptitle(title(name, f"shock response spectra (maximax absolute acceleration, Q = {spectra.q:g})"),
+                 fontsize=12)
+    margins(fig, left=1.0, right=0.3, top=0.7, bottom=0.6)
+    ax = fig.add_subplot()
+    if spectra.input is not None:
+        ax.loglog(f, spectra.input / G, color="black", linewidth=1.8, label="base (input)")
+    largest = float(np.max(spectra.points)) if spectra.points.size else 0.0
+    for point, curves in zip(spectra.names, spectra.points):
+        for axis, curve in zip(AXES, curves):
+            if largest > 0 and np.max(curve) >= 0.01 * largest:
+                ax.loglog(f, curve / G, linewidth=1.2, label=f"{point} {axis}")
+    ax.set_xlabel("natural frequency f [Hz]")
+    ax.set_ylabel("SRS [g]")
+    ax.set_xlim(f[0], f[-1])
+    ax.grid(True, which="both", alpha=0.25)
+    for axis in (ax.xaxis, ax.yaxis):  # 20, 50, 100 rather than 2 x 10^1, 5 x 10^1, 10^2
+        axis.set_major_formatter(FuncFormatter(_plain))
+        axis.set_minor_formatter(FuncFormatter(_plain))
+    if ax.get_lines():
+        ax.legend(fontsize=8, loc="best")
+    return fig

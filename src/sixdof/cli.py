@@ -191,6 +191,12 @@ def _parser() -> argparse.ArgumentParser:
     examples.add_argument("folder", help="where the scenario files go (created; files already there are kept)")
     examples.set_defaults(command=_examples)
 
+    exchange = add("export", help="write a results file's time histories and FRFs as UFF58 or CSV for test tools")
+    exchange.add_argument("results", help="results file (results.h5 of a run)")
+    exchange.add_argument("--format", choices=("uff58", "csv"), default="uff58", help="file format (default uff58)")
+    exchange.add_argument("--out", help="files go to OUT/<name>_export/ (default: beside the results file)")
+    exchange.set_defaults(command=_export)
+
     plot = add("plot", help="redraw every figure from a results file, without re-running")
     plot.add_argument("results", help="results file (results.h5 of a run)")
     plot.add_argument("--out", help="folder for the PNG files (default: beside the results file)")
@@ -320,6 +326,14 @@ def _optimize(args) -> int:
     if not outcome.met:
         print("sixdof: the targets are not all met (see above); the best compromise is written", file=sys.stderr)
         return EXIT_TARGETS_NOT_MET
+    return 0
+
+
+def _export(args) -> int:
+    from sixdof.io.exchange import export
+
+    files = export(args.results, args.out, args.format)
+    print(f"Wrote {files[0].parent}: {', '.join(f.name for f in files)}")
     return 0
 
 

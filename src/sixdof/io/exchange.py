@@ -1,0 +1,139 @@
+"""Results for test and correlation tools (issue 19, point 5): a run's time histories and FRFs as universal
+file format dataset 58 (what test labs exchange; written with pyuff) or as CSV.
+
+UFF58 conventions used: node 1 is the centre of gravity, nodes 2, 3... the ``[[points]]`` in their order;
+directions 1-6 are +X, +Y, +Z, +RX, +RY, +RZ (body axes). Time histories are function type 1 (the CG's
+displacement, ordinate type 8; the points' accelerations, type 12), the receptance function type 4
+(response displacement per excitation force, types 8 over 13), all in binary UFF58 (58b) double precision,
+which reads back exactly (ASCII UFF58 keeps 6 digits of an uneven abscissa such as a log frequency grid),
+with SI unit labels.
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import numpy as np
+
+from sixdof.dofs import DOF_UNITS, DOFS, FORCE_UNITS, LOADS
+from sixdof.errors import InputError, Plain
+
+FORMATS = ("uff58", "csv")
+_TIME, _FRF = 1, 4  # UFF58 function types
+_DISPLACEMENT, _ACCELERATION, _FORCE = 8, 12, 13  # UFF58 specific data types
+_SECONDS, _HERTZ = 17, 18
+#: A time history has no denominator (UFF58 type 0, "unknown").
+_NO_DENOMINATOR = {"orddenom_spec_data_type": 0, "orddenom_axis_units_lab": "NONE"}
+
+
+def _abscissa(x: np.ndarray) -> dict:
+    """UFF58 abscissa fields: even spacing (min and increment) when ``x`` is uniform, else the values."""
+    step = np.diff(x)
+    if x.size > 1 and np.allclose(step, step[0], rtol=1e-9, atol=0):
+        return {"abscissa_spacing": 1, "abscissa_min": float(x[0]), "abscissa_inc": float(step[0])}
+    return {"abscissa_spacing": 0, "abscissa_min": float(x[0]), "abscissa_inc": 0.0}
+
+
+def uff58_sets(run) -> list[dict]:
+    """The UFF58 datasets of a run: the CG's displacement per DOF, each point's acceleration per axis, and
+    the receptance per response DOF and load (see the module)."""
+    import pyuff
+
+    sets = []
+    name = run.name or "sixdof"
+    if run.response is not None:
+        t = np.asarray(run.response.t, float)
+        for i, dof in enumerate(DOFS):
+            sets.append(pyuff.prepare_58(
+                binary=1, func_type=_TIME, rsp_node=1, rsp_dir=i + 1, ref_node=0, ref_dir=0, ord_data_type=4,
+                id1=f"{name}: CG {dof} displacement", rsp_ent_name="CG", ref_ent_name="NONE",
+                abscissa_spec_data_type=_SECONDS, abscissa_axis_units_lab="s",
+                ordinate_spec_data_type=_DISPLACEMENT, ordinate_axis_units_lab=DOF_UNITS[i], **_NO_DENOMINATOR,
+                data=np.asarray(run.response.q[:, i], float), x=t, num_pts=t.size, **_abscissa(t)))
+        for k, (point, motion) in enumerate(run.points.items()):
+            for axis in range(3):
+                sets.append(pyuff.prepare_58(
+                    binary=1, func_type=_TIME, rsp_node=k + 2, rsp_dir=axis + 1, ref_node=0, ref_dir=0, ord_data_type=4,
+                    id1=f"{name}: {point} acceleration {'xyz'[axis]}", rsp_ent_name=point, ref_ent_name="NONE",
+                    abscissa_spec_data_type=_SECONDS, abscissa_axis_units_lab="s",
+                    ordinate_spec_data_type=_ACCELERATION, ordinate_axis_units_lab="m/s^2", **_NO_DENOMINATOR,
+                    data=np.asarray(motion.acceleration[:, axis], float), x=t, num_pts=t.size, **_abscissa(t)))
+    if run.frf is not None:
+        frf = run.frf.direct
+        f = np.asarray(frf.f_hz, float)
+        for i, dof in enumerate(DOFS):
+            for j, load in enumerate(LOADS):
+                sets.append(pyuff.prepare_58(
+                    binary=1, func_type=_FRF, rsp_node=1, rsp_dir=i + 1, ref_node=1, ref_dir=j + 1, ord_data_type=6,
+                    id1=f"{name}: receptance {dof} per {load}", rsp_ent_name="CG", ref_ent_name="CG",
+                    abscissa_spec_data_type=_HERTZ, abscissa_axis_units_lab="Hz",
+                    ordinate_spec_data_type=_DISPLACEMENT, ordinate_axis_units_lab=DOF_UNITS[i],
+                    orddenom_spec_data_type=_FORCE, orddenom_axis_units_lab=FORCE_UNITS[j],
+                    data=np.asarray(frf.H[:, i, j], complex), x=f, num_pts=f.size, **_abscissa(f)))
+    return sets
+
+
+def _write_csv(path: Path, headers: list[str], columns: list[np.ndarray]) -> None:
+    with path.open("w", newline="", encoding="utf-8") as stream:
+        writer = csv.writer(stream)
+        writer.writerow(headers)
+        writer.writerows(np.column_stack(columns).tolist())
+
+
+def export(results: str | Path, out_root: str | Path | None = None, fmt: str = "uff58") -> list[Path]:
+    """Write a results file's time histories and FRFs for other tools, into ``<out_root>/<name>_export/``
+    (default: beside the results file), all or nothing.
+
+    ``"uff58"``: ``<name>.uff`` (see the module). ``"csv"``: ``<name>_time.csv`` (t [s], the CG's q [m, rad],
+    each point's acceleration [m/s^2]) and ``<name>_frf.csv`` (f [Hz], the real and imaginary part of each
+    receptance entry), unit in every column header.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written.
+    """
+    from sixdof.io import output
+    from sixdof.io.store import load_results
+
+    if fmt not in FORMATS:
+        raise InputError("--format", " or ".join(FORMATS), fmt)
+    results = Path(results)
+    run = load_results(results)
+    if run.response is None and run.frf is None:
+        raise InputError("results", "a run with time histories or FRFs to export", Plain(f"{results}: neither"))
+    name = run.name or results.stem
+    target = output.check_target(out_root if out_root is not None else results.parent, name, "_export")
+    written: list[str] = []
+
+    def write(stage: Path) -> None:
+        if fmt == "uff58":
+            import pyuff
+
+            path = stage / f"{name}.uff"
+            pyuff.UFF(str(path)).write_sets(uff58_sets(run), mode="add")
+            written.append(path.name)
+            return
+        if run.response is not None:
+            headers = ["t [s]", *(f"{d} [{u}]" for d, u in zip(DOFS, DOF_UNITS))]
+            columns = [run.response.t, *run.response.q.T]
+            for point, motion in run.points.items():
+                headers += [f"{point} a{a} [m/s^2]" for a in "xyz"]
+                columns += list(motion.acceleration.T)
+            _write_csv(stage / f"{name}_time.csv", headers, columns)
+            written.append(f"{name}_time.csv")
+        if run.frf is not None:
+            frf = run.frf.direct
+            headers, columns = ["f [Hz]"], [frf.f_hz]
+            for i, dof in enumerate(DOFS):
+                for j, load in enumerate(LOADS):
+                    unit = f"{DOF_UNITS[i]}/{FORCE_UNITS[j]}" if " " not in FORCE_UNITS[j] else \
+                        f"{DOF_UNITS[i]}/({FORCE_UNITS[j]})"
+                    headers += [f"Re {dof}/{load} [{unit}]", f"Im {dof}/{load} [{unit}]"]
+                    columns += [frf.H[:, i, j].real, frf.H[:, i, j].imag]
+            _write_csv(stage / f"{name}_frf.csv", headers, columns)
+            written.append(f"{name}_frf.csv")
+
+    output.write_folder(target, write)
+    return [target / n for n in written]

@@ -1,0 +1,80 @@
+"""Export for test and correlation tools (issue 19, point 5): UFF58 read back with pyuff, CSV read back with
+the csv module, both against the results file; a file of the wrong kind refused."""
+
+from __future__ import annotations
+
+import csv
+
+import numpy as np
+import pytest
+
+from sixdof import InputError, load_results, parse_scenario, run_scenario
+from sixdof.cli import main
+from test_run import SCENARIO
+
+#: Binary UFF58 holds doubles: the even time axis comes back as min + k * increment (1 ulp off), the rest exactly.
+RTOL_TIME_AXIS = 1e-14
+
+
+@pytest.fixture(scope="module")
+def results(tmp_path_factory):
+    outcome = run_scenario(parse_scenario(SCENARIO.replace("duration = 0.6", "duration = 0.2")),
+                           tmp_path_factory.mktemp("run"), progress=False)
+    return outcome.results_path
+
+
+def test_uff58_carries_every_history_and_receptance_with_its_dof_and_units(results, tmp_path, capsys):
+    pyuff = pytest.importorskip("pyuff")
+    assert main(["export", str(results), "--out", str(tmp_path)]) == 0
+    assert "small.uff" in capsys.readouterr().out
+    run = load_results(results)
+    uff = pyuff.UFF(str(tmp_path / "small_export" / "small.uff"))
+    sets = [uff.read_sets(k) for k in range(uff.get_n_sets())]
+    assert len(sets) == 6 + 3 * len(run.points) + 36
+    for k in range(6):  # the CG's displacement: node 1, direction k+1
+        data = sets[k]
+        assert (data["func_type"], data["rsp_node"], data["rsp_dir"], data["ordinate_spec_data_type"]) == (1, 1, k + 1, 8)
+        assert data["ordinate_axis_units_lab"].strip() == ("m" if k < 3 else "rad")
+        np.testing.assert_allclose(data["x"], run.response.t, rtol=RTOL_TIME_AXIS, atol=1e-15)
+        np.testing.assert_array_equal(data["data"], run.response.q[:, k])
+    top = sets[6 + 2]  # the first point's z acceleration: node 2, direction 3, ordinate type 12
+    assert (top["rsp_node"], top["rsp_dir"], top["ordinate_spec_data_type"]) == (2, 3, 12)
+    np.testing.assert_array_equal(top["data"], run.points["top"].acceleration[:, 2])
+    frf = run.frf.direct
+    for data in sets[6 + 3 * len(run.points):]:  # receptance: response over reference (node 1 both)
+        i, j = data["rsp_dir"] - 1, data["ref_dir"] - 1
+        assert (data["func_type"], data["ordinate_spec_data_type"], data["orddenom_spec_data_type"]) == (4, 8, 13)
+        assert data["orddenom_axis_units_lab"].strip() == ("N" if j < 3 else "N m")
+        np.testing.assert_array_equal(data["x"], frf.f_hz)  # an uneven (log) grid, every digit kept
+        np.testing.assert_array_equal(data["data"], frf.H[:, i, j])
+
+
+def test_csv_columns_name_their_quantity_and_unit_and_hold_the_results(results, tmp_path):
+    from sixdof.io.exchange import export
+
+    files = export(results, tmp_path, "csv")
+    assert [f.name for f in files] == ["small_time.csv", "small_frf.csv"]
+    run = load_results(results)
+    with files[0].open() as stream:
+        rows = list(csv.reader(stream))
+    assert rows[0][:3] == ["t [s]", "x [m]", "y [m]"] and rows[0][4] == "rx [rad]" and rows[0][7] == "top ax [m/s^2]"
+    table = np.array(rows[1:], dtype=float)
+    np.testing.assert_array_equal(table[:, 0], run.response.t)  # CSV keeps every digit (repr)
+    np.testing.assert_array_equal(table[:, 1:7], run.response.q)
+    with files[1].open() as stream:
+        rows = list(csv.reader(stream))
+    assert rows[0][1:3] == ["Re x/Fx [m/N]", "Im x/Fx [m/N]"] and "Re rx/Mx [rad/(N m)]" in rows[0]
+    table = np.array(rows[1:], dtype=float)
+    column = rows[0].index("Re z/My [m/(N m)]")
+    np.testing.assert_array_equal(table[:, column] + 1j * table[:, column + 1], run.frf.direct.H[:, 2, 4])
+
+
+def test_a_format_or_file_of_the_wrong_kind_is_refused(results, tmp_path):
+    from sixdof.io.exchange import export
+
+    with pytest.raises(InputError, match=r"--format: expected uff58 or csv, got 'uff'"):
+        export(results, tmp_path, "uff")
+    bad = tmp_path / "not.h5"
+    bad.write_text("no")
+    with pytest.raises(InputError, match=r"results: expected an HDF5 results file written by sixdof"):
+        export(bad, tmp_path, "csv")

@@ -117,6 +117,18 @@ class RandomInput(Frozen):
                              "acceleration", self.psd.unit)
 
 
+def _per_mode(dominant: tuple[str, ...]) -> MixedUnits:
+    """Units of an acceleration of each mode's dominant DOF."""
+    units = tuple(dof_units(2)[DOFS.index(d)] for d in dominant)
+    return MixedUnits((("mode", units),), "m/s^2 or rad/s^2: the acceleration of each mode's dominant DOF")
+
+
+def _psd_units(order: int) -> MixedUnits:
+    """Units of the PSD of q (order 0) or q'' (2): the square of each DOF's unit per Hz."""
+    squared = tuple(f"({u})^2/Hz" for u in dof_units(order))
+    return MixedUnits((("dof", squared),), mixed_units(squared[0], squared[3]))
+
+
 @dataclass(frozen=True, eq=False)
 class RandomResponse(Result):
     """Result of :func:`random_response` (stored in ``/random``).
@@ -144,8 +156,8 @@ class RandomResponse(Result):
 
     f_hz: np.ndarray = quantity("Hz", ("f_hz",))
     input_psd: np.ndarray = quantity(lambda r: r.input_unit, ("f_hz",))
-    q_psd: np.ndarray = quantity(lambda r: _psd_units(r.input_kind, 0), ("f_hz", "dof"))
-    qdd_psd: np.ndarray = quantity(lambda r: _psd_units(r.input_kind, 2), ("f_hz", "dof"))
+    q_psd: np.ndarray = quantity(_psd_units(0), ("f_hz", "dof"))
+    qdd_psd: np.ndarray = quantity(_psd_units(2), ("f_hz", "dof"))
     q_rms: np.ndarray = quantity(MixedUnits((("dof", dof_units(0)),), mixed_units("m", "rad")), ("dof",))
     qdd_rms: np.ndarray = quantity(MixedUnits((("dof", dof_units(2)),), mixed_units("m/s^2", "rad/s^2")), ("dof",))
     point_acceleration_psd: np.ndarray = quantity("(m/s^2)^2/Hz", ("point", "f_hz", "axis"))
@@ -163,19 +175,6 @@ class RandomResponse(Result):
     @property
     def input_unit(self) -> str:
         return "N^2/Hz" if self.input_kind == "force" else "(m/s^2)^2/Hz"
-
-
-def _per_mode(dominant: tuple[str, ...]) -> MixedUnits:
-    """Units of an acceleration of each mode's dominant DOF."""
-    units = tuple(dof_units(2)[DOFS.index(d)] for d in dominant)
-    return MixedUnits((("mode", units),), "m/s^2 or rad/s^2: the acceleration of each mode's dominant DOF")
-
-
-def _psd_units(kind: str, order: int) -> MixedUnits:
-    suffix = ("", "/s", "/s^2")[order]
-    units = tuple(f"{u}{suffix}" for u in ("m", "m", "m", "rad", "rad", "rad"))
-    squared = tuple(f"({u})^2/Hz" for u in units)
-    return MixedUnits((("dof", squared),), mixed_units(squared[0], squared[3]))
 
 
 def frequency_grid(system, psd: PSD) -> np.ndarray:

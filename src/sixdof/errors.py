@@ -48,7 +48,7 @@ class ScenarioError(InputError):
 
 
 def finite_array(value: object, field: str, expected: str, shape: tuple[int, ...]) -> np.ndarray:
-    """``value`` as a read-only float64 array of ``shape`` with finite entries.
+    """``value`` as a read-only float64 array of ``shape`` (-1: any length along that axis) with finite entries.
 
     The one check behind every "3 coordinates in m" / "6 finite values" field of the library.
 
@@ -59,9 +59,19 @@ def finite_array(value: object, field: str, expected: str, shape: tuple[int, ...
         a NaN or an infinity.
     """
     array = real_array(value, field, expected, len(shape))
-    if array.shape != tuple(shape) or not np.all(np.isfinite(array)):
+    fits = array.ndim == len(shape) and all(n in (-1, m) for n, m in zip(shape, array.shape))  # -1: any length
+    if not fits or not np.all(np.isfinite(array)):
         raise InputError(field, expected, value)
     return array
+
+
+def frequency_band(value: object, field: str, expected: str = "a band [low, high] in Hz with 0 < low < high"
+                   ) -> tuple[float, float]:
+    """``value`` as a frequency band ``(low, high)`` [Hz] with ``0 < low < high``, both finite."""
+    low, high = finite_array(value, field, expected, (2,)).tolist()
+    if not 0 < low < high:
+        raise InputError(field, expected, value)
+    return low, high
 
 
 def real_array(value: object, field: str, expected: str, max_ndim: int) -> np.ndarray:

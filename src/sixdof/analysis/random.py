@@ -19,12 +19,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.dofs import DOFS, MixedUnits, dof_units, mixed_units
-from sixdof.errors import InputError, Plain, choice_check, optional, point_check, readonly, real_array
+from sixdof.errors import InputError, Plain, choice_check, finite_array, optional, point_check, readonly
 from sixdof.frozen import Frozen, checked
 from sixdof.results import Result, label, quantity
 
-STANDARD_GRAVITY = 9.80665
 #: PSD units accepted, and their factor to SI ((m/s^2)^2/Hz or N^2/Hz).
 PSD_UNITS = {"g^2/Hz": STANDARD_GRAVITY**2, "(m/s^2)^2/Hz": 1.0, "N^2/Hz": 1.0}
 INPUTS = ("ground_acceleration", "force")
@@ -32,17 +32,9 @@ INPUTS = ("ground_acceleration", "force")
 POINTS_PER_BANDWIDTH = 20
 
 
-def _vector(value, field: str, expected: str) -> np.ndarray:
-    """``value`` as a read-only 1-D float array with finite entries."""
-    array = real_array(value, field, expected, 1)
-    if array.ndim != 1 or not np.all(np.isfinite(array)):
-        raise InputError(field, expected, value)
-    return readonly(array)
-
-
 def _breakpoints(value, field: str) -> np.ndarray:
     expected = "increasing frequencies [Hz] > 0, at least 2"
-    f = _vector(value, field, expected)
+    f = finite_array(value, field, expected, (-1,))
     if f.size < 2 or np.any(f <= 0) or np.any(np.diff(f) <= 0):
         raise InputError(field, expected, value)
     return f
@@ -62,7 +54,7 @@ class PSD(Frozen):
     """
 
     f_hz: np.ndarray = checked(_breakpoints)
-    value: np.ndarray = checked(lambda v, field: _vector(v, field, "PSD values > 0, one per frequency"))
+    value: np.ndarray = checked(lambda v, field: finite_array(v, field, "PSD values > 0, one per frequency", (-1,)))
     unit: str = "g^2/Hz"
 
     def __check__(self) -> None:

@@ -14,25 +14,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sixdof.errors import InputError, integer_check, readonly
+from sixdof.errors import InputError, frequency_band, integer_check, number_check, readonly
 from sixdof.frozen import Frozen, checked
 from sixdof.results import Result, label, quantity
-
-
-def _band(value, field: str) -> tuple[float, float]:
-    expected = "a band [lo, hi] in Hz with 0 < lo < hi"
-    if not isinstance(value, (list, tuple)) or len(value) != 2:
-        raise InputError(field, expected, value)
-    low, high = (float(v) for v in value)
-    if not 0 < low < high < np.inf:
-        raise InputError(field, expected, value)
-    return low, high
-
-
-def _positive(value, field: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value < np.inf:
-        raise InputError(field, "a positive quality factor Q (10 by custom)", value)
-    return float(value)
 
 
 @dataclass(frozen=True)
@@ -40,9 +24,9 @@ class SRSSettings(Frozen):
     """The ``[shock_response_spectrum]`` table: natural frequencies ``f_hz = [lo, hi]`` [Hz], ``points``
     of them on a log grid (default 100), quality factor ``q`` (default 10)."""
 
-    f_hz: tuple[float, float] = checked(_band)
+    f_hz: tuple[float, float] = checked(frequency_band)
     points: int = checked(integer_check("an integer >= 2", 2), default=100)
-    q: float = checked(_positive, default=10.0)
+    q: float = checked(number_check("a positive quality factor Q (10 by custom)", low=0.0, strict=True), default=10.0)
 
     def grid(self) -> np.ndarray:
         return np.geomspace(*self.f_hz, self.points)

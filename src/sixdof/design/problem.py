@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from sixdof.analysis.design import inverse_cholesky, modes_jax, torque_roll_axis, tra_frame
+from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.dofs import AXES, DOFS, MOUNT_AXES
 
 #: Relative margin inside each target's bounds that the optimizer aims for.
@@ -79,7 +80,7 @@ class DesignProblem:
     the variables (n,) and are JAX-traceable (jit, grad, vmap); ``stiffness_scale`` (n_mounts, 3) multiplies
     every mount-axis stiffness (the robustness study's scatter)."""
 
-    def __init__(self, system, spec, gravity: float = 9.80665, direction=(0.0, 0.0, -1.0)) -> None:
+    def __init__(self, system, spec, gravity: float = STANDARD_GRAVITY, direction=(0.0, 0.0, -1.0)) -> None:
         self.system, self.spec = system, spec
         self.names = tuple(m.name for m in system.mounts)
         self.variables = variables(spec, self.names, system.positions)

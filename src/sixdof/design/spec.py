@@ -19,12 +19,21 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any
 
 from sixdof.dofs import AXES, DOFS, MOUNT_AXES
-from sixdof.errors import InputError, Plain, boolean, choice_check, integer_check, number_check, optional
+from sixdof.errors import (
+    InputError,
+    Plain,
+    boolean,
+    choice_check,
+    finite_array,
+    frequency_band,
+    integer_check,
+    number_check,
+    optional,
+)
 from sixdof.frozen import Frozen, checked
 
 TARGET_KINDS = ("frequency", "decoupling", "static_deflection", "tra_angle")
@@ -34,23 +43,13 @@ _PARAMETER_AXES = {"stiffness": MOUNT_AXES, "position": AXES, "angle": ()}
 
 
 def _window(value: Any, field: str) -> tuple[float, float]:
-    expected = "a window [lo, hi] in Hz with 0 < lo < hi"
-    if (not isinstance(value, (list, tuple)) or len(value) != 2
-            or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)):
-        raise InputError(field, expected, value)
-    low, high = float(value[0]), float(value[1])
-    if not (0 < low < high and math.isfinite(high)):
-        raise InputError(field, expected, value)
-    return low, high
+    return frequency_band(value, field, "a window [lo, hi] in Hz with 0 < lo < hi")
 
 
 def _bounds(value: Any, field: str) -> tuple[float, float]:
     expected = "bounds [lo, hi] with lo < hi"
-    if (not isinstance(value, (list, tuple)) or len(value) != 2
-            or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)):
-        raise InputError(field, expected, value)
-    low, high = float(value[0]), float(value[1])
-    if not (math.isfinite(low) and math.isfinite(high) and low < high):
+    low, high = finite_array(value, field, expected, (2,)).tolist()
+    if not low < high:
         raise InputError(field, expected, value)
     return low, high
 

@@ -33,6 +33,7 @@ from sixdof.errors import (
     Plain,
     choice_check,
     finite_array,
+    frequency_band,
     increasing_times,
     integer,
     integer_check,
@@ -138,14 +139,6 @@ _TIME = number_check("a finite time in s")
 _DURATION = number_check("a positive, finite duration in s", low=0.0, strict=True)
 _LASTING = number_check("a positive duration in s", low=0.0, strict=True, allow_inf=True)
 _FREQUENCY = number_check("a positive frequency in Hz", low=0.0, strict=True)
-
-
-def _band(value: Any, field: str) -> tuple[float, float]:
-    expected = "a band [low, high] in Hz with 0 < low < high"
-    low, high = finite_array(value, field, expected, (2,)).tolist()
-    if not 0 < low < high:
-        raise InputError(field, expected, value)
-    return low, high
 
 
 @dataclass(frozen=True, eq=False)
@@ -461,7 +454,7 @@ class Random(Signal):
     kind: ClassVar[str] = "random"
     _static: ClassVar[tuple[str, ...]] = ("components",)
     _derived: ClassVar[tuple[str, ...]] = ("frequencies", "phases")
-    f_hz: tuple[float, float] = checked(_band)
+    f_hz: tuple[float, float] = checked(frequency_band)
     rms: float = checked(number_check("a positive rms value", low=0.0, strict=True))
     seed: int = checked(integer_check("an integer >= 0", 0))
     components: int = checked(_components, default=64)

@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from sixdof.analysis.random import STANDARD_GRAVITY, RandomResponse
+from sixdof.analysis.random import RandomResponse
+from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.dofs import AXES, DOFS
 from sixdof.plots.common import margins, require, title
 

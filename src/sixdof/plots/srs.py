@@ -7,10 +7,11 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter
 
 from sixdof.analysis.srs import ShockSpectra
+from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.dofs import AXES
 from sixdof.plots.common import margins, require, title
 
-G = 9.80665
+G = STANDARD_GRAVITY
 
 
 def _plain(value: float, _position=None) -> str:

@@ -78,17 +78,8 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
         margins(fig, left=0.8, right=0.15, top=1.0, bottom=0.55, wspace=0.9, hspace=0.5, columns=2, rows=6,
                 target=spec)
         panels = [[fig.add_subplot(spec[i, 0]), fig.add_subplot(spec[i, 1])] for i in range(6)]
-        for column, span in ((0, (t[0], t[-1])), (1, zoom[:2])):
-            column_axes = [row[column] for row in panels]
-            for ax in column_axes[1:]:
-                ax.sharex(column_axes[0])
-            for ax in column_axes:
-                ax.set_xlim(*span)
-                ax.xaxis.set_major_locator(MaxNLocator(6))  # a short zoom's ticks would crowd
-                ax.grid(True, alpha=0.3)
-                ax.tick_params(labelbottom=ax is column_axes[-1])
-            column_axes[-1].set_xlabel("time t [s]")
-        panels[0][1].set_title(f"zoom: {zoom[2]}", fontsize=9, loc="left")
+        _time_column([row[0] for row in panels], (t[0], t[-1]))
+        _time_column([row[1] for row in panels], zoom[:2], f"zoom: {zoom[2]}")
     quiet = unexcited(values if relative is None else np.concatenate([values, relative]))
     for i, (whole, *rest) in enumerate(panels):
         shown = values[:, i] if relative is None else np.concatenate([values[:, i], relative[:, i]])
@@ -218,17 +209,11 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
         margins(fig, left=0.8, right=0.15, top=1.0, bottom=0.55, wspace=1.0, hspace=0.45, columns=3, rows=6,
                 target=spec)
         grid = np.array([[fig.add_subplot(spec[i, c]) for c in range(3)] for i in range(6)])
-        for column in grid.T:
+        for column in grid.T[[0, 2]]:
             for ax in column[1:]:
                 ax.sharex(column[0])
         axes, zooms = grid[:, [0, 2]], list(grid[:, 1])
-        for ax in zooms:
-            ax.set_xlim(*zoom[:2])
-            ax.xaxis.set_major_locator(MaxNLocator(6))
-            ax.grid(True, alpha=0.3)
-            ax.tick_params(labelbottom=ax is zooms[-1])
-        zooms[-1].set_xlabel("time t [s]")
-        zooms[0].set_title(f"zoom: {zoom[2]}", fontsize=9, loc="left")
+        _time_column(zooms, zoom[:2], f"zoom: {zoom[2]}")
     quiet = unexcited(q_direct)
     tolerance_drawn = False
     for i in range(6):
@@ -296,6 +281,21 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
                           bbox_to_anchor=(0.0, 1.0), ncols=2, frameon=False)
     time_axes(axes, t)
     return fig
+
+
+def _time_column(column, span, heading: str | None = None) -> None:
+    """A column of time panels: one shared time axis over ``span`` [s] with at most 6 ticks (a short zoom's
+    would crowd), labelled under the last panel only, grids, and ``heading`` over the first."""
+    for ax in column[1:]:
+        ax.sharex(column[0])
+    for ax in column:
+        ax.set_xlim(*span)
+        ax.xaxis.set_major_locator(MaxNLocator(6))
+        ax.grid(True, alpha=0.3)
+        ax.tick_params(labelbottom=ax is column[-1])
+    column[-1].set_xlabel("time t [s]")
+    if heading:
+        column[0].set_title(heading, fontsize=9, loc="left")
 
 
 def _superscript(exponent: int) -> str:

@@ -23,7 +23,8 @@ from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.dofs import DOFS, MixedUnits, dof_units, mixed_units
 from sixdof.errors import InputError, Plain, choice_check, finite_array, optional, point_check, readonly
 from sixdof.frozen import Frozen, checked
-from sixdof.results import Result, label, quantity
+from sixdof.results import Result, label, part, quantity
+from sixdof.validation.random_time import RandomTimeCheck, TimeCheckSettings, time_check_settings
 
 #: PSD units accepted, and their factor to SI ((m/s^2)^2/Hz or N^2/Hz).
 PSD_UNITS = {"g^2/Hz": STANDARD_GRAVITY**2, "(m/s^2)^2/Hz": 1.0, "N^2/Hz": 1.0}
@@ -83,12 +84,14 @@ class PSD(Frozen):
 @dataclass(frozen=True)
 class RandomInput(Frozen):
     """The ``[random]`` table: ``input`` (``"ground_acceleration"`` or ``"force"``), its ``direction`` (an axis
-    name or a 3-vector, body axes), the force's ``point`` [m], and the ``psd``."""
+    name or a 3-vector, body axes), the force's ``point`` [m], the ``psd``, and ``time_check``: the check of
+    the answer against a time history (:mod:`sixdof.validation.random_time`; ``false`` skips it)."""
 
     input: str = checked(choice_check(INPUTS))
     direction: object = "z"
     psd: PSD | None = None
     point: np.ndarray | None = checked(optional(point_check), default=None)
+    time_check: TimeCheckSettings | None = checked(time_check_settings, default=True)
 
     def __check__(self) -> None:
         from sixdof.analysis.frf import parse_direction
@@ -144,6 +147,8 @@ class RandomResponse(Result):
         [m/s^2 or rad/s^2]; nan for rigid-body modes.
     input_rms : float
         The input's RMS [m/s^2 or N].
+    time_check : sixdof.validation.random_time.RandomTimeCheck or None
+        The same answer checked against a time history (the run adds it; stored in ``/random/time_check``).
     """
 
     f_hz: np.ndarray = quantity("Hz", ("f_hz",))
@@ -163,6 +168,7 @@ class RandomResponse(Result):
     dominant_dof: tuple[str, ...] = label()
     input_kind: str = label()
     input_rms: float = label(decode=float)
+    time_check: object = part(lambda: RandomTimeCheck, group="time_check", default=None)
 
     @property
     def input_unit(self) -> str:
@@ -178,7 +184,9 @@ def frequency_grid(system, psd: PSD) -> np.ndarray:
     inside = (f_n >= low) & (f_n <= high) & (f_n > 0)
     least = float(np.min(zeta[inside])) if np.any(inside) else 0.05
     step = np.log1p(2.0 * max(least, 1e-4) / POINTS_PER_BANDWIDTH)
-    return np.exp(np.linspace(np.log(low), np.log(high), int(np.ceil(np.log(high / low) / step)) + 1))
+    f = np.exp(np.linspace(np.log(low), np.log(high), int(np.ceil(np.log(high / low) / step)) + 1))
+    f[0], f[-1] = low, high  # exactly: exp(log(20)) is a rounding below 20 Hz, where the PSD is zero
+    return f
 
 
 def _modal_damping(system) -> np.ndarray:
@@ -192,6 +200,54 @@ def _modal_damping(system) -> np.ndarray:
     with np.errstate(divide="ignore", invalid="ignore"):
         loss = np.einsum("ir,ij,jr->r", modes.shapes, hysteretic_stiffness(system), modes.shapes) / modes.eigenvalues
     return viscous + 0.5 * np.nan_to_num(loss)
+
+
+@dataclass(frozen=True)
+class Transfers:
+    """The responses to a unit input (1 m/s^2 or 1 N) at frequencies ``f_hz`` (complex, SI): ``q`` (nf, 6)
+    the CG's absolute displacement, ``point_acceleration`` (n_points, nf, 3) the points' absolute
+    acceleration, ``mount_deflection`` and ``mount_force`` (n_mounts, nf, 3) along each mount's axes."""
+
+    f_hz: np.ndarray
+    q: np.ndarray
+    point_acceleration: np.ndarray
+    mount_deflection: np.ndarray
+    mount_force: np.ndarray
+
+    @property
+    def qdd(self) -> np.ndarray:
+        return self.q * -((2 * np.pi * self.f_hz) ** 2)[:, None]
+
+
+def transfers(system, random: RandomInput, f_hz, points=None) -> Transfers:
+    """The FRFs from ``random``'s input to every response :func:`random_response` reports, at ``f_hz`` [Hz]
+    (> 0), with the mounts' loss factors (:func:`sixdof.validation.experiment.integrated_model` removes them
+    for a comparison with a time solve)."""
+    from sixdof.analysis.frf import hysteretic_stiffness, receptance
+    from sixdof.model.kinematics import mount_local_map, point_map, unit_load
+
+    f = np.asarray(f_hz, dtype=float)
+    omega = 2 * np.pi * f
+    H = receptance(system, f).H
+    d = np.asarray(random.direction)
+    if random.input == "force":
+        q = H @ unit_load(random.point, d, moment=False)  # (nf, 6) per N
+        ground = np.zeros((len(f), 6), complex)
+    else:
+        # Per unit ground acceleration: the ground's displacement is -1/w^2 of it; all damping acts on the
+        # motion relative to the ground (as in sixdof.analysis.frf.ground_transmissibility).
+        rigid = np.concatenate([d, np.zeros(3)])
+        impedance = (np.asarray(system.K) + 1j * hysteretic_stiffness(system)) @ rigid
+        drive = impedance[None, :] + 1j * omega[:, None] * (np.asarray(system.C) @ rigid)[None, :]
+        ground = -rigid[None, :] / omega[:, None] ** 2
+        q = np.einsum("fij,fj->fi", H, drive) * (-1.0 / omega**2)[:, None]
+    point = np.stack([q @ point_map(p).T * -(omega**2)[:, None] for p in dict(points or {}).values()]) \
+        if points else np.zeros((0, len(f), 3), complex)
+    local = mount_local_map(system.positions, system.axes)  # (n_mounts, 3, 6)
+    deflection = np.einsum("mij,fj->mfi", local, q - ground)  # the mounts deform with the relative motion
+    stiffness = np.asarray(system.stiffnesses) * (1 + 1j * np.asarray(system.loss_factors))
+    force = deflection * (stiffness[:, None, :] + 1j * omega[None, :, None] * np.asarray(system.dampings)[:, None, :])
+    return Transfers(f, q, point, deflection, force)
 
 
 def random_response(system, random: RandomInput, points=None) -> RandomResponse:
@@ -210,41 +266,25 @@ def random_response(system, random: RandomInput, points=None) -> RandomResponse:
     """
     from scipy.integrate import trapezoid
 
-    from sixdof.analysis.frf import hysteretic_stiffness, receptance
-    from sixdof.model.kinematics import mount_local_map, point_map, unit_load
+    from sixdof.model.kinematics import unit_load
 
     points = dict(points or {})
     f = frequency_grid(system, random.psd)
     omega = 2 * np.pi * f
-    frf = receptance(system, f)
+    frf = transfers(system, random, f, points)
     d = np.asarray(random.direction)
     if random.input == "force":
-        drive = unit_load(random.point, d, moment=False)
-        q = frf.H @ drive  # (nf, 6) per N
-        ground = np.zeros((len(f), 6), complex)
-        participation = system.modes.shapes.T @ drive
+        participation = system.modes.shapes.T @ unit_load(random.point, d, moment=False)
     else:
-        # Per unit ground acceleration: the ground's displacement is -1/w^2 of it; all damping acts on the
-        # motion relative to the ground (as in sixdof.analysis.frf.ground_transmissibility).
-        rigid = np.concatenate([d, np.zeros(3)])
-        impedance = (np.asarray(system.K) + 1j * hysteretic_stiffness(system)) @ rigid
-        drive = impedance[None, :] + 1j * omega[:, None] * (np.asarray(system.C) @ rigid)[None, :]
-        ground = -rigid[None, :] / omega[:, None] ** 2
-        q = np.einsum("fij,fj->fi", frf.H, drive) * (-1.0 / omega**2)[:, None]
-        participation = system.modes.shapes.T @ (np.asarray(system.M) @ rigid)
+        participation = system.modes.shapes.T @ (np.asarray(system.M) @ np.concatenate([d, np.zeros(3)]))
     s = random.psd(f)
-    q_psd = np.abs(q) ** 2 * s[:, None]
+    q_psd = np.abs(frf.q) ** 2 * s[:, None]
     qdd_psd = q_psd * omega[:, None] ** 4
+
     def rms(psd, axis=0):
         return np.sqrt(trapezoid(psd, f, axis=axis))
 
-    point_psd = np.stack([np.abs(q @ point_map(p).T) ** 2 * (omega**4 * s)[:, None] for p in points.values()]) \
-        if points else np.zeros((0, len(f), 3))
-    relative = q - ground  # the mounts deform with the motion relative to the ground
-    local = mount_local_map(system.positions, system.axes)  # (n_mounts, 3, 6)
-    deflection = np.einsum("mij,fj->mfi", local, relative)
-    stiffness = np.asarray(system.stiffnesses) * (1 + 1j * np.asarray(system.loss_factors))
-    force = deflection * (stiffness[:, None, :] + 1j * omega[None, :, None] * np.asarray(system.dampings)[:, None, :])
+    point_psd = np.abs(frf.point_acceleration) ** 2 * s[None, :, None]
     modes = system.modes
     zeta = _modal_damping(system)
     dominant = np.array([DOFS.index(dof) for dof in modes.dominant_dof])
@@ -256,9 +296,9 @@ def random_response(system, random: RandomInput, points=None) -> RandomResponse:
     return RandomResponse(
         f_hz=readonly(f), input_psd=readonly(s), q_psd=readonly(q_psd), qdd_psd=readonly(qdd_psd),
         q_rms=readonly(rms(q_psd)), qdd_rms=readonly(qdd_rms), point_acceleration_psd=readonly(point_psd),
-        point_acceleration_rms=readonly(rms(point_psd, axis=1) if points else np.zeros((0, 3))),
-        mount_deflection_rms=readonly(rms(np.abs(deflection) ** 2 * s[None, :, None], axis=1)),
-        mount_force_rms=readonly(rms(np.abs(force) ** 2 * s[None, :, None], axis=1)),
+        point_acceleration_rms=readonly(rms(point_psd, axis=1)),
+        mount_deflection_rms=readonly(rms(np.abs(frf.mount_deflection) ** 2 * s[None, :, None], axis=1)),
+        mount_force_rms=readonly(rms(np.abs(frf.mount_force) ** 2 * s[None, :, None], axis=1)),
         miles_rms=readonly(np.where(elastic, miles, np.nan)),
         exact_rms=readonly(np.where(elastic, qdd_rms[dominant], np.nan)),
         points=tuple(points), mounts=tuple(m.name for m in system.mounts), dominant_dof=modes.dominant_dof,

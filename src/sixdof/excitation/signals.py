@@ -357,7 +357,8 @@ class Ramp(Signal):
 
 @dataclass(frozen=True, eq=False)
 class Table(Signal):
-    """Tabulated samples, linearly interpolated (a first-order hold).
+    """Tabulated samples, linearly interpolated (a first-order hold), or with their slopes, interpolated by
+    cubic Hermite polynomials (value and slope continuous).
 
     Parameters
     ----------
@@ -369,8 +370,15 @@ class Table(Signal):
         Value before the first sample and from the last sample's time on: zero (default: a record
         that starts and ends at rest) or the end samples held. Right-continuous like every signal:
         with ``"zero"`` the value *at* the last time is already 0.
+    slopes : sequence of float, optional
+        The signal's time derivative at each sample [1/s]. Given, the table is a cubic Hermite spline
+        (exact for cubics; a sine sampled 8 times per period keeps its amplitude within 1e-3): how
+        :mod:`sixdof.validation.random_time` hands a synthesized random record to the direct solve.
 
-    Every sample time is a breakpoint (the slope changes there).
+    Without slopes every sample time is a breakpoint (the slope changes there). With them only the
+    first and last are: inside, value and slope are continuous and only the second derivative jumps,
+    which the step control absorbs with a few rejected steps (stepping onto every knot instead was
+    measured 5x slower on a 16 kHz table).
     """
 
     kind: ClassVar[str] = "table"
@@ -378,21 +386,41 @@ class Table(Signal):
     t: np.ndarray = checked(increasing_times)
     values: np.ndarray
     outside: str = checked(choice_check(("zero", "hold")), default="zero")
+    slopes: np.ndarray | None = None
 
     def __check__(self) -> None:
         self._derive(values=finite_array(self.values, "values", f"{self.t.size} finite values (one per time)",
                                          self.t.shape))
+        if self.slopes is not None:
+            self._derive(slopes=finite_array(self.slopes, "slopes", f"{self.t.size} finite slopes in 1/s (one "
+                                             "per time)", self.t.shape))
 
     def _evaluate(self, t):
         edge = 0.0 if self.outside == "zero" else None  # None: the end samples held
-        inside = jnp.interp(t, jnp.asarray(self.t), jnp.asarray(self.values), left=edge, right=edge)
+        if self.slopes is None:
+            inside = jnp.interp(t, jnp.asarray(self.t), jnp.asarray(self.values), left=edge, right=edge)
+        else:
+            inside = self._hermite(t, edge)
         # interp takes the segment after every knot but the last, where it gives the value and slope
         # before it; right-continuity wants what follows: the held end sample or zero, flat.
         after = self.values[-1] if self.outside == "hold" else 0.0
         return jnp.where(t >= self.t[-1], after, inside)
 
+    def _hermite(self, t, edge):
+        knots = jnp.asarray(self.t)
+        i = jnp.clip(jnp.searchsorted(knots, t, side="right") - 1, 0, knots.size - 2)
+        h = knots[i + 1] - knots[i]
+        s = (t - knots[i]) / h
+        s2, s3 = s * s, s * s * s
+        value = ((2 * s3 - 3 * s2 + 1) * self.values[i] + (s3 - 2 * s2 + s) * h * self.slopes[i]
+                 + (3 * s2 - 2 * s3) * self.values[i + 1] + (s3 - s2) * h * self.slopes[i + 1])
+        before = self.values[0] if edge is None else 0.0
+        return jnp.where(t < knots[0], before, value)
+
     @property
     def breakpoints(self) -> tuple[float, ...]:
+        if self.slopes is not None:
+            return float(self.t[0]), float(self.t[-1])
         return tuple(float(x) for x in self.t)
 
     @property

@@ -345,7 +345,27 @@ def random_text(random) -> str:
     if modes:
         lines.append("Miles' equation per mode (its dominant DOF's acceleration RMS, that mode alone) against the "
                      "exact RMS (every mode):\n" + table(["mode", "DOF", "Miles", "exact", "exact / Miles"], modes))
+    if random.time_check is not None:
+        lines.append(random_check_text(random.time_check))
     return "\n\n".join(lines)
+
+
+def random_check_text(check) -> str:
+    """The random response against a time history (:class:`~sixdof.validation.random_time.RandomTimeCheck`):
+    the record, the verdict and the RMS values side by side."""
+    worst = check.worst
+    head = (f"Checked against a time history: a {check.duration_s:.4g} s Gaussian record with the PSD (seed "
+            f"{check.seed}, after {check.settle_s:.3g} s of settling) through the direct solve "
+            f"({check.solver_steps} steps, {check.wall_time_s:.3g} s); Welch PSDs of {check.averages} Hann segments "
+            f"of {check.segment_s:.3g} s.\n"
+            f"{check.verdict}: {len(check.judged)} values judged (RMS of every excited response, octave bands of the "
+            f"accelerations), largest |z| {abs(check.z[worst]):.2f} ({check.judged[worst]}) against a limit of "
+            f"{check.z_limit:.2f} (a correct model exceeds it with probability 0.27 %)")
+    rows = [[name.removeprefix("rms:"), f"{f:.4g} {unit}", f"{t:.4g} {unit}", f"{100 * s / 2:.2g} %", f"{z:+.2f}"]
+            for name, unit, f, t, s, z in zip(check.judged, check.judged_units, check.frequency_rms, check.time_rms,
+                                              check.sigma, check.z) if name.startswith("rms:")]
+    notes = "".join(f"\nNote: {n}" for n in check.notes)
+    return head + notes + "\n" + table(["response", "RMS from the FRFs", "RMS of the record", "1 sigma", "z"], rows)
 
 
 def steady_state_text(steady) -> str:

@@ -329,10 +329,10 @@ def _spectrum(raw: dict, simulation):
 def _random(raw: dict):
     from sixdof.analysis.random import PSD, RandomInput
 
-    table = Table(raw, "random", ("input", "direction", "point", "psd"))
+    table = Table(raw, "random", ("input", "direction", "point", "psd", "time_check"))
     psd = build(PSD, table.table("psd"), "random.psd")
     return make(RandomInput, "random", input=table.value("input"), direction=table.value("direction", "z"),
-                point=table.value("point", None), psd=psd)
+                point=table.value("point", None), psd=psd, time_check=table.value("time_check", True))
 
 
 def _design(raw: dict, system: System):

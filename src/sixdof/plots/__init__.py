@@ -57,6 +57,7 @@ _PUBLIC = {
     "plot_free_decays": "validation",
     "plot_validation_frf": "validation",
     "plot_random": "random",
+    "plot_random_check": "random",
     "plot_srs": "srs",
 }
 
@@ -120,6 +121,8 @@ FIGURES: tuple[tuple[str, tuple[str, ...], Callable[[object], bool], Callable[[o
      lambda run: _plots.plot_free_decays(run.validation, name=run.name)),
     ("random.png", ("random",), lambda run: run.random is not None,
      lambda run: _plots.plot_random(run.random, name=run.name)),
+    ("random_check.png", ("random",), lambda run: run.random is not None and run.random.time_check is not None,
+     lambda run: _plots.plot_random_check(run.random.time_check, name=run.name)),
     ("srs.png", ("srs",), lambda run: run.srs is not None, lambda run: _plots.plot_srs(run.srs, name=run.name)),
 )
 _DRAW = {name: draw for name, _, _, draw in FIGURES}

@@ -60,3 +60,70 @@ def plot_random(random: RandomResponse, *, name: str = "") -> Figure:
         ax.grid(True, which="both", alpha=0.25)
         ax.set_xlim(f[0], f[-1])
     return fig
+
+
+def plot_random_check(check, *, name: str = "") -> Figure:
+    """The random response against a time history: for each excited acceleration (the CG's DOFs, each point
+    along its most excited axis; at most six), the record's Welch PSD over the FRFs' expected Welch PSD with
+    the estimate's 90 % interval (chi-square), and both RMS values with their z in the panel's title.
+
+    Parameters
+    ----------
+    check : sixdof.validation.random_time.RandomTimeCheck
+    name : str
+        Name of the run, put before the title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from scipy.stats import chi2
+
+    from sixdof.validation.random_time import RandomTimeCheck
+
+    require(check, "check", RandomTimeCheck, "a sixdof.validation.random_time.RandomTimeCheck")
+    rms = {n.removeprefix("rms:"): j for j, n in enumerate(check.judged) if n.startswith("rms:")}
+    panels = [(f"CG {dof}", f"qdd:{dof}", check.qdd_welch[:, i], check.qdd_expected[:, i], i < 3)
+              for i, dof in enumerate(DOFS) if f"qdd:{dof}" in rms]
+    for p, point in enumerate(check.points):
+        excited = [a for a in range(3) if f"point:{point}:{AXES[a]}" in rms]
+        if excited:
+            axis = max(excited, key=lambda a: check.frequency_rms[rms[f"point:{point}:{AXES[a]}"]])
+            panels.append((f"{point} {AXES[axis]}", f"point:{point}:{AXES[axis]}", check.point_welch[p, :, axis],
+                           check.point_expected[p, :, axis], True))
+    panels = panels[:6]
+    columns = 1 if len(panels) <= 3 else 2
+    rows = max(1, -(-len(panels) // columns))
+    fig = Figure(figsize=(10, 2.0 + 2.6 * rows))
+    worst = check.worst
+    fig.suptitle(title(name, f"random response against a {check.duration_s:.3g} s time history: {check.verdict} "
+                             f"(largest |z| {abs(check.z[worst]):.2f}, limit {check.z_limit:.2f})"), fontsize=12)
+    margins(fig, left=1.0, right=0.3, top=0.8, bottom=0.6, hspace=0.75, rows=rows)
+    axes = np.atleast_1d(fig.subplots(rows, columns, sharex=True, squeeze=False)).ravel()
+    nu = check.degrees_of_freedom
+    low, high = chi2.ppf(0.05, nu) / nu, chi2.ppf(0.95, nu) / nu
+    f = check.f_hz
+    for ax, (label, key, welch, expected, translation) in zip(axes, panels):
+        scale, unit = (1 / STANDARD_GRAVITY**2, "g²/Hz") if translation else (1.0, "(rad/s²)²/Hz")
+        ax.fill_between(f, expected * low * scale, expected * high * scale, color="0.8", linewidth=0,
+                        label="90 % interval of the estimate")
+        ax.loglog(f, welch * scale, color="tab:blue", linewidth=0.9, label="time record (Welch)")
+        ax.loglog(f, expected * scale, color="black", linewidth=1.2, label="from the FRFs")
+        j = rms[key]
+        unit_rms = check.judged_units[j].replace("^2", "²")
+        ax.set_title(f"{label}: RMS {check.frequency_rms[j]:.4g} (FRFs), {check.time_rms[j]:.4g} (record) "
+                     f"{unit_rms}, z {check.z[j]:+.2f}", fontsize=9)
+        ax.set_ylabel(f"acceleration PSD [{unit}]")
+        peak = float(np.max(expected * scale))
+        ax.set_ylim(peak * 1e-8, peak * 3)  # the isolators' eight decades over the band
+        ax.grid(True, which="both", alpha=0.25)
+    for ax in axes[len(panels):]:
+        ax.set_visible(False)
+    for ax in axes[len(panels) - columns:len(panels)]:  # the lowest visible panel of each column
+        ax.set_xlabel("frequency f [Hz]")
+        ax.xaxis.set_tick_params(labelbottom=True)
+    level = check.qdd_expected.max(axis=1)
+    inside = f[level > 1e-12 * level.max()]  # the PSD's band (leakage aside)
+    axes[0].set_xlim(inside[0], inside[-1])
+    axes[0].legend(fontsize=8, loc="lower left")
+    return fig

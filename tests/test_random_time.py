@@ -1,0 +1,155 @@
+"""The random response checked against a time history (issue 19, point 2): the cubic Hermite table the record
+is handed over in, the synthesized record against its own Fourier series, the statistical errors against the
+scatter of many records, and the check passing for right models and failing for a wrong one."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from sixdof import InputError
+from sixdof.analysis import random as random_module
+from sixdof.analysis.random import PSD, RandomInput
+from sixdof.excitation.signals import Table
+from sixdof.validation.random_time import (
+    FAIL,
+    PASS,
+    TimeCheckSettings,
+    Welch,
+    random_time_check,
+    record_error,
+    sidak_limit,
+    synthesize,
+)
+from systems import sdof, skewed_box, small_box
+
+
+def test_a_table_with_slopes_is_a_cubic_hermite_spline():
+    t = np.array([0.0, 0.3, 0.5, 1.2, 2.0])
+    cubic = lambda x: 1 + 2 * x - 3 * x**2 + 0.7 * x**3  # noqa: E731
+    slope = lambda x: 2 - 6 * x + 2.1 * x**2  # noqa: E731
+    table = Table(t=t, values=cubic(t), slopes=slope(t))
+    x = np.linspace(0.0, 1.999, 97)
+    np.testing.assert_allclose(table(x), cubic(x), rtol=0, atol=1e-13)  # exact for a cubic
+    np.testing.assert_allclose(table.derivative(x), slope(x), rtol=0, atol=1e-12)
+    assert table.breakpoints == (0.0, 2.0)  # value and slope continuous at the inner knots
+    assert np.all(np.asarray(table([-0.5, 2.0, 3.0])) == 0.0)  # zero outside, right-continuous at the end
+    wavy = Table(t=t, values=np.sin(t), slopes=np.cos(t))  # any data: continuous value and slope at a knot
+    for knot in t[1:-1]:
+        left, right = np.asarray(wavy([knot - 1e-9, knot + 1e-9]))
+        assert abs(right - left) < 1e-8
+        d_left, d_right = np.asarray(wavy.derivative(np.array([knot - 1e-9, knot + 1e-9])))
+        assert abs(d_right - d_left) < 1e-6
+    with pytest.raises(InputError, match="slopes: expected 5 finite slopes in 1/s"):
+        Table(t=t, values=cubic(t), slopes=[1.0, 2.0])
+
+
+def test_the_synthesized_record_is_the_fourier_series_of_its_psd():
+    psd = PSD(f_hz=[10.0, 40.0, 100.0], value=[0.5, 2.0, 1.0], unit="(m/s^2)^2/Hz")
+    record = synthesize(psd, 4.0, seed=3)
+    rate = 1.0 / (record.t[1] - record.t[0])
+    assert rate == pytest.approx(800.0)  # 8 knots per period of 100 Hz
+    values = np.asarray(record.values[:-1])
+    n = values.size
+    coefficients = 2 * np.fft.rfft(values) / n
+    f = np.arange(coefficients.size) * rate / n
+    assert np.all(coefficients[(f < 10.0) | (f > 100.0)] == pytest.approx(0.0, abs=1e-12))  # nothing outside
+    # Between the knots the spline follows the series within 1e-3 of the RMS (8 knots per period at the top).
+    times = np.random.default_rng(0).uniform(0.0, n / rate, 400)
+    series = np.real(np.exp(2j * np.pi * np.outer(times, f)) @ coefficients)
+    rms = np.sqrt(np.mean(values**2))
+    assert np.max(np.abs(np.asarray(record(times)) - series)) < 1e-3 * rms
+    slopes = np.real(np.exp(2j * np.pi * np.outer(record.t[:-1], f)) @ (2j * np.pi * f * coefficients))
+    np.testing.assert_allclose(record.slopes[:-1], slopes, rtol=0, atol=1e-9 * np.max(np.abs(slopes)))
+    # Same seed, same record; another seed, another.
+    np.testing.assert_array_equal(synthesize(psd, 4.0, seed=3).values, record.values)
+    assert not np.allclose(synthesize(psd, 4.0, seed=4).values, record.values)
+
+
+def test_the_statistical_errors_match_the_scatter_of_many_records():
+    """z values of a correct answer are standard normal: over 300 records of a shaped input, the record mean
+    square and the octave bands of its Welch PSD scatter as their stated errors say."""
+    psd = PSD(f_hz=[10.0, 50.0, 200.0], value=[0.2, 1.0, 0.3], unit="(m/s^2)^2/Hz")
+    duration = 4.0
+    rate = 8 * 200.0
+    welch = Welch(256, rate)  # 6.25 Hz bins
+    step = welch.bin_hz / 8
+    f_fine = np.arange(int(np.ceil(10.0 / step)), int(200.0 / step) + 1) * step
+    s_fine = psd(f_fine)
+    mean_square = np.sum(s_fine) * step
+    bins = np.arange(welch.length // 2 + 1) * welch.bin_hz
+    expected = welch.expected(f_fine, s_fine, bins)
+    bands = [(11.0, 22.0), (22.0, 44.0), (44.0, 88.0), (88.0, 176.0)]
+    z_record, z_bands = [], []
+    for seed in range(300):
+        x = np.asarray(synthesize(psd, duration, seed).values[:-1])
+        z_record.append((np.mean(x**2) / mean_square - 1) / record_error(s_fine, step, x.size / rate))
+        f, estimate = welch.estimate(x)
+        for lo, hi in bands:
+            inside = (f >= lo) & (f < hi)
+            z_bands.append((np.sum(estimate[inside]) / np.sum(expected[inside]) - 1)
+                           / welch.band_error(expected[inside], x.size))
+    for z in (np.array(z_record), np.array(z_bands)):
+        assert abs(np.mean(z)) < 0.2  # 300 (1200) values: the mean's own scatter is 0.06 (0.03)
+        assert 0.85 < np.std(z) < 1.15
+
+
+def test_the_limit_is_the_family_wise_three_sigma_rate():
+    assert sidak_limit(1) == pytest.approx(3.0, abs=1e-3)  # one value: the two-sided 3-sigma bound
+    assert sidak_limit(32) == pytest.approx(3.93, abs=0.01)
+    assert sidak_limit(1000) > sidak_limit(32)
+
+
+def _force_on_the_box(duration=20.0, seed=0):
+    random = RandomInput(input="force", direction=[1.0, 1.0, 1.0], point=[0.2, -0.1, 0.15],
+                         psd=PSD(f_hz=[2.0, 60.0], value=[400.0, 400.0], unit="N^2/Hz"))
+    return random, TimeCheckSettings(duration=duration, seed=seed)
+
+
+def test_a_coupled_box_under_a_random_force_agrees_with_its_time_history():
+    system = small_box(zeta=0.04)  # every DOF coupled, modes 4 to 23 Hz
+    random, settings = _force_on_the_box()
+    check = random_time_check(system, random, {"corner": [0.3, 0.2, 0.1]}, settings)
+    assert check.verdict == PASS
+    judged = set(check.judged)
+    # Every DOF, the point's three axes and every mount axis are excited and judged, and the bands.
+    for dof in ("x", "y", "z", "rx", "ry", "rz"):
+        assert {f"rms:q:{dof}", f"rms:qdd:{dof}"} <= judged
+    assert {f"rms:point:corner:{a}" for a in "xyz"} <= judged
+    assert sum(name.startswith("rms:mount_force:") for name in judged) == 9
+    assert sum(name.startswith("band:") for name in judged) >= 30
+    assert np.max(np.abs(check.z)) <= check.z_limit == pytest.approx(sidak_limit(len(judged)))
+    assert check.duration_s == pytest.approx(20.0, abs=0.01)
+    assert check.sigma.min() > 0.005 and check.sigma.max() < 1.0
+    assert not check.notes
+
+
+def test_a_model_three_percent_too_stiff_fails_the_check(monkeypatch):
+    """The FRF side computed for mounts 3 % stiffer (1.5 % in frequency) than the ones integrated."""
+    system = small_box(zeta=0.04)
+    random, settings = _force_on_the_box(duration=60.0)
+    stiffer = dataclasses.replace(system, mounts=tuple(dataclasses.replace(m, stiffness=1.03 * np.asarray(m.stiffness))
+                                                       for m in system.mounts))
+    real = random_module.transfers
+    monkeypatch.setattr(random_module, "transfers", lambda _system, *args, **kwargs: real(stiffer, *args, **kwargs))
+    check = random_time_check(system, random, {}, settings)
+    assert check.verdict == FAIL
+    assert np.max(np.abs(check.z)) > check.z_limit
+
+
+def test_loss_factors_are_left_out_of_both_sides_and_said():
+    system = skewed_box()  # loss factors on mounts a and c
+    random = RandomInput(input="ground_acceleration", direction=[1.0, 0.5, 1.0],
+                         psd=PSD(f_hz=[3.0, 80.0], value=[0.01, 0.01], unit="g^2/Hz"))
+    check = random_time_check(system, random, {}, TimeCheckSettings(duration=20.0, seed=1))
+    assert check.verdict == PASS
+    assert len(check.notes) == 1 and "loss factors of a, c" in check.notes[0]
+
+
+def test_a_free_body_is_refused():
+    random = RandomInput(input="force", direction="z", point=[0.0, 0.0, 0.0],
+                         psd=PSD(f_hz=[2.0, 60.0], value=[1.0, 1.0], unit="N^2/Hz"))
+    with pytest.raises(InputError, match="random.time_check: expected a system held in every DOF"):
+        random_time_check(sdof(), random)

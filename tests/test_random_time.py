@@ -153,3 +153,63 @@ def test_a_free_body_is_refused():
                          psd=PSD(f_hz=[2.0, 60.0], value=[1.0, 1.0], unit="N^2/Hz"))
     with pytest.raises(InputError, match="random.time_check: expected a system held in every DOF"):
         random_time_check(sdof(), random)
+
+
+def test_the_check_is_stored_with_its_labels_and_read_back(tmp_path):
+    """Also a file whose random response has points but no time history: the points' labels arrive after an
+    array along them (they used to collide with the index scale made for it)."""
+    import xarray as xr
+
+    from sixdof.analysis.random import random_response
+    from sixdof.io import store
+    from sixdof.results import RunResults
+
+    system = small_box(zeta=0.04)
+    random, settings = _force_on_the_box(duration=10.0)
+    points = {"corner": [0.3, 0.2, 0.1]}
+    check = random_time_check(system, random, points, settings)
+    response = dataclasses.replace(random_response(system, random, points), time_check=check)
+    store.write_results(tmp_path / "r.h5", RunResults(name="box", system=system, random=response))
+    back = store.load_results(tmp_path / "r.h5").random
+    assert back.points == ("corner",) and back.time_check.judged == check.judged
+    for name in ("z", "sigma", "frequency_rms", "time_rms", "f_hz", "qdd_welch", "point_expected"):
+        np.testing.assert_array_equal(getattr(back.time_check, name), getattr(check, name))
+    assert back.time_check.verdict == check.verdict and back.time_check.judged_units == check.judged_units
+    tree = xr.open_datatree(tmp_path / "r.h5", engine="h5netcdf")
+    coords = tree["random/time_check"].dataset.coords
+    assert list(coords["point"].values) == ["corner"] and coords["judged"].values[0] == check.judged[0]
+    np.testing.assert_array_equal(coords["welch_f_hz"].values, check.f_hz)
+
+
+SCENARIO = "scenarios/electronics_box.toml"
+
+
+@pytest.mark.parametrize(("line", "expected"), [
+    ("", TimeCheckSettings()),
+    ("time_check = false", None),
+    ("time_check = true", TimeCheckSettings()),
+    ("time_check = { duration = 5.0, seed = 2 }", TimeCheckSettings(duration=5.0, seed=2)),
+])
+def test_the_scenario_asks_for_the_check(line, expected):
+    from pathlib import Path
+
+    from sixdof.io.scenario import parse_scenario
+
+    text = Path(SCENARIO).read_text().replace("[random]\n", f"[random]\n{line}\n")
+    assert parse_scenario(text, "box.toml", "scenarios").random.time_check == expected
+
+
+@pytest.mark.parametrize(("line", "message"), [
+    ("time_check = { durations = 5.0 }", r"random\.time_check\.durations: expected one of the keys duration, seed"),
+    ("time_check = { duration = -1.0 }", r"random\.time_check\.duration: expected a positive, finite duration in s"),
+    ("time_check = { seed = 1.5 }", r"random\.time_check\.seed: expected an integer >= 0"),
+    ('time_check = "yes"', r"random\.time_check: expected true, false or a table"),
+])
+def test_a_bad_time_check_is_one_clear_error(line, message):
+    from pathlib import Path
+
+    from sixdof.io.scenario import parse_scenario
+
+    text = Path(SCENARIO).read_text().replace("[random]\n", f"[random]\n{line}\n")
+    with pytest.raises(InputError, match=message):
+        parse_scenario(text, "box.toml", "scenarios")

@@ -236,6 +236,11 @@ class _Encoder:
         else:
             self.add(path, np.arange(length), UNITS_ONE, (dim,), description=f"{dim} index")
 
+    def _index(self, path: str, shape: tuple[int, ...]) -> bool:
+        """Whether ``path`` is an index scale made by :meth:`scale` (0, 1, ...) of ``shape``."""
+        dataset = self.datasets[path]
+        return dataset.attrs.get("description") == f"{path.rsplit('/', 1)[-1]} index" and dataset.data.shape == shape
+
     def quantity(self, obj, name: str, data, meta: dict, group: str, prefix: str, lead: tuple[str, ...] = ()) -> None:
         """The (encoded) ``data`` of the quantity ``name`` of ``obj``, with ``lead`` axes before its own."""
         stored = meta["name"] or name
@@ -248,6 +253,9 @@ class _Encoder:
             existing = _scale_path(self.datasets, _join(group, "_"), stored)
             if existing is not None and np.array_equal(self.datasets[existing].data, data):
                 return  # a shared scale (the frequencies of every FRF) is stored once
+            if existing is not None and data.dtype.kind in "OSU" and self._index(existing, data.shape):
+                del self.datasets[existing]  # made for an array that came before its labels: the labels replace it
+                existing = None
             if data.dtype.kind in "OSU":
                 self.labels[stored] = data
                 top = group.split("/")[0]

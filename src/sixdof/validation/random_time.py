@@ -137,7 +137,7 @@ class RandomTimeCheck(Result):
                                     description="RMS of the time record")
     sigma: np.ndarray = quantity("1", ("judged",), description="relative standard error of the record's mean square")
     z: np.ndarray = quantity("1", ("judged",), description="(time/frequency mean square - 1) / sigma")
-    f_hz: np.ndarray = quantity("Hz", ("welch_f_hz",))
+    f_hz: np.ndarray = quantity("Hz", ("welch_f_hz",), name="welch_f_hz")
     qdd_welch: np.ndarray = quantity(lambda r: _psd_units(), ("welch_f_hz", "dof"))
     qdd_expected: np.ndarray = quantity(lambda r: _psd_units(), ("welch_f_hz", "dof"))
     point_welch: np.ndarray = quantity("(m/s^2)^2/Hz", ("point", "welch_f_hz", "axis"))

@@ -466,8 +466,9 @@ def test_frozen_ticks_draw_the_same_pixels(run):
         return imread(io.BytesIO(buffer.getvalue()), format="png")
 
     drawn = [(name, draw) for name, _, drawable, draw in plots.FIGURES if drawable(run)]
-    # Every figure but the random and shock-spectrum ones (test_random and test_srs draw those).
-    assert len(drawn) >= len(plots.FIGURES) - 2
+    # Every figure but the random, random-check and shock-spectrum ones (test_random, test_random_time and
+    # test_srs draw those).
+    assert len(drawn) >= len(plots.FIGURES) - 3
     for name, draw in drawn:
         frozen = draw(run)
         plots.common.freeze_unlabelled_ticks(frozen)

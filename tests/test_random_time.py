@@ -213,3 +213,35 @@ def test_a_bad_time_check_is_one_clear_error(line, message):
     text = Path(SCENARIO).read_text().replace("[random]\n", f"[random]\n{line}\n")
     with pytest.raises(InputError, match=message):
         parse_scenario(text, "box.toml", "scenarios")
+
+
+def test_the_figure_shows_each_excited_acceleration_with_its_interval():
+    import io
+
+    from matplotlib.image import imread
+
+    from sixdof import plots
+
+    system = small_box(zeta=0.04)
+    random, settings = _force_on_the_box(duration=10.0)
+    check = random_time_check(system, random, {"corner": [0.3, 0.2, 0.1]}, settings)
+    fig = plots.plot_random_check(check, name="box")
+    shown = [ax for ax in fig.axes if ax.get_visible()]
+    assert len(shown) == 6  # six excited DOFs and one point: at most six panels
+    assert "box: random response against a 10 s time history: PASS" in fig._suptitle.get_text()
+    assert shown[0].get_title().startswith("CG x: RMS") and "z " in shown[0].get_title()
+    assert all(ax.get_xlabel() == "frequency f [Hz]" for ax in shown[-2:])
+    assert all("acceleration PSD" in ax.get_ylabel() for ax in shown)
+    assert "(rad/s²)²/Hz" in shown[3].get_ylabel()  # rotations in their own unit
+
+    def pixels(figure):
+        buffer = io.BytesIO()
+        figure.savefig(buffer, format="png", dpi=plots.DPI)
+        return imread(io.BytesIO(buffer.getvalue()), format="png")
+
+    # Frozen ticks (what render() draws) give the same picture: blending round-off where a minor grid line
+    # crosses the grey interval moves a few pixels by one or two levels in 255.
+    frozen = plots.plot_random_check(check, name="box")
+    plots.common.freeze_unlabelled_ticks(frozen)
+    difference = np.abs(pixels(frozen) - pixels(fig))
+    assert difference.max() <= 2.01 / 255 and np.mean(difference > 1.01 / 255) < 1e-5

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.ticker import FormatStrFormatter, LogLocator, NullFormatter
 
 from sixdof.analysis.random import RandomResponse
 from sixdof.analysis.statics import STANDARD_GRAVITY
@@ -98,7 +99,7 @@ def plot_random_check(check, *, name: str = "") -> Figure:
     worst = check.worst
     fig.suptitle(title(name, f"random response against a {check.duration_s:.3g} s time history: {check.verdict} "
                              f"(largest |z| {abs(check.z[worst]):.2f}, limit {check.z_limit:.2f})"), fontsize=12)
-    margins(fig, left=1.0, right=0.3, top=0.8, bottom=0.6, hspace=0.75, rows=rows)
+    margins(fig, left=1.0, right=0.3, top=0.8, bottom=0.6, wspace=1.0, hspace=0.75, columns=columns, rows=rows)
     axes = np.atleast_1d(fig.subplots(rows, columns, sharex=True, squeeze=False)).ravel()
     nu = check.degrees_of_freedom
     low, high = chi2.ppf(0.05, nu) / nu, chi2.ppf(0.95, nu) / nu
@@ -125,5 +126,10 @@ def plot_random_check(check, *, name: str = "") -> Figure:
     level = check.qdd_expected.max(axis=1)
     inside = f[level > 1e-12 * level.max()]  # the PSD's band (leakage aside)
     axes[0].set_xlim(inside[0], inside[-1])
+    # 1-2-5 frequencies in plain numbers: a band of a decade or two would otherwise label its minor ticks
+    # in powers of ten that run into each other.
+    axes[0].xaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+    axes[0].xaxis.set_major_formatter(FormatStrFormatter("%g"))
+    axes[0].xaxis.set_minor_formatter(NullFormatter())
     axes[0].legend(fontsize=8, loc="lower left")
     return fig

@@ -195,7 +195,9 @@ def freeze_unlabelled_ticks(fig: Figure) -> None:
         for axis in (ax.xaxis, ax.yaxis):
             for which in ("major", "minor"):
                 ticker = getattr(axis, which)
-                values = np.asarray(ticker.locator(), dtype=float)
+                # The axis' own positions: the minor ones without those on a major tick (matplotlib drops them).
+                values = np.asarray(axis.get_majorticklocs() if which == "major" else axis.get_minorticklocs(),
+                                    dtype=float)
                 values = values[_inside(axis, values)]
                 tick = (axis.get_major_ticks if which == "major" else axis.get_minor_ticks)(1)[0]
                 if _unlabelled(axis, ticker, values, tick):

@@ -54,9 +54,10 @@ def plot_random(random: RandomResponse, *, name: str = "") -> Figure:
     bottom.set_title("response: absolute acceleration", fontsize=10)
     if bottom.get_lines():
         bottom.legend(fontsize=8, loc="lower left")
-        # Six decades below the largest response: a weakly excited DOF's tail would stretch the axis to 1e-16.
+        # Eight decades below the largest response (an isolator's fall over the band); a weakly excited
+        # DOF's tail would stretch the axis to 1e-16.
         peak = max(float(np.max(line.get_ydata())) for line in bottom.get_lines())
-        bottom.set_ylim(peak * 1e-6, peak * 3)
+        bottom.set_ylim(peak * 1e-8, peak * 3)
     for ax in (top, bottom):
         ax.grid(True, which="both", alpha=0.25)
         ax.set_xlim(f[0], f[-1])
@@ -111,9 +112,9 @@ def plot_random_check(check, *, name: str = "") -> Figure:
         ax.loglog(f, welch * scale, color="tab:blue", linewidth=0.9, label="time record (Welch)")
         ax.loglog(f, expected * scale, color="black", linewidth=1.2, label="from the FRFs")
         j = rms[key]
-        unit_rms = check.judged_units[j].replace("^2", "²")
-        ax.set_title(f"{label}: RMS {check.frequency_rms[j]:.4g} (FRFs), {check.time_rms[j]:.4g} (record) "
-                     f"{unit_rms}, z {check.z[j]:+.2f}", fontsize=9)
+        rms_scale, unit_rms = (1 / STANDARD_GRAVITY, "grms") if translation else (1.0, "rad/s² RMS")
+        ax.set_title(f"{label}: {rms_scale * check.frequency_rms[j]:.4g} (FRFs), {rms_scale * check.time_rms[j]:.4g} "
+                     f"(record) {unit_rms}; z-score {check.z[j]:+.2f}", fontsize=9)
         ax.set_ylabel(f"acceleration PSD [{unit}]")
         peak = float(np.max(expected * scale))
         ax.set_ylim(peak * 1e-8, peak * 3)  # the isolators' eight decades over the band

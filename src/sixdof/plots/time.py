@@ -81,8 +81,19 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
         _time_column([row[0] for row in panels], (t[0], t[-1]))
         _time_column([row[1] for row in panels], zoom[:2], f"zoom: {zoom[2]}")
     quiet = unexcited(values if relative is None else np.concatenate([values, relative]))
+    # With the ground moving, displacements and velocities that matter (mount strokes) are relative to it,
+    # accelerations (what the body feels) absolute: that one is drawn solid, the other dashed on the same
+    # scale unless it would flatten the first (a ground that moves away after a shock), when its peak is
+    # only quoted.
+    main_is_relative = relative is not None and key in ("q", "qd")
     for i, (whole, *rest) in enumerate(panels):
-        shown = values[:, i] if relative is None else np.concatenate([values[:, i], relative[:, i]])
+        main, other = (values, relative) if not main_is_relative else (relative, values)
+        if other is not None and np.array_equal(other[:, i], main[:, i]):
+            other = None  # a rotation: the ground does not rotate, relative and absolute are one
+        main_peak = float(np.max(np.abs(main[:, i])))
+        other_peak = 0.0 if other is None else float(np.max(np.abs(other[:, i])))
+        drawn_other = other is not None and other_peak <= OTHER_SCALE * main_peak
+        shown = main[:, i] if not drawn_other else np.concatenate([main[:, i], other[:, i]])
         factor, label = display_unit(shown, _UNITS[key][i])
         if quiet[i]:
             peak = float(np.max(np.abs(shown)))
@@ -91,26 +102,36 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
                 ax.set_yticks([])
             whole.text(0.5, 0.5, f"not excited: {what}", transform=whole.transAxes, ha="center", va="center",
                        fontsize=10, color="0.4")
+            for ax in rest:
+                ax.text(0.5, 0.5, "not excited", transform=ax.transAxes, ha="center", va="center", fontsize=10,
+                        color="0.4")
             whole.set_ylabel(f"{DOFS[i]}")
             whole.set_title(f"{DOFS[i]}: not excited", fontsize=10, loc="center" if zoom is None else "left")
             continue
+        names = ("relative to the ground", "absolute") if main_is_relative else ("absolute", "relative to the ground")
         for ax, part in zip((whole, *rest), (slice(None), *(zoom_samples(t, zoom) for _ in rest))):
-            plot_long(ax, t[part], factor * values[part, i], color=TRANSLATION if i < 3 else ROTATION,
-                      linewidth=1.0, label="absolute")
-            if relative is not None:
-                plot_long(ax, t[part], factor * relative[part, i], color="black", linestyle="--", linewidth=0.9,
-                          label="relative to the ground")
-        if relative is not None and not np.any(~quiet[:i]):  # on the first DOF drawn
-            whole.legend(fontsize=8, loc="best")
+            plot_long(ax, t[part], factor * main[part, i], color=TRANSLATION if i < 3 else ROTATION,
+                      linewidth=1.0, label=names[0])
+            if drawn_other:
+                plot_long(ax, t[part], factor * other[part, i], color="black", linestyle="--", linewidth=0.9,
+                          label=names[1])
         if zoom is not None:
-            whole.axvspan(*zoom[:2], color="0.85", zorder=0)
+            whole.axvspan(*zoom[:2], color="0.85", zorder=0, label="zoomed span")
+        if (relative is not None or zoom is not None) and not np.any(~quiet[:i]):  # on the first DOF drawn
+            whole.legend(fontsize=8, loc="best")
         whole.set_ylabel(f"{DOFS[i]} [{label}]")
-        peak = float(np.max(np.abs(values[:, i])))
-        whole.set_title(f"{DOFS[i]}: peak {factor * peak:.4g} {label}", fontsize=10,
-                        loc="center" if zoom is None else "left")
+        heading = f"{DOFS[i]}: peak {factor * main_peak:.4g} {label}"
+        if other is not None:
+            scale, unit = display_unit(other_peak, _UNITS[key][i])
+            heading = (f"{DOFS[i]}: peak {names[0]} {factor * main_peak:.4g} {label}, {names[1]} "
+                       f"{scale * other_peak:.4g} {unit}" + ("" if drawn_other else " (not drawn)"))
+        whole.set_title(heading, fontsize=10, loc="center" if zoom is None else "left")
     return fig
 
 
+#: The second curve of a ground-driven run (absolute or relative motion) is drawn on the first's scale only
+#: while its peak is at most this many times the first's.
+OTHER_SCALE = 10.0
 #: A shock's zoom spans this many times its pulse; a switch-on's (and :func:`zoom_window`'s), this many
 #: periods of its forcing (of the dominant motion); a zoom covers at most this fraction of the record
 #: (a wider one would show what the whole record shows), a shock's at least :data:`ZOOM_MIN_PULSES` pulses.
@@ -210,8 +231,7 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
                 target=spec)
         grid = np.array([[fig.add_subplot(spec[i, c]) for c in range(3)] for i in range(6)])
         for column in grid.T[[0, 2]]:
-            for ax in column[1:]:
-                ax.sharex(column[0])
+            _time_column(column, (t[0], t[-1]))
         axes, zooms = grid[:, [0, 2]], list(grid[:, 1])
         _time_column(zooms, zoom[:2], f"zoom: {zoom[2]}")
     quiet = unexcited(q_direct)
@@ -228,6 +248,8 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
             left.set_ylabel(DOFS[i])
             if zooms[i] is not None:
                 zooms[i].set_yticks([])
+                zooms[i].text(0.5, 0.5, "not excited", transform=zooms[i].transAxes, ha="center", va="center",
+                              fontsize=10, color="0.4")
         else:
             for ax, part in ((left, slice(None)), (zooms[i], None if zoom is None else zoom_samples(t, zoom))):
                 if ax is None:
@@ -290,7 +312,7 @@ def _time_column(column, span, heading: str | None = None) -> None:
         ax.sharex(column[0])
     for ax in column:
         ax.set_xlim(*span)
-        ax.xaxis.set_major_locator(MaxNLocator(6))
+        ax.xaxis.set_major_locator(MaxNLocator(6, steps=[1, 2, 5, 10]))  # 0.1 s steps rather than 0.08
         ax.grid(True, alpha=0.3)
         ax.tick_params(labelbottom=ax is column[-1])
     column[-1].set_xlabel("time t [s]")

@@ -83,6 +83,20 @@ def time_axes(axes: np.ndarray, t: np.ndarray) -> None:
         ax.set_xlabel("time t [s]")
 
 
+def merge_identical(curves):
+    """``[(values, name, note)]`` with curves identical to an earlier one (to round-off) dropped and their
+    names joined to its with " = ": drawn over another, a curve would hide it and leave a legend entry
+    without a visible line (points that move as one, a symmetric body's)."""
+    kept: list[list] = []
+    for values, name, note in curves:
+        same = next((entry for entry in kept if np.allclose(values, entry[0], rtol=1e-9, atol=0.0)), None)
+        if same is None:
+            kept.append([values, name, note])
+        else:
+            same[1] += f" = {name}"
+    return [tuple(entry) for entry in kept]
+
+
 def margins(fig: Figure, left: float, right: float, top: float, bottom: float, wspace: float = 0.0,
             hspace: float = 0.0, columns: int = 1, rows: int = 1, target=None) -> None:
     """Fixed margins and gaps between axes, all in inches, on a figure without a layout engine.

@@ -9,7 +9,7 @@ from matplotlib.ticker import FormatStrFormatter, LogLocator, NullFormatter
 from sixdof.analysis.random import RandomResponse
 from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.dofs import AXES, DOFS
-from sixdof.plots.common import margins, require, title
+from sixdof.plots.common import margins, merge_identical, require, title
 
 
 def plot_random(random: RandomResponse, *, name: str = "") -> Figure:
@@ -40,15 +40,17 @@ def plot_random(random: RandomResponse, *, name: str = "") -> Figure:
         top.loglog(f, random.input_psd / STANDARD_GRAVITY**2, color="black", linewidth=1.4)
         top.set_ylabel("ground acceleration PSD [g²/Hz]")
         top.set_title(f"input: ground acceleration, {random.input_rms / STANDARD_GRAVITY:.3g} grms", fontsize=10)
-    for i in range(3):
-        psd = random.qdd_psd[:, i]
-        if np.any(psd > 0):
-            bottom.loglog(f, psd / STANDARD_GRAVITY**2, linewidth=1.1,
-                          label=f"CG {DOFS[i]}: {random.qdd_rms[i] / STANDARD_GRAVITY:.3g} grms")
+    curves = [(random.qdd_psd[:, i], f"CG {DOFS[i]}", random.qdd_rms[i]) for i in range(3)
+              if np.any(random.qdd_psd[:, i] > 0)]
     for name_, psd, rms in zip(random.points, random.point_acceleration_psd, random.point_acceleration_rms):
         axis = int(np.argmax(rms))
-        bottom.loglog(f, psd[:, axis] / STANDARD_GRAVITY**2, linewidth=1.1, linestyle="--",
-                      label=f"{name_} {AXES[axis]}: {rms[axis] / STANDARD_GRAVITY:.3g} grms")
+        curves.append((psd[:, axis], f"{name_} {AXES[axis]}", rms[axis]))
+    for psd, label, rms in merge_identical(curves):
+        bottom.loglog(f, psd / STANDARD_GRAVITY**2, linewidth=1.1, linestyle="-" if label.startswith("CG") else "--",
+                      label=f"{label}: {rms / STANDARD_GRAVITY:.3g} grms")
+    if random.input_kind != "force" and bottom.get_lines():  # the isolation: response against input
+        bottom.loglog(f, random.input_psd / STANDARD_GRAVITY**2, color="0.55", linewidth=1.0, linestyle=":",
+                      label=f"input: {random.input_rms / STANDARD_GRAVITY:.3g} grms")
     bottom.set_ylabel("acceleration PSD [g²/Hz]")
     bottom.set_xlabel("frequency f [Hz]")
     bottom.set_title("response: absolute acceleration", fontsize=10)
@@ -61,7 +63,16 @@ def plot_random(random: RandomResponse, *, name: str = "") -> Figure:
     for ax in (top, bottom):
         ax.grid(True, which="both", alpha=0.25)
         ax.set_xlim(f[0], f[-1])
+    plain_frequencies(bottom)
     return fig
+
+
+def plain_frequencies(ax) -> None:
+    """1-2-5 frequencies in plain numbers on a log axis: a band of a decade or two would otherwise label its
+    minor ticks in powers of ten that run into each other."""
+    ax.xaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+    ax.xaxis.set_major_formatter(FormatStrFormatter("%g"))
+    ax.xaxis.set_minor_formatter(NullFormatter())
 
 
 def plot_random_check(check, *, name: str = "") -> Figure:
@@ -127,10 +138,6 @@ def plot_random_check(check, *, name: str = "") -> Figure:
     level = check.qdd_expected.max(axis=1)
     inside = f[level > 1e-12 * level.max()]  # the PSD's band (leakage aside)
     axes[0].set_xlim(inside[0], inside[-1])
-    # 1-2-5 frequencies in plain numbers: a band of a decade or two would otherwise label its minor ticks
-    # in powers of ten that run into each other.
-    axes[0].xaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
-    axes[0].xaxis.set_major_formatter(FormatStrFormatter("%g"))
-    axes[0].xaxis.set_minor_formatter(NullFormatter())
+    plain_frequencies(axes[0])
     axes[0].legend(fontsize=8, loc="lower left")
     return fig

@@ -255,7 +255,7 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
                 if ax is None:
                     continue
                 plot_long(ax, t[part], factor * q_direct[part, i], color="black", linewidth=1.6,
-                          label="direct (diffrax)")
+                          label="direct integration")
                 plot_long(ax, t[part], factor * q_modal[part, i], color="tab:orange", linewidth=1.0, linestyle="--",
                           label="modal superposition")
             left.set_ylabel(f"{DOFS[i]} [{label}]")
@@ -414,7 +414,8 @@ def plot_mount_loads(check: MountCheck, t, *, name: str = "", events: Mapping[st
                  fontsize=12)
     columns = 1 if window is None else 2
     grid = fig.add_gridspec(rows, columns, width_ratios=None if window is None else (3, 2))
-    margins(fig, left=0.9, right=0.2, top=1.05, bottom=0.55, wspace=0.5, hspace=0.45, columns=columns, rows=rows,
+    # The zoom's y labels need room: 0.5 in let the record's last time label touch them.
+    margins(fig, left=0.9, right=0.2, top=1.05, bottom=0.55, wspace=0.8, hspace=0.45, columns=columns, rows=rows,
             target=grid)
     low, high = factor * compression.min(), factor * compression.max()
     pad = 0.08 * max(high - low, 1e-30)
@@ -431,6 +432,7 @@ def plot_mount_loads(check: MountCheck, t, *, name: str = "", events: Mapping[st
             ax.grid(True, alpha=0.3)
         whole = panels[0]
         whole.set_xlim(t[0], t[-1])
+        whole.xaxis.set_major_locator(MaxNLocator(8, steps=[1, 2, 5, 10]))  # 0, 5, 10 s rather than 2.5 steps
         whole.set_ylabel(f"N [{unit}]")
         tension = "" if check.min_compression[k] >= 0 else f", TENSION from t = {check.tension_start_t[k]:.4g} s"
         whole.set_title(f"mount {mount}: {factor * check.min_compression[k]:.4g} to "
@@ -438,9 +440,9 @@ def plot_mount_loads(check: MountCheck, t, *, name: str = "", events: Mapping[st
                         f"(static {factor * static[k]:.4g} {unit}){tension}",
                         fontsize=9, loc="left")
         if window is not None:
-            whole.axvspan(*window[:2], color="0.85", zorder=0)
+            whole.axvspan(*window[:2], color="0.85", zorder=0, label="zoomed span")
             panels[1].set_xlim(*window[:2])
-            panels[1].xaxis.set_major_locator(MaxNLocator(6))
+            panels[1].xaxis.set_major_locator(MaxNLocator(6, steps=[1, 2, 5, 10]))
             # The zoom's own force range, static load kept in view: its cycles are what it is for.
             seen = np.concatenate([factor * compression[k, zoom_samples(t, window)], [factor * static[k], 0.0]
                                    if np.any(compression[k] < 0) else [factor * static[k]]])
@@ -456,7 +458,7 @@ def plot_mount_loads(check: MountCheck, t, *, name: str = "", events: Mapping[st
                 ax.tick_params(labelbottom=False)
     handles, labels = fig.axes[0].get_legend_handles_labels()
     if not np.any(compression < 0):  # no tension: its patch would say what is not there
-        handles, labels = handles[:2], labels[:2]
+        handles, labels = zip(*[(h, label) for h, label in zip(handles, labels) if label != "tension (lift-off)"])
     fig.legend(handles, labels, fontsize=9, loc="upper left", bbox_to_anchor=(0.9 / 12, 1 - 0.4 / fig.get_figheight()),
                ncols=len(labels), frameon=False)
     return fig

@@ -172,7 +172,7 @@ def test_mode_shapes_give_their_scale_and_every_mount_with_its_axis():
     points = np.vstack([corners, system.positions])
     for j, ax in enumerate(fig.axes):
         scale = mode_scale(points, modes.shapes[:, j], float(np.max(size)))
-        assert ax.get_title().endswith(f"(shape x {scale:.3g})")
+        assert ax.get_title().endswith(f"(mass-normalized shape × {scale:.3g})")
         # The physical size of what is drawn: the largest point displacement is MODE_SCALE of the body's
         # largest side, unless the drawn rotation reaches MAX_DRAWN_ROTATION first.
         moved, turned = ax.get_title().rsplit("drawn: ", 1)[1].split(" (")[0].split(", ")

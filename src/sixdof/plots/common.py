@@ -187,7 +187,8 @@ def mark_operating(ax, operating_hz, label: bool = False) -> None:
         ax.axvline(f, color="tab:red", linewidth=1.0, linestyle="-.", zorder=1)
         if label:
             ax.text(f, 0.02, f" operating {f:.4g} Hz", transform=ax.get_xaxis_transform(), fontsize=8,
-                    color="tab:red", va="bottom", ha="left", rotation=90)
+                    color="tab:red", va="bottom", ha="left", rotation=90,
+                    bbox={"facecolor": "white", "alpha": 0.75, "edgecolor": "none", "pad": 1.0})  # over a curve
 
 
 def freeze_unlabelled_ticks(fig: Figure) -> None:

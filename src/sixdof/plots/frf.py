@@ -37,7 +37,10 @@ def _finish(mag, phase, f: np.ndarray, frequency_hz: np.ndarray | None, operatin
     and frequency span of a magnitude and phase pair."""
     phase.set_ylabel("phase [deg]")
     drawn = np.concatenate([line.get_ydata() for line in phase.get_lines()] or [np.zeros(1)])
-    low, high = 90.0 * min(np.floor(drawn.min() / 90.0), -2), 90.0 * max(np.ceil(drawn.max() / 90.0), 2)
+    # The 90-degree steps around what is drawn, at least 180 deg (a receptance's -180..0 without an empty
+    # half above it).
+    low, high = 90.0 * np.floor(drawn.min() / 90.0), 90.0 * np.ceil(drawn.max() / 90.0)
+    low = min(low, high - 180.0)
     phase.set_ylim(low - 10, high + 10)
     phase.set_yticks(np.arange(low, high + 1, 90.0 if high - low <= 720 else 180.0))
     for ax in (mag, phase):

@@ -189,7 +189,7 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, name: str = 
         turned = float(np.degrees(np.linalg.norm(shape[3:])))
         turned = turned if turned >= 0.01 else 0.0  # a translation's round-off rotation (1e-15 deg) is none
         ax.set_title(f"Mode {j + 1}: {frequency}\ndominant {dominant[j]}{share}\n"
-                     f"drawn: {moved_by:.2g} m, {turned:.2g}° (shape x {scales[j]:.3g})", fontsize=10)
+                     f"drawn: {moved_by:.2g} m, {turned:.2g}° (mass-normalized shape × {scales[j]:.3g})", fontsize=10)
     return fig
 
 

@@ -2,7 +2,8 @@
 the mount check computed (each mount's total normal force in one unit, its static load, tension shaded where
 and only where the mount is in tension, a zoom on the largest excursion); time_dofs.png says which DOFs are
 not excited and zooms on the excitation's shock or switch-on beside the whole record; bode.png marks the
-operating frequencies and numbers close modes without overprinting."""
+operating frequencies and numbers close modes without overprinting; random.png, srs.png and the design
+figures draw the values they are given, identical curves once."""
 
 from __future__ import annotations
 
@@ -277,3 +278,83 @@ def test_superposition_zooms_on_the_shock_beside_the_whole_overlay():
         assert superposed.get_label() == "modal superposition"
         x = direct.get_xdata()
         assert x[0] <= window[0] and x[-1] >= window[1] and len(x) <= 1 + (window[1] - window[0]) * 2000 + 2
+
+
+def test_random_png_draws_the_input_and_each_response_with_its_rms():
+    from sixdof.analysis.random import PSD, RandomInput, random_response
+    from sixdof.plots import plot_random
+    from systems import small_box
+
+    psd = PSD(f_hz=[2.0, 20.0, 60.0], value=[0.01, 0.04, 0.02], unit="g^2/Hz")
+    random = random_response(small_box(), RandomInput(input="ground_acceleration", direction=[0.0, 0.6, 0.8], psd=psd),
+                             {"cg": [0.0, 0.0, 0.0], "corner": [0.3, 0.2, 0.1]})
+    fig = plot_random(random, name="box")
+    top, bottom = fig.axes
+    g2 = STANDARD_GRAVITY**2
+    assert top.get_title() == f"input: ground acceleration, {random.input_rms / STANDARD_GRAVITY:.3g} grms"
+    np.testing.assert_allclose(top.lines[0].get_ydata(), random.input_psd / g2)
+    assert "[g²/Hz]" in top.get_ylabel() and "[g²/Hz]" in bottom.get_ylabel()
+    lines = {line.get_label(): line for line in bottom.lines}
+    # The point at the CG moves as the CG: its curves are the CG's, drawn once with both names.
+    for i, dof in enumerate("xyz"):
+        rms = random.qdd_rms[i] / STANDARD_GRAVITY
+        label = next(name for name in lines if name.startswith(f"CG {dof}"))
+        assert label.endswith(f": {rms:.3g} grms")
+        np.testing.assert_allclose(lines[label].get_ydata(), random.qdd_psd[:, i] / g2)
+    axis = int(np.argmax(random.point_acceleration_rms[0]))
+    assert any(name.startswith(f"CG {'xyz'[axis]} = cg {'xyz'[axis]}") for name in lines)
+    corner = next(name for name in lines if name.startswith("corner "))
+    assert lines[corner].get_linestyle() == "--"
+    # The input under the response (the isolation), and eight decades of response shown.
+    assert f"input: {random.input_rms / STANDARD_GRAVITY:.3g} grms" in lines
+    peak = max(float(np.max(line.get_ydata())) for line in bottom.lines)
+    assert bottom.get_ylim()[0] == pytest.approx(1e-8 * peak)
+
+
+def test_srs_png_draws_the_input_and_each_excited_point_once():
+    from sixdof.analysis.srs import ShockSpectra
+    from sixdof.plots import plot_srs
+
+    f = np.geomspace(10.0, 2000.0, 40)
+    base = 200.0 * np.ones_like(f)
+    board = np.stack([1e-3 * base, 1e-3 * base, 2.0 * base])  # only z excited beyond round-off
+    spectra = ShockSpectra(f_hz=f, points=np.stack([board, board, 0.5 * board]), names=("board", "twin", "lid"),
+                           q=10.0, input=base)
+    fig = plot_srs(spectra, name="box")
+    (ax,) = fig.axes
+    assert "Q = 10" in fig.get_suptitle() and ax.get_ylabel() == "SRS [g]"
+    assert ax.get_xlabel() == "natural frequency f [Hz]"
+    labels = [line.get_label() for line in ax.lines]
+    assert labels == ["base (input)", "board z = twin z", "lid z"]  # x and y below 1 % of the largest: not drawn
+    np.testing.assert_allclose(ax.lines[1].get_ydata(), 2.0 * base / STANDARD_GRAVITY)
+    np.testing.assert_allclose(ax.lines[0].get_ydata(), base / STANDARD_GRAVITY)
+
+
+def test_design_figures_draw_before_and_after_with_the_targets():
+    from sixdof.analysis.design import mode_of_each_dof
+    from sixdof.design.spec import Target
+    from sixdof.plots.design import plot_design_decoupling, plot_design_frequencies
+    from systems import small_box
+
+    before, after = small_box().modes, four_mount().modes
+    window = Target(kind="frequency", dof="z", f_hz=(8.0, 12.0))
+    fig = plot_design_frequencies(before, after, [window], name="box")
+    (ax,) = fig.axes
+    given, optimized = ax.collections[:2]
+    np.testing.assert_allclose(given.get_offsets()[:, 0], before.frequency_hz[mode_of_each_dof(before)])
+    np.testing.assert_allclose(optimized.get_offsets()[:, 0], after.frequency_hz[mode_of_each_dof(after)])
+    shaded = ax.collections[2].get_paths()[0].vertices
+    assert shaded[:, 0].min() == pytest.approx(8.0) and shaded[:, 0].max() == pytest.approx(12.0)
+    assert shaded[:, 1].min() == pytest.approx(2 - 0.35) and shaded[:, 1].max() == pytest.approx(2 + 0.35)  # z row
+    assert ax.get_xlabel() == "natural frequency f [Hz]"
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["given design", "optimized", "target window"]
+
+    shares = np.array([80.0, 85.0, 99.0, 70.0, 75.0, 90.0]), np.array([90.0, 92.0, 99.5, 88.0, 91.0, 96.0])
+    fig = plot_design_decoupling(*shares, covered=("rx", "ry"), minimum=85.0, coordinates="tra")
+    (ax,) = fig.axes
+    heights = [patch.get_height() for patch in ax.patches]
+    np.testing.assert_allclose(heights, np.concatenate(shares))
+    bound = [line for line in ax.lines if line.get_label() == "target ≥ 85 %"]
+    assert len(bound) == 1 and len([line for line in ax.lines if line.get_ydata()[0] == 85.0]) == 2  # rx and ry
+    assert "torque-roll-axis coordinates" in fig.get_suptitle()
+    assert ax.get_ylabel() == "kinetic energy in the dominant coordinate [%]"

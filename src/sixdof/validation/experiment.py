@@ -319,7 +319,8 @@ class RandomRun:
     mode : int
         1-based mode number.
     band_hz : (float, float)
-        The mode's band (half-way to its neighbours, within 0.7 to 1.3 times its frequency) [Hz].
+        The mode's band (half-way to its neighbours but at least three half-power bandwidths either side,
+        within 0.7 to 1.3 times its frequency) [Hz].
     estimated : EstimatedFRF
         H1 and coherence of ``eta_r`` per unit force [sqrt(kg) m/N].
     model : ndarray, shape (nf, 1), complex
@@ -496,9 +497,14 @@ def validate(system: System, settings: ValidationSettings | None = None, *,
     rng = np.random.default_rng(settings.seed)
     for r, decay in zip(elastic, decays):
         neighbours = [f_n[s] for s in elastic if s != r]
-        low = max([0.5 * (f_n[r] + f) for f in neighbours if f < f_n[r]] + [0.7 * f_n[r]])
-        high = min([0.5 * (f_n[r] + f) for f in neighbours if f > f_n[r]] + [1.3 * f_n[r]])
         width = 2 * zeta[r] * f_n[r]
+        # Half-way to the neighbours, but never closer than three half-power bandwidths (a mode nearly
+        # coincident with another keeps its resonance and flanks in band: its modal coordinate, and the
+        # model of it, carry the neighbour's coupling alike), within 0.7 to 1.3 times its frequency.
+        below = max([0.5 * (f_n[r] + f) for f in neighbours if f < f_n[r]], default=0.0)
+        above = min([0.5 * (f_n[r] + f) for f in neighbours if f > f_n[r]], default=math.inf)
+        low = max(min(below, f_n[r] - 3 * width), 0.7 * f_n[r])
+        high = min(max(above, f_n[r] + 3 * width), 1.3 * f_n[r])
         segment = max(8.0 / f_n[r], 4.0 / width if width > 0 else math.inf)
         segment = min(segment, settings.max_segment_s, nperseg / (settings.oversampling * high))
         if segment * width < 4.0 * (1 - 1e-9):

@@ -157,7 +157,6 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
     from sixdof.analysis.steady import steady_state
     from sixdof.io import report, store
     from sixdof.io.stream import ResultsStream
-    from sixdof.validation.random_time import random_time_check
 
     target = output.check_target(out_root, scenario.name)
     with FigureWorkers(processes=0) if workers is None else contextlib.nullcontext(workers) as drawing:
@@ -178,6 +177,8 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         random = None if scenario.random is None else random_response(
             system, scenario.random, {p.name: p.position for p in scenario.points})
         if random is not None and scenario.random.time_check is not None:
+            from sixdof.validation.random_time import random_time_check
+
             random = dataclasses.replace(random, time_check=random_time_check(
                 system, scenario.random, {p.name: p.position for p in scenario.points}, scenario.random.time_check,
                 simulation=scenario.simulation, progress=progress))

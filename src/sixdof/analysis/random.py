@@ -25,7 +25,6 @@ from sixdof.dofs import DOFS, MixedUnits, dof_units, mixed_units
 from sixdof.errors import InputError, Plain, choice_check, finite_array, optional, point_check, readonly
 from sixdof.frozen import Frozen, checked
 from sixdof.results import Result, label, part, quantity
-from sixdof.validation.random_time import RandomTimeCheck, TimeCheckSettings, time_check_settings
 
 #: PSD units accepted, and their factor to SI ((m/s^2)^2/Hz or N^2/Hz).
 PSD_UNITS = {"g^2/Hz": STANDARD_GRAVITY**2, "(m/s^2)^2/Hz": 1.0, "N^2/Hz": 1.0}
@@ -92,7 +91,7 @@ class RandomInput(Frozen):
     direction: object = "z"
     psd: PSD | None = None
     point: np.ndarray | None = checked(optional(point_check), default=None)
-    time_check: TimeCheckSettings | None = checked(time_check_settings, default=True)
+    time_check: object = checked(lambda value, field: _time_check_settings(value, field), default=True)
 
     def __check__(self) -> None:
         from sixdof.analysis.frf import parse_direction
@@ -111,6 +110,17 @@ class RandomInput(Frozen):
         if not unit_ok:
             raise InputError("psd.unit", "N^2/Hz for a force" if force else "g^2/Hz or (m/s^2)^2/Hz for an "
                              "acceleration", self.psd.unit)
+
+
+def _time_check_module():
+    from sixdof.validation import random_time
+
+    return random_time
+
+
+def _time_check_settings(value, field: str):
+    """The ``time_check`` key (:func:`sixdof.validation.random_time.time_check_settings`)."""
+    return _time_check_module().time_check_settings(value, field)
 
 
 def _per_mode(dominant: tuple[str, ...]) -> MixedUnits:
@@ -169,7 +179,7 @@ class RandomResponse(Result):
     dominant_dof: tuple[str, ...] = label()
     input_kind: str = label()
     input_rms: float = label(decode=float)
-    time_check: object = part(lambda: RandomTimeCheck, group="time_check", default=None)
+    time_check: object = part(lambda: _time_check_module().RandomTimeCheck, group="time_check", default=None)
 
     @property
     def input_unit(self) -> str:

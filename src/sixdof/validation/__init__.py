@@ -1,28 +1,30 @@
-"""Modal results validated against time histories: estimators (:mod:`.estimation`) and the
-free-decay and random-force experiment (:mod:`.experiment`)."""
+"""Modal results validated against time histories: estimators (:mod:`.estimation`), the free-decay and
+random-force experiment (:mod:`.experiment`), and the random response's check (:mod:`.random_time`).
 
-from sixdof.validation.estimation import (
-    DecayEstimate,
-    EstimatedFRF,
-    decay_estimate,
-    effective_averages,
-    estimate_frf,
-    h1_random_error,
-    held_model_frf,
-    peak_frequency,
-)
-from sixdof.validation.experiment import (
-    Check,
-    FreeDecay,
-    ModeCheck,
-    RandomRun,
-    ValidationReport,
-    ValidationSettings,
-    validate,
-)
+Names load on first use: :mod:`.estimation` imports scipy.signal (about 0.7 s), which a run that validates
+nothing must not pay for (``sixdof.validation.random_time`` is imported by every scenario with ``[random]``).
+"""
 
-__all__ = [
-    "Check", "DecayEstimate", "EstimatedFRF", "FreeDecay", "ModeCheck", "RandomRun", "ValidationReport",
-    "ValidationSettings", "decay_estimate", "effective_averages", "estimate_frf", "h1_random_error",
-    "held_model_frf", "peak_frequency", "validate",
-]
+from importlib import import_module
+
+_PUBLIC = {
+    "DecayEstimate": "estimation", "EstimatedFRF": "estimation", "decay_estimate": "estimation",
+    "effective_averages": "estimation", "estimate_frf": "estimation", "h1_random_error": "estimation",
+    "held_model_frf": "estimation", "peak_frequency": "estimation",
+    "Check": "experiment", "FreeDecay": "experiment", "ModeCheck": "experiment", "RandomRun": "experiment",
+    "ValidationReport": "experiment", "ValidationSettings": "experiment", "validate": "experiment",
+}
+
+__all__ = sorted(_PUBLIC)
+
+
+def __getattr__(name: str):
+    if name in _PUBLIC:
+        value = getattr(import_module(f".{_PUBLIC[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'sixdof.validation' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})

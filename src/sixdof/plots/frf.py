@@ -3,6 +3,7 @@ transmissibilities."""
 
 from __future__ import annotations
 
+import textwrap
 from collections.abc import Mapping
 
 import numpy as np
@@ -132,14 +133,16 @@ def _point_item(key: str, item) -> tuple[str, bool, np.ndarray, np.ndarray | Non
         direction = np.asarray(item.load_direction, dtype=float)
         along = item.along_load if direction.any() else None
         unit = "N/(N m)" if item.load_kind == "moment" else "N/N"
-        return (f"{key}: force transmissibility, |foundation force| per {item.load_kind} "
-                f"{_vector_text(direction)} at {_vector_text(item.load_point)} m", True,
+        # The magnitude is the resultant's (every direction); a phase needs one component: along the load.
+        return (f"{key}: force transmissibility, |resultant foundation force| per {item.load_kind} "
+                f"{_vector_text(direction)} at {_vector_text(item.load_point)} m (phase: along the load)", True,
                 item.transmissibility, along, unit)
     if isinstance(item, GroundTransmissibility):
         direction = np.asarray(item.ground_direction, dtype=float)
         along = item.absolute @ direction if direction.any() else None
-        return (f"{key}: ground transmissibility, motion at {_vector_text(item.response_point)} m "
-                f"per ground motion {_vector_text(direction)}", True, item.transmissibility, along, "m/m")
+        return (f"{key}: ground transmissibility, absolute motion at {_vector_text(item.response_point)} m "
+                f"along the ground motion {_vector_text(direction)}, per ground motion", True,
+                item.transmissibility, along, "m/m")
     raise InputError(f"extras[{key!r}]", "a PointFRF, ForceTransmissibility or GroundTransmissibility", item)
 
 
@@ -170,16 +173,18 @@ def plot_point_frfs(extras: Mapping[str, PointFRF | ForceTransmissibility | Grou
     if not items:
         raise InputError("extras", "at least one point FRF or transmissibility", Plain("none"))
     frequency_hz = natural_frequencies(modes)
-    fig = Figure(figsize=(13, 3.2 * len(items) + 1.0))
+    fig = Figure(figsize=(13, 3.5 * len(items) + 1.3))
     fig.suptitle(title(name, "point frequency responses and transmissibilities"), fontsize=13)
-    margins(fig, left=0.85, right=0.15, top=0.6, bottom=0.55, wspace=0.85, hspace=0.5, columns=2, rows=len(items))
+    # Room above each row for a title of two lines.
+    margins(fig, left=0.85, right=0.15, top=0.95, bottom=0.55, wspace=0.85, hspace=0.8, columns=2, rows=len(items))
     axes = np.atleast_2d(fig.subplots(len(items), 2, sharex=True, width_ratios=[3, 2]))
     for row, (f, heading, ratio, magnitude, complex_values, unit) in enumerate(items):
         mag, phase = axes[row]
         mag.plot(f, magnitude, color="tab:blue")
         mag.set_yscale("log")
         mag.set_ylabel(f"magnitude [{unit.replace('^2', '²')}]")
-        mag.set_title(heading, fontsize=10, loc="left")
+        # Wrapped to the magnitude panel's width: beyond it a title runs over the phase column.
+        mag.set_title(textwrap.fill(heading, 80), fontsize=10, loc="left")
         if ratio:
             mag.axhline(1.0, color="black", linewidth=0.8, linestyle="--")
         if complex_values is not None:

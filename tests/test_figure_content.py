@@ -358,3 +358,44 @@ def test_design_figures_draw_before_and_after_with_the_targets():
     assert len(bound) == 1 and len([line for line in ax.lines if line.get_ydata()[0] == 85.0]) == 2  # rx and ry
     assert "torque-roll-axis coordinates" in fig.get_suptitle()
     assert ax.get_ylabel() == "kinetic energy in the dominant coordinate [%]"
+
+
+def test_mount_shear_png_is_drawn_for_a_shear_load_and_draws_each_resultant():
+    from sixdof.analysis.mountcheck import SHEAR_SHARE, carries_shear
+    from sixdof.plots import plot_mount_shear
+
+    system = four_mount(m=MASS, k=(2e5, 3e5, 8e5))
+    braking = (Load("brake", [0.0, 0.0, 0.3], force=[0.0, 20000.0, 0.0], signal=HalfSine(start=0.2, duration=0.5)),)
+    response = simulate(system, Excitation(loads=braking), SimulationSettings(duration=2.0, sample_rate_hz=1000.0))
+    check = mount_check(system, mount_forces(system, response), response.t, gravity_statics(system))
+    assert carries_shear(check)
+    fig = plot_mount_shear(check, response.t, name="machine")
+    whole = [ax for ax in fig.axes if ax.get_xlim() == (response.t[0], response.t[-1])]
+    assert len(whole) == len(check.names)
+    for k, ax in enumerate(whole):
+        shear = np.hypot(check.force[k, :, 0], check.force[k, :, 1])
+        assert ax.get_ylabel() == "shear |F_uv| [kN]"
+        np.testing.assert_allclose(ax.get_lines()[0].get_ydata().max(), shear.max() / 1e3)
+        deflection = np.hypot(check.deflection[k, :, 0], check.deflection[k, :, 1])
+        assert f"peak shear load {shear.max() / 1e3:.4g} kN" in ax.get_title(loc="left")
+        assert f"at t = {response.t[np.argmax(deflection)]:.4g} s" in ax.get_title(loc="left")
+    # Frozen ticks (what render() draws) draw the same picture.
+    import io
+
+    from matplotlib.image import imread
+
+    from sixdof import plots
+
+    def pixels(figure):
+        buffer = io.BytesIO()
+        figure.savefig(buffer, format="png", dpi=plots.DPI)
+        return imread(io.BytesIO(buffer.getvalue()), format="png")
+
+    frozen = plot_mount_shear(check, response.t, name="machine")
+    plots.common.freeze_unlabelled_ticks(frozen)
+    np.testing.assert_allclose(pixels(frozen), pixels(fig), rtol=0, atol=1.01 / 255)
+    # A vertical load through the middle: the shear left (rocking) is below SHEAR_SHARE of the normal swing.
+    vertical, _ = checked(300.0, Harmonic(f_hz=7.0), 1.0)
+    normal = np.max(np.abs(vertical.compression + vertical.static_force[:, None, 2]))
+    assert np.max(np.hypot(vertical.force[..., 0], vertical.force[..., 1])) < SHEAR_SHARE * normal
+    assert not carries_shear(vertical)

@@ -219,4 +219,23 @@ def _violation(mount, j: int, check: dict) -> str:
     return f"mount {mount.name!r}: " + "; ".join(found) if found else ""
 
 
-__all__ = ["MountCheck", "MountLimitWarning", "mount_check", "merge_mount_checks", "TENSION_TOL"]
+#: A mount set carries shear worth its own figure (mount_shear.png) when some mount's shear load (the resultant
+#: of u and v) reaches this fraction of the largest dynamic excursion of the normal forces: braking or a
+#: longitudinal quake load a bearing in shear, and its shear deflection, not its normal force, is what the
+#: design checks.
+SHEAR_SHARE = 0.25
+
+
+def carries_shear(check: MountCheck) -> bool:
+    """Whether ``check``'s mounts carry a shear load worth its own figure (:data:`SHEAR_SHARE`)."""
+    force = np.asarray(check.force, dtype=float)
+    if not force.size:
+        return False
+    shear = float(np.max(np.hypot(force[..., 0], force[..., 1])))
+    static = -np.asarray(check.static_force)[:, 2] if check.preload else np.zeros(len(check.names))
+    normal = float(np.max(np.abs(np.asarray(check.compression) - static[:, None])))
+    return shear > 0.0 and shear >= SHEAR_SHARE * normal
+
+
+__all__ = ["MountCheck", "MountLimitWarning", "SHEAR_SHARE", "TENSION_TOL", "carries_shear", "merge_mount_checks",
+           "mount_check"]

@@ -50,6 +50,7 @@ _PUBLIC = {
     "plot_mode_shapes": "modes",
     "plot_mount_forces": "time",
     "plot_mount_loads": "time",
+    "plot_mount_shear": "time",
     "plot_superposition": "time",
     "plot_time_histories": "time",
     "plot_bode": "frf",
@@ -81,6 +82,12 @@ def __dir__() -> list[str]:
 _plots = sys.modules[__name__]
 
 
+def _carries_shear(check) -> bool:
+    from sixdof.analysis.mountcheck import carries_shear
+
+    return carries_shear(check)
+
+
 def _file_order(extras: Mapping[str, object]) -> dict[str, object]:
     """``extras`` in the results file's order (by kind, then name): a live and a loaded run draw alike."""
     from sixdof.analysis.frf import ForceTransmissibility, GroundTransmissibility, PointFRF
@@ -106,6 +113,9 @@ FIGURES: tuple[tuple[str, tuple[str, ...], Callable[[object], bool], Callable[[o
     ("mount_forces.png", ("response", "mount_check", "events"),
      lambda run: run.response is not None and run.mount_check is not None,
      lambda run: _plots.plot_mount_loads(run.mount_check, run.response.t, name=run.name, events=run.events)),
+    ("mount_shear.png", ("response", "mount_check", "events"),
+     lambda run: run.response is not None and run.mount_check is not None and _carries_shear(run.mount_check),
+     lambda run: _plots.plot_mount_shear(run.mount_check, run.response.t, name=run.name, events=run.events)),
     ("superposition.png", ("response", "superposition", "agreement", "events"),
      lambda run: run.response is not None and run.superposition is not None,
      lambda run: _plots.plot_superposition(run.response, run.superposition, run.agreement, name=run.name,

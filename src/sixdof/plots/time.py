@@ -464,6 +464,62 @@ def plot_mount_loads(check: MountCheck, t, *, name: str = "", events: Mapping[st
     return fig
 
 
+def plot_mount_shear(check: MountCheck, t, *, name: str = "", events: Mapping[str, Event] | None = None) -> Figure:
+    """Shear load of each mount, the resultant of its u and v loads (static + dynamic), one row per mount in
+    one unit: the whole record, and beside it the zoom of :func:`plot_mount_loads`; each row's title gives
+    its peak shear load and peak shear deflection (the resultant of the u and v deflections), which sets
+    an elastomer's shear strain.
+
+    Parameters
+    ----------
+    check : sixdof.analysis.mountcheck.MountCheck
+        ``force`` and ``deflection`` (n_mounts, n, 3) along the mounts' axes [N, m].
+    t : array_like, shape (n,)
+        Times [s] of the check's series.
+    name : str
+        Name of the run, put before the title.
+    events : mapping of str to sixdof.results.Event, optional
+        The excitation's shocks and switch-ons, by load name (a run's ``events``).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    require(check, "check", MountCheck, "a sixdof.analysis.mountcheck.MountCheck")
+    t = np.asarray(t, dtype=float)
+    force, deflection = (np.asarray(a, dtype=float) for a in (check.force, check.deflection))
+    if force.shape != (len(check.names), len(t), 3):
+        raise InputError("check.force", f"shape ({len(check.names)}, {len(t)}, 3) (mounts, len(t), axes)",
+                         f"shape {force.shape}")
+    shear = np.hypot(force[..., 0], force[..., 1])
+    sliding = np.hypot(deflection[..., 0], deflection[..., 1])
+    window = event_window(events or {}, t) or zoom_window(t, shear - shear[:, :1])
+    factor, unit = display_unit(shear, "N")
+    rows = len(check.names)
+    fig = Figure(figsize=(12, 1.4 + 1.55 * rows + 0.6))
+    fig.suptitle(title(name, "shear load of each mount (resultant of u and v, static + dynamic)"), fontsize=12)
+    spec = fig.add_gridspec(rows, 1 if window is None else 2, width_ratios=None if window is None else (3, 2))
+    margins(fig, left=0.9, right=0.2, top=0.75, bottom=0.55, wspace=0.8, hspace=0.45,
+            columns=1 if window is None else 2, rows=rows, target=spec)
+    panels = [[fig.add_subplot(spec[k, c]) for c in range(1 if window is None else 2)] for k in range(rows)]
+    _time_column([row[0] for row in panels], (t[0], t[-1]))
+    if window is not None:
+        _time_column([row[1] for row in panels], window[:2], f"zoom: {window[2]}")
+    top = 1.08 * factor * float(np.max(shear))
+    for k, (mount, row) in enumerate(zip(check.names, panels)):
+        for ax, part in zip(row, (slice(None), zoom_samples(t, window or (0, 0)))):
+            plot_long(ax, t[part], factor * shear[k, part], color="tab:purple", linewidth=1.0)
+            ax.set_ylim(0.0, top)
+        row[0].set_ylabel(f"shear |F_uv| [{unit}]")
+        if window is not None:
+            row[0].axvspan(*window[:2], color="0.85", zorder=0)
+        j = int(np.argmax(sliding[k]))
+        scale, shown = display_unit(sliding[k, j], "m")
+        row[0].set_title(f"mount {mount}: peak shear load {factor * float(np.max(shear[k])):.4g} {unit}, peak shear "
+                         f"deflection {scale * sliding[k, j]:.4g} {shown} at t = {t[j]:.4g} s", fontsize=9, loc="left")
+    return fig
+
+
 def zoom_window(t: np.ndarray, dynamic: np.ndarray) -> tuple[float, float, str] | None:
     """``(start, end, label)`` [s] of the span around the largest ``|dynamic|`` (any row of (rows, n))
     covering :data:`ZOOM_PERIODS` periods of its row's dominant motion (from its zero crossings), within

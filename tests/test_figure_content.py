@@ -399,3 +399,24 @@ def test_mount_shear_png_is_drawn_for_a_shear_load_and_draws_each_resultant():
     normal = np.max(np.abs(vertical.compression + vertical.static_force[:, None, 2]))
     assert np.max(np.hypot(vertical.force[..., 0], vertical.force[..., 1])) < SHEAR_SHARE * normal
     assert not carries_shear(vertical)
+
+
+def test_time_dofs_gives_the_steady_state_amplitude_beside_the_switch_on_peak():
+    from sixdof.analysis.steady import steady_state
+    from sixdof.plots import plot_time_histories
+
+    system = four_mount(m=MASS, k=(2e5, 3e5, 8e5), damping=(300.0, 300.0, 600.0))
+    excitation = Excitation(loads=(Load("rotor", [0.1, 0.0, 0.0], force=[0, 0, 300.0], signal=Harmonic(f_hz=7.0)),))
+    response = simulate(system, excitation, SimulationSettings(duration=4.0, sample_rate_hz=1000.0))
+    steady = steady_state(system, excitation)
+    fig = plot_time_histories(response, steady=steady, events={
+        name: Event(*event) for name, event in excitation.events(0.0, 4.0).items()})
+    z = next(ax for ax in fig.axes if ax.get_ylabel().startswith("z ["))
+    scale = 1e6 if "µm" in z.get_ylabel() else 1e3
+    amplitude = abs(steady.q[0, 2])
+    levels = sorted(line.get_ydata()[0] for line in z.get_lines() if line.get_linestyle() == ":")
+    np.testing.assert_allclose(levels, [-scale * amplitude, scale * amplitude])
+    assert f"steady-state amplitude {scale * amplitude:.4g}" in z.get_title(loc="left")
+    # The record ends in that steady state: its last two periods reach the amplitude, to the decay left.
+    last = response.t > response.t[-1] - 2 / 7.0
+    assert np.max(np.abs(response.q[last, 2])) == pytest.approx(amplitude, rel=0.02)

@@ -25,7 +25,7 @@ _GROUND = {"q": "ground_displacement", "qd": "ground_velocity", "qdd": "ground_a
 
 
 def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
-                        events: Mapping[str, Event] | None = None) -> Figure:
+                        events: Mapping[str, Event] | None = None, steady=None) -> Figure:
     """Time history of each DOF on its own axis: translations in mm, rotations in mrad.
 
     (µm or µrad when the peak is below 0.01 mm or 0.01 mrad; velocities and accelerations
@@ -45,6 +45,10 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
         Name of the run, put before the title.
     events : mapping of str to sixdof.results.Event, optional
         The excitation's shocks and switch-ons, by load name (a run's ``events``).
+    steady : sixdof.analysis.steady.SteadyState, optional
+        The steady state at the operating frequencies (harmonic loads without end): its amplitude (the
+        sum over the frequencies, the most their harmonics reach together) dashed at plus and minus, and
+        given beside the peak, which a switch-on transient may dominate.
 
     Returns
     -------
@@ -86,6 +90,10 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
     # scale unless it would flatten the first (a ground that moves away after a shock), when its peak is
     # only quoted.
     main_is_relative = relative is not None and key in ("q", "qd")
+    order = {"q": 0, "qd": 1, "qdd": 2}.get(key)
+    amplitude = None  # of the absolute motion, per DOF
+    if steady is not None and order is not None and not main_is_relative and len(steady.f_hz):
+        amplitude = np.sum(np.abs(steady.q) * (2 * np.pi * np.asarray(steady.f_hz))[:, None] ** order, axis=0)
     for i, (whole, *rest) in enumerate(panels):
         main, other = (values, relative) if not main_is_relative else (relative, values)
         if other is not None and np.array_equal(other[:, i], main[:, i]):
@@ -115,12 +123,20 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
             if drawn_other:
                 plot_long(ax, t[part], factor * other[part, i], color="black", linestyle="--", linewidth=0.9,
                           label=names[1])
+        steady_i = 0.0 if amplitude is None else float(amplitude[i])
+        if steady_i > 0:
+            for ax in (whole, *rest):
+                for sign in (1, -1):
+                    ax.axhline(sign * factor * steady_i, color="0.3", linestyle=":", linewidth=1.0,
+                               label="steady-state amplitude" if sign > 0 else None)
         if zoom is not None:
             whole.axvspan(*zoom[:2], color="0.85", zorder=0, label="zoomed span")
-        if (relative is not None or zoom is not None) and not np.any(~quiet[:i]):  # on the first DOF drawn
+        if (relative is not None or zoom is not None or steady_i > 0) and not np.any(~quiet[:i]):  # first DOF drawn
             whole.legend(fontsize=8, loc="best")
         whole.set_ylabel(f"{DOFS[i]} [{label}]")
         heading = f"{DOFS[i]}: peak {factor * main_peak:.4g} {label}"
+        if steady_i > 0:  # the peak may be the switch-on's: the steady state's amplitude beside it
+            heading += f", steady-state amplitude {factor * steady_i:.4g} {label}"
         if other is not None:
             scale, unit = display_unit(other_peak, _UNITS[key][i])
             heading = (f"{DOFS[i]}: peak {names[0]} {factor * main_peak:.4g} {label}, {names[1]} "

@@ -245,3 +245,10 @@ def test_the_figure_shows_each_excited_acceleration_with_its_interval():
     plots.common.freeze_unlabelled_ticks(frozen)
     difference = np.abs(pixels(frozen) - pixels(fig))
     assert difference.max() <= 2.01 / 255 and np.mean(difference > 1.01 / 255) < 1e-5
+
+
+def test_a_record_too_long_for_memory_is_refused_before_it_is_made():
+    random, _ = _force_on_the_box()
+    with pytest.raises(InputError, match=r"random\.time_check\.duration: expected a record that fits in this "
+                                         r"machine's .* GiB of memory, got 1e\+07 s at 480 Hz"):
+        random_time_check(small_box(), random, {}, TimeCheckSettings(duration=1e7))

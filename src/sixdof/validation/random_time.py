@@ -41,7 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from sixdof.dofs import DOFS, MixedUnits, dof_units
-from sixdof.errors import InputError, Plain, boolean, integer_check, number_check, optional, readonly
+from sixdof.errors import InputError, Plain, boolean, integer_check, memory_check, number_check, optional, readonly
 from sixdof.frozen import Frozen, checked
 from sixdof.results import Result, label, quantity
 
@@ -401,7 +401,7 @@ def random_time_check(system, random, points=None, settings: TimeCheckSettings |
     """
     import time
 
-    from sixdof.analysis.direct import SimulationSettings, simulate
+    from sixdof.analysis.direct import SOLVE_BYTES_PER_SAMPLE, SimulationSettings, simulate
     from sixdof.excitation.loads import Excitation, GroundMotion, Load
     from sixdof.validation.experiment import integrated_model
 
@@ -419,6 +419,10 @@ def random_time_check(system, random, points=None, settings: TimeCheckSettings |
     rate = OUTPUT_OVERSAMPLING * high
     welch = Welch(int(round(segment * rate)), rate)
 
+    # The record's knots (values, slopes and the FFTs' complex spectra) and the solve's samples.
+    knots = KNOTS_PER_PERIOD * high * (settle + duration)
+    memory_check("random.time_check.duration", 64.0 * knots + SOLVE_BYTES_PER_SAMPLE * rate * (settle + duration),
+                 "a record", f"{settle + duration:.4g} s at {KNOTS_PER_PERIOD * high:.4g} Hz")
     started = time.perf_counter()
     record = synthesize(psd, settle + duration, settings.seed)
     if random.input == "force":
@@ -426,9 +430,9 @@ def random_time_check(system, random, points=None, settings: TimeCheckSettings |
     else:
         excitation = Excitation(ground=GroundMotion(quantity="acceleration", direction=random.direction,
                                                     signal=record))
-    solver = simulation or SimulationSettings(duration=1.0, sample_rate_hz=1.0)
-    run = SimulationSettings(duration=settle + duration, sample_rate_hz=rate, solver=solver.solver, rtol=solver.rtol,
-                             atol=solver.atol, max_steps=solver.max_steps)
+    given = simulation or SimulationSettings(duration=1.0, sample_rate_hz=1.0)  # its solver and tolerances
+    run = SimulationSettings(duration=settle + duration, sample_rate_hz=rate, solver=given.solver, rtol=given.rtol,
+                             atol=given.atol, max_steps=given.max_steps)
     response = simulate(model, excitation, run, progress=progress)
     keep = response.t >= settle
     series = {name: (x[keep], unit) for name, (x, unit) in _series(model, random, points, response).items()}

@@ -231,7 +231,7 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
     q_direct, q_modal = direct.q, modal.q
     peaks = np.max(np.abs(q_direct), axis=0)
     zoom = event_window(events or {}, t)
-    fig = Figure(figsize=(13, 13) if zoom is None else (17, 13))
+    fig = Figure(figsize=(13, 13) if zoom is None else (15, 12))  # a report page scales it to its width
     heading = "direct solution vs modal superposition"
     if agreement is not None:
         verdict = "within" if agreement.ok else "EXCEEDS"

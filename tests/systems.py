@@ -87,7 +87,7 @@ THREE_MOUNTS = [
 
 
 def small_box(zeta=0.04) -> System:
-    """A 120 kg box on the three mounts of :data:`THREE_MOUNTS`, all six DOFs coupled, modes 4-23 Hz,
+    """A 120 kg box on the three mounts of :data:`THREE_MOUNTS`, all six DOFs coupled, modes 10-49 Hz,
     Rayleigh damping of ratio ``zeta`` at 5 and 20 Hz."""
     mounts = [Mount(name, p, k) for name, p, k in THREE_MOUNTS]
     return System(RigidBody(120.0, [4.0, 5.0, 6.0]), mounts, rayleigh=Rayleigh.from_ratio(zeta, (5.0, 20.0)))

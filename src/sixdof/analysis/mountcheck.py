@@ -219,8 +219,8 @@ def _violation(mount, j: int, check: dict) -> str:
     return f"mount {mount.name!r}: " + "; ".join(found) if found else ""
 
 
-#: A mount set carries shear worth its own figure (mount_shear.png) when some mount's shear load (the resultant
-#: of u and v) reaches this fraction of the largest dynamic excursion of the normal forces: braking or a
+#: A mount set carries shear worth its own figure (mount_shear.png) when some mount's dynamic shear load (the
+#: resultant of u and v) reaches this fraction of the largest dynamic excursion of the normal forces: braking or a
 #: longitudinal quake load a bearing in shear, and its shear deflection, not its normal force, is what the
 #: design checks.
 SHEAR_SHARE = 0.25
@@ -231,9 +231,11 @@ def carries_shear(check: MountCheck) -> bool:
     force = np.asarray(check.force, dtype=float)
     if not force.size:
         return False
-    shear = float(np.max(np.hypot(force[..., 0], force[..., 1])))
-    static = -np.asarray(check.static_force)[:, 2] if check.preload else np.zeros(len(check.names))
-    normal = float(np.max(np.abs(np.asarray(check.compression) - static[:, None])))
+    # Dynamic parts against dynamic parts: an inclined mount's static shear is no reason for the figure.
+    static = np.asarray(check.static_force, dtype=float) if check.preload else np.zeros((len(check.names), 3))
+    dynamic = force - static[:, None, :]
+    shear = float(np.max(np.hypot(dynamic[..., 0], dynamic[..., 1])))
+    normal = float(np.max(np.abs(dynamic[..., 2])))
     return shear > 0.0 and shear >= SHEAR_SHARE * normal
 
 

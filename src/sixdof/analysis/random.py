@@ -16,6 +16,7 @@ includes the mounts' loss factors (half the modal loss factor) as the FRF does.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -188,16 +189,25 @@ class RandomResponse(Result):
 
 def frequency_grid(system, psd: PSD) -> np.ndarray:
     """A log grid over the PSD's band with :data:`POINTS_PER_BANDWIDTH` points per half-power bandwidth of
-    the most lightly damped mode in band (viscous and hysteretic damping together), and the PSD's breakpoints."""
+    the most lightly damped mode in band (viscous and hysteretic damping together).
+
+    Each interval between the PSD's breakpoints is its own log grid with an even number of steps, from one
+    breakpoint exactly to the next: Simpson's pairs never straddle a kink of the PSD, and no point falls a
+    rounding away from a breakpoint (``exp(log(10))`` is 10.000000000000002), which unevens Simpson's weights
+    (2.9e-4 of a mean square, measured)."""
     low, high = float(psd.f_hz[0]), float(psd.f_hz[-1])
     zeta = _modal_damping(system)
     f_n = system.modes.frequency_hz
     inside = (f_n >= low) & (f_n <= high) & (f_n > 0)
     least = float(np.min(zeta[inside])) if np.any(inside) else 0.05
     step = np.log1p(2.0 * max(least, 1e-4) / POINTS_PER_BANDWIDTH)
-    f = np.exp(np.linspace(np.log(low), np.log(high), int(np.ceil(np.log(high / low) / step)) + 1))
-    # Every breakpoint exactly (the PSD's kinks; exp(log(20)) is a rounding below 20 Hz, where it is zero).
-    return np.union1d(f[(f > low) & (f < high)], psd.f_hz)
+    pieces = []
+    for a, b in zip(psd.f_hz[:-1], psd.f_hz[1:]):
+        steps = 2 * max(1, math.ceil(np.log(b / a) / step / 2))
+        piece = np.exp(np.linspace(np.log(a), np.log(b), steps + 1))
+        piece[0], piece[-1] = a, b  # exactly: outside them the PSD is zero or has another slope
+        pieces.append(piece[:-1])
+    return np.append(np.concatenate(pieces), high)
 
 
 def _modal_damping(system) -> np.ndarray:

@@ -407,13 +407,13 @@ class Table(Signal):
         return jnp.where(t >= self.t[-1], after, inside)
 
     def _hermite(self, t, edge):
-        knots = jnp.asarray(self.t)
+        knots, values, slopes = (jnp.asarray(a) for a in (self.t, self.values, self.slopes))
         i = jnp.clip(jnp.searchsorted(knots, t, side="right") - 1, 0, knots.size - 2)
         h = knots[i + 1] - knots[i]
         s = (t - knots[i]) / h
         s2, s3 = s * s, s * s * s
-        value = ((2 * s3 - 3 * s2 + 1) * self.values[i] + (s3 - 2 * s2 + s) * h * self.slopes[i]
-                 + (3 * s2 - 2 * s3) * self.values[i + 1] + (s3 - s2) * h * self.slopes[i + 1])
+        value = ((2 * s3 - 3 * s2 + 1) * values[i] + (s3 - 2 * s2 + s) * h * slopes[i]
+                 + (3 * s2 - 2 * s3) * values[i + 1] + (s3 - s2) * h * slopes[i + 1])
         before = self.values[0] if edge is None else 0.0
         return jnp.where(t < knots[0], before, value)
 

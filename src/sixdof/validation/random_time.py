@@ -21,12 +21,14 @@ time form, are left out of both sides and the result says so):
   per axis, each mount's force per axis of its own; against ``integral S df`` of its FRF-derived PSD.
   Statistical error of a record of length ``T`` of a Gaussian process (Bendat & Piersol 8.4):
   ``eps^2 = integral S^2 df / (T (integral S df)^2)``.
-- the octave-band mean squares of the accelerations' Welch PSDs (Hann, 50 % overlap) against the
+- the octave-band mean squares (bins inside the PSD's band) of the accelerations' Welch PSDs (Hann, 50 %
+  overlap) against the
   expected value of that estimate, the FRF PSD convolved with the Hann spectral window (so leakage and
   resolution bias are on both sides). Error: the variance of a sum of Welch bins, with the Hann window's
   correlation of neighbouring bins and of overlapping segments.
 
-Each is a ``z`` value, (time - frequency) / (its standard error). Verdict: every ``|z|`` within
+Each is a ``z`` value: the ratio of the record's mean square to the FRFs' as a standard normal value (a
+mean square scatters as chi-square; :func:`z_score`). Verdict: every ``|z|`` within
 :attr:`RandomTimeCheck.z_limit`, the bound that the largest of the N values judged passes with
 probability ``1 -`` :data:`FALSE_ALARM` for a correct model (Sidak: independent values; the values are
 positively correlated, which makes it conservative). Quantities or bands holding less than
@@ -52,9 +54,9 @@ KNOTS_PER_PERIOD = 8
 OUTPUT_OVERSAMPLING = 2.56
 #: Welch bins per half-power bandwidth of the least damped mode in band (resolution of the PSDs shown).
 BINS_PER_BANDWIDTH = 4
-#: Welch segments (50 % overlap) of a default record.
-AVERAGES = 32
-#: Longest default record [s] (lightly damped low modes): fewer bins per bandwidth beyond it.
+#: Welch segments (50 % overlap) of a default record, and the fewest a record may hold.
+AVERAGES, MIN_AVERAGES = 32, 8
+#: Longest default record [s] (lightly damped low modes): fewer averages beyond it, down to MIN_AVERAGES.
 MAX_DEFAULT_S = 120.0
 #: Probability that a correct model fails the check (the two-sided 3-sigma rate), over all values.
 FALSE_ALARM = 0.0027
@@ -76,8 +78,9 @@ class TimeCheckSettings(Frozen):
     Parameters
     ----------
     duration : float, optional
-        Analysed record [s] (after the settling time). Default: :data:`AVERAGES` Welch segments of
-        :data:`BINS_PER_BANDWIDTH` bins per half-power bandwidth, at most :data:`MAX_DEFAULT_S`.
+        Analysed record [s] (after the settling time), at least :data:`MIN_AVERAGES` Welch segments of
+        :data:`BINS_PER_BANDWIDTH` bins per half-power bandwidth of the sharpest resonance in band.
+        Default: :data:`AVERAGES` such segments, at most :data:`MAX_DEFAULT_S` (but never below the least).
     seed : int, optional
         Seed of the record (``numpy.random.default_rng``). Default 0.
     """
@@ -116,7 +119,8 @@ class RandomTimeCheck(Result):
     sigma : ndarray, shape (judged,)
         The relative standard error of the record's mean square.
     z : ndarray, shape (judged,)
-        ``(time mean square / frequency mean square - 1) / sigma``.
+        The ratio of the record's mean square to the FRFs' as a standard normal value (:func:`z_score`;
+        about ``(ratio - 1) / sigma`` while sigma is small).
     f_hz : ndarray, shape (nf,)
         Welch bins [Hz].
     qdd_welch, qdd_expected : ndarray, shape (nf, 6)
@@ -136,7 +140,8 @@ class RandomTimeCheck(Result):
     time_rms: np.ndarray = quantity(lambda r: _judged_units(r.judged_units), ("judged",),
                                     description="RMS of the time record")
     sigma: np.ndarray = quantity("1", ("judged",), description="relative standard error of the record's mean square")
-    z: np.ndarray = quantity("1", ("judged",), description="(time/frequency mean square - 1) / sigma")
+    z: np.ndarray = quantity("1", ("judged",), description="time/frequency mean square as a standard normal "
+                             "value (Wilson-Hilferty)")
     f_hz: np.ndarray = quantity("Hz", ("welch_f_hz",), name="welch_f_hz")
     qdd_welch: np.ndarray = quantity(lambda r: _psd_units(), ("welch_f_hz", "dof"))
     qdd_expected: np.ndarray = quantity(lambda r: _psd_units(), ("welch_f_hz", "dof"))
@@ -210,17 +215,36 @@ def _least_damped(system, band) -> tuple[float, float]:
 
 
 def _segment(system, psd, duration: float | None) -> tuple[float, float]:
-    """``(record [s], Welch segment [s])`` for ``duration`` (None: the default)."""
+    """``(record [s], Welch segment [s])`` for ``duration`` (None: the default).
+
+    The segment always resolves :data:`BINS_PER_BANDWIDTH` bins per half-power bandwidth of the sharpest
+    resonance in band: the band errors assume a PSD flat across a bin (coarser bins were measured to scatter
+    z 1.2-1.8 times wider than stated). A longer record averages more segments, not shorter ones.
+    """
     bandwidth, _ = _least_damped(system, (psd.f_hz[0], psd.f_hz[-1]))
     segment = max(BINS_PER_BANDWIDTH / bandwidth, 4.0 / float(psd.f_hz[0]))
+    shortest = (MIN_AVERAGES + 1) / 2 * segment
     if duration is None:
-        duration = min((AVERAGES + 1) / 2 * segment, MAX_DEFAULT_S)
-    return float(duration), min(segment, 2.0 * duration / (AVERAGES + 1))
+        duration = max(min((AVERAGES + 1) / 2 * segment, MAX_DEFAULT_S), shortest)
+    elif duration < shortest * (1 - 1e-12):
+        raise InputError("random.time_check.duration", f"at least {shortest:.4g} s: {MIN_AVERAGES} Welch segments of "
+                         f"{segment:.4g} s, {BINS_PER_BANDWIDTH} bins per half-power bandwidth of the sharpest "
+                         f"resonance in band ({bandwidth:.3g} Hz)", duration)
+    return float(duration), float(segment)
 
 
 # ----------------------------------------------------------------------------------------------------
 # Statistics.
 # ----------------------------------------------------------------------------------------------------
+
+
+def z_score(ratio, sigma):
+    """The standard normal value of a measured-to-expected mean-square ``ratio`` whose relative standard error
+    is ``sigma``: a mean square scatters as chi-square with ``nu = 2 / sigma^2`` degrees of freedom over
+    ``nu``, skewed (at sigma 0.18 a 4-sigma excess is six times likelier than for a normal value), which the
+    Wilson-Hilferty cube root makes normal: ``(ratio^(1/3) - 1 + 2 / (9 nu)) / sqrt(2 / (9 nu))``."""
+    spread = 2.0 / (9.0 * (2.0 / np.asarray(sigma, dtype=float) ** 2))
+    return (np.cbrt(np.asarray(ratio, dtype=float)) - 1.0 + spread) / np.sqrt(spread)
 
 
 def sidak_limit(count: int, false_alarm: float = FALSE_ALARM) -> float:
@@ -309,13 +333,35 @@ def record_error(psd: np.ndarray, step: float, duration: float) -> float:
     return float(np.sqrt(np.sum(psd**2) * step / duration) / (np.sum(psd) * step))
 
 
-def octave_bands(low: float, high: float) -> list[tuple[float, float, float]]:
-    """``(centre, lower edge, upper edge)`` [Hz] of the octave bands (centres 1000 * 2^k Hz) that overlap
-    ``[low, high]``."""
+def fine_grid(low: float, high: float, welch: Welch, bandwidth: float) -> tuple[np.ndarray, list[str]]:
+    """The FRFs' uniform frequency grid [Hz] for a PSD band ``[low, high]``: aligned with the Welch bins, at
+    least :data:`FINE_PER_BIN` points per bin and :data:`FINE_PER_BANDWIDTH` per half-power ``bandwidth``
+    [Hz] of the sharpest resonance (at most :data:`MAX_FINE_POINTS`, said in the notes), and reaching
+    :data:`WINDOW_HALF_BINS` bins beyond the band (where the PSD is zero), so that the estimate's leakage past
+    the band's edges is on the expected side too."""
+    pad = WINDOW_HALF_BINS * welch.bin_hz
+    per_bin = max(FINE_PER_BIN, math.ceil(FINE_PER_BANDWIDTH * welch.bin_hz / bandwidth))
+    most = max(FINE_PER_BIN, int(MAX_FINE_POINTS * welch.bin_hz // (high - low + 2 * pad)))
+    notes = []
+    if per_bin > most:
+        notes.append(f"the FRFs are integrated at {welch.bin_hz / most:.3g} Hz steps, coarser than a sixteenth of "
+                     f"the sharpest half-power bandwidth ({bandwidth:.3g} Hz): at most {MAX_FINE_POINTS} points")
+        per_bin = most
+    step = welch.bin_hz / per_bin
+    return np.arange(max(math.ceil((low - pad) / step), 1), math.floor((high + pad) / step) + 1) * step, notes
+
+
+def octave_bands(f_hz: np.ndarray, low: float, high: float) -> list[tuple[float, np.ndarray]]:
+    """``(centre [Hz], bins)`` of each octave band (centres 1000 * 2^k Hz) holding Welch bins ``f_hz`` inside
+    the PSD's band ``[low, high]``: a bin beyond it holds only leakage, whose scatter the band errors (for a
+    PSD flat across a bin) do not describe (a one-bin band below 10 Hz was measured to scatter twice as wide)."""
     k = np.arange(math.floor(math.log2(low / 1000.0) - 0.5), math.ceil(math.log2(high / 1000.0) + 0.5) + 1)
-    centres = 1000.0 * 2.0**k
-    return [(float(c), float(c / math.sqrt(2)), float(c * math.sqrt(2))) for c in centres
-            if c * math.sqrt(2) > low and c / math.sqrt(2) < high]
+    bands = []
+    for centre in 1000.0 * 2.0**k:
+        bins = (f_hz >= max(centre / math.sqrt(2), low)) & (f_hz < min(centre * math.sqrt(2), high))
+        if np.any(bins):
+            bands.append((float(centre), bins))
+    return bands
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -323,12 +369,13 @@ def octave_bands(low: float, high: float) -> list[tuple[float, float, float]]:
 # ----------------------------------------------------------------------------------------------------
 
 
-def _series(system, random, points, response) -> dict[str, tuple[np.ndarray, str]]:
-    """Every response of the record, as ``name -> (samples, unit)`` (see :attr:`RandomTimeCheck.judged`)."""
+def _series(system, random, points, response, keep) -> dict[str, tuple[np.ndarray, str]]:
+    """Every response of the record's samples ``keep``, as ``name -> (samples, unit)`` (see
+    :attr:`RandomTimeCheck.judged`)."""
     from sixdof.analysis.response import mount_forces, point_motion
 
-    t = response.t
-    q = response.q
+    t = response.t[keep]
+    q = response.q[keep]
     if random.input != "force":  # the ground starts at rest: its velocity carries a constant, its position a ramp
         ramp = np.polynomial.polynomial.polyfit(t - t[0], q, 1)
         q = q - np.polynomial.polynomial.polyval(t - t[0], ramp).T
@@ -336,15 +383,15 @@ def _series(system, random, points, response) -> dict[str, tuple[np.ndarray, str
     for i, dof in enumerate(DOFS):
         series[f"q:{dof}"] = (q[:, i], dof_units(0)[i])
     for i, dof in enumerate(DOFS):
-        series[f"qdd:{dof}"] = (response.qdd[:, i], dof_units(2)[i])
+        series[f"qdd:{dof}"] = (response.qdd[keep, i], dof_units(2)[i])
     for name, position in points.items():
         accel = point_motion(response, position).acceleration
         for j, axis in enumerate("xyz"):
-            series[f"point:{name}:{axis}"] = (accel[:, j], "m/s^2")
+            series[f"point:{name}:{axis}"] = (accel[keep, j], "m/s^2")
     forces = mount_forces(system, response)
     for m, name in enumerate(forces.names):
         for j, axis in enumerate("uvw"):
-            series[f"mount_force:{name}:{axis}"] = (forces.local[m, :, j], "N")
+            series[f"mount_force:{name}:{axis}"] = (forces.local[m, keep, j], "N")
     return series
 
 
@@ -435,18 +482,10 @@ def random_time_check(system, random, points=None, settings: TimeCheckSettings |
                              atol=given.atol, max_steps=given.max_steps)
     response = simulate(model, excitation, run, progress=progress)
     keep = response.t >= settle
-    series = {name: (x[keep], unit) for name, (x, unit) in _series(model, random, points, response).items()}
+    series = _series(model, random, points, response, keep)
 
-    # The FRF side on a fine grid aligned with the Welch bins, resolving the sharpest resonance.
-    per_bin = max(FINE_PER_BIN, math.ceil(FINE_PER_BANDWIDTH * welch.bin_hz / bandwidth))
-    most = max(FINE_PER_BIN, MAX_FINE_POINTS * welch.bin_hz // (high - low))
-    notes = []
-    if per_bin > most:
-        notes.append(f"the FRFs are integrated at {welch.bin_hz / most:.3g} Hz steps, coarser than a sixteenth of "
-                     f"the sharpest half-power bandwidth ({bandwidth:.3g} Hz): at most {MAX_FINE_POINTS} points")
-        per_bin = int(most)
-    step = welch.bin_hz / per_bin
-    f_fine = np.arange(math.ceil(low / step), math.floor(high / step) + 1) * step
+    f_fine, notes = fine_grid(low, high, welch, bandwidth)
+    step = welch.bin_hz / round(welch.bin_hz / (f_fine[1] - f_fine[0]))
     fine = _transfer_psds(model, random, points, f_fine)
     samples = int(np.count_nonzero(keep))
     record_s = samples / rate
@@ -476,8 +515,7 @@ def random_time_check(system, random, points=None, settings: TimeCheckSettings |
     accelerations = [n for n in series if n.startswith(("qdd:", "point:"))]
     f_bins, welch_psd = welch.estimate(np.stack([series[n][0] for n in accelerations], axis=1))
     expected = welch.expected(f_fine, np.stack([fine[n] for n in accelerations], axis=1), f_bins)
-    for centre, lo, hi in octave_bands(low, high):
-        inside = (f_bins >= lo) & (f_bins < hi)
+    for centre, inside in octave_bands(f_bins, low, high):
         for j, name in enumerate(accelerations):
             unit = series[name][1]
             e = expected[inside, j]
@@ -488,7 +526,7 @@ def random_time_check(system, random, points=None, settings: TimeCheckSettings |
                   welch.band_error(e, samples))
 
     freq_ms, time_ms, sigma = (np.array(v, dtype=float) for v in (freq_ms, time_ms, sigma))
-    z = (time_ms / freq_ms - 1.0) / sigma
+    z = z_score(time_ms / freq_ms, sigma)
     limit = sidak_limit(len(judged))
     column = {name: j for j, name in enumerate(accelerations)}
     qdd_cols = [column[f"qdd:{d}"] for d in DOFS]

@@ -258,7 +258,7 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
     only the samples that hold each drawn series' extremes per pixel column (:func:`envelope_samples`), so its
     memory is bounded whatever its duration.
     """
-    from sixdof.analysis.compare import compare, merge_agreements
+    from sixdof.analysis.compare import compare, merge_agreements, relative_to_ground
     from sixdof.analysis.direct import progress_meter, simulate_windows
     from sixdof.analysis.mountcheck import MountLimitWarning, merge_mount_checks, mount_check
     from sixdof.analysis.records import merge_stats, merge_superposition
@@ -287,7 +287,7 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
         piece = RunResults(response=window, superposition=modal, mount_forces=forces,
                            mount_check=mount_check(system, forces, window.t, statics),
                            points=points_motion(window, points) if points else {},
-                           agreement=compare(window, modal, length=length))
+                           agreement=compare(*relative_to_ground(window, modal), length=length))
         stream.append(piece)
         # Merged window by window: what is kept of the past stays bounded.
         stats = _merged(merge_stats, stats, window.stats)

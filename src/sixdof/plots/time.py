@@ -9,7 +9,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
-from sixdof.analysis.compare import Agreement
+from sixdof.analysis.compare import Agreement, relative_to_ground
 from sixdof.analysis.mountcheck import MountCheck
 from sixdof.analysis.response import MountForces
 from sixdof.dofs import DOFS, FORCE_UNITS, display_unit, dof_units
@@ -228,11 +228,11 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
     if modal.q.shape != direct.q.shape:
         raise InputError("modal.q", f"shape {direct.q.shape} (that of direct.q)", f"shape {modal.q.shape}")
     t = direct.t
-    q_direct, q_modal = direct.q, modal.q
+    q_direct, q_modal = relative_to_ground(direct, modal)  # what the agreement compares
     peaks = np.max(np.abs(q_direct), axis=0)
     zoom = event_window(events or {}, t)
     fig = Figure(figsize=(13, 13) if zoom is None else (15, 12))  # a report page scales it to its width
-    heading = "direct solution vs modal superposition"
+    heading = "direct solution vs modal superposition" + (", relative to the ground" if direct.has_ground else "")
     if agreement is not None:
         verdict = "within" if agreement.ok else "EXCEEDS"
         heading += (f"\nworst relative difference {agreement.worst:.2e} in "

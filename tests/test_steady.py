@@ -38,6 +38,7 @@ def test_an_isolated_sdof_has_the_textbook_amplitude_and_transmissibility(r, zet
     assert steady.transmissibility[0] == pytest.approx(expected, rel=RTOL_LINALG)
     assert steady.isolation_efficiency[0] == pytest.approx(1 - expected, rel=RTOL_LINALG, abs=RTOL_LINALG)
     assert steady.applied_force[0] == pytest.approx(1e3, rel=RTOL_LINALG)
+    assert steady.loss_factors == (eta > 0)  # said: a time response, without them, tends to another state
     # Below sqrt(2) the mounts amplify (efficiency < 0), above it they isolate.
     if abs(r - math.sqrt(2)) > 1e-6:  # at sqrt(2) exactly 1 (efficiency 0 to round-off)
         assert (steady.isolation_efficiency[0] > 0) == (r > math.sqrt(2))

@@ -53,6 +53,9 @@ class SteadyState(schema.Result):
         cancel).
     isolation_efficiency : ndarray, shape (nf,)
         ``1 - transmissibility`` (a fraction; negative where the mounts amplify).
+    loss_factors : bool
+        Whether the mounts' loss factors are in it: a time response (which cannot hold them) then tends to
+        another steady state.
     """
 
     f_hz: np.ndarray = schema.quantity("Hz", ("f_hz",))
@@ -68,6 +71,7 @@ class SteadyState(schema.Result):
                                                     description="amplitude of the force on the foundation")
     transmissibility: np.ndarray = schema.quantity("1", ("f_hz",), description="transmitted / applied force")
     isolation_efficiency: np.ndarray = schema.quantity("1", ("f_hz",), description="1 - transmissibility")
+    loss_factors: bool = schema.label(default=False, encode=bool, decode=bool)
 
     group = "steady_state"
 
@@ -129,7 +133,8 @@ def steady_state(system, excitation) -> SteadyState | None:
     return SteadyState(f_hz=readonly(f_hz), q=readonly(q, complex), applied=readonly(applied, complex),
                        transmitted=readonly(transmitted, complex), mount_forces=readonly(forces, complex),
                        applied_force=readonly(applied_force), transmitted_force=readonly(transmitted_force),
-                       transmissibility=readonly(ratio), isolation_efficiency=readonly(1.0 - ratio))
+                       transmissibility=readonly(ratio), isolation_efficiency=readonly(1.0 - ratio),
+                       loss_factors=bool(np.any(system.loss_factors)))
 
 
 __all__ = ["CANCELLED_RTOL", "SAME_FREQUENCY_RTOL", "SteadyState", "operating_phasors", "steady_state",

@@ -72,14 +72,14 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
     # The motion relative to the ground only when the ground moves (not merely present as zeros).
     ground = getattr(history, _GROUND[key]) if key in _GROUND else None
     relative = getattr(history, f"{key}_relative") if ground is not None and np.any(ground != 0) else None
-    if zoom is None:  # translations left, rotations right
-        margins(fig, left=0.8, right=0.15, top=0.7, bottom=0.55, wspace=1.0, hspace=0.55, columns=2, rows=3)
+    if zoom is None:  # translations left, rotations right (the legend above them)
+        margins(fig, left=0.8, right=0.15, top=0.95, bottom=0.55, wspace=1.0, hspace=0.55, columns=2, rows=3)
         grid = fig.subplots(3, 2, sharex=True)
         panels = [[ax] for ax in grid.T.flat]
         time_axes(grid, t)
     else:  # one row per DOF: the whole record, then the zoom
         spec = fig.add_gridspec(6, 2, width_ratios=(3, 2))
-        margins(fig, left=0.8, right=0.15, top=1.0, bottom=0.55, wspace=0.9, hspace=0.5, columns=2, rows=6,
+        margins(fig, left=0.8, right=0.15, top=1.2, bottom=0.55, wspace=0.9, hspace=0.5, columns=2, rows=6,
                 target=spec)
         panels = [[fig.add_subplot(spec[i, 0]), fig.add_subplot(spec[i, 1])] for i in range(6)]
         _time_column([row[0] for row in panels], (t[0], t[-1]))
@@ -125,18 +125,24 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
                           label=names[1])
         steady_i = 0.0 if amplitude is None else float(amplitude[i])
         if steady_i > 0:
+            # The loss factors act in the frequency domain only: the time response tends to another steady state.
+            what = ("steady-state amplitude (FRF, with loss factors the time response lacks)" if steady.loss_factors
+                    else "steady-state amplitude")
             for ax in (whole, *rest):
                 for sign in (1, -1):
                     ax.axhline(sign * factor * steady_i, color="0.3", linestyle=":", linewidth=1.0,
-                               label="steady-state amplitude" if sign > 0 else None)
+                               label=what if sign > 0 else None)
         if zoom is not None:
             whole.axvspan(*zoom[:2], color="0.85", zorder=0, label="zoomed span")
         if (relative is not None or zoom is not None or steady_i > 0) and not np.any(~quiet[:i]):  # first DOF drawn
-            whole.legend(fontsize=8, loc="best")
+            # Above the panels, under the title: inside one it would sit on a curve.
+            fig.legend(*whole.get_legend_handles_labels(), fontsize=8, loc="upper left", frameon=False,
+                       bbox_to_anchor=(0.8 / fig.get_figwidth(), 1 - 0.45 / fig.get_figheight()), ncols=4)
         whole.set_ylabel(f"{DOFS[i]} [{label}]")
         heading = f"{DOFS[i]}: peak {factor * main_peak:.4g} {label}"
         if steady_i > 0:  # the peak may be the switch-on's: the steady state's amplitude beside it
-            heading += f", steady-state amplitude {factor * steady_i:.4g} {label}"
+            scale, unit = display_unit(steady_i, _UNITS[key][i])  # its own unit: 0.1587 um, not 0.0001587 mm
+            heading += f", steady-state amplitude {scale * steady_i:.4g} {unit}"
         if other is not None:
             scale, unit = display_unit(other_peak, _UNITS[key][i])
             heading = (f"{DOFS[i]}: peak {names[0]} {factor * main_peak:.4g} {label}, {names[1]} "

@@ -27,7 +27,7 @@ from sixdof import (
 )
 from sixdof.analysis.statics import STANDARD_GRAVITY, gravity_statics
 from sixdof.plots import plot_mount_loads
-from sixdof.plots.time import ZOOM_PERIODS, ZOOM_PULSES, event_window, zoom_window
+from sixdof.plots.time import TENSION_LABEL, ZOOM_PERIODS, ZOOM_PULSES, event_window, zoom_window
 from sixdof.results import Event
 from systems import four_mount
 
@@ -64,7 +64,7 @@ def test_each_mount_is_drawn_in_one_unit_with_its_static_load_and_a_zoom():
         assert flat == [pytest.approx(-check.static_force[k, 2] / 1e3)]
         assert -check.static_force[k, 2] == pytest.approx(MASS * STANDARD_GRAVITY / 4, rel=0.3)  # the preload
         assert whole.get_xlim() == (t[0], t[-1]) and zoom.get_xlim() == pytest.approx(window[:2])
-        assert not [c for c in whole.collections if c.get_label() == "tension (lift-off)" and len(c.get_paths())]
+        assert not [c for c in whole.collections if c.get_label() == TENSION_LABEL and len(c.get_paths())]
     # The zoom spans ZOOM_PERIODS periods of the 7 Hz steady motion (from zero crossings) around the largest excursion.
     assert window[1] - window[0] == pytest.approx(ZOOM_PERIODS / 7.0, rel=0.1)
     worst = np.unravel_index(np.argmax(np.abs(check.compression - check.compression.mean(axis=1, keepdims=True))),
@@ -80,15 +80,15 @@ def test_tension_is_shaded_exactly_where_a_mount_lifts_off():
     fig = plot_mount_loads(check, t)
     assert len(fig.axes) == len(check.names)  # 0.3 s: too short for a zoom
     for k, ax in enumerate(fig.axes):
-        shade = [c for c in ax.collections if c.get_label() == "tension (lift-off)"][0]
+        shade = [c for c in ax.collections if c.get_label() == TENSION_LABEL][0]
         vertices = np.concatenate([p.vertices for p in shade.get_paths()])
         assert vertices[:, 1].min() == pytest.approx(check.min_compression[k] / 1e3)
         assert vertices[:, 1].max() == pytest.approx(0.0, abs=1e-12)
         inside = (vertices[:, 0].min(), vertices[:, 0].max())
         in_tension = t[check.compression[k] < 0]
         assert inside[0] <= in_tension[0] and inside[1] >= in_tension[-1]
-        assert "TENSION from t =" in ax.get_title(loc="left")
-    assert "tension (lift-off)" in [text.get_text() for text in fig.legends[0].get_texts()]
+        assert "TENSION first at t =" in ax.get_title(loc="left")
+    assert TENSION_LABEL in [text.get_text() for text in fig.legends[0].get_texts()]
 
 
 def test_unexcited_dofs_are_said_to_be_so_not_drawn_as_noise():

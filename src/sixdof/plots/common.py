@@ -12,7 +12,7 @@ from matplotlib.axis import Ticker
 from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
-from matplotlib.ticker import NullFormatter, NullLocator
+from matplotlib.ticker import FormatStrFormatter, LogLocator, NullFormatter, NullLocator
 
 from sixdof.analysis.modal import Modes
 from sixdof.errors import InputError
@@ -81,6 +81,22 @@ def time_axes(axes: np.ndarray, t: np.ndarray) -> None:
         ax.set_xlim(t[0], t[-1])
     for ax in np.atleast_1d(axes[-1]):
         ax.set_xlabel("time t [s]")
+
+
+def plain_log_ticks(axis) -> None:
+    """1-2-5 ticks in plain numbers on a log ``axis``: a span of a decade or two would otherwise label its
+    minor ticks in powers of ten that run into each other (``4 x 10^-2`` beside ``10^-2``)."""
+    axis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+    axis.set_major_formatter(FormatStrFormatter("%g"))
+    axis.set_minor_formatter(NullFormatter())
+
+
+def plain_frequencies(ax) -> None:
+    """:func:`plain_log_ticks` on a frequency axis spanning at most three decades (wider ones keep their
+    decades, 1-2-5 would crowd them)."""
+    low, high = ax.get_xlim()
+    if low > 0 and high / low <= 1e3:
+        plain_log_ticks(ax.xaxis)
 
 
 def merge_identical(curves):

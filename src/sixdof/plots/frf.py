@@ -19,6 +19,7 @@ from sixdof.plots.common import (
     mark_modes,
     mark_operating,
     natural_frequencies,
+    plain_frequencies,
     require,
     title,
 )
@@ -52,6 +53,9 @@ def _finish(mag, phase, f: np.ndarray, frequency_hz: np.ndarray | None, operatin
         mark_modes(ax, frequency_hz, label=ax is mag)
         mark_operating(ax, operating_hz, label=ax is mag)
     mag.set_xlim(f[0], f[-1])
+    if mag.get_xscale() == "log":
+        for ax in (mag, phase):
+            plain_frequencies(ax)
 
 
 def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, name: str = "",

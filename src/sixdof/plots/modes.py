@@ -223,7 +223,7 @@ def plot_ke_distribution(modes: Modes, ax=None, *, name: str = "") -> Figure:
     for (i, j), value in np.ndenumerate(percent):
         # Round-off leaves shares like -1e-15: print them as 0, not "-0".
         # One decimal throughout, so that a column visibly adds up to 100 (93.5 and 6.5, not 93 and 6.5).
-        text = "0" if abs(value) < 0.05 else ("100" if value >= 99.95 else f"{value:.1f}")
+        text = "0.0" if abs(value) < 0.05 else f"{value:.1f}"
         ax.text(j, i, text, ha="center", va="center", fontsize=10, color="white" if value > 60 else "black")
     digits = distinct_digits(freqs, 3)
     ax.set_xticks(range(n), [f"{j + 1}\n{f:.{digits}g}" for j, f in enumerate(freqs)])  # close modes told apart

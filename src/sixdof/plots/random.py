@@ -4,12 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 from matplotlib.figure import Figure
-from matplotlib.ticker import FormatStrFormatter, LogLocator, NullFormatter
 
 from sixdof.analysis.random import RandomResponse
 from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.dofs import AXES, DOFS
-from sixdof.plots.common import margins, merge_identical, require, title
+from sixdof.plots.common import margins, merge_identical, plain_frequencies, plain_log_ticks, require, title
 
 
 def plot_random(random: RandomResponse, *, name: str = "") -> Figure:
@@ -64,15 +63,8 @@ def plot_random(random: RandomResponse, *, name: str = "") -> Figure:
         ax.grid(True, which="both", alpha=0.25)
         ax.set_xlim(f[0], f[-1])
     plain_frequencies(bottom)
+    plain_log_ticks(top.yaxis)  # 0.01, 0.02, 0.04 g²/Hz rather than 10^-2 beside 4 x 10^-2
     return fig
-
-
-def plain_frequencies(ax) -> None:
-    """1-2-5 frequencies in plain numbers on a log axis: a band of a decade or two would otherwise label its
-    minor ticks in powers of ten that run into each other."""
-    ax.xaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
-    ax.xaxis.set_major_formatter(FormatStrFormatter("%g"))
-    ax.xaxis.set_minor_formatter(NullFormatter())
 
 
 def plot_random_check(check, *, name: str = "") -> Figure:
@@ -96,15 +88,17 @@ def plot_random_check(check, *, name: str = "") -> Figure:
 
     require(check, "check", RandomTimeCheck, "a sixdof.validation.random_time.RandomTimeCheck")
     rms = {n.removeprefix("rms:"): j for j, n in enumerate(check.judged) if n.startswith("rms:")}
-    panels = [(f"CG {dof}", f"qdd:{dof}", check.qdd_welch[:, i], check.qdd_expected[:, i], i < 3)
+    curves = [(check.qdd_welch[:, i], f"CG {dof}", (f"qdd:{dof}", check.qdd_expected[:, i], i < 3))
               for i, dof in enumerate(DOFS) if f"qdd:{dof}" in rms]
     for p, point in enumerate(check.points):
         excited = [a for a in range(3) if f"point:{point}:{AXES[a]}" in rms]
         if excited:
             axis = max(excited, key=lambda a: check.frequency_rms[rms[f"point:{point}:{AXES[a]}"]])
-            panels.append((f"{point} {AXES[axis]}", f"point:{point}:{AXES[axis]}", check.point_welch[p, :, axis],
-                           check.point_expected[p, :, axis], True))
-    panels = panels[:6]
+            curves.append((check.point_welch[p, :, axis], f"{point} {AXES[axis]}",
+                           (f"point:{point}:{AXES[axis]}", check.point_expected[p, :, axis], True)))
+    # Responses that are one (points moving with the CG) share a panel.
+    panels = [(label, key, welch, expected, translation)
+              for welch, label, (key, expected, translation) in merge_identical(curves)][:6]
     columns = 1 if len(panels) <= 3 else 2
     rows = max(1, -(-len(panels) // columns))
     fig = Figure(figsize=(10, 2.0 + 2.6 * rows))
@@ -136,8 +130,8 @@ def plot_random_check(check, *, name: str = "") -> Figure:
         ax.set_xlabel("frequency f [Hz]")
         ax.xaxis.set_tick_params(labelbottom=True)
     level = check.qdd_expected.max(axis=1)
-    inside = f[level > 1e-12 * level.max()]  # the PSD's band (leakage aside)
-    axes[0].set_xlim(inside[0], inside[-1])
+    band = check.band_hz or f[level > 1e-12 * level.max()][[0, -1]]  # a file from before band_hz: where it acts
+    axes[0].set_xlim(*band)  # beyond the PSD's band the record holds only leakage and the solve's round-off
     plain_frequencies(axes[0])
-    axes[0].legend(fontsize=8, loc="lower left")
+    axes[0].legend(fontsize=8, loc="upper right")  # a response PSD falls above its first resonance
     return fig

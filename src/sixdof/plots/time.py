@@ -116,7 +116,8 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
             whole.set_ylabel(f"{DOFS[i]}")
             whole.set_title(f"{DOFS[i]}: not excited", fontsize=10, loc="center" if zoom is None else "left")
             continue
-        names = ("relative to the ground", "absolute") if main_is_relative else ("absolute", "relative to the ground")
+        names = (("relative to the ground", "absolute") if main_is_relative
+                 else ("absolute", "relative to the ground") if other is not None else ("response", ""))
         for ax, part in zip((whole, *rest), (slice(None), *(zoom_samples(t, zoom) for _ in rest))):
             plot_long(ax, t[part], factor * main[part, i], color=TRANSLATION if i < 3 else ROTATION,
                       linewidth=1.0, label=names[0])
@@ -151,6 +152,8 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
     return fig
 
 
+#: Legend of the tension shading: the model's mounts are linear, a real one would lift off there.
+TENSION_LABEL = "tension (a real mount lifts off; these linear ones hold)"
 #: The second curve of a ground-driven run (absolute or relative motion) is drawn on the first's scale only
 #: while its peak is at most this many times the first's.
 OTHER_SCALE = 10.0
@@ -449,14 +452,14 @@ def plot_mount_loads(check: MountCheck, t, *, name: str = "", events: Mapping[st
             ax.axhline(factor * static[k], color="0.35", linestyle="--", linewidth=0.9, label="static (gravity)")
             ax.axhline(0.0, color="black", linewidth=0.6)
             ax.fill_between(t[part], factor * np.minimum(force, 0.0), 0.0, where=force < 0,
-                            color="tab:red", alpha=0.35, linewidth=0, label="tension (lift-off)")
+                            color="tab:red", alpha=0.35, linewidth=0, label=TENSION_LABEL)
             ax.set_ylim(low - pad, high + pad)
             ax.grid(True, alpha=0.3)
         whole = panels[0]
         whole.set_xlim(t[0], t[-1])
         whole.xaxis.set_major_locator(MaxNLocator(8, steps=[1, 2, 5, 10]))  # 0, 5, 10 s rather than 2.5 steps
         whole.set_ylabel(f"N [{unit}]")
-        tension = "" if check.min_compression[k] >= 0 else f", TENSION from t = {check.tension_start_t[k]:.4g} s"
+        tension = "" if check.min_compression[k] >= 0 else f", TENSION first at t = {check.tension_start_t[k]:.4g} s"
         whole.set_title(f"mount {mount}: {factor * check.min_compression[k]:.4g} to "
                         f"{factor * check.max_compression[k]:.4g} {unit} "
                         f"(static {factor * static[k]:.4g} {unit}){tension}",
@@ -480,7 +483,7 @@ def plot_mount_loads(check: MountCheck, t, *, name: str = "", events: Mapping[st
                 ax.tick_params(labelbottom=False)
     handles, labels = fig.axes[0].get_legend_handles_labels()
     if not np.any(compression < 0):  # no tension: its patch would say what is not there
-        handles, labels = zip(*[(h, label) for h, label in zip(handles, labels) if label != "tension (lift-off)"])
+        handles, labels = zip(*[(h, label) for h, label in zip(handles, labels) if label != TENSION_LABEL])
     fig.legend(handles, labels, fontsize=9, loc="upper left", bbox_to_anchor=(0.9 / 12, 1 - 0.4 / fig.get_figheight()),
                ncols=len(labels), frameon=False)
     return fig
@@ -515,7 +518,12 @@ def plot_mount_shear(check: MountCheck, t, *, name: str = "", events: Mapping[st
                          f"shape {force.shape}")
     shear = np.hypot(force[..., 0], force[..., 1])
     sliding = np.hypot(deflection[..., 0], deflection[..., 1])
-    window = event_window(events or {}, t) or zoom_window(t, shear - shear[:, :1])
+    # The excitation's event where it loads the mounts in shear (a vertical impact may not), else the largest
+    # swing of the shear itself.
+    window = event_window(events or {}, t)
+    swing = float(np.ptp(shear)) if shear.size else 0.0
+    if window is None or float(np.ptp(shear[:, zoom_samples(t, window)])) < 0.25 * swing:
+        window = zoom_window(t, shear - shear[:, :1])
     factor, unit = display_unit(shear, "N")
     rows = len(check.names)
     fig = Figure(figsize=(12, 1.4 + 1.55 * rows + 0.6))
@@ -535,10 +543,11 @@ def plot_mount_shear(check: MountCheck, t, *, name: str = "", events: Mapping[st
         row[0].set_ylabel(f"shear |F_uv| [{unit}]")
         if window is not None:
             row[0].axvspan(*window[:2], color="0.85", zorder=0)
-        j = int(np.argmax(sliding[k]))
+        j, i = int(np.argmax(sliding[k])), int(np.argmax(shear[k]))
         scale, shown = display_unit(sliding[k, j], "m")
-        row[0].set_title(f"mount {mount}: peak shear load {factor * float(np.max(shear[k])):.4g} {unit}, peak shear "
-                         f"deflection {scale * sliding[k, j]:.4g} {shown} at t = {t[j]:.4g} s", fontsize=9, loc="left")
+        row[0].set_title(f"mount {mount}: peak shear load {factor * shear[k, i]:.4g} {unit} at t = {t[i]:.4g} s, "
+                         f"peak shear deflection {scale * sliding[k, j]:.4g} {shown} at t = {t[j]:.4g} s",
+                         fontsize=9, loc="left")
     return fig
 
 

@@ -82,7 +82,7 @@ def plot_validation_frf(report: ValidationReport, *, name: str = "") -> Figure:
             mag.axvline(row.f_peak_estimated_hz, color="tab:red", linestyle="--", linewidth=0.8,
                         label="H1 peak (interpolated)")
             # The peak check compares the H1 peak with the model's peak (damped), not the natural frequency.
-            heading += (f": model peak {row.f_peak_model_hz:.5g} Hz, H1 peak {row.f_peak_estimated_hz:.5g} Hz"
+            heading += (f": model peak {row.f_peak_model_hz:.3f} Hz, H1 peak {row.f_peak_estimated_hz:.3f} Hz"
                         f"\nmedian $|H_1 - H_{{model}}| / |H_{{model}}|$ = {row.h1_median_error:.1e}")
         mag.set_title(heading, fontsize=10)
         mag.set_ylabel(f"$|\\eta_{{{mode}}} / F|$ [kg$^{{1/2}}$ m/N]")

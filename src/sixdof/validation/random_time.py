@@ -123,6 +123,8 @@ class RandomTimeCheck(Result):
         about ``(ratio - 1) / sigma`` while sigma is small).
     f_hz : ndarray, shape (nf,)
         Welch bins [Hz].
+    band_hz : (float, float)
+        The input PSD's band [Hz].
     qdd_welch, qdd_expected : ndarray, shape (nf, 6)
         Welch PSD of the CG's acceleration from the record, and its expected value from the FRFs.
     point_welch, point_expected : ndarray, shape (n_points, nf, 3)
@@ -161,6 +163,8 @@ class RandomTimeCheck(Result):
     solver_steps: int = label(decode=int)
     wall_time_s: float = label(decode=float)
     notes: tuple[str, ...] = label(default=())
+    band_hz: tuple[float, float] | None = label(default=None, encode=lambda band: np.asarray(band, dtype=float),
+                                                decode=lambda band: (float(band[0]), float(band[1])))
 
     @property
     def worst(self) -> int:
@@ -543,7 +547,7 @@ def random_time_check(system, random, points=None, settings: TimeCheckSettings |
         time_rms=readonly(np.sqrt(time_ms)), sigma=readonly(sigma), z=readonly(z), f_hz=readonly(f_bins),
         qdd_welch=readonly(welch_psd[:, qdd_cols]), qdd_expected=readonly(expected[:, qdd_cols]),
         point_welch=readonly(point_array(welch_psd)), point_expected=readonly(point_array(expected)),
-        points=tuple(points), z_limit=limit,
+        points=tuple(points), band_hz=(low, high), z_limit=limit,
         verdict=PASS if bool(np.all(np.abs(z) <= limit)) else FAIL, seed=settings.seed, duration_s=record_s,
         settle_s=float(settle), segment_s=welch.length / rate, averages=welch.segments(samples),
         degrees_of_freedom=2.0 * welch.segments(samples) / welch.overlap_factor(), sample_rate_hz=rate,

@@ -22,10 +22,10 @@ time form, are left out of both sides and the result says so):
   Statistical error of a record of length ``T`` of a Gaussian process (Bendat & Piersol 8.4):
   ``eps^2 = integral S^2 df / (T (integral S df)^2)``.
 - the octave-band mean squares (bins inside the PSD's band) of the accelerations' Welch PSDs (Hann, 50 %
-  overlap) against the
-  expected value of that estimate, the FRF PSD convolved with the Hann spectral window (so leakage and
-  resolution bias are on both sides). Error: the variance of a sum of Welch bins, with the Hann window's
-  correlation of neighbouring bins and of overlapping segments.
+  overlap) against the expected value of that estimate, the FRF PSD convolved with the Hann spectral
+  window (so leakage and resolution bias are on both sides). Error: the variance of a sum of Welch bins,
+  with the Hann window's correlation of neighbouring bins and of overlapping segments, for a PSD flat
+  across a bin: segments always resolve :data:`BINS_PER_BANDWIDTH` bins per half-power bandwidth.
 
 Each is a ``z`` value: the ratio of the record's mean square to the FRFs' as a standard normal value (a
 mean square scatters as chi-square; :func:`z_score`). Verdict: every ``|z|`` within
@@ -52,7 +52,8 @@ from sixdof.results import Result, label, quantity
 KNOTS_PER_PERIOD = 8
 #: Output samples per period of the PSD's top frequency: the 2.56 of signal analysers.
 OUTPUT_OVERSAMPLING = 2.56
-#: Welch bins per half-power bandwidth of the least damped mode in band (resolution of the PSDs shown).
+#: Welch bins per half-power bandwidth of the least damped mode in band: the resolution at which the band
+#: errors hold (at one bin per bandwidth z was measured to scatter 1.2-1.5 times wider than stated).
 BINS_PER_BANDWIDTH = 4
 #: Welch segments (50 % overlap) of a default record, and the fewest a record may hold.
 AVERAGES, MIN_AVERAGES = 32, 8

@@ -29,9 +29,11 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
     """Time history of each DOF on its own axis: translations in mm, rotations in mrad.
 
     (µm or µrad when the peak is below 0.01 mm or 0.01 mrad; velocities and accelerations
-    likewise.) With ground motion the motion relative to the ground is drawn dashed beside the
-    absolute one. Given ``events``, the one worth a zoom (:func:`event_window`: a shock first, else
-    a switch-on) is drawn again in a zoom panel beside each DOF's whole record, its span shaded there.
+    likewise.) With ground motion, displacements and velocities relative to the ground are drawn solid
+    (the mount strokes), accelerations absolute (what the body feels); the other dashed on the same scale,
+    or, where it would flatten the first (a ground that moves away after a shock), only its peak quoted.
+    Given ``events``, the one worth a zoom (:func:`event_window`: a shock first, else a switch-on) is
+    drawn again in a zoom panel beside each DOF's whole record, its span shaded there.
     DOFs the excitation does not reach are said to be so instead of drawn.
 
     Parameters
@@ -47,7 +49,7 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
         The excitation's shocks and switch-ons, by load name (a run's ``events``).
     steady : sixdof.analysis.steady.SteadyState, optional
         The steady state at the operating frequencies (harmonic loads without end): its amplitude (the
-        sum over the frequencies, the most their harmonics reach together) dashed at plus and minus, and
+        sum over the frequencies, the most their harmonics reach together) dotted at plus and minus, and
         given beside the peak, which a switch-on transient may dominate.
 
     Returns
@@ -141,13 +143,13 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
                        bbox_to_anchor=(0.8 / fig.get_figwidth(), 1 - 0.45 / fig.get_figheight()), ncols=4)
         whole.set_ylabel(f"{DOFS[i]} [{label}]")
         heading = f"{DOFS[i]}: peak {factor * main_peak:.4g} {label}"
-        if steady_i > 0:  # the peak may be the switch-on's: the steady state's amplitude beside it
-            scale, unit = display_unit(steady_i, _UNITS[key][i])  # its own unit: 0.1587 um, not 0.0001587 mm
-            heading += f", steady-state amplitude {scale * steady_i:.4g} {unit}"
         if other is not None:
             scale, unit = display_unit(other_peak, _UNITS[key][i])
             heading = (f"{DOFS[i]}: peak {names[0]} {factor * main_peak:.4g} {label}, {names[1]} "
                        f"{scale * other_peak:.4g} {unit}" + ("" if drawn_other else " (not drawn)"))
+        if steady_i > 0:  # the peak may be the switch-on's: the steady state's amplitude beside it
+            scale, unit = display_unit(steady_i, _UNITS[key][i])  # its own unit: 0.1587 um, not 0.0001587 mm
+            heading += f", steady-state amplitude {scale * steady_i:.4g} {unit}"
         whole.set_title(heading, fontsize=10, loc="center" if zoom is None else "left")
     return fig
 

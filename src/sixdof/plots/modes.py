@@ -153,6 +153,9 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, name: str = 
     aspect = np.maximum(reach, MIN_ASPECT * float(np.max(reach)))
     for j, moved in enumerate(drawn):
         ax = fig.add_subplot(rows, columns, j + 1, projection="3d")
+        # Artists drawn in their zorder, not sorted by depth: the box's faces (each collection still orders
+        # its own) under the mounts, and the mounts' names over everything, never crossed by an edge.
+        ax.computed_zorder = False
         ax.add_collection3d(Poly3DCollection([corners[f] for f in faces], facecolors=(0.6, 0.6, 0.6, 0.06),
                                              edgecolors=(0.5, 0.5, 0.5, 0.6), linewidths=0.7, linestyles="--"))
         ax.add_collection3d(Poly3DCollection([moved[:8][f] for f in faces], facecolors=(0.12, 0.47, 0.71, 0.25),
@@ -165,7 +168,7 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, name: str = 
                 ax.plot(*np.stack([a, b]).T, color="tab:red", linewidth=1.0)
             for mount, p in zip(names, mounts):  # below the ground side, on white: clear of markers and edges
                 ax.text(p[0], p[1], p[2] - 0.04 * largest, mount, fontsize=7, color="black", ha="center", va="top",
-                        bbox={"facecolor": "white", "alpha": 0.8, "pad": 0.6, "linewidth": 0})
+                        bbox={"facecolor": "white", "alpha": 0.8, "pad": 0.6, "linewidth": 0}, zorder=10)
             if inclined:  # each mount's w axis (its normal direction), from its ground side
                 for p, w in zip(mounts, system.axes[:, 2]):
                     ax.plot(*np.stack([p, p + AXIS_LENGTH * largest * w]).T, color="black", linewidth=1.3)

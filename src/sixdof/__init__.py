@@ -9,7 +9,7 @@ switches ``jax_enable_x64`` on for the whole process (your own JAX code in it th
 too). JAX's float32 default would silently give sixdof's per-DOF accuracy away.
 """
 
-from importlib import import_module
+from sixdof._lazy import lazy_names
 
 __version__ = "0.1.0"
 
@@ -79,13 +79,4 @@ _PUBLIC = {
 __all__ = list(_PUBLIC)
 
 
-def __getattr__(name: str):
-    if name in _PUBLIC:
-        value = getattr(import_module(f".{_PUBLIC[name]}", __name__), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module 'sixdof' has no attribute {name!r}")
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *__all__})
+__getattr__, __dir__ = lazy_names(__name__, _PUBLIC, __all__)

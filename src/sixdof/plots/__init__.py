@@ -32,8 +32,9 @@ from __future__ import annotations
 import io
 import sys
 from collections.abc import Callable, Mapping
-from importlib import import_module
 from pathlib import Path
+
+from sixdof._lazy import lazy_names
 
 #: Public name -> module of this package that defines it, imported when the name is first used.
 _PUBLIC = {
@@ -65,16 +66,7 @@ _PUBLIC = {
 __all__ = sorted([*_PUBLIC, "FIGURES", "figure_names", "png", "render", "save_all"])
 
 
-def __getattr__(name: str):
-    if name in _PUBLIC:
-        value = getattr(import_module(f".{_PUBLIC[name]}", __name__), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module 'sixdof.plots' has no attribute {name!r}")
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *__all__})
+__getattr__, __dir__ = lazy_names(__name__, _PUBLIC, __all__)
 
 
 # Drawing calls the plot functions through the module object, whose __getattr__ imports them: deciding

@@ -5,7 +5,7 @@ Names load on first use: :mod:`.estimation` imports scipy.signal (about 0.7 s), 
 nothing must not pay for (``sixdof.validation.random_time`` is imported by every scenario with ``[random]``).
 """
 
-from importlib import import_module
+from sixdof._lazy import lazy_names
 
 _PUBLIC = {
     "DecayEstimate": "estimation", "EstimatedFRF": "estimation", "decay_estimate": "estimation",
@@ -18,13 +18,4 @@ _PUBLIC = {
 __all__ = sorted(_PUBLIC)
 
 
-def __getattr__(name: str):
-    if name in _PUBLIC:
-        value = getattr(import_module(f".{_PUBLIC[name]}", __name__), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module 'sixdof.validation' has no attribute {name!r}")
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *__all__})
+__getattr__, __dir__ = lazy_names(__name__, _PUBLIC, __all__)

@@ -12,7 +12,7 @@ from matplotlib.axis import Ticker
 from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
-from matplotlib.ticker import FormatStrFormatter, LogLocator, NullFormatter, NullLocator
+from matplotlib.ticker import FuncFormatter, NullFormatter, NullLocator
 
 from sixdof.analysis.modal import Modes
 from sixdof.errors import InputError
@@ -83,12 +83,19 @@ def time_axes(axes: np.ndarray, t: np.ndarray) -> None:
         ax.set_xlabel("time t [s]")
 
 
+def plain_tick(value: float, _position=None) -> str:
+    """A log-axis tick as a plain number, only at 1, 2 and 5 times a power of ten (a formatter)."""
+    if value <= 0:
+        return ""
+    mantissa = round(value / 10 ** np.floor(np.log10(value)), 6)
+    return f"{value:g}" if mantissa in (1.0, 2.0, 5.0) else ""
+
+
 def plain_log_ticks(axis) -> None:
-    """1-2-5 ticks in plain numbers on a log ``axis``: a span of a decade or two would otherwise label its
-    minor ticks in powers of ten that run into each other (``4 x 10^-2`` beside ``10^-2``)."""
-    axis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
-    axis.set_major_formatter(FormatStrFormatter("%g"))
-    axis.set_minor_formatter(NullFormatter())
+    """Ticks of a log ``axis`` labelled in plain numbers at 1, 2 and 5 times a power of ten (20, 50, 100 rather
+    than 2 x 10^1, 5 x 10^1, 10^2; ``4 x 10^-2`` beside ``10^-2``)."""
+    axis.set_major_formatter(FuncFormatter(plain_tick))
+    axis.set_minor_formatter(FuncFormatter(plain_tick))
 
 
 def plain_frequencies(ax) -> None:

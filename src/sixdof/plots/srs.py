@@ -4,22 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 from matplotlib.figure import Figure
-from matplotlib.ticker import FuncFormatter
 
 from sixdof.analysis.srs import ShockSpectra
 from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.dofs import AXES
-from sixdof.plots.common import margins, merge_identical, require, title
+from sixdof.plots.common import margins, merge_identical, plain_log_ticks, require, title
 
 G = STANDARD_GRAVITY
-
-
-def _plain(value: float, _position=None) -> str:
-    """A log-axis tick as a plain number, only at 1, 2 and 5 times a power of ten."""
-    if value <= 0:
-        return ""
-    mantissa = round(value / 10 ** np.floor(np.log10(value)), 6)
-    return f"{value:g}" if mantissa in (1.0, 2.0, 5.0) else ""
 
 
 def plot_srs(spectra: ShockSpectra, *, name: str = "") -> Figure:
@@ -54,9 +45,8 @@ def plot_srs(spectra: ShockSpectra, *, name: str = "") -> Figure:
     ax.set_ylabel("SRS [g]")
     ax.set_xlim(f[0], f[-1])
     ax.grid(True, which="both", alpha=0.25)
-    for axis in (ax.xaxis, ax.yaxis):  # 20, 50, 100 rather than 2 x 10^1, 5 x 10^1, 10^2
-        axis.set_major_formatter(FuncFormatter(_plain))
-        axis.set_minor_formatter(FuncFormatter(_plain))
+    for axis in (ax.xaxis, ax.yaxis):
+        plain_log_ticks(axis)
     if ax.get_lines():
         ax.legend(fontsize=8, loc="best")
     return fig

@@ -174,14 +174,14 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
             warnings.warn(note, SamplingWarning, stacklevel=2)
         frf, frf_extras = _frequency_responses(scenario)
         steady = None if scenario.excitation is None else steady_state(system, scenario.excitation)
-        random = None if scenario.random is None else random_response(
-            system, scenario.random, {p.name: p.position for p in scenario.points})
+        points = {p.name: p.position for p in scenario.points}
+        random = None if scenario.random is None else random_response(system, scenario.random, points)
         if random is not None and scenario.random.time_check is not None:
             from sixdof.validation.random_time import random_time_check
 
             random = dataclasses.replace(random, time_check=random_time_check(
-                system, scenario.random, {p.name: p.position for p in scenario.points}, scenario.random.time_check,
-                simulation=scenario.simulation, progress=progress))
+                system, scenario.random, points, scenario.random.time_check, simulation=scenario.simulation,
+                progress=progress))
         run = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
                          damping_ratios=zeta, statics=statics, frf=frf, frf_extras=frf_extras, steady_state=steady,
                          random=random, provenance=_provenance(scenario))

@@ -219,14 +219,14 @@ def _least_damped(system, band) -> tuple[float, float]:
     return bandwidth, decay
 
 
-def _segment(system, psd, duration: float | None) -> tuple[float, float]:
-    """``(record [s], Welch segment [s])`` for ``duration`` (None: the default).
+def _segment(bandwidth: float, psd, duration: float | None) -> tuple[float, float]:
+    """``(record [s], Welch segment [s])`` for ``duration`` (None: the default), ``bandwidth`` [Hz] the
+    half-power bandwidth of the sharpest resonance in band (:func:`_least_damped`).
 
     The segment always resolves :data:`BINS_PER_BANDWIDTH` bins per half-power bandwidth of the sharpest
     resonance in band: the band errors assume a PSD flat across a bin (coarser bins were measured to scatter
     z 1.2-1.8 times wider than stated). A longer record averages more segments, not shorter ones.
     """
-    bandwidth, _ = _least_damped(system, (psd.f_hz[0], psd.f_hz[-1]))
     segment = max(BINS_PER_BANDWIDTH / bandwidth, 4.0 / float(psd.f_hz[0]))
     shortest = (MIN_AVERAGES + 1) / 2 * segment
     if duration is None:
@@ -465,8 +465,8 @@ def random_time_check(system, random, points=None, settings: TimeCheckSettings |
     model, hysteretic = integrated_model(system)
     psd = random.psd
     low, high = float(psd.f_hz[0]), float(psd.f_hz[-1])
-    duration, segment = _segment(model, psd, settings.duration)
     bandwidth, decay = _least_damped(model, (low, high))
+    duration, segment = _segment(bandwidth, psd, settings.duration)
     settle = math.log(1000.0) / decay
     rate = OUTPUT_OVERSAMPLING * high
     welch = Welch(int(round(segment * rate)), rate)

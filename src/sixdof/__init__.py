@@ -22,6 +22,7 @@ _PUBLIC = {
     "ScenarioError": "errors",
     "SolverError": "errors",
     # The model and scenarios.
+    "Maxwell": "model.system",
     "Mount": "model.system",
     "Rayleigh": "model.system",
     "RigidBody": "model.system",

@@ -216,14 +216,14 @@ def _modes(args) -> int:
     system = scenario.system
     modes = system.modes
     statics, no_statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
-    zeta = damping_ratios(system.C, modes)
+    zeta = damping_ratios(system.C, modes, system.branches)
     if args.json:
         print(json.dumps(_modes_json(scenario, modes, statics, zeta, sensitivity=args.sensitivity)))
         return 0
     if args.sensitivity:
         raise InputError("--sensitivity", "--json as well (the derivatives are arrays)", Plain("--sensitivity alone"))
     print(f"{scenario.name}: {scenario.description}\n")
-    print(report.modes_table(modes, zeta if system.C.any() else None))
+    print(report.modes_table(modes, zeta if system.C.any() or system.maxwell else None, system))
     print(report.damping_note(system))
     print("\nKinetic energy distribution [%] (share of each mode's kinetic energy in each DOF):")
     print(report.ke_table(modes))
@@ -264,7 +264,7 @@ def _run(args) -> int:
         outcome = run_scenario(scenario, args.out, progress=_progress(args), command_line=" ".join(sys.argv),
                                workers=workers)
     print(f"{scenario.name}: {scenario.description}\n")
-    print(report.modes_table(outcome.modes, outcome.damping_ratios))
+    print(report.modes_table(outcome.modes, outcome.damping_ratios, scenario.system))
     print(report.damping_note(scenario.system))
     if outcome.statics is not None:
         _print_statics(scenario, outcome.statics)

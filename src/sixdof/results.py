@@ -143,6 +143,9 @@ class TimeHistory(Frozen, Result):
         Rigid translation of the foundation in body axes [m, m/s, m/s^2].
     Q : ndarray, shape (n, 6), or None
         Generalized force of the applied loads [N, N m] (ground motion not included).
+    maxwell_force : ndarray, shape (n, nb), or None
+        Force in each Maxwell branch state [N] (:attr:`sixdof.model.system.System.branches`), as the
+        mount's spring force: it acts on the body as ``-R' f``. ``None`` without visco-elastic mounts.
     stats : sixdof.analysis.records.SolverStats or None
         Direct solve: the solver's settings and step counts.
     superposition : sixdof.analysis.records.SuperpositionInfo or None
@@ -161,6 +164,9 @@ class TimeHistory(Frozen, Result):
                                                       description="foundation acceleration in body axes")
     Q: np.ndarray | None = quantity(UNITS["Q"], ("t", "load"), default=None,
                                     description="generalized force of the applied loads (ground motion not included)")
+    maxwell_force: np.ndarray | None = quantity("N", ("t", "branch_state"), default=None,
+                                                description="force in each Maxwell branch state along its mount "
+                                                "axis (resisting the mount's deformation)")
     stats: Any = part(lambda: _class("sixdof.analysis.records", "SolverStats"), prefix="solver_", default=None)
     superposition: Any = part(lambda: _class("sixdof.analysis.records", "SuperpositionInfo"), prefix="",
                               default=None)
@@ -184,6 +190,11 @@ class TimeHistory(Frozen, Result):
                 if value.shape != (n, columns):
                     raise InputError(name, f"shape ({n}, {columns})", f"shape {value.shape}")
                 self._derive(**{name: value})
+        if self.maxwell_force is not None:
+            force = readonly(self.maxwell_force)
+            if force.ndim != 2 or force.shape[0] != n:
+                raise InputError("maxwell_force", f"shape ({n}, nb)", f"shape {force.shape}")
+            self._derive(maxwell_force=force)
 
     @property
     def has_ground(self) -> bool:

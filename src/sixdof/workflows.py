@@ -163,7 +163,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         system = scenario.system
         modes = system.modes
         statics, no_statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
-        zeta = damping_ratios(system.C, modes)
+        zeta = damping_ratios(system.C, modes, system.branches)
         notes = sampling_warnings(scenario, modes)
         if no_statics:
             notes.append(no_statics)
@@ -401,7 +401,7 @@ def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_lin
         system = scenario.system
         modes = system.modes
         run = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
-                         damping_ratios=damping_ratios(system.C, modes), provenance=_provenance(scenario))
+                         damping_ratios=damping_ratios(system.C, modes, system.branches), provenance=_provenance(scenario))
         drawing.submit(run)  # the modal figures are drawn while the validation experiment runs
         report = validate(system, progress=progress)
         run = dataclasses.replace(run, validation=report)

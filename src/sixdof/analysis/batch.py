@@ -176,8 +176,11 @@ def make_variants(system: System, *, stiffness_factor=None, damping_factor=None,
     ------
     InputError
         Inconsistent counts, wrong shapes, stiffness factors <= 0, damping factors < 0, non-finite
-        values.
+        values, or a system with Maxwell branches (the batch engines do not carry their states).
     """
+    if system.maxwell:
+        raise InputError("mounts.maxwell", "mounts without Maxwell branches (sweeps and batches of visco-elastic "
+                         "mounts are not supported yet)", Plain(f"{len(system.maxwell)} Maxwell branches"))
     n = len(system.mounts)
     factor_shapes = f"shape (nv,), (nv, {n}) or (nv, {n}, 3)"
     arrays = {}
@@ -482,8 +485,9 @@ class _Stack:
     def _vectors(self, vectors, j):
         return vectors if self.ground_vectors is None else np.vstack([vectors[:-2], self.ground_vectors[j]])
 
-    def forcing(self, vectors):
-        """(n_c, size): each variant's modal force per unit of each column, with its own ground vectors."""
+    def forcing(self, vectors, branch_vectors=None):
+        """(n_c, size): each variant's modal force per unit of each column, with its own ground vectors (no
+        Maxwell branches: :func:`make_variants` refuses them, so ``branch_vectors`` is None)."""
         if self._forcing is None or not np.array_equal(self._forcing[0], vectors):  # the same on every window
             self._forcing = (vectors, self._side_by_side([m.forcing(self._vectors(vectors, j))
                                                           for j, m in enumerate(self.members)]),

@@ -1,16 +1,18 @@
 """Direct time integration of eq. (1), ``M q'' + C q' + K q = Q(t)``, with diffrax in float64.
 
-The first-order state is ``x = [z, w, u_g, v_g]`` (14 values):
+The first-order state is ``x = [z, w, u_g, v_g, f]`` (14 values and one per Maxwell branch state):
 
 - ``z = q - r u_g`` (6): the body's displacement *relative to the ground* [m, rad] — what the
   mounts feel;
 - ``w = q'`` (6): the body's *absolute* velocity [m/s, rad/s];
 - ``u_g, v_g``: displacement [m] and velocity [m/s] of the ground along its direction, integrated
   here when the ground motion is given as a velocity or an acceleration (otherwise unused);
+- ``f``: the force in each Maxwell branch of a visco-elastic mount [N]
+  (:attr:`sixdof.model.system.System.branches`: rows ``R``, stiffnesses ``k_b``, relaxation times ``tau_b``);
 
 with ``r`` (6,) the generalized coordinates of a unit rigid translation of the foundation. Then
 
-    z' = w - r v_g,        M w' = Q(t) - C (w - r v_g) - K z
+    z' = w - r v_g,    M w' = Q(t) - C (w - r v_g) - K z - R' f,    f' = k_b R (w - r v_g) - f / tau_b
 
 which needs at most the *first* derivative of a prescribed ground displacement (a table of
 displacements is handled exactly; a relative formulation with ``-M r u_g''`` would need Dirac
@@ -188,10 +190,12 @@ def state_scale(system: System, excitation: Excitation | None, settings: Simulat
     every DOF that a mode moves: it errs towards tighter tolerances, never looser, and keeps the
     DOFs' relative sizes right, which is what per-DOF accuracy needs; :data:`SCALE_FLOOR` bounds it below.
 
+    A Maxwell branch's force is at most its stiffness times its deformation: ``k_b |R_b| z``.
+
     Returns
     -------
-    ndarray, shape (14,)
-        ``[z (6) m, rad; w (6) m/s, rad/s; u_g m; v_g m/s]``, all > 0.
+    ndarray, shape (14 + nb,)
+        ``[z (6) m, rad; w (6) m/s, rad/s; u_g m; v_g m/s; f (nb) N]``, all > 0.
     """
     M = np.asarray(system.M)
     modes = system.modes
@@ -217,14 +221,16 @@ def state_scale(system: System, excitation: Excitation | None, settings: Simulat
     z = np.abs(phi) @ (eta + eta_dot / omega)
     w = np.abs(phi) @ (omega * eta + eta_dot) + extra_w
     root_m = np.sqrt(np.diag(M))
+    branches = system.branches
     if not np.any(np.concatenate([z, w]) > 0):
-        return np.ones(14)
+        return np.ones(14 + branches.count)
 
     def floored(x):
         floor = SCALE_FLOOR * np.max(x * root_m)
         return np.maximum(x, floor / root_m) if floor > 0 else np.where(x > 0, x, 1.0)
 
-    return np.concatenate([floored(z), floored(w), [ground_u, ground_v]])
+    z, w = floored(z), floored(w)
+    return np.concatenate([z, w, [ground_u, ground_v], branches.stiffness * (np.abs(branches.rows) @ z)])
 
 
 def _ground_peaks(ground, settings: SimulationSettings) -> tuple[float, float, float]:
@@ -254,7 +260,8 @@ def _ground_peaks(ground, settings: SimulationSettings) -> tuple[float, float, f
 
 
 def first_order_form(system: System, excitation: Excitation) -> tuple[np.ndarray, np.ndarray]:
-    """``A`` (14, 14) and ``B`` (14, n_loads + 1) of ``x' = A x + B u(t)`` for the state ``x = [z, w, u_g, v_g]``.
+    """``A`` (N, N) and ``B`` (N, n_loads + 1) of ``x' = A x + B u(t)`` for the state ``x = [z, w, u_g, v_g, f]``
+    (``N = 14 + nb``, ``nb`` Maxwell branch states).
 
     The input is ``u = [s_1(t) ... s_n(t), g(t)]``: the load signals, then the ground's velocity ``v_g``
     (ground given as a displacement or a velocity) or acceleration ``a_g`` (given as an acceleration,
@@ -264,17 +271,24 @@ def first_order_form(system: System, excitation: Excitation) -> tuple[np.ndarray
     n = vectors.shape[0]
     Minv = np.linalg.inv(np.asarray(system.M, dtype=float))
     C, K = np.asarray(system.C, dtype=float), np.asarray(system.K, dtype=float)
-    A = np.zeros((14, 14))
+    branches = system.branches
+    R, k_b = branches.rows, branches.stiffness
+    size = 14 + branches.count
+    A = np.zeros((size, size))
     A[:6, 6:12] = np.eye(6)
     A[6:12, :6] = -Minv @ K
     A[6:12, 6:12] = -Minv @ C
-    B = np.zeros((14, n + 1))
+    A[6:12, 14:] = -Minv @ R.T
+    A[14:, 6:12] = k_b[:, None] * R
+    A[14:, 14:] = np.diag(-1.0 / branches.tau)
+    B = np.zeros((size, n + 1))
     B[6:12, :n] = Minv @ vectors.T
     ground = excitation.ground
     if ground is not None:
-        # The ground's velocity v_g enters z' = w - r v_g and the dashpots' force -C (w - r v_g).
+        # The ground's velocity v_g enters z' = w - r v_g, the dashpots' force -C (w - r v_g) and the
+        # branches' f' = k_b R (w - r v_g) - f / tau.
         r = ground.rigid_vector
-        by_velocity = np.concatenate([-r, Minv @ C @ r, [0.0, 0.0]])
+        by_velocity = np.concatenate([-r, Minv @ C @ r, [0.0, 0.0], -k_b * (R @ r)])
         if ground.quantity == "acceleration":
             A[:, 13] += by_velocity
             A[12, 13] = 1.0  # u_g' = v_g
@@ -334,15 +348,15 @@ def _solve_window(p, xs0, ts, t0, t1, jump_ts, rtol, atol, *, solver: str, code:
     AB = jnp.concatenate([A * sigma[None, :], B], axis=1) / sigma[:, None]
 
     def field(t, xs, AB):
-        return AB @ jnp.concatenate([xs, _input(t, xs[12:] * sigma[12:], p, code)])
+        return AB @ jnp.concatenate([xs, _input(t, xs[12:14] * sigma[12:14], p, code)])
 
     sol = solve_ode(field, xs0, t0, t1, diffrax.SaveAt(ts=ts), jump_ts, rtol, atol, args=AB,
                     solver=solver, max_steps=max_steps)
     xs = sol.ys * sigma
 
     def outputs(t, x):
-        u = _input(t, x[12:], p, code)
-        return (A @ x + B @ u)[6:12], p["vectors"].T @ u[:-1], jnp.stack(_ground_kinematics(code, p, t, x[12:]))
+        u = _input(t, x[12:14], p, code)
+        return (A @ x + B @ u)[6:12], p["vectors"].T @ u[:-1], jnp.stack(_ground_kinematics(code, p, t, x[12:14]))
 
     qdd, Q, ground = jax.vmap(outputs)(ts, xs)
     stats = jnp.stack([sol.stats["num_steps"], sol.stats["num_accepted_steps"], sol.stats["num_rejected_steps"]])
@@ -544,7 +558,7 @@ def _prepare(system: System, excitation: Excitation, settings: SimulationSetting
     # q0 includes the equilibrium r u_g(t0), so that at rest no mount is deflected.
     q0, qd0 = excitation.initial_state(system, t0)
     u0 = float(ground.scale * ground.signal(t0)) if code == 1 else 0.0
-    x0 = np.concatenate([q0 - r * u0, qd0, [0.0, 0.0]])
+    x0 = np.concatenate([q0 - r * u0, qd0, [0.0, 0.0], np.zeros(system.branches.count)])  # branches relaxed
 
     breakpoints = np.array(sorted(b for b in excitation.breakpoints if t0 < b < t1), dtype=float)
     inside = [_inside(breakpoints, ts[0], end) for ts, end in window_spans(settings, window)]
@@ -648,6 +662,7 @@ def _window(run: _Run, xs0: np.ndarray, ts: np.ndarray, end: float, settings: Si
     n_steps, n_accepted, n_rejected = (int(s) for s in np.asarray(steps))
     history = TimeHistory(
         t=ts, q=x[:, :6] + np.outer(kin[:, 0], r), qd=x[:, 6:12], qdd=qdd, Q=Q, **ground,
+        maxwell_force=x[:, 14:] if x.shape[1] > 14 else None,
         stats=SolverStats(
             solver=settings.solver, rtol=settings.rtol, atol=settings.atol, scale=readonly(run.sigma),
             num_steps=n_steps, num_accepted=n_accepted, num_rejected=n_rejected,

@@ -381,8 +381,21 @@ def hysteretic_stiffness(system: System) -> np.ndarray:
     return mount_matrix(system.positions, system.stiffnesses * eta, system.axes)
 
 
+def support_stiffness(system: System, omega) -> np.ndarray:
+    """What acts on the body's motion relative to the ground, ``K + i K_h + i w C + K_b(w)``, (nf, 6, 6) complex
+    [N/m, N, N m/rad] at ``omega`` (nf,) [rad/s]: springs, loss factors, all viscous damping and the Maxwell
+    branches' ``K_b(w) = sum_b R_b' R_b k_b (i w tau_b) / (1 + i w tau_b)``."""
+    w = np.asarray(omega, dtype=float)[:, None, None]
+    static = np.asarray(system.K, dtype=complex) + 1j * hysteretic_stiffness(system)
+    Z = static[None] + (1j * w) * np.asarray(system.C)[None]
+    if system.branches.count:
+        Z = Z + system.branches.matrix(omega)
+    return Z
+
+
 def dynamic_stiffness(system: System, f_hz) -> np.ndarray:
-    """Dynamic stiffness ``Z = K + i K_h - w^2 M + i w C`` at every frequency, (nf, 6, 6) complex.
+    """Dynamic stiffness ``Z = K + i K_h - w^2 M + i w C + K_b(w)`` at every frequency, (nf, 6, 6) complex
+    (:func:`support_stiffness`, less the inertia).
 
     Parameters
     ----------
@@ -390,9 +403,8 @@ def dynamic_stiffness(system: System, f_hz) -> np.ndarray:
     f_hz : array_like, shape (nf,)
         Frequencies [Hz], >= 0.
     """
-    w = (2.0 * np.pi * _frequencies(f_hz))[:, None, None]
-    static = np.asarray(system.K, dtype=complex) + 1j * hysteretic_stiffness(system)
-    return static[None] - w**2 * np.asarray(system.M)[None] + (1j * w) * np.asarray(system.C)[None]
+    omega = 2.0 * np.pi * _frequencies(f_hz)
+    return support_stiffness(system, omega) - omega[:, None, None] ** 2 * np.asarray(system.M)[None]
 
 
 def check_resonances(system: System, f_hz, field: str = "f_hz") -> None:
@@ -419,6 +431,9 @@ def check_resonances(system: System, f_hz, field: str = "f_hz") -> None:
     hysteretic = modal_damping_ratios(hysteretic_stiffness(system), modes)
     with np.errstate(invalid="ignore"):
         zeta = modal_damping_ratios(system.C, modes) + hysteretic / modes.omega
+    if system.branches.count:  # a Maxwell branch damps every mode it deforms: Im(phi' K_b(w_r) phi) > 0
+        shapes = np.asarray(modes.shapes)
+        zeta = zeta + np.einsum("ir,rij,jr->r", shapes, system.branches.matrix(modes.omega).imag, shapes)
     for r in np.flatnonzero(zeta <= RIGID_DAMPING_RTOL):
         f_r = float(modes.frequency_hz[r])
         hit = np.flatnonzero(np.abs(f - f_r) <= UNDAMPED_RESONANCE_RTOL * f_r)
@@ -557,13 +572,16 @@ def _modal_terms(system, basis: str) -> _ModalTerms:
     # Rayleigh quotients: the eigen-solver's eigenvalues carry absolute errors ~eps * lambda_max,
     # large at the low, lightly damped modes' peaks; the quotients are accurate to ~eps * lambda_r.
     lam = np.where(np.array(modes.eigenvalues) > 0, np.diag(km), 0.0)
+    branches = system.branches
+    G = phi.T @ branches.rows.T  # (6, nb): each mode's deformation of each Maxwell branch
     scale = max(float(np.max(modes.omega)), float(np.max(np.abs(cm))), np.finfo(float).tiny)
-    undamped_rigid = [r for r in modes.zero_modes if cm[r, r] <= RIGID_DAMPING_RTOL * scale]
+    undamped_rigid = [r for r in modes.zero_modes
+                      if cm[r, r] <= RIGID_DAMPING_RTOL * scale and not np.any(G[r] * branches.stiffness)]
     rest = [r for r in range(6) if r not in undamped_rigid]
-    classical = is_classical(cm, khm)
+    classical = is_classical(cm, khm) and not branches.count
     if basis == "real" and not classical:
-        raise InputError("basis", "'auto' or 'complex' (damping or hysteresis is not diagonal in the real modes, "
-                         "so real modes cannot represent it)", basis)
+        raise InputError("basis", "'auto' or 'complex' (damping, hysteresis or Maxwell branches are not diagonal "
+                         "in the real modes, so real modes cannot represent them)", basis)
     if classical and basis != "complex":
         return _ModalTerms(basis="real modes", real_residues=np.einsum("ir,jr->rij", phi, phi).astype(complex),
                            a=lam + 1j * np.diag(khm), b=np.diag(cm).copy(),
@@ -574,10 +592,11 @@ def _modal_terms(system, basis: str) -> _ModalTerms:
     n = len(rest)
     ix = np.ix_(rest, rest)
     stiffness = np.where(lam[rest] > 0, km[ix], 0.0) + 1j * khm[ix]
-    modes_c = complex_modes(stiffness, cm[ix], remedy="use method='direct'")
+    maxwell = (G[rest], branches.stiffness, branches.tau) if branches.count else None
+    modes_c = complex_modes(stiffness, cm[ix], remedy="use method='direct'", maxwell=maxwell)
     phi_s = phi[:, rest]
-    out = phi_s @ modes_c.right[:n, :]  # (6, 2n): q per unit state-mode amplitude
-    inp = modes_c.left[:, n:] @ phi_s.T  # (2n, 6): the generalized force drives eta'' (lower block)
+    out = phi_s @ modes_c.right[:n, :]  # (6, 2n + nb): q per unit state-mode amplitude
+    inp = modes_c.left[:, n:2 * n] @ phi_s.T  # (2n + nb, 6): the generalized force drives eta''
     u = phi[:, undamped_rigid]
     return _ModalTerms(basis="complex modes", real_residues=np.einsum("ir,jr->rij", u, u).astype(complex),
                        a=np.zeros(len(undamped_rigid), dtype=complex), b=np.zeros(len(undamped_rigid)),
@@ -700,18 +719,29 @@ def force_transmissibility(system: System, f_hz, load_point, load_direction,
                                  load_kind="moment" if moment else "force", method=method)
 
 
+def mount_impedances(system: System, omega) -> np.ndarray:
+    """Each mount's complex stiffness along its own axes, ``k (1 + i eta) + i w c`` plus its Maxwell branches',
+    (nf, n_mounts, 3) [N/m] at ``omega`` (nf,) [rad/s]."""
+    omega = np.asarray(omega, dtype=float)
+    local = system.stiffnesses * (1.0 + 1j * system.loss_factors) + 1j * omega[:, None, None] * system.dampings
+    branches = system.branches
+    if branches.count:
+        np.add.at(local, (slice(None), branches.mount, branches.axis), branches.dynamic_stiffness(omega))
+    return local
+
+
 def foundation_forces(system: System, omega, q) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """What the mounts and the global damping pass to the foundation for the complex motion amplitudes ``q``
     (nf, 6) at the circular frequencies ``omega`` (nf,) [rad/s], the ground at rest.
 
-    Returns each mount's force in body axes, ``A' diag(k (1 + i eta) + i w c) A u`` (nf, n_mounts, 3), the
+    Returns each mount's force in body axes, ``A' diag(k (1 + i eta) + i w c + K_b) A u`` (nf, n_mounts, 3), the
     global damping's generalized force ``i w (C - C_mounts) q`` (nf, 6), and their resultant about the CG's
     rest position (nf, 6); complex, in the units of ``q`` times stiffness.
     """
     t = point_map(system.positions)  # (n, 3, 6)
     u = np.einsum("nij,fj->fni", t, q)  # mount point displacements (nf, n, 3)
-    # Each mount's complex stiffness in body axes, A' diag(k (1 + i eta) + i w c) A: (nf, n, 3, 3).
-    local = system.stiffnesses * (1.0 + 1j * system.loss_factors) + 1j * omega[:, None, None] * system.dampings
+    # Each mount's complex stiffness in body axes, A' diag(k (1 + i eta) + i w c + K_b) A: (nf, n, 3, 3).
+    local = mount_impedances(system, omega)
     impedances = np.einsum("nai,fna,naj->fnij", system.axes, local, system.axes)
     forces = np.einsum("fnij,fnj->fni", impedances, u)
     other = 1j * omega[:, None] * (q @ global_damping(system).T)
@@ -743,9 +773,8 @@ def ground_transmissibility(system: System, f_hz, ground_direction, response_poi
     rp = point(response_point, "response_point")
     frf = receptance(system, f_hz, method=method)
     qg = np.concatenate([d, np.zeros(3)])
-    # All damping acts on the motion relative to the ground: Z q = (K + i K_h + i w C) q_g.
-    static = (np.asarray(system.K) + 1j * hysteretic_stiffness(system)) @ qg
-    drive = static[None, :] + 1j * frf.omega[:, None] * (np.asarray(system.C) @ qg)[None, :]
+    # All damping acts on the motion relative to the ground: Z q = (K + i K_h + i w C + K_b(w)) q_g.
+    drive = support_stiffness(system, frf.omega) @ qg
     q = np.einsum("fij,fj->fi", frf.H, drive)
     absolute = q @ point_map(rp).T
     return GroundTransmissibility(f_hz=frf.f_hz, q=readonly(q, complex), absolute=readonly(absolute, complex),

@@ -217,7 +217,7 @@ def _modal_damping(system) -> np.ndarray:
     from sixdof.analysis.statespace import damping_ratios
 
     modes = system.modes
-    viscous = np.nan_to_num(damping_ratios(system.C, modes))
+    viscous = np.nan_to_num(damping_ratios(system.C, modes, system.branches))
     with np.errstate(divide="ignore", invalid="ignore"):
         loss = np.einsum("ir,ij,jr->r", modes.shapes, hysteretic_stiffness(system), modes.shapes) / modes.eigenvalues
     return viscous + 0.5 * np.nan_to_num(loss)
@@ -244,7 +244,7 @@ def transfers(system, random: RandomInput, f_hz, points=None) -> Transfers:
     """The FRFs from ``random``'s input to every response :func:`random_response` reports, at ``f_hz`` [Hz]
     (> 0), with the mounts' loss factors (:func:`sixdof.validation.experiment.integrated_model` removes them
     for a comparison with a time solve)."""
-    from sixdof.analysis.frf import hysteretic_stiffness, receptance
+    from sixdof.analysis.frf import mount_impedances, receptance, support_stiffness
     from sixdof.model.kinematics import mount_local_map, point_map, unit_load
 
     f = np.asarray(f_hz, dtype=float)
@@ -258,16 +258,14 @@ def transfers(system, random: RandomInput, f_hz, points=None) -> Transfers:
         # Per unit ground acceleration: the ground's displacement is -1/w^2 of it; all damping acts on the
         # motion relative to the ground (as in sixdof.analysis.frf.ground_transmissibility).
         rigid = np.concatenate([d, np.zeros(3)])
-        impedance = (np.asarray(system.K) + 1j * hysteretic_stiffness(system)) @ rigid
-        drive = impedance[None, :] + 1j * omega[:, None] * (np.asarray(system.C) @ rigid)[None, :]
+        drive = support_stiffness(system, omega) @ rigid
         ground = -rigid[None, :] / omega[:, None] ** 2
         q = np.einsum("fij,fj->fi", H, drive) * (-1.0 / omega**2)[:, None]
     point = np.stack([q @ point_map(p).T * -(omega**2)[:, None] for p in dict(points or {}).values()]) \
         if points else np.zeros((0, len(f), 3), complex)
     local = mount_local_map(system.positions, system.axes)  # (n_mounts, 3, 6)
     deflection = np.einsum("mij,fj->mfi", local, q - ground)  # the mounts deform with the relative motion
-    stiffness = np.asarray(system.stiffnesses) * (1 + 1j * np.asarray(system.loss_factors))
-    force = deflection * (stiffness[:, None, :] + 1j * omega[None, :, None] * np.asarray(system.dampings)[:, None, :])
+    force = deflection * mount_impedances(system, omega).transpose(1, 0, 2)
     return Transfers(f, q, point, deflection, force)
 
 

@@ -110,8 +110,8 @@ class MountForces(Result):
     deformation : ndarray, shape (m, n, 3)
         Mount point's displacement relative to the ground, body axes [m].
     elastic, damping, total : ndarray, shape (m, n, 3)
-        Spring force ``A' diag(k) A delta``, dashpot force ``A' diag(c) A delta'`` and their sum,
-        in body axes [N].
+        Spring force ``A' diag(k) A delta``, dashpot force ``A' diag(c) A delta'`` (with the forces of the
+        mount's Maxwell branches, :attr:`TimeHistory.maxwell_force`) and their sum, in body axes [N].
     local : ndarray, shape (m, n, 3)
         ``total`` along each mount's own axes [N].
     other_damping : ndarray, shape (n, 6)
@@ -130,7 +130,7 @@ class MountForces(Result):
     elastic: np.ndarray = quantity("N", ("mount", "t", "axis"), name="mount_force_elastic",
                                    description=f"spring force {_ON}")
     damping: np.ndarray = quantity("N", ("mount", "t", "axis"), name="mount_force_damping",
-                                   description=f"dashpot force {_ON}")
+                                   description=f"dashpot and Maxwell branch force {_ON}")
     total: np.ndarray = quantity("N", ("mount", "t", "axis"), name="mount_force", description=f"force {_ON}")
     local: np.ndarray = quantity("N", ("mount", "t", "mount_axis"), name="mount_force_local",
                                  description="mount_force along each mount's own axes u, v, w")
@@ -163,6 +163,9 @@ def mount_forces(system: System, response: TimeHistory) -> MountForces:
     A = np.asarray(system.axes)  # (m, 3, 3): rows are the mount's axes
     local_elastic, local_damping = (np.einsum("mij,mnj->mni", A, x) * k[:, None, :]
                                     for x, k in ((deformation, system.stiffnesses), (rate, system.dampings)))
+    branches = system.branches
+    if branches.count:  # a Maxwell branch's force acts along its mount's axis, beside the dashpot's
+        np.add.at(local_damping, (branches.mount, slice(None), branches.axis), response.maxwell_force.T)
     elastic, damping = (np.einsum("mji,mnj->mni", A, x) for x in (local_elastic, local_damping))
     total = elastic + damping
     other = zd @ global_damping(system).T

@@ -99,15 +99,16 @@ def is_classical(*modal_matrices) -> bool:
 
 @dataclass(frozen=True, eq=False)
 class ComplexModes:
-    """Complex modes of ``eta'' + D eta' + K_m eta = g`` in the state ``y = [eta, eta']``.
+    """Complex modes of ``eta'' + D eta' + K_m eta = g`` in the state ``y = [eta, eta']`` (``[eta, eta', f]``
+    with ``nb`` Maxwell branch forces ``f``, :func:`complex_modes`).
 
     Attributes
     ----------
-    eigenvalues : ndarray, shape (2n,), complex
+    eigenvalues : ndarray, shape (2n + nb,), complex
         [1/s].
-    right : ndarray, shape (2n, 2n), complex
+    right : ndarray, shape (2n + nb, 2n + nb), complex
         Column k is the eigenvector of ``eigenvalues[k]``.
-    left : ndarray, shape (2n, 2n), complex, or None
+    left : ndarray, shape (2n + nb, 2n + nb), complex, or None
         ``right^-1``: row k is the left eigenvector normalized so that ``left @ right = I`` (``None``
         when asked for without a ``remedy``: eigenvalues and shapes only).
     condition : float
@@ -120,7 +121,7 @@ class ComplexModes:
     condition: float
 
 
-def complex_modes(stiffness, D, *, remedy: str | None) -> ComplexModes:
+def complex_modes(stiffness, D, *, remedy: str | None, maxwell=None) -> ComplexModes:
     """Complex modes of the first-order form of ``eta'' + D eta' + K_m eta = g``.
 
     The state is scaled, ``x = [S eta, eta']`` with ``S = diag(sqrt(K_m,rr))`` (1 for rigid modes), so
@@ -128,12 +129,19 @@ def complex_modes(stiffness, D, *, remedy: str | None) -> ComplexModes:
     eigenvalues' absolute errors, ~eps ||A||, then stay small beside the low modes' distance from the
     imaginary axis. The eigenvectors returned are those of the unscaled state ``[eta, eta']``.
 
+    With Maxwell branches (``maxwell = (G, k, tau)``: ``G = Phi' R'`` (n, nb) the modal deformation of each
+    branch state, its stiffness ``k`` [N/m] and relaxation time ``tau`` [s]) the system is
+    ``eta'' + D eta' + K_m eta + G f = g``, ``f' = k G' eta' - f / tau``, in the state ``[eta, eta', f]``
+    (branch forces scaled by ``sqrt(k)``, which makes both coupling blocks ``sqrt(k) G``, ~omega).
+
     Parameters
     ----------
     stiffness : array_like, shape (n, n)
         Modal stiffness ``K_m`` [rad^2/s^2] (complex with hysteresis: ``Omega^2 + i Phi' K_h Phi``).
     D : array_like, shape (n, n)
         Modal damping ``Phi' C Phi`` [1/s].
+    maxwell : tuple of arrays ``(G, k, tau)``, optional
+        Maxwell branches: ``G`` (n, nb) [1/sqrt(kg)], ``k`` (nb,) [N/m], ``tau`` (nb,) [s].
     remedy : str or None
         What the caller's user can do when the modes are nearly defective (ends the error message);
         ``None`` when the caller needs the eigenvalues only, which stay accurate then.
@@ -153,6 +161,13 @@ def complex_modes(stiffness, D, *, remedy: str | None) -> ComplexModes:
     diagonal = np.real(np.diag(stiffness))
     s = np.where(diagonal > 0, np.sqrt(np.abs(diagonal)), 1.0)
     A = np.block([[np.zeros((n, n)), np.diag(s)], [-stiffness / s[None, :], -D]])
+    unscale = np.concatenate([s, np.ones(n)])
+    if maxwell is not None:
+        G, k, tau = (np.asarray(a, dtype=float) for a in maxwell)
+        coupled = G * np.sqrt(k)[None, :]
+        A = np.block([[A, np.concatenate([np.zeros((n, k.size)), -coupled])],
+                      [np.zeros((k.size, n)), coupled.T, np.diag(-1.0 / tau)]])
+        unscale = np.concatenate([unscale, 1.0 / np.sqrt(k)])
     eigenvalues, V = scipy.linalg.eig(A)
     condition = float(np.linalg.cond(V))
     if remedy is not None and (not np.isfinite(condition) or condition > MAX_EIGENVECTOR_CONDITION):
@@ -160,7 +175,6 @@ def complex_modes(stiffness, D, *, remedy: str | None) -> ComplexModes:
             f"complex modes: eigenvector matrix condition number {condition:.3g} exceeds "
             f"{MAX_EIGENVECTOR_CONDITION:.0e} (nearly defective, e.g. a critically damped mode); {remedy}"
         )
-    unscale = np.concatenate([s, np.ones(n)])
     left = None if remedy is None else np.linalg.inv(V) * unscale[None, :]
     return ComplexModes(eigenvalues=eigenvalues, right=V / unscale[:, None], left=left, condition=condition)
 
@@ -176,7 +190,7 @@ def modal_damping_ratios(C, modes) -> np.ndarray:
         return np.where(modes.omega > 0, diag / (2.0 * modes.omega), np.nan)
 
 
-def damped_modes(C, modes) -> tuple[np.ndarray, np.ndarray]:
+def damped_modes(C, modes, branches=None) -> tuple[np.ndarray, np.ndarray]:
     """The damped pole of each undamped mode and its (complex) displacement shape.
 
     Each undamped mode r is paired with the complex mode whose displacement shape matches it best
@@ -190,6 +204,9 @@ def damped_modes(C, modes) -> tuple[np.ndarray, np.ndarray]:
         Viscous damping [N s/m ...].
     modes : sixdof.analysis.modal.Modes
         The undamped modes.
+    branches : sixdof.model.system.Branches, optional
+        Maxwell branches (``System.branches``): the poles are then those of the full visco-elastic model
+        (the augmented first-order system), paired with the undamped modes of the long-term stiffness.
 
     Returns
     -------
@@ -206,12 +223,14 @@ def damped_modes(C, modes) -> tuple[np.ndarray, np.ndarray]:
     n = phi.shape[1]
     poles = np.full(n, np.nan + 0j)
     shapes = np.zeros((n, n), dtype=complex)
-    if is_classical(D):
+    maxwell = None if branches is None or not branches.count else (phi.T @ branches.rows.T, branches.stiffness,
+                                                                    branches.tau)
+    if maxwell is None and is_classical(D):
         zeta = modal_damping_ratios(C, modes)
         under = (modes.omega > 0) & (zeta < 1)
         poles[under] = modes.omega[under] * (-zeta[under] + 1j * np.sqrt(1.0 - zeta[under] ** 2))
         return poles, phi.astype(complex)
-    complex_ = complex_modes(np.diag(modes.eigenvalues), D, remedy=None)
+    complex_ = complex_modes(np.diag(modes.eigenvalues), D, remedy=None, maxwell=maxwell)
     eigenvalues, vectors = complex_.eigenvalues, complex_.right
     oscillating = np.flatnonzero(eigenvalues.imag > 1e-9 * np.abs(eigenvalues).max())
     pairs = [(abs(vectors[r, k]) ** 2 / np.real(np.vdot(vectors[:n, k], vectors[:n, k])), r, k)
@@ -226,7 +245,7 @@ def damped_modes(C, modes) -> tuple[np.ndarray, np.ndarray]:
     return poles, shapes
 
 
-def damping_ratios(C, modes) -> np.ndarray:
+def damping_ratios(C, modes, branches=None) -> np.ndarray:
     """Exact damping ratio of each mode, from the complex eigenvalues of the damped system.
 
     ``zeta_r = -Re(lambda_r) / |lambda_r|`` with ``lambda_r`` the pole paired with mode r
@@ -241,6 +260,8 @@ def damping_ratios(C, modes) -> np.ndarray:
         Viscous damping [N s/m ...].
     modes : sixdof.analysis.modal.Modes
         The undamped modes.
+    branches : sixdof.model.system.Branches, optional
+        Maxwell branches: the ratios of the full visco-elastic model's poles (:func:`damped_modes`).
 
     Returns
     -------
@@ -249,9 +270,10 @@ def damping_ratios(C, modes) -> np.ndarray:
     """
     approximate = modal_damping_ratios(C, modes)
     phi = np.asarray(modes.shapes)
-    if is_classical(phi.T @ np.asarray(C, dtype=float) @ phi):
+    has_branches = branches is not None and branches.count > 0
+    if not has_branches and is_classical(phi.T @ np.asarray(C, dtype=float) @ phi):
         return approximate
-    poles, _ = damped_modes(C, modes)
+    poles, _ = damped_modes(C, modes, branches)
     paired = np.isfinite(poles)
     exact = approximate.copy()
     exact[paired] = -poles[paired].real / np.abs(poles[paired])

@@ -191,11 +191,12 @@ def superpose(
     if start is None:
         q0, qd0 = excitation.initial_state(system, t[0])  # in equilibrium with a ground displaced at t[0]
         warn_idle(excitation, t[0], t[-1])
-    loads, ground, omega = excitation_inputs(excitation, system.K, system.C)
+    branches = system.branches if system.branches.count else None
+    loads, ground, omega = excitation_inputs(excitation, system.K, system.C, branches)
     history = modal_solve(
         system.M, system.C, system.K, t, loads, excitation.breakpoints, q0, qd0, method=method, n_modes=n_modes,
         f_max_hz=f_max_hz, residual=residual, signal_omega=omega, ground=ground, start=start, modes=system.modes,
-        **options,
+        branches=branches, **options,
     )
     warn_large_rotations(history.t, history.q)
     return history
@@ -221,8 +222,9 @@ class Loads:
     rates: bool = True
 
 
-def excitation_inputs(excitation, K, C):
-    """An :class:`~sixdof.excitation.Excitation` as the engine's inputs for the stiffness and damping K, C.
+def excitation_inputs(excitation, K, C, branches=None):
+    """An :class:`~sixdof.excitation.Excitation` as the engine's inputs for the stiffness and damping K, C (and
+    the Maxwell branches, :class:`~sixdof.model.system.Branches`, that the ground's velocity also drives).
 
     Returns
     -------
@@ -238,7 +240,8 @@ def excitation_inputs(excitation, K, C):
     ground = None
     if excitation.ground is not None:
         r = np.asarray(excitation.ground.rigid_vector, dtype=float)
-        ground = ground_input(excitation.ground, np.asarray(K) @ r, np.asarray(C) @ r)
+        b_g = None if branches is None else -branches.stiffness * (branches.rows @ r)
+        ground = ground_input(excitation.ground, np.asarray(K) @ r, np.asarray(C) @ r, b_g)
         signals.append(excitation.ground.signal)
     return signal_loads(components), ground, 2 * np.pi * max((s.max_frequency_hz for s in signals), default=0.0)
 
@@ -262,15 +265,16 @@ def signal_loads(components) -> Loads | None:
     return Loads(vectors=vectors, values=values)
 
 
-def ground_input(motion, k_g, c_g) -> GroundInput:
+def ground_input(motion, k_g, c_g, b_g=None) -> GroundInput:
     """A :class:`~sixdof.excitation.GroundMotion` as the :class:`GroundInput` of a system (``k_g = K r``,
-    ``c_g = C r``)."""
+    ``c_g = C r``, ``b_g = -k_b R r``: Maxwell branches)."""
     scale, signal = float(motion.scale), motion.signal
     return GroundInput(
         quantity=motion.quantity,
         signal=lambda times: scale * signal_values(signal, times, 0),
         rate=lambda times: scale * signal_values(signal, times, 1),
         k_g=np.asarray(k_g, dtype=float), c_g=np.asarray(c_g, dtype=float),
+        b_g=None if b_g is None else np.asarray(b_g, dtype=float),
     )
 
 
@@ -327,8 +331,13 @@ def modal_solve(
     ground=None,
     start: SuperpositionState | None = None,
     modes=None,
+    branches=None,
 ) -> TimeHistory:
     """Response of ``M q'' + C q' + K q = Q(t)`` by modal superposition.
+
+    With Maxwell branches (visco-elastic mounts) the equations gain ``+ R' f`` and
+    ``f' = k_b R (q' - r v_g) - f / tau_b`` (:mod:`sixdof.analysis.direct`): the coupled modes are then the
+    complex modes of the augmented first-order system ``[eta, eta', f]``, the branches relaxed at ``t[0]``.
 
     Parameters
     ----------
@@ -378,6 +387,8 @@ def modal_solve(
         ``qd0`` are then ignored): its time must be at most ``t[0]``.
     modes : sixdof.analysis.modal.Modes, optional
         The undamped modes of ``(M, K)`` when already known (``System.modes``).
+    branches : sixdof.model.system.Branches, optional
+        Maxwell branches (``System.branches``); none by default. Complex modes only, every mode kept.
 
     Returns
     -------
@@ -408,7 +419,7 @@ def modal_solve(
     breakpoints = _breakpoints(breakpoints)
     t_start = _start_time(start, t)
 
-    plan = Plan(M, C, K if modes is None else modes, method, n_modes, f_max_hz)
+    plan = Plan(M, C, K if modes is None else modes, method, n_modes, f_max_hz, branches)
     loads = _as_loads(force, force_rates)
     residual_rates = bool(residual and plan.dropped.size and loads is not None and loads.rates and ground is None)
     times = t if t_start == t[0] else np.concatenate([[t_start], t])
@@ -456,23 +467,31 @@ class Plan:
     modes : sixdof.analysis.modal.Modes or ndarray
         The undamped modes (anything with ``eigenvalues`` and ``shapes``), or the stiffness matrix K
         to compute them from.
-    method, n_modes, f_max_hz
+    method, n_modes, f_max_hz, branches
         As :func:`modal_solve`'s.
     """
 
-    def __init__(self, M, C, modes, method="auto", n_modes=None, f_max_hz=None):
+    def __init__(self, M, C, modes, method="auto", n_modes=None, f_max_hz=None, branches=None):
         if isinstance(modes, np.ndarray):
             modes = modal_analysis(M, modes)
         self.basis, self.omega2 = modal_basis(modes, C)
         D = self.basis.T @ C @ self.basis
         self.D = 0.5 * (D + D.T)
         self.coupling = float(np.max(coupling_of(self.D), initial=0.0))
-        self.classical = self.coupling <= CLASSICAL_RTOL
+        self.branches = branches
+        self.classical = self.coupling <= CLASSICAL_RTOL and branches is None
+        if branches is not None:
+            if method == "real":
+                raise InputError("method", "'auto' or 'complex' (Maxwell branches couple the real modes)", method)
+            if n_modes is not None or f_max_hz is not None:
+                raise InputError("n_modes" if n_modes is not None else "f_max_hz", "no truncation with Maxwell "
+                                 "branches (a dropped mode has no static residual through a branch)",
+                                 n_modes if n_modes is not None else f_max_hz)
         self.kept = _select(self.omega2, n_modes, f_max_hz)
         self.dropped = np.flatnonzero(~np.isin(np.arange(6), self.kept))
         self.method = method
         self.chosen = "real" if method == "real" or (method == "auto" and self.classical) else "complex"
-        self.reason = _reason(method, self.coupling, self.classical)
+        self.reason = _reason(method, self.coupling, self.classical, branches)
         # The response; with truncation, the same with every mode (its error); with real modes forced
         # on non-classical damping, the exact complex-mode response (the error of neglecting the coupling).
         self.runs = ((self.chosen, tuple(int(i) for i in self.kept)),)
@@ -480,16 +499,24 @@ class Plan:
             self.runs += ((self.chosen, tuple(range(6))),)
         if self.chosen == "real" and not self.classical:
             self.runs += (("complex", tuple(range(6))),)
-        # |lambda| <= omega + d for every mode: bounds the phase an interval spans.
+        # |lambda| <= omega + d for every mode: bounds the phase an interval spans (a Maxwell branch adds at
+        # most its relaxation rate and its stiffness's frequency, Gershgorin on the scaled state matrix).
         self.fastest = float(np.sqrt(np.max(self.omega2)) + np.max(np.diag(self.D)))
+        if branches is not None:
+            coupling = np.abs(self.basis.T @ branches.rows.T) * np.sqrt(branches.stiffness)[None, :]
+            self.fastest += float(np.max(1.0 / branches.tau) + np.max(coupling.sum(axis=0))
+                                  + np.max(coupling.sum(axis=1)))
 
     def coordinates(self, run):
         solve_method, kept = run
         return _modal_coordinates(self.basis, self.omega2, self.D, np.asarray(kept), solve_method,
-                                  all_complex=self.method == "complex")
+                                  all_complex=self.method == "complex", branches=self.branches)
 
 
-def _reason(method, coupling, classical) -> str:
+def _reason(method, coupling, classical, branches=None) -> str:
+    if branches is not None:
+        return (f"{method}: Maxwell branches ({branches.count} states) couple the real modes: complex modes of the "
+                "augmented first-order system")
     if method == "auto" and classical:
         return (f"auto: damping is classical (largest modal coupling {coupling:.1e} <= {CLASSICAL_RTOL:.0e}): "
                 "real modes")
@@ -508,7 +535,7 @@ def _respond(plan, drive, M, q0, qd0, start, residual, residual_rates) -> TimeHi
     """The history of the plan's runs on the drive, from ``(q0, qd0)`` or the state ``start``."""
     if start is not None and start.runs != plan.runs:
         raise InputError("start", f"the state of the same computation (runs {plan.runs})", f"runs {start.runs}")
-    outputs, ends = [], []
+    outputs, ends, branch_force = [], [], None
     for index, run in enumerate(plan.runs):
         modal = plan.coordinates(run)
         B = plan.basis[:, list(run[1])]
@@ -519,6 +546,8 @@ def _respond(plan, drive, M, q0, qd0, start, residual, residual_rates) -> TimeHi
         outputs.append(modal.motion(z[drive.first:], drive, second=index == 0))
         if index == 0:
             eigenvalues = modal.eigenvalues
+            if plan.branches is not None:
+                branch_force = modal.branch_forces(z[drive.first:])
     q, qd, qdd = outputs[0]
 
     kept, dropped = plan.kept, plan.dropped
@@ -548,7 +577,7 @@ def _respond(plan, drive, M, q0, qd0, start, residual, residual_rates) -> TimeHi
         approximation=approximation, n_intervals=drive.n_intervals, quadrature_nodes=drive.nodes_per_interval,
         end=end,
     )
-    return TimeHistory(t=drive.t, q=q, qd=qd, qdd=qdd, superposition=info)
+    return TimeHistory(t=drive.t, q=q, qd=qd, qdd=qdd, maxwell_force=branch_force, superposition=info)
 
 
 def _select(omega2, n_modes, f_max_hz):
@@ -603,8 +632,14 @@ class ModalCoordinates:
         The modes' shapes (mass-normalized).
     damping, stiffness : ndarray, shape (p, p), (p,)
         Modal damping used and ``omega^2`` [1/s, 1/s^2].
-    eigenvalues : ndarray, shape (2p,), complex
+    eigenvalues : ndarray, shape (2p + nb,), complex
         Every eigenvalue of the first-order system [1/s].
+    branch_inputs : ndarray, shape (m, nb), complex
+        Direct input to each Maxwell branch state (the ground's velocity) to each coordinate.
+    branch_outputs : ndarray, shape (nb, m), complex
+        Coordinates to the branch forces ``f`` [N] (conjugate pairs weighted 2).
+    branch_modal : ndarray, shape (p, nb)
+        ``G = B' R'``: the branches' modal force per unit branch force (``eta'' = ... - G f``).
     """
 
     poles: np.ndarray
@@ -616,18 +651,24 @@ class ModalCoordinates:
     damping: np.ndarray
     stiffness: np.ndarray
     eigenvalues: np.ndarray
+    branch_inputs: np.ndarray
+    branch_outputs: np.ndarray
+    branch_modal: np.ndarray
 
-    def forcing(self, vectors):
-        """Modal force per unit of each column (generalized force ``vectors`` (n_c, 6)) to each coordinate (n_c, m)."""
-        return (vectors @ self.basis) @ self.inputs.T
+    def forcing(self, vectors, branch_vectors=None):
+        """Modal force per unit of each column (generalized force ``vectors`` (n_c, 6), and direct input to the
+        Maxwell branch states ``branch_vectors`` (n_c, nb)) to each coordinate (n_c, m)."""
+        own = (vectors @ self.basis) @ self.inputs.T
+        return own if branch_vectors is None else own + branch_vectors @ self.branch_inputs.T
 
     def output_maps(self):
         """``q, q', q''`` from the coordinates: ``Re(maps[k] @ z)``, maps (3, 6, m) complex; ``q''`` without
-        the generalized force's part ``B B' Q`` (``eta'' = f - D eta' - Omega^2 eta``)."""
+        the generalized force's part ``B B' Q`` (``eta'' = f - D eta' - Omega^2 eta - G f_b``)."""
         p = self.basis.shape[1]
         eta, eta_d = self.outputs[:p], self.outputs[p:]
         return np.stack([self.basis @ eta, self.basis @ eta_d,
-                         -self.basis @ (self.damping @ eta_d + self.stiffness[:, None] * eta)])
+                         -self.basis @ (self.damping @ eta_d + self.stiffness[:, None] * eta
+                                        + self.branch_modal @ self.branch_outputs)])
 
     def motion(self, z, drive, second=True):
         """``q, q', q''`` (n, 6) from the coordinates z (n, m) at the drive's output times; ``q'`` and
@@ -640,18 +681,25 @@ class ModalCoordinates:
             qdd += drive.columns_out @ (drive.vectors @ (self.basis @ self.basis.T))
         return q, qd, qdd
 
+    def branch_forces(self, z):
+        """The Maxwell branch forces (n, nb) [N] from the coordinates z (n, m)."""
+        return z.view(float) @ _interleaved(self.branch_outputs.T)
+
 
 def _interleaved(a):
     """(m, k) complex -> (2m, k) real, rows ``Re a_j, -Im a_j``: ``x.view(float) @ _interleaved(a) = Re(x @ a)``."""
     return np.stack([a.real, -a.imag], axis=1).reshape(2 * a.shape[0], a.shape[1])
 
 
-def _modal_coordinates(basis, omega2, D, kept, method, all_complex=False) -> ModalCoordinates:
-    """The first-order coordinates of the kept modes, solved by ``method`` (``"real"`` or ``"complex"``)."""
+def _modal_coordinates(basis, omega2, D, kept, method, all_complex=False, branches=None) -> ModalCoordinates:
+    """The first-order coordinates of the kept modes, solved by ``method`` (``"real"`` or ``"complex"``); with
+    Maxwell ``branches`` (complex), the modes they deform are coupled through them."""
     B = basis[:, kept]
     w2 = omega2[kept]
     Dk = D[np.ix_(kept, kept)]
     p = len(kept)
+    nb = 0 if branches is None else branches.count
+    G = B.T @ branches.rows.T if nb else np.zeros((p, 0))
     if method == "real":
         single, coupled = np.arange(p), np.arange(0)
         D_used = np.diag(np.diag(Dk))
@@ -659,6 +707,8 @@ def _modal_coordinates(basis, omega2, D, kept, method, all_complex=False) -> Mod
         # Uncoupled coordinates are single oscillators (exact, robust when critically damped); with
         # complex modes forced, only undamped rigid ones are (their first-order form is a Jordan block).
         isolated = np.all(coupling_of(Dk) <= CLASSICAL_RTOL, axis=1)
+        if nb:  # a mode that deforms a branch is coupled through it (to the branch, and maybe other modes)
+            isolated &= ~np.any(G * branches.stiffness[None, :] != 0.0, axis=1)
         if all_complex:
             isolated &= (w2 == 0.0) & (np.diag(Dk) <= CLASSICAL_RTOL * max(float(np.max(np.diag(Dk))), 0.0))
         single = np.flatnonzero(isolated)
@@ -668,13 +718,17 @@ def _modal_coordinates(basis, omega2, D, kept, method, all_complex=False) -> Mod
         D_used[np.ix_(coupled, single)] = 0.0
 
     poles, source, inputs, outputs, initial, eigenvalues = [], [], [], [], [], []
+    branch_inputs, branch_outputs = [], []
+    unbranched = np.zeros(nb)
 
-    def add(pole, feeding, to_input, to_output, from_state):
+    def add(pole, feeding, to_input, to_output, from_state, to_branch=unbranched, from_branch=unbranched):
         poles.append(pole)
         source.append(feeding)
         inputs.append(to_input)
         outputs.append(to_output)
         initial.append(from_state)
+        branch_inputs.append(from_branch)
+        branch_outputs.append(to_branch)
         return len(poles) - 1
 
     unit = np.eye(2 * p)
@@ -693,24 +747,26 @@ def _modal_coordinates(basis, omega2, D, kept, method, all_complex=False) -> Mod
             u = add(first, -1, unit[p + j, p:], unit[p + j], unit[p + j] - second * unit[j])
             add(second, u, np.zeros(p), unit[j] + second * unit[p + j], unit[j])
     if coupled.size:
-        modes = complex_modes(np.diag(w2[coupled]), D_used[np.ix_(coupled, coupled)],
+        maxwell = (G[coupled], branches.stiffness, branches.tau) if nb else None
+        modes = complex_modes(np.diag(w2[coupled]), D_used[np.ix_(coupled, coupled)], maxwell=maxwell,
                               remedy="use method='real' only if the damping is classical")
         lam, V, Vinv = modes.eigenvalues, modes.right, modes.left
         eigenvalues += list(lam)
         # dgeev returns real eigenvalues with exactly zero imaginary part and exact conjugate pairs.
         real = np.flatnonzero(lam.imag == 0)
         upper = np.flatnonzero(lam.imag > 0)
-        if len(real) + 2 * len(upper) != 2 * len(coupled):
+        n_c = len(coupled)
+        if len(real) + 2 * len(upper) != 2 * n_c + nb:
             raise SolverError("complex modes: eigenvalues are not in conjugate pairs")
         rows = np.concatenate([coupled, p + coupled])  # [eta; eta'] of the coupled modes
         for k, weight in [(k, 1.0) for k in real] + [(k, 2.0) for k in upper]:
             to_output = np.zeros(2 * p, complex)
-            to_output[rows] = weight * V[:, k]
-            from_state = np.zeros(2 * p, complex)
-            from_state[rows] = Vinv[k]
+            to_output[rows] = weight * V[:2 * n_c, k]
+            from_state = np.zeros(2 * p, complex)  # the branches start relaxed: only [eta; eta'] sets z(t0)
+            from_state[rows] = Vinv[k, :2 * n_c]
             to_input = np.zeros(p, complex)
-            to_input[coupled] = Vinv[k, len(coupled):]
-            add(lam[k], -1, to_input, to_output, from_state)
+            to_input[coupled] = Vinv[k, n_c:2 * n_c]
+            add(lam[k], -1, to_input, to_output, from_state, weight * V[2 * n_c:, k], Vinv[k, 2 * n_c:])
 
     eigenvalues = np.array(eigenvalues, dtype=complex)
     return ModalCoordinates(
@@ -718,6 +774,8 @@ def _modal_coordinates(basis, omega2, D, kept, method, all_complex=False) -> Mod
         inputs=np.array(inputs, dtype=complex).reshape(-1, p), outputs=np.array(outputs, dtype=complex).T,
         initial=np.array(initial, dtype=complex), basis=B, damping=D_used, stiffness=w2,
         eigenvalues=eigenvalues[np.lexsort((eigenvalues.imag, np.abs(eigenvalues)))],
+        branch_inputs=np.array(branch_inputs, dtype=complex).reshape(len(poles), nb),
+        branch_outputs=np.array(branch_outputs, dtype=complex).reshape(len(poles), nb).T, branch_modal=G,
     )
 
 
@@ -746,7 +804,7 @@ def run_coordinates(modal: ModalCoordinates, drive: Drive, z0) -> np.ndarray:
     fed = source >= 0
     feeder = np.where(fed, source, 0)
     # Modal force per unit of each signal column, to each coordinate directly and through its source.
-    own = modal.forcing(drive.vectors)  # (n_c, m)
+    own = modal.forcing(drive.vectors, drive.branch_vectors)  # (n_c, m)
     through = np.where(fed, own[:, feeder], 0.0)
 
     def kernels(tau):
@@ -875,6 +933,8 @@ class Drive:
         The common interval [s] of a uniform grid.
     vectors : ndarray, shape (n_c, 6)
         Generalized force per unit of each column [N, N m].
+    branch_vectors : ndarray, shape (n_c, nb), or None
+        Direct input to the Maxwell branch states per unit of each column [N/s] (the ground's velocity).
     regular : ndarray of int
         Indices of the regular intervals.
     regular_tau, regular_weight : ndarray, shape (n_q,)
@@ -903,6 +963,7 @@ class Drive:
     first: int
     step: float | None
     vectors: np.ndarray
+    branch_vectors: np.ndarray | None
     regular: np.ndarray
     regular_tau: np.ndarray | None
     regular_weight: np.ndarray | None
@@ -1010,11 +1071,15 @@ def make_drive(times, n_out, breakpoints, loads, ground=None, *, nodes, pieces, 
         columns.append(loads.values(padded, 0)[:count])
         vectors.append(loads.vectors)
     ground_end = (0.0, 0.0)
+    branch_vectors = None
     if ground is not None:
         start = (0.0, 0.0) if ground_start is None else ground_start
         u, v, ground_end = ground.motion(everywhere, head, grid.shape, piece_length, start)
         columns.append(np.stack([u, v], axis=1))
         vectors.append(np.stack([ground.k_g, ground.c_g]))
+        if ground.b_g is not None:  # the ground's velocity (its second column) drives the branches
+            branch_vectors = np.zeros((sum(v.shape[0] for v in vectors), ground.b_g.size))
+            branch_vectors[-1] = ground.b_g
     vectors = np.vstack(vectors) if vectors else np.zeros((0, 6))
     n_c = vectors.shape[0]
     values = _side_by_side(columns, everywhere.size)
@@ -1042,7 +1107,7 @@ def make_drive(times, n_out, breakpoints, loads, ground=None, *, nodes, pieces, 
     counts = np.bincount(piece_interval[in_irregular], minlength=n_int)[irregular] * nodes
     irregular_nodes = grid[in_irregular, :nodes].reshape(-1)
     return Drive(
-        times=times, first=times.size - n_out, step=step, vectors=vectors,
+        times=times, first=times.size - n_out, step=step, vectors=vectors, branch_vectors=branch_vectors,
         regular=regular, regular_tau=regular_tau, regular_weight=regular_weight, regular_values=regular_values,
         irregular=irregular, irregular_start=np.cumsum(counts) - counts,
         irregular_tau=np.repeat(times[irregular + 1], counts) - irregular_nodes,
@@ -1086,6 +1151,8 @@ class GroundInput:
     k_g, c_g : ndarray, shape (6,)
         ``K r`` [N/m, N] and ``C_g r`` [N s/m, N s]: generalized force per unit ground
         displacement and velocity.
+    b_g : ndarray, shape (nb,), or None
+        ``-k_b R r`` [N/m]: the rate of each Maxwell branch force per unit ground velocity (None: no branches).
     """
 
     quantity: str
@@ -1093,6 +1160,7 @@ class GroundInput:
     rate: object
     k_g: np.ndarray
     c_g: np.ndarray
+    b_g: np.ndarray | None = None
 
     def motion(self, times, head, shape, piece_length, start):
         """``u_g, v_g`` at ``times``: ``head`` (0 or 1) times at the grid's start, then the nodes and the

@@ -31,14 +31,23 @@ def table(headers: Sequence[str], rows: Sequence[Sequence[object]], align: str |
     return "\n".join([line(cells[0]), rule, *(line(r) for r in cells[1:])])
 
 
-def modes_table(modes, damping_ratios=None) -> str:
-    """Natural frequencies, dominant DOF and (optionally) damping ratio of each mode."""
+def modes_table(modes, damping_ratios=None, system=None) -> str:
+    """Natural frequencies, dominant DOF and (optionally) damping ratio of each mode; with a ``system`` that
+    has Maxwell branches, the frequency of each mode's pole in the full visco-elastic model too."""
     headers = ["mode", "f [Hz]", "omega [rad/s]", "dominant DOF", "KE in dominant [%]"]
+    poles = None
+    if system is not None and system.branches.count:
+        from sixdof.analysis.statespace import damped_modes
+
+        poles, _ = damped_modes(system.C, modes, system.branches)
+        headers.append("f full model [Hz]")
     if damping_ratios is not None:
         headers.append("zeta [%]")
     rows = []
     for j, (f, omega, dof) in enumerate(zip(modes.frequency_hz, modes.omega, modes.dominant_dof)):
         row = [j + 1, f"{f:.4f}", f"{omega:.4f}", dof, f"{100 * modes.ke_distribution[DOFS.index(dof), j]:.1f}"]
+        if poles is not None:
+            row.append("-" if not np.isfinite(poles[j]) else f"{abs(poles[j]) / (2 * np.pi):.4f}")
         if damping_ratios is not None:
             zeta = damping_ratios[j]
             row.append("-" if not np.isfinite(zeta) else f"{100 * zeta:.2f}")
@@ -50,6 +59,7 @@ def damping_note(system) -> str:
     """What the printed damping ratios (zeta) include: the viscous damping models given, added together,
     and never the loss factors (hysteretic damping exists in the frequency domain only)."""
     given = [name for name, present in (("mount dashpots", np.any(system.dampings)),
+                                        ("Maxwell branches", bool(system.maxwell)),
                                         ("Rayleigh damping", system.rayleigh is not None),
                                         ("modal damping ratios", system.modal_damping is not None)) if present]
     if not given:
@@ -57,6 +67,9 @@ def damping_note(system) -> str:
     else:
         text = (f"zeta: the exact damping ratio of each mode (complex eigenvalues) from {' + '.join(given)}"
                 + (", added together" if len(given) > 1 else ""))
+    if system.maxwell:
+        text += ("; f is each undamped mode of the long-term (static) stiffness, f full model the frequency "
+                 "|lambda|/2pi of its pole in the full visco-elastic model (complex modes with the Maxwell branches)")
     if np.any(system.loss_factors):
         text += ("; not the mounts' loss factors, which act in the frequency domain only (FRFs, steady state), "
                  "not in the time response")
@@ -255,7 +268,7 @@ def summary_markdown(scenario, modes, statics, damping_ratios, response, forces,
     parts = [f"# {scenario.name}", "", scenario.description, ""]
     if notes:
         parts += ["## Warnings", "", *(f"- {n}" for n in notes), ""]
-    parts += ["## Natural frequencies", "", modes_table(modes, damping_ratios), "", damping_note(scenario.system), ""]
+    parts += ["## Natural frequencies", "", modes_table(modes, damping_ratios, scenario.system), "", damping_note(scenario.system), ""]
     parts += ["## Kinetic energy distribution [%]", "", ke_table(modes), ""]
     parts += [subsystems_text(modes).replace("\n  ", "\n- ").replace(":\n", ":\n\n", 1), ""]
     if statics is not None:

@@ -34,7 +34,7 @@ from sixdof.errors import (
 )
 from sixdof.frozen import Frozen, checked
 from sixdof.model.damping import damping_matrix
-from sixdof.model.kinematics import mount_matrix
+from sixdof.model.kinematics import mount_local_map, mount_matrix
 from sixdof.results import label, part, quantity, stacked
 
 # Relative tolerances for "physically possible" checks on user input.
@@ -208,6 +208,80 @@ class Mount(Frozen):
                                    "0: tension is warned about")
 
 
+@dataclass(frozen=True, eq=False)
+class Maxwell(Frozen):
+    """A Maxwell branch of a mount: along each of the mount's own axes, a spring in series with a dashpot.
+
+    Along an axis with stiffness ``k`` the branch's force ``f`` follows ``f' = k d' - f / tau`` for the
+    mount's deformation ``d``: its dynamic stiffness is ``k (i w tau) / (1 + i w tau)``, nothing at rest
+    (statics and the undamped modes use the mount's own, long-term stiffness) and ``k`` far above
+    ``1 / (2 pi tau)``. The dashpot is ``k tau``. A mount may have any number of branches.
+
+    Parameters
+    ----------
+    name : str
+        Label of the branch (unique).
+    mount : str
+        Name of the mount it belongs to (it acts along that mount's axes, at its position).
+    stiffness : array_like, shape (3,)
+        Branch stiffness along the mount's axes u, v, w [N/m], each >= 0 and not all zero.
+    tau : float
+        Relaxation time [s], > 0.
+    """
+
+    name: str = checked(label_check)
+    mount: str = label(check=label_check)
+    stiffness: np.ndarray = quantity("N/m", ("mount_axis",), description="Maxwell branch stiffness along the "
+                                     "mount's own axes", check=_three("3 values >= 0 in N/m, not all zero",
+                                                                      lambda k: np.all(k >= 0) and np.any(k > 0)))
+    tau: float = quantity("s", (), decode=float, description="relaxation time of the Maxwell branch",
+                          check=number_check("a relaxation time in s > 0", low=0.0, strict=True))
+
+
+@dataclass(frozen=True, eq=False)
+class Branches:
+    """The Maxwell branches as scalar internal states, one per branch and mount axis with stiffness.
+
+    State ``b`` is the force ``f_b`` [N] of a spring ``stiffness[b]`` in series with a dashpot
+    ``stiffness[b] tau[b]`` along one mount axis: ``f_b' = stiffness_b (rows_b . z') - f_b / tau_b`` for the
+    body's motion ``z`` relative to the ground; it acts on the body as the generalized force ``-rows_b f_b``.
+
+    Attributes
+    ----------
+    names : tuple of str
+        ``"<branch> <axis>"`` (axis u, v or w).
+    rows : ndarray, shape (nb, 6)
+        The mount's deformation along the axis per unit ``q`` [m/m, m/rad].
+    stiffness : ndarray, shape (nb,)
+        [N/m].
+    tau : ndarray, shape (nb,)
+        [s].
+    mount, axis : ndarray of int, shape (nb,)
+        The mount (index in ``System.mounts``) and its axis (0, 1, 2 for u, v, w) of each state.
+    """
+
+    names: tuple[str, ...]
+    rows: np.ndarray
+    stiffness: np.ndarray
+    tau: np.ndarray
+    mount: np.ndarray
+    axis: np.ndarray
+
+    @property
+    def count(self) -> int:
+        return len(self.names)
+
+    def dynamic_stiffness(self, omega) -> np.ndarray:
+        """Each state's dynamic stiffness ``k (i w tau) / (1 + i w tau)`` (nf, nb) [N/m] at ``omega`` (nf,) [rad/s]."""
+        iwt = 1j * np.asarray(omega, dtype=float)[:, None] * self.tau[None, :]
+        return self.stiffness[None, :] * iwt / (1.0 + iwt)
+
+    def matrix(self, omega) -> np.ndarray:
+        """Their generalized dynamic stiffness ``sum_b rows_b' rows_b k_b (i w tau_b) / (1 + i w tau_b)`` (nf, 6, 6)
+        [N/m, N, N m/rad] at ``omega`` (nf,) [rad/s]."""
+        return np.einsum("bi,fb,bj->fij", self.rows, self.dynamic_stiffness(omega), self.rows)
+
+
 @dataclass(frozen=True)
 class Rayleigh(Frozen):
     """Rayleigh damping ``C = alpha M + beta K``.
@@ -262,6 +336,8 @@ class System(Frozen):
     rayleigh : Rayleigh, optional
     modal_damping : float or sequence of 6 floats, optional
         Modal damping ratio for every mode, or one per mode in ascending frequency order.
+    maxwell : sequence of Maxwell, optional
+        Maxwell branches of the mounts (visco-elastic mounts); names must be unique. Default none.
     """
 
     body: RigidBody = part(lambda: RigidBody, prefix="body_")
@@ -270,6 +346,8 @@ class System(Frozen):
     rayleigh: Rayleigh | None = part(lambda: Rayleigh, prefix="rayleigh_", default=None)
     modal_damping: float | tuple[float, ...] | None = label(
         default=None, check=_modal_ratios, encode=lambda ratios: np.atleast_1d(np.asarray(ratios, dtype=float)))
+    maxwell: tuple[Maxwell, ...] = stacked(lambda: Maxwell, dim="branch", prefix="maxwell_", key="name", default=(),
+                                           check=lambda branches, field: tuple(branches))
 
     #: Stored beside the fields (not read back: the system recomputes them).
     derived = {
@@ -298,9 +376,21 @@ class System(Frozen):
         duplicated = sorted({n for n in names if names.count(n) > 1})
         if duplicated:
             raise InputError("mounts", "unique mount names", f"{', '.join(duplicated)} repeated")
+        self._check_maxwell(names)
         self._check_modal_range()
         if self.rayleigh is not None and not isinstance(self.rayleigh, Rayleigh):
             raise InputError("damping.rayleigh", "a Rayleigh", self.rayleigh)
+
+    def _check_maxwell(self, mounts: list[str]) -> None:
+        for i, branch in enumerate(self.maxwell):
+            if not isinstance(branch, Maxwell):
+                raise InputError(f"maxwell[{i}]", "a Maxwell", branch)
+            if branch.mount not in mounts:
+                raise InputError(f"maxwell[{i}].mount", f"the name of a mount ({', '.join(mounts)})", branch.mount)
+        names = [b.name for b in self.maxwell]
+        duplicated = sorted({n for n in names if names.count(n) > 1})
+        if duplicated:
+            raise InputError("maxwell", "unique branch names", f"{', '.join(duplicated)} repeated")
 
     def _check_modal_range(self) -> None:
         """The modal analysis normalizes the shapes by the mass (``phi' M phi = 1``, effective masses go as
@@ -327,6 +417,19 @@ class System(Frozen):
     dampings = _stacked("damping", "Mount viscous damping along their own axes, shape (n, 3) [N s/m].")
     loss_factors = _stacked("loss_factor", "Mount hysteretic loss factors, shape (n, 3).")
     axes = _stacked("axes", "Mount axes (rows, in body axes), shape (n, 3, 3).")
+
+    @cached_property
+    def branches(self) -> Branches:
+        """The Maxwell branches as scalar internal states (:class:`Branches`; none without branches)."""
+        index = {name: j for j, name in enumerate(self.mount_names)}
+        local = mount_local_map(self.positions, self.axes)  # (n, 3, 6)
+        states = [(f"{b.name} {'uvw'[a]}", index[b.mount], a, float(b.stiffness[a]), b.tau)
+                  for b in self.maxwell for a in range(3) if b.stiffness[a] > 0]
+        mount = np.array([s[1] for s in states], dtype=np.int64)
+        axis = np.array([s[2] for s in states], dtype=np.int64)
+        return Branches(names=tuple(s[0] for s in states), rows=readonly(local[mount, axis].reshape(-1, 6)),
+                        stiffness=readonly([s[3] for s in states]), tau=readonly([s[4] for s in states]),
+                        mount=readonly(mount, None), axis=readonly(axis, None))
 
     @cached_property
     def M(self) -> np.ndarray:

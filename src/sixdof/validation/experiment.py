@@ -441,7 +441,7 @@ def validate(system: System, settings: ValidationSettings | None = None, *,
                      "cannot contain it (the frequency responses of `sixdof run` include it)")
     M = np.asarray(reference.M)
     modes = reference.modes
-    poles, complex_shapes = damped_modes(reference.C, modes)
+    poles, complex_shapes = damped_modes(reference.C, modes, reference.branches)
     elastic = [r for r in range(6) if r not in modes.zero_modes]
     field = "system" if model is system else "model"
     if not elastic:

@@ -1,0 +1,69 @@
+"""The dynamic stiffness figure: measured storage stiffness and loss factor against generalized Maxwell fits."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from sixdof.errors import InputError
+from sixdof.model.viscoelastic import MaxwellFit
+from sixdof.plots.common import margins, plain_frequencies
+
+#: The fitted curves are drawn this factor beyond each end of their data's band: how the model leaves it.
+BEYOND_BAND = 2.0
+
+
+def plot_dynamic_stiffness(fits: Sequence[tuple[str, MaxwellFit]], title: str | None = None) -> Figure:
+    """Storage stiffness (top, log) and loss factor (bottom) against frequency: each fit's data as markers
+    and its model as a line of the same colour over the data's band and a factor :data:`BEYOND_BAND` beyond
+    each end, with the fit's worst errors in the legend.
+
+    Parameters
+    ----------
+    fits : sequence of (str, MaxwellFit)
+        A label and a fit (:func:`~sixdof.model.viscoelastic.fit_maxwell`,
+        :func:`~sixdof.model.viscoelastic.constant_loss_model`) per curve.
+    title : str, optional
+        Title of the figure; default "dynamic stiffness: data and generalized Maxwell fits".
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Raises
+    ------
+    sixdof.errors.InputError
+        When ``fits`` is not a non-empty sequence of (label, MaxwellFit) pairs.
+    """
+    expected = "a non-empty sequence of (label, sixdof.model.viscoelastic.MaxwellFit) pairs"
+    fits = list(fits) if isinstance(fits, Sequence) and not isinstance(fits, str) else []
+    if not fits or not all(isinstance(item, tuple) and len(item) == 2 and isinstance(item[0], str)
+                           and isinstance(item[1], MaxwellFit) for item in fits):
+        raise InputError("fits", expected, fits)
+    fig = Figure(figsize=(9, 7.5))
+    fig.suptitle(title or "dynamic stiffness: data and generalized Maxwell fits", fontsize=12)
+    margins(fig, left=1.0, right=0.3, top=0.75, bottom=0.6, hspace=0.45, rows=2)
+    top, bottom = fig.subplots(2, 1, sharex=True)
+    for label, fit in fits:
+        low, high = fit.band_hz
+        f = np.geomspace(low / BEYOND_BAND, high * BEYOND_BAND, 400)
+        k = fit.dynamic_stiffness(f)
+        line, = top.loglog(f, k.real, linewidth=1.4,
+                           label=f"{label}: {fit.stiffness.size} branches, |K| within "
+                                 f"{100 * fit.modulus_error:.2g} %, loss angle within {fit.loss_angle_error_deg:.2g}°")
+        bottom.semilogx(f, k.imag / k.real, color=line.get_color(), linewidth=1.4)
+        top.plot(fit.f_hz, fit.storage, "o", color=line.get_color(), markersize=4, markerfacecolor="none")
+        bottom.plot(fit.f_hz, fit.loss_factor, "o", color=line.get_color(), markersize=4, markerfacecolor="none")
+    top.set_ylabel("storage stiffness K' [N/m]")
+    top.set_title("markers: data; lines: Maxwell fit (errors: worst over the data)", fontsize=10)
+    top.legend(fontsize=8, loc="upper left")
+    bottom.set_ylabel("loss factor η = K''/K' [1]")
+    bottom.set_xlabel("frequency f [Hz]")
+    bottom.set_ylim(bottom=0.0)
+    for ax in (top, bottom):
+        ax.grid(True, which="both", alpha=0.25)
+    bottom.autoscale(axis="x", tight=True)
+    plain_frequencies(bottom)
+    return fig

@@ -21,12 +21,6 @@ RTOL_FIT_EXACT = 1e-8
 OFF_GRID_ERRORS = {None: (2e-2, 1.0), 9: (2e-3, 0.1)}
 # The errors a fit reports against those recomputed here from its parameters: a few float64 operations.
 RTOL_REPORTED = 1e-12
-# Kramers-Kronig budget of a constant loss fit over D decades: a model whose log|K| rises with slope m has a
-# loss angle of about pi m / 2, so with a worst modulus error e_K ~ m ln(10) D / 2 its loss angle misses
-# delta = atan(eta) by e_d ~ delta - pi m / 2, whence pi e_K / (ln(10) D) + e_d >= delta. Measured 1.16 to
-# 1.27 delta (the fit's branches cannot raise |K| outside the band, which costs loss angle at its ends);
-# a fit that beat the budget would not be causal, one far above it would not be the best.
-BUDGET_RANGE = (1.0, 1.5)
 
 
 def closed_form(f_hz, long_term, stiffness, tau):
@@ -95,8 +89,7 @@ def test_constant_loss_model_against_kramers_kronig(eta, decades):
     rise = 10 ** (2 * delta / np.pi * decades)  # |K| over the band of the constant-phase (fractional) spring
     assert modulus_error < (rise - 1) / (rise + 1)  # better in |K| than the best-scaled fractional spring ...
     assert angle_error < delta  # ... and in loss angle than a pure spring
-    budget = np.pi * modulus_error / (np.log(10) * decades) + angle_error
-    assert BUDGET_RANGE[0] * delta <= budget <= BUDGET_RANGE[1] * delta
+    assert model.long_term > 0.5 * k  # the static stiffness stays with the long-term spring
 
 
 def write(tmp_path, rows, header="f [Hz], K' [N/m], loss factor [-]"):

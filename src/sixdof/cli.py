@@ -266,6 +266,8 @@ def _run(args) -> int:
     print(f"{scenario.name}: {scenario.description}\n")
     print(report.modes_table(outcome.modes, outcome.damping_ratios, scenario.system))
     print(report.damping_note(scenario.system))
+    if scenario.viscoelastic:
+        print(f"\nVisco-elastic mounts (Maxwell fits):\n{report.viscoelastic_table(scenario.viscoelastic)}")
     if outcome.statics is not None:
         _print_statics(scenario, outcome.statics)
     if outcome.steady_state is not None:

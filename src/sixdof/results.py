@@ -298,6 +298,8 @@ class RunResults(Frozen):
         The stationary random response to the ``[random]`` PSD.
     srs : sixdof.analysis.srs.ShockSpectra or None
         Shock response spectra of the base and of the body points (``[shock_response_spectrum]``).
+    viscoelastic : tuple of sixdof.model.viscoelastic.MaxwellFit
+        The Maxwell models fitted to the mounts' measured dynamic stiffness or loss factors.
     validation : sixdof.validation.ValidationReport or None
     sweep : sixdof.analysis.batch.BatchResult or None
         A design sweep's frequencies and peaks per variant (``sixdof sweep``).
@@ -330,6 +332,8 @@ class RunResults(Frozen):
     random: Any = part(lambda: _class("sixdof.analysis.random", "RandomResponse"), group="random", default=None)
     srs: Any = part(lambda: _class("sixdof.analysis.srs", "ShockSpectra"), group="srs", default=None)
     validation: Any = part(lambda: _class("sixdof.validation", "ValidationReport"), group="validation", default=None)
+    viscoelastic: tuple = sequence(lambda: _class("sixdof.model.viscoelastic", "MaxwellFit"), group="viscoelastic",
+                                   key=lambda fit: fit.name, default=())
     sweep: Any = part(lambda: _class("sixdof.analysis.batch", "BatchResult"), group="sweep", default=None)
     provenance: Any = field(default_factory=dict)
 

@@ -184,7 +184,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
                 progress=progress))
         run = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
                          damping_ratios=zeta, statics=statics, frf=frf, frf_extras=frf_extras, steady_state=steady,
-                         random=random, provenance=_provenance(scenario))
+                         random=random, viscoelastic=scenario.viscoelastic, provenance=_provenance(scenario))
         drawing.submit(run)  # the modal and FRF figures are drawn while the solve runs
 
         timed = None
@@ -401,7 +401,8 @@ def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_lin
         system = scenario.system
         modes = system.modes
         run = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
-                         damping_ratios=damping_ratios(system.C, modes, system.branches), provenance=_provenance(scenario))
+                         damping_ratios=damping_ratios(system.C, modes, system.branches),
+                         viscoelastic=scenario.viscoelastic, provenance=_provenance(scenario))
         drawing.submit(run)  # the modal figures are drawn while the validation experiment runs
         report = validate(system, progress=progress)
         run = dataclasses.replace(run, validation=report)

@@ -76,6 +76,16 @@ def damping_note(system) -> str:
     return _wrapped(text + ".")
 
 
+def viscoelastic_table(fits) -> str:
+    """Each Maxwell fit: what it models, its data, its long-term stiffness, branches and worst errors."""
+    headers = ["mount axis", "fitted to", "band [Hz]", "long-term k0 [N/m]", "branches", "max |K*| error [%]",
+               "max loss angle error [deg]"]
+    rows = [[fit.name, fit.source, f"{fit.f_hz[0]:.3g}-{fit.f_hz[-1]:.3g}", f"{fit.long_term:.4g}",
+             str(int(np.count_nonzero(fit.stiffness))), f"{100 * fit.modulus_error:.2f}",
+             f"{fit.loss_angle_error_deg:.2f}"] for fit in fits]
+    return table(headers, rows)
+
+
 def ke_table(modes) -> str:
     """Kinetic-energy distribution [%]: rows are DOFs, columns are modes (the decoupling table)."""
     headers = ["DOF"] + [f"mode {j + 1} ({f:.3g} Hz)" for j, f in enumerate(modes.frequency_hz)]
@@ -268,7 +278,10 @@ def summary_markdown(scenario, modes, statics, damping_ratios, response, forces,
     parts = [f"# {scenario.name}", "", scenario.description, ""]
     if notes:
         parts += ["## Warnings", "", *(f"- {n}" for n in notes), ""]
-    parts += ["## Natural frequencies", "", modes_table(modes, damping_ratios, scenario.system), "", damping_note(scenario.system), ""]
+    parts += ["## Natural frequencies", "", modes_table(modes, damping_ratios, scenario.system), "",
+              damping_note(scenario.system), ""]
+    if scenario.viscoelastic:
+        parts += ["## Visco-elastic mounts", "", viscoelastic_table(scenario.viscoelastic), ""]
     parts += ["## Kinetic energy distribution [%]", "", ke_table(modes), ""]
     parts += [subsystems_text(modes).replace("\n  ", "\n- ").replace(":\n", ":\n\n", 1), ""]
     if statics is not None:

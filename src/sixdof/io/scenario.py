@@ -8,6 +8,7 @@ dictionaries: each table becomes a frozen object of the library here, at the edg
 from __future__ import annotations
 
 import csv
+import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -31,7 +32,7 @@ from sixdof.errors import (
 )
 from sixdof.frozen import Frozen, checked
 from sixdof.io.toml import Table, build, choices, make, parse, read_text, unique
-from sixdof.model.system import Mount, Rayleigh, RigidBody, System
+from sixdof.model.system import Maxwell, Mount, Rayleigh, RigidBody, System
 from sixdof.results import DERIVED
 
 
@@ -210,6 +211,9 @@ class Scenario:
         The ``[random]`` table: a base-acceleration or force PSD.
     design : sixdof.design.spec.DesignSpec
         The ``[design]`` table: torque axis, targets and variables (empty when absent).
+    viscoelastic : tuple of sixdof.model.viscoelastic.MaxwellFit
+        The Maxwell models fitted to the mounts' measured dynamic stiffness and, with
+        ``loss_factor_model = "maxwell"``, to their loss factors (already in ``system``).
     text : str
         The file's text (stored in results for provenance).
     path : pathlib.Path or None
@@ -230,6 +234,7 @@ class Scenario:
     design: Any
     text: str
     path: Path | None
+    viscoelastic: tuple = ()
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -263,9 +268,17 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     name = file_name(top.string("name"))
     description = top.string("description", default="")
     body = build(RigidBody, top.table("body"), "body")
-    mounts = [build(Mount, t, f"mounts[{i}]") for i, t in enumerate(top.tables("mounts", required=True))]
-    rayleigh, modal = _damping(top.table("damping", default={}))
-    system = make(System, "", body=body, mounts=mounts, rayleigh=rayleigh, modal_damping=modal)
+    mounts, branches, fits = [], [], []
+    for i, table in enumerate(top.tables("mounts", required=True)):
+        mount, own_branches, own_fits = _mount(table, f"mounts[{i}]", base_dir)
+        mounts.append(mount)
+        branches += own_branches
+        fits += own_fits
+    damping = Table(top.table("damping", default={}), "damping",
+                    ("rayleigh", "modal", "loss_factor_model", "loss_factor_band_hz", "loss_factor_terms"))
+    rayleigh, modal = _damping(damping)
+    system = make(System, "", body=body, mounts=mounts, rayleigh=rayleigh, modal_damping=modal, maxwell=branches)
+    system, viscoelastic = _viscoelastic(system, fits, damping)
 
     loads = tuple(_load(t, f"loads[{i}]", base_dir) for i, t in enumerate(top.tables("loads")))
     ground, initial = top.table("ground", default=None), top.table("initial", default=None)
@@ -306,6 +319,7 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     return Scenario(name=name, description=description, system=system, excitation=excitation, simulation=simulation,
                     frf=frf, superposition=superposition, points=points, statics=statics, output=output,
                     shock_response_spectrum=spectrum, random=random, design=design, text=text,
+                    viscoelastic=viscoelastic,
                     path=Path(source) if source != "<string>" else None)
 
 
@@ -379,8 +393,85 @@ def _frf(table: dict) -> FrfSettings:
     return build(FrfSettings, {**table, **requests}, "frf")
 
 
-def _damping(table: dict) -> tuple[Rayleigh | None, Any]:
-    damping = Table(table, "damping", ("rayleigh", "modal"))
+def _mount(raw: Any, path: str, base_dir: Path) -> tuple[Mount, list[Maxwell], list]:
+    """A ``[[mounts]]`` table: the mount, its ``[[mounts.maxwell]]`` branches and its ``dynamic_stiffness`` fits
+    (mount name, axis, :class:`~sixdof.model.viscoelastic.MaxwellFit`)."""
+    if not isinstance(raw, dict):
+        raise InputError(path, "a table", raw)
+    table = dict(raw)
+    maxwell, measured = table.pop("maxwell", []), table.pop("dynamic_stiffness", [])
+    mount = build(Mount, table, path)
+    tables = Table({"maxwell": maxwell}, path, ("maxwell",)).tables("maxwell")
+    branches = []
+    for j, branch in enumerate(tables):
+        field = f"{path}.maxwell[{j}]"
+        keys = Table(branch, field, ("stiffness", "tau"))
+        branches.append(make(Maxwell, field, name=f"{mount.name} {j + 1}", mount=mount.name,
+                             stiffness=keys.value("stiffness"), tau=keys.value("tau")))
+    fits = []
+    for j, data in enumerate([measured] if isinstance(measured, dict) else measured):
+        field = f"{path}.dynamic_stiffness" + (f"[{j}]" if isinstance(measured, list) else "")
+        fits.append(_fit(mount, data, field, base_dir))
+    axes = [axis for _, axis, _ in fits]
+    if len(set(axes)) < len(axes):
+        raise InputError(f"{path}.dynamic_stiffness", "one table per axis", Plain(f"axes {', '.join(axes)}"))
+    return mount, branches, fits
+
+
+#: A fit of measured dynamic stiffness must reach these unless the scenario states others.
+FIT_MODULUS_ERROR = 0.05
+FIT_LOSS_ANGLE_ERROR_DEG = 1.0
+
+
+def _fit(mount: Mount, raw: Any, field: str, base_dir: Path):
+    """One ``dynamic_stiffness`` table: the measured data of ``file`` fitted along ``axis``."""
+    from sixdof.model.viscoelastic import AXES, fit_maxwell, read_dynamic_stiffness
+
+    table = Table(raw, field, ("file", "axis", "terms", "max_modulus_error", "max_loss_angle_error_deg"))
+    axis = choice_check(tuple(AXES))(table.value("axis"), f"{field}.axis")
+    if mount.loss_factor[AXES.index(axis)] > 0:
+        raise InputError(f"{field}.axis", "an axis without a loss_factor (the measured loss factor replaces it)",
+                         axis)
+    file = table.string("file")
+    f_hz, storage, loss = read_dynamic_stiffness((base_dir / file).resolve(), f"{field}.file")
+    fit = fit_maxwell(f_hz, storage, loss, table.value("terms", None), field=field)
+    limits = [number_check(expected, low=0.0, strict=True)(table.value(key, default), f"{field}.{key}")
+              for key, default, expected in (
+                  ("max_modulus_error", FIT_MODULUS_ERROR, "a relative error > 0"),
+                  ("max_loss_angle_error_deg", FIT_LOSS_ANGLE_ERROR_DEG, "an angle in deg > 0"))]
+    if fit.modulus_error > limits[0] or fit.loss_angle_error_deg > limits[1]:
+        raise InputError(field, f"a Maxwell fit within {100 * limits[0]:g} % in |K*| and {limits[1]:g} deg in loss "
+                         "angle over the data (raise terms, or the limits max_modulus_error and "
+                         "max_loss_angle_error_deg)",
+                         Plain(f"{100 * fit.modulus_error:.3g} % and {fit.loss_angle_error_deg:.3g} deg with "
+                               f"{fit.stiffness.size} terms over {fit.f_hz[0]:g}-{fit.f_hz[-1]:g} Hz of {file}"))
+    return mount.name, axis, dataclasses.replace(fit, name=f"{mount.name} {axis}", source=file)
+
+
+def _viscoelastic(system: System, fits: list, damping: Table):
+    """The system with its mounts' fits applied and, with ``loss_factor_model = "maxwell"``, its loss factors
+    replaced by causal Maxwell models; and every fit (:class:`~sixdof.model.viscoelastic.MaxwellFit`)."""
+    from sixdof.model.viscoelastic import causal_loss_factors, with_fits
+
+    system = make(with_fits, "mounts", system=system, fits=fits) if fits else system
+    model = choice_check(("hysteretic", "maxwell"))(damping.value("loss_factor_model", "hysteretic"),
+                                                    "damping.loss_factor_model")
+    if model == "hysteretic":
+        for key in ("loss_factor_band_hz", "loss_factor_terms"):
+            if key in damping.raw:
+                raise InputError(f"damping.{key}", 'loss_factor_model = "maxwell" (it sets the Maxwell model of '
+                                 "the loss factors)", Plain('loss_factor_model = "hysteretic"'))
+        return system, tuple(fit for _, _, fit in fits)
+    if not np.any(system.loss_factors):
+        raise InputError("damping.loss_factor_model", 'a mount with a loss_factor for "maxwell" to replace',
+                         Plain("no loss factor"))
+    system, causal = make(causal_loss_factors, "damping", system=system,
+                          band_hz=damping.value("loss_factor_band_hz", None),
+                          terms=damping.value("loss_factor_terms", None))
+    return system, tuple(fit for _, _, fit in fits) + causal
+
+
+def _damping(damping: Table) -> tuple[Rayleigh | None, Any]:
     rayleigh = damping.table("rayleigh", default=None)
     if rayleigh is not None:
         keys = set(rayleigh)

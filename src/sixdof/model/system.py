@@ -230,7 +230,7 @@ class Maxwell(Frozen):
     """
 
     name: str = checked(label_check)
-    mount: str = label(check=label_check)
+    mount: str = quantity("", (), decode=str, check=label_check, description="the mount a Maxwell branch belongs to")
     stiffness: np.ndarray = quantity("N/m", ("mount_axis",), description="Maxwell branch stiffness along the "
                                      "mount's own axes", check=_three("3 values >= 0 in N/m, not all zero",
                                                                       lambda k: np.all(k >= 0) and np.any(k > 0)))

@@ -19,6 +19,7 @@ a model to them, :func:`constant_loss_model` builds the causal model nearest a c
 from __future__ import annotations
 
 import csv
+import dataclasses
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -195,7 +196,9 @@ def fit_maxwell(f_hz, storage, loss_factor, terms: int | None = None, *, field: 
     """The generalized Maxwell model nearest measured dynamic stiffness, with its worst errors.
 
     The relaxation times are fixed, ``tau_i = 1 / (2 pi f_i)`` with the ``f_i`` log-spaced over the data's
-    band, ends included (one term: their geometric mean). The stiffnesses ``[k0, k_1 ... k_n] >= 0`` are the
+    band, ends included (one term: their geometric mean); the long-term stiffness ``k0`` carries the static
+    load (relaxations below the band would take it over and leave the mount no static stiffness). The
+    stiffnesses ``[k0, k_1 ... k_n] >= 0`` are the
     non-negative least-squares solution (:func:`scipy.optimize.nnls`) of the relative complex error
     ``(K_model - K_data) / |K_data|`` over the data points, ``K_data = K' (1 + i eta)``: every point weighs
     the same whatever its stiffness. Non-negative stiffnesses make the model passive (it dissipates energy
@@ -304,3 +307,75 @@ def constant_loss_model(stiffness: float, loss_factor: float, band_hz, terms: in
     low, high = frequency_band(band_hz, "band_hz")
     f_hz = np.geomspace(low, high, 1 + max(1, round(POINTS_PER_DECADE * math.log10(high / low))))
     return fit_maxwell(f_hz, np.full_like(f_hz, k), np.full_like(f_hz, eta), terms, field="constant_loss_model")
+
+
+AXES = "uvw"
+
+
+def with_fits(system, fits):
+    """``system`` with fitted Maxwell models on mount axes: each fit's long-term stiffness replaces the
+    mount's stiffness along that axis, and its branches (those with stiffness > 0) become
+    :class:`~sixdof.model.system.Maxwell` branches of the mount named ``"<mount> <axis> <i>"``.
+
+    Parameters
+    ----------
+    system : sixdof.model.system.System
+    fits : sequence of (str, str, MaxwellFit)
+        Mount name, axis (``"u"``, ``"v"`` or ``"w"``) and the fit along it.
+
+    Returns
+    -------
+    sixdof.model.system.System
+    """
+    from sixdof.model.system import Maxwell
+
+    mounts = {m.name: m for m in system.mounts}
+    branches = list(system.maxwell)
+    for mount, axis, fit in fits:
+        a = AXES.index(axis)
+        stiffness = np.array(mounts[mount].stiffness)
+        stiffness[a] = fit.long_term
+        mounts[mount] = dataclasses.replace(mounts[mount], stiffness=stiffness)
+        branches += [Maxwell(name=f"{mount} {axis} {i + 1}", mount=mount, stiffness=np.eye(3)[a] * k, tau=float(t))
+                     for i, (k, t) in enumerate(zip(fit.stiffness, fit.tau)) if k > 0]
+    return dataclasses.replace(system, mounts=tuple(mounts.values()), maxwell=tuple(branches))
+
+
+def loss_band(system) -> tuple[float, float]:
+    """The default band [Hz] of :func:`causal_loss_factors`: from half the lowest to twice the highest natural
+    frequency of the elastic modes, where the mounts' damping shapes the response."""
+    f = np.asarray(system.modes.frequency_hz)
+    f = f[f > 0]
+    return float(f.min() / 2), float(f.max() * 2)
+
+
+def causal_loss_factors(system, band_hz=None, terms: int | None = None):
+    """``system`` with every mount axis's loss factor replaced by the causal Maxwell model nearest its
+    complex stiffness ``k (1 + i eta)`` over ``band_hz`` (:func:`constant_loss_model`), so that the time
+    response and the frequency responses model the same mount.
+
+    Parameters
+    ----------
+    system : sixdof.model.system.System
+    band_hz : array_like, shape (2,), optional
+        ``[low, high]`` [Hz]; default :func:`loss_band`.
+    terms : int, optional
+        Maxwell branches per axis (default: see :func:`fit_maxwell`).
+
+    Returns
+    -------
+    system : sixdof.model.system.System
+        Without loss factors, with the branches (:func:`with_fits`).
+    fits : tuple of MaxwellFit
+        One per mount axis with a loss factor, named ``"<mount> <axis>"``.
+    """
+    band = loss_band(system) if band_hz is None else frequency_band(band_hz, "band_hz")
+    fits = []
+    for mount in system.mounts:
+        for a in np.flatnonzero(mount.loss_factor > 0):
+            fit = constant_loss_model(mount.stiffness[a], mount.loss_factor[a], band, terms)
+            fits.append((mount.name, AXES[a], dataclasses.replace(
+                fit, name=f"{mount.name} {AXES[a]}", source=f"loss factor {mount.loss_factor[a]:g}")))
+    plain = dataclasses.replace(system, mounts=tuple(dataclasses.replace(m, loss_factor=np.zeros(3))
+                                                     for m in system.mounts))
+    return with_fits(plain, fits), tuple(fit for _, _, fit in fits)

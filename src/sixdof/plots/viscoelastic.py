@@ -67,3 +67,14 @@ def plot_dynamic_stiffness(fits: Sequence[tuple[str, MaxwellFit]], title: str | 
     bottom.autoscale(axis="x", tight=True)
     plain_frequencies(bottom)
     return fig
+
+
+def plot_mount_fits(fits: Sequence[MaxwellFit], name: str = "") -> Figure:
+    """:func:`plot_dynamic_stiffness` of a run's fits (:attr:`sixdof.results.RunResults.viscoelastic`), one curve
+    per distinct model: mount axes fitted to the same data alike share a label (``"B u, C u (loss factor 0.1)"``)."""
+    curves: dict[tuple, list[MaxwellFit]] = {}
+    for fit in fits:
+        key = (fit.source, fit.long_term, *fit.stiffness, *fit.tau, *fit.f_hz, *fit.storage, *fit.loss_factor)
+        curves.setdefault(key, []).append(fit)
+    labelled = [(f"{', '.join(f.name for f in same)} ({same[0].source})", same[0]) for same in curves.values()]
+    return plot_dynamic_stiffness(labelled, title=f"{name}: mount dynamic stiffness and Maxwell fits" if name else None)

@@ -558,7 +558,7 @@ def _prepare(system: System, excitation: Excitation, settings: SimulationSetting
     # q0 includes the equilibrium r u_g(t0), so that at rest no mount is deflected.
     q0, qd0 = excitation.initial_state(system, t0)
     u0 = float(ground.scale * ground.signal(t0)) if code == 1 else 0.0
-    x0 = np.concatenate([q0 - r * u0, qd0, [0.0, 0.0], np.zeros(system.branches.count)])  # branches relaxed
+    x0 = np.concatenate([q0 - r * u0, qd0, [0.0, 0.0], excitation.initial_branch_forces(system)])
 
     breakpoints = np.array(sorted(b for b in excitation.breakpoints if t0 < b < t1), dtype=float)
     inside = [_inside(breakpoints, ts[0], end) for ts, end in window_spans(settings, window)]

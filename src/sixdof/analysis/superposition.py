@@ -187,16 +187,17 @@ def superpose(
     if excitation is None:
         excitation = Excitation()
     t = increasing_times(t, "t")
-    q0 = qd0 = None
+    q0 = qd0 = f0 = None
     if start is None:
         q0, qd0 = excitation.initial_state(system, t[0])  # in equilibrium with a ground displaced at t[0]
+        f0 = excitation.initial_branch_forces(system)
         warn_idle(excitation, t[0], t[-1])
     branches = system.branches if system.branches.count else None
     loads, ground, omega = excitation_inputs(excitation, system.K, system.C, branches)
     history = modal_solve(
         system.M, system.C, system.K, t, loads, excitation.breakpoints, q0, qd0, method=method, n_modes=n_modes,
         f_max_hz=f_max_hz, residual=residual, signal_omega=omega, ground=ground, start=start, modes=system.modes,
-        branches=branches, **options,
+        branches=branches, branch_forces=f0, **options,
     )
     warn_large_rotations(history.t, history.q)
     return history
@@ -332,6 +333,7 @@ def modal_solve(
     start: SuperpositionState | None = None,
     modes=None,
     branches=None,
+    branch_forces=None,
 ) -> TimeHistory:
     """Response of ``M q'' + C q' + K q = Q(t)`` by modal superposition.
 
@@ -389,6 +391,8 @@ def modal_solve(
         The undamped modes of ``(M, K)`` when already known (``System.modes``).
     branches : sixdof.model.system.Branches, optional
         Maxwell branches (``System.branches``); none by default. Complex modes only, every mode kept.
+    branch_forces : array_like, shape (nb,), optional
+        The branches' forces at ``t[0]`` [N]; default relaxed (zero).
 
     Returns
     -------
@@ -431,7 +435,7 @@ def modal_solve(
         pieces = max(pieces, math.ceil(step / max_step))
     drive = make_drive(times, t.size, breakpoints, loads, ground, nodes=nodes, pieces=pieces,
                        rates=residual_rates, ground_start=None if start is None else start.ground)
-    return _respond(plan, drive, M, q0, qd0, start, residual, residual_rates)
+    return _respond(plan, drive, M, q0, qd0, start, residual, residual_rates, branch_forces)
 
 
 def _start_time(start, t) -> float:
@@ -531,8 +535,9 @@ def _reason(method, coupling, classical, branches=None) -> str:
     return f"forced complex modes (damping coupling {coupling:.1e})"
 
 
-def _respond(plan, drive, M, q0, qd0, start, residual, residual_rates) -> TimeHistory:
-    """The history of the plan's runs on the drive, from ``(q0, qd0)`` or the state ``start``."""
+def _respond(plan, drive, M, q0, qd0, start, residual, residual_rates, branch_forces=None) -> TimeHistory:
+    """The history of the plan's runs on the drive, from ``(q0, qd0)`` and the branch forces, or the state
+    ``start``."""
     if start is not None and start.runs != plan.runs:
         raise InputError("start", f"the state of the same computation (runs {plan.runs})", f"runs {start.runs}")
     outputs, ends, branch_force = [], [], None
@@ -541,6 +546,8 @@ def _respond(plan, drive, M, q0, qd0, start, residual, residual_rates) -> TimeHi
         B = plan.basis[:, list(run[1])]
         z0 = modal.initial @ np.concatenate([B.T @ (M @ q0), B.T @ (M @ qd0)]) if start is None else \
             np.asarray(start.coordinates[index])
+        if start is None and branch_forces is not None and np.any(branch_forces):
+            z0 = z0 + modal.branch_inputs @ branch_forces  # the coordinates of the branch states
         z = run_coordinates(modal, drive, z0)
         ends.append(readonly(z[-1], complex))
         outputs.append(modal.motion(z[drive.first:], drive, second=index == 0))

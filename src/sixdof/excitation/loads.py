@@ -218,12 +218,16 @@ class InitialState(Frozen):
         follows the ground (:meth:`Excitation.equilibrium`). Default zero (in equilibrium).
     qd : array_like, shape (6,), optional
         ``q'(start)``, absolute [m/s, rad/s]. Default zero.
+    maxwell_force : array_like, shape (nb,), optional
+        Force in each Maxwell branch state at the start [N], in the order of
+        :attr:`sixdof.model.system.System.branches`. Default: relaxed (zero).
     """
 
     q: np.ndarray = checked(array_check("6 values [x, y, z, rx, ry, rz] in m and rad", (6,)),
                             default_factory=lambda: np.zeros(6))
     qd: np.ndarray = checked(array_check("6 values [x, y, z, rx, ry, rz] in m/s and rad/s", (6,)),
                              default_factory=lambda: np.zeros(6))
+    maxwell_force: np.ndarray | None = None
 
     def state(self, system) -> tuple[np.ndarray, np.ndarray]:
         """``(q0, qd0)``, each (6,) [m, rad; m/s, rad/s], ``q0`` from the static equilibrium."""
@@ -341,6 +345,18 @@ class Excitation(Frozen):
         """
         q0, qd0 = (self.initial or InitialState()).state(system)
         return q0 + self.equilibrium(t0), qd0
+
+    def initial_branch_forces(self, system) -> np.ndarray:
+        """The Maxwell branch forces at the start (nb,) [N]: ``initial.maxwell_force``, or relaxed (zeros)."""
+        count = system.branches.count
+        given = getattr(self.initial, "maxwell_force", None)
+        if given is None:
+            return np.zeros(count)
+        forces = np.asarray(given, dtype=float).reshape(-1)
+        if forces.size != count or not np.all(np.isfinite(forces)):
+            raise InputError("initial.maxwell_force", f"{count} finite forces in N (one per Maxwell branch state)",
+                             given)
+        return forces
 
     def equilibrium(self, t0: float = 0.0) -> np.ndarray:
         """Static equilibrium ``q`` (6,) at ``t0`` [s] about the unloaded one [m, rad].

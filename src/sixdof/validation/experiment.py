@@ -475,7 +475,11 @@ def validate(system: System, settings: ValidationSettings | None = None, *,
         rate = (settings.decay_samples - 1) * f_d[r] / cycles
         shape = complex_shapes[:, r]
         shape = 1e-3 * shape / shape[DOFS.index(modes.dominant_dof[r])]  # dominant DOF: 1 mm or mrad, phase 0
-        release = InitialState(q=shape.real, qd=(poles[r] * shape).real)
+        # The branches start in the mode too: f = k (lambda tau) / (1 + lambda tau) R s for f' = k R q' - f / tau.
+        branches = reference.branches
+        ratio = poles[r] * branches.tau / (1 + poles[r] * branches.tau)
+        release = InitialState(q=shape.real, qd=(poles[r] * shape).real,
+                               maxwell_force=(branches.stiffness * ratio * (branches.rows @ shape)).real)
         run = simulate(system, Excitation(initial=release),
                        SimulationSettings(duration=_span(settings.decay_samples, rate), sample_rate_hz=rate))
         eta = run.q @ M @ phi[:, r]

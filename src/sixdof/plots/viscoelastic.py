@@ -51,7 +51,7 @@ def plot_dynamic_stiffness(fits: Sequence[tuple[str, MaxwellFit]], title: str | 
         f = np.geomspace(low / BEYOND_BAND, high * BEYOND_BAND, 400)
         k = fit.dynamic_stiffness(f)
         line, = top.loglog(f, k.real, linewidth=1.4,
-                           label=f"{label}: {fit.stiffness.size} branches, |K| within "
+                           label=f"{label}: {np.count_nonzero(fit.stiffness)} branches, |K| within "
                                  f"{100 * fit.modulus_error:.2g} %, loss angle within {fit.loss_angle_error_deg:.2g}°")
         bottom.semilogx(f, k.imag / k.real, color=line.get_color(), linewidth=1.4)
         top.plot(fit.f_hz, fit.storage, "o", color=line.get_color(), markersize=4, markerfacecolor="none")
@@ -76,5 +76,6 @@ def plot_mount_fits(fits: Sequence[MaxwellFit], name: str = "") -> Figure:
     for fit in fits:
         key = (fit.source, fit.long_term, *fit.stiffness, *fit.tau, *fit.f_hz, *fit.storage, *fit.loss_factor)
         curves.setdefault(key, []).append(fit)
-    labelled = [(f"{', '.join(f.name for f in same)} ({same[0].source})", same[0]) for same in curves.values()]
+    labelled = [(f"{', '.join(f.name for f in same) if len(same) <= 2 else f'{len(same)} mount axes'} "
+                 f"({same[0].source})", same[0]) for same in curves.values()]
     return plot_dynamic_stiffness(labelled, title=f"{name}: mount dynamic stiffness and Maxwell fits" if name else None)

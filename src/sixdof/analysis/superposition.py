@@ -339,7 +339,8 @@ def modal_solve(
 
     With Maxwell branches (visco-elastic mounts) the equations gain ``+ R' f`` and
     ``f' = k_b R (q' - r v_g) - f / tau_b`` (:mod:`sixdof.analysis.direct`): the coupled modes are then the
-    complex modes of the augmented first-order system ``[eta, eta', f]``, the branches relaxed at ``t[0]``.
+    complex modes of the augmented first-order system ``[eta, eta', f]``, the branches starting from
+    ``branch_forces`` at ``t[0]``.
 
     Parameters
     ----------
@@ -642,7 +643,8 @@ class ModalCoordinates:
     eigenvalues : ndarray, shape (2p + nb,), complex
         Every eigenvalue of the first-order system [1/s].
     branch_inputs : ndarray, shape (m, nb), complex
-        Direct input to each Maxwell branch state (the ground's velocity) to each coordinate.
+        Each Maxwell branch state to each coordinate: what a direct input to the branches (the ground's
+        velocity) drives, and how their initial forces start the coordinates.
     branch_outputs : ndarray, shape (nb, m), complex
         Coordinates to the branch forces ``f`` [N] (conjugate pairs weighted 2).
     branch_modal : ndarray, shape (p, nb)

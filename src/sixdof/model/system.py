@@ -35,6 +35,7 @@ from sixdof.errors import (
 from sixdof.frozen import Frozen, checked
 from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import mount_local_map, mount_matrix
+from sixdof.model.viscoelastic import relaxation
 from sixdof.results import label, part, quantity, stacked
 
 # Relative tolerances for "physically possible" checks on user input.
@@ -273,8 +274,7 @@ class Branches:
 
     def dynamic_stiffness(self, omega) -> np.ndarray:
         """Each state's dynamic stiffness ``k (i w tau) / (1 + i w tau)`` (nf, nb) [N/m] at ``omega`` (nf,) [rad/s]."""
-        iwt = 1j * np.asarray(omega, dtype=float)[:, None] * self.tau[None, :]
-        return self.stiffness[None, :] * iwt / (1.0 + iwt)
+        return self.stiffness[None, :] * relaxation(np.asarray(omega, dtype=float)[:, None] / (2 * np.pi), self.tau)
 
     def matrix(self, omega) -> np.ndarray:
         """Their generalized dynamic stiffness ``sum_b rows_b' rows_b k_b (i w tau_b) / (1 + i w tau_b)`` (nf, 6, 6)

@@ -25,7 +25,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import scipy.optimize
 
 from sixdof.errors import InputError, Plain, finite_array, frequency_band, integer, number, readonly
 from sixdof.results import Result, label, quantity
@@ -37,6 +36,13 @@ TABLE = ("a UTF-8 CSV file of a header row, then rows of three numbers: frequenc
 TERMS_PER_DECADE = 2
 #: Points per decade at which :func:`constant_loss_model` samples its constant complex stiffness.
 POINTS_PER_DECADE = 20
+
+
+def relaxation(f_hz, tau) -> np.ndarray:
+    """``(i w tau) / (1 + i w tau)``, ``w = 2 pi f``: a Maxwell branch's dynamic stiffness per unit stiffness, complex,
+    ``f_hz`` [Hz] and ``tau`` [s] broadcast together."""
+    s_tau = 2j * np.pi * np.asarray(f_hz, dtype=float) * np.asarray(tau, dtype=float)
+    return s_tau / (1 + s_tau)
 
 
 def maxwell_stiffness(f_hz, long_term: float, stiffness, tau) -> np.ndarray:
@@ -66,8 +72,7 @@ def maxwell_stiffness(f_hz, long_term: float, stiffness, tau) -> np.ndarray:
     stiffness, tau = np.asarray(stiffness, dtype=float), np.asarray(tau, dtype=float)
     if stiffness.ndim != 1 or tau.shape != stiffness.shape:
         raise InputError("tau", f"{stiffness.size} relaxation times in s, one per branch stiffness", tau)
-    s_tau = 2j * np.pi * np.asarray(f_hz, dtype=float)[..., None] * tau
-    return long_term + (stiffness * s_tau / (1 + s_tau)).sum(axis=-1)
+    return long_term + (stiffness * relaxation(np.asarray(f_hz, dtype=float)[..., None], tau)).sum(axis=-1)
 
 
 @dataclass(frozen=True, eq=False)
@@ -253,9 +258,10 @@ def fit_maxwell(f_hz, storage, loss_factor, terms: int | None = None, *, field: 
     tau = 1 / (2 * np.pi * f_relax)
     k_data = storage * (1 + 1j * loss_factor)
     weight = 1 / np.abs(k_data)
-    s_tau = 2j * np.pi * f_hz[:, None] * tau
-    columns = np.column_stack([np.ones(points), s_tau / (1 + s_tau)]) * weight[:, None]
+    columns = np.column_stack([np.ones(points), relaxation(f_hz[:, None], tau)]) * weight[:, None]
     scale = np.abs(k_data).max()  # solve for k / scale: order-one unknowns for nnls' tolerances
+    import scipy.optimize  # here: building a model imports this module, not the fit's optimizer
+
     solution, _ = scipy.optimize.nnls(np.vstack([columns.real, columns.imag]),
                                       np.concatenate([(k_data * weight).real, (k_data * weight).imag]) / scale)
     k0, stiffness = scale * solution[0], readonly(scale * solution[1:])

@@ -146,6 +146,12 @@ class TimeHistory(Frozen, Result):
     maxwell_force : ndarray, shape (n, nb), or None
         Force in each Maxwell branch state [N] (:attr:`sixdof.model.system.System.branches`), as the
         mount's spring force: it acts on the body as ``-R' f``. ``None`` without visco-elastic mounts.
+    energy_input, energy_dissipated : ndarray, shape (n,), or None
+        Runs with nonlinear mounts: the work done on the body by the loads and the ground since the start, and the
+        energy dissipated since the start [J] (integrated with the motion, for the energy balance of
+        :func:`sixdof.analysis.contact.energy_balance`).
+    contacts : sixdof.analysis.contact.ContactEvents or None
+        Runs with nonlinear mounts: every change of a mount's contact state, located by the solver.
     stats : sixdof.analysis.records.SolverStats or None
         Direct solve: the solver's settings and step counts.
     superposition : sixdof.analysis.records.SuperpositionInfo or None
@@ -167,9 +173,17 @@ class TimeHistory(Frozen, Result):
     maxwell_force: np.ndarray | None = quantity("N", ("t", "branch_state"), default=None,
                                                 description="force in each Maxwell branch state along its mount "
                                                 "axis (resisting the mount's deformation)")
+    energy_input: np.ndarray | None = quantity("J", ("t",), default=None,
+                                               description="work done on the body by the loads and, through the "
+                                               "mounts, by the ground since the start (runs with nonlinear mounts)")
+    energy_dissipated: np.ndarray | None = quantity("J", ("t",), default=None,
+                                                    description="energy dissipated by the dashpots, damping models "
+                                                    "and Maxwell branches since the start (runs with nonlinear mounts)")
     stats: Any = part(lambda: _class("sixdof.analysis.records", "SolverStats"), prefix="solver_", default=None)
     superposition: Any = part(lambda: _class("sixdof.analysis.records", "SuperpositionInfo"), prefix="",
                               default=None)
+    contacts: Any = part(lambda: _class("sixdof.analysis.contact", "ContactEvents"), group="contact_events",
+                         default=None)
 
     #: Stored beside the fields when the ground moves (read back through the properties).
     derived = {f"{key}_relative": _motion(order, "motion of the centre of gravity relative to the ground")

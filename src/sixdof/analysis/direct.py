@@ -319,7 +319,7 @@ def _input(t, g, p, code: int):
     return jnp.stack([*(signal(t) for signal in p["signals"]), a_g if code == 3 else v_g])
 
 
-def solve_ode(field, x0, t0, t1, saveat, jump_ts, rtol, atol, *, solver: str, max_steps: int, args=None):
+def solve_ode(field, x0, t0, t1, saveat, jump_ts, rtol, atol, *, solver: str, max_steps: int, args=None, event=None):
     """The one diffrax call of sixdof, shared by :func:`simulate_windows` and the batch engine (traceable).
 
     ``solver`` (a key of :data:`SOLVERS`; explicit methods with unrolled stages,
@@ -334,7 +334,7 @@ def solve_ode(field, x0, t0, t1, saveat, jump_ts, rtol, atol, *, solver: str, ma
     controller = diffrax.ClipStepSizeController(diffrax.PIDController(rtol=rtol, atol=atol), jump_ts=jump_ts)
     return diffrax.diffeqsolve(
         diffrax.ODETerm(field), unrolled.solver(solver), t0, t1, None, x0, args=args, saveat=saveat,
-        stepsize_controller=controller, max_steps=max_steps, throw=False,
+        stepsize_controller=controller, max_steps=max_steps, throw=False, event=event,
     )
 
 
@@ -363,6 +363,80 @@ def _solve_window(p, xs0, ts, t0, t1, jump_ts, rtol, atol, *, solver: str, code:
     # The result as its integer code (a pytree leaf), so that the compiled solve returns plain arrays.
     result = jax.tree.leaves(sol.result)[0]
     return sol.ys[-1], xs, qdd, Q, ground, sol.result == diffrax.RESULTS.successful, result, stats
+
+
+def _solve_segment(p, xs0, ts, t0, t1, jump_ts, rtol, atol, region, *, solver: str, code: int, max_steps: int):
+    """A window's solve with nonlinear mounts, from ``t0`` until ``t1`` or the first change of region (traced).
+
+    Inside the regions ``region`` (ne,) of the force laws the motion is linear: the field is ``A x + B u`` with
+    each law's slope and intercept there in place of its tangent at rest. Leaving a region is an event,
+    root-found on the step's dense output; the caller restarts from it in the next region. Two more states
+    integrate the work done on the body and the energy dissipated (:func:`sixdof.analysis.contact.energy_balance`).
+    Returns what :func:`_solve_window` does, with the work and dissipation at ``ts``, the time the segment
+    ended, whether an event ended it and which boundary (ne, 2: below, above).
+    """
+    import diffrax
+    import optimistix as optx
+
+    A, B, sigma = p["A"], p["B"], p["sigma"]
+    laws = p["laws"]
+    rows, knots = laws["rows"], laws["knots"]
+    size = A.shape[0]
+    pick = jax.vmap(lambda table, i: table[i])
+    slope, intercept = pick(laws["slope"], region), pick(laws["intercept"], region)
+    # In the region: r = a + s (d_s + L z), written as its tangent at rest (already in K) plus a correction.
+    dK = rows.T @ ((slope - laws["tangent"])[:, None] * rows)
+    f0 = rows.T @ (intercept + slope * laws["static"] - laws["force"])
+    Minv = p["Minv"]
+    A = A.at[6:12, :6].add(-Minv @ dK)
+    c = jnp.zeros(size).at[6:12].set(-Minv @ f0)
+    big = 1e30
+    padded = jnp.concatenate([jnp.full((knots.shape[0], 1), -jnp.inf), knots, jnp.full((knots.shape[0], 1), jnp.inf)],
+                             axis=1)
+    low, high = (jnp.clip(pick(padded, region + shift), -big, big) for shift in (0, 1))
+    scale = jnp.concatenate([sigma, p["energy_scale"]])
+    M, C, K, R, k_b, tau = p["M"], p["C"], p["K"], p["R"], p["k_b"], p["tau"]
+    r = p["r"]
+
+    def field(t, ys, args):
+        x = ys[:size] * sigma
+        u = _input(t, x[12:14], p, code)
+        dx = A @ x + B @ u + c
+        z, w, f = x[:6], x[6:12], x[14:]
+        zd = dx[:6]
+        v_g = _ground_kinematics(code, p, t, x[12:14])[1]
+        mounts = K @ z + dK @ z + f0 + C @ zd + R.T @ f  # generalized force of the mounts on the foundation
+        power = p["vectors"].T @ u[:-1] @ w + v_g * (r @ mounts)
+        loss = zd @ C @ zd + jnp.sum(f * f / (k_b * tau))
+        return jnp.concatenate([dx, jnp.stack([power, loss])]) / scale
+
+    def deflection(ys):
+        return laws["static"] + rows @ (ys[:6] * sigma[:6])
+
+    delta = laws["hysteresis"]
+    conditions = tuple(
+        [lambda t, y, args, e=e, **kw: deflection(y)[e] - low[e] + delta[e] for e in range(knots.shape[0])]
+        + [lambda t, y, args, e=e, **kw: high[e] - deflection(y)[e] + delta[e] for e in range(knots.shape[0])])
+    event = diffrax.Event(conditions, root_finder=optx.Newton(rtol=1e-12, atol=1e-12), direction=False)
+    sol = solve_ode(field, xs0, t0, t1, diffrax.SaveAt(ts=ts, t1=True), jump_ts, rtol, atol, args=None,
+                    solver=solver, max_steps=max_steps, event=event)
+    # The state where the segment ended is saved after the samples before it (those after it are inf).
+    last = jnp.sum(jnp.isfinite(sol.ts)) - 1
+    ys = jnp.where(jnp.arange(ts.size)[:, None] < last, sol.ys[:-1], sol.ys[last])
+    xs = ys[:, :size] * sigma
+
+    def outputs(t, x):
+        u = _input(t, x[12:14], p, code)
+        return ((A @ x + B @ u + c)[6:12], p["vectors"].T @ u[:-1],
+                jnp.stack(_ground_kinematics(code, p, t, x[12:14])))
+
+    qdd, Q, ground = jax.vmap(outputs)(ts, xs)
+    energy = ys[:, size:] * p["energy_scale"]
+    stats = jnp.stack([sol.stats["num_steps"], sol.stats["num_accepted_steps"], sol.stats["num_rejected_steps"]])
+    crossed = jnp.stack(jax.tree.leaves(sol.event_mask)).reshape(2, -1).T if knots.shape[0] else jnp.zeros((0, 2), bool)
+    ok = (sol.result == diffrax.RESULTS.successful) | (sol.result == diffrax.RESULTS.event_occurred)
+    result = jax.tree.leaves(sol.result)[0]
+    return sol.ys[last], xs, qdd, Q, ground, ok, result, stats, energy, sol.ts[last], crossed
 
 
 def _failure(result) -> str:
@@ -456,13 +530,14 @@ def _save_exported(path: Path, key: str, traced, specs) -> Callable:
     return jax.jit(exported.call)
 
 
-def _compiled_window(args: tuple, *, solver: str, code: int, max_steps: int) -> Callable:
+def _compiled_window(args: tuple, *, solver: str, code: int, max_steps: int, nonlinear: bool = False) -> Callable:
     """The jitted :func:`_solve_window` for the structure of ``args``, called with ``jax.tree.leaves(args)`` (a
     jitted function, not an ahead-of-time compiled one: its calls take JAX's fast path, ~1 ms less each)."""
     leaves, treedef = jax.tree.flatten(args)
     specs = [jax.ShapeDtypeStruct(np.shape(leaf), np.asarray(leaf).dtype) for leaf in leaves]
     statics = {"solver": solver, "code": code, "max_steps": max_steps}
-    key = _structure_key(treedef, specs, statics)
+    traced = _solve_segment if nonlinear else _solve_window
+    key = _structure_key(treedef, specs, {**statics, "nonlinear": nonlinear})
     compiled = _COMPILED.get(key)
     if compiled is not None:
         return compiled
@@ -472,7 +547,7 @@ def _compiled_window(args: tuple, *, solver: str, code: int, max_steps: int) -> 
     if compiled is None:
 
         def _solve(*leaves):
-            return _solve_window(*jax.tree.unflatten(treedef, leaves), **statics)
+            return traced(*jax.tree.unflatten(treedef, leaves), **statics)
 
         compiled = jax.jit(_solve)  # compiled at its first call
         if path is not None:
@@ -538,6 +613,9 @@ class _Run:
     jump_slots: int
     window: int
     solve: Callable
+    region: np.ndarray | None = None  # the force laws' regions at the start (nonlinear mounts)
+    laws: Any = None  # System.nonlinear, with nonlinear mounts
+    code: int = 0  # the ground's kind (_GROUND_CODES)
 
 
 def _prepare(system: System, excitation: Excitation, settings: SimulationSettings,
@@ -563,15 +641,52 @@ def _prepare(system: System, excitation: Excitation, settings: SimulationSetting
     breakpoints = np.array(sorted(b for b in excitation.breakpoints if t0 < b < t1), dtype=float)
     inside = [_inside(breakpoints, ts[0], end) for ts, end in window_spans(settings, window)]
     slots = _jump_slots(max(part.stop - part.start for part in inside))
-    example = _window_args(params, x0 / sigma, np.zeros(window + 1), t0, t1, np.zeros(slots), settings)
-    solve = _compiled_window(example, solver=settings.solver, code=code, max_steps=settings.max_steps)
-    return _Run(params, r, sigma, breakpoints, slots, window, solve), x0 / sigma
+    laws = system.nonlinear
+    xs0 = x0 / sigma
+    region = None
+    if is_nonlinear(system):
+        params = {**params, **_nonlinear_params(system, excitation, sigma)}
+        xs0 = np.concatenate([xs0, [0.0, 0.0]])  # the work done and the energy dissipated since the start
+        region = laws.region(laws.static_deflection + laws.rows @ x0[:6])
+    example = _window_args(params, xs0, np.zeros(window + 1), t0, t1, np.zeros(slots), settings, region)
+    solve = _compiled_window(example, solver=settings.solver, code=code, max_steps=settings.max_steps,
+                             nonlinear=region is not None)
+    return _Run(params, r, sigma, breakpoints, slots, window, solve, region, laws if region is not None else None,
+                code), xs0
 
 
-def _window_args(params, xs0, ts, t0, t1, jumps, settings) -> tuple:
-    """The arguments of :func:`_solve_window`, as float64 arrays."""
+def is_nonlinear(system: System) -> bool:
+    """Whether a mount of ``system`` has a kink in its force law (a bump stop, lift-off or a table that is not
+    linear): then only the direct solve answers it exactly."""
+    return bool(np.isfinite(system.nonlinear.knots).any())
+
+
+#: Hysteresis of a change of region, relative to the deflection scale of the axis: after an event the solver
+#: restarts exactly on the knot, and must not see that knot again before it has moved away from it.
+REGION_HYSTERESIS = 1e-10
+
+
+def _nonlinear_params(system: System, excitation: Excitation, sigma: np.ndarray) -> dict:
+    """The arrays :func:`_solve_segment` needs besides the linear solve's."""
+    laws, branches = system.nonlinear, system.branches
+    M = np.asarray(system.M, dtype=float)
+    ground = excitation.ground
+    scale_d = np.abs(laws.rows) @ sigma[:6]
+    energy = 0.5 * float(np.sum(np.diag(M) * sigma[6:12] ** 2))
+    return {"laws": {"rows": laws.rows, "knots": laws.knots, "slope": laws.slope, "intercept": laws.intercept,
+                     "static": laws.static_deflection, "force": laws.static_force, "tangent": laws.tangent,
+                     "hysteresis": REGION_HYSTERESIS * scale_d},
+            "Minv": np.linalg.inv(M), "M": M, "C": np.asarray(system.C, dtype=float),
+            "K": np.asarray(system.K, dtype=float), "R": branches.rows.reshape(-1, 6),
+            "k_b": branches.stiffness, "tau": branches.tau,
+            "r": np.zeros(6) if ground is None else ground.rigid_vector, "energy_scale": np.full(2, energy)}
+
+
+def _window_args(params, xs0, ts, t0, t1, jumps, settings, region=None) -> tuple:
+    """The arguments of :func:`_solve_window` (with ``region``: of :func:`_solve_segment`), as float64 arrays."""
     scalars = (np.float64(t0), np.float64(t1))
-    return (params, np.asarray(xs0), ts, *scalars, jumps, np.float64(settings.rtol), np.float64(settings.atol))
+    args = (params, np.asarray(xs0), ts, *scalars, jumps, np.float64(settings.rtol), np.float64(settings.atol))
+    return args if region is None else (*args, np.asarray(region, dtype=np.int64))
 
 
 def simulate_windows(system: System, excitation: Excitation | None, settings: SimulationSettings, *,
@@ -620,8 +735,9 @@ def simulate_windows(system: System, excitation: Excitation | None, settings: Si
 
 def _windows(run: _Run, xs: np.ndarray, settings: SimulationSettings) -> Iterator[TimeHistory]:
     rotations = _RotationPeaks()
+    region = run.region
     for ts, end in window_spans(settings, run.window):
-        history, xs = _window(run, xs, ts, end, settings)
+        history, xs, region = _window(run, xs, region, ts, end, settings)
         rotations.add(history.t, history.q)
         yield history
     rotations.warn()
@@ -635,16 +751,22 @@ def window_spans(settings: SimulationSettings, window: int) -> Iterator[tuple[np
         yield settings.times_between(first, stop), float(settings.times_between(stop, stop + 1)[0])
 
 
-def _window(run: _Run, xs0: np.ndarray, ts: np.ndarray, end: float, settings: SimulationSettings):
-    """Solve one window from ``ts[0]`` to ``end``: its :class:`TimeHistory` and the scaled state at ``end``."""
+def _window(run: _Run, xs0: np.ndarray, region, ts: np.ndarray, end: float, settings: SimulationSettings):
+    """Solve one window from ``ts[0]`` to ``end``: its :class:`TimeHistory`, the scaled state at ``end`` and the
+    force laws' regions there (``None`` without nonlinear mounts)."""
     n = ts.size
     # Saved at the samples, then at the end (the next window's start), repeated to fill the compiled slots.
     saves = np.concatenate([ts, np.full(run.window + 1 - n, end)])
     inside = _inside(run.breakpoints, ts[0], end)
     jumps = _padded(run.breakpoints[inside], end, run.jump_slots)
-    args = _window_args(run.params, xs0, saves, ts[0], end, jumps, settings)
     start = time.perf_counter()
-    xs_end, x, qdd, Q, kin, ok, result, steps = run.solve(*jax.tree.leaves(args))
+    if region is None:
+        args = _window_args(run.params, xs0, saves, ts[0], end, jumps, settings)
+        xs_end, x, qdd, Q, kin, ok, result, steps = run.solve(*jax.tree.leaves(args))
+        extra = {}
+    else:
+        xs_end, x, qdd, Q, kin, ok, result, steps, extra, region = _segments(run, xs0, region, saves, end, jumps,
+                                                                             settings)
     x = np.asarray(x)[:n]
     wall = time.perf_counter() - start
     if not bool(ok):
@@ -660,18 +782,83 @@ def _window(run: _Run, xs0: np.ndarray, ts: np.ndarray, end: float, settings: Si
     has_ground = run.params["ground_signal"] is not None
     ground = {f"ground_{m}": np.outer(kin[:, i], r[:3]) for i, m in enumerate(_MOTION)} if has_ground else {}
     n_steps, n_accepted, n_rejected = (int(s) for s in np.asarray(steps))
+    energy = {key: value[:n] for key, value in extra.items() if key.startswith("energy")}
     history = TimeHistory(
-        t=ts, q=x[:, :6] + np.outer(kin[:, 0], r), qd=x[:, 6:12], qdd=qdd, Q=Q, **ground,
-        maxwell_force=x[:, 14:] if x.shape[1] > 14 else None,
+        t=ts, q=x[:, :6] + np.outer(kin[:, 0], r), qd=x[:, 6:12], qdd=qdd, Q=Q, **ground, **energy,
+        maxwell_force=x[:, 14:] if x.shape[1] > 14 else None, contacts=extra.get("contacts"),
         stats=SolverStats(
             solver=settings.solver, rtol=settings.rtol, atol=settings.atol, scale=readonly(run.sigma),
             num_steps=n_steps, num_accepted=n_accepted, num_rejected=n_rejected,
             # A breakpoint at the window's start was stepped onto as the previous window's end: counted here.
             max_steps=settings.max_steps, num_jumps=int(inside.stop - np.searchsorted(run.breakpoints, ts[0])),
-            wall_time_s=wall,
+            wall_time_s=wall, num_events=extra["contacts"].count if extra else 0,
         ),
     )
-    return history, np.asarray(xs_end)
+    return history, np.asarray(xs_end), region
+
+
+#: Consecutive events a window may have without the solve moving on (a contact chattering on a knot).
+MAX_STALLED_EVENTS = 100
+
+
+def _segments(run: _Run, xs0: np.ndarray, region: np.ndarray, saves: np.ndarray, end: float, jumps: np.ndarray,
+              settings: SimulationSettings):
+    """A window with nonlinear mounts: solved region by region (:func:`_solve_segment`), each from the event
+    that ended the previous one. Returns what the linear window solve does, and the work, dissipation and
+    :class:`~sixdof.analysis.contact.ContactEvents` of the window, and the regions at its end."""
+    from sixdof.analysis.contact import ContactEvents
+
+    laws = run.laws
+    size = run.sigma.size
+    t0 = float(saves[0])
+    x = qdd = Q = kin = energy = None
+    steps = np.zeros(3, dtype=np.int64)
+    events, stalled = [], 0
+    xs = xs0
+    while True:
+        args = _window_args(run.params, xs, np.clip(saves, t0, end), t0, end, jumps, settings, region)
+        xs_end, xs_t, qdd_t, Q_t, kin_t, ok, result, steps_t, energy_t, t_end, crossed = (
+            np.asarray(a) for a in run.solve(*jax.tree.leaves(args)))
+        steps += steps_t
+        if not ok:
+            return xs_end, xs_t, qdd_t, Q_t, kin_t, ok, result, steps, {}, region
+        # The samples of this segment: from its start (the window's first sample only in its first segment).
+        mine = ((saves >= t0) if x is None else (saves > t0)) & (saves <= t_end)
+        if x is None:
+            x, qdd, Q, kin, energy = (np.array(a) for a in (xs_t, qdd_t, Q_t, kin_t, energy_t))
+        for whole, part in ((x, xs_t), (qdd, qdd_t), (Q, Q_t), (kin, kin_t), (energy, energy_t)):
+            whole[mine] = part[mine]
+        if not crossed.any():
+            break
+        stalled = stalled + 1 if t_end <= t0 + 1e-12 * max(1.0, abs(t0)) else 0
+        if stalled > MAX_STALLED_EVENTS:
+            raise SolverError(f"direct solve: the contact of {laws.names[int(np.argmax(crossed.any(axis=1)))]} "
+                              f"chatters at t = {t_end:.9g} s ({MAX_STALLED_EVENTS} changes of state without "
+                              "moving on); give the stop damping or a softer contact stiffness")
+        new = _next_region(run, float(t_end), xs_end[:size] * run.sigma, region, crossed)
+        for e in np.flatnonzero(new != region):
+            events.append((float(t_end), int(e), int(region[e]), int(new[e])))
+        xs, t0, region = xs_end, float(t_end), new
+    events = np.array(events, dtype=float).reshape(-1, 4)
+    contacts = ContactEvents(names=laws.names, static_region=laws.static_region, t=readonly(events[:, 0]),
+                             law=readonly(events[:, 1], np.int64), region_from=readonly(events[:, 2], np.int64),
+                             region_to=readonly(events[:, 3], np.int64))
+    extra = {"energy_input": energy[:, 0], "energy_dissipated": energy[:, 1], "contacts": contacts}
+    return xs_end, x, qdd, Q, kin, True, result, steps, extra, region
+
+
+def _next_region(run: _Run, t: float, x: np.ndarray, region: np.ndarray, crossed: np.ndarray) -> np.ndarray:
+    """The force laws' regions after an event at time ``t`` and state ``x``: the triggered axis moves across its
+    knot (``crossed`` (ne, 2): below, above), and every axis sitting on a knot goes where it is moving."""
+    laws, p = run.laws, run.params
+    d = laws.static_deflection + laws.rows @ x[:6]
+    v_g = x[13]  # the ground's velocity, a state unless the ground is given as a displacement:
+    if run.code == 1:
+        v_g = float(p["ground_scale"] * np.asarray(p["ground_signal"].derivative(np.float64(t))))
+    rate = laws.rows @ (x[6:12] - run.r * v_g)  # d' from the relative velocity z' = w - r v_g
+    ahead = laws.region(d + np.sign(rate) * run.params["laws"]["hysteresis"])
+    new = np.where(crossed[:, 0], region - 1, np.where(crossed[:, 1], region + 1, ahead))
+    return np.clip(new, 0, laws.knots.shape[1]).astype(np.int64)
 
 
 _MOTION = ("displacement", "velocity", "acceleration")
@@ -756,7 +943,12 @@ def simulate(system: System, excitation: Excitation | None, settings: Simulation
         windows.append(window)
         meter.show(float(window.t[-1]))
     meter.close()
-    return time_concat(windows, stats=merge_stats([w.stats for w in windows]))
+    contacts = {}
+    if windows[0].contacts is not None:
+        from sixdof.analysis.contact import merge_events
+
+        contacts["contacts"] = merge_events([w.contacts for w in windows])
+    return time_concat(windows, stats=merge_stats([w.stats for w in windows]), **contacts)
 
 
 __all__ = ["SOLVERS", "SCALE_FLOOR", "WINDOW_SAMPLES", "SimulationSettings", "SolverStats", "first_order_form",

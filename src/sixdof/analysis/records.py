@@ -39,6 +39,8 @@ class SolverStats:
         its structure in the process).
     num_windows : int
         Time windows the run proceeded in.
+    num_events : int
+        Changes of a nonlinear mount's contact state located as events (each restarts the solver there).
     """
 
     solver: str = label(name="solver")
@@ -52,6 +54,7 @@ class SolverStats:
     num_jumps: int = label()
     wall_time_s: float = label()
     num_windows: int = label(default=1)
+    num_events: int = label(default=0)
 
 
 def merge_stats(stats) -> SolverStats:
@@ -62,7 +65,7 @@ def merge_stats(stats) -> SolverStats:
         num_steps=sum(s.num_steps for s in stats), num_accepted=sum(s.num_accepted for s in stats),
         num_rejected=sum(s.num_rejected for s in stats), max_steps=first.max_steps,
         num_jumps=sum(s.num_jumps for s in stats), wall_time_s=sum(s.wall_time_s for s in stats),
-        num_windows=sum(s.num_windows for s in stats),
+        num_windows=sum(s.num_windows for s in stats), num_events=sum(s.num_events for s in stats),
     )
 
 

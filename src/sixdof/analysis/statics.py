@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from sixdof.dofs import UNITS
-from sixdof.errors import InputError, number
+from sixdof.errors import InputError, Plain, number
 from sixdof.model.kinematics import mount_local_map
 from sixdof.results import Result, label, quantity
 
@@ -100,17 +100,100 @@ def gravity_statics(system: System, g: float = STANDARD_GRAVITY, direction=(0.0,
         raise InputError("statics.direction", "a non-zero 3-vector", direction)
     gravity = g * d / np.linalg.norm(d)
     Q = np.concatenate([system.body.mass * gravity, np.zeros(3)])  # weight acts at the CG
-    K = np.asarray(system.K)
-    q, *_ = np.linalg.lstsq(K, Q, rcond=None)
-    if np.linalg.norm(K @ q - Q) > 1e-8 * np.linalg.norm(Q):
-        raise InputError("mounts", "mounts that can carry the body's weight along gravity",
-                         "a layout with no stiffness against gravity (the body would fall freely)")
-    # The load on a mount is k delta along its axes (the spring pushes the body back with -k delta):
-    # the same sign as the dynamic forces of sixdof.analysis.response, so that the two add up.
-    local = system.stiffnesses * (mount_local_map(system.positions, system.axes) @ q)
+    laws = system.nonlinear
+    q = _newton(system, Q) if laws.count else _linear(system, Q)
+    # The load on a mount is r(delta) along its axes, k delta for a linear one (the spring pushes the body back
+    # with -r): the same sign as the dynamic forces of sixdof.analysis.response, so that the two add up.
+    deflection = mount_local_map(system.positions, system.axes) @ q
+    local = system.given_stiffnesses * deflection
+    if laws.count:
+        local[laws.mount, laws.axis] = laws.force(deflection[laws.mount, laws.axis])
     forces = np.einsum("nji,nj->ni", system.axes, local)
     support = forces @ (gravity / g)
     # Round-off can leave a mount carrying nothing with a tiny negative value: not uplift.
     uplift_tol = 1e-9 * system.body.mass * g
     uplift = tuple(n for n, s in zip(system.mount_names, support) if s < -uplift_tol)
     return Statics(gravity, q, forces, local, support, uplift)
+
+
+def _linear(system: System, Q: np.ndarray) -> np.ndarray:
+    K = np.asarray(system.K)
+    q, *_ = np.linalg.lstsq(K, Q, rcond=None)
+    if np.linalg.norm(K @ q - Q) > 1e-8 * np.linalg.norm(Q):
+        raise InputError("mounts", "mounts that can carry the body's weight along gravity",
+                         "a layout with no stiffness against gravity (the body would fall freely)")
+    return q
+
+
+#: Newton iterations of the nonlinear statics: a piecewise-linear law needs one per change of region.
+NEWTON_ITERATIONS = 100
+
+
+def _newton(system: System, Q: np.ndarray) -> np.ndarray:
+    """The equilibrium ``sum_mounts L' r(L q) = Q`` of a system with nonlinear mounts, by Newton's method with
+    backtracking (exact once every law stays in its region: each is linear there)."""
+    laws = system.nonlinear
+    local_map = mount_local_map(system.positions, system.axes)  # (n, 3, 6)
+    rows = local_map.reshape(-1, 6)
+    linear = np.ones(rows.shape[0], dtype=bool)
+    linear[laws.mount * 3 + laws.axis] = False
+    k = system.given_stiffnesses.reshape(-1)
+
+    def residual(q):
+        d = rows @ q
+        r = k * d
+        r[~linear] = laws.force(d[~linear])
+        return rows.T @ r - Q
+
+    def tangent(q):
+        slope = np.where(linear, k, 0.0)
+        d = rows @ q
+        region = laws.region(d[~linear])
+        slope[~linear] = np.take_along_axis(laws.slope, region[:, None], axis=1)[:, 0]
+        return rows.T @ (slope[:, None] * rows)
+
+    q = np.array(system.equilibrium, dtype=float)
+    G = residual(q)
+    size = np.linalg.norm(Q)
+    for _ in range(NEWTON_ITERATIONS):
+        if np.linalg.norm(G) <= 1e-10 * size:
+            return q
+        step, *_ = np.linalg.lstsq(tangent(q), -G, rcond=None)
+        length = 1.0
+        while length > 1e-6:  # backtracking: a full step may jump past a knot into a worse region
+            trial = q + length * step
+            G_trial = residual(trial)
+            if np.linalg.norm(G_trial) < np.linalg.norm(G):
+                break
+            length /= 2
+        else:
+            break
+        q, G = trial, G_trial
+    raise InputError("mounts", "mounts that can carry the body's weight along gravity (a static equilibrium of "
+                     "the nonlinear mounts)",
+                     Plain(f"no equilibrium found: Newton's method stopped with an unbalanced force of "
+                           f"{np.linalg.norm(G[:3]):.4g} N and moment {np.linalg.norm(G[3:]):.4g} N m (mounts "
+                           "lifting off, or stops and tables too soft to carry the weight)"))
+
+
+def at_equilibrium(system: System, statics: Statics) -> System:
+    """``system`` linearized about ``statics`` (:attr:`~sixdof.model.system.System.equilibrium` set to its
+    deflection): where its nonlinear mounts sit at rest.
+
+    Raises
+    ------
+    InputError
+        If a mount that cannot carry tension (``tension = False``) has lifted off at rest.
+    """
+    import dataclasses
+
+    system = dataclasses.replace(system, equilibrium=statics.q)
+    laws = system.nonlinear
+    for e in range(laws.count):
+        if "lift-off" in laws.kinds[e] and laws.static_deflection[e] > 0:
+            j = int(laws.mount[e])
+            raise InputError(f"mounts[{j}].tension", "false only on a mount in compression at rest (one that lifts "
+                             "off only under load)", Plain(f"{system.mount_names[j]} is in tension at rest: it lifts "
+                                                           f"off {laws.static_deflection[e]:.4g} m under the body's "
+                                                           "weight"))
+    return system

@@ -32,6 +32,7 @@ from sixdof.errors import (
 )
 from sixdof.frozen import Frozen, checked
 from sixdof.io.toml import Table, build, choices, make, parse, read_text, unique
+from sixdof.model.nonlinear import ForceDeflection
 from sixdof.model.system import Maxwell, Mount, Rayleigh, RigidBody, System
 from sixdof.results import DERIVED
 
@@ -268,17 +269,24 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     name = file_name(top.string("name"))
     description = top.string("description", default="")
     body = build(RigidBody, top.table("body"), "body")
-    mounts, branches, fits = [], [], []
+    mounts, branches, fits, tables = [], [], [], []
     for i, table in enumerate(top.tables("mounts", required=True)):
-        mount, own_branches, own_fits = _mount(table, f"mounts[{i}]", base_dir)
+        mount, own_branches, own_fits, own_tables = _mount(table, f"mounts[{i}]", base_dir)
         mounts.append(mount)
         branches += own_branches
         fits += own_fits
+        tables += own_tables
     damping = Table(top.table("damping", default={}), "damping",
                     ("rayleigh", "modal", "loss_factor_model", "loss_factor_band_hz", "loss_factor_terms"))
     rayleigh, modal = _damping(damping)
-    system = make(System, "", body=body, mounts=mounts, rayleigh=rayleigh, modal_damping=modal, maxwell=branches)
+    system = make(System, "", body=body, mounts=mounts, rayleigh=rayleigh, modal_damping=modal, maxwell=branches,
+                  force_deflection=tables)
     system, viscoelastic = _viscoelastic(system, fits, damping)
+    statics = build(StaticsSettings, top.table("statics", default={}), "statics")
+    if system.nonlinear.count:  # linearized about its static equilibrium, which the nonlinear statics find
+        from sixdof.analysis.statics import at_equilibrium, gravity_statics
+
+        system = at_equilibrium(system, gravity_statics(system, statics.gravity, statics.direction))
 
     loads = tuple(_load(t, f"loads[{i}]", base_dir) for i, t in enumerate(top.tables("loads")))
     ground, initial = top.table("ground", default=None), top.table("initial", default=None)
@@ -307,7 +315,6 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     superposition = build(SuperpositionSettings, top.table("superposition", default={}), "superposition")
     points = tuple(build(Point, t, f"points[{i}]") for i, t in enumerate(top.tables("points")))
     unique([p.name for p in points], "points")
-    statics = build(StaticsSettings, top.table("statics", default={}), "statics")
     output = build(OutputSettings, top.table("output", default={}), "output")
     design = _design(top.table("design", default={}), system)
     random = top.table("random", default=None)
@@ -393,13 +400,18 @@ def _frf(table: dict) -> FrfSettings:
     return build(FrfSettings, {**table, **requests}, "frf")
 
 
-def _mount(raw: Any, path: str, base_dir: Path) -> tuple[Mount, list[Maxwell], list]:
-    """A ``[[mounts]]`` table: the mount, its ``[[mounts.maxwell]]`` branches and its ``dynamic_stiffness`` fits
-    (mount name, axis, :class:`~sixdof.model.viscoelastic.MaxwellFit`)."""
+def _mount(raw: Any, path: str, base_dir: Path) -> tuple[Mount, list[Maxwell], list, list]:
+    """A ``[[mounts]]`` table: the mount, its ``[[mounts.maxwell]]`` branches, its ``dynamic_stiffness`` fits
+    (mount name, axis, :class:`~sixdof.model.viscoelastic.MaxwellFit`) and its ``force_deflection`` tables
+    (:class:`~sixdof.model.nonlinear.ForceDeflection`)."""
     if not isinstance(raw, dict):
         raise InputError(path, "a table", raw)
     table = dict(raw)
     maxwell, measured = table.pop("maxwell", []), table.pop("dynamic_stiffness", [])
+    stop, curves = table.pop("bump_stop", None), table.pop("force_deflection", [])
+    if stop is not None:
+        keys = Table(stop, f"{path}.bump_stop", ("clearance", "stiffness"))
+        table["bump_clearance"], table["bump_stiffness"] = keys.value("clearance"), keys.value("stiffness")
     mount = build(Mount, table, path)
     tables = Table({"maxwell": maxwell}, path, ("maxwell",)).tables("maxwell")
     branches = []
@@ -415,7 +427,21 @@ def _mount(raw: Any, path: str, base_dir: Path) -> tuple[Mount, list[Maxwell], l
     axes = [axis for _, axis, _ in fits]
     if len(set(axes)) < len(axes):
         raise InputError(f"{path}.dynamic_stiffness", "one table per axis", Plain(f"axes {', '.join(axes)}"))
-    return mount, branches, fits
+    tables = []
+    for j, curve in enumerate([curves] if isinstance(curves, dict) else curves):
+        field = f"{path}.force_deflection" + (f"[{j}]" if isinstance(curves, list) else "")
+        keys = Table(curve, field, ("file", "axis"))
+        file = keys.string("file")
+        deflection, force = read_table_csv(file, base_dir, f"{field}.file", ("deflection in m", "force in N"))
+        tables.append(make(ForceDeflection, field, mount=mount.name, axis=keys.value("axis"), deflection=deflection,
+                           force=force, source=file))
+    axes = [t.axis for t in tables]
+    if len(set(axes)) < len(axes):
+        raise InputError(f"{path}.force_deflection", "one table per axis", Plain(f"axes {', '.join(axes)}"))
+    if set(axes) & {axis for _, axis, _ in fits}:
+        raise InputError(f"{path}.force_deflection", "axes without a dynamic_stiffness fit (each replaces the "
+                         "axis's stiffness)", Plain(f"axes {', '.join(sorted(set(axes)))}"))
+    return mount, branches, fits, tables
 
 
 #: A fit of measured dynamic stiffness must reach these unless the scenario states others.
@@ -509,12 +535,13 @@ def _with_file(table: dict, path: str, base_dir: Path) -> dict:
     return {**table, "signal": signal}
 
 
-def read_table_csv(file: Any, base_dir: Path, field: str) -> tuple[list[float], list[float]]:
-    """Read a two-column CSV (time [s], value) with an optional header line and ``#`` comment lines."""
+def read_table_csv(file: Any, base_dir: Path, field: str,
+                   columns: tuple[str, str] = ("time in s", "value")) -> tuple[list[float], list[float]]:
+    """Read a two-column CSV (default time [s], value) with an optional header line and ``#`` comment lines."""
     if not isinstance(file, str) or not file:
         raise InputError(field, "a CSV file name (relative to the scenario file)", file)
     full = (base_dir / file).resolve()
-    expected = "a UTF-8 CSV file of rows of two numbers: time in s, value"
+    expected = f"a UTF-8 CSV file of rows of two numbers: {', '.join(columns)}"
     pairs, rows = [], 0
     try:
         with full.open(newline="", encoding="utf-8") as handle:
@@ -535,7 +562,7 @@ def read_table_csv(file: Any, base_dir: Path, field: str) -> tuple[list[float], 
     except (OSError, UnicodeDecodeError, csv.Error) as exc:
         raise InputError(field, expected, Plain(f"{file}: {exc}")) from None
     if len(pairs) < 2:
-        raise InputError(field, "at least 2 rows of time, value", f"{len(pairs)} rows in {file}")
+        raise InputError(field, f"at least 2 rows of {', '.join(columns)}", f"{len(pairs)} rows in {file}")
     return [t for t, _ in pairs], [value for _, value in pairs]
 
 

@@ -35,8 +35,9 @@ from sixdof.errors import (
 from sixdof.frozen import Frozen, checked
 from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import mount_local_map, mount_matrix
+from sixdof.model.nonlinear import AXES, ForceDeflection, ForceLaws, force_laws
 from sixdof.model.viscoelastic import relaxation
-from sixdof.results import label, part, quantity, stacked
+from sixdof.results import label, part, quantity, sequence, stacked
 
 # Relative tolerances for "physically possible" checks on user input.
 _ORTHONORMAL_TOL = 1e-6
@@ -153,6 +154,17 @@ def _deflection_limits(value, field: str) -> np.ndarray:
     return readonly(limits)
 
 
+def _clearances(value, field: str) -> np.ndarray:
+    """A bump stop's clearance along the axes u, v, w [m], each >= 0; ``inf``: no stop on that axis."""
+    expected = "3 clearances in m >= 0, one per axis u, v, w (inf: no bump stop)"
+    if not isinstance(value, (list, tuple, np.ndarray)) or len(value) != 3:
+        raise InputError(field, expected, value)
+    try:
+        return readonly([number(v, field, expected, low=0.0, allow_inf=True) for v in value])
+    except InputError:
+        raise InputError(field, expected, value) from None
+
+
 @dataclass(frozen=True, eq=False)
 class Mount(Frozen):
     """A triaxial visco-elastic mount (bearing, isolator) attached to the body.
@@ -179,7 +191,17 @@ class Mount(Frozen):
     allow_tension : bool, optional
         Whether the mount may pull on the body (normal force along its ``w`` axis below zero). Default
         True: bonded elastomer mounts, wire ropes and lateral mounts work both ways, so tension is
-        reported but not warned about; False makes tension during a run a warning.
+        reported but not warned about; False makes tension during a run a warning (the mount stays linear;
+        ``tension = False`` makes it lift off instead).
+    bump_clearance : array_like, shape (3,), optional
+        Clearance of a bump stop along each of the mount's axes u, v, w [m], >= 0; ``inf``: no stop. Default
+        none. Beyond it (total deflection, either direction) a contact spring ``bump_stiffness`` engages
+        (:mod:`sixdof.model.nonlinear`).
+    bump_stiffness : array_like, shape (3,), optional
+        Stiffness of the bump stops [N/m], > 0 where a clearance is given. Default zero.
+    tension : bool, optional
+        False: the mount carries no tensile force along ``w`` and lifts off instead (its static preload taken
+        into account; it must be in compression at rest). Default True.
 
     The mount's ``w`` axis is its normal (compression) axis, pointing from the foundation towards
     the body: the mount is compressed when its body point moves along ``-w`` relative to the ground.
@@ -207,6 +229,21 @@ class Mount(Frozen):
     allow_tension: bool = quantity("1", (), default=True, check=boolean, encode=bool, decode=bool,
                                    description="1: the mount may pull on the body (tension along w), "
                                    "0: tension is warned about")
+    bump_clearance: np.ndarray = quantity("m", ("mount_axis",), default_factory=lambda: np.full(3, np.inf),
+                                          check=_clearances,
+                                          description="bump stop clearance along each mount's own axes "
+                                          "(inf: none)")
+    bump_stiffness: np.ndarray = quantity("N/m", ("mount_axis",), default_factory=lambda: np.zeros(3),
+                                          check=_three("3 bump stop stiffnesses >= 0 in N/m"),
+                                          description="bump stop contact stiffness along each mount's own axes")
+    tension: bool = quantity("1", (), default=True, check=boolean, encode=bool, decode=bool,
+                             description="1: the mount carries tension along w; 0: it lifts off")
+
+    def __check__(self) -> None:
+        missing = np.isfinite(self.bump_clearance) & (self.bump_stiffness <= 0)
+        if np.any(missing):
+            raise InputError("bump_stop.stiffness", "a stiffness > 0 in N/m on every axis with a clearance",
+                             self.bump_stiffness.tolist())
 
 
 @dataclass(frozen=True, eq=False)
@@ -338,6 +375,13 @@ class System(Frozen):
         Modal damping ratio for every mode, or one per mode in ascending frequency order.
     maxwell : sequence of Maxwell, optional
         Maxwell branches of the mounts (visco-elastic mounts); names must be unique. Default none.
+    force_deflection : sequence of ForceDeflection, optional
+        Force-deflection tables of mount axes (nonlinear mounts, :mod:`sixdof.model.nonlinear`), at most one per
+        mount axis; each replaces the linear stiffness of its axis. Default none.
+    equilibrium : array_like, shape (6,), optional
+        The static equilibrium ``q`` [m, rad] from the unloaded state: where the mounts' total deflection is
+        static plus dynamic (the motion is measured from it) and about which nonlinear mounts are linearized
+        (:func:`sixdof.analysis.statics.at_equilibrium` sets it). Default zero: unloaded.
     """
 
     body: RigidBody = part(lambda: RigidBody, prefix="body_")
@@ -348,6 +392,14 @@ class System(Frozen):
         default=None, check=_modal_ratios, encode=lambda ratios: np.atleast_1d(np.asarray(ratios, dtype=float)))
     maxwell: tuple[Maxwell, ...] = stacked(lambda: Maxwell, dim="branch", prefix="maxwell_", key="name", default=(),
                                            check=lambda branches, field: tuple(branches))
+    force_deflection: tuple[ForceDeflection, ...] = sequence(lambda: ForceDeflection, group="force_deflection",
+                                                             key=lambda table: f"{table.mount}_{table.axis}",
+                                                             default=())
+    equilibrium: np.ndarray = quantity(UNITS["q"], ("dof",), default_factory=lambda: np.zeros(6),
+                                       check=lambda value, field: readonly(finite_array(
+                                           value, field, "6 finite values [m, rad]", (6,))),
+                                       description="static equilibrium from the unloaded state about which the "
+                                       "mounts are linearized")
 
     #: Stored beside the fields (not read back: the system recomputes them).
     derived = {
@@ -377,6 +429,7 @@ class System(Frozen):
         if duplicated:
             raise InputError("mounts", "unique mount names", f"{', '.join(duplicated)} repeated")
         self._check_maxwell(names)
+        self._check_tables(names)
         self._check_modal_range()
         if self.rayleigh is not None and not isinstance(self.rayleigh, Rayleigh):
             raise InputError("damping.rayleigh", "a Rayleigh", self.rayleigh)
@@ -391,6 +444,19 @@ class System(Frozen):
         duplicated = sorted({n for n in names if names.count(n) > 1})
         if duplicated:
             raise InputError("maxwell", "unique branch names", f"{', '.join(duplicated)} repeated")
+
+    def _check_tables(self, mounts: list[str]) -> None:
+        self._derive(force_deflection=tuple(self.force_deflection))
+        for i, table in enumerate(self.force_deflection):
+            if not isinstance(table, ForceDeflection):
+                raise InputError(f"force_deflection[{i}]", "a ForceDeflection", table)
+            if table.mount not in mounts:
+                raise InputError(f"force_deflection[{i}].mount", f"the name of a mount ({', '.join(mounts)})",
+                                 table.mount)
+        names = [t.name for t in self.force_deflection]
+        duplicated = sorted({n for n in names if names.count(n) > 1})
+        if duplicated:
+            raise InputError("force_deflection", "one table per mount axis", f"{', '.join(duplicated)} repeated")
 
     def _check_modal_range(self) -> None:
         """The modal analysis normalizes the shapes by the mass (``phi' M phi = 1``, effective masses go as
@@ -413,7 +479,25 @@ class System(Frozen):
         return tuple(m.name for m in self.mounts)
 
     positions = _stacked("position", "Mount positions, shape (n, 3) [m].")
-    stiffnesses = _stacked("stiffness", "Mount stiffnesses along their own axes, shape (n, 3) [N/m].")
+    given_stiffnesses = _stacked("stiffness", "The mounts' own stiffnesses along their axes, shape (n, 3) [N/m].")
+
+    @cached_property
+    def stiffnesses(self) -> np.ndarray:
+        """Mount stiffnesses along their own axes, shape (n, 3) [N/m]: each mount's ``stiffness``, with a nonlinear
+        axis's slope at the static equilibrium (the linearization every linear path uses)."""
+        laws = self.nonlinear
+        if not laws.count:
+            return self.given_stiffnesses
+        stiffness = np.array(self.given_stiffnesses)
+        stiffness[laws.mount, laws.axis] = laws.tangent
+        return readonly(stiffness)
+
+    @cached_property
+    def nonlinear(self) -> ForceLaws:
+        """The nonlinear mount axes (bump stops, lift-off, tables) as force laws (:class:`ForceLaws`; none when
+        every mount is linear)."""
+        return force_laws(self.mounts, mount_local_map(self.positions, self.axes), self.force_deflection,
+                          self.equilibrium)
     dampings = _stacked("damping", "Mount viscous damping along their own axes, shape (n, 3) [N s/m].")
     loss_factors = _stacked("loss_factor", "Mount hysteretic loss factors, shape (n, 3).")
     axes = _stacked("axes", "Mount axes (rows, in body axes), shape (n, 3, 3).")

@@ -278,7 +278,8 @@ def _run(args) -> int:
         print(f"\n{report.srs_text(outcome.srs)}")
     if outcome.agreement is not None:
         info = outcome.superposition.superposition
-        print(f"\nDirect solve vs modal superposition ({info.method} modes): {outcome.agreement}")
+        until = " until the first nonlinear mount engaged" if outcome.contacts is not None else ""
+        print(f"\nDirect solve vs modal superposition ({info.method} modes){until}: {outcome.agreement}")
         truncation = info.truncation
         if truncation is not None:
             kept = ", ".join(str(j + 1) for j in info.modes_kept)
@@ -286,6 +287,9 @@ def _run(args) -> int:
         stats = outcome.response.stats
         print(f"Solver {stats.solver}: {stats.num_accepted} steps, {stats.num_rejected} rejected, "
               f"{stats.wall_time_s:.2f} s")
+        if outcome.contacts is not None:
+            checks = report.nonlinear_text(outcome.contacts, outcome.energy, outcome.refined, outcome.agreement, stats)
+            print(f"\nNonlinear mounts:\n{checks}")
         limits = np.stack([m.max_deflection for m in scenario.system.mounts])
         print(f"\nMount checks:\n{report.mount_check_text(outcome.mount_check, limits)}")
         if outcome.points:

@@ -302,7 +302,13 @@ class RunResults(Frozen):
     superposition : TimeHistory or None
         The modal-superposition cross-check.
     agreement : sixdof.analysis.compare.Agreement or None
-        ``superposition`` against ``response``.
+        ``superposition`` against ``response`` (with nonlinear mounts: until the first engages).
+    contacts : sixdof.analysis.contact.ContactSummary or None
+        Runs with nonlinear mounts: when and where each engaged.
+    energy : sixdof.analysis.contact.EnergyBalance or None
+        Runs with nonlinear mounts: the energy balance, their cross-check while they engage.
+    refined : sixdof.analysis.compare.Agreement or None
+        Runs with nonlinear mounts: ``response`` against a second solve at 100 times tighter tolerances.
     frf : sixdof.analysis.frf.FRFCrossCheck or sixdof.analysis.frf.FRF or None
     frf_extras : mapping of str to PointFRF, ForceTransmissibility or GroundTransmissibility
         Named point FRFs and transmissibilities on the frequencies of ``frf``.
@@ -338,6 +344,11 @@ class RunResults(Frozen):
     superposition: TimeHistory | None = part(lambda: TimeHistory, group="time/superposition", default=None)
     agreement: Any = part(lambda: _class("sixdof.analysis.compare", "Agreement"), group="time/superposition",
                           prefix="agreement_", default=None)
+    contacts: Any = part(lambda: _class("sixdof.analysis.contact", "ContactSummary"), group="time/contacts",
+                         default=None)
+    energy: Any = part(lambda: _class("sixdof.analysis.contact", "EnergyBalance"), group="time/energy", default=None)
+    refined: Any = part(lambda: _class("sixdof.analysis.compare", "Agreement"), group="time/refined",
+                        prefix="agreement_", default=None)
     frf: Any = part(lambda: _class("sixdof.analysis.frf", "FRFCrossCheck"), group="frf", default=None)
     frf_extras: Any = parts(lambda: {name: _class("sixdof.analysis.frf", name) for name in (
         "PointFRF", "ForceTransmissibility", "GroundTransmissibility")}, group="frf", default_factory=dict)

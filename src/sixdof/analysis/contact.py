@@ -170,9 +170,13 @@ class EnergyBalance(Result):
         branches; about the static equilibrium), energy dissipated since the start ``D``, work of the loads and
         the ground since the start ``W`` [J].
     residual : ndarray, shape (n,)
-        ``T + V + D - W`` less its initial value [J].
+        ``T + V + D - W`` less its value at the start of the run [J].
+    peak_residual : float
+        ``max |residual|`` [J].
+    energy_scale : float
+        The largest energy of the run: ``T + V``, ``D`` or ``|W|`` [J].
     worst : float
-        ``max |residual|`` over the largest energy of the run (``T + V``, ``D`` or ``|W|``).
+        ``peak_residual / energy_scale``.
     tolerance : float
     ok : bool
     """
@@ -182,10 +186,31 @@ class EnergyBalance(Result):
     stored: np.ndarray = quantity("J", ("t",), description="energy stored in the mounts about static equilibrium")
     dissipated: np.ndarray = quantity("J", ("t",), description="energy dissipated since the start")
     work: np.ndarray = quantity("J", ("t",), description="work of the loads and the ground since the start")
-    residual: np.ndarray = quantity("J", ("t",), description="T + V + D - W, less its initial value")
+    residual: np.ndarray = quantity("J", ("t",), description="T + V + D - W, less its value at the start")
+    peak_residual: float = label()
+    energy_scale: float = label()
     worst: float = label()
     tolerance: float = label()
     ok: bool = label(decode=bool)
+
+
+def _balance(t, kinetic, stored, dissipated, work, residual, tolerance) -> EnergyBalance:
+    peak = float(np.abs(residual).max())
+    scale = float(max(np.abs(kinetic + stored).max(), np.abs(dissipated).max(), np.abs(work).max(), 1e-300))
+    return EnergyBalance(t=t, kinetic=readonly(kinetic), stored=readonly(stored), dissipated=readonly(dissipated),
+                         work=readonly(work), residual=readonly(residual), peak_residual=peak, energy_scale=scale,
+                         worst=peak / scale, tolerance=float(tolerance), ok=peak <= tolerance * scale)
+
+
+def merge_balances(parts) -> EnergyBalance:
+    """One :class:`EnergyBalance` of consecutive windows: their series joined, their extremes merged."""
+    joined = {name: np.concatenate([getattr(p, name) for p in parts])
+              for name in ("t", "kinetic", "stored", "dissipated", "work", "residual")}
+    peak = max(p.peak_residual for p in parts)
+    scale = max(p.energy_scale for p in parts)
+    first = parts[0]
+    return EnergyBalance(**{k: readonly(v) for k, v in joined.items()}, peak_residual=peak, energy_scale=scale,
+                         worst=peak / scale, tolerance=first.tolerance, ok=peak <= first.tolerance * scale)
 
 
 def stored_energy(system, response) -> np.ndarray:
@@ -206,21 +231,22 @@ def stored_energy(system, response) -> np.ndarray:
     return stored
 
 
-def energy_balance(system, response, tolerance: float = ENERGY_TOLERANCE) -> EnergyBalance:
+def energy_balance(system, response, tolerance: float = ENERGY_TOLERANCE, origin: float | None = None
+                   ) -> EnergyBalance:
     """The :class:`EnergyBalance` of a run of ``system`` with nonlinear mounts (its ``response`` carries the
-    integrated work and dissipation, :attr:`sixdof.results.TimeHistory.energy_input`)."""
+    integrated work and dissipation, :attr:`sixdof.results.TimeHistory.energy_input`).
+
+    ``origin``: ``T + V + D - W`` at the start of the run [J], for a window after the first (default: the
+    value at ``response``'s first sample).
+    """
     qd = response.qd
     kinetic = 0.5 * np.einsum("ni,ij,nj->n", qd, np.asarray(system.M), qd)
     stored = stored_energy(system, response)
     work, dissipated = response.energy_input, response.energy_dissipated
     balance = kinetic + stored + dissipated - work
-    residual = balance - balance[0]
-    scale = max(np.abs(kinetic + stored).max(), np.abs(dissipated).max(), np.abs(work).max(), 1e-300)
-    worst = float(np.abs(residual).max() / scale)
-    return EnergyBalance(t=response.t, kinetic=readonly(kinetic), stored=readonly(stored),
-                         dissipated=readonly(dissipated), work=readonly(work), residual=readonly(residual),
-                         worst=worst, tolerance=float(tolerance), ok=worst <= tolerance)
+    residual = balance - (balance[0] if origin is None else origin)
+    return _balance(response.t, kinetic, stored, dissipated, work, residual, tolerance)
 
 
 __all__ = ["ENERGY_TOLERANCE", "ContactEvents", "ContactSummary", "EnergyBalance", "contact_summary",
-           "energy_balance", "merge_events", "stored_energy", "total_deflection"]
+           "energy_balance", "merge_balances", "merge_events", "stored_energy", "total_deflection"]

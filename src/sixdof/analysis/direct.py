@@ -390,6 +390,8 @@ def _solve_segment(p, xs0, ts, t0, t1, jump_ts, rtol, atol, region, *, solver: s
     Minv = p["Minv"]
     A = A.at[6:12, :6].add(-Minv @ dK)
     c = jnp.zeros(size).at[6:12].set(-Minv @ f0)
+    # The dashpots of mounts lifted off are off: C_off z', z' = w - r v_g, no longer resists the motion.
+    C_off = rows.T @ (((1.0 - pick(laws["contact"], region)) * laws["damping"])[:, None] * rows)
     big = 1e30
     padded = jnp.concatenate([jnp.full((knots.shape[0], 1), -jnp.inf), knots, jnp.full((knots.shape[0], 1), jnp.inf)],
                              axis=1)
@@ -404,10 +406,11 @@ def _solve_segment(p, xs0, ts, t0, t1, jump_ts, rtol, atol, region, *, solver: s
         dx = A @ x + B @ u + c
         z, w, f = x[:6], x[6:12], x[14:]
         zd = dx[:6]
+        dx = dx.at[6:12].add(Minv @ (C_off @ zd))
         v_g = _ground_kinematics(code, p, t, x[12:14])[1]
-        mounts = K @ z + dK @ z + f0 + C @ zd + R.T @ f  # generalized force of the mounts on the foundation
+        mounts = K @ z + dK @ z + f0 + (C - C_off) @ zd + R.T @ f  # generalized force of the mounts on the foundation
         power = p["vectors"].T @ u[:-1] @ w + v_g * (r @ mounts)
-        loss = zd @ C @ zd + jnp.sum(f * f / (k_b * tau))
+        loss = zd @ (C - C_off) @ zd + jnp.sum(f * f / (k_b * tau))
         return jnp.concatenate([dx, jnp.stack([power, loss])]) / scale
 
     def deflection(ys):
@@ -427,7 +430,8 @@ def _solve_segment(p, xs0, ts, t0, t1, jump_ts, rtol, atol, region, *, solver: s
 
     def outputs(t, x):
         u = _input(t, x[12:14], p, code)
-        return ((A @ x + B @ u + c)[6:12], p["vectors"].T @ u[:-1],
+        dx = A @ x + B @ u + c
+        return (dx[6:12] + Minv @ (C_off @ dx[:6]), p["vectors"].T @ u[:-1],
                 jnp.stack(_ground_kinematics(code, p, t, x[12:14])))
 
     qdd, Q, ground = jax.vmap(outputs)(ts, xs)
@@ -675,7 +679,7 @@ def _nonlinear_params(system: System, excitation: Excitation, sigma: np.ndarray)
     energy = 0.5 * float(np.sum(np.diag(M) * sigma[6:12] ** 2))
     return {"laws": {"rows": laws.rows, "knots": laws.knots, "slope": laws.slope, "intercept": laws.intercept,
                      "static": laws.static_deflection, "force": laws.static_force, "tangent": laws.tangent,
-                     "hysteresis": REGION_HYSTERESIS * scale_d},
+                     "hysteresis": REGION_HYSTERESIS * scale_d, "contact": laws.contact, "damping": laws.damping},
             "Minv": np.linalg.inv(M), "M": M, "C": np.asarray(system.C, dtype=float),
             "K": np.asarray(system.K, dtype=float), "R": branches.rows.reshape(-1, 6),
             "k_b": branches.stiffness, "tau": branches.tau,

@@ -4,7 +4,8 @@ Rigid body, small rotations: a body point ``p`` (from the CG, body axes) moves b
 ``u_p = u_cg + theta x p`` (:func:`sixdof.model.kinematics.point_map`); the same map takes velocities and
 accelerations. A mount deforms by the motion of its body point *relative to the ground* (the
 foundation translates rigidly under every mount), and carries ``k delta + c delta'`` along its own
-axes. Every force here is the dynamic part about static equilibrium (add the static deflection's
+axes (a nonlinear mount, :mod:`sixdof.model.nonlinear`, its force law ``r`` at the static plus dynamic
+deflection). Every force here is the dynamic part about static equilibrium (add the static deflection's
 forces from :mod:`sixdof.analysis.statics` for totals).
 """
 
@@ -163,6 +164,12 @@ def mount_forces(system: System, response: TimeHistory) -> MountForces:
     A = np.asarray(system.axes)  # (m, 3, 3): rows are the mount's axes
     local_elastic, local_damping = (np.einsum("mij,mnj->mni", A, x) * k[:, None, :]
                                     for x, k in ((deformation, system.stiffnesses), (rate, system.dampings)))
+    laws = system.nonlinear
+    if laws.count:  # a nonlinear axis carries r(static + dynamic deflection) less its static load
+        d = np.einsum("mij,mnj->mni", A, deformation)[laws.mount, :, laws.axis]  # (ne, n)
+        total = (laws.static_deflection[:, None] + d).T
+        local_elastic[laws.mount, :, laws.axis] = (laws.force(total) - laws.static_force).T
+        local_damping[laws.mount, :, laws.axis] *= laws.in_contact(total).T  # a lifted mount's dashpot is off
     branches = system.branches
     if branches.count:  # a Maxwell branch's force acts along its mount's axis, beside the dashpot's
         np.add.at(local_damping, (branches.mount, slice(None), branches.axis), response.maxwell_force.T)

@@ -73,7 +73,48 @@ def damping_note(system) -> str:
     if np.any(system.loss_factors):
         text += ("; not the mounts' loss factors, which act in the frequency domain only (FRFs, steady state), "
                  "not in the time response")
+    if system.nonlinear.count:
+        text += ("; modes, damping ratios and FRFs are those of the linearization about the static equilibrium "
+                 "(each nonlinear mount axis at its slope there), exact only while no stop engages and no mount "
+                 "lifts off")
     return _wrapped(text + ".")
+
+
+#: Contact intervals listed in the text report (all are in the results file).
+LISTED_INTERVALS = 12
+
+
+def nonlinear_text(contacts, energy, refined, agreement, stats) -> str:
+    """When and where the nonlinear mounts engaged, and the run's cross-checks while they did: the energy
+    balance and the second solve at tighter tolerances (:class:`~sixdof.analysis.contact.ContactSummary`)."""
+    mm = 1e3
+    rows = []
+    for e, name in enumerate(contacts.names):
+        count = int(contacts.engagements[e])
+        rows.append([name, contacts.kinds[e], str(count), "never" if not count else f"{contacts.first_t[e]:.6g}",
+                     f"{contacts.engaged_time[e]:.4g}",
+                     "-" if np.isnan(contacts.peak_penetration[e]) else f"{mm * contacts.peak_penetration[e]:.4g}",
+                     "-" if np.isnan(contacts.peak_lift[e]) else f"{mm * contacts.peak_lift[e]:.4g}",
+                     f"{mm * contacts.deflection_min[e]:.4g} to {mm * contacts.deflection_max[e]:.4g}"])
+    lines = [f"{stats.num_events} changes of contact state, each located by root finding ({stats.num_accepted} "
+             "steps); deflections are totals (static + dynamic), peaks sampled.",
+             table(["mount axis", "nonlinear", "engaged", "first at [s]", "engaged for [s]", "peak penetration [mm]",
+                    "peak lift [mm]", "deflection [mm]"], rows)]
+    n = contacts.interval_start.size
+    if n:
+        shown = [f"{contacts.names[e]} {a:.6g}-{b:.6g} s" for e, a, b in
+                 zip(contacts.interval_law[:LISTED_INTERVALS], contacts.interval_start, contacts.interval_end)]
+        more = f" (and {n - LISTED_INTERVALS} more, in results.h5)" if n > LISTED_INTERVALS else ""
+        lines.append("Engaged intervals: " + "; ".join(shown) + more)
+    first = contacts.first_engaged_t
+    lines.append("Modal superposition (the linearization): " + (
+        f"compared until the first mount engaged, t = {first:.6g} s" if np.isfinite(first)
+        else "no mount engaged, compared over the whole run") + f": {agreement}")
+    lines.append(f"Energy balance (work of loads and ground = kinetic + stored + dissipated): worst residual "
+                 f"{energy.worst:.2e} of the largest energy ({energy.energy_scale:.4g} J) vs tolerance "
+                 f"{energy.tolerance:.0e}: {'ok' if energy.ok else 'FAILED'}")
+    lines.append(f"Second solve at 100x tighter tolerances: {refined}")
+    return "\n".join(lines)
 
 
 def viscoelastic_table(fits) -> str:
@@ -273,7 +314,7 @@ def validation_text(report) -> str:
 
 def summary_markdown(scenario, modes, statics, damping_ratios, response, forces, agreement,
                      superposition, frf, figures, notes, mount_check=None, steady=None, points=None,
-                     random=None, srs=None) -> str:
+                     random=None, srs=None, nonlinear=None) -> str:
     """The run summary as Markdown text (see :func:`sixdof.workflows.run_scenario`)."""
     parts = [f"# {scenario.name}", "", scenario.description, ""]
     if notes:
@@ -305,8 +346,11 @@ def summary_markdown(scenario, modes, statics, damping_ratios, response, forces,
             parts += ["### Body points", "", points_table(points), ""]
         parts += ["### Peak mount forces (dynamic part, about static equilibrium; body axes)", "",
                   _mount_peaks_table(forces), ""]
-        parts += ["### Direct solve vs modal superposition", "",
-                  _agreement_table(agreement, superposition.superposition), ""]
+        if nonlinear is not None:
+            parts += ["### Nonlinear mounts", "", nonlinear_text(*nonlinear, agreement, stats).replace("\n", "\n\n"),
+                      ""]
+        parts += ["### Direct solve vs modal superposition" + (" (until the first mount engaged)" if nonlinear else ""),
+                  "", _agreement_table(agreement, superposition.superposition), ""]
     if frf is not None:
         f_hz = frf.direct.f_hz
         parts += ["## Frequency response", "", f"{len(f_hz)} frequencies from {f_hz[0]:g} to {f_hz[-1]:g} Hz; direct "

@@ -130,6 +130,11 @@ class ForceLaws:
         Deflection at the system's static equilibrium [m].
     clearance : ndarray, shape (ne,)
         Bump stop clearance [m] (inf: none).
+    contact : ndarray, shape (ne, P + 1)
+        1 in the regions where the mount touches the body along the axis, 0 where it has lifted off (its
+        dashpot along the axis acts only in contact).
+    damping : ndarray, shape (ne,)
+        The mount's dashpot along the axis [N s/m].
     """
 
     names: tuple[str, ...]
@@ -142,6 +147,8 @@ class ForceLaws:
     slope: np.ndarray
     static_deflection: np.ndarray
     clearance: np.ndarray
+    contact: np.ndarray
+    damping: np.ndarray
 
     @property
     def count(self) -> int:
@@ -159,6 +166,11 @@ class ForceLaws:
     def _pick(self, table: np.ndarray, region: np.ndarray) -> np.ndarray:
         return np.take_along_axis(np.broadcast_to(table, region.shape[:-1] + table.shape), region[..., None],
                                   axis=-1)[..., 0]
+
+    def in_contact(self, d) -> np.ndarray:
+        """1 where the mount touches the body along the axis at deflections ``d`` (..., ne) [m], 0 where it has
+        lifted off."""
+        return self._pick(self.contact, self.region(np.asarray(d, dtype=float)))
 
     def force(self, d) -> np.ndarray:
         """``r(d)`` (..., ne) [N] at deflections ``d`` (..., ne) [m]."""
@@ -255,7 +267,9 @@ def _law(stiffness: float, table: ForceDeflection | None, clearance: float, stop
     slopes = np.concatenate([slopes[:1], slopes[1:][kink]])
     points = np.concatenate([knots[:1], knots]) if knots.size else np.zeros(1)
     at = np.concatenate([values[:1], values]) if knots.size else np.zeros(1)
-    return knots, at - slopes * points, slopes
+    # A mount that has lifted off touches nothing: its dashpot along the axis is off too.
+    contact = np.ones(slopes.size) if not lift else np.concatenate([[1.0], (knots < 0).astype(float)])
+    return knots, at - slopes * points, slopes, contact
 
 
 def force_laws(mounts, local_map: np.ndarray, tables, equilibrium: np.ndarray) -> ForceLaws:
@@ -292,4 +306,6 @@ def force_laws(mounts, local_map: np.ndarray, tables, equilibrium: np.ndarray) -
         slope=padded([law[-1][2] for law in laws], 1),
         static_deflection=readonly(rows @ np.asarray(equilibrium, dtype=float)),
         clearance=readonly([law[4] for law in laws]),
+        contact=padded([law[-1][3] for law in laws], 1),
+        damping=readonly([float(mounts[law[2]].damping[law[3]]) for law in laws]),
     )

@@ -397,7 +397,7 @@ def _solve_segment(p, xs0, ts, t0, t1, jump_ts, rtol, atol, region, *, solver: s
                              axis=1)
     low, high = (jnp.clip(pick(padded, region + shift), -big, big) for shift in (0, 1))
     scale = jnp.concatenate([sigma, p["energy_scale"]])
-    M, C, K, R, k_b, tau = p["M"], p["C"], p["K"], p["R"], p["k_b"], p["tau"]
+    C, K, R, k_b, tau = p["C"], p["K"], p["R"], p["k_b"], p["tau"]
     r = p["r"]
 
     def field(t, ys, args):
@@ -680,7 +680,7 @@ def _nonlinear_params(system: System, excitation: Excitation, sigma: np.ndarray)
     return {"laws": {"rows": laws.rows, "knots": laws.knots, "slope": laws.slope, "intercept": laws.intercept,
                      "static": laws.static_deflection, "force": laws.static_force, "tangent": laws.tangent,
                      "hysteresis": REGION_HYSTERESIS * scale_d, "contact": laws.contact, "damping": laws.damping},
-            "Minv": np.linalg.inv(M), "M": M, "C": np.asarray(system.C, dtype=float),
+            "Minv": np.linalg.inv(M), "C": np.asarray(system.C, dtype=float),
             "K": np.asarray(system.K, dtype=float), "R": branches.rows.reshape(-1, 6),
             "k_b": branches.stiffness, "tau": branches.tau,
             "r": np.zeros(6) if ground is None else ground.rigid_vector, "energy_scale": np.full(2, energy)}

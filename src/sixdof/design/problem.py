@@ -20,6 +20,7 @@ import numpy as np
 from sixdof.analysis.design import inverse_cholesky, modes_jax, torque_roll_axis, tra_frame
 from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.dofs import AXES, DOFS, MOUNT_AXES
+from sixdof.errors import InputError, Plain
 
 #: Relative margin inside each target's bounds that the optimizer aims for.
 MARGIN = 0.01
@@ -81,6 +82,10 @@ class DesignProblem:
     every mount-axis stiffness (the robustness study's scatter)."""
 
     def __init__(self, system, spec, gravity: float = STANDARD_GRAVITY, direction=(0.0, 0.0, -1.0)) -> None:
+        if system.nonlinear.count:
+            raise InputError("mounts", "linear mounts (designing mounts with bump stops, lift-off or force-deflection "
+                             "tables is not supported yet)",
+                             Plain(f"nonlinear mount axes {', '.join(system.nonlinear.names)}"))
         self.system, self.spec = system, spec
         self.names = tuple(m.name for m in system.mounts)
         self.variables = variables(spec, self.names, system.positions)

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from sixdof.errors import InputError, Plain, choice_check, finite_array, label_check, readonly
-from sixdof.frozen import Frozen, checked
+from sixdof.frozen import Frozen
 from sixdof.results import label, quantity
 
 #: A mount's own axes, in the order of its 3-vectors.

@@ -35,7 +35,7 @@ from sixdof.errors import (
 from sixdof.frozen import Frozen, checked
 from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import mount_local_map, mount_matrix
-from sixdof.model.nonlinear import AXES, ForceDeflection, ForceLaws, force_laws
+from sixdof.model.nonlinear import ForceDeflection, ForceLaws, force_laws
 from sixdof.model.viscoelastic import relaxation
 from sixdof.results import label, part, quantity, sequence, stacked
 
@@ -514,6 +514,17 @@ class System(Frozen):
         return Branches(names=tuple(s[0] for s in states), rows=readonly(local[mount, axis].reshape(-1, 6)),
                         stiffness=readonly([s[3] for s in states]), tau=readonly([s[4] for s in states]),
                         mount=readonly(mount, None), axis=readonly(axis, None))
+
+    def linearized(self) -> System:
+        """This system with every mount linear at its slope at the static equilibrium (no bump stop, lift-off or
+        table): what the modes and FRFs describe, for the analyses that need a linear model of it."""
+        if not self.nonlinear.count:
+            return self
+        import dataclasses
+
+        mounts = [dataclasses.replace(m, stiffness=k, bump_clearance=np.full(3, np.inf), bump_stiffness=np.zeros(3),
+                                      tension=True) for m, k in zip(self.mounts, self.stiffnesses)]
+        return dataclasses.replace(self, mounts=mounts, force_deflection=(), equilibrium=np.zeros(6))
 
     @cached_property
     def M(self) -> np.ndarray:

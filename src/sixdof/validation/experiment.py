@@ -595,15 +595,18 @@ def mode_checks(row: ModeCheck, h1_bins: int) -> list[Check]:
 
 
 def integrated_model(system: System) -> tuple[System, tuple[str, ...]]:
-    """``system`` as the time integration sees it: the hysteretic loss factors removed.
+    """``system`` as the time integration of a check of its linear (modal, random) results sees it: linearized
+    about its static equilibrium (:meth:`System.linearized`: the model its modes and FRFs describe) and the
+    hysteretic loss factors removed.
 
     Returns
     -------
     system : System
-        ``system`` itself when no mount has a loss factor, else a copy with every loss factor 0.
+        ``system`` itself when it is linear and no mount has a loss factor, else such a copy.
     mounts : tuple of str
         Names of the mounts whose loss factors were removed.
     """
+    system = system.linearized()
     hysteretic = tuple(m.name for m in system.mounts if np.any(m.loss_factor))
     if not hysteretic:
         return system, ()

@@ -440,6 +440,10 @@ def _modes_json(scenario, modes, statics, zeta, sensitivity: bool = False) -> di
     out = {"name": scenario.name, "dofs": modal["dof"], **modal,
            "frequencies_hz": modal["frequency_hz"], "omega_rad_s": modal["omega"],
            "damping_ratios": modal["damping_ratio"], "zero_modes": list(modes.zero_modes), "statics": None}
+    laws = scenario.system.nonlinear
+    # Modes of a system with nonlinear mounts are those of its linearization about the static equilibrium.
+    out["linearized_axes"] = list(laws.names)
+    out["linearized_stiffness"] = [float(k) for k in laws.tangent]
     out.update(_design_json(scenario, sensitivity, plain))
     if statics is not None:
         fixed = group("statics")

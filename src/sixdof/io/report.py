@@ -353,8 +353,11 @@ def summary_markdown(scenario, modes, statics, damping_ratios, response, forces,
                   "", _agreement_table(agreement, superposition.superposition), ""]
     if frf is not None:
         f_hz = frf.direct.f_hz
+        linearized = (" Nonlinear mounts enter at their slope at the static equilibrium (the linearization)."
+                      if scenario.system.nonlinear.count else "")
         parts += ["## Frequency response", "", f"{len(f_hz)} frequencies from {f_hz[0]:g} to {f_hz[-1]:g} Hz; direct "
-                  f"and modal receptances agree to {frf.max_relative_difference:.1e} (relative, worst entry).", ""]
+                  f"and modal receptances agree to {frf.max_relative_difference:.1e} (relative, worst entry)."
+                  + linearized, ""]
     if figures:
         parts += ["## Figures", "", *(f"![{Path(f).stem}]({Path(f).name})" for f in figures), ""]
     return "\n".join(parts)

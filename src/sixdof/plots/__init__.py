@@ -82,6 +82,16 @@ def _carries_shear(check) -> bool:
     return carries_shear(check)
 
 
+def _linear_name(run) -> str:
+    """The run's name in the title of a figure of its linear model, saying so when its mounts are nonlinear."""
+    if run.system is None or not run.system.nonlinear.count:
+        return run.name
+    first = None if run.contacts is None else run.contacts.first_engaged_t
+    if first is not None and first == first:  # not nan: a mount engaged
+        return f"{run.name} (linear model, exact until a nonlinear mount engaged at t = {first:.4g} s)"
+    return f"{run.name} (linearized about the static equilibrium)"
+
+
 def _file_order(extras: Mapping[str, object]) -> dict[str, object]:
     """``extras`` in the results file's order (by kind, then name): a live and a loaded run draw alike."""
     from sixdof.analysis.frf import ForceTransmissibility, GroundTransmissibility, PointFRF
@@ -111,15 +121,15 @@ FIGURES: tuple[tuple[str, tuple[str, ...], Callable[[object], bool], Callable[[o
     ("mount_shear.png", ("response", "mount_check", "events"),
      lambda run: run.response is not None and run.mount_check is not None and _carries_shear(run.mount_check),
      lambda run: _plots.plot_mount_shear(run.mount_check, run.response.t, name=run.name, events=run.events)),
-    ("superposition.png", ("response", "superposition", "agreement", "events"),
+    ("superposition.png", ("response", "superposition", "agreement", "events", "system", "contacts"),
      lambda run: run.response is not None and run.superposition is not None,
-     lambda run: _plots.plot_superposition(run.response, run.superposition, run.agreement, name=run.name,
+     lambda run: _plots.plot_superposition(run.response, run.superposition, run.agreement, name=_linear_name(run),
                                            events=run.events)),
-    ("bode.png", ("frf", "modes", "steady_state"), lambda run: run.frf is not None,
-     lambda run: _plots.plot_bode(run.frf, run.modes, name=run.name,
+    ("bode.png", ("frf", "modes", "steady_state", "system"), lambda run: run.frf is not None,
+     lambda run: _plots.plot_bode(run.frf, run.modes, name=_linear_name(run),
                                   operating_hz=None if run.steady_state is None else run.steady_state.f_hz)),
-    ("point_frfs.png", ("frf", "frf_extras", "modes"), lambda run: bool(run.frf_extras),
-     lambda run: _plots.plot_point_frfs(_file_order(run.frf_extras), run.modes, name=run.name)),
+    ("point_frfs.png", ("frf", "frf_extras", "modes", "system"), lambda run: bool(run.frf_extras),
+     lambda run: _plots.plot_point_frfs(_file_order(run.frf_extras), run.modes, name=_linear_name(run))),
     ("validation_frf.png", ("validation",), lambda run: run.validation is not None and bool(run.validation.random_runs),
      lambda run: _plots.plot_validation_frf(run.validation, name=run.name)),
     ("free_decays.png", ("validation",), lambda run: run.validation is not None and bool(run.validation.decays),

@@ -154,8 +154,9 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
     return fig
 
 
-#: Legend of the tension shading: the model's mounts are linear, a real one would lift off there.
-TENSION_LABEL = "tension (a real mount lifts off; these linear ones hold)"
+#: Legend of the tension shading: a mount that pulls on the body (a linear one holds; one with tension = false lifts
+#: off, where only its dashpot can pull, while it extends just before it separates).
+TENSION_LABEL = "tension (the mount pulls; one with tension = false lifts off instead)"
 #: The second curve of a ground-driven run (absolute or relative motion) is drawn on the first's scale only
 #: while its peak is at most this many times the first's.
 OTHER_SCALE = 10.0

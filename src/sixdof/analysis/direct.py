@@ -145,6 +145,10 @@ class SimulationSettings(Frozen):
         Step limit *per window* (:func:`simulate_windows`: at most :data:`WINDOW_SAMPLES` samples), so a
         run of any duration that needs fewer than ``max_steps / WINDOW_SAMPLES`` steps per sample
         (30 by default; the bridge beam at 1 kHz needs 0.9 with Tsit5) never reaches it. Default 1e6.
+    min_contact_s : float, optional
+        Runs with nonlinear mounts: the shortest excursion past a knot of a force law (a contact, a lift-off) that
+        the solve is sure to see [s]. A change of region is found as a sign change between two steps, so the step
+        is capped at half of this. Default 1e-3.
     """
 
     duration: float = label(check=number_check("a positive, finite duration in s", low=0.0, strict=True))
@@ -154,6 +158,7 @@ class SimulationSettings(Frozen):
     rtol: float = label(check=_tolerance, default=1e-9)
     atol: float = label(check=_tolerance, default=1e-9)
     max_steps: int = label(check=integer_check("a positive integer", 1), default=1_000_000)
+    min_contact_s: float = label(check=number_check("a positive duration in s", low=0.0, strict=True), default=1e-3)
 
     @property
     def samples(self) -> int:
@@ -319,7 +324,8 @@ def _input(t, g, p, code: int):
     return jnp.stack([*(signal(t) for signal in p["signals"]), a_g if code == 3 else v_g])
 
 
-def solve_ode(field, x0, t0, t1, saveat, jump_ts, rtol, atol, *, solver: str, max_steps: int, args=None, event=None):
+def solve_ode(field, x0, t0, t1, saveat, jump_ts, rtol, atol, *, solver: str, max_steps: int, args=None, event=None,
+              dtmax=None):
     """The one diffrax call of sixdof, shared by :func:`simulate_windows` and the batch engine (traceable).
 
     ``solver`` (a key of :data:`SOLVERS`; explicit methods with unrolled stages,
@@ -331,7 +337,8 @@ def solve_ode(field, x0, t0, t1, saveat, jump_ts, rtol, atol, *, solver: str, ma
 
     from sixdof.analysis import unrolled
 
-    controller = diffrax.ClipStepSizeController(diffrax.PIDController(rtol=rtol, atol=atol), jump_ts=jump_ts)
+    controller = diffrax.ClipStepSizeController(diffrax.PIDController(rtol=rtol, atol=atol, dtmax=dtmax),
+                                                jump_ts=jump_ts)
     return diffrax.diffeqsolve(
         diffrax.ODETerm(field), unrolled.solver(solver), t0, t1, None, x0, args=args, saveat=saveat,
         stepsize_controller=controller, max_steps=max_steps, throw=False, event=event,
@@ -416,13 +423,19 @@ def _solve_segment(p, xs0, ts, t0, t1, jump_ts, rtol, atol, region, *, solver: s
     def deflection(ys):
         return laws["static"] + rows @ (ys[:6] * sigma[:6])
 
-    delta = laws["hysteresis"]
-    conditions = tuple(
-        [lambda t, y, args, e=e, **kw: deflection(y)[e] - low[e] + delta[e] for e in range(knots.shape[0])]
-        + [lambda t, y, args, e=e, **kw: high[e] - deflection(y)[e] + delta[e] for e in range(knots.shape[0])])
-    event = diffrax.Event(conditions, root_finder=optx.Newton(rtol=1e-12, atol=1e-12), direction=False)
+    # Distances to the region's knots, below and above (ne, 2), over each axis's deflection scale: the event is the
+    # nearest reaching zero (one continuous function, which bisection brackets on the step's dense output).
+    delta, length = laws["hysteresis"], laws["hysteresis"] / REGION_HYSTERESIS
+
+    def distances(y):
+        d = deflection(y)
+        return jnp.stack([d - low + delta, high - d + delta], axis=1) / length[:, None]
+
+    event = diffrax.Event(lambda t, y, args, **kw: jnp.min(distances(y)), direction=False,
+                          root_finder=optx.Bisection(rtol=1e-12, atol=1e-12, flip="detect"))
+    # An event is a sign change between steps: capped steps see every excursion past a knot that lasts two steps.
     sol = solve_ode(field, xs0, t0, t1, diffrax.SaveAt(ts=ts, t1=True), jump_ts, rtol, atol, args=None,
-                    solver=solver, max_steps=max_steps, event=event)
+                    solver=solver, max_steps=max_steps, event=event, dtmax=p["dtmax"])
     # The state where the segment ended is saved after the samples before it (those after it are inf).
     last = jnp.sum(jnp.isfinite(sol.ts)) - 1
     ys = jnp.where(jnp.arange(ts.size)[:, None] < last, sol.ys[:-1], sol.ys[last])
@@ -437,7 +450,8 @@ def _solve_segment(p, xs0, ts, t0, t1, jump_ts, rtol, atol, region, *, solver: s
     qdd, Q, ground = jax.vmap(outputs)(ts, xs)
     energy = ys[:, size:] * p["energy_scale"]
     stats = jnp.stack([sol.stats["num_steps"], sol.stats["num_accepted_steps"], sol.stats["num_rejected_steps"]])
-    crossed = jnp.stack(jax.tree.leaves(sol.event_mask)).reshape(2, -1).T if knots.shape[0] else jnp.zeros((0, 2), bool)
+    at_end = distances(sol.ys[last])
+    crossed = (sol.result == diffrax.RESULTS.event_occurred) & (at_end == jnp.min(at_end))
     ok = (sol.result == diffrax.RESULTS.successful) | (sol.result == diffrax.RESULTS.event_occurred)
     result = jax.tree.leaves(sol.result)[0]
     return sol.ys[last], xs, qdd, Q, ground, ok, result, stats, energy, sol.ts[last], crossed
@@ -649,7 +663,7 @@ def _prepare(system: System, excitation: Excitation, settings: SimulationSetting
     xs0 = x0 / sigma
     region = None
     if is_nonlinear(system):
-        params = {**params, **_nonlinear_params(system, excitation, sigma)}
+        params = {**params, **_nonlinear_params(system, excitation, sigma, settings)}
         xs0 = np.concatenate([xs0, [0.0, 0.0]])  # the work done and the energy dissipated since the start
         region = laws.region(laws.static_deflection + laws.rows @ x0[:6])
     example = _window_args(params, xs0, np.zeros(window + 1), t0, t1, np.zeros(slots), settings, region)
@@ -670,7 +684,7 @@ def is_nonlinear(system: System) -> bool:
 REGION_HYSTERESIS = 1e-10
 
 
-def _nonlinear_params(system: System, excitation: Excitation, sigma: np.ndarray) -> dict:
+def _nonlinear_params(system: System, excitation: Excitation, sigma: np.ndarray, settings: SimulationSettings) -> dict:
     """The arrays :func:`_solve_segment` needs besides the linear solve's."""
     laws, branches = system.nonlinear, system.branches
     M = np.asarray(system.M, dtype=float)
@@ -683,7 +697,8 @@ def _nonlinear_params(system: System, excitation: Excitation, sigma: np.ndarray)
             "Minv": np.linalg.inv(M), "C": np.asarray(system.C, dtype=float),
             "K": np.asarray(system.K, dtype=float), "R": branches.rows.reshape(-1, 6),
             "k_b": branches.stiffness, "tau": branches.tau,
-            "r": np.zeros(6) if ground is None else ground.rigid_vector, "energy_scale": np.full(2, energy)}
+            "r": np.zeros(6) if ground is None else ground.rigid_vector, "energy_scale": np.full(2, energy),
+            "dtmax": np.float64(settings.min_contact_s / 2)}
 
 
 def _window_args(params, xs0, ts, t0, t1, jumps, settings, region=None) -> tuple:

@@ -23,20 +23,22 @@ from systems import FOUR_MOUNT_CORNERS
 from tolerances import RTOL_DIRECT_EXACT, RTOL_STATICS
 
 # Event times of the direct solve against closed forms, relative to the period of the motion: the events are
-# root-found on the solver's dense output (Newton to 1e-12) a hysteresis of 1e-10 of the deflection scale away
-# from the knot, and inherit the solve's global error (rtol = atol = 1e-9 on the scaled state). Measured
-# <= 2e-10 over four cycles.
+# root-found on the solver's dense output a hysteresis of 1e-10 of the deflection scale past the knot, and inherit
+# the solve's global error (rtol = atol = 1e-9 on the scaled state). Measured <= 7e-10 over four cycles.
 RTOL_EVENT_TIME = 1e-8
 # Zero crossings of the sampled response (cubic Hermite interpolation of z and z' between the two samples
-# around each crossing) against the closed form, relative to the period: the interpolation error of a C2
-# motion ~ (omega h)^3 h / 384 at omega h <= 0.09, measured ~2e-8.
+# around each crossing) against the closed form, relative to the period: z''' jumps at the crossing (the
+# stiffness changes there), so the interpolant is good to ~(omega h)^3 h; measured 2.5e-7 at omega h <= 0.084.
 RTOL_ZERO_CROSSING = 1e-6
 # Amplitude invariants of a linear piece (z^2 + (z'/omega)^2 about its centre) sampled from the direct solve,
-# relative to the amplitude: the solve's global error, measured ~1e-9.
+# relative to the amplitude: the solve's global error, measured <= 9e-9.
 RTOL_AMPLITUDE = 1e-7
 # Event times of the direct solve against scipy's event-located DOP853 (rtol 1e-12), relative to the duration
-# of the run: both locate the same crossings to their integration error, measured ~5e-10.
+# of the run: both locate the same crossings to their integration error, measured <= 6e-10.
 RTOL_EVENT_REFERENCE = 1e-7
+# Two solves of identical matrices and loads (a linear table, the linear mount): the same arithmetic, measured
+# equal to the last bit; relative to each DOF's peak.
+RTOL_SAME_SOLVE = 1e-13
 
 
 def corners(a, b, h):
@@ -85,7 +87,7 @@ def test_bilinear_free_vibration_period_and_peaks():
     system = bilinear_system()
     w1, w2 = np.sqrt(4 * BI_K1 / BI_MASS), np.sqrt(4 * BI_K2 / BI_MASS)  # extension (up), compression (down)
     period = np.pi / w1 + np.pi / w2
-    settings = SimulationSettings(duration=4 * period, sample_rate_hz=1500.0)
+    settings = SimulationSettings(duration=4.25 * period, sample_rate_hz=1500.0)
     excitation = Excitation(initial=InitialState(qd=[0.0, 0.0, BI_V0, 0.0, 0.0, 0.0]))
     history = simulate(system, excitation, settings)
     assert is_nonlinear(system)
@@ -101,28 +103,27 @@ def test_bilinear_free_vibration_period_and_peaks():
     assert np.max(np.abs(history.qd[:, 2] - zd)) <= RTOL_DIRECT_EXACT * BI_V0
     assert np.max(np.abs(history.q[:, [0, 1, 3, 4, 5]])) <= RTOL_DIRECT_EXACT * BI_V0 / w1
 
-    # Events: every law leaves compression at n T and enters it at n T + pi / w1.
+    # Events: every law leaves compression at n T and enters it at n T + pi / w1 (n = 0 to 4).
     events = history.contacts
     assert events.names == ("m0 w", "m1 w", "m2 w", "m3 w")
-    n = int(np.floor(settings.duration / period))
+    cycles = np.arange(5)
     for law in range(4):
         mine = events.law == law
         rising = events.t[mine & (events.region_from == 0) & (events.region_to == 1)]
         falling = events.t[mine & (events.region_from == 1) & (events.region_to == 0)]
-        np.testing.assert_allclose(rising, period * np.arange(n + 1), rtol=0, atol=RTOL_EVENT_TIME * period)
-        np.testing.assert_allclose(falling, period * np.arange(n) + np.pi / w1, rtol=0,
-                                   atol=RTOL_EVENT_TIME * period)
+        np.testing.assert_allclose(rising, period * cycles, rtol=0, atol=RTOL_EVENT_TIME * period)
+        np.testing.assert_allclose(falling, period * cycles[:4] + np.pi / w1, rtol=0, atol=RTOL_EVENT_TIME * period)
         np.testing.assert_allclose(np.diff(rising), period, rtol=RTOL_EVENT_TIME)
-    assert history.stats.num_events == events.count == 4 * (2 * n + 1)
+    assert history.stats.num_events == events.count == 4 * 9
 
     # The period again from the sampled motion: its zero crossings.
     crossings = hermite_roots(history.t, history.q[:, 2], history.qd[:, 2])
     upward = np.array([t for t, sign in crossings if sign > 0])
     downward = np.array([t for t, sign in crossings if sign < 0])
-    assert upward.size == n and downward.size == n  # t = 0 lies on a sample, not between two
+    assert upward.size == downward.size == 4  # the one at t = 0 lies on a sample, not between two
     np.testing.assert_allclose(np.diff(upward), period, rtol=RTOL_ZERO_CROSSING)
-    np.testing.assert_allclose(downward - np.pi / w1, period * np.arange(n), rtol=0, atol=RTOL_ZERO_CROSSING * period)
-    np.testing.assert_allclose(upward, period * np.arange(1, n + 1), rtol=0, atol=RTOL_ZERO_CROSSING * period)
+    np.testing.assert_allclose(upward, period * cycles[1:], rtol=0, atol=RTOL_ZERO_CROSSING * period)
+    np.testing.assert_allclose(downward, period * cycles[:4] + np.pi / w1, rtol=0, atol=RTOL_ZERO_CROSSING * period)
 
     # Peaks: v0 / w1 above, v0 / w2 below, from the amplitude of each side's samples ...
     q, qd = history.q[:, 2], history.qd[:, 2]
@@ -133,3 +134,473 @@ def test_bilinear_free_vibration_period_and_peaks():
     h = 1.0 / settings.sample_rate_hz
     assert BI_V0 / w1 * np.cos(w1 * h / 2) <= q.max() <= BI_V0 / w1 * (1 + RTOL_AMPLITUDE)
     assert BI_V0 / w2 * np.cos(w2 * h / 2) <= -q.min() <= BI_V0 / w2 * (1 + RTOL_AMPLITUDE)
+
+
+# ----------------------------------------------------------------------------------------------------
+# 2. A mass dropped onto a bump stop: the impact in closed form.
+# ----------------------------------------------------------------------------------------------------
+
+DROP_MASS, DROP_K, DROP_KS, DROP_C, DROP_V0 = 100.0, 2.5e4, 1.0e6, 0.015, 0.5  # kg, N/m, N/m, m, m/s
+
+
+def drop_system() -> System:
+    """A body on four mounts soft in w (DROP_K each) with bump stops on w (DROP_C, DROP_KS), at rest under
+    gravity (9.8 mm down, inside the clearance): symmetric, so a vertical velocity moves z alone."""
+    mounts = [Mount(f"m{i}", p, [2e5, 2e5, DROP_K], bump_clearance=[np.inf, np.inf, DROP_C],
+                    bump_stiffness=[0.0, 0.0, DROP_KS]) for i, p in enumerate(corners(0.4, 0.3, 0.1))]
+    system = System(RigidBody(DROP_MASS, [10.0, 12.0, 14.0]), mounts)
+    return at_equilibrium(system, gravity_statics(system))
+
+
+def drop_closed_form(t):
+    """z, z' of the body released downwards at DROP_V0 from rest under gravity, about the static equilibrium, and
+    the impact's characteristics, derived by hand for the piecewise-linear oscillator
+
+        m z'' = -K z - K_s min(z - z_c, 0),   K = 4 k, K_s = 4 k_s,  z_c = -(c - m g / K):
+
+    free at w = sqrt(K / m) above the contact point z_c (where the stops' clearance is taken up); in contact at
+    W = sqrt((K + K_s) / m) about the centre z* = K_s z_c / (K + K_s)."""
+    K, KS = 4 * DROP_K, 4 * DROP_KS
+    w, W = np.sqrt(K / DROP_MASS), np.sqrt((K + KS) / DROP_MASS)
+    zc = -(DROP_C - DROP_MASS * STANDARD_GRAVITY / K)
+    t1 = np.arcsin(-zc * w / DROP_V0) / w  # z = -v0 / w sin(w t) reaches z_c
+    v1 = -np.sqrt(DROP_V0**2 - (w * zc) ** 2)  # the velocity there
+    centre = KS * zc / (K + KS)
+    y1 = zc - centre  # y = z - z* = y1 cos(W s) + v1 / W sin(W s) = B sin(W s + theta)
+    B = np.hypot(y1, v1 / W)
+    theta = np.arctan2(y1, v1 / W)  # third quadrant: y1 < 0, v1 < 0
+    contact = (-np.pi - 2 * theta) / W  # back at y1, with y' = -v1
+    psi = np.arcsin(zc * w / DROP_V0)  # free flight z = v0 / w sin(w u + psi) from z_c up and back to z_c
+    flight = (np.pi - 2 * psi) / w
+    cycle = contact + flight
+    s = np.mod(t - t1, cycle)
+    inside = s < contact
+    u = s - contact
+    z = np.where(t < t1, -DROP_V0 / w * np.sin(w * t),
+                 np.where(inside, centre + y1 * np.cos(W * s) + v1 / W * np.sin(W * s),
+                          zc * np.cos(w * u) - v1 / w * np.sin(w * u)))
+    zd = np.where(t < t1, -DROP_V0 * np.cos(w * t),
+                  np.where(inside, -y1 * W * np.sin(W * s) + v1 * np.cos(W * s),
+                           -zc * w * np.sin(w * u) - v1 * np.cos(w * u)))
+    impact = dict(start=t1, duration=contact, cycle=cycle, penetration=y1 + B, rebound=-v1, zc=zc, centre=centre,
+                  amplitude=B, w=w, W=W)
+    return z, zd, impact
+
+
+def test_drop_onto_a_bump_stop():
+    system = drop_system()
+    settings = SimulationSettings(duration=0.26, sample_rate_hz=1500.0)
+    excitation = Excitation(initial=InitialState(qd=[0.0, 0.0, -DROP_V0, 0.0, 0.0, 0.0]))
+    history = simulate(system, excitation, settings)
+    z, zd, impact = drop_closed_form(history.t)
+    # The equilibrium the motion is about: the weight on the mounts' linear springs, inside the clearance.
+    np.testing.assert_allclose(system.equilibrium[2], -DROP_MASS * STANDARD_GRAVITY / (4 * DROP_K), rtol=RTOL_STATICS)
+    np.testing.assert_array_equal(system.stiffnesses[:, 2], DROP_K)
+
+    peak = DROP_V0 / impact["w"]
+    assert np.max(np.abs(history.q[:, 2] - z)) <= RTOL_DIRECT_EXACT * peak
+    assert np.max(np.abs(history.qd[:, 2] - zd)) <= RTOL_DIRECT_EXACT * DROP_V0
+    assert np.max(np.abs(history.q[:, [0, 1, 3, 4, 5]])) <= RTOL_DIRECT_EXACT * peak
+
+    # Contact starts and ends, per stop: two impacts in the run.
+    starts = impact["start"] + impact["cycle"] * np.arange(2)
+    ends = starts + impact["duration"]
+    assert ends[-1] < settings.duration < starts[-1] + impact["cycle"]
+    events = history.contacts
+    for law in range(4):
+        mine = events.law == law
+        np.testing.assert_allclose(events.t[mine & (events.region_from == 1) & (events.region_to == 0)], starts,
+                                   rtol=0, atol=RTOL_EVENT_TIME * impact["cycle"])
+        np.testing.assert_allclose(events.t[mine & (events.region_from == 0) & (events.region_to == 1)], ends,
+                                   rtol=0, atol=RTOL_EVENT_TIME * impact["cycle"])
+    assert events.count == 16 and np.all(events.region_to <= 1)  # never onto the stops above
+
+    # In contact the motion is a sine about the shifted centre: its amplitude gives the peak penetration.
+    q, qd = history.q[:, 2], history.qd[:, 2]
+    touching = q < impact["zc"]
+    assert touching.sum() >= 2 * 8  # a few samples of each impact
+    amplitude = np.hypot(q[touching] - impact["centre"], qd[touching] / impact["W"])
+    np.testing.assert_allclose(amplitude, impact["amplitude"], rtol=RTOL_AMPLITUDE)
+    # Rebound: free again, the velocity it left the stop with, from each free sample's energy.
+    free = (history.t > ends[0]) & (history.t < starts[1])
+    rebound = np.sqrt(qd[free] ** 2 + impact["w"] ** 2 * (q[free] ** 2 - impact["zc"] ** 2))
+    np.testing.assert_allclose(rebound, impact["rebound"], rtol=RTOL_AMPLITUDE)
+    assert impact["rebound"] < DROP_V0  # the mounts' springs took some of the drop's speed before the contact
+
+    # The contact summary: intervals, time engaged, sampled peak penetration (within the sampling).
+    deflection = total_deflection(system, history)
+    summary = contact_summary(system, events, history.t, deflection.min(axis=0), deflection.max(axis=0))
+    np.testing.assert_array_equal(summary.engagements, 2)
+    on_time = RTOL_EVENT_TIME * impact["cycle"]
+    np.testing.assert_allclose(summary.engaged_time, 2 * impact["duration"], rtol=0, atol=4 * on_time)
+    np.testing.assert_allclose(summary.interval_start, np.repeat(starts, 4), rtol=0, atol=on_time)
+    np.testing.assert_allclose(summary.interval_end, np.repeat(ends, 4), rtol=0, atol=on_time)
+    h = 1.0 / settings.sample_rate_hz
+    sampling = impact["amplitude"] * (1 - np.cos(impact["W"] * h / 2))
+    penetration = impact["penetration"]
+    assert np.all(summary.peak_penetration <= penetration * (1 + RTOL_AMPLITUDE))
+    assert np.all(summary.peak_penetration >= penetration - sampling)
+    assert 0.1 * DROP_C < penetration < DROP_C  # a real impact, not a graze
+
+
+# ----------------------------------------------------------------------------------------------------
+# 3. Lift-off and bump stops under an uplift pulse: an event-driven integration written here.
+# ----------------------------------------------------------------------------------------------------
+
+LIFT_MASS, LIFT_INERTIA = 200.0, np.array([20.0, 30.0, 40.0])  # kg, kg m^2
+LIFT_KUV, LIFT_KW, LIFT_KS, LIFT_C = 1.5e5, 4.0e5, 4.0e6, 2.0e-3  # N/m, N/m, N/m, m
+LIFT_ALPHA = 3.0  # 1/s: Rayleigh C = alpha M (about 2 % at the bounce, 14 Hz)
+LIFT_POSITIONS = corners(0.4, 0.3, 0.2)
+LIFT_POINT = np.array([0.4, 0.3, 0.1])  # m: above mount m2
+LIFT_PULSE = (0.01, 0.04)  # s: start, duration of the half-sine
+LIFT_SETTINGS = SimulationSettings(duration=0.3, sample_rate_hz=1500.0)
+
+
+def lift_system() -> System:
+    """A body resting under gravity on four mounts that lift off (tension = False), with bump stops on w
+    0.77 mm beyond their static compression (1.23 mm)."""
+    mounts = [Mount(f"m{i}", p, [LIFT_KUV, LIFT_KUV, LIFT_KW], bump_clearance=[np.inf, np.inf, LIFT_C],
+                    bump_stiffness=[0.0, 0.0, LIFT_KS], tension=False) for i, p in enumerate(LIFT_POSITIONS)]
+    system = System(RigidBody(LIFT_MASS, LIFT_INERTIA), mounts, rayleigh=Rayleigh(LIFT_ALPHA, 0.0))
+    return at_equilibrium(system, gravity_statics(system))
+
+
+def uplift(peak: float) -> tuple[Excitation, np.ndarray]:
+    """A half-sine force, mostly upwards, at LIFT_POINT; and its generalized force, written here."""
+    force = peak * np.array([0.3, -0.2, 1.0])
+    start, duration = LIFT_PULSE
+    load = Load("uplift", LIFT_POINT, force=force, signal=HalfSine(start=start, duration=duration))
+    return Excitation(loads=[load]), np.concatenate([force, np.cross(LIFT_POINT, force)])
+
+
+def stop_and_lift_law(region: int) -> tuple[float, float]:
+    """Intercept [N] and slope [N/m] of the w law written here, by region: the stop engaged (d < -c), the
+    mount's spring (-c <= d <= 0), lifted off (d > 0)."""
+    return [(LIFT_KS * LIFT_C, LIFT_KW + LIFT_KS), (0.0, LIFT_KW), (0.0, 0.0)][region]
+
+
+LIFT_KNOTS = (-LIFT_C, 0.0)
+
+
+def event_driven_reference(Q_load, times):
+    """The lift-off system integrated with scipy's DOP853 region by region, restarted at every change of a
+    mount's region (located by solve_ivp's events), from rest in static equilibrium:
+
+        M q'' + C q' + sum_j L_j' r_j(L_j (q_s + q)) = W + Q(t)
+
+    with the rows L_j, the weight W, the equilibrium q_s and the laws r_j all written here. Two more states
+    integrate the loads' work Q(t) . q' and the dissipation q' C q'. Returns the states at ``times`` (n, 14)
+    and the events (t, mount, region before, region after)."""
+    rows = np.concatenate([rows_of(p, np.eye(3)) for p in LIFT_POSITIONS])  # (12, 6): u, v, w of each mount
+    k = np.tile([LIFT_KUV, LIFT_KUV, LIFT_KW], 4)
+    w_rows = rows[2::3]
+    M = np.diag(np.concatenate([[LIFT_MASS] * 3, LIFT_INERTIA]))
+    C, M_inv = LIFT_ALPHA * M, np.linalg.inv(M)
+    W = np.array([0.0, 0.0, -LIFT_MASS * STANDARD_GRAVITY, 0.0, 0.0, 0.0])
+    q_s = np.linalg.solve(rows.T @ (k[:, None] * rows), W)  # every mount in its spring's region at rest
+    assert np.all((w_rows @ q_s > -LIFT_C) & (w_rows @ q_s < 0))
+    start, duration = LIFT_PULSE
+
+    def load(t):
+        return Q_load * np.sin(np.pi * (t - start) / duration) if start <= t < start + duration else 0.0 * Q_load
+
+    def field(t, x, regions):
+        q, v = x[:6], x[6:12]
+        d = rows @ (q_s + q)
+        r = k * d
+        for j, region in enumerate(regions):
+            intercept, slope = stop_and_lift_law(region)
+            r[3 * j + 2] = intercept + slope * d[3 * j + 2]
+        Q = load(t)
+        a = M_inv @ (W + Q - C @ v - rows.T @ r)
+        return np.concatenate([v, a, [Q @ v, v @ C @ v]])
+
+    def crossing(j, knot, direction):
+        def event(t, x, regions):
+            return w_rows[j] @ (q_s + x[:6]) - knot
+        event.terminal, event.direction = True, direction
+        return event
+
+    edges = (-np.inf, *LIFT_KNOTS, np.inf)
+    x, t, regions = np.zeros(14), 0.0, [1, 1, 1, 1]
+    out, events = np.full((times.size, 14), np.nan), []
+    ends = sorted({start, start + duration, times[-1]})
+    while t < times[-1]:
+        stop = min(e for e in ends if e > t)
+        watched = [(j, s) for j in range(4) for s in (0, 1) if np.isfinite(edges[regions[j] + s])]
+        solution = scipy.integrate.solve_ivp(
+            field, (t, stop), x, method="DOP853", rtol=1e-12, atol=1e-15, args=(regions,), dense_output=True,
+            events=[crossing(j, edges[regions[j] + s], 1 if s else -1) for j, s in watched])
+        assert solution.success
+        end = solution.t[-1]
+        inside = (times >= t) & (times <= end)
+        if inside.any():
+            out[inside] = solution.sol(times[inside]).T
+        x, t = solution.y[:, -1], end
+        if solution.status == 1:  # a mount reached a knot: across it into the next region
+            for (j, s), found in zip(watched, solution.t_events):
+                if found.size:
+                    events.append((end, j, regions[j], regions[j] + (1 if s else -1)))
+                    regions = list(regions)
+                    regions[j] += 1 if s else -1
+    return out, events
+
+
+@pytest.fixture(scope="module")
+def lifting():
+    """The lift-off system under a 500 N uplift pulse: sixdof's run and the reference."""
+    system = lift_system()
+    excitation, Q_load = uplift(500.0)
+    history = simulate(system, excitation, LIFT_SETTINGS)
+    reference, events = event_driven_reference(Q_load, history.t)
+    return system, history, reference, events
+
+
+def test_lift_off_matches_an_event_driven_reference(lifting):
+    system, history, reference, events = lifting
+    assert system.nonlinear.names == ("m0 w", "m1 w", "m2 w", "m3 w")
+    np.testing.assert_array_equal(system.nonlinear.static_region, 1)  # all four on their springs at rest
+    # Per DOF, relative to each DOF's peak (every DOF moves: the force has all three components).
+    for name, columns in (("q", slice(0, 6)), ("qd", slice(6, 12))):
+        exact = reference[:, columns]
+        error = np.max(np.abs(getattr(history, name) - exact), axis=0) / np.max(np.abs(exact), axis=0)
+        assert np.all(error <= RTOL_DIRECT_EXACT), (name, error)
+    # The same changes of contact, in the same order, at the same times.
+    library = list(zip(history.contacts.law.tolist(), history.contacts.region_from.tolist(),
+                       history.contacts.region_to.tolist()))
+    assert library == [(j, a, b) for _, j, a, b in events]
+    np.testing.assert_allclose(history.contacts.t, [e[0] for e in events], rtol=0,
+                               atol=RTOL_EVENT_REFERENCE * LIFT_SETTINGS.duration)
+    # Lift-off per mount: m2, under the load, lifts off (and comes down onto its stop); the others never do.
+    for j in range(4):
+        lifts = [t for t, mount, a, b in events if mount == j and (a, b) == (1, 2)]
+        mine = history.contacts.t[(history.contacts.law == j) & (history.contacts.region_to == 2)]
+        np.testing.assert_allclose(mine, lifts, rtol=0, atol=RTOL_EVENT_REFERENCE * LIFT_SETTINGS.duration)
+        assert (len(lifts) > 0) == (j == 2)
+    assert any(mount == 2 and b == 0 for _, mount, _, b in events)  # onto the stop
+
+
+def test_contacts_changing_within_one_step_are_located_in_time_order():
+    """A stronger pulse: m2 lifts off 44 us before m0 reaches its stop, inside one step of the solve. Both are
+    found, the earlier first: a solve that root-finds only one change per step records the lift-off late, at
+    m0's contact, and misses the motion by ~1e-5 of its peaks."""
+    system = lift_system()
+    excitation, Q_load = uplift(700.0)
+    history = simulate(system, excitation, LIFT_SETTINGS)
+    reference, events = event_driven_reference(Q_load, history.t)
+    np.testing.assert_allclose(history.contacts.t, [e[0] for e in events], rtol=0,
+                               atol=RTOL_EVENT_REFERENCE * LIFT_SETTINGS.duration)
+    exact = reference[:, :6]
+    error = np.max(np.abs(history.q - exact), axis=0) / np.max(np.abs(exact), axis=0)
+    assert np.all(error <= RTOL_DIRECT_EXACT), error
+
+
+# ----------------------------------------------------------------------------------------------------
+# 6. The energy balance of a damped, loaded run with contacts.
+# ----------------------------------------------------------------------------------------------------
+
+
+def stored_by_hand(q):
+    """Energy stored about the static equilibrium at the states ``q`` (n, 6) [J]: the laws' integrals
+    sum_j int_0^d r_j minus the weight's work, less their value at rest, written here."""
+    rows = np.concatenate([rows_of(p, np.eye(3)) for p in LIFT_POSITIONS])
+    k = np.tile([LIFT_KUV, LIFT_KUV, LIFT_KW], 4)
+    W = np.array([0.0, 0.0, -LIFT_MASS * STANDARD_GRAVITY, 0.0, 0.0, 0.0])
+    q_s = np.linalg.solve(rows.T @ (k[:, None] * rows), W)
+
+    def potential(q):
+        d = (q_s + q) @ rows.T  # (n, 12)
+        linear = 0.5 * k * d**2
+        w = d[:, 2::3]
+        lift = np.where(w > 0, 0.0, linear[:, 2::3] + 0.5 * LIFT_KS * np.minimum(w + LIFT_C, 0.0) ** 2)
+        linear[:, 2::3] = lift
+        return linear.sum(axis=1) - (q_s + q) @ W
+
+    return potential(q) - potential(np.zeros((1, 6)))
+
+
+def test_energy_balance_of_a_run_with_contacts(lifting):
+    system, history, reference, _ = lifting
+    assert np.any(history.contacts.region_to == 0)  # a stop took part, as well as the lift-off
+    balance = energy_balance(system, history)
+    assert balance.ok and balance.worst <= ENERGY_TOLERANCE == balance.tolerance
+    # Its parts against the reference and the stored energy written here.
+    for mine, exact in ((history.energy_input, reference[:, 12]), (history.energy_dissipated, reference[:, 13])):
+        assert np.max(np.abs(mine - exact)) <= RTOL_DIRECT_EXACT * np.max(np.abs(exact))
+    stored = stored_by_hand(history.q)
+    assert np.max(np.abs(balance.stored - stored)) <= RTOL_STATICS * np.max(stored)
+    assert reference[-1, 13] > 0.3 * reference[-1, 12] > 0  # the damping took a good part of the work
+    # The check can fail: the same run balanced with stops twice as stiff, or mounts that do not lift off.
+    for change in (dict(bump_stiffness=[0.0, 0.0, 2 * LIFT_KS]), dict(tension=True)):
+        wrong = dataclasses.replace(system, mounts=tuple(dataclasses.replace(m, **change) for m in system.mounts))
+        assert energy_balance(wrong, history).worst > 1e3 * ENERGY_TOLERANCE
+
+
+# ----------------------------------------------------------------------------------------------------
+# 4. A force-deflection table that is linear is the linear mount.
+# ----------------------------------------------------------------------------------------------------
+
+# Mount stiffnesses whose values at +-0.125 m are exact in binary: a linear table's slopes are then exact too.
+TABLE_K = [[3.0e5, 2.0e5, 4.0e5], [2.0e5, 3.0e5, 5.0e5], [3.0e5, 3.0e5, 6.0e5], [2.0e5, 2.0e5, 7.0e5]]
+
+
+def linear_pair():
+    """A body on four inclined, damped mounts (everything coupled), once with linear stiffnesses and once with
+    linear tables in place of the w stiffness of every mount and the u stiffness of the first."""
+    mounts = []
+    for i, (p, k) in enumerate(zip(corners(0.5, 0.35, 0.25), TABLE_K)):
+        angle = np.deg2rad(15.0 + 10.0 * i)
+        c, s = np.cos(angle), np.sin(angle)
+        mounts.append(Mount(f"m{i}", p + [0.05 * i, 0.0, 0.0], k, damping=[200.0, 300.0, 900.0],
+                            axes=[[c, 0.0, -s], [0.0, 1.0, 0.0], [s, 0.0, c]]))
+    body = RigidBody(300.0, [[25.0, 2.0, -1.0], [2.0, 30.0, 1.5], [-1.0, 1.5, 40.0]])
+    plain = System(body, mounts, rayleigh=Rayleigh(1.0, 1e-4))
+    span = np.array([-0.125, 0.0, 0.125])
+    tables = [ForceDeflection(mount=m.name, axis="w", deflection=span, force=m.stiffness[2] * span) for m in mounts]
+    tables.append(ForceDeflection(mount="m0", axis="u", deflection=span, force=mounts[0].stiffness[0] * span))
+    # The tables' mounts state a different stiffness on those axes: the tables replace it.
+    replaced = [dataclasses.replace(m, stiffness=[1.0 if i == 0 else m.stiffness[0], m.stiffness[1], 1.0])
+                for i, m in enumerate(mounts)]
+    return plain, System(body, replaced, rayleigh=Rayleigh(1.0, 1e-4), force_deflection=tables)
+
+
+def test_a_linear_table_is_the_linear_mount():
+    plain, tabled = linear_pair()
+    assert tabled.nonlinear.count == 5 and not is_nonlinear(tabled)
+    assert not np.isfinite(tabled.nonlinear.knots).any()
+    np.testing.assert_array_equal(tabled.stiffnesses, plain.stiffnesses)
+    np.testing.assert_array_equal(tabled.K, plain.K)
+    # Statics: Newton on the tables, a linear solve on the springs.
+    statics = gravity_statics(tabled), gravity_statics(plain)
+    np.testing.assert_allclose(statics[0].q, statics[1].q, rtol=0, atol=RTOL_STATICS * np.abs(statics[1].q).max())
+    np.testing.assert_allclose(statics[0].mount_forces, statics[1].mount_forces, rtol=0,
+                               atol=RTOL_STATICS * LIFT_MASS * STANDARD_GRAVITY)
+    tabled, plain = at_equilibrium(tabled, statics[0]), at_equilibrium(plain, statics[1])
+    np.testing.assert_array_equal(tabled.K, plain.K)
+    np.testing.assert_array_equal(tabled.C, plain.C)
+    load = Load("kick", [0.3, -0.2, 0.1], force=[400.0, -300.0, 1200.0], moment=[50.0, 0.0, -80.0],
+                signal=HalfSine(start=0.005, duration=0.02))
+    settings = SimulationSettings(duration=0.3, sample_rate_hz=1500.0)
+    runs = [simulate(system, Excitation(loads=[load]), settings) for system in (tabled, plain)]
+    assert runs[0].contacts is None and runs[0].energy_input is None  # the linear solve
+    for name in ("q", "qd", "qdd"):
+        a, b = getattr(runs[0], name), getattr(runs[1], name)
+        error = np.max(np.abs(a - b), axis=0) / np.max(np.abs(b), axis=0)
+        assert np.all(error <= RTOL_SAME_SOLVE), (name, error)
+
+
+# ----------------------------------------------------------------------------------------------------
+# 5. Statics with stiffening tables: Newton's equilibrium checked by hand.
+# ----------------------------------------------------------------------------------------------------
+
+# A progressive elastomer: 1e5 N/m up to 10 mm of compression, then 3e5, then 1e6 N/m (and 1e5 in extension).
+STIFFENING = (np.array([-0.03, -0.02, -0.01, 0.0, 0.01]), np.array([-14000.0, -4000.0, -1000.0, 0.0, 1000.0]))
+
+
+def stiffening_system() -> System:
+    """An 800 kg body whose CG is off the centre of its four table mounts: each compresses differently, all past
+    the first knot."""
+    deflection, force = STIFFENING
+    positions = [np.array(p) for p in ([-0.45, -0.3, -0.2], [0.55, -0.3, -0.2], [0.55, 0.35, -0.2],
+                                       [-0.45, 0.35, -0.2])]
+    mounts = [Mount(f"m{i}", p, [2e5, 2.5e5, 1e5]) for i, p in enumerate(positions)]
+    tables = [ForceDeflection(mount=f"m{i}", axis="w", deflection=deflection, force=force) for i in range(4)]
+    return System(RigidBody(800.0, [60.0, 80.0, 110.0]), mounts, force_deflection=tables)
+
+
+def test_newton_statics_with_stiffening_tables():
+    system = stiffening_system()
+    statics = gravity_statics(system)
+    weight = 800.0 * STANDARD_GRAVITY
+    deflection, force = STIFFENING
+    # By hand: each axis's deflection, its load (np.interp in the table on w, k d on u and v), their sum.
+    rows = np.stack([rows_of(m.position, np.eye(3)) for m in system.mounts])  # (4, 3, 6)
+    d = rows @ statics.q  # (4, 3)
+    assert np.all((d[:, 2] > deflection[0]) & (d[:, 2] < -0.01))  # inside the table, past its first knot
+    load = system.given_stiffnesses * d
+    load[:, 2] = np.interp(d[:, 2], deflection, force)
+    residual = np.einsum("nai,na->i", rows, load) - np.array([0.0, 0.0, -weight, 0.0, 0.0, 0.0])
+    assert np.all(np.abs(residual[:3]) <= RTOL_STATICS * weight)
+    assert np.all(np.abs(residual[3:]) <= RTOL_STATICS * weight * 0.55)  # moments: the weight times the lever
+    np.testing.assert_allclose(statics.mount_forces_local, load, rtol=0, atol=RTOL_STATICS * weight)
+    assert len(set(np.round(d[:, 2], 6))) == 4  # the four mounts carry different loads
+    # A linear solve with the tables' slope at zero would sit far off: the tables stiffen.
+    linear = np.linalg.solve(np.einsum("nai,na,naj->ij", rows, np.array([[2e5, 2.5e5, 1e5]] * 4), rows),
+                             [0.0, 0.0, -weight, 0.0, 0.0, 0.0])
+    assert linear[2] < 1.3 * statics.q[2] < 0
+    # Linearized about it: each table's slope at its static deflection, in the stiffnesses and in K.
+    at_rest = at_equilibrium(system, statics)
+    k = np.diff(force) / np.diff(deflection)
+    slope = k[np.searchsorted(deflection, d[:, 2]) - 1]
+    np.testing.assert_allclose(at_rest.stiffnesses[:, 2], slope, rtol=RTOL_STATICS)
+    np.testing.assert_array_equal(at_rest.stiffnesses[:, :2], system.given_stiffnesses[:, :2])
+    stiffness = system.given_stiffnesses.copy()
+    stiffness[:, 2] = slope
+    K = np.einsum("nai,na,naj->ij", rows, stiffness, rows)
+    np.testing.assert_allclose(at_rest.K, K, rtol=0, atol=RTOL_STATICS * np.abs(K).max())
+    np.testing.assert_array_equal(system.stiffnesses[:, 2], 1e5)  # unloaded: the slope at zero (compression side)
+
+
+# ----------------------------------------------------------------------------------------------------
+# 7. Bad input: one error naming the field.
+# ----------------------------------------------------------------------------------------------------
+
+# Four mounts around the CG; the last layout puts m0 far behind it, where a linear mount would pull (the
+# other three carry the body alone).
+AROUND = ((0.4, 0.3, -0.1), (-0.4, 0.3, -0.1), (-0.4, -0.3, -0.1), (0.4, -0.3, -0.1))
+BEHIND = ((-1.0, 0.0, -0.1), (-0.2, 0.3, -0.1), (-0.2, -0.3, -0.1), (0.2, 0.0, -0.1))
+
+
+def scenario_text(first: str, positions=AROUND) -> str:
+    """A scenario of a 100 kg body on four mounts, with ``first`` added to the first mount's table."""
+    text = 'name = "bad"\n[body]\nmass = 100.0\ninertia = [10.0, 12.0, 14.0]\n'
+    for i, p in enumerate(positions):
+        text += f'[[mounts]]\nname = "m{i}"\nposition = {list(p)}\nstiffness = [1e5, 1e5, 2e5]\n'
+        text += first if i == 0 else ""
+    return text
+
+
+TABLE = 'force_deflection = {file = "table.csv", axis = "w"}\n'
+
+
+@pytest.mark.parametrize(("first", "csv", "positions", "field", "says"), [
+    pytest.param('bump_stop = {clearance = [0.01, inf, -0.002], stiffness = [1e6, 0.0, 1e6]}\n', None, AROUND,
+                 "mounts[0].bump_stop.clearance", "clearances in m >= 0", id="negative clearance"),
+    pytest.param('bump_stop = {clearance = [inf, inf, 0.01]}\n', None, AROUND, "mounts[0].bump_stop.stiffness",
+                 "required key", id="clearance without stiffness"),
+    pytest.param('bump_stop = {clearance = [inf, inf, 0.01], stiffness = [1e6, 0.0, 0.0]}\n', None, AROUND,
+                 "mounts[0].bump_stop.stiffness", "stiffness > 0 in N/m on every axis with a clearance",
+                 id="clearance without stiffness on its axis"),
+    pytest.param(TABLE, "deflection,force\n-0.02,-3000\n-0.01,-1000\n0,0\n0.01,500\n0.02,400\n", AROUND,
+                 "mounts[0].force_deflection.force", "500 N at 0.01 m, then 400 N at 0.02 m (rows 4-5 of table.csv)",
+                 id="force decreasing"),
+    pytest.param(TABLE, "-0.02,-3000\n-0.01,-1000\n0,0\n0.01,500\n0.01,700\n", AROUND,
+                 "mounts[0].force_deflection.deflection", "0.01 then 0.01 m (rows 4-5 of table.csv)",
+                 id="deflection not increasing"),
+    pytest.param(TABLE, "-0.02,-3000\n-0.01,-1000\n0,50\n0.01,1000\n", AROUND, "mounts[0].force_deflection.force",
+                 "zero force at zero deflection", id="force at zero deflection"),
+    pytest.param("tension = false\n", None, BEHIND, "mounts[0].tension", "m0 is in tension at rest",
+                 id="tension = false on a mount in tension at rest"),
+])
+def test_bad_nonlinear_mounts_are_refused_naming_the_field(tmp_path, first, csv, positions, field, says):
+    if csv is not None:
+        (tmp_path / "table.csv").write_text(csv)
+    with pytest.raises(ScenarioError) as error:
+        parse_scenario(scenario_text(first, positions), source="bad.toml", base_dir=tmp_path)
+    assert error.value.field == field
+    assert str(error.value).startswith(f"bad.toml: {field}: expected ")
+    assert says in str(error.value)
+
+
+def test_good_nonlinear_mounts_are_accepted(tmp_path):
+    """The same scenarios, corrected, parse: the refusals above are for the faults alone."""
+    (tmp_path / "table.csv").write_text("deflection,force\n-0.02,-3000\n-0.01,-1000\n0,0\n0.01,500\n0.02,700\n")
+    first = ('bump_stop = {clearance = [0.01, inf, 0.004], stiffness = [1e6, 0.0, 1e6]}\n' + TABLE
+             + "tension = false\n")
+    system = parse_scenario(scenario_text(first), source="good.toml", base_dir=tmp_path).system
+    assert system.nonlinear.names == ("m0 u", "m0 w")
+    assert system.nonlinear.kinds == ("bump stop", "table + bump stop + lift-off")
+    assert system.equilibrium[2] < 0 and system.nonlinear.static_deflection[1] < 0
+    with pytest.raises(InputError) as error:  # and the API refuses the same as the file
+        ForceDeflection(mount="m0", axis="w", deflection=[-0.01, 0.0, 0.01], force=[-1000.0, 0.0, -500.0])
+    assert error.value.field == "force"

@@ -409,10 +409,19 @@ def _mount(raw: Any, path: str, base_dir: Path) -> tuple[Mount, list[Maxwell], l
     table = dict(raw)
     maxwell, measured = table.pop("maxwell", []), table.pop("dynamic_stiffness", [])
     stop, curves = table.pop("bump_stop", None), table.pop("force_deflection", [])
+    for key in ("bump_clearance", "bump_stiffness"):  # the model's names of bump_stop's keys
+        if key in table:
+            raise InputError(f"{path}.{key}", "bump_stop = {clearance = [...], stiffness = [...]}", Plain(key))
     if stop is not None:
         keys = Table(stop, f"{path}.bump_stop", ("clearance", "stiffness"))
         table["bump_clearance"], table["bump_stiffness"] = keys.value("clearance"), keys.value("stiffness")
-    mount = build(Mount, table, path)
+    try:
+        mount = build(Mount, table, path)
+    except InputError as error:  # named as the file names them
+        for model, key in (("bump_clearance", "bump_stop.clearance"), ("bump_stiffness", "bump_stop.stiffness")):
+            if error.field.endswith(f".{model}"):
+                raise InputError(error.field.replace(model, key), error.expected, error.got) from None
+        raise
     tables = Table({"maxwell": maxwell}, path, ("maxwell",)).tables("maxwell")
     branches = []
     for j, branch in enumerate(tables):

@@ -242,7 +242,7 @@ class Mount(Frozen):
     def __check__(self) -> None:
         missing = np.isfinite(self.bump_clearance) & (self.bump_stiffness <= 0)
         if np.any(missing):
-            raise InputError("bump_stop.stiffness", "a stiffness > 0 in N/m on every axis with a clearance",
+            raise InputError("bump_stiffness", "a stiffness > 0 in N/m on every axis with a clearance",
                              self.bump_stiffness.tolist())
 
 

@@ -416,7 +416,7 @@ def _solve_segment(p, xs0, ts, t0, t1, jump_ts, rtol, atol, region, *, solver: s
         dx = dx.at[6:12].add(Minv @ (C_off @ zd))
         v_g = _ground_kinematics(code, p, t, x[12:14])[1]
         mounts = K @ z + dK @ z + f0 + (C - C_off) @ zd + R.T @ f  # generalized force of the mounts on the foundation
-        power = p["vectors"].T @ u[:-1] @ w + v_g * (r @ mounts)
+        power = p["vectors"].T @ u[:-1] @ w - v_g * (r @ mounts)  # the ground moves against the mounts' force
         loss = zd @ (C - C_off) @ zd + jnp.sum(f * f / (k_b * tau))
         return jnp.concatenate([dx, jnp.stack([power, loss])]) / scale
 

@@ -434,6 +434,11 @@ def validate(system: System, settings: ValidationSettings | None = None, *,
     if not isinstance(model, System):
         raise InputError("model", "a System", model)
     notes = []
+    if system.nonlinear.count:  # the modal results are those of the linearization: so are the histories checked
+        notes.append(f"nonlinear mount axes ({', '.join(system.nonlinear.names)}) linearized about the static "
+                     "equilibrium: the modal results describe small motion, which the time histories here are")
+        model = system.linearized() if model is system else model
+        system = system.linearized()
     reference, without = integrated_model(model)
     if without:
         notes.append(f"hysteretic loss factors of mount(s) {', '.join(without)} left out of the model: a "

@@ -159,6 +159,8 @@ class ForceLaws:
         on a knot belongs to the region nearer zero deflection: a stop engages once the deflection *exceeds* its
         clearance, a mount without preload is still in contact."""
         d = np.asarray(d, dtype=float)
+        if not self.count:
+            return np.zeros(d.shape, dtype=np.int64)
         return np.stack([np.where(d[..., e] >= 0, np.searchsorted(self.knots[e], d[..., e], side="left"),
                                   np.searchsorted(self.knots[e], d[..., e], side="right"))
                          for e in range(self.count)], axis=-1).astype(np.int64)

@@ -374,7 +374,7 @@ class _Nonlinear:
             self.tight = simulate_windows(self.system, self.excitation, tight, **window_samples)
 
     def check(self, piece):
-        from sixdof.analysis.compare import compare, merge_agreements
+        from sixdof.analysis.compare import compare, merge_agreements, relative_to_ground
         from sixdof.analysis.contact import energy_balance, total_deflection
 
         window = piece.response
@@ -399,8 +399,6 @@ class _Nonlinear:
         if before.all():
             agreement = piece.agreement
         elif before.any():
-            from sixdof.analysis.compare import relative_to_ground
-
             direct, modal = relative_to_ground(window, piece.superposition)
             agreement = compare(direct[before], modal[before], length=self.length)
         return dataclasses.replace(piece, agreement=agreement, energy=balance)
@@ -408,13 +406,11 @@ class _Nonlinear:
     def finish(self, span, energy) -> dict:
         """The run's events, contact summary, refined agreement and energy balance (``energy``: the kept samples'
         balance, whose extremes become the run's)."""
-        from sixdof.analysis.contact import contact_summary, merge_events
+        from sixdof.analysis.contact import contact_summary, merge_events, with_extremes
 
         events = merge_events(self.events)
         summary = contact_summary(self.system, events, np.array(span), self.low, self.high)
-        peak, scale = (max(values) for values in zip(*self.balances))
-        energy = dataclasses.replace(energy, peak_residual=peak, energy_scale=scale, worst=peak / scale,
-                                     ok=peak <= energy.tolerance * scale)
+        energy = with_extremes(energy, *(max(values) for values in zip(*self.balances)))
         return {"events": events, "contacts": summary, "refined": self.refined, "energy": energy}
 
     def notes(self, extra) -> list[str]:

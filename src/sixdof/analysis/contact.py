@@ -112,18 +112,18 @@ class ContactSummary(Result):
 
 def contact_summary(system, events: ContactEvents, t: np.ndarray, deflection_min: np.ndarray,
                     deflection_max: np.ndarray) -> ContactSummary:
-    """:class:`ContactSummary` of a run from its events, its span ``t`` ([start, end] at least) and the sampled
+    """:class:`ContactSummary` of a run from its events, its span ``t`` (ending at the run's end) and the sampled
     extremes of each axis's total deflection (law,) [m] (:func:`deflection_extremes`)."""
     laws = system.nonlinear
-    start, end = float(t[0]), float(t[-1])
-    engaged = events.static_region.copy() * 0  # 1 while outside the region at rest
+    end = float(t[-1])
+    engaged = np.zeros(laws.count, dtype=bool)  # while outside the region at rest
     since = np.full(laws.count, np.nan)
     count = np.zeros(laws.count, dtype=np.int64)
     total = np.zeros(laws.count)
     first = np.full(laws.count, np.nan)
     intervals = []
     for when, e, to in zip(events.t, events.law, events.region_to):
-        now = int(to != events.static_region[e])
+        now = bool(to != events.static_region[e])
         if now and not engaged[e]:
             since[e] = when
             count[e] += 1
@@ -139,7 +139,6 @@ def contact_summary(system, events: ContactEvents, t: np.ndarray, deflection_min
     stop = np.isfinite(laws.clearance)
     lift = np.array(["lift-off" in kind for kind in laws.kinds], dtype=bool)
     overtravel = np.maximum(np.maximum(deflection_max - laws.clearance, -deflection_min - laws.clearance), 0.0)
-    del start
     return ContactSummary(
         names=laws.names, kinds=laws.kinds, engagements=count, first_t=readonly(first), engaged_time=readonly(total),
         peak_penetration=readonly(np.where(stop, overtravel, np.nan)),
@@ -194,23 +193,13 @@ class EnergyBalance(Result):
     ok: bool = label(decode=bool)
 
 
-def _balance(t, kinetic, stored, dissipated, work, residual, tolerance) -> EnergyBalance:
-    peak = float(np.abs(residual).max())
-    scale = float(max(np.abs(kinetic + stored).max(), np.abs(dissipated).max(), np.abs(work).max(), 1e-300))
-    return EnergyBalance(t=t, kinetic=readonly(kinetic), stored=readonly(stored), dissipated=readonly(dissipated),
-                         work=readonly(work), residual=readonly(residual), peak_residual=peak, energy_scale=scale,
-                         worst=peak / scale, tolerance=float(tolerance), ok=peak <= tolerance * scale)
+def with_extremes(balance: EnergyBalance, peak: float, scale: float) -> EnergyBalance:
+    """``balance`` judged on the largest residual ``peak`` [J] and the largest energy ``scale`` [J] (a run's, over
+    its windows, when ``balance`` holds only some of its samples)."""
+    import dataclasses
 
-
-def merge_balances(parts) -> EnergyBalance:
-    """One :class:`EnergyBalance` of consecutive windows: their series joined, their extremes merged."""
-    joined = {name: np.concatenate([getattr(p, name) for p in parts])
-              for name in ("t", "kinetic", "stored", "dissipated", "work", "residual")}
-    peak = max(p.peak_residual for p in parts)
-    scale = max(p.energy_scale for p in parts)
-    first = parts[0]
-    return EnergyBalance(**{k: readonly(v) for k, v in joined.items()}, peak_residual=peak, energy_scale=scale,
-                         worst=peak / scale, tolerance=first.tolerance, ok=peak <= first.tolerance * scale)
+    return dataclasses.replace(balance, peak_residual=peak, energy_scale=scale, worst=peak / scale,
+                               ok=peak <= balance.tolerance * scale)
 
 
 def stored_energy(system, response) -> np.ndarray:
@@ -245,8 +234,13 @@ def energy_balance(system, response, tolerance: float = ENERGY_TOLERANCE, origin
     work, dissipated = response.energy_input, response.energy_dissipated
     balance = kinetic + stored + dissipated - work
     residual = balance - (balance[0] if origin is None else origin)
-    return _balance(response.t, kinetic, stored, dissipated, work, residual, tolerance)
+    peak = float(np.abs(residual).max())
+    scale = float(max(np.abs(kinetic + stored).max(), np.abs(dissipated).max(), np.abs(work).max(), 1e-300))
+    return with_extremes(EnergyBalance(t=response.t, kinetic=readonly(kinetic), stored=readonly(stored),
+                                       dissipated=readonly(dissipated), work=readonly(work),
+                                       residual=readonly(residual), peak_residual=peak, energy_scale=scale,
+                                       worst=0.0, tolerance=float(tolerance), ok=False), peak, scale)
 
 
 __all__ = ["ENERGY_TOLERANCE", "ContactEvents", "ContactSummary", "EnergyBalance", "contact_summary",
-           "energy_balance", "merge_balances", "merge_events", "stored_energy", "total_deflection"]
+           "energy_balance", "merge_events", "stored_energy", "total_deflection", "with_extremes"]

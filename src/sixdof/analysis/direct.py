@@ -407,13 +407,17 @@ def _solve_segment(p, xs0, ts, t0, t1, jump_ts, rtol, atol, region, *, solver: s
     C, K, R, k_b, tau = p["C"], p["K"], p["R"], p["k_b"], p["tau"]
     r = p["r"]
 
-    def field(t, ys, args):
-        x = ys[:size] * sigma
+    def motion(t, x):
+        """``x'`` in the region, and the input ``u``."""
         u = _input(t, x[12:14], p, code)
         dx = A @ x + B @ u + c
+        return dx.at[6:12].add(Minv @ (C_off @ dx[:6])), u
+
+    def field(t, ys, args):
+        x = ys[:size] * sigma
+        dx, u = motion(t, x)
         z, w, f = x[:6], x[6:12], x[14:]
         zd = dx[:6]
-        dx = dx.at[6:12].add(Minv @ (C_off @ zd))
         v_g = _ground_kinematics(code, p, t, x[12:14])[1]
         mounts = K @ z + dK @ z + f0 + (C - C_off) @ zd + R.T @ f  # generalized force of the mounts on the foundation
         power = p["vectors"].T @ u[:-1] @ w - v_g * (r @ mounts)  # the ground moves against the mounts' force
@@ -442,10 +446,8 @@ def _solve_segment(p, xs0, ts, t0, t1, jump_ts, rtol, atol, region, *, solver: s
     xs = ys[:, :size] * sigma
 
     def outputs(t, x):
-        u = _input(t, x[12:14], p, code)
-        dx = A @ x + B @ u + c
-        return (dx[6:12] + Minv @ (C_off @ dx[:6]), p["vectors"].T @ u[:-1],
-                jnp.stack(_ground_kinematics(code, p, t, x[12:14])))
+        dx, u = motion(t, x)
+        return dx[6:12], p["vectors"].T @ u[:-1], jnp.stack(_ground_kinematics(code, p, t, x[12:14]))
 
     qdd, Q, ground = jax.vmap(outputs)(ts, xs)
     energy = ys[:, size:] * p["energy_scale"]
@@ -875,7 +877,7 @@ def _next_region(run: _Run, t: float, x: np.ndarray, region: np.ndarray, crossed
     if run.code == 1:
         v_g = float(p["ground_scale"] * np.asarray(p["ground_signal"].derivative(np.float64(t))))
     rate = laws.rows @ (x[6:12] - run.r * v_g)  # d' from the relative velocity z' = w - r v_g
-    ahead = laws.region(d + np.sign(rate) * run.params["laws"]["hysteresis"])
+    ahead = laws.region(d + np.sign(rate) * p["laws"]["hysteresis"])
     new = np.where(crossed[:, 0], region - 1, np.where(crossed[:, 1], region + 1, ahead))
     return np.clip(new, 0, laws.knots.shape[1]).astype(np.int64)
 

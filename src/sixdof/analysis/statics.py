@@ -9,7 +9,7 @@ import numpy as np
 
 from sixdof.dofs import UNITS
 from sixdof.errors import InputError, Plain, number
-from sixdof.model.kinematics import mount_local_map
+from sixdof.model.kinematics import mount_local_map, mount_matrix
 from sixdof.results import Result, label, quantity
 
 if TYPE_CHECKING:
@@ -100,14 +100,8 @@ def gravity_statics(system: System, g: float = STANDARD_GRAVITY, direction=(0.0,
         raise InputError("statics.direction", "a non-zero 3-vector", direction)
     gravity = g * d / np.linalg.norm(d)
     Q = np.concatenate([system.body.mass * gravity, np.zeros(3)])  # weight acts at the CG
-    laws = system.nonlinear
-    q = _newton(system, Q) if laws.count else _linear(system, Q)
-    # The load on a mount is r(delta) along its axes, k delta for a linear one (the spring pushes the body back
-    # with -r): the same sign as the dynamic forces of sixdof.analysis.response, so that the two add up.
-    deflection = mount_local_map(system.positions, system.axes) @ q
-    local = system.given_stiffnesses * deflection
-    if laws.count:
-        local[laws.mount, laws.axis] = laws.force(deflection[laws.mount, laws.axis])
+    q = _newton(system, Q) if system.nonlinear.count else _linear(system, Q)
+    local = _mount_loads(system, mount_local_map(system.positions, system.axes) @ q)
     forces = np.einsum("nji,nj->ni", system.axes, local)
     support = forces @ (gravity / g)
     # Round-off can leave a mount carrying nothing with a tiny negative value: not uplift.
@@ -129,28 +123,31 @@ def _linear(system: System, Q: np.ndarray) -> np.ndarray:
 NEWTON_ITERATIONS = 100
 
 
+def _mount_loads(system: System, deflection: np.ndarray) -> np.ndarray:
+    """The load of each mount along its axes (n, 3) [N] at its deflections ``deflection`` (n, 3) [m] from the unloaded
+    mount: ``r(delta)``, ``k delta`` for a linear axis (the spring pushes the body back with ``-r``; the same sign as
+    the dynamic forces of :mod:`sixdof.analysis.response`, so that the two add up)."""
+    local = system.given_stiffnesses * deflection
+    laws = system.nonlinear
+    if laws.count:
+        local[laws.mount, laws.axis] = laws.force(deflection[laws.mount, laws.axis])
+    return local
+
+
 def _newton(system: System, Q: np.ndarray) -> np.ndarray:
     """The equilibrium ``sum_mounts L' r(L q) = Q`` of a system with nonlinear mounts, by Newton's method with
     backtracking (exact once every law stays in its region: each is linear there)."""
     laws = system.nonlinear
     local_map = mount_local_map(system.positions, system.axes)  # (n, 3, 6)
-    rows = local_map.reshape(-1, 6)
-    linear = np.ones(rows.shape[0], dtype=bool)
-    linear[laws.mount * 3 + laws.axis] = False
-    k = system.given_stiffnesses.reshape(-1)
 
     def residual(q):
-        d = rows @ q
-        r = k * d
-        r[~linear] = laws.force(d[~linear])
-        return rows.T @ r - Q
+        return np.einsum("nia,ni->a", local_map, _mount_loads(system, local_map @ q)) - Q
 
     def tangent(q):
-        slope = np.where(linear, k, 0.0)
-        d = rows @ q
-        region = laws.region(d[~linear])
-        slope[~linear] = np.take_along_axis(laws.slope, region[:, None], axis=1)[:, 0]
-        return rows.T @ (slope[:, None] * rows)
+        deflection = local_map @ q
+        stiffness = np.array(system.given_stiffnesses)
+        stiffness[laws.mount, laws.axis] = laws.slopes(deflection[laws.mount, laws.axis])
+        return mount_matrix(system.positions, stiffness, system.axes)
 
     q = np.array(system.equilibrium, dtype=float)
     G = residual(q)

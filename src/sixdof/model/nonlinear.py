@@ -21,6 +21,7 @@ static equilibrium (:attr:`sixdof.model.system.System.equilibrium`): the lineari
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -180,6 +181,10 @@ class ForceLaws:
         region = self.region(d)
         return self._pick(self.intercept, region) + self._pick(self.slope, region) * d
 
+    def slopes(self, d) -> np.ndarray:
+        """``r'(d)`` (..., ne) [N/m] at deflections ``d`` (..., ne) [m]: the slope of the region each is in."""
+        return self._pick(self.slope, self.region(d))
+
     def potential(self, d) -> np.ndarray:
         """The energy stored by each law, ``integral_0^d r`` (..., ne) [J], at deflections ``d`` (..., ne) [m]."""
         d = np.asarray(d, dtype=float)
@@ -189,7 +194,7 @@ class ForceLaws:
         a, s = self._pick(self.intercept, region), self._pick(self.slope, region)
         return self._pick(stored, region) + a * (d - x0) + 0.5 * s * (d * d - x0 * x0)
 
-    @property
+    @cached_property
     def _anchors(self) -> tuple[np.ndarray, np.ndarray]:
         """A point of each region (its lower knot, or its upper for the first; 0 for a law without knots) and the
         law's integral from 0 to it (ne, P + 1)."""
@@ -218,7 +223,7 @@ class ForceLaws:
     @property
     def tangent(self) -> np.ndarray:
         """The slope of each law at the static equilibrium (ne,) [N/m]: the linearization's stiffness."""
-        return self._pick(self.slope, self.static_region)
+        return self.slopes(self.static_deflection)
 
 
 def _integral(knots, intercept, slope, x: float) -> float:

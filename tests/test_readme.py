@@ -10,8 +10,8 @@ from sixdof import load_scenario
 README = Path(__file__).resolve().parents[1] / "README.md"
 
 
-def test_python_example_runs():
-    code = re.search(r"```python\n(.*?)```", README.read_text(), re.S).group(1)
+@pytest.mark.parametrize("code", re.findall(r"```python\n(.*?)```", README.read_text(), re.S))
+def test_python_examples_run(code):
     exec(compile(code, "README.md", "exec"), {})
 
 

@@ -179,12 +179,16 @@ def _parser() -> argparse.ArgumentParser:
     sweep.add_argument("--spec", required=True, help="variation spec (TOML; see the README)")
     sweep.add_argument("--out", default="outputs", help="results go to OUT/<name>_sweep/ (default: outputs)")
     sweep.add_argument("--chunk-size", type=int, default=None,
-                       help="variants integrated together (default: bounded by memory)")
+                       help="variants per chunk: one task, one seed, one file (default: the spec's, else 1000)")
+    _where_arguments(sweep, "chunks")
+    sweep.add_argument("--resume", action="store_true",
+                       help="continue an interrupted sweep from the chunks it finished (OUT/<name>_sweep.chunks/)")
     sweep.set_defaults(command=_sweep)
 
     design = add("optimize", help="optimize the mounts for the scenario's [design] targets (exit 3 if not all met)")
     design.add_argument("scenario", help="scenario file (TOML) with [[design.target]] and [[design.vary]]")
     design.add_argument("--out", default="outputs", help="results go to OUT/<name>_design/ (default: outputs)")
+    _where_arguments(design, "robustness samples' chunks")
     design.set_defaults(command=_optimize)
 
     examples = add("examples", help="copy the bundled example scenarios into a folder, to run and adapt")
@@ -327,12 +331,23 @@ def _optimize(args) -> int:
     from sixdof.io.scenario import load_scenario
 
     scenario = load_scenario(args.scenario)
-    outcome = optimize_scenario(scenario, args.out, progress=_progress(args))
+    outcome = optimize_scenario(scenario, args.out, progress=_progress(args), workers=args.workers,
+                                scheduler=args.scheduler)
     print(f"\nWrote {outcome.directory}: {', '.join(p.name for p in outcome.files)}")
     if not outcome.met:
         print("sixdof: the targets are not all met (see above); the best compromise is written", file=sys.stderr)
         return EXIT_TARGETS_NOT_MET
     return 0
+
+
+def _where_arguments(parser, what: str) -> None:
+    """``--workers`` and ``--scheduler``: where a study's chunks run (:func:`sixdof.tasks.task_runner`)."""
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, default=None, metavar="N",
+                       help=f"compute the {what} on a local Dask cluster of N worker processes (default: in this "
+                       "process)")
+    where.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                       help=f"compute the {what} on an existing Dask cluster (tcp://host:8786)")
 
 
 def _export(args) -> int:
@@ -344,33 +359,38 @@ def _export(args) -> int:
 
 
 def _sweep(args) -> int:
-    from sixdof.io.output import check_target, write_folder
-    from sixdof.io.report import summary_table
+    from sixdof.io.output import check_target
     from sixdof.io.scenario import load_scenario
-    from sixdof.io.store import write_results
     from sixdof.io.sweep import load_sweep_spec
-    from sixdof.results import RunResults
-    from sixdof.workflows import sweep
+    from sixdof.sweeps import CHUNKS_SUFFIX, ChunkFolder, sweep_scenario
 
     _compile_cache()
     scenario = load_scenario(args.scenario)
     spec = load_sweep_spec(args.spec)
-    target = check_target(args.out, scenario.name, "_sweep")
-    result = sweep(scenario, spec, chunk_size=args.chunk_size, progress=_progress(args))
-    directory = write_folder(
-        target,
-        lambda stage: write_results(stage / "sweep.h5", RunResults(
-            name=scenario.name, description=scenario.description, system=scenario.system, sweep=result,
-            provenance={"scenario_text": scenario.text}), command_line=" ".join(sys.argv)),
-    )
+    try:
+        outcome = sweep_scenario(scenario, spec, args.out, chunk_size=args.chunk_size, workers=args.workers,
+                                 scheduler=args.scheduler, resume=args.resume, progress=_progress(args),
+                                 command_line=" ".join(sys.argv))
+    except (KeyboardInterrupt, Terminated) as exc:
+        chunks = check_target(args.out, scenario.name, "_sweep")
+        chunks = chunks.with_name(chunks.name + CHUNKS_SUFFIX)
+        kept = len(ChunkFolder.finished_in(chunks))
+        if not kept:
+            raise
+        how = "interrupted" if isinstance(exc, KeyboardInterrupt) else "terminated (SIGTERM)"
+        return _fail(args, f"{how}; the {kept} chunks finished are kept in {chunks}: the same command with --resume "
+                     "computes only the others", EXIT_INTERRUPTED if how == "interrupted" else EXIT_TERMINATED)
+    result = outcome.result
     print(f"{scenario.name}: {scenario.description}\n")
-    print(summary_table(result))
+    print(outcome.table)
     if result.cross_check is not None:
         checked = ", ".join(str(i) for i in result.cross_check_variants)
         print(f"\nCross-check of the {result.engine} engine: diffrax solved variants {checked}; peak agreement "
               f"{result.cross_check}")
-    print(f"\nWrote {directory / 'sweep.h5'} ({result.count} variants, {result.engine} engine, "
-          f"{result.wall_time_s:.2f} s)")
+    resumed = f", {outcome.resumed} of them resumed" if outcome.resumed else ""
+    print(f"\nWrote {outcome.directory / 'sweep.h5'} ({outcome.count} variants, {result.engine} engine, "
+          f"{result.chunks} chunks{resumed}, {result.backend} with {result.workers} worker"
+          f"{'s' if result.workers != 1 else ''}, {result.wall_time_s:.2f} s)")
     return 0
 
 

@@ -28,25 +28,27 @@ class Meter:
 
             number = "{n:.4g}/{total:.4g}" if unit == "s" else "{n:.0f}/{total:.0f}"
             self.bar = tqdm(total=self.total, unit=unit, desc=description,
-                            bar_format="{l_bar}{bar}| " + number + " " + unit + " [{elapsed}<{remaining}]")
+                            bar_format="{l_bar}{bar}| " + number + " " + unit + " [{elapsed}<{remaining}{postfix}]")
 
-    def show(self, reached: float) -> None:
-        """Show ``reached`` (in the meter's unit, from ``origin``)."""
+    def show(self, reached: float, note: str = "") -> None:
+        """Show ``reached`` (in the meter's unit, from ``origin``), and ``note`` after it (a rate...)."""
         if self.kind is None:
             return
         done = reached - self.origin
         if self.bar is not None:
+            if note:
+                self.bar.set_postfix_str(note, refresh=False)
             self.bar.update(done - self.bar.n)
         else:
             amount = f"{done:.4g} / {self.total:.4g}" if self.unit == "s" else f"{int(done)} / {int(self.total)}"
-            print(f"\r{self.description}: {amount} {self.unit} ({done / self.total if self.total else 1:.0%})",
-                  end="", file=sys.stderr, flush=True)
+            print(f"\r{self.description}: {amount} {self.unit} ({done / self.total if self.total else 1:.0%})"
+                  + (f", {note}" if note else ""), end="", file=sys.stderr, flush=True)
 
-    def close(self) -> None:
+    def close(self, note: str = "") -> None:
         """Show the whole as done and end the line."""
         if self.kind is None:
             return
-        self.show(self.origin + self.total)
+        self.show(self.origin + self.total, note)
         if self.bar is not None:
             self.bar.close()
         else:

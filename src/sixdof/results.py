@@ -425,29 +425,35 @@ def time_slice(result, index):
     """``result`` with every quantity that has a time axis ``t`` cut to ``index`` (a slice or an array of
     sample indices) along that axis, nested results likewise: a window of a run, or the samples a figure
     draws."""
+    return axis_slice(result, index, "t")
+
+
+def axis_slice(result, index, dim: str):
+    """``result`` with every quantity that has the axis ``dim`` cut to ``index`` (a slice or an array of
+    indices) along it, nested results likewise (:func:`time_slice` for the time axis)."""
     changes = {}
     for f in dataclasses.fields(result):
         meta, value = f.metadata.get("store"), getattr(result, f.name)
         if meta is None or value is None:
             continue
-        if meta["kind"] == "quantity" and "t" in meta["dims"]:
+        if meta["kind"] == "quantity" and dim in meta["dims"]:
             where = [slice(None)] * np.ndim(value)
-            where[meta["dims"].index("t")] = index
+            where[meta["dims"].index(dim)] = index
             changes[f.name] = np.asarray(value)[tuple(where)]
-        elif meta["kind"] == "part" and _has_series(value):
-            changes[f.name] = time_slice(value, index)
+        elif meta["kind"] == "part" and _has_axis(value, dim):
+            changes[f.name] = axis_slice(value, index, dim)
         elif meta["kind"] == "stacked" and isinstance(value, Mapping) and value:
-            changes[f.name] = {name: time_slice(item, index) for name, item in value.items()}
+            changes[f.name] = {name: axis_slice(item, index, dim) for name, item in value.items()}
     return dataclasses.replace(result, **changes) if changes else result
 
 
-def _has_series(result) -> bool:
-    """Whether ``result`` or a result nested in it (:func:`part`) has a quantity with a time axis ``t``."""
+def _has_axis(result, dim: str) -> bool:
+    """Whether ``result`` or a result nested in it (:func:`part`) has a quantity with the axis ``dim``."""
     for f in dataclasses.fields(result):
         meta, value = f.metadata.get("store"), getattr(result, f.name)
         if meta is None or value is None:
             continue
-        if (meta["kind"] == "quantity" and "t" in meta["dims"]) or (meta["kind"] == "part" and _has_series(value)):
+        if (meta["kind"] == "quantity" and dim in meta["dims"]) or (meta["kind"] == "part" and _has_axis(value, dim)):
             return True
     return False
 
@@ -455,6 +461,13 @@ def _has_series(result) -> bool:
 def time_concat(results, **changes):
     """Consecutive windows of a run joined: every quantity with a time axis ``t`` concatenated along it, the
     other fields those of the first window unless given in ``changes`` (the inverse of :func:`time_slice`)."""
+    return axis_concat(results, "t", **changes)
+
+
+def axis_concat(results, dim: str, **changes):
+    """``results`` joined along the axis ``dim``: every quantity with that axis concatenated along it, nested
+    results likewise, the other fields those of the first unless given in ``changes`` (the inverse of
+    :func:`axis_slice`: a run's windows, a sweep's chunks)."""
     first = results[0]
     if len(results) == 1 and not changes:
         return first
@@ -463,12 +476,12 @@ def time_concat(results, **changes):
         values = [getattr(result, f.name) for result in results]
         if f.name in changes or meta is None or values[0] is None:
             continue
-        if meta["kind"] == "quantity" and "t" in meta["dims"]:
-            changes[f.name] = np.concatenate(values, axis=meta["dims"].index("t"))
-        elif meta["kind"] == "part" and _has_series(values[0]):
-            changes[f.name] = time_concat(values)
+        if meta["kind"] == "quantity" and dim in meta["dims"]:
+            changes[f.name] = np.concatenate(values, axis=meta["dims"].index(dim))
+        elif meta["kind"] == "part" and _has_axis(values[0], dim):
+            changes[f.name] = axis_concat(values, dim)
         elif meta["kind"] == "stacked" and isinstance(values[0], Mapping) and values[0]:
-            changes[f.name] = {name: time_concat([v[name] for v in values]) for name in values[0]}
+            changes[f.name] = {name: axis_concat([v[name] for v in values], dim) for name in values[0]}
     return dataclasses.replace(first, **changes)
 
 

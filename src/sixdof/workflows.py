@@ -553,27 +553,3 @@ def redraw(results: str | Path, directory: str | Path | None = None, *,
     with FigureWorkers(processes=0) if workers is None else contextlib.nullcontext(workers) as drawing:
         drawing.submit(run)
         return output.replace_files(Path(directory) if directory else Path(results).parent, drawing.save)
-
-
-def sweep(scenario, spec, *, chunk_size: int | None = None, progress=None):
-    """Run a scenario's variants: frequencies always, peak responses when it has a simulation.
-
-    Parameters
-    ----------
-    scenario : sixdof.io.scenario.Scenario
-    spec : sixdof.io.sweep.SweepSpec
-    chunk_size : int, optional
-        Variants integrated together (default: the spec's, else bounded by memory).
-    progress : None, bool, "text" or "tqdm", optional
-        Show the variants done (:func:`sixdof.progress.meter`).
-
-    Returns
-    -------
-    sixdof.analysis.batch.BatchResult
-    """
-    from sixdof.analysis.batch import run_batch
-
-    variants = spec.variants(scenario.system)
-    return run_batch(scenario.system, variants, scenario.excitation, scenario.simulation,
-                     chunk_size=chunk_size or spec.chunk_size, engine=spec.engine, cross_check=spec.cross_check,
-                     seed=spec.seed, progress=progress)

@@ -124,11 +124,20 @@ class BatchResult:
         Variants computed together.
     cross_check_variants : ndarray of int, shape (n_check,), or None
         The variants also solved by :func:`sixdof.analysis.direct.simulate` (diffrax).
+    cross_check_peak_q, cross_check_peak_qdd : ndarray, shape (n_check, 6), or None
+        Their peaks by :func:`sixdof.analysis.direct.simulate`.
     cross_check : sixdof.analysis.compare.Agreement or None
-        Their peaks against the engine's: the worst of ``peak_q`` and ``peak_qdd``, each DOF relative
-        to its largest peak over the sample.
+        Those peaks against the engine's: the worst of ``peak_q`` and ``peak_qdd``, each DOF relative
+        to its largest peak over the sample (:func:`cross_check_agreement`).
     wall_time_s : float
         Wall-clock time of the whole batch [s], compilation and cross-check included.
+    backend : str
+        Where a sweep's chunks ran (:data:`sixdof.tasks.BACKENDS`): ``"in-process"`` for a batch.
+    workers : int
+        Worker processes that computed them (at the end of the sweep).
+    chunks : int
+        Chunks of the sweep (:func:`sixdof.tasks.partition`; each drew its variants with its own seed):
+        1 for a batch.
     """
 
     variants: Variants = part(lambda: Variants, prefix="")
@@ -145,8 +154,15 @@ class BatchResult:
     chunk_size: int = label(default=0)
     cross_check_variants: np.ndarray | None = quantity(
         "1", ("checked_variant",), default=None, description="variants also solved by sixdof.simulate (diffrax)")
+    cross_check_peak_q: np.ndarray | None = quantity(UNITS["q"], ("checked_variant", "dof"), default=None,
+                                                     description="max |q| of the checked variants by diffrax")
+    cross_check_peak_qdd: np.ndarray | None = quantity(UNITS["qdd"], ("checked_variant", "dof"), default=None,
+                                                       description="max |q''| of the checked variants by diffrax")
     cross_check: Agreement | None = part(lambda: Agreement, prefix="cross_check_", default=None)
     wall_time_s: float = label(default=0.0)
+    backend: str = label(default="in-process")
+    workers: int = label(default=1)
+    chunks: int = label(default=1)
     histories: dict = field(default_factory=dict)
 
     derived = {"count": label()}
@@ -385,13 +401,12 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
         bad = np.flatnonzero(~np.all(np.isfinite(peaks), axis=1))
         raise SolverError(f"batch ({engine}) produced non-finite values for variant {int(bad[0])}")
     kept = {int(i): _history(system, variants, int(i), excitation, settings, engine) for i in histories}
-    checked = np.sort(np.random.default_rng(seed).choice(nv, min(cross_check, nv), replace=False))
+    checked = cross_check_sample(nv, cross_check, seed)
+    direct = direct_peaks(system, variants, checked, excitation, settings, progress)
     return BatchResult(variants=variants, frequency_hz=frequency, peak_q=readonly(peaks[:, :6]),
                        peak_qdd=readonly(peaks[:, 6:]), num_steps=steps, num_rejected=rejected, histories=kept,
                        settings=settings, engine=engine, chunk_size=int(chunks[0].size),
-                       cross_check_variants=readonly(checked, int) if checked.size else None,
-                       cross_check=_cross_check(system, variants, checked, peaks, excitation, settings, progress),
-                       wall_time_s=time.perf_counter() - start)
+                       **cross_check_fields(checked, direct, peaks[checked]), wall_time_s=time.perf_counter() - start)
 
 
 def _history(system, variants, index, excitation, settings, engine):
@@ -403,22 +418,36 @@ def _history(system, variants, index, excitation, settings, engine):
     return superpose(one, excitation, settings.times) if engine == "exact" else simulate(one, excitation, settings)
 
 
-def _cross_check(system, variants, checked, peaks, excitation, settings, progress=None) -> Agreement | None:
-    """The engine's peaks of the ``checked`` variants against :func:`~sixdof.analysis.direct.simulate`'s:
-    the worse of ``|q|`` and ``|q''|``, each DOF relative to its largest peak over the sample."""
+def cross_check_sample(count: int, size: int, seed: int) -> np.ndarray:
+    """The ``size`` variants of ``count`` (sorted indices) that diffrax solves again, drawn with ``seed``."""
+    return np.sort(np.random.default_rng(seed).choice(count, min(size, count), replace=False))
+
+
+def direct_peaks(system, variants, indices, excitation, settings, progress=None) -> np.ndarray:
+    """``max |q|`` and ``max |q''|`` (n, 12) of the variants ``indices`` by
+    :func:`~sixdof.analysis.direct.simulate` (diffrax), one after the other."""
     from sixdof.analysis.direct import simulate
 
-    if not checked.size:
-        return None
-    shown = meter(progress, checked.size, "variants", "cross-check (diffrax)")
-    direct = np.zeros((checked.size, 12))
-    for row, i in enumerate(checked):
+    shown = meter(progress if len(indices) else None, len(indices), "variants", "cross-check (diffrax)")
+    direct = np.zeros((len(indices), 12))
+    for row, i in enumerate(indices):
         response = simulate(variant_system(system, variants, int(i)), excitation, settings)
         direct[row] = np.concatenate([np.max(np.abs(response.q), axis=0), np.max(np.abs(response.qdd), axis=0)])
         shown.show(row + 1)
     shown.close()
-    return max((compare(direct[:, part], peaks[checked][:, part]) for part in (slice(0, 6), slice(6, 12))),
-               key=lambda agreement: agreement.worst)
+    return direct
+
+
+def cross_check_fields(checked, direct, engine) -> dict:
+    """The cross-check fields of a :class:`BatchResult`: the variants ``checked``, their peaks (n, 12) by
+    diffrax (``direct``) and by the engine, and their agreement: the worse of ``|q|`` and ``|q''|``, each
+    DOF relative to its largest peak over the sample."""
+    if not len(checked):
+        return {}
+    agreement = max((compare(direct[:, part], engine[:, part]) for part in (slice(0, 6), slice(6, 12))),
+                    key=lambda found: found.worst)
+    return {"cross_check_variants": readonly(checked, int), "cross_check_peak_q": readonly(direct[:, :6]),
+            "cross_check_peak_qdd": readonly(direct[:, 6:]), "cross_check": agreement}
 
 
 def _exact_peaks(system, K, C, lam, shapes, excitation, settings, chunks, done) -> np.ndarray:

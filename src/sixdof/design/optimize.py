@@ -150,17 +150,35 @@ class Robustness:
     tolerance: float
 
 
-def robustness(problem: DesignProblem, x) -> Robustness:
-    """Every mount-axis stiffness of design ``x`` scattered by independent factors uniform in
-    ``1 +- spec.tolerance``, ``spec.samples`` times (seed ``spec.seed``): how often each target holds."""
+#: Samples per chunk of the robustness study (one task each, with its own seed: :mod:`sixdof.tasks`).
+ROBUSTNESS_CHUNK = 1000
+
+
+def robustness_chunk(problem: DesignProblem, x, index: int, count: int) -> np.ndarray:
+    """Chunk ``index`` of the robustness study of design ``x`` (one task): ``count`` samples of every mount-axis
+    stiffness scattered by independent factors uniform in ``1 +- spec.tolerance``; the targets' values
+    (count, n_targets)."""
     from sixdof._jax import jax, jnp
+    from sixdof.tasks import chunk_rng
 
     spec = problem.spec
-    rng = np.random.default_rng(spec.seed + 1)
-    scale = rng.uniform(1 - spec.tolerance, 1 + spec.tolerance, size=(spec.samples, len(problem.names), 3))
-    values = np.asarray(jax.jit(jax.vmap(lambda s: problem.values(jnp.asarray(x), s)))(jnp.asarray(scale)))
+    scale = chunk_rng(spec.seed, index).uniform(1 - spec.tolerance, 1 + spec.tolerance,
+                                                size=(count, len(problem.names), 3))
+    return np.asarray(jax.jit(jax.vmap(lambda s: problem.values(jnp.asarray(x), s)))(jnp.asarray(scale)))
+
+
+def robustness(problem: DesignProblem, x, runner=None) -> Robustness:
+    """``spec.samples`` samples of design ``x`` with every mount-axis stiffness scattered (seed ``spec.seed``,
+    in chunks of :data:`ROBUSTNESS_CHUNK`, see :func:`robustness_chunk`): how often each target holds.
+    ``runner``: where the chunks run (:func:`sixdof.tasks.task_runner`; default this process)."""
+    from sixdof._jax import jax, jnp
+    from sixdof.tasks import InProcess, partition
+
+    chunks = partition(problem.spec.samples, ROBUSTNESS_CHUNK)
+    jobs = ((i, (problem, np.asarray(x, dtype=float), i, len(rows))) for i, rows in enumerate(chunks))
+    found = {done.index: done.result for done in (runner or InProcess()).run(robustness_chunk, jobs)}
+    values = np.concatenate([found[i] for i in range(len(chunks))])
     met = np.asarray(jax.vmap(problem.violations)(jnp.asarray(values))) == 0
     return Robustness(probability=readonly(met.mean(axis=0)),
                       percentiles=readonly(np.percentile(values, [5, 50, 95], axis=0).T),
-                      values=readonly(values), tolerance=spec.tolerance)
-
+                      values=readonly(values), tolerance=problem.spec.tolerance)

@@ -80,8 +80,8 @@ def _absolute_files(node, base: Path) -> None:
             _absolute_files(value, base)
 
 
-def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool = True,
-                      log=print) -> DesignOutcome:
+def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool = True, log=print,
+                      workers: int | None = None, scheduler: str | None = None, client=None) -> DesignOutcome:
     """Optimize ``scenario``'s mounts for its ``[design]`` targets and write ``<out_root>/<name>_design/``.
 
     Parameters
@@ -93,6 +93,8 @@ def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: b
         Show the starts done.
     log : callable
         Receives the terminal's tables.
+    workers, scheduler, client : optional
+        Where the robustness study's chunks run (:func:`sixdof.tasks.task_runner`): default this process.
 
     Returns
     -------
@@ -102,14 +104,16 @@ def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: b
     from sixdof.plots import png
     from sixdof.plots.design import plot_design_decoupling, plot_design_frequencies
     from sixdof.progress import meter
+    from sixdof.tasks import task_runner
 
     problem = DesignProblem(scenario.system, scenario.design, scenario.statics.gravity, scenario.statics.direction)
     target = output.check_target(out_root, scenario.name, "_design")
-    shown = meter(progress, scenario.design.starts, "starts", "optimize")
-    result = optimize(problem, progress=shown)
-    shown.close()
+    with task_runner(workers, scheduler, client) as runner:  # a bad address fails before the optimization
+        shown = meter(progress, scenario.design.starts, "starts", "optimize")
+        result = optimize(problem, progress=shown)
+        shown.close()
+        spread = robustness(problem, result.x, runner)
     system = optimized_system(problem, result.x)
-    spread = robustness(problem, result.x)
     text = optimized_toml(scenario, system)
     decoupling = next((t for t in problem.targets if t.kind == "decoupling"), None)
     coordinates = "body" if decoupling is None else decoupling.coordinates

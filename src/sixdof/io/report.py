@@ -265,14 +265,15 @@ def mount_check_text(check, limits=None) -> str:
     return "\n".join(parts)
 
 
-def summary_table(result) -> str:
-    """Percentiles (5, 50, 95 %) of each natural frequency and each DOF's peak over a batch of variants."""
-    rows = [[f"f{j + 1} [Hz]", *(f"{v:.5g}" for v in np.percentile(result.frequency_hz[:, j], [5, 50, 95]))]
+def summary_table(frequency_hz, peak_q=None) -> str:
+    """Percentiles (5, 50, 95 %) of each natural frequency (nv, 6) [Hz] and each DOF's peak (nv, 6) over a
+    batch of variants; read one column at a time (they may be HDF5 datasets too large to hold whole)."""
+    rows = [[f"f{j + 1} [Hz]", *(f"{v:.5g}" for v in np.percentile(frequency_hz[:, j], [5, 50, 95]))]
             for j in range(6)]
-    if result.peak_q is not None:
-        rows += [[f"peak {dof} [{unit}]", *(f"{v:.4g}" for v in np.percentile(result.peak_q[:, j], [5, 50, 95]))]
+    if peak_q is not None:
+        rows += [[f"peak {dof} [{unit}]", *(f"{v:.4g}" for v in np.percentile(peak_q[:, j], [5, 50, 95]))]
                  for j, (dof, unit) in enumerate(zip(DOFS, DOF_UNITS))]
-    return f"{result.variants.count} variants\n\n" + table(["quantity", "p5", "p50", "p95"], rows)
+    return f"{len(frequency_hz)} variants\n\n" + table(["quantity", "p5", "p50", "p95"], rows)
 
 
 def validation_text(report) -> str:

@@ -1,12 +1,13 @@
-"""A results file written while a long run proceeds: its time series appended window by window.
+"""A results file written while a long computation proceeds: its series appended part by part.
 
 A run of any duration proceeds in time windows (:func:`sixdof.analysis.direct.simulate_windows`); each
 window's results are encoded like a whole run's (:func:`sixdof.io.store.build_results`) and every dataset
 with a time axis ``t`` is appended along that axis, so memory stays bounded by one window whatever the
 duration. The datasets without a time axis (modes, statics, summaries merged over the windows: solver
 statistics, agreement, mount peaks) are written once, by :meth:`ResultsStream.finish`, from the run's
-final results. The file is written under a temporary name and renamed into place only when finished,
-like :func:`sixdof.io.store.save_results`: a reader never sees a half-written results file.
+final results. A sweep's chunks are merged the same way along the axis ``variant``. The file is written
+under a temporary name and renamed into place only when finished, like
+:func:`sixdof.io.store.save_results`: a reader never sees a half-written results file.
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ from sixdof.io.output import check_room, held_signals
 from sixdof.io.store import Results, _write, _write_dataset_attributes, build_results, publish
 from sixdof.results import time_slice
 
-#: Samples per HDF5 chunk along the time axis: large enough for fast appends and reads of whole series,
+#: Samples per HDF5 chunk along the appended axis: large enough for fast appends and reads of whole series,
 #: small enough that a short run's file holds little padding.
 TIME_CHUNK = 4096
 
@@ -33,14 +34,17 @@ class ResultsStream:
     ----------
     path : str or path-like
         The results file written by :meth:`finish`.
+    axis : str
+        The axis appended along: ``"t"`` (a run's windows, default) or ``"variant"`` (a sweep's chunks).
     **parts
         Passed to :func:`sixdof.io.store.build_results` with every window and the final results
         (``command_line``...).
     """
 
-    def __init__(self, path: str | os.PathLike, **parts) -> None:
+    def __init__(self, path: str | os.PathLike, axis: str = "t", **parts) -> None:
         import h5py
 
+        self.axis = axis
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._parts = parts
@@ -57,19 +61,25 @@ class ResultsStream:
             self.abort()
 
     def append(self, run) -> None:
-        """Append one window's time series (a :class:`~sixdof.results.RunResults` of that window)."""
+        """Append one window's series (a :class:`~sixdof.results.RunResults` of that window or chunk)."""
         tree = build_results(run, **self._parts)
-        series = {path: d for path, d in tree.datasets.items() if "t" in d.dims}
+        series = {path: d for path, d in tree.datasets.items() if self.axis in d.dims}
         if self._series and set(series) != set(self._series):
-            raise ValueError(f"window {self.samples} has the series {sorted(series)}, not {sorted(self._series)}")
+            raise ValueError(f"part {self.samples} has the series {sorted(series)}, not {sorted(self._series)}")
+        lengths = {d.data.shape[d.dims.index(self.axis)] for d in series.values()}
+        if len(lengths) != 1:
+            raise ValueError(f"part {self.samples} has series of lengths {sorted(lengths)} along {self.axis}")
         check_room(self._temporary, sum(d.data.nbytes for d in series.values()))
         with held_signals():
-            self._append(series, tree["time/t"].data.shape[0])
+            self._append(series, lengths.pop())
 
     def _append(self, series, n) -> None:
         """Append ``n`` samples of each of a window's ``series`` (path -> Dataset), creating them at the first."""
         for path, dataset in series.items():
-            axis = dataset.dims.index("t")
+            axis = dataset.dims.index(self.axis)
+            data = dataset.data
+            if dataset.dims == (self.axis,) and dataset.attrs.get("description") == f"{self.axis} index":
+                data = data + self.samples  # an index scale (0, 1, ...) numbers the whole file, not each part
             if path not in self._series:
                 shape = list(dataset.data.shape)
                 shape[axis] = 0
@@ -85,15 +95,22 @@ class ResultsStream:
             node.resize(self.samples + n, axis=axis)
             index = [slice(None)] * dataset.data.ndim
             index[axis] = slice(self.samples, self.samples + n)
-            node[tuple(index)] = dataset.data
+            node[tuple(index)] = data
         self.samples += n
 
-    def finish(self, run) -> Path:
-        """Write the datasets without a time axis from the run's final results, close, and rename into place."""
+    def finish(self, run, **attrs) -> Path:
+        """Write the datasets without the appended axis from the final results, close, and rename into place.
+
+        ``run`` may be cut to no samples along the axis already (a sweep's merged results, whose per-variant
+        arrays the client never holds); ``attrs`` (group path -> attributes) then set what the cut changed.
+        """
         # The file has every window's time series already: only the rest is encoded, from the run cut to no
         # samples (encoding a long run's kept samples again would double the memory they take).
-        tree = build_results(time_slice(run, slice(0, 0)), **self._parts)
-        datasets = {path: d for path, d in tree.datasets.items() if path in self._series or "t" not in d.dims}
+        if self.axis == "t":
+            run = time_slice(run, slice(0, 0))
+        extra = {**self._parts.get("extra_attrs", {}), **attrs}
+        tree = build_results(run, **{**self._parts, "extra_attrs": extra})
+        datasets = {path: d for path, d in tree.datasets.items() if path in self._series or self.axis not in d.dims}
         with held_signals():
             _write(self._file, Results(datasets, tree.attrs), written=self._series)
             self._file.close()

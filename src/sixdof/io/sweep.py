@@ -19,6 +19,7 @@ from sixdof.errors import InputError, Plain, boolean, integer, integer_check, nu
 from sixdof.frozen import Frozen, checked
 from sixdof.io.toml import Table, build, is_number, parse, read_text
 from sixdof.model.system import System
+from sixdof.tasks import chunk_rng, partition
 
 PARAMETERS = ("stiffness", "damping", "position")
 DISTRIBUTIONS = ("uniform", "normal", "grid")
@@ -103,6 +104,11 @@ class Vary(Frozen):
             raise InputError("independent", "false for a grid (one grid value per variant)", self.independent)
 
 
+#: Variants per chunk of a sweep when the spec does not say (:attr:`SweepSpec.chunk_size`): a few seconds of
+#: the exact engine on the bundled bridge scenario, few enough files for 10^6 variants.
+CHUNK_SIZE = 1000
+
+
 @dataclass(frozen=True)
 class SweepSpec:
     """A validated sweep specification (see :func:`parse_sweep_spec`).
@@ -112,9 +118,12 @@ class SweepSpec:
     count : int
         Number of random variants (the product of the grid sizes when there are grids).
     seed : int
-        Seed of :func:`numpy.random.default_rng`.
+        Seed of the random draws: chunk ``i`` draws from ``numpy.random.default_rng([seed, i])``
+        (:func:`sixdof.tasks.chunk_rng`).
     vary : tuple of Vary
     chunk_size : int or None
+        Variants per chunk (one task, one seed, one file; default :data:`CHUNK_SIZE`): the chunks of
+        :func:`sixdof.tasks.partition`. With the seed it fixes the variants drawn.
     engine : {"exact", "diffrax"}
         How the responses are computed (:func:`sixdof.analysis.batch.run_batch`).
     cross_check : int
@@ -128,16 +137,34 @@ class SweepSpec:
     engine: str = "exact"
     cross_check: int = CROSS_CHECK
 
-    def variants(self, system: System) -> Variants:
-        """Draw the variants for ``system`` (deterministic for a given seed)."""
+    def chunks(self) -> list[range]:
+        """The variant indices of each chunk."""
+        return partition(self.count, self.chunk_size or CHUNK_SIZE)
+
+    def variants(self, system: System, chunk: int | None = None) -> Variants:
+        """The variants of chunk ``chunk`` for ``system``, or of every chunk in order (deterministic).
+
+        Raises
+        ------
+        InputError
+            A mount or axis that ``system`` lacks, or draws of stiffness factors <= 0 or damping factors
+            < 0 (naming the ``vary`` entry).
+        """
+        if chunk is None:
+            parts = [self.variants(system, i) for i in range(len(self.chunks()))]
+            return make_variants(system, **{name: np.concatenate([getattr(p, name) for p in parts])
+                                            for name in ("stiffness_factor", "damping_factor", "position_offset")})
+        rows = self.chunks()[chunk]
         names = system.mount_names
         n = len(names)
-        rng = np.random.default_rng(self.seed)
-        k, d, x = np.ones((self.count, n, 3)), np.ones((self.count, n, 3)), np.zeros((self.count, n, 3))
+        rng = chunk_rng(self.seed, chunk)
+        count = len(rows)
+        k, d, x = np.ones((count, n, 3)), np.ones((count, n, 3)), np.zeros((count, n, 3))
         target = {"stiffness": k, "damping": d, "position": x}
         grids = [i for i, v in enumerate(self.vary) if v.distribution == "grid"]
-        grid_index = (np.indices([len(self.vary[i].values) for i in grids]).reshape(len(grids), -1)
-                      if grids else np.zeros((0, self.count), dtype=int))
+        # The grids' full factorial, numbered over the whole sweep: this chunk's rows of it.
+        grid_index = np.stack(np.unravel_index(np.asarray(rows), [len(self.vary[i].values) for i in grids])) \
+            if grids else np.zeros((0, count), dtype=int)
         for i, v in enumerate(self.vary):
             field = f"vary[{i}]"
             for m in v.mounts:
@@ -149,24 +176,30 @@ class SweepSpec:
                 if a not in labels:
                     raise InputError(f"{field}.axes", f"axes among {', '.join(labels)}", a)
             axes = [labels.index(a) for a in v.axes] if v.axes else [0, 1, 2]
-            shape = (self.count, len(mounts), len(axes)) if v.independent else (self.count, 1, 1)
+            shape = (count, len(mounts), len(axes)) if v.independent else (count, 1, 1)
             if v.distribution == "uniform":
                 draw = rng.uniform(v.low, v.high, shape)
             elif v.distribution == "normal":
                 draw = rng.normal(v.mean, v.std, shape)
             else:
                 draw = np.asarray(v.values)[grid_index[grids.index(i)]][:, None, None]
-            block = np.broadcast_to(draw, (self.count, len(mounts), len(axes)))
+            block = np.broadcast_to(draw, (count, len(mounts), len(axes)))
             sub = target[v.parameter][:, mounts][:, :, axes]
             sub = sub + block if v.parameter == "position" else sub * block
-            target[v.parameter][np.ix_(range(self.count), mounts, axes)] = sub
+            target[v.parameter][np.ix_(range(count), mounts, axes)] = sub
             if v.parameter == "stiffness" and np.any(sub <= 0):
                 raise InputError(field, "stiffness factors > 0 (narrow the distribution)",
-                                 Plain(f"a draw of {sub.min():.6g}"))
+                                 Plain(f"a draw of {sub.min():.6g} (chunk {chunk})"))
             if v.parameter == "damping" and np.any(sub < 0):
                 raise InputError(field, "damping factors >= 0 (narrow the distribution)",
-                                 Plain(f"a draw of {sub.min():.6g}"))
+                                 Plain(f"a draw of {sub.min():.6g} (chunk {chunk})"))
         return make_variants(system, stiffness_factor=k, damping_factor=d, position_offset=x)
+
+    def check(self, system: System) -> None:
+        """Draw every chunk's variants once, one chunk at a time, so that a bad draw fails before any
+        computing (see :meth:`variants`)."""
+        for chunk in range(len(self.chunks())):
+            self.variants(system, chunk)
 
 
 def parse_sweep_spec(text: str, source: str = "<string>") -> SweepSpec:
@@ -186,7 +219,8 @@ def parse_sweep_spec(text: str, source: str = "<string>") -> SweepSpec:
         independent = true           # one draw per mount and axis (default: one shared draw)
 
     Optional top-level keys: ``engine`` (``"exact"``, default, or ``"diffrax"``), ``cross_check``
-    (variants also solved by diffrax, default 3), ``chunk_size``.
+    (variants also solved by diffrax, default 3), ``chunk_size`` (variants per chunk, default
+    :data:`CHUNK_SIZE`; with ``seed`` it fixes the variants drawn).
 
     Raises
     ------

@@ -1,0 +1,335 @@
+"""A sweep of a scenario's mount variants, chunk by chunk: in this process or on Dask, on disk as it goes.
+
+The sweep's variants are cut into chunks of equal size (:meth:`sixdof.io.sweep.SweepSpec.chunks`); each
+chunk is one task (:func:`sweep_chunk`): it draws its variants with its own seed, computes them with the
+batch engine (:func:`sixdof.analysis.batch.run_batch`) and solves those of the cross-check sample that
+fall in it by diffrax. Where the tasks run is :func:`sixdof.tasks.task_runner`'s business; the results
+are the same wherever they ran.
+
+:func:`sweep` returns the whole sweep in memory. :func:`sweep_scenario` writes it: each finished chunk
+goes to its own file in ``<out>/<name>_sweep.chunks/`` (:class:`ChunkFolder`) as it arrives, so the client
+holds a few chunks at most; once all are there they are merged in order into ``<out>/<name>_sweep/sweep.h5``
+(:class:`sixdof.io.stream.ResultsStream` along the axis ``variant``) and the chunk folder is removed. An
+interrupted sweep keeps its chunks; ``resume=True`` computes only the missing ones, after checking that
+the scenario and the spec are those the chunks were computed from.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import time
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from sixdof.errors import InputError, Plain
+
+#: The folder of a sweep's finished chunks, beside its results folder.
+CHUNKS_SUFFIX = ".chunks"
+_FINGERPRINT = "sweep.json"
+
+
+def sweep_chunk(scenario, spec, index: int, checked: tuple[int, ...] = ()):
+    """Chunk ``index`` of ``spec``'s sweep of ``scenario``, one task: its variants' frequencies and peaks,
+    and the diffrax peaks of those among ``checked`` (indices in the whole sweep), as a
+    :class:`~sixdof.analysis.batch.BatchResult` whose cross-check fields hold only those peaks."""
+    from sixdof.analysis.batch import direct_peaks, run_batch
+
+    system, excitation, settings = scenario.system, scenario.excitation, scenario.simulation
+    variants = spec.variants(system, index)
+    result = run_batch(system, variants, excitation, settings, engine=spec.engine, cross_check=0)
+    if not checked or result.peak_q is None:
+        return result
+    rows = spec.chunks()[index]
+    direct = direct_peaks(system, variants, [i - rows.start for i in checked], excitation, settings)
+    return dataclasses.replace(result, cross_check_variants=np.asarray(checked, dtype=int),
+                               cross_check_peak_q=direct[:, :6], cross_check_peak_qdd=direct[:, 6:])
+
+
+class _Sweep:
+    """What every chunk shares and how they merge: the partition, the cross-check sample, the merged parts."""
+
+    def __init__(self, scenario, spec) -> None:
+        from sixdof.analysis.batch import cross_check_sample
+
+        self.scenario, self.spec = scenario, spec
+        self.chunks = spec.chunks()
+        simulated = scenario.excitation is not None and scenario.simulation is not None
+        self.checked = cross_check_sample(spec.count, spec.cross_check if simulated else 0, spec.seed)
+        self.start = time.perf_counter()
+
+    def jobs(self, skip=frozenset()) -> Iterator[tuple[int, tuple]]:
+        """``(index, arguments of sweep_chunk)`` of every chunk not in ``skip``."""
+        for index, rows in enumerate(self.chunks):
+            if index not in skip:
+                checked = tuple(int(i) for i in self.checked if i in rows)
+                yield index, (self.scenario, self.spec, index, checked)
+
+    def run(self, runner, skip=frozenset(), progress=None) -> Iterator[tuple[int, object]]:
+        """Each chunk not in ``skip`` computed by ``runner`` (:func:`sixdof.tasks.task_runner`), as it finishes,
+        with a meter over the chunks showing variants per second."""
+        from sixdof.progress import meter
+
+        shown = meter(progress, len(self.chunks), "chunks", f"sweep ({runner.backend}, {runner.workers} workers)",
+                      origin=0)
+        shown.show(len(skip))
+        done, variants, began = len(skip), 0, time.perf_counter()
+        rate = ""
+        for finished in runner.run(sweep_chunk, self.jobs(skip)):
+            done += 1
+            variants += len(self.chunks[finished.index])
+            rate = f"{variants / (time.perf_counter() - began):.4g} variants/s"
+            shown.show(done, rate)
+            yield finished.index, finished.result
+        shown.close(rate)
+
+    def merged(self, results: Iterable, where: dict, sink=None):
+        """The sweep's :class:`~sixdof.analysis.batch.BatchResult` from its chunks' results in order, cut to no
+        variants, with the cross-check and the provenance ``where`` (:func:`_where`); ``sink`` receives each
+        chunk (to keep or write it)."""
+        from sixdof.analysis.batch import cross_check_fields
+        from sixdof.results import axis_slice
+
+        first, direct, engine, width, count = None, [], [], 0, 0
+        for index, result in enumerate(results):
+            rows = self.chunks[index]
+            if result.count != len(rows):
+                raise InputError("chunks", f"{len(rows)} variants in chunk {index}", Plain(f"{result.count}"))
+            if first is None:
+                first = axis_slice(result, slice(0, 0), "variant")
+            width = max(width, result.chunk_size)
+            count += result.count
+            if result.cross_check_variants is not None:
+                local = result.cross_check_variants - rows.start
+                direct.append(np.hstack([result.cross_check_peak_q, result.cross_check_peak_qdd]))
+                engine.append(np.hstack([result.peak_q[local], result.peak_qdd[local]]))
+            if sink is not None:
+                sink(result)
+        if count != self.spec.count:
+            raise InputError("chunks", f"{self.spec.count} variants", Plain(f"{count}"))
+        checks = {} if not direct else cross_check_fields(self.checked, np.vstack(direct), np.vstack(engine))
+        fields = ("cross_check_variants", "cross_check_peak_q", "cross_check_peak_qdd", "cross_check")
+        return dataclasses.replace(first, **{name: checks.get(name) for name in fields}, chunk_size=width,
+                                   wall_time_s=time.perf_counter() - self.start, chunks=len(self.chunks), **where)
+
+
+def _where(runner) -> dict:
+    """Where the chunks ran: the backend and its worker processes now."""
+    return {"backend": runner.backend, "workers": runner.workers}
+
+
+def _with_chunk_size(spec, chunk_size):
+    return spec if chunk_size is None else dataclasses.replace(spec, chunk_size=chunk_size)
+
+
+def sweep(scenario, spec, *, chunk_size: int | None = None, workers: int | None = None,
+          scheduler: str | None = None, client=None, progress=None):
+    """Run a scenario's variants: frequencies always, peak responses when it has a simulation; in memory.
+
+    Parameters
+    ----------
+    scenario : sixdof.io.scenario.Scenario
+    spec : sixdof.io.sweep.SweepSpec
+    chunk_size : int, optional
+        Variants per chunk (default: the spec's); with the seed it fixes the variants drawn.
+    workers, scheduler, client : optional
+        Where the chunks run (:func:`sixdof.tasks.task_runner`): default this process.
+    progress : None, bool, "text" or "tqdm", optional
+        Show the chunks done (:func:`sixdof.progress.meter`).
+
+    Returns
+    -------
+    sixdof.analysis.batch.BatchResult
+        Every variant, in order.
+    """
+    from sixdof.results import axis_concat
+    from sixdof.tasks import task_runner
+
+    spec = _with_chunk_size(spec, chunk_size)
+    spec.check(scenario.system)
+    run = _Sweep(scenario, spec)
+    with task_runner(workers, scheduler, client) as runner:
+        found = dict(run.run(runner, progress=progress))
+        where = _where(runner)
+    kept = []
+    merged = run.merged((found.pop(i) for i in range(len(run.chunks))), where, kept.append)
+    return axis_concat(kept, "variant", **{f.name: getattr(merged, f.name) for f in dataclasses.fields(merged)
+                                           if f.name not in ("variants", "frequency_hz", "peak_q", "peak_qdd",
+                                                             "num_steps", "num_rejected")})
+
+
+# ----------------------------------------------------------------------------------------------------
+# On disk: the chunks as they finish, merged into sweep.h5.
+# ----------------------------------------------------------------------------------------------------
+
+
+class ChunkFolder:
+    """``<out>/<name>_sweep.chunks/``: one results file per finished chunk (``chunk-00012.h5``, written
+    atomically) and ``sweep.json``, the fingerprint of the scenario and spec they come from.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+    fingerprint : dict
+        What the chunks depend on (:func:`fingerprint`).
+    resume : bool
+        Whether chunks found there may be used; without it, finding any is an error (before computing).
+    """
+
+    def __init__(self, path: Path, fingerprint: dict, resume: bool) -> None:
+        self.path = path
+        stored = path / _FINGERPRINT
+        if path.is_symlink() or (path.exists() and not path.is_dir()):
+            raise InputError("--out", f"no file or link named {path.name} (a sweep keeps its chunks in a folder "
+                             "there)", Plain(str(path)))
+        if path.exists():
+            found = self.finished()
+            if not resume:
+                raise InputError("--resume", f"a fresh start, or --resume to continue the interrupted sweep whose "
+                                 f"{len(found)} finished chunks are in {path} (remove that folder to start over)",
+                                 Plain("no --resume"))
+            try:
+                before = json.loads(stored.read_text(encoding="utf-8"))
+            except (OSError, ValueError):
+                raise InputError("--resume", f"a chunk folder with its {_FINGERPRINT}", Plain(str(path))) from None
+            changed = [key for key in fingerprint if before.get(key) != fingerprint[key]]
+            if changed:
+                raise InputError("--resume", "the scenario and sweep spec that the chunks in "
+                                 f"{path} were computed from", Plain(f"a different {', '.join(changed)}"))
+        else:
+            path.mkdir()
+            stored.write_text(json.dumps(fingerprint, indent=1), encoding="utf-8")
+
+    def file(self, index: int) -> Path:
+        return self.path / f"chunk-{index:05d}.h5"
+
+    def finished(self) -> set[int]:
+        """The chunks whose files are complete (a file appears only once written whole)."""
+        return self.finished_in(self.path)
+
+    @staticmethod
+    def finished_in(path: Path) -> set[int]:
+        """The finished chunks in the chunk folder ``path`` (none where there is none)."""
+        return {int(p.stem.split("-")[1]) for p in path.glob("chunk-*.h5")} if path.is_dir() else set()
+
+    def write(self, index: int, result) -> None:
+        from sixdof.io.store import write_results
+        from sixdof.results import RunResults
+
+        write_results(self.file(index), RunResults(name=f"chunk {index}", sweep=result))
+
+    def read(self, index: int):
+        from sixdof.io.store import load_results
+
+        return load_results(self.file(index)).sweep
+
+    def remove(self, chunks: int) -> None:
+        """Remove the chunk files, the fingerprint and the folder: only what sixdof wrote there."""
+        for index in range(chunks):
+            self.file(index).unlink(missing_ok=True)
+        (self.path / _FINGERPRINT).unlink(missing_ok=True)
+        try:
+            self.path.rmdir()
+        except OSError:
+            pass  # something else is in it: the user's, left alone
+
+
+def fingerprint(scenario, spec) -> dict:
+    """What a sweep's chunks depend on: the scenario's text and the spec (chunks and seeds included)."""
+    from sixdof import __version__
+
+    spec_text = json.dumps(dataclasses.asdict(spec), sort_keys=True, default=str)
+    return {"scenario": hashlib.sha256(scenario.text.encode()).hexdigest(),
+            "spec": hashlib.sha256(spec_text.encode()).hexdigest(), "sixdof version": __version__}
+
+
+@dataclass(frozen=True)
+class SweepOutcome:
+    """What :func:`sweep_scenario` wrote and found.
+
+    Attributes
+    ----------
+    directory : pathlib.Path
+        ``<out>/<name>_sweep/`` (``sweep.h5``).
+    result : sixdof.analysis.batch.BatchResult
+        The merged result cut to no variants: its cross-check and provenance (the variants are in the file).
+    count : int
+        Variants.
+    resumed : int
+        Chunks found finished (``resume=True``) and not computed again.
+    table : str
+        Percentiles of the frequencies and peaks (:func:`sixdof.io.report.summary_table`).
+    """
+
+    directory: Path
+    result: object
+    count: int
+    resumed: int
+    table: str
+
+
+def sweep_scenario(scenario, spec, out_root: str | Path = "outputs", *, chunk_size: int | None = None,
+                   workers: int | None = None, scheduler: str | None = None, client=None, resume: bool = False,
+                   progress=None, command_line: str | None = None) -> SweepOutcome:
+    """Run a sweep and write ``<out_root>/<name>_sweep/sweep.h5`` (see the module).
+
+    Parameters
+    ----------
+    scenario, spec, chunk_size, workers, scheduler, client, progress
+        As :func:`sweep`.
+    out_root : str or pathlib.Path
+    resume : bool
+        Continue an interrupted sweep from its chunk folder.
+    command_line : str, optional
+        Stored in the file's provenance.
+
+    Raises
+    ------
+    InputError
+        Bad spec draws, an unusable ``out_root``, chunks of an interrupted sweep without ``resume`` or of
+        another scenario or spec with it: all before any computing.
+    """
+    import h5py
+
+    from sixdof.io import output
+    from sixdof.io.report import summary_table
+    from sixdof.io.stream import ResultsStream
+    from sixdof.results import RunResults
+    from sixdof.tasks import task_runner
+
+    spec = _with_chunk_size(spec, chunk_size)
+    spec.check(scenario.system)
+    target = output.check_target(out_root, scenario.name, "_sweep")
+    folder = ChunkFolder(target.with_name(target.name + CHUNKS_SUFFIX), fingerprint(scenario, spec), resume)
+    run = _Sweep(scenario, spec)
+    found = folder.finished()
+    with task_runner(workers, scheduler, client) as runner:
+        for index, result in run.run(runner, skip=found, progress=progress):
+            folder.write(index, result)
+        where = _where(runner)
+    outcome = {}
+
+    def write(stage: Path) -> None:
+        parts = {"command_line": command_line} if command_line is not None else {}
+        path = stage / "sweep.h5"
+        with ResultsStream(path, axis="variant", **parts) as stream:
+            merged = run.merged((folder.read(i) for i in range(len(run.chunks))), where,
+                                lambda chunk: stream.append(RunResults(name=scenario.name, sweep=chunk)))
+            stream.finish(RunResults(name=scenario.name, description=scenario.description, system=scenario.system,
+                                     sweep=merged, provenance={"scenario_text": scenario.text}),
+                          sweep={"count": spec.count})
+        with h5py.File(path, "r") as f:  # one column at a time: the client never holds every variant
+            outcome["table"] = summary_table(f["sweep/frequency_hz"], f.get("sweep/peak_q"))
+        outcome["result"] = merged
+
+    output.write_folder(target, write)
+    folder.remove(len(run.chunks))
+    return SweepOutcome(directory=target, result=outcome["result"], count=spec.count, resumed=len(found),
+                        table=outcome["table"])
+
+
+__all__ = ["ChunkFolder", "SweepOutcome", "fingerprint", "sweep", "sweep_chunk", "sweep_scenario"]

@@ -1,0 +1,236 @@
+"""Independent chunks of a study run as tasks: in this process, or on Dask distributed.
+
+A study of many variants (a sweep, the robustness samples of a design) is cut into chunks of equal size
+(:func:`partition`). Chunk ``i`` draws its random numbers from ``numpy.random.default_rng([seed, i])``
+(:func:`chunk_rng`), so a result depends on the seed and the partition only, never on where the chunks
+ran, how many workers ran them or in which order they finished.
+
+:func:`task_runner` gives the place they run, as a context manager:
+
+- in this process (the default): chunk after chunk;
+- ``workers=N``: a local Dask cluster of N worker processes, one thread each, started and closed here;
+- ``scheduler="tcp://host:8786"``: an existing Dask cluster (its workers must have sixdof installed);
+- ``client=``: an existing :class:`distributed.Client`.
+
+On Dask, every chunk is one task: at most two per worker thread are in flight (the client holds only
+those chunks' results), a chunk whose worker dies is computed again by the scheduler and a chunk whose
+computation raises is retried :data:`RETRIES` times. Workers started here run with one BLAS and one XLA
+thread each (N workers on N cores do not oversubscribe) and with JAX's persistent compilation cache on, so
+that a worker loads the compiled solvers instead of compiling them anew (:class:`WorkerSetup`).
+
+This is the only module that imports Dask; the batch engine knows nothing of it.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import time
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from sixdof.errors import InputError, Plain, integer
+
+#: Recomputations of a chunk whose task raised (a worker that dies costs no retry: the scheduler moves its
+#: chunks to another worker, up to Dask's ``distributed.scheduler.allowed-failures`` deaths per chunk).
+RETRIES = 2
+#: Chunks in flight per worker thread: one computing, one queued, so that no worker waits for the client.
+IN_FLIGHT_PER_THREAD = 2
+#: Seconds to wait for an existing scheduler to answer.
+CONNECT_TIMEOUT_S = 10
+#: The environment of the workers of a local cluster: one thread for BLAS and for XLA's CPU backend each.
+WORKER_ENV = {
+    "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
+    "XLA_FLAGS": "--xla_cpu_multi_thread_eigen=false intra_op_parallelism_threads=1",
+}
+BACKENDS = ("in-process", "dask-local", "dask")
+
+
+def partition(count: int, size: int) -> list[range]:
+    """``range(count)`` cut into ``ceil(count / size)`` chunks whose sizes differ by one at most."""
+    chunks = -(-count // size)
+    bounds = [i * count // chunks for i in range(chunks + 1)]
+    return [range(low, high) for low, high in zip(bounds[:-1], bounds[1:])]
+
+
+def chunk_rng(seed: int, index: int) -> np.random.Generator:
+    """The random numbers of chunk ``index`` of a study seeded with ``seed``."""
+    return np.random.default_rng([seed, index])
+
+
+@dataclass(frozen=True)
+class Finished:
+    """A chunk's result, as it arrives."""
+
+    index: int
+    result: Any
+    worker: str  #: where it ran ("this process", or the worker's address)
+
+
+class InProcess:
+    """Chunks computed one after the other in this process."""
+
+    backend = "in-process"
+    workers = 1
+
+    def run(self, task: Callable, jobs: Iterable[tuple[int, tuple]]) -> Iterator[Finished]:
+        """``task(*args)`` for each ``(index, args)`` of ``jobs``, yielded as each finishes."""
+        for index, args in jobs:
+            yield Finished(index, task(*args), "this process")
+
+
+class OnDask:
+    """Chunks computed as tasks of a Dask cluster (see the module).
+
+    Parameters
+    ----------
+    client : distributed.Client
+    backend : {"dask-local", "dask"}
+    """
+
+    def __init__(self, client, backend: str) -> None:
+        self.client, self.backend = client, backend
+
+    @property
+    def workers(self) -> int:
+        """Worker processes of the cluster now."""
+        return len(self.client.scheduler_info(n_workers=-1)["workers"])
+
+    def _threads(self) -> int:
+        return max(1, sum(self.client.nthreads().values()))
+
+    def run(self, task: Callable, jobs: Iterable[tuple[int, tuple]]) -> Iterator[Finished]:
+        """``task(*args)`` for each ``(index, args)`` of ``jobs`` as tasks, yielded as each finishes (in any
+        order). Pending tasks are cancelled when the caller stops early (an error, Ctrl-C)."""
+        from distributed import as_completed
+
+        jobs = iter(jobs)
+        token = f"{task.__name__}-{os.getpid()}-{time.monotonic_ns()}"
+        pending: dict = {}
+
+        def submit():
+            """The next job's future, or None when every job is submitted."""
+            for index, args in jobs:
+                future = self.client.submit(task, *args, key=f"sixdof-{token}-{index}", pure=False, retries=RETRIES)
+                pending[future] = index
+                return future
+            return None
+
+        for _ in range(IN_FLIGHT_PER_THREAD * self._threads()):
+            if submit() is None:
+                break
+        done = as_completed(list(pending), with_results=False)
+        try:
+            for future in done:
+                index = pending.pop(future)
+                result = future.result()
+                who = self.client.who_has(future).get(future.key) or ("?",)
+                future.release()
+                following = submit()
+                if following is not None:
+                    done.add(following)
+                yield Finished(index, result, str(who[0]))
+        finally:
+            if pending:
+                self.client.cancel(list(pending))
+
+
+class WorkerSetup:
+    """Run on each worker as it starts (a Dask worker plugin): JAX's persistent compilation cache on, so a
+    worker loads the solvers that another worker or an earlier run compiled."""
+
+    name = "sixdof-worker-setup"
+    idempotent = True
+
+    def setup(self, worker) -> None:
+        from sixdof._jax import enable_compilation_cache
+
+        enable_compilation_cache()
+
+    def teardown(self, worker) -> None:
+        pass
+
+
+def _plugin():
+    """:class:`WorkerSetup` as a :class:`distributed.WorkerPlugin` (the class is made where Dask is imported)."""
+    from distributed.diagnostics.plugin import WorkerPlugin
+
+    return type("SixdofWorkerSetup", (WorkerSetup, WorkerPlugin), {})()
+
+
+def _import_distributed(field: str, value: Any) -> None:
+    try:
+        import distributed  # noqa: F401
+    except ImportError:
+        raise InputError(field, "Dask distributed installed (pip install 'sixdof[dask]')",
+                         Plain(f"{value}, but the package distributed is not importable")) from None
+
+
+@contextlib.contextmanager
+def task_runner(workers: int | None = None, scheduler: str | None = None, client=None):
+    """Where a study's chunks run (see the module): yields an :class:`InProcess` or :class:`OnDask`.
+
+    Parameters
+    ----------
+    workers : int, optional
+        Start a local cluster of that many worker processes (closed on exit).
+    scheduler : str, optional
+        Address of an existing Dask scheduler.
+    client : distributed.Client, optional
+        An existing client (left open on exit).
+
+    Raises
+    ------
+    InputError
+        More than one of them given, a number of workers < 1, Dask not installed, or a scheduler that
+        does not answer within :data:`CONNECT_TIMEOUT_S` (before any chunk is computed).
+    """
+    given = [name for name, value in (("--workers", workers), ("--scheduler", scheduler), ("client", client))
+             if value is not None]
+    if len(given) > 1:
+        raise InputError(given[1], f"one place to run the chunks (not with {given[0]})", Plain("both given"))
+    if workers is None and scheduler is None and client is None:
+        yield InProcess()
+        return
+    if client is not None:
+        client.register_plugin(_plugin())
+        yield OnDask(client, "dask")
+        return
+    if workers is not None:
+        workers = integer(workers, "--workers", "a number of worker processes >= 1", 1)
+        _import_distributed("--workers", workers)
+    else:
+        if not isinstance(scheduler, str) or not scheduler.strip():
+            raise InputError("--scheduler", "the address of a Dask scheduler (tcp://host:8786)", scheduler)
+        _import_distributed("--scheduler", scheduler)
+    from distributed import Client, LocalCluster
+
+    with contextlib.ExitStack() as stack:
+        if workers is not None:
+            cluster = stack.enter_context(LocalCluster(
+                n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
+                silence_logs=logging.ERROR, env={**WORKER_ENV, **_passed_env()}))
+            client = stack.enter_context(Client(cluster))
+            backend = "dask-local"
+        else:
+            try:
+                client = stack.enter_context(Client(scheduler, timeout=CONNECT_TIMEOUT_S))
+            except (OSError, TimeoutError) as exc:
+                raise InputError("--scheduler", "the address of a running Dask scheduler",
+                                 Plain(f"{scheduler} ({exc.__class__.__name__}: {exc})")) from None
+            backend = "dask"
+        client.register_plugin(_plugin())
+        yield OnDask(client, backend)
+
+
+def _passed_env() -> dict[str, str]:
+    """The settings of sixdof's that a worker process must share with this one."""
+    return {k: v for k, v in os.environ.items() if k in ("SIXDOF_JAX_CACHE", "XDG_CACHE_HOME", "EQX_ON_ERROR")}
+
+
+__all__ = ["BACKENDS", "Finished", "InProcess", "OnDask", "RETRIES", "WorkerSetup", "chunk_rng", "partition",
+           "task_runner"]

@@ -1,0 +1,285 @@
+"""Sweeps in chunks, in this process and on a local two-worker Dask cluster (sixdof.sweeps, sixdof.tasks).
+
+What must hold whatever runs the chunks: the same variants and bit-identical results (each chunk draws
+with its own seed), every variant once in sweep.h5 even when a worker is killed mid-chunk, a resumed sweep
+equal to an uninterrupted one, and the robustness study of a design likewise. The in-process sweep itself
+is checked against the one-variant library calls (diffrax) and the unchunked batch.
+"""
+
+import dataclasses
+import os
+import signal
+import threading
+import time
+
+import h5py
+import numpy as np
+import pytest
+
+import sixdof.sweeps
+from sixdof import InputError, parse_scenario, simulate
+from sixdof.analysis.batch import run_batch, variant_system
+from sixdof.io.scenario import load_scenario
+from sixdof.io.sweep import parse_sweep_spec
+from sixdof.sweeps import CHUNKS_SUFFIX, sweep, sweep_scenario
+from sixdof.tasks import WORKER_ENV, chunk_rng, partition, task_runner
+from systems import bridge_toml
+from tolerances import RTOL_BATCH_DIRECT
+
+distributed = pytest.importorskip("distributed")
+
+SCENARIO = parse_scenario('name = "beam"\n' + bridge_toml("elastomer") + """[[loads]]
+name = "traffic"
+point = [0.3, 10.0, 1.0]
+force = [5e3, 2e4, -1e5]
+signal = { kind = "harmonic", f_hz = 5.0 }
+[[loads]]
+name = "impact"
+point = [0.4, 19.55, 0.5]
+force = [2e4, -5e4, 3e4]
+signal = { kind = "half_sine", start = 0.5, duration = 0.05 }
+[simulation]
+duration = 4.0
+sample_rate_hz = 500.0
+""")
+# Every bearing and axis its own stiffness factor, a shared damping factor, a grid of x offsets.
+SPEC = parse_sweep_spec("""
+count = 120
+seed = 11
+chunk_size = 25
+cross_check = 4
+[[vary]]
+parameter = "stiffness"
+distribution = "uniform"
+low = 0.7
+high = 1.3
+independent = true
+[[vary]]
+parameter = "damping"
+distribution = "normal"
+mean = 1.0
+std = 0.1
+""")
+PER_VARIANT = ("stiffness_factor", "damping_factor", "position_offset", "frequency_hz", "peak_q", "peak_qdd")
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    """A local cluster of two single-threaded worker processes, as ``--workers 2`` starts."""
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0",
+                                  env=WORKER_ENV) as local, distributed.Client(local) as client:
+        yield client
+
+
+@pytest.fixture(scope="module")
+def in_process():
+    return sweep(SCENARIO, SPEC)
+
+
+def _file(path):
+    with h5py.File(path, "r") as f:
+        found = {}
+        f.visititems(lambda name, node: found.setdefault(name, node[()]) if isinstance(node, h5py.Dataset) else None)
+        return found, {key: dict(f[key].attrs) for key in ("sweep",)}
+
+
+def _same_file(a, b):
+    (data_a, attrs_a), (data_b, attrs_b) = _file(a), _file(b)
+    assert sorted(data_a) == sorted(data_b)
+    for name in data_a:
+        np.testing.assert_array_equal(data_a[name], data_b[name], err_msg=name)
+    return attrs_a["sweep"], attrs_b["sweep"]
+
+
+def test_partition_and_chunk_seeds():
+    assert [len(r) for r in partition(10, 4)] == [3, 3, 4]
+    assert [len(r) for r in partition(8, 4)] == [4, 4] and [len(r) for r in partition(3, 10)] == [3]
+    assert [r.start for r in partition(1000, 7)][:3] == [0, 6, 13]  # consecutive, no gap
+    assert sum(len(r) for r in partition(1001, 10)) == 1001
+    draws = [chunk_rng(3, i).uniform(size=4) for i in range(3)]
+    assert not np.allclose(draws[0], draws[1]) and np.array_equal(draws[2], chunk_rng(3, 2).uniform(size=4))
+
+
+def test_chunks_draw_their_own_variants_and_grids_span_the_chunks():
+    system = SCENARIO.system
+    whole = SPEC.variants(system)
+    assert whole.count == 120 and len(SPEC.chunks()) == 5
+    second = SPEC.variants(system, 1)
+    np.testing.assert_array_equal(second.stiffness_factor, whole.stiffness_factor[24:48])
+    assert not np.allclose(whole.stiffness_factor[:24], second.stiffness_factor)  # each chunk its own draws
+    grid = parse_sweep_spec("chunk_size = 4\n[[vary]]\nparameter = 'stiffness'\ndistribution = 'grid'\n"
+                            "values = [0.5, 1.0, 2.0]\n[[vary]]\nparameter = 'position'\ndistribution = 'grid'\n"
+                            "values = [0.0, 0.1, 0.2]\naxes = ['x']\n")
+    v = grid.variants(system)
+    pairs = [(float(k), float(x)) for k, x in zip(v.stiffness_factor[:, 0, 0], v.position_offset[:, 0, 0])]
+    assert pairs == [(a, b) for a in (0.5, 1.0, 2.0) for b in (0.0, 0.1, 0.2)]  # the factorial, in order
+    assert len(grid.chunks()) == 3
+
+
+def test_in_process_sweep_against_diffrax_and_the_unchunked_batch(in_process):
+    system = SCENARIO.system
+    variants = SPEC.variants(system)
+    assert in_process.count == 120 and in_process.chunks == 5 and in_process.backend == "in-process"
+    np.testing.assert_array_equal(in_process.variants.stiffness_factor, variants.stiffness_factor)
+    # The same variants in one batch: the chunks only group the work.
+    whole = run_batch(system, variants, SCENARIO.excitation, SCENARIO.simulation, cross_check=0)
+    np.testing.assert_allclose(in_process.peak_q, whole.peak_q, rtol=1e-10)
+    np.testing.assert_array_equal(in_process.frequency_hz, whole.frequency_hz)
+    # A variant of the last chunk by the one-variant direct solve.
+    direct = simulate(variant_system(system, variants, 110), SCENARIO.excitation, SCENARIO.simulation)
+    expected = np.max(np.abs(direct.q), axis=0)
+    assert np.all(np.abs(in_process.peak_q[110] - expected) / expected < RTOL_BATCH_DIRECT)
+    # The cross-check sample spans chunks; its diffrax peaks are stored and agree.
+    checked = in_process.cross_check_variants
+    assert checked.size == 4 and len({i // 24 for i in checked}) > 1
+    assert in_process.cross_check.ok and in_process.cross_check.worst < 1e-6
+    one = checked[0]
+    again = simulate(variant_system(system, variants, int(one)), SCENARIO.excitation, SCENARIO.simulation)
+    np.testing.assert_allclose(in_process.cross_check_peak_q[0], np.max(np.abs(again.q), axis=0), rtol=1e-12)
+
+
+def test_two_workers_give_the_in_process_result_bit_for_bit(cluster, in_process):
+    on_dask = sweep(SCENARIO, SPEC, client=cluster)
+    assert on_dask.backend == "dask" and on_dask.workers == 2 and on_dask.chunks == 5
+    for name in PER_VARIANT[3:]:
+        np.testing.assert_array_equal(getattr(on_dask, name), getattr(in_process, name), err_msg=name)
+    for name in PER_VARIANT[:3]:
+        np.testing.assert_array_equal(getattr(on_dask.variants, name), getattr(in_process.variants, name))
+    np.testing.assert_array_equal(on_dask.cross_check_variants, in_process.cross_check_variants)
+    np.testing.assert_array_equal(on_dask.cross_check.per_dof, in_process.cross_check.per_dof)
+
+
+def test_workers_run_single_threaded_with_the_compilation_cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("SIXDOF_JAX_CACHE", str(tmp_path / "cache"))
+    with task_runner(workers=2) as runner:
+        assert runner.backend == "dask-local" and runner.workers == 2
+
+        def settings():
+            import jax
+
+            return os.environ.get("XLA_FLAGS"), os.environ.get("OPENBLAS_NUM_THREADS"), jax.config.jax_compilation_cache_dir
+
+        found = runner.client.run(settings)
+        assert len(found) == 2
+        for flags, blas, cache in found.values():
+            assert "--xla_cpu_multi_thread_eigen=false" in flags and blas == "1"
+            assert cache == str(tmp_path / "cache")
+        assert sum(runner.client.nthreads().values()) == 2
+
+
+def test_files_equal_in_process_and_on_two_workers(tmp_path, cluster):
+    a = sweep_scenario(SCENARIO, SPEC, tmp_path / "a")
+    b = sweep_scenario(SCENARIO, SPEC, tmp_path / "b", client=cluster, progress="text")
+    attrs_a, attrs_b = _same_file(a.directory / "sweep.h5", b.directory / "sweep.h5")
+    assert (attrs_a["backend"], attrs_b["backend"], attrs_b["workers"], attrs_b["chunks"]) == (
+        "in-process", "dask", 2, 5)
+    assert attrs_a["count"] == attrs_b["count"] == 120
+    with h5py.File(a.directory / "sweep.h5", "r") as f:
+        np.testing.assert_array_equal(f["sweep/variant"][()], np.arange(120))  # every variant once, in order
+    assert not (tmp_path / "a" / ("beam_sweep" + CHUNKS_SUFFIX)).exists()  # the chunks are merged and gone
+    assert "120 variants" in a.table and a.resumed == 0
+
+
+def test_progress_over_chunks_shows_variants_per_second(tmp_path, capsys):
+    sweep(SCENARIO, dataclasses.replace(SPEC, count=50, cross_check=0), progress="text")
+    err = capsys.readouterr().err
+    assert "2 / 2 chunks (100%)" in err and "variants/s" in err
+
+
+def test_a_killed_worker_costs_only_its_chunk(tmp_path):
+    """SIGKILL of a worker mid-sweep while it holds chunks: they run again, nothing is lost or doubled."""
+    long = dataclasses.replace(SCENARIO, simulation=dataclasses.replace(SCENARIO.simulation, duration=40.0))
+    spec = dataclasses.replace(SPEC, count=400, chunk_size=50)  # chunks of ~0.2 s each
+    reference = sweep_scenario(long, spec, tmp_path / "reference")
+    chunks = tmp_path / "killed" / ("beam_sweep" + CHUNKS_SUFFIX)
+    killed = []
+
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0",
+                                  env=WORKER_ENV) as local, distributed.Client(local) as client:
+        pids = client.run(os.getpid)
+
+        def kill_a_busy_worker_mid_sweep():
+            deadline = time.monotonic() + 120
+            while not killed and time.monotonic() < deadline:
+                busy = [(w, keys) for w, keys in client.processing().items() if keys]
+                if busy and any(chunks.glob("chunk-*.h5")):  # one chunk written, others being computed
+                    address, keys = busy[0]
+                    os.kill(pids[address], signal.SIGKILL)
+                    killed.extend(keys)
+                time.sleep(0.01)
+
+        killer = threading.Thread(target=kill_a_busy_worker_mid_sweep)
+        killer.start()
+        try:
+            survived = sweep_scenario(long, spec, tmp_path / "killed", client=client)
+        finally:
+            killer.join()
+        assert killed, "no worker was holding a chunk to be killed"
+        # The scheduler gave each lost chunk to a worker again after the kill.
+        for key in killed:
+            # Entries (who, key, from, to, ...): the scheduler's transitions of the chunk's task.
+            moves = [entry[3] for entry in client.story(key) if entry[1] == key]
+            assert moves.count("processing") >= 2, (key, moves)
+    _same_file(reference.directory / "sweep.h5", survived.directory / "sweep.h5")
+    assert survived.count == 400 and not chunks.exists()
+
+
+def test_an_interrupted_sweep_resumes_from_its_chunks(tmp_path, monkeypatch, cluster):
+    reference = sweep_scenario(SCENARIO, SPEC, tmp_path / "reference")
+    computed = []
+    original = sixdof.sweeps.sweep_chunk
+
+    def interrupted(scenario, spec, index, checked=()):
+        if index == 3:
+            raise KeyboardInterrupt
+        computed.append(index)
+        return original(scenario, spec, index, checked)
+
+    monkeypatch.setattr(sixdof.sweeps, "sweep_chunk", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        sweep_scenario(SCENARIO, SPEC, tmp_path / "out")
+    chunks = tmp_path / "out" / ("beam_sweep" + CHUNKS_SUFFIX)
+    assert sorted(p.name for p in chunks.glob("chunk-*.h5")) == ["chunk-00000.h5", "chunk-00001.h5", "chunk-00002.h5"]
+    assert not (tmp_path / "out" / "beam_sweep").exists()  # no sweep.h5 of an unfinished sweep
+    monkeypatch.setattr(sixdof.sweeps, "sweep_chunk", original)
+    # Without --resume: one error, nothing computed, nothing removed.
+    with pytest.raises(InputError, match=r"--resume: expected a fresh start, or --resume to continue the "
+                                         r"interrupted sweep whose 3 finished chunks are in .*beam_sweep\.chunks"):
+        sweep_scenario(SCENARIO, SPEC, tmp_path / "out")
+    # Another spec cannot resume these chunks.
+    with pytest.raises(InputError, match=r"--resume: expected the scenario and sweep spec that the chunks in .* "
+                                         r"were computed from, got a different spec"):
+        sweep_scenario(SCENARIO, dataclasses.replace(SPEC, seed=12), tmp_path / "out", resume=True)
+    # Resumed on the two workers: only chunks 3 and 4 are computed, and the file is the uninterrupted one's.
+    resumed = sweep_scenario(SCENARIO, SPEC, tmp_path / "out", resume=True, client=cluster)
+    assert resumed.resumed == 3 and resumed.result.chunks == 5
+    _same_file(reference.directory / "sweep.h5", resumed.directory / "sweep.h5")
+    assert not chunks.exists()
+
+
+def test_robustness_chunks_on_two_workers(cluster):
+    from sixdof.design.optimize import ROBUSTNESS_CHUNK, robustness, robustness_chunk
+    from sixdof.design.problem import DesignProblem
+    from sixdof.tasks import InProcess, OnDask
+
+    scenario = load_scenario("scenarios/engine_inclined_mounts.toml")
+    spec = dataclasses.replace(scenario.design, samples=ROBUSTNESS_CHUNK + 300)
+    problem = DesignProblem(scenario.system, spec)
+    here = robustness(problem, problem.initial, InProcess())
+    there = robustness(problem, problem.initial, OnDask(cluster, "dask"))
+    np.testing.assert_array_equal(here.values, there.values)
+    assert here.values.shape == (1300, len(problem.targets))
+    # The second chunk is drawn with its own seed: its values are that chunk's alone.
+    np.testing.assert_array_equal(here.values[650:], robustness_chunk(problem, problem.initial, 1, 650))
+
+
+def test_where_the_chunks_run_is_checked_before_computing(monkeypatch):
+    with pytest.raises(InputError, match=r"--workers: expected a number of worker processes >= 1, got 0"):
+        sweep(SCENARIO, SPEC, workers=0)
+    with pytest.raises(InputError, match=r"--scheduler: expected one place to run the chunks \(not with "
+                                         r"--workers\), got both given"):
+        sweep(SCENARIO, SPEC, workers=2, scheduler="tcp://127.0.0.1:1")
+    monkeypatch.setattr("sixdof.tasks.CONNECT_TIMEOUT_S", 1)
+    with pytest.raises(InputError, match=r"--scheduler: expected the address of a running Dask scheduler, got "
+                                         r"tcp://127\.0\.0\.1:9 \("):
+        sweep(SCENARIO, SPEC, scheduler="tcp://127.0.0.1:9")

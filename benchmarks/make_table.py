@@ -153,6 +153,20 @@ def main():
                   f"Its imports, in its order: {imports}. "
                   f"Figures drawn in worker processes meanwhile (CPU time of each: {figures}).",
                   f"Machine: {c['machine']}", ""]
+    w = load("sweep")
+    if w:
+        def row(r):
+            return (f"| {r['label']} | {r['count']:,} | {r['wall_s']:.1f} s | {r['variants_per_s']:.0f} | "
+                    f"{r['speedup_vs_one_thread']:.2f}x | {r['client_peak_mb']:.0f} MB |")
+
+        lines += ["## Sweeps in chunks of 1000 variants, in this process and on local Dask clusters (bench_sweep.py)",
+                  "", "`sixdof.sweeps.sweep_scenario` end to end (chunk files, merge into sweep.h5, cross-check of 3 "
+                  "variants by diffrax) on the bridge traffic scenario, bearing_tolerance.toml's spec with its "
+                  "count raised; each configuration a fresh client process, the JAX cache warm. Client peak: "
+                  "VmHWM of the client process (workers not counted; in-process the client computes).", "",
+                  "| configuration | variants | wall time | variants/s | vs in-process on 1 thread | client peak |",
+                  "|---|---|---|---|---|---|", *(row(r) for r in w["curve"] + w["large"]), "",
+                  f"Machine: {w['machine']}", ""]
     out = common.HERE / "results.md"
     out.write_text("\n".join(lines) + "\n")
     print(f"wrote {out}")

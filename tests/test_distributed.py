@@ -8,6 +8,7 @@ is checked against the one-variant library calls (diffrax) and the unchunked bat
 
 import dataclasses
 import os
+import re
 import signal
 import threading
 import time
@@ -22,7 +23,7 @@ from sixdof.analysis.batch import run_batch, variant_system
 from sixdof.io.scenario import load_scenario
 from sixdof.io.sweep import parse_sweep_spec
 from sixdof.sweeps import CHUNKS_SUFFIX, sweep, sweep_scenario
-from sixdof.tasks import WORKER_ENV, chunk_rng, partition, task_runner
+from sixdof.tasks import chunk_rng, partition, task_runner
 from systems import bridge_toml
 from tolerances import RTOL_BATCH_DIRECT
 
@@ -65,10 +66,9 @@ PER_VARIANT = ("stiffness_factor", "damping_factor", "position_offset", "frequen
 
 @pytest.fixture(scope="module")
 def cluster():
-    """A local cluster of two single-threaded worker processes, as ``--workers 2`` starts."""
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0",
-                                  env=WORKER_ENV) as local, distributed.Client(local) as client:
-        yield client
+    """The client of a local cluster of two single-threaded worker processes, as ``--workers 2`` starts."""
+    with task_runner(workers=2) as runner:
+        yield runner.client
 
 
 @pytest.fixture(scope="module")
@@ -157,14 +157,20 @@ def test_workers_run_single_threaded_with_the_compilation_cache(tmp_path, monkey
         def settings():
             import jax
 
-            return os.environ.get("XLA_FLAGS"), os.environ.get("OPENBLAS_NUM_THREADS"), jax.config.jax_compilation_cache_dir
+            return (os.environ.get("XLA_FLAGS"), os.environ.get("OPENBLAS_NUM_THREADS"),
+                    jax.config.jax_compilation_cache_dir, os.environ.get("MALLOC_TRIM_THRESHOLD_"))
 
         found = runner.client.run(settings)
         assert len(found) == 2
-        for flags, blas, cache in found.values():
+        for flags, blas, cache, trim in found.values():
             assert "--xla_cpu_multi_thread_eigen=false" in flags and blas == "1"
             assert cache == str(tmp_path / "cache")
+            assert trim is None  # glibc's adaptive mmap threshold (see sixdof.tasks)
         assert sum(runner.client.nthreads().values()) == 2
+        # The workers fill the shared cache: the assembly's compiled code, and the cross-check's diffrax solve
+        # exported (another worker, or the next sweep's, loads it without tracing).
+        sweep(SCENARIO, dataclasses.replace(SPEC, count=30, cross_check=1), client=runner.client)
+    assert any((tmp_path / "cache").glob("jit_*")) and any((tmp_path / "cache" / "sixdof_solves").glob("*.jaxexport"))
 
 
 def test_files_equal_in_process_and_on_two_workers(tmp_path, cluster):
@@ -194,8 +200,8 @@ def test_a_killed_worker_costs_only_its_chunk(tmp_path):
     chunks = tmp_path / "killed" / ("beam_sweep" + CHUNKS_SUFFIX)
     killed = []
 
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0",
-                                  env=WORKER_ENV) as local, distributed.Client(local) as client:
+    with task_runner(workers=2) as runner:
+        client = runner.client
         pids = client.run(os.getpid)
 
         def kill_a_busy_worker_mid_sweep():
@@ -273,7 +279,7 @@ def test_robustness_chunks_on_two_workers(cluster):
     np.testing.assert_array_equal(here.values[650:], robustness_chunk(problem, problem.initial, 1, 650))
 
 
-def test_where_the_chunks_run_is_checked_before_computing(monkeypatch):
+def test_where_the_chunks_run_is_checked_before_computing(tmp_path, monkeypatch):
     with pytest.raises(InputError, match=r"--workers: expected a number of worker processes >= 1, got 0"):
         sweep(SCENARIO, SPEC, workers=0)
     with pytest.raises(InputError, match=r"--scheduler: expected one place to run the chunks \(not with "
@@ -282,4 +288,33 @@ def test_where_the_chunks_run_is_checked_before_computing(monkeypatch):
     monkeypatch.setattr("sixdof.tasks.CONNECT_TIMEOUT_S", 1)
     with pytest.raises(InputError, match=r"--scheduler: expected the address of a running Dask scheduler, got "
                                          r"tcp://127\.0\.0\.1:9 \("):
-        sweep(SCENARIO, SPEC, scheduler="tcp://127.0.0.1:9")
+        sweep_scenario(SCENARIO, SPEC, tmp_path, scheduler="tcp://127.0.0.1:9")
+    assert list(tmp_path.iterdir()) == []  # nothing left behind, no chunk folder
+
+
+def test_the_command_line_says_where_the_chunks_of_an_interrupted_sweep_are(tmp_path, monkeypatch, capsys):
+    from sixdof.cli import main
+
+    scenario, spec = tmp_path / "beam.toml", tmp_path / "spec.toml"
+    scenario.write_text(SCENARIO.text)
+    spec.write_text("count = 60\nseed = 1\nchunk_size = 20\ncross_check = 0\n[[vary]]\nparameter = 'stiffness'\n"
+                    "distribution = 'uniform'\nlow = 0.8\nhigh = 1.2\n")
+    original = sixdof.sweeps.sweep_chunk
+
+    def interrupted(scenario, spec, index, checked=()):
+        if index == 2:
+            raise KeyboardInterrupt
+        return original(scenario, spec, index, checked)
+
+    monkeypatch.setattr(sixdof.sweeps, "sweep_chunk", interrupted)
+    command = ["sweep", str(scenario), "--spec", str(spec), "--out", str(tmp_path / "out"), "--quiet"]
+    assert main(command) == 130
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and re.fullmatch(r"sixdof: interrupted; the 2 chunks finished are kept in .*beam_sweep\.chunks: "
+                                          r"the same command with --resume computes only the others", err[0]), err
+    monkeypatch.setattr(sixdof.sweeps, "sweep_chunk", original)
+    assert main(command) == 2  # not without --resume
+    assert "--resume: expected a fresh start, or --resume" in capsys.readouterr().err
+    assert main([*command, "--resume"]) == 0
+    out = capsys.readouterr().out
+    assert "60 variants, exact engine, 3 chunks, 2 of them resumed, in-process with 1 worker" in out

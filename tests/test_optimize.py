@@ -173,3 +173,9 @@ def test_optimize_without_targets_is_refused_before_computing(tmp_path, capsys):
     assert "design: expected at least one [[design.target]] and one [[design.vary]], got 0 targets, 0 variables" \
         in capsys.readouterr().err
     assert not list(tmp_path.glob("*_design"))
+
+
+def test_optimize_refuses_a_bad_place_for_its_robustness_chunks_before_computing(tmp_path, capsys):
+    assert main(["optimize", "scenarios/engine_inclined_mounts.toml", "--out", str(tmp_path), "--workers", "0"]) == 2
+    assert "sixdof: error: --workers: expected a number of worker processes >= 1, got 0" in capsys.readouterr().err
+    assert not list(tmp_path.iterdir())

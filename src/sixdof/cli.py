@@ -359,6 +359,7 @@ def _export(args) -> int:
 
 
 def _sweep(args) -> int:
+    from sixdof.errors import SolverError
     from sixdof.io.output import check_target
     from sixdof.io.scenario import load_scenario
     from sixdof.io.sweep import load_sweep_spec
@@ -371,15 +372,19 @@ def _sweep(args) -> int:
         outcome = sweep_scenario(scenario, spec, args.out, chunk_size=args.chunk_size, workers=args.workers,
                                  scheduler=args.scheduler, resume=args.resume, progress=_progress(args),
                                  command_line=" ".join(sys.argv))
-    except (KeyboardInterrupt, Terminated) as exc:
+    except (KeyboardInterrupt, Terminated, SolverError) as exc:
         chunks = check_target(args.out, scenario.name, "_sweep")
         chunks = chunks.with_name(chunks.name + CHUNKS_SUFFIX)
         kept = len(ChunkFolder.finished_in(chunks))
         if not kept:
             raise
-        how = "interrupted" if isinstance(exc, KeyboardInterrupt) else "terminated (SIGTERM)"
-        return _fail(args, f"{how}; the {kept} chunks finished are kept in {chunks}: the same command with --resume "
-                     "computes only the others", EXIT_INTERRUPTED if how == "interrupted" else EXIT_TERMINATED)
+        note = (f"the {kept} chunks finished are kept in {chunks}: the same command with --resume computes only "
+                "the others")
+        if isinstance(exc, SolverError):
+            return _fail(args, f"the solve failed: {exc}; {note}", EXIT_FAILED)
+        if isinstance(exc, Terminated):
+            return _fail(args, f"terminated (SIGTERM); {note}", EXIT_TERMINATED)
+        return _fail(args, f"interrupted; {note}", EXIT_INTERRUPTED)
     result = outcome.result
     print(f"{scenario.name}: {scenario.description}\n")
     print(outcome.table)

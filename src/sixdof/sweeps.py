@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from sixdof.errors import InputError, Plain
+from sixdof.errors import InputError, Plain, SolverError
 
 #: The folder of a sweep's finished chunks, beside its results folder.
 CHUNKS_SUFFIX = ".chunks"
@@ -74,8 +74,8 @@ class _Sweep:
         with a meter over the chunks showing variants per second."""
         from sixdof.progress import meter
 
-        shown = meter(progress, len(self.chunks), "chunks", f"sweep ({runner.backend}, {runner.workers} workers)",
-                      origin=0)
+        where = "" if runner.backend == "in-process" else f" on {runner.workers} Dask workers"
+        shown = meter(progress, len(self.chunks), "chunks", "sweep" + where)
         shown.show(len(skip))
         done, variants, began = len(skip), 0, time.perf_counter()
         rate = ""
@@ -97,8 +97,8 @@ class _Sweep:
         first, direct, engine, width, count = None, [], [], 0, 0
         for index, result in enumerate(results):
             rows = self.chunks[index]
-            if result.count != len(rows):
-                raise InputError("chunks", f"{len(rows)} variants in chunk {index}", Plain(f"{result.count}"))
+            if result.count != len(rows):  # never seen: the check that no variant is lost or doubled
+                raise SolverError(f"chunk {index} holds {result.count} variants, not {len(rows)}")
             if first is None:
                 first = axis_slice(result, slice(0, 0), "variant")
             width = max(width, result.chunk_size)
@@ -110,7 +110,7 @@ class _Sweep:
             if sink is not None:
                 sink(result)
         if count != self.spec.count:
-            raise InputError("chunks", f"{self.spec.count} variants", Plain(f"{count}"))
+            raise SolverError(f"the chunks hold {count} variants, not {self.spec.count}")
         checks = {} if not direct else cross_check_fields(self.checked, np.vstack(direct), np.vstack(engine))
         fields = ("cross_check_variants", "cross_check_peak_q", "cross_check_peak_qdd", "cross_check")
         return dataclasses.replace(first, **{name: checks.get(name) for name in fields}, chunk_size=width,
@@ -169,7 +169,8 @@ def sweep(scenario, spec, *, chunk_size: int | None = None, workers: int | None 
 
 class ChunkFolder:
     """``<out>/<name>_sweep.chunks/``: one results file per finished chunk (``chunk-00012.h5``, written
-    atomically) and ``sweep.json``, the fingerprint of the scenario and spec they come from.
+    atomically) and ``sweep.json``, the fingerprint of the scenario and spec they come from. Made when the
+    first chunk is written: a sweep that fails before leaves nothing behind.
 
     Parameters
     ----------
@@ -181,28 +182,24 @@ class ChunkFolder:
     """
 
     def __init__(self, path: Path, fingerprint: dict, resume: bool) -> None:
-        self.path = path
-        stored = path / _FINGERPRINT
+        self.path, self.fingerprint = path, fingerprint
         if path.is_symlink() or (path.exists() and not path.is_dir()):
             raise InputError("--out", f"no file or link named {path.name} (a sweep keeps its chunks in a folder "
                              "there)", Plain(str(path)))
-        if path.exists():
-            found = self.finished()
-            if not resume:
-                raise InputError("--resume", f"a fresh start, or --resume to continue the interrupted sweep whose "
-                                 f"{len(found)} finished chunks are in {path} (remove that folder to start over)",
-                                 Plain("no --resume"))
+        found = self.finished()
+        if found and not resume:
+            raise InputError("--resume", f"a fresh start, or --resume to continue the interrupted sweep whose "
+                             f"{len(found)} finished chunks are in {path} (remove that folder to start over)",
+                             Plain("no --resume"))
+        if found:
             try:
-                before = json.loads(stored.read_text(encoding="utf-8"))
+                before = json.loads((path / _FINGERPRINT).read_text(encoding="utf-8"))
             except (OSError, ValueError):
                 raise InputError("--resume", f"a chunk folder with its {_FINGERPRINT}", Plain(str(path))) from None
             changed = [key for key in fingerprint if before.get(key) != fingerprint[key]]
             if changed:
                 raise InputError("--resume", "the scenario and sweep spec that the chunks in "
                                  f"{path} were computed from", Plain(f"a different {', '.join(changed)}"))
-        else:
-            path.mkdir()
-            stored.write_text(json.dumps(fingerprint, indent=1), encoding="utf-8")
 
     def file(self, index: int) -> Path:
         return self.path / f"chunk-{index:05d}.h5"
@@ -220,6 +217,9 @@ class ChunkFolder:
         from sixdof.io.store import write_results
         from sixdof.results import RunResults
 
+        if not (self.path / _FINGERPRINT).exists():
+            self.path.mkdir(exist_ok=True)
+            (self.path / _FINGERPRINT).write_text(json.dumps(self.fingerprint, indent=1), encoding="utf-8")
         write_results(self.file(index), RunResults(name=f"chunk {index}", sweep=result))
 
     def read(self, index: int):
@@ -235,7 +235,7 @@ class ChunkFolder:
         try:
             self.path.rmdir()
         except OSError:
-            pass  # something else is in it: the user's, left alone
+            pass  # absent, or something else is in it: the user's, left alone
 
 
 def fingerprint(scenario, spec) -> dict:

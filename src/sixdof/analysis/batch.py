@@ -128,7 +128,7 @@ class BatchResult:
         Their peaks by :func:`sixdof.analysis.direct.simulate`.
     cross_check : sixdof.analysis.compare.Agreement or None
         Those peaks against the engine's: the worst of ``peak_q`` and ``peak_qdd``, each DOF relative
-        to its largest peak over the sample (:func:`cross_check_agreement`).
+        to its largest peak over the sample (:func:`cross_check_fields`).
     wall_time_s : float
         Wall-clock time of the whole batch [s], compilation and cross-check included.
     backend : str

@@ -18,7 +18,7 @@ from pathlib import Path
 
 from sixdof.io.output import check_room, held_signals
 from sixdof.io.store import Results, _write, _write_dataset_attributes, build_results, publish
-from sixdof.results import time_slice
+from sixdof.results import axis_slice
 
 #: Samples per HDF5 chunk along the appended axis: large enough for fast appends and reads of whole series,
 #: small enough that a short run's file holds little padding.
@@ -102,12 +102,12 @@ class ResultsStream:
         """Write the datasets without the appended axis from the final results, close, and rename into place.
 
         ``run`` may be cut to no samples along the axis already (a sweep's merged results, whose per-variant
-        arrays the client never holds); ``attrs`` (group path -> attributes) then set what the cut changed.
+        arrays the client never holds); ``attrs`` (group path -> attributes) then set what the cut changed
+        (the sweep's ``count``).
         """
-        # The file has every window's time series already: only the rest is encoded, from the run cut to no
-        # samples (encoding a long run's kept samples again would double the memory they take).
-        if self.axis == "t":
-            run = time_slice(run, slice(0, 0))
+        # The file has every part's series already: only the rest is encoded, from the run cut to no samples
+        # (encoding a long run's kept samples again would double the memory they take).
+        run = axis_slice(run, slice(0, 0), self.axis)
         extra = {**self._parts.get("extra_attrs", {}), **attrs}
         tree = build_results(run, **{**self._parts, "extra_attrs": extra})
         datasets = {path: d for path, d in tree.datasets.items() if path in self._series or self.axis not in d.dims}

@@ -12,9 +12,10 @@ ran, how many workers ran them or in which order they finished.
 - ``scheduler="tcp://host:8786"``: an existing Dask cluster (its workers must have sixdof installed);
 - ``client=``: an existing :class:`distributed.Client`.
 
-On Dask, every chunk is one task: at most two per worker thread are in flight (the client holds only
-those chunks' results), a chunk whose worker dies is computed again by the scheduler and a chunk whose
-computation raises is retried :data:`RETRIES` times. Workers started here run with one BLAS and one XLA
+On Dask, every chunk is one task: at most two per worker thread of the cluster (as it is when a chunk
+finishes: a cluster may grow) are in flight, so the client holds only those chunks' results; a chunk
+whose worker dies is computed again by the scheduler and a chunk whose computation raises is retried
+:data:`RETRIES` times. Workers started here run with one BLAS and one XLA
 thread each (N workers on N cores do not oversubscribe) and with JAX's persistent compilation cache on, so
 that a worker loads the compiled solvers instead of compiling them anew (:class:`WorkerSetup`).
 
@@ -68,7 +69,6 @@ class Finished:
 
     index: int
     result: Any
-    worker: str  #: where it ran ("this process", or the worker's address)
 
 
 class InProcess:
@@ -80,7 +80,7 @@ class InProcess:
     def run(self, task: Callable, jobs: Iterable[tuple[int, tuple]]) -> Iterator[Finished]:
         """``task(*args)`` for each ``(index, args)`` of ``jobs``, yielded as each finishes."""
         for index, args in jobs:
-            yield Finished(index, task(*args), "this process")
+            yield Finished(index, task(*args))
 
 
 class OnDask:
@@ -112,19 +112,19 @@ class OnDask:
         jobs = iter(jobs)
         token = f"{task.__name__}-{os.getpid()}-{time.monotonic_ns()}"
         pending: dict = {}
+        done = as_completed(with_results=False)
 
-        def submit():
-            """The next job's future, or None when every job is submitted."""
-            for index, args in jobs:
+        def top_up() -> None:
+            """Submit jobs until each worker thread of the cluster now (it may grow) has its share in flight."""
+            while len(pending) < IN_FLIGHT_PER_THREAD * self._threads():
+                index, args = next(jobs, (None, None))
+                if index is None:
+                    return
                 future = self.client.submit(task, *args, key=f"sixdof-{token}-{index}", pure=False, retries=RETRIES)
                 pending[future] = index
-                return future
-            return None
+                done.add(future)
 
-        for _ in range(IN_FLIGHT_PER_THREAD * self._threads()):
-            if submit() is None:
-                break
-        done = as_completed(list(pending), with_results=False)
+        top_up()
         try:
             for future in done:
                 index = pending.pop(future)
@@ -134,12 +134,9 @@ class OnDask:
                     raise SolverError(f"chunk {index} was lost with the worker computing it, too many times for Dask "
                                       f"({exc}): a worker that runs out of memory or crashes on it (see the workers' "
                                       "logs)") from None
-                who = self.client.who_has(future).get(future.key) or ("?",)
                 future.release()
-                following = submit()
-                if following is not None:
-                    done.add(following)
-                yield Finished(index, result, str(who[0]))
+                top_up()
+                yield Finished(index, result)
         finally:
             if pending:
                 self.client.cancel(list(pending))

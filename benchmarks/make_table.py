@@ -162,7 +162,8 @@ def main():
         lines += ["## Sweeps in chunks of 1000 variants, in this process and on local Dask clusters (bench_sweep.py)",
                   "", "`sixdof.sweeps.sweep_scenario` end to end (chunk files, merge into sweep.h5, cross-check of 3 "
                   "variants by diffrax) on the bridge traffic scenario, bearing_tolerance.toml's spec with its "
-                  "count raised; each configuration a fresh client process, the JAX cache warm. Client peak: "
+                  "count raised; each configuration a fresh client process (in-process ones compile in the client, ~3 s; "
+                  "Dask workers load from the persistent cache after the first Dask configuration). Client peak: "
                   "VmHWM of the client process (workers not counted; in-process the client computes).", "",
                   "| configuration | variants | wall time | variants/s | vs in-process on 1 thread | client peak |",
                   "|---|---|---|---|---|---|", *(row(r) for r in w["curve"] + w["large"]), "",

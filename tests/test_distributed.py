@@ -139,7 +139,7 @@ def test_in_process_sweep_against_diffrax_and_the_unchunked_batch(in_process):
 
 
 def test_two_workers_give_the_in_process_result_bit_for_bit(cluster, in_process):
-    on_dask = sweep(SCENARIO, SPEC, client=cluster)
+    on_dask = sweep(SCENARIO, SPEC, scheduler=cluster.scheduler.address)  # as --scheduler ADDRESS connects
     assert on_dask.backend == "dask" and on_dask.workers == 2 and on_dask.chunks == 5
     for name in PER_VARIANT[3:]:
         np.testing.assert_array_equal(getattr(on_dask, name), getattr(in_process, name), err_msg=name)
@@ -317,4 +317,19 @@ def test_the_command_line_says_where_the_chunks_of_an_interrupted_sweep_are(tmp_
     assert "--resume: expected a fresh start, or --resume" in capsys.readouterr().err
     assert main([*command, "--resume"]) == 0
     out = capsys.readouterr().out
-    assert "60 variants, exact engine, 3 chunks, 2 of them resumed, in-process with 1 worker" in out
+    assert "60 variants, exact engine, 3 chunks, 2 of them resumed, in-process with 1 worker," in out
+
+
+def test_the_command_line_runs_the_chunks_on_a_scheduler(tmp_path, cluster, capsys):
+    from sixdof.cli import main
+
+    scenario, spec = tmp_path / "beam.toml", tmp_path / "spec.toml"
+    scenario.write_text(SCENARIO.text)
+    spec.write_text("count = 40\nseed = 1\nchunk_size = 20\ncross_check = 1\n[[vary]]\nparameter = 'stiffness'\n"
+                    "distribution = 'uniform'\nlow = 0.8\nhigh = 1.2\n")
+    assert main(["sweep", str(scenario), "--spec", str(spec), "--out", str(tmp_path), "--quiet",
+                 "--scheduler", cluster.scheduler.address]) == 0
+    out = capsys.readouterr().out
+    assert "40 variants, exact engine, 2 chunks, dask with 2 workers," in out and "Cross-check of the exact" in out
+    with h5py.File(tmp_path / "beam_sweep" / "sweep.h5", "r") as f:
+        assert (f["sweep"].attrs["backend"], f["sweep"].attrs["workers"]) == ("dask", 2)

@@ -21,7 +21,7 @@ import sixdof.sweeps
 from sixdof import InputError, parse_scenario, simulate
 from sixdof.analysis.batch import run_batch, variant_system
 from sixdof.io.scenario import load_scenario
-from sixdof.io.sweep import parse_sweep_spec
+from sixdof.io.sweep import load_sweep_spec, parse_sweep_spec
 from sixdof.sweeps import CHUNKS_SUFFIX, sweep, sweep_scenario
 from sixdof.tasks import chunk_rng, partition, task_runner
 from systems import bridge_toml
@@ -252,10 +252,13 @@ def test_an_interrupted_sweep_resumes_from_its_chunks(tmp_path, monkeypatch, clu
     with pytest.raises(InputError, match=r"--resume: expected a fresh start, or --resume to continue the "
                                          r"interrupted sweep whose 3 finished chunks are in .*beam_sweep\.chunks"):
         sweep_scenario(SCENARIO, SPEC, tmp_path / "out")
-    # Another spec cannot resume these chunks.
+    # Another spec, or the same scenario file with another load, cannot resume these chunks.
     with pytest.raises(InputError, match=r"--resume: expected the scenario and sweep spec that the chunks in .* "
                                          r"were computed from, got a different spec"):
         sweep_scenario(SCENARIO, dataclasses.replace(SPEC, seed=12), tmp_path / "out", resume=True)
+    louder = parse_scenario(SCENARIO.text.replace("force = [5e3, 2e4, -1e5]", "force = [5e3, 2e4, -1.1e5]"))
+    with pytest.raises(InputError, match=r"got a different scenario"):
+        sweep_scenario(louder, SPEC, tmp_path / "out", resume=True)
     # Resumed on the two workers: only chunks 3 and 4 are computed, and the file is the uninterrupted one's.
     resumed = sweep_scenario(SCENARIO, SPEC, tmp_path / "out", resume=True, client=cluster)
     assert resumed.resumed == 3 and resumed.result.chunks == 5
@@ -333,3 +336,22 @@ def test_the_command_line_runs_the_chunks_on_a_scheduler(tmp_path, cluster, caps
     assert "40 variants, exact engine, 2 chunks, dask with 2 workers," in out and "Cross-check of the exact" in out
     with h5py.File(tmp_path / "beam_sweep" / "sweep.h5", "r") as f:
         assert (f["sweep"].attrs["backend"], f["sweep"].attrs["workers"]) == ("dask", 2)
+
+
+def test_a_sweep_s_fingerprint_is_the_same_in_another_process():
+    """--resume runs in a new process: the fingerprint of the same files must be the same bytes there."""
+    import json
+    import subprocess
+    import sys
+
+    from sixdof.sweeps import fingerprint
+
+    code = ("import json; from sixdof.io.scenario import load_scenario; from sixdof.io.sweep import load_sweep_spec; "
+            "from sixdof.sweeps import fingerprint; print(json.dumps(fingerprint(load_scenario("
+            "'scenarios/cabinet_earthquake.toml'), load_sweep_spec('scenarios/sweeps/bearing_tolerance.toml'))))")
+    there = json.loads(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+                       .stdout.strip().splitlines()[-1])
+    scenario = load_scenario("scenarios/cabinet_earthquake.toml")  # reads an accelerogram file
+    here = fingerprint(scenario, load_sweep_spec("scenarios/sweeps/bearing_tolerance.toml"))
+    assert here == there
+

@@ -11,7 +11,7 @@ goes to its own file in ``<out>/<name>_sweep.chunks/`` (:class:`ChunkFolder`) as
 holds a few chunks at most; once all are there they are merged in order into ``<out>/<name>_sweep/sweep.h5``
 (:class:`sixdof.io.stream.ResultsStream` along the axis ``variant``) and the chunk folder is removed. An
 interrupted sweep keeps its chunks; ``resume=True`` computes only the missing ones, after checking that
-the scenario and the spec are those the chunks were computed from.
+the scenario and the spec are those the chunks were computed from (:func:`fingerprint`).
 """
 
 from __future__ import annotations
@@ -19,6 +19,7 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import json
+import pickle
 import time
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
@@ -239,12 +240,16 @@ class ChunkFolder:
 
 
 def fingerprint(scenario, spec) -> dict:
-    """What a sweep's chunks depend on: the scenario's text and the spec (chunks and seeds included)."""
+    """What a sweep's chunks depend on: the scenario's model, excitation and settings (the data of the files it
+    reads included, not its name or comments), the spec (chunks and seeds included) and sixdof's version."""
     from sixdof import __version__
 
+    # Pickles of these frozen objects are the same bytes in every process for the same content (checked by the
+    # resume tests); a changed accelerogram or force-deflection file changes them.
+    model = pickle.dumps((scenario.system, scenario.excitation, scenario.simulation), protocol=5)
     spec_text = json.dumps(dataclasses.asdict(spec), sort_keys=True, default=str)
-    return {"scenario": hashlib.sha256(scenario.text.encode()).hexdigest(),
-            "spec": hashlib.sha256(spec_text.encode()).hexdigest(), "sixdof version": __version__}
+    return {"scenario": hashlib.sha256(model).hexdigest(), "spec": hashlib.sha256(spec_text.encode()).hexdigest(),
+            "sixdof version": __version__}
 
 
 @dataclass(frozen=True)

@@ -394,8 +394,8 @@ def _sweep(args) -> int:
               f"{result.cross_check}")
     resumed = f", {outcome.resumed} of them resumed" if outcome.resumed else ""
     print(f"\nWrote {outcome.directory / 'sweep.h5'} ({outcome.count} variants, {result.engine} engine, "
-          f"{result.chunks} chunks{resumed}, {result.backend} with {result.workers} worker"
-          f"{'s' if result.workers != 1 else ''}, {result.wall_time_s:.2f} s)")
+          f"{result.chunks} chunk{'s' if result.chunks != 1 else ''}{resumed}, {result.backend} with "
+          f"{result.workers} worker{'s' if result.workers != 1 else ''}, {result.wall_time_s:.2f} s)")
     return 0
 
 

@@ -66,6 +66,21 @@ def bridge_toml(dashpots="elastomer") -> str:
     return "\n".join(lines) + "\n"
 
 
+#: ``[[loads]]`` of a bridge scenario file that move all six DOFs: an off-centre harmonic force and a pulse near
+#: one end.
+BRIDGE_LOADS_TOML = """[[loads]]
+name = "traffic"
+point = [0.3, 10.0, 1.0]
+force = [5e3, 2e4, -1e5]
+signal = { kind = "harmonic", f_hz = 5.0 }
+[[loads]]
+name = "impact"
+point = [0.4, 19.55, 0.5]
+force = [2e4, -5e4, 3e4]
+signal = { kind = "half_sine", start = 0.5, duration = 0.05 }
+"""
+
+
 FOUR_MOUNT_CORNERS = [(-1, -1), (1, -1), (1, 1), (-1, 1)]
 
 

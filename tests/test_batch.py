@@ -30,21 +30,11 @@ from sixdof import (
 from sixdof.analysis.batch import batch_frequencies, make_variants, run_batch, variant_matrices, variant_system
 from sixdof.io.sweep import parse_sweep_spec
 from sixdof.sweeps import sweep
-from systems import bridge, bridge_toml
+from systems import BRIDGE_LOADS_TOML, bridge, bridge_toml
 from tolerances import RTOL_BATCH_CHUNKS, RTOL_BATCH_DIRECT, RTOL_BATCH_FREQUENCY, RTOL_BATCH_MATRIX, RTOL_BATCH_SCIPY
 
 # Loads that move all six DOFs: an off-centre harmonic force and a pulse near one end.
-SCENARIO_TOML = 'name = "beam"\n' + bridge_toml("elastomer") + """[[loads]]
-name = "traffic"
-point = [0.3, 10.0, 1.0]
-force = [5e3, 2e4, -1e5]
-signal = { kind = "harmonic", f_hz = 5.0 }
-[[loads]]
-name = "impact"
-point = [0.4, 19.55, 0.5]
-force = [2e4, -5e4, 3e4]
-signal = { kind = "half_sine", start = 0.5, duration = 0.05 }
-[simulation]
+SCENARIO_TOML = 'name = "beam"\n' + bridge_toml("elastomer") + BRIDGE_LOADS_TOML + """[simulation]
 duration = 1.5
 sample_rate_hz = 400.0
 """

@@ -24,26 +24,16 @@ from sixdof.io.scenario import load_scenario
 from sixdof.io.sweep import load_sweep_spec, parse_sweep_spec
 from sixdof.sweeps import CHUNKS_SUFFIX, sweep, sweep_scenario
 from sixdof.tasks import chunk_rng, partition, task_runner
-from systems import bridge_toml
+from systems import BRIDGE_LOADS_TOML, bridge_toml
 from tolerances import RTOL_BATCH_DIRECT
 
 distributed = pytest.importorskip("distributed")
 
-SCENARIO = parse_scenario('name = "beam"\n' + bridge_toml("elastomer") + """[[loads]]
-name = "traffic"
-point = [0.3, 10.0, 1.0]
-force = [5e3, 2e4, -1e5]
-signal = { kind = "harmonic", f_hz = 5.0 }
-[[loads]]
-name = "impact"
-point = [0.4, 19.55, 0.5]
-force = [2e4, -5e4, 3e4]
-signal = { kind = "half_sine", start = 0.5, duration = 0.05 }
-[simulation]
+SCENARIO = parse_scenario('name = "beam"\n' + bridge_toml("elastomer") + BRIDGE_LOADS_TOML + """[simulation]
 duration = 4.0
 sample_rate_hz = 500.0
 """)
-# Every bearing and axis its own stiffness factor, a shared damping factor, a grid of x offsets.
+# Every bearing and axis its own stiffness factor, and a damping factor shared by all.
 SPEC = parse_sweep_spec("""
 count = 120
 seed = 11

@@ -158,9 +158,8 @@ def sweep(scenario, spec, *, chunk_size: int | None = None, workers: int | None 
         where = _where(runner)
     kept = []
     merged = run.merged((found.pop(i) for i in range(len(run.chunks))), where, kept.append)
-    return axis_concat(kept, "variant", **{f.name: getattr(merged, f.name) for f in dataclasses.fields(merged)
-                                           if f.name not in ("variants", "frequency_hz", "peak_q", "peak_qdd",
-                                                             "num_steps", "num_rejected")})
+    # The merged result has no variants but every other field of the sweep: the chunks' variants join it.
+    return axis_concat([merged, *kept], "variant")
 
 
 # ----------------------------------------------------------------------------------------------------

@@ -90,8 +90,9 @@ def _finite_differences(system):
 def test_sensitivities_match_finite_differences(system):
     found = sensitivities(system)
     frequency, decoupling = _finite_differences(system)
-    assert found.repeated_modes == () and not np.any(np.isnan(found.frequency))
-    for exact, estimate in ((found.frequency, frequency), (found.decoupling, decoupling)):
+    assert found.repeated_modes == () and not np.ma.is_masked(found.frequency)
+    assert not np.ma.is_masked(found.decoupling)
+    for exact, estimate in ((found.frequency.data, frequency), (found.decoupling.data, decoupling)):
         scale = np.max(np.abs(exact), axis=0, keepdims=True)  # per parameter
         assert np.max(np.abs(exact - estimate) / scale) < FD_RTOL
 
@@ -103,13 +104,40 @@ def test_repeated_frequencies_get_the_group_mean_derivative_and_no_nan():
     found = sensitivities(system)
     groups = [set(system.modes.dominant_dof[j] for j in g) for g in found.repeated_modes]
     assert sorted(map(sorted, groups)) == [["rx", "ry"], ["x", "y", "z"]]
-    assert not np.any(np.isnan(found.frequency))
+    # Never a NaN: every frequency derivative is given; the decoupling of a repeated mode, whose shape is not
+    # unique, has none and is masked.
+    assert not np.ma.is_masked(found.frequency)
+    assert not np.isnan(found.frequency.data).any() and not np.isnan(found.decoupling.data).any()
     frequency, _ = _finite_differences(system)
     for group in found.repeated_modes:
         mean = frequency[list(group)].mean(axis=0)  # the group mean's derivative (each member's is not unique)
         for j in group:
             np.testing.assert_allclose(found.frequency[j], mean, rtol=FD_RTOL, atol=FD_RTOL * np.abs(mean).max())
-        assert np.all(np.isnan(found.decoupling[list(group)]))
+        assert found.decoupling.mask[list(group)].all()
+    assert not found.decoupling.mask[[j for j in range(6) if not any(j in g for g in found.repeated_modes)]].any()
+
+
+def test_a_zero_frequency_mode_has_no_frequency_derivative_masked_not_nan():
+    # Mounts stiff only along z: x, y and rz are free (zero frequency, f = sqrt(l) / 2 pi has no finite
+    # derivative there); the elastic modes' derivatives are given and match finite differences.
+    system = System(RigidBody(500.0, (40.0, 60.0, 80.0)), [Mount(f"m{i}", p, [0.0, 0.0, 1e5]) for i, p in enumerate(
+        [(0.5, 0.5, 0.0), (-0.5, 0.3, 0.0), (-0.4, -0.5, 0.0), (0.5, -0.4, 0.0)])])
+    found = sensitivities(system)
+    rigid = system.modes.eigenvalues <= system.modes.eigenvalues.max() * 1e-10
+    assert rigid.sum() == 3
+    for values in (found.frequency, found.decoupling):
+        assert values.mask[rigid].all() and not values.mask[~rigid].any()
+        assert np.isfinite(values.data).all()
+    k = np.array(system.stiffnesses)
+    for mount in range(4):  # central differences of the elastic frequencies per mount's w stiffness
+        h = FD_STEP * k[mount, 2]
+        up, down = k.copy(), k.copy()
+        up[mount, 2] += h
+        down[mount, 2] -= h
+        plus, minus = (modal_analysis(system.M, mount_matrix(system.positions, s, system.axes)).frequency_hz
+                       for s in (up, down))
+        np.testing.assert_allclose(found.frequency[~rigid, mount, 2], ((plus - minus) / (2 * h))[~rigid],
+                                   rtol=FD_RTOL)
 
 
 def test_modes_json_carries_the_design_metrics_and_sensitivities(tmp_path, capsys):

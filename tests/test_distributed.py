@@ -257,7 +257,8 @@ def test_an_interrupted_sweep_resumes_from_its_chunks(tmp_path, monkeypatch, clu
 
 
 def test_robustness_chunks_on_two_workers(cluster):
-    from sixdof.design.optimize import ROBUSTNESS_CHUNK, robustness, robustness_chunk
+    from sixdof._jax import jax
+    from sixdof.design.optimize import ROBUSTNESS_CHUNK, robustness
     from sixdof.design.problem import DesignProblem
     from sixdof.tasks import InProcess, OnDask
 
@@ -268,8 +269,12 @@ def test_robustness_chunks_on_two_workers(cluster):
     there = robustness(problem, problem.initial, OnDask(cluster, "dask"))
     np.testing.assert_array_equal(here.values, there.values)
     assert here.values.shape == (1300, len(problem.targets))
+    np.testing.assert_array_equal(here.responses.frequency_hz, there.responses.frequency_hz)
+    assert there.responses.backend == "dask" and there.responses.chunks == 2
     # The second chunk is drawn with its own seed: its values are that chunk's alone.
-    np.testing.assert_array_equal(here.values[650:], robustness_chunk(problem, problem.initial, 1, 650))
+    scale = np.random.default_rng([spec.seed, 1]).uniform(1 - spec.tolerance, 1 + spec.tolerance, (650, 3, 3))
+    expected = jax.vmap(lambda s: problem.values(problem.initial, s))(scale)
+    np.testing.assert_allclose(here.values[650:], expected, rtol=1e-12)
 
 
 def test_where_the_chunks_run_is_checked_before_computing(tmp_path, monkeypatch):

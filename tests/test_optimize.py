@@ -14,7 +14,7 @@ from sixdof import InputError, load_scenario, parse_scenario
 from sixdof.cli import main
 from sixdof.design.optimize import optimize, robustness
 from sixdof.design.problem import DesignProblem
-from sixdof.design.workflow import optimized_system
+from sixdof.dofs import DOFS
 
 # A body on a V pair of mounts at (+-A, 0, -H), each tilted by THETA0 in the x-z plane towards the other,
 # and a soft vertical mount under the front keeping it upright.
@@ -74,7 +74,7 @@ tied = true
     problem = DesignProblem(scenario.system, scenario.design)
     result = optimize(problem)
     assert result.met.all() and result.values[0] >= 99.999
-    system = optimized_system(problem, result.x)
+    system = problem.system_at(result.x)
     found = [math.degrees(math.atan2(abs(m.axes[2, 0]), m.axes[2, 2])) for m in system.mounts]
     assert found == pytest.approx([theta_star, theta_star], abs=0.05)  # both, mirror-symmetric
     assert abs(_coupling(system)) < 1e-3
@@ -87,11 +87,51 @@ def test_robustness_without_scatter_is_the_design_itself():
     scenario = load_scenario("scenarios/engine_inclined_mounts.toml")
     problem = DesignProblem(scenario.system, _with(scenario.design, tolerance=0.0, samples=5))
     x = problem.initial
-    spread = robustness(problem, x)
+    spread = robustness(problem, x, None, scenario.excitation, scenario.simulation)
     values = np.asarray(problem.values(x))
+    peaks = spread.responses.peak_q
+    np.testing.assert_array_equal(peaks, np.broadcast_to(peaks[0], peaks.shape))
+    np.testing.assert_array_equal(spread.responses.variants.stiffness_factor, 1.0)
     np.testing.assert_allclose(spread.values, np.broadcast_to(values, spread.values.shape), rtol=1e-12)
     met = np.asarray(problem.violations(values)) == 0
     np.testing.assert_array_equal(spread.probability, met.astype(float))
+
+
+def test_robustness_runs_the_scattered_samples_on_the_exact_batch_engine():
+    import dataclasses
+
+    from sixdof.analysis.superposition import superpose
+
+    scenario = load_scenario("scenarios/engine_inclined_mounts.toml")
+    spec = _with(scenario.design, samples=40, seed=3)
+    problem = DesignProblem(scenario.system, spec)
+    x = problem.initial + 0.1  # not the given design: the samples scatter design x
+    spread = robustness(problem, x, None, scenario.excitation, scenario.simulation)
+    batch = spread.responses
+    # The samples are the stated scatter: independent factors uniform in 1 +- tolerance per mount axis, drawn
+    # with the seed (one chunk).
+    drawn = np.random.default_rng([3, 0]).uniform(1 - spec.tolerance, 1 + spec.tolerance, (40, 3, 3))
+    np.testing.assert_array_equal(batch.variants.stiffness_factor, drawn)
+    design = problem.system_at(x)
+    targets = [t.kind for t in problem.targets]
+    for i in (0, 17, 39):  # each sample built by hand, solved by modal superposition and eigen-analysis
+        mounts = [dataclasses.replace(m, stiffness=np.asarray(m.stiffness) * drawn[i, j])
+                  for j, m in enumerate(design.mounts)]
+        sample = dataclasses.replace(design, mounts=mounts)
+        response = superpose(sample, scenario.excitation, scenario.simulation.times)
+        for found, expected in ((batch.peak_q[i], np.abs(response.q).max(0)),
+                                (batch.peak_qdd[i], np.abs(response.qdd).max(0))):
+            np.testing.assert_allclose(found, expected, rtol=1e-9, atol=1e-12 * expected.max())
+        np.testing.assert_allclose(batch.frequency_hz[i], sample.modes.frequency_hz, rtol=1e-10)
+        for target, value in zip(problem.targets, spread.values[i]):  # the targets, at the same sample
+            if target.kind == "frequency":
+                mode = int(np.argmax(sample.modes.ke_distribution[DOFS.index(target.dof)]))
+                assert value == pytest.approx(sample.modes.frequency_hz[mode], rel=1e-10)
+    assert "frequency" in targets
+    # Each DOF's peak percentiles are those of the samples; diffrax agrees with the engine on its sample.
+    np.testing.assert_allclose(spread.peak_percentiles[:6], np.percentile(batch.peak_q, [5, 50, 95], axis=0).T)
+    assert batch.cross_check is not None and batch.cross_check.ok and batch.cross_check.worst < 1e-6
+    assert len(batch.cross_check_variants) == 3
 
 
 def _with(spec, **changes):
@@ -113,6 +153,21 @@ def test_optimize_writes_a_scenario_that_reproduces_the_design_and_a_labelled_fi
         values, labels = f["values"][()], [s.decode() for s in f["target"][()]]
         assert bool(f.attrs["all_met"]) and f["met"][()].all()
         assert f["history/x"].shape[1] == len(f["variable"]) and list(f["x"].attrs["variable_units"])[-1] == "degree"
+        # The constraints per iteration: the last is the result's.
+        np.testing.assert_array_equal(f["history/violations"][-1], f["violations"][()])
+        # The robustness samples on the exact batch engine: their peaks, their percentiles and the cross-check.
+        peaks = np.hstack([f["robustness/peak_q"][()], f["robustness/peak_qdd"][()]])
+        np.testing.assert_allclose(f["robustness/peak_percentiles"][()], np.percentile(peaks, [5, 50, 95], axis=0).T)
+        assert f["robustness/stiffness_factor"].shape == (1000, 3, 3) and bool(f["robustness"].attrs["cross_check_ok"])
+        optimized_peaks = f["peaks"][()]
+    assert "Peak responses at the CG to the scenario's loads (exact batch engine)" in out
+    assert "Cross-check of the exact engine: diffrax solved samples" in out
+    # The optimized scenario's response, by modal superposition, gives the file's peaks.
+    from sixdof.analysis.superposition import superpose
+
+    response = superpose(optimized.system, optimized.excitation, optimized.simulation.times)
+    np.testing.assert_allclose(optimized_peaks, np.concatenate([np.abs(response.q).max(0), np.abs(response.qdd).max(0)]),
+                               rtol=1e-9)
     # The optimized scenario's modes give the file's target values.
     modes = optimized.system.modes
     ry_mode = int(np.argmax(modes.ke_distribution[4]))

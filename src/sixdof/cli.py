@@ -480,6 +480,8 @@ def _modes_json(scenario, modes, statics, zeta, sensitivity: bool = False) -> di
 def _design_json(scenario, sensitivity: bool, plain) -> dict:
     """The design metrics (:func:`sixdof.analysis.design.design_metrics`), modes numbered from 1, absent
     values null; with ``sensitivity``, the derivatives (mode, mount, axis) per mount-axis stiffness [N/m]."""
+    import numpy as np
+
     from sixdof.analysis.design import design_metrics, sensitivities
 
     metrics = design_metrics(scenario.system, scenario.design.torque_axis)
@@ -491,7 +493,8 @@ def _design_json(scenario, sensitivity: bool, plain) -> dict:
            "elastic_axes": plain(metrics.elastic_axes), "principal_stiffness": plain(metrics.principal_stiffness)}
     if sensitivity:
         found = sensitivities(scenario.system)
-        out.update(frequency_sensitivity=plain(found.frequency), decoupling_sensitivity=plain(found.decoupling),
+        out.update(frequency_sensitivity=plain(found.frequency.filled(np.nan)),  # masked: no derivative -> null
+                   decoupling_sensitivity=plain(found.decoupling.filled(np.nan)),
                    repeated_modes=[[j + 1 for j in group] for group in found.repeated_modes],
                    sensitivity_axes=["mode", "mount", "mount_axis"])
     return out

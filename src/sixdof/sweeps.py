@@ -24,6 +24,7 @@ import time
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -34,10 +35,19 @@ CHUNKS_SUFFIX = ".chunks"
 _FINGERPRINT = "sweep.json"
 
 
+class Study(NamedTuple):
+    """What a sweep needs of a scenario (a :class:`~sixdof.io.scenario.Scenario` will do): the nominal
+    system, and the excitation and simulation settings of its responses (``None``: frequencies only)."""
+
+    system: Any
+    excitation: Any = None
+    simulation: Any = None
+
+
 def sweep_chunk(scenario, spec, index: int, checked: tuple[int, ...] = ()):
-    """Chunk ``index`` of ``spec``'s sweep of ``scenario``, one task: its variants' frequencies and peaks,
-    and the diffrax peaks of those among ``checked`` (indices in the whole sweep), as a
-    :class:`~sixdof.analysis.batch.BatchResult` whose cross-check fields hold only those peaks."""
+    """Chunk ``index`` of ``spec``'s sweep of ``scenario`` (or :class:`Study`), one task: its variants'
+    frequencies and peaks, and the diffrax peaks of those among ``checked`` (indices in the whole sweep), as
+    a :class:`~sixdof.analysis.batch.BatchResult` whose cross-check fields hold only those peaks."""
     from sixdof.analysis.batch import direct_peaks, run_batch
 
     system, excitation, settings = scenario.system, scenario.excitation, scenario.simulation
@@ -147,17 +157,22 @@ def sweep(scenario, spec, *, chunk_size: int | None = None, workers: int | None 
     sixdof.analysis.batch.BatchResult
         Every variant, in order.
     """
-    from sixdof.results import axis_concat
     from sixdof.tasks import task_runner
 
     spec = _with_chunk_size(spec, chunk_size)
     spec.check(scenario.system)
-    run = _Sweep(scenario, spec)
     with task_runner(workers, scheduler, client) as runner:
-        found = dict(run.run(runner, progress=progress))
-        where = _where(runner)
+        return sweep_on(runner, scenario, spec, progress)
+
+
+def sweep_on(runner, scenario, spec, progress=None):
+    """:func:`sweep` on an open ``runner`` (:func:`sixdof.tasks.task_runner`), ``spec`` already checked."""
+    from sixdof.results import axis_concat
+
+    run = _Sweep(scenario, spec)
+    found = dict(run.run(runner, progress=progress))
     kept = []
-    merged = run.merged((found.pop(i) for i in range(len(run.chunks))), where, kept.append)
+    merged = run.merged((found.pop(i) for i in range(len(run.chunks))), _where(runner), kept.append)
     # The merged result has no variants but every other field of the sweep: the chunks' variants join it.
     return axis_concat([merged, *kept], "variant")
 

@@ -19,7 +19,7 @@ The sensitivities are exact derivatives, by automatic differentiation (JAX) thro
 (:func:`sixdof.model.kinematics.mount_matrix_jax`) and the symmetric eigen-solution. A frequency of a
 repeated pair (or triple) has no derivative of its own: each member gets the derivative of the group's
 mean eigenvalue, which is unique, and the group is reported; the decoupling of such modes, whose shapes
-are not unique, gets no derivative (``nan`` in the arrays, null in JSON).
+are not unique, gets no derivative (masked in the arrays, null in JSON; never a NaN).
 """
 
 from __future__ import annotations
@@ -173,12 +173,12 @@ class Sensitivities:
 
     Attributes
     ----------
-    frequency : ndarray, shape (6, n_mounts, 3)
+    frequency : numpy.ma.MaskedArray, shape (6, n_mounts, 3)
         d(natural frequency of mode j) / d(stiffness of mount m along its axis u, v or w) [Hz per N/m];
-        ``nan`` for zero-frequency modes (no finite derivative).
-    decoupling : ndarray, shape (6, n_mounts, 3)
-        d(decoupling_percent of mode j) / d(the same) [% per N/m]; ``nan`` for repeated and
-        zero-frequency modes.
+        masked for zero-frequency modes (no finite derivative).
+    decoupling : numpy.ma.MaskedArray, shape (6, n_mounts, 3)
+        d(decoupling_percent of mode j) / d(the same) [% per N/m]; masked for repeated modes (their shapes
+        are not unique) and zero-frequency modes.
     repeated_modes : tuple of tuple of int
         Groups (indices from 0) of modes with one repeated frequency: each member's frequency derivative
         is the group mean's.
@@ -217,17 +217,25 @@ def sensitivities(system) -> Sensitivities:
     d_eigenvalues, d_decoupling = (np.array(d) for d in jax.jacfwd(modal)(stiffness))  # (6, n, 3) each
     scale = max(float(np.max(np.abs(eigenvalues))), np.finfo(float).tiny)
     groups = _repeated(eigenvalues, REPEATED_RTOL * scale)
+    shapeless = np.zeros(len(eigenvalues), dtype=bool)  # modes whose shape (so decoupling) is not unique
     for group in groups:  # the group mean's derivative is basis-independent; a member's is not
         d_eigenvalues[list(group)] = d_eigenvalues[list(group)].mean(axis=0)
-        d_decoupling[list(group)] = np.nan
-    omega = np.sqrt(np.maximum(eigenvalues, 0.0))
-    rigid = eigenvalues <= system.modes.eigenvalues.max() * 1e-10
-    with np.errstate(divide="ignore", invalid="ignore"):
-        frequency = d_eigenvalues / (4.0 * np.pi * omega)[:, None, None]  # f = sqrt(l) / 2 pi
-    frequency[rigid] = np.nan
-    d_decoupling[rigid] = np.nan
-    return Sensitivities(frequency=readonly(frequency), decoupling=readonly(d_decoupling),
+        shapeless[list(group)] = True
+    rigid = eigenvalues <= system.modes.eigenvalues.max() * 1e-10  # f = sqrt(l) has no finite derivative
+    omega = np.sqrt(np.where(rigid, 1.0, eigenvalues))
+    frequency = d_eigenvalues / (4.0 * np.pi * omega)[:, None, None]  # f = sqrt(l) / 2 pi
+    return Sensitivities(frequency=_masked(frequency, rigid), decoupling=_masked(d_decoupling, rigid | shapeless),
                          repeated_modes=tuple(g for g in groups))
+
+
+def _masked(values: np.ndarray, undefined: np.ndarray) -> np.ma.MaskedArray:
+    """``values`` (modes, ...) as a read-only masked array, the modes ``undefined`` masked (their data 0, never
+    NaN)."""
+    mask = np.broadcast_to(undefined[:, None, None], values.shape)
+    data = readonly(np.where(mask, 0.0, values))
+    found = np.ma.masked_array(data, mask=readonly(mask, bool), copy=False)
+    found.harden_mask()
+    return found
 
 
 def inverse_cholesky(M) -> np.ndarray:

@@ -8,7 +8,8 @@ simple bounds. It starts from the given design and from ``spec.starts - 1`` poin
 the bounds (seeded), stops a start once every target is met with its margin, and keeps the best design.
 
 :func:`robustness` scatters every mount-axis stiffness of a design by independent factors uniform in
-``1 +- tolerance`` and evaluates the targets of each sample exactly (the same function, ``jax.vmap``-ed).
+``1 +- tolerance``: a sweep of the design on the exact batch engine (frequencies and peak responses, some
+checked by diffrax), with the targets of each sample evaluated exactly (the same function, ``jax.vmap``-ed).
 """
 
 from __future__ import annotations
@@ -132,7 +133,8 @@ def optimize(problem: DesignProblem, *, progress=None) -> DesignResult:
 @dataclass(frozen=True, eq=False)
 class Robustness:
     """What :func:`robustness` found: per target, the probability of meeting it and the 5th, 50th and 95th
-    percentiles of its value over the samples.
+    percentiles of its value over the samples; and, with a simulation, the samples' peak responses by the
+    exact batch engine.
 
     Attributes
     ----------
@@ -142,43 +144,85 @@ class Robustness:
         5th, 50th, 95th percentile of each target's value.
     values : ndarray, shape (samples, n_targets)
     tolerance : float
+    responses : sixdof.analysis.batch.BatchResult or None
+        The samples (their stiffness factors, in order) run by the batch engine: natural frequencies always,
+        with a simulation the peak ``|q|`` and ``|q''|`` per DOF and the diffrax cross-check of a few
+        samples. ``None`` for mounts with Maxwell branches, which the batch engine does not carry.
     """
 
     probability: np.ndarray
     percentiles: np.ndarray
     values: np.ndarray
     tolerance: float
+    responses: object = None
+
+    @property
+    def peak_percentiles(self) -> np.ndarray | None:
+        """5th, 50th, 95th percentile of each DOF's peak ``|q|`` and ``|q''|``, shape (12, 3) (``|q|``
+        first), or None without peak responses."""
+        if self.responses is None or self.responses.peak_q is None:
+            return None
+        peaks = np.hstack([self.responses.peak_q, self.responses.peak_qdd])
+        return readonly(np.percentile(peaks, [5, 50, 95], axis=0).T)
 
 
 #: Samples per chunk of the robustness study (one task each, with its own seed: :mod:`sixdof.tasks`).
 ROBUSTNESS_CHUNK = 1000
 
 
-def robustness_chunk(problem: DesignProblem, x, index: int, count: int) -> np.ndarray:
-    """Chunk ``index`` of the robustness study of design ``x`` (one task): ``count`` samples of every mount-axis
-    stiffness scattered by independent factors uniform in ``1 +- spec.tolerance``; the targets' values
-    (count, n_targets)."""
+def scatter_spec(spec) -> object:
+    """The robustness study of a :class:`~sixdof.design.spec.DesignSpec` as a sweep
+    (:class:`~sixdof.io.sweep.SweepSpec`): ``spec.samples`` variants, every mount-axis stiffness scaled by
+    an independent factor uniform in ``1 +- spec.tolerance`` (none at zero tolerance), seed ``spec.seed``,
+    in chunks of :data:`ROBUSTNESS_CHUNK` on the exact engine."""
+    from sixdof.io.sweep import SweepSpec, Vary
+
+    scatter = () if spec.tolerance == 0 else (
+        Vary(parameter="stiffness", distribution="uniform", independent=True, low=1 - spec.tolerance,
+             high=1 + spec.tolerance),)
+    return SweepSpec(count=spec.samples, seed=spec.seed, vary=scatter, chunk_size=ROBUSTNESS_CHUNK, engine="exact")
+
+
+def robustness(problem: DesignProblem, x, runner=None, excitation=None, settings=None, progress=None) -> Robustness:
+    """How often each target of design ``x`` holds when every mount-axis stiffness scatters
+    (:func:`scatter_spec`), and how its responses spread.
+
+    The samples are a sweep of the design's system (:func:`sixdof.sweeps.sweep_on`): the exact batch engine
+    gives each sample's frequencies and, with ``excitation`` and ``settings``, its peak responses, a few
+    of them checked by diffrax; the targets of each sample are evaluated exactly at its stiffness factors
+    by the problem's own function (``jax.vmap``-ed).
+
+    Parameters
+    ----------
+    problem : DesignProblem
+    x : array_like, shape (n_variables,)
+    runner : optional
+        Where the chunks run (:func:`sixdof.tasks.task_runner`; default this process).
+    excitation, settings : optional
+        The scenario's excitation and :class:`~sixdof.analysis.direct.SimulationSettings`; without them,
+        frequencies and targets only.
+    progress : optional
+        Show the chunks done (:func:`sixdof.progress.meter`).
+
+    Returns
+    -------
+    Robustness
+    """
     from sixdof._jax import jax, jnp
-    from sixdof.tasks import chunk_rng
+    from sixdof.sweeps import Study, sweep_on
+    from sixdof.tasks import InProcess
 
-    spec = problem.spec
-    scale = chunk_rng(spec.seed, index).uniform(1 - spec.tolerance, 1 + spec.tolerance,
-                                                size=(count, len(problem.names), 3))
-    return np.asarray(jax.jit(jax.vmap(lambda s: problem.values(jnp.asarray(x), s)))(jnp.asarray(scale)))
-
-
-def robustness(problem: DesignProblem, x, runner=None) -> Robustness:
-    """``spec.samples`` samples of design ``x`` with every mount-axis stiffness scattered (seed ``spec.seed``,
-    in chunks of :data:`ROBUSTNESS_CHUNK`, see :func:`robustness_chunk`): how often each target holds.
-    ``runner``: where the chunks run (:func:`sixdof.tasks.task_runner`; default this process)."""
-    from sixdof._jax import jax, jnp
-    from sixdof.tasks import InProcess, partition
-
-    chunks = partition(problem.spec.samples, ROBUSTNESS_CHUNK)
-    jobs = ((i, (problem, np.asarray(x, dtype=float), i, len(rows))) for i, rows in enumerate(chunks))
-    found = {done.index: done.result for done in (runner or InProcess()).run(robustness_chunk, jobs)}
-    values = np.concatenate([found[i] for i in range(len(chunks))])
+    x = np.asarray(x, dtype=float)
+    system = problem.system_at(x)
+    spec = scatter_spec(problem.spec)
+    if system.maxwell:  # the batch engine does not carry Maxwell branches: the targets alone
+        responses = None
+        scale = np.concatenate([spec.factors(system, i)[0] for i in range(len(spec.chunks()))])
+    else:
+        responses = sweep_on(runner or InProcess(), Study(system, excitation, settings), spec, progress)
+        scale = responses.variants.stiffness_factor
+    values = np.asarray(jax.jit(jax.vmap(lambda s: problem.values(jnp.asarray(x), s)))(jnp.asarray(scale)))
     met = np.asarray(jax.vmap(problem.violations)(jnp.asarray(values))) == 0
     return Robustness(probability=readonly(met.mean(axis=0)),
                       percentiles=readonly(np.percentile(values, [5, 50, 95], axis=0).T),
-                      values=readonly(values), tolerance=problem.spec.tolerance)
+                      values=readonly(values), tolerance=problem.spec.tolerance, responses=responses)

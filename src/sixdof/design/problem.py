@@ -13,6 +13,7 @@ bound tightened by :data:`MARGIN` so that a design it finds meets the targets wi
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -130,6 +131,13 @@ class DesignProblem:
         if stiffness_scale is not None:
             stiffness = stiffness * stiffness_scale
         return positions, stiffness, axes
+
+    def system_at(self, x):
+        """The :class:`~sixdof.model.system.System` with the mounts of design ``x``."""
+        positions, stiffness, axes = (np.asarray(a) for a in self.mounts(np.asarray(x, dtype=float)))
+        mounts = [dataclasses.replace(m, position=positions[i], stiffness=stiffness[i], axes=axes[i])
+                  for i, m in enumerate(self.system.mounts)]
+        return dataclasses.replace(self.system, mounts=mounts)
 
     def values(self, x, stiffness_scale=None):
         """The value of every target at design ``x`` (see the module's list), shape (n_targets,)."""

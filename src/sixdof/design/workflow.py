@@ -5,7 +5,6 @@ All or nothing, as every run (:mod:`sixdof.io.output`)."""
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -43,14 +42,6 @@ class DesignOutcome:
     def met(self) -> bool:
         """Whether the optimized design meets every target."""
         return bool(np.all(self.result.met))
-
-
-def optimized_system(problem: DesignProblem, x):
-    """The system with the mounts of design ``x``."""
-    positions, stiffness, axes = (np.asarray(a) for a in problem.mounts(np.asarray(x, dtype=float)))
-    mounts = [dataclasses.replace(m, position=positions[i], stiffness=stiffness[i], axes=axes[i])
-              for i, m in enumerate(problem.system.mounts)]
-    return dataclasses.replace(problem.system, mounts=mounts)
 
 
 def optimized_toml(scenario, system) -> str:
@@ -112,13 +103,15 @@ def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: b
         shown = meter(progress, scenario.design.starts, "starts", "optimize")
         result = optimize(problem, progress=shown)
         shown.close()
-        spread = robustness(problem, result.x, runner)
-    system = optimized_system(problem, result.x)
+        spread = robustness(problem, result.x, runner, scenario.excitation, scenario.simulation, progress)
+    system = problem.system_at(result.x)
+    peaks = None if spread.peak_percentiles is None else tuple(
+        _peaks(s, scenario) for s in (scenario.system, system))
     text = optimized_toml(scenario, system)
     decoupling = next((t for t in problem.targets if t.kind == "decoupling"), None)
     coordinates = "body" if decoupling is None else decoupling.coordinates
     before, after = (_decoupling(s, scenario.design.torque_axis, coordinates) for s in (scenario.system, system))
-    tables = report.design_tables(problem, result, spread)
+    tables = report.design_tables(problem, result, spread, peaks)
     log(tables)
     figures = {
         "frequencies.png": plot_design_frequencies(scenario.system.modes, system.modes, problem.targets,
@@ -131,7 +124,7 @@ def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: b
 
     def write(stage: Path) -> None:
         (stage / "optimized.toml").write_text(text, encoding="utf-8")
-        _write_h5(stage / "design.h5", problem, result, spread, scenario)
+        _write_h5(stage / "design.h5", problem, result, spread, scenario, peaks)
         for file_name, fig in figures.items():
             (stage / file_name).write_bytes(png(fig))
         heading = f"# {scenario.name}: mount design\n\n"
@@ -142,6 +135,16 @@ def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: b
     files = tuple(target / n for n in ("optimized.toml", "design.h5", "summary.md", *figures))
     return DesignOutcome(directory=target, problem=problem, result=result, robustness=spread, system=system,
                          files=files)
+
+
+def _peaks(system, scenario) -> np.ndarray:
+    """Peak ``|q|`` and ``|q''|`` (12,) of ``system`` under the scenario's loads, by the exact batch engine
+    that computes the robustness samples."""
+    from sixdof.analysis.batch import make_variants, run_batch
+
+    found = run_batch(system, make_variants(system, count=1), scenario.excitation, scenario.simulation,
+                      cross_check=0)
+    return np.concatenate([found.peak_q[0], found.peak_qdd[0]])
 
 
 def _decoupling(system, torque_axis, coordinates: str) -> np.ndarray:
@@ -158,9 +161,12 @@ _VARIABLE_UNITS = {"stiffness": "1", "position": "m", "angle": "degree"}
 _TARGET_UNITS = {"frequency": "Hz", "decoupling": "percent", "static_deflection": "m", "tra_angle": "degree"}
 
 
-def _write_h5(path: Path, problem: DesignProblem, result: DesignResult, spread: Robustness, scenario) -> None:
-    """``design.h5``: the optimization's history, variables, targets and robustness (labelled axes)."""
-    from sixdof.dofs import MixedUnits
+def _write_h5(path: Path, problem: DesignProblem, result: DesignResult, spread: Robustness, scenario,
+              peaks=None) -> None:
+    """``design.h5``: the optimization's history, variables, targets and robustness (labelled axes); with
+    ``peaks`` (given, optimized), the peak responses and the samples' (``robustness/batch``)."""
+    from sixdof._jax import jax
+    from sixdof.dofs import DOFS, MOUNT_AXES, UNITS, MixedUnits, dof_units
     from sixdof.io.store import Dataset, Results, save_results
 
     names = np.array([v.name for v in problem.variables])
@@ -183,6 +189,9 @@ def _write_h5(path: Path, problem: DesignProblem, result: DesignResult, spread: 
                                      {"description": "sum of squared relative violations (optimizer's margin)"}),
         "history/x": Dataset(history[:, 2:2 + n_var], per_variable, ("iteration", "variable")),
         "history/values": Dataset(history[:, 2 + n_var:], per_target, ("iteration", "target")),
+        "history/violations": Dataset(np.asarray(jax.vmap(problem.violations)(history[:, 2 + n_var:])), "1",
+                                      ("iteration", "target"), {"description": "the constraints: shortfall "
+                                                                "relative to each target's bound, 0 where met"}),
         "starts": Dataset(result.starts, per_variable, ("start", "variable")),
         "x_initial": Dataset(result.x_initial, per_variable, ("variable",)),
         "x": Dataset(result.x, per_variable, ("variable",)),
@@ -198,8 +207,47 @@ def _write_h5(path: Path, problem: DesignProblem, result: DesignResult, spread: 
         "robustness/percentiles": Dataset(spread.percentiles, per_target, ("target", "percentile")),
         "robustness/values": Dataset(spread.values, per_target, ("sample", "target")),
     }
+    if peaks is not None:
+        units = MixedUnits((("response", (*dof_units(0), *dof_units(2))),),
+                           "peak |q| m, rad (x ... rz), then peak |q''| m/s^2, rad/s^2")
+        datasets.update({
+            "response": Dataset(np.array([*(f"|{d}|" for d in DOFS), *(f"|{d}''|" for d in DOFS)]), "",
+                                ("response",)),
+            "peaks_initial": Dataset(peaks[0], units, ("response",), {"description": "given design"}),
+            "peaks": Dataset(peaks[1], units, ("response",), {"description": "optimized design"}),
+            "robustness/peak_percentiles": Dataset(spread.peak_percentiles, units, ("response", "percentile")),
+        })
+    if spread.responses is not None:  # the samples by the batch engine
+        batch = spread.responses
+        datasets.update({"dof": Dataset(np.array(DOFS), "", ("dof",)),
+                         "mode": Dataset(np.arange(1, 7), "1", ("mode",)),
+                         "mount": Dataset(np.array(problem.names), "", ("mount",)),
+                         "mount_axis": Dataset(np.array(MOUNT_AXES), "", ("mount_axis",)),
+                         "robustness/stiffness_factor": Dataset(batch.variants.stiffness_factor, "1",
+                                                                ("sample", "mount", "mount_axis")),
+                         "robustness/frequency_hz": Dataset(batch.frequency_hz, "Hz", ("sample", "mode"))})
+        if batch.peak_q is not None:
+            datasets.update({
+                "robustness/peak_q": Dataset(batch.peak_q, UNITS["q"], ("sample", "dof")),
+                "robustness/peak_qdd": Dataset(batch.peak_qdd, UNITS["qdd"], ("sample", "dof")),
+            })
+        if batch.cross_check is not None:
+            datasets.update({
+                "robustness/checked_sample": Dataset(batch.cross_check_variants, "1", ("checked_sample",)),
+                "robustness/cross_check_peak_q": Dataset(batch.cross_check_peak_q, UNITS["q"],
+                                                         ("checked_sample", "dof")),
+                "robustness/cross_check_peak_qdd": Dataset(batch.cross_check_peak_qdd, UNITS["qdd"],
+                                                           ("checked_sample", "dof")),
+                "robustness/cross_check_per_dof": Dataset(batch.cross_check.per_dof, "1", ("dof",),
+                                                          {"description": batch.cross_check.definition}),
+            })
     attrs = {"": {"format": "sixdof-design", "scenario_name": scenario.name, "scenario_text": scenario.text,
                   "all_met": bool(np.all(result.met))},
              "robustness": {"tolerance": spread.tolerance, "samples": len(spread.values),
-                            "seed": problem.spec.seed}}
+                            "seed": problem.spec.seed,
+                            "engine": "none (Maxwell branches)" if spread.responses is None else "exact batch"}}
+    if spread.responses is not None and spread.responses.cross_check is not None:
+        check = spread.responses.cross_check
+        attrs["robustness"].update(cross_check_worst=check.worst, cross_check_tolerance=check.tolerance,
+                                   cross_check_ok=bool(check.ok))
     save_results(Results(datasets, attrs), path)

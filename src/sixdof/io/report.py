@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from sixdof.analysis.statics import STANDARD_GRAVITY
-from sixdof.dofs import DOF_UNITS, DOFS, display_unit
+from sixdof.dofs import DOF_UNITS, DOFS, display_unit, dof_units
 
 
 def table(headers: Sequence[str], rows: Sequence[Sequence[object]], align: str | None = None) -> str:
@@ -169,8 +169,10 @@ def _target_value(target, value: float) -> str:
     return f"{value:.4g}{unit}"
 
 
-def design_tables(problem, result, spread) -> str:
-    """The optimization's verdict, its targets before and after (with the robustness study) and its variables."""
+def design_tables(problem, result, spread, peaks=None) -> str:
+    """The optimization's verdict, its targets before and after (with the robustness study) and its variables;
+    with ``peaks`` (the given and the optimized design's peak ``|q|`` and ``|q''|``, (12,) each) and the
+    samples' peak responses, their table too."""
     short = [f"{t.label}: {_target_value(t, v)} (short by {100 * s:.3g} % of the bound)"
              for t, v, s in zip(problem.targets, result.values, result.violations) if s > 0]
     verdict = ("All targets met by the optimized design." if not short else
@@ -186,8 +188,31 @@ def design_tables(problem, result, spread) -> str:
     variables = table(["variable", "bounds", "given", "optimized"],
                       [[v.name, f"[{v.bounds[0]:g}, {v.bounds[1]:g}] {units[v.parameter]}", f"{x0:.4g}", f"{x:.4g}"]
                        for v, x0, x in zip(problem.variables, result.x_initial, result.x)], "lrrr")
-    return (f"{verdict}\n\nTargets ({len(spread.values)} samples with every mount-axis stiffness scattered "
+    text = (f"{verdict}\n\nTargets ({len(spread.values)} samples with every mount-axis stiffness scattered "
             f"uniformly {tolerance}):\n{targets}\n\nVariables (stiffness as factors):\n{variables}")
+    return text if peaks is None or spread.peak_percentiles is None else text + "\n\n" + _design_peaks(spread, peaks)
+
+
+def _design_peaks(spread, peaks) -> str:
+    """The scenario's peak responses at the CG: the given and optimized designs, and their spread over the
+    robustness samples (exact batch engine), with the diffrax cross-check's agreement."""
+    tolerance = f"+-{100 * spread.tolerance:g} %"
+    given, optimized = peaks
+    rows = []
+    for j, (quantity, unit) in enumerate([*(("|" + d + "|", u) for d, u in zip(DOFS, dof_units(0))),
+                                          *(("|" + d + "''|", u) for d, u in zip(DOFS, dof_units(2)))]):
+        values = [given[j], optimized[j], *spread.peak_percentiles[j]]
+        factor, shown = display_unit(values, unit)
+        rows.append([f"peak {quantity}", *(f"{v * factor:.4g} {shown}" for v in values[:2]),
+                     " / ".join(f"{v * factor:.4g}" for v in values[2:]) + f" {shown}"])
+    responses = spread.responses
+    check = responses.cross_check
+    note = "" if check is None else (
+        f"\nCross-check of the exact engine: diffrax solved samples "
+        f"{', '.join(str(i) for i in responses.cross_check_variants)}; peak agreement {check}")
+    return ("Peak responses at the CG to the scenario's loads (exact batch engine):\n"
+            + table(["quantity", "given design", "optimized", f"5 / 50 / 95 % at stiffness {tolerance}"],
+                    rows, "lrrr") + note)
 
 
 def statics_table(statics, mount_names: Sequence[str]) -> str:

@@ -151,9 +151,19 @@ class SweepSpec:
             < 0 (naming the ``vary`` entry).
         """
         if chunk is None:
-            parts = [self.variants(system, i) for i in range(len(self.chunks()))]
-            return make_variants(system, **{name: np.concatenate([getattr(p, name) for p in parts])
-                                            for name in ("stiffness_factor", "damping_factor", "position_offset")})
+            parts = [self.factors(system, i) for i in range(len(self.chunks()))]
+            return _variants(system, [np.concatenate(found) for found in zip(*parts)])
+        return _variants(system, self.factors(system, chunk))
+
+    def factors(self, system: System, chunk: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The stiffness factors, damping factors and position offsets [m] (count, n_mounts, 3) of chunk
+        ``chunk``'s variants: what :meth:`variants` gives :func:`~sixdof.analysis.batch.make_variants`.
+
+        Raises
+        ------
+        InputError
+            As :meth:`variants`.
+        """
         rows = self.chunks()[chunk]
         names = system.mount_names
         n = len(names)
@@ -193,13 +203,18 @@ class SweepSpec:
             if v.parameter == "damping" and np.any(sub < 0):
                 raise InputError(field, "damping factors >= 0 (narrow the distribution)",
                                  Plain(f"a draw of {sub.min():.6g} (chunk {chunk})"))
-        return make_variants(system, stiffness_factor=k, damping_factor=d, position_offset=x)
+        return k, d, x
 
     def check(self, system: System) -> None:
         """Draw every chunk's variants once, one chunk at a time, so that a bad draw fails before any
         computing (see :meth:`variants`)."""
         for chunk in range(len(self.chunks())):
             self.variants(system, chunk)
+
+
+def _variants(system: System, factors) -> Variants:
+    k, d, x = factors
+    return make_variants(system, stiffness_factor=k, damping_factor=d, position_offset=x)
 
 
 def parse_sweep_spec(text: str, source: str = "<string>") -> SweepSpec:

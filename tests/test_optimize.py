@@ -5,6 +5,7 @@ writes, and bad design input."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import h5py
 import numpy as np
@@ -132,6 +133,21 @@ def test_robustness_runs_the_scattered_samples_on_the_exact_batch_engine():
     np.testing.assert_allclose(spread.peak_percentiles[:6], np.percentile(batch.peak_q, [5, 50, 95], axis=0).T)
     assert batch.cross_check is not None and batch.cross_check.ok and batch.cross_check.worst < 1e-6
     assert len(batch.cross_check_variants) == 3
+
+
+def test_robustness_of_maxwell_mounts_evaluates_the_targets_alone():
+    # The batch engine does not carry Maxwell branches: the samples' targets are evaluated (on the long-term
+    # stiffness, like the optimization), with the same draws, and no responses are claimed.
+    text = Path("scenarios/engine_inclined_mounts.toml").read_text() + '\n[damping]\nloss_factor_model = "maxwell"\n'
+    scenario = parse_scenario(text)
+    assert scenario.system.maxwell
+    problem = DesignProblem(scenario.system, _with(scenario.design, samples=30))
+    spread = robustness(problem, problem.initial, None, scenario.excitation, scenario.simulation)
+    assert spread.responses is None and spread.peak_percentiles is None
+    tolerance = problem.spec.tolerance
+    drawn = np.random.default_rng([problem.spec.seed, 0]).uniform(1 - tolerance, 1 + tolerance, (30, 3, 3))
+    for i in (0, 29):
+        np.testing.assert_allclose(spread.values[i], problem.values(problem.initial, drawn[i]), rtol=1e-12)
 
 
 def _with(spec, **changes):

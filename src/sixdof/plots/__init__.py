@@ -163,7 +163,13 @@ def render(run, file_name: str, dpi: int | None = None) -> bytes:
     One draw per figure (no layout engine), unlabelled ticks drawn as collections
     (:func:`~sixdof.plots.common.freeze_unlabelled_ticks`) and fast zlib (:data:`PNG_COMPRESS_LEVEL`).
     """
-    return png(_DRAW[file_name](run), dpi)
+    import matplotlib
+
+    # Titles at their fixed height: matplotlib's automatic placement measures every axes' tick labels at each
+    # draw to clear labels above the axes, which none of these figures has (8 % of their drawing time).
+    with matplotlib.rc_context({"axes.titley": 1.0}):
+        figure = _DRAW[file_name](run)
+    return png(figure, dpi)
 
 
 def png(figure, dpi: int | None = None) -> bytes:

@@ -84,6 +84,79 @@ tied = true
     np.testing.assert_allclose(system.modes.frequency_hz, direct.modes.frequency_hz, rtol=1e-4)
 
 
+BOX = """
+name = "box"
+[body]
+mass = 100.0
+inertia = [5.0, 6.0, 7.0]
+[[mounts]]
+name = "a"
+position = [0.3, 0.2, 0.0]
+stiffness = [5e4, 7e4, 1e5]
+[[mounts]]
+name = "b"
+position = [-0.3, 0.2, 0.0]
+stiffness = [5e4, 7e4, 1e5]
+[[mounts]]
+name = "c"
+position = [-0.3, -0.2, 0.0]
+stiffness = [5e4, 7e4, 1e5]
+[[mounts]]
+name = "d"
+position = [0.3, -0.2, 0.0]
+stiffness = [5e4, 7e4, 1e5]
+[design]
+starts = 1
+tolerance = 0.15
+{objective}
+[[design.target]]
+kind = "frequency"
+dof = "z"
+f_hz = [10.2, 14.0]
+[[design.vary]]
+parameter = "stiffness"
+axes = ["w"]
+bounds = [0.5, 3.0]
+tied = true
+"""
+
+
+def test_the_robust_objective_keeps_the_scattered_designs_inside_the_window():
+    # Four mounts in the CG's plane: the z mode is pure, f = sqrt(sum k_w / m) / 2 pi, 10.07 Hz as given. The
+    # nominal optimum stops just inside the window's low edge, where stiffness scatter of +-15 % drops many
+    # samples below it; the robust objective must move the frequency up until every sample of its own meets
+    # the window (any f0 in [10.2 / sqrt(0.85), 14 / sqrt(1.15)] = [11.06, 13.06] Hz does, in the worst case).
+    nominal = parse_scenario(BOX.format(objective=""))
+    robust = parse_scenario(BOX.format(objective='objective = "robust"'))
+    found = {}
+    for name, scenario in (("nominal", nominal), ("robust", robust)):
+        problem = DesignProblem(scenario.system, scenario.design)
+        result = optimize(problem)
+        assert result.met.all()
+        found[name] = (problem, result, robustness(problem, result.x).probability[0])
+    assert found["nominal"][1].values[0] < 10.5 and found["nominal"][2] < 0.75
+    problem, result, probability = found["robust"]
+    assert probability >= 0.99 and 10.2 < result.values[0] < 14.0
+    # Every sample of the robust objective, built by hand and solved by the eigen-analysis, is in the window.
+    import dataclasses
+
+    design = problem.system_at(result.x)
+    for scale in problem.robust_scatter:
+        mounts = [dataclasses.replace(m, stiffness=np.asarray(m.stiffness) * scale[j]) for j, m in enumerate(design.mounts)]
+        modes = dataclasses.replace(design, mounts=mounts).modes
+        f_z = modes.frequency_hz[int(np.argmax(modes.ke_distribution[2]))]
+        assert 10.2 <= f_z <= 14.0
+    # The samples are the stated scatter, from their own stream.
+    expected = np.random.default_rng([0, 2**32 - 1]).uniform(0.85, 1.15, (128, 4, 3))
+    np.testing.assert_array_equal(problem.robust_scatter, expected)
+
+
+def test_a_robust_objective_needs_a_tolerance():
+    text = BOX.format(objective='objective = "robust"').replace("tolerance = 0.15", "tolerance = 0.0")
+    with pytest.raises(InputError, match=r"design\.objective: expected \"nominal\" with tolerance = 0"):
+        parse_scenario(text)
+
+
 def test_robustness_without_scatter_is_the_design_itself():
     scenario = load_scenario("scenarios/engine_inclined_mounts.toml")
     problem = DesignProblem(scenario.system, _with(scenario.design, tolerance=0.0, samples=5))

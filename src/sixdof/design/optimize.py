@@ -6,6 +6,8 @@ bounded, smooth, small problem (a few to a few tens of variables) for which a qu
 exact gradients converges in tens of iterations; optimistix and optax add nothing there and have no
 simple bounds. It starts from the given design and from ``spec.starts - 1`` points drawn uniformly within
 the bounds (seeded), stops a start once every target is met with its margin, and keeps the best design.
+With ``objective = "robust"`` the same search minimizes the squared shortfalls averaged over a fixed
+sample of scattered designs (:meth:`DesignProblem.objective`).
 
 :func:`robustness` scatters every mount-axis stiffness of a design by independent factors uniform in
 ``1 +- tolerance``: a sweep of the design on the exact batch engine (frequencies and peak responses, some
@@ -86,6 +88,7 @@ def optimize(problem: DesignProblem, *, progress=None) -> DesignResult:
     starts += [rng.uniform(bounds[:, 0], bounds[:, 1]) for _ in range(problem.spec.starts - 1)]
     value_and_grad = jax.jit(jax.value_and_grad(problem.objective))
     values = jax.jit(problem.values)
+    robust = jax.jit(problem.objective) if problem.spec.objective == "robust" else None
     history = []
 
     def fun(x):
@@ -97,8 +100,11 @@ def optimize(problem: DesignProblem, *, progress=None) -> DesignResult:
     best = None
     for index, start in enumerate(starts):
         def record(x, index=index):
-            found = np.asarray(values(jnp.asarray(x)))  # the objective from them: no second solve, no gradient
-            objective = float(np.sum(np.asarray(problem.violations(found, MARGIN)) ** 2))
+            found = np.asarray(values(jnp.asarray(x)))
+            if robust is None:  # the objective from them: no second solve, no gradient
+                objective = float(np.sum(np.asarray(problem.violations(found, MARGIN)) ** 2))
+            else:
+                objective = float(robust(jnp.asarray(x)))
             history.append(np.concatenate([[index, objective], x, found]))
             if objective == 0.0:
                 raise StopIteration  # every target met with its margin

@@ -25,6 +25,9 @@ from sixdof.errors import InputError, Plain
 
 #: Relative margin inside each target's bounds that the optimizer aims for.
 MARGIN = 0.01
+#: The random stream of the robust objective's samples (:attr:`DesignProblem.robust_scatter`): the robustness
+#: study's chunk ``i`` draws from ``[seed, i]``, so this one is out of their reach.
+ROBUST_STREAM = 2**32 - 1
 
 
 @dataclass(frozen=True)
@@ -196,10 +199,28 @@ class DesignProblem:
         return jnp.stack(found) if found else jnp.zeros(0)
 
     def objective(self, x):
-        """Sum of the squared violations (with :data:`MARGIN`): 0 when every target is met with room to spare."""
-        from sixdof._jax import jnp
+        """What the optimizer minimizes. ``spec.objective == "nominal"``: the sum of the squared violations
+        (with :data:`MARGIN`) of design ``x``, 0 when every target is met with room to spare. ``"robust"``:
+        that sum averaged over the :attr:`robust_scatter` samples of ``x`` (a sample-average approximation
+        of the expected squared shortfall under the stiffness tolerance, with the same samples at every
+        ``x``, so that it stays smooth), 0 when every sample meets every target with room to spare."""
+        from sixdof._jax import jax, jnp
 
-        return jnp.sum(self.violations(self.values(x), MARGIN) ** 2)
+        def squared(scale=None):
+            return jnp.sum(self.violations(self.values(x, scale), MARGIN) ** 2)
+
+        if self.spec.objective == "nominal":
+            return squared()
+        return jnp.mean(jax.vmap(squared)(jnp.asarray(self.robust_scatter)))
+
+    @property
+    def robust_scatter(self) -> np.ndarray:
+        """The stiffness factors (robust_samples, n_mounts, 3) of the robust objective: independent, uniform in
+        ``1 +- spec.tolerance``, drawn from ``numpy.random.default_rng([spec.seed, ROBUST_STREAM])`` (a stream
+        of their own, apart from the robustness study's chunks)."""
+        spec = self.spec
+        return np.random.default_rng([spec.seed, ROBUST_STREAM]).uniform(
+            1 - spec.tolerance, 1 + spec.tolerance, (spec.robust_samples, len(self.names), 3))
 
 
 def _rotation(axis: int, angle):

@@ -38,6 +38,8 @@ from sixdof.frozen import Frozen, checked
 
 TARGET_KINDS = ("frequency", "decoupling", "static_deflection", "tra_angle")
 PARAMETERS = ("stiffness", "position", "angle")
+#: What the optimizer minimizes (:class:`DesignSpec`).
+OBJECTIVES = ("nominal", "robust")
 #: Each parameter's axes: the names it accepts and its default.
 _PARAMETER_AXES = {"stiffness": MOUNT_AXES, "position": AXES, "angle": ()}
 
@@ -150,7 +152,10 @@ class DesignSpec(Frozen):
     """The ``[design]`` table: ``torque_axis`` (body axes; for the TRA metrics and targets), the targets,
     the variables, and the robustness study of the optimized design: every mount-axis stiffness scaled by
     an independent factor uniform in ``1 +- tolerance``, ``samples`` times (``seed``); ``starts``: how many
-    starting points the optimizer tries (the given design first, then random points within the bounds)."""
+    starting points the optimizer tries (the given design first, then random points within the bounds);
+    ``objective``: ``"nominal"``, the targets met by the design itself, or ``"robust"``, the shortfalls'
+    squares averaged over ``robust_samples`` designs scattered like the robustness study's (a fixed
+    sample, so the objective stays smooth: see :class:`~sixdof.design.problem.DesignProblem`)."""
 
     torque_axis: tuple[float, float, float] | None = None
     target: tuple[Target, ...] = ()
@@ -159,10 +164,15 @@ class DesignSpec(Frozen):
     samples: int = checked(integer_check("an integer >= 1", 1), default=1000)
     seed: int = checked(integer_check("an integer >= 0", 0), default=0)
     starts: int = checked(integer_check("an integer >= 1", 1), default=8)
+    objective: str = checked(choice_check(OBJECTIVES), default="nominal")
+    robust_samples: int = checked(integer_check("an integer >= 1", 1), default=128)
 
     def __check__(self) -> None:
         if self.tolerance > 0.9:
             raise InputError("tolerance", "a relative tolerance from 0 to 0.9", self.tolerance)
+        if self.objective == "robust" and self.tolerance == 0:
+            raise InputError("objective", "\"nominal\" with tolerance = 0 (nothing to be robust against)",
+                             self.objective)
         needs_tra = [i for i, t in enumerate(self.target) if t.kind == "tra_angle" or t.coordinates == "tra"]
         if needs_tra and self.torque_axis is None:
             raise InputError(f"target[{needs_tra[0]}]", "a torque_axis in [design] for a TRA target",

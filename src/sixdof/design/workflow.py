@@ -186,7 +186,9 @@ def _write_h5(path: Path, problem: DesignProblem, result: DesignResult, spread: 
         "percentile": Dataset(np.array([5.0, 50.0, 95.0]), "percent", ("percentile",)),
         "history/start_index": Dataset(history[:, 0].astype(int), "1", ("iteration",)),
         "history/objective": Dataset(history[:, 1], "1", ("iteration",),
-                                     {"description": "sum of squared relative violations (optimizer's margin)"}),
+                                     {"description": "sum of squared relative violations (optimizer's margin)"
+                                      + ("" if problem.spec.objective == "nominal" else ", averaged over the "
+                                         f"{problem.spec.robust_samples} samples of the robust objective")}),
         "history/x": Dataset(history[:, 2:2 + n_var], per_variable, ("iteration", "variable")),
         "history/values": Dataset(history[:, 2 + n_var:], per_target, ("iteration", "target")),
         "history/violations": Dataset(np.asarray(jax.vmap(problem.violations)(history[:, 2 + n_var:])), "1",
@@ -242,7 +244,8 @@ def _write_h5(path: Path, problem: DesignProblem, result: DesignResult, spread: 
                                                           {"description": batch.cross_check.definition}),
             })
     attrs = {"": {"format": "sixdof-design", "scenario_name": scenario.name, "scenario_text": scenario.text,
-                  "all_met": bool(np.all(result.met))},
+                  "all_met": bool(np.all(result.met)), "objective": problem.spec.objective,
+                  "robust_samples": problem.spec.robust_samples if problem.spec.objective == "robust" else 0},
              "robustness": {"tolerance": spread.tolerance, "samples": len(spread.values),
                             "seed": problem.spec.seed,
                             "engine": "none (Maxwell branches)" if spread.responses is None else "exact batch"}}

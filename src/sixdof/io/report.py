@@ -178,6 +178,9 @@ def design_tables(problem, result, spread, peaks=None) -> str:
     verdict = ("All targets met by the optimized design." if not short else
                "NOT MET, the best compromise found:\n" + "\n".join(f"  {line}" for line in short))
     tolerance = f"+-{100 * spread.tolerance:g} %"
+    if problem.spec.objective == "robust":
+        verdict += (f"\nObjective: robust, the squared shortfalls averaged over {problem.spec.robust_samples} "
+                    f"designs with every mount-axis stiffness scattered uniformly {tolerance}.")
     targets = table(
         ["target", "given design", "optimized", "met", f"5 / 50 / 95 % at stiffness {tolerance}", "P(met)"],
         [[t.label, _target_value(t, a), _target_value(t, b), "yes" if s == 0 else "NO",

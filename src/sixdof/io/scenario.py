@@ -356,14 +356,17 @@ def _random(raw: dict):
                 point=table.value("point", None), psd=psd, time_check=table.value("time_check", True))
 
 
+_DESIGN_SETTINGS = ("tolerance", "samples", "seed", "starts", "objective", "robust_samples")
+
+
 def _design(raw: dict, system: System):
     from sixdof.design.spec import DesignSpec, Target, Vary, check_mounts
 
-    table = Table(raw, "design", ("torque_axis", "target", "vary", "tolerance", "samples", "seed", "starts"))
+    table = Table(raw, "design", ("torque_axis", "target", "vary", *_DESIGN_SETTINGS))
     axis = table.value("torque_axis", None)
     targets = tuple(build(Target, t, f"design.target[{i}]") for i, t in enumerate(table.tables("target")))
     vary = tuple(build(Vary, t, f"design.vary[{i}]") for i, t in enumerate(table.tables("vary")))
-    settings = {k: raw[k] for k in ("tolerance", "samples", "seed", "starts") if k in raw}
+    settings = {k: raw[k] for k in _DESIGN_SETTINGS if k in raw}
     spec = make(DesignSpec, "design", torque_axis=None if axis is None else _checked_vector(axis, "design.torque_axis"),
                 target=targets, vary=vary, **settings)
     return make(check_mounts, "design", spec=spec, mount_names=tuple(m.name for m in system.mounts))

@@ -17,11 +17,16 @@ checked by diffrax), with the targets of each sample evaluated exactly (the same
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from sixdof.design.problem import MARGIN, DesignProblem
 from sixdof.errors import InputError, Plain, readonly
+
+if TYPE_CHECKING:
+    from sixdof.analysis.batch import BatchResult
+    from sixdof.io.sweep import SweepSpec
 
 
 @dataclass(frozen=True, eq=False)
@@ -160,7 +165,7 @@ class Robustness:
     percentiles: np.ndarray
     values: np.ndarray
     tolerance: float
-    responses: object = None
+    responses: BatchResult | None = None
 
     @property
     def peak_percentiles(self) -> np.ndarray | None:
@@ -176,7 +181,7 @@ class Robustness:
 ROBUSTNESS_CHUNK = 1000
 
 
-def scatter_spec(spec) -> object:
+def scatter_spec(spec) -> SweepSpec:
     """The robustness study of a :class:`~sixdof.design.spec.DesignSpec` as a sweep
     (:class:`~sixdof.io.sweep.SweepSpec`): ``spec.samples`` variants, every mount-axis stiffness scaled by
     an independent factor uniform in ``1 +- spec.tolerance`` (none at zero tolerance), seed ``spec.seed``,

@@ -163,8 +163,9 @@ _TARGET_UNITS = {"frequency": "Hz", "decoupling": "percent", "static_deflection"
 
 def _write_h5(path: Path, problem: DesignProblem, result: DesignResult, spread: Robustness, scenario,
               peaks=None) -> None:
-    """``design.h5``: the optimization's history, variables, targets and robustness (labelled axes); with
-    ``peaks`` (given, optimized), the peak responses and the samples' (``robustness/batch``)."""
+    """``design.h5``: the optimization's history, variables, targets and robustness (labelled axes): the
+    samples' stiffness factors, target values and, from the batch engine, frequencies, peak responses and
+    cross-check; with ``peaks`` (given, optimized design), their peak responses and the samples' percentiles."""
     from sixdof._jax import jax
     from sixdof.dofs import DOFS, MOUNT_AXES, UNITS, MixedUnits, dof_units
     from sixdof.io.store import Dataset, Results, save_results

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from sixdof.design.problem import MARGIN, DesignProblem
+from sixdof.dofs import DOFS, dof_units
 from sixdof.errors import InputError, Plain, readonly
 
 if TYPE_CHECKING:
@@ -169,13 +170,18 @@ class Robustness:
 
     @property
     def peak_percentiles(self) -> np.ndarray | None:
-        """5th, 50th, 95th percentile of each DOF's peak ``|q|`` and ``|q''|``, shape (12, 3) (``|q|``
-        first), or None without peak responses."""
+        """5th, 50th, 95th percentile of each of the :data:`PEAK_RESPONSES`, shape (12, 3), or None without
+        peak responses."""
         if self.responses is None or self.responses.peak_q is None:
             return None
         peaks = np.hstack([self.responses.peak_q, self.responses.peak_qdd])
         return readonly(np.percentile(peaks, [5, 50, 95], axis=0).T)
 
+
+#: The peak responses of :attr:`Robustness.peak_percentiles`, in order, with their SI units: ``|q|`` then ``|q''|``
+#: per DOF.
+PEAK_RESPONSES: tuple[tuple[str, str], ...] = (*((f"|{d}|", u) for d, u in zip(DOFS, dof_units(0))),
+                                               *((f"|{d}''|", u) for d, u in zip(DOFS, dof_units(2))))
 
 #: Samples per chunk of the robustness study (one task each, with its own seed: :mod:`sixdof.tasks`).
 ROBUSTNESS_CHUNK = 1000

@@ -216,10 +216,12 @@ class DesignProblem:
     @property
     def robust_scatter(self) -> np.ndarray:
         """The stiffness factors (robust_samples, n_mounts, 3) of the robust objective: independent, uniform in
-        ``1 +- spec.tolerance``, drawn from ``numpy.random.default_rng([spec.seed, ROBUST_STREAM])`` (a stream
-        of their own, apart from the robustness study's chunks)."""
+        ``1 +- spec.tolerance``, drawn from :func:`sixdof.tasks.chunk_rng` ``(spec.seed, ROBUST_STREAM)`` (a
+        stream of their own, apart from the robustness study's chunks)."""
+        from sixdof.tasks import chunk_rng
+
         spec = self.spec
-        return np.random.default_rng([spec.seed, ROBUST_STREAM]).uniform(
+        return chunk_rng(spec.seed, ROBUST_STREAM).uniform(
             1 - spec.tolerance, 1 + spec.tolerance, (spec.robust_samples, len(self.names), 3))
 
 

@@ -167,7 +167,8 @@ def _write_h5(path: Path, problem: DesignProblem, result: DesignResult, spread: 
     samples' stiffness factors, target values and, from the batch engine, frequencies, peak responses and
     cross-check; with ``peaks`` (given, optimized design), their peak responses and the samples' percentiles."""
     from sixdof._jax import jax
-    from sixdof.dofs import DOFS, MOUNT_AXES, UNITS, MixedUnits, dof_units
+    from sixdof.design.optimize import PEAK_RESPONSES
+    from sixdof.dofs import DOFS, MOUNT_AXES, UNITS, MixedUnits
     from sixdof.io.store import Dataset, Results, save_results
 
     names = np.array([v.name for v in problem.variables])
@@ -211,11 +212,10 @@ def _write_h5(path: Path, problem: DesignProblem, result: DesignResult, spread: 
         "robustness/values": Dataset(spread.values, per_target, ("sample", "target")),
     }
     if peaks is not None:
-        units = MixedUnits((("response", (*dof_units(0), *dof_units(2))),),
+        units = MixedUnits((("response", tuple(unit for _, unit in PEAK_RESPONSES)),),
                            "peak |q| m, rad (x ... rz), then peak |q''| m/s^2, rad/s^2")
         datasets.update({
-            "response": Dataset(np.array([*(f"|{d}|" for d in DOFS), *(f"|{d}''|" for d in DOFS)]), "",
-                                ("response",)),
+            "response": Dataset(np.array([name for name, _ in PEAK_RESPONSES]), "", ("response",)),
             "peaks_initial": Dataset(peaks[0], units, ("response",), {"description": "given design"}),
             "peaks": Dataset(peaks[1], units, ("response",), {"description": "optimized design"}),
             "robustness/peak_percentiles": Dataset(spread.peak_percentiles, units, ("response", "percentile")),

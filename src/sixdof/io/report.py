@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from sixdof.analysis.statics import STANDARD_GRAVITY
-from sixdof.dofs import DOF_UNITS, DOFS, display_unit, dof_units
+from sixdof.dofs import DOF_UNITS, DOFS, display_unit
 
 
 def table(headers: Sequence[str], rows: Sequence[Sequence[object]], align: str | None = None) -> str:
@@ -199,11 +199,12 @@ def design_tables(problem, result, spread, peaks=None) -> str:
 def _design_peaks(spread, peaks) -> str:
     """The scenario's peak responses at the CG: the given and optimized designs, and their spread over the
     robustness samples (exact batch engine), with the diffrax cross-check's agreement."""
+    from sixdof.design.optimize import PEAK_RESPONSES
+
     tolerance = f"+-{100 * spread.tolerance:g} %"
     given, optimized = peaks
     rows = []
-    for j, (quantity, unit) in enumerate([*(("|" + d + "|", u) for d, u in zip(DOFS, dof_units(0))),
-                                          *(("|" + d + "''|", u) for d, u in zip(DOFS, dof_units(2)))]):
+    for j, (quantity, unit) in enumerate(PEAK_RESPONSES):
         values = [given[j], optimized[j], *spread.peak_percentiles[j]]
         factor, shown = display_unit(values, unit)
         rows.append([f"peak {quantity}", *(f"{v * factor:.4g} {shown}" for v in values[:2]),

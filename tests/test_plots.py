@@ -463,6 +463,20 @@ def test_a_figure_failing_in_a_worker_fails_loudly(parts, tmp_path):
             workers.save(tmp_path)
 
 
+def test_fixed_titles_draw_the_same_pixels(run):
+    """render() draws with titles at a fixed height (plots.FIXED_TITLES): every figure is the one matplotlib's
+    automatic title placement draws (a 3-D panel's title once sat on its legend)."""
+    import matplotlib
+
+    from figures import pixels
+
+    for name, _, drawable, draw in plots.FIGURES:
+        if drawable(run):
+            with matplotlib.rc_context(plots.FIXED_TITLES):
+                fixed = draw(run)
+            np.testing.assert_array_equal(pixels(fixed), pixels(draw(run)), err_msg=name)
+
+
 def test_frozen_ticks_draw_the_same_pixels(run):
     """render() draws unlabelled ticks (minor log ticks, the time ticks of panels above a shared time
     axis) as two collections per axis (fast): at the resolution of the files, every figure is the one

@@ -123,6 +123,17 @@ def test_mode_drawing_scales_translations_and_caps_rotations():
     np.testing.assert_allclose(np.linalg.norm(moved, axis=1), np.linalg.norm(points, axis=1), rtol=RTOL_DRAWN)
 
 
+def test_finite_rotations_are_scipys():
+    from scipy.spatial.transform import Rotation
+
+    from sixdof.plots.modes import finite_rotation
+
+    rng = np.random.default_rng(7)
+    for vector in [np.zeros(3), [0.0, 0.0, 1e-9], *(rng.normal(size=(5, 3)) * [[0.01], [0.3], [1.0], [2.5], [3.1]])]:
+        R = finite_rotation(np.asarray(vector))
+        np.testing.assert_allclose(R, Rotation.from_rotvec(vector).as_matrix(), rtol=0.0, atol=1e-15)
+
+
 def test_body_box_falls_back_to_the_mount_extents():
     system = bridge("equal", dimensions=None)
     largest = 2 * 19.55

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from sixdof.analysis.modal import inverse_cholesky
 from sixdof.errors import InputError, readonly
 
 #: Two eigenvalues closer than this fraction of the largest are one repeated eigenvalue.
@@ -236,11 +237,6 @@ def _masked(values: np.ndarray, undefined: np.ndarray) -> np.ma.MaskedArray:
     found = np.ma.masked_array(data, mask=readonly(mask, bool), copy=False)
     found.harden_mask()
     return found
-
-
-def inverse_cholesky(M) -> np.ndarray:
-    """``L^-1`` with ``M = L L^T``: turns ``K v = l M v`` into the symmetric ``(L^-1 K L^-T) w = l w``."""
-    return np.linalg.inv(np.linalg.cholesky(np.asarray(M, dtype=float)))
 
 
 def modes_jax(M, L_inv, K):

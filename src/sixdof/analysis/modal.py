@@ -6,7 +6,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 from sixdof.dofs import DOFS, UNITS
 from sixdof.errors import readonly
@@ -66,6 +65,11 @@ class Modes(Result):
     free_dofs: tuple[str, ...] = label()
 
 
+def inverse_cholesky(M) -> np.ndarray:
+    """``L^-1`` with ``M = L L^T``: turns ``K v = l M v`` into the symmetric ``(L^-1 K L^-T) w = l w``."""
+    return np.linalg.inv(np.linalg.cholesky(np.asarray(M, dtype=float)))
+
+
 def modal_analysis(M: np.ndarray, K: np.ndarray) -> Modes:
     """Natural frequencies and mode shapes of ``M q'' + K q = 0`` (eqs. 2-5 of the seed paper).
 
@@ -85,7 +89,12 @@ def modal_analysis(M: np.ndarray, K: np.ndarray) -> Modes:
     """
     M = np.asarray(M, dtype=float)
     K = np.asarray(K, dtype=float)
-    eigenvalues, shapes = scipy.linalg.eigh(K, M)
+    # LAPACK's reduction (dsygv): M = L L', the symmetric L^-1 K L^-T's eigenpairs, shapes L^-T y. NumPy
+    # rather than scipy.linalg.eigh(K, M): the same steps, and no 0.1-0.2 s import of scipy.linalg in a run.
+    L_inv = inverse_cholesky(M)
+    reduced = L_inv @ K @ L_inv.T
+    eigenvalues, reduced_shapes = np.linalg.eigh((reduced + reduced.T) / 2)
+    shapes = L_inv.T @ reduced_shapes
     # Round-off makes the eigenvalues of unrestrained DOFs tiny and of either sign: they are zero.
     scale = max(float(np.max(np.abs(eigenvalues))), np.finfo(float).tiny)
     zero = np.abs(eigenvalues) <= ZERO_MODE_RTOL * scale

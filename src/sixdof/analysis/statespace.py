@@ -21,7 +21,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 from sixdof.errors import SolverError
 
@@ -168,7 +167,8 @@ def complex_modes(stiffness, D, *, remedy: str | None, maxwell=None) -> ComplexM
         A = np.block([[A, np.concatenate([np.zeros((n, k.size)), -coupled])],
                       [np.zeros((k.size, n)), coupled.T, np.diag(-1.0 / tau)]])
         unscale = np.concatenate([unscale, 1.0 / np.sqrt(k)])
-    eigenvalues, V = scipy.linalg.eig(A)
+    eigenvalues, V = np.linalg.eig(A)  # LAPACK's dgeev, as scipy.linalg.eig, without importing scipy.linalg
+    eigenvalues, V = eigenvalues.astype(complex), V.astype(complex)  # real when every mode is overdamped
     condition = float(np.linalg.cond(V))
     if remedy is not None and (not np.isfinite(condition) or condition > MAX_EIGENVECTOR_CONDITION):
         raise SolverError(

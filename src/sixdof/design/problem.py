@@ -18,7 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sixdof.analysis.design import inverse_cholesky, modes_jax, torque_roll_axis, tra_frame
+from sixdof.analysis.design import modes_jax, torque_roll_axis, tra_frame
+from sixdof.analysis.modal import inverse_cholesky
 from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.dofs import AXES, DOFS, MOUNT_AXES
 from sixdof.errors import InputError, Plain

@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
-from scipy.spatial.transform import Rotation
 
 from sixdof.analysis.modal import Modes
 from sixdof.dofs import DOFS
@@ -71,7 +70,18 @@ def drawn_mode(points: np.ndarray, shape: np.ndarray, largest: float) -> np.ndar
         The body's largest size [m].
     """
     q = mode_scale(points, shape, largest) * np.asarray(shape, dtype=float)
-    return q[:3] + Rotation.from_rotvec(q[3:]).apply(points)
+    return q[:3] + points @ finite_rotation(q[3:]).T
+
+
+def finite_rotation(rotation: np.ndarray) -> np.ndarray:
+    """The rotation matrix (3, 3) of a rotation vector [rad] (Rodrigues' formula): by its length about its
+    direction."""
+    angle = float(np.linalg.norm(rotation))
+    if angle == 0.0:
+        return np.eye(3)
+    x, y, z = np.asarray(rotation, dtype=float) / angle
+    cross = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])  # cross @ p is axis x p
+    return np.eye(3) + np.sin(angle) * cross + (1.0 - np.cos(angle)) * cross @ cross
 
 
 def mode_scale(points: np.ndarray, shape: np.ndarray, largest: float) -> float:

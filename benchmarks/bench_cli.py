@@ -13,10 +13,16 @@ command, as a user runs it:
 
 Python keeps its bytecode caches, as an installed package has them (``PYTHONDONTWRITEBYTECODE`` is
 dropped). Run: ``python benchmarks/bench_cli.py``; writes ``results/cli.json``.
+
+``--against REV`` measures a change instead: this checkout and git revision ``REV`` (checked out into a
+temporary worktree, run with the same environment) alternately, one cold run and ``--rounds`` repeated runs
+each, every pair back to back, so that both see the same machine (the shared 2-core machine's speed drifts
+by 20-50 % between sittings: only such pairs compare); writes ``results/cli_against.json``.
 """
 
 from __future__ import annotations
 
+import argparse
 import json
 import os
 import shutil
@@ -141,15 +147,59 @@ def beside(value: float, target: float) -> str:
     return f"{value:.2f} s   (target <= {target:g} s: {verdict})"
 
 
+def environment(source: Path, cache: Path) -> dict:
+    """The command's environment: sixdof from ``source``, its caches in ``cache`` (empty at first)."""
+    env = {k: v for k, v in os.environ.items()
+           if not k.startswith(("JAX_", "EQX_", "SIXDOF_", "XLA_")) and k != "PYTHONDONTWRITEBYTECODE"}
+    env["PYTHONPATH"] = os.pathsep.join([str(source), *filter(None, [env.get("PYTHONPATH")])])
+    env["MPLCONFIGDIR"] = subprocess.run([sys.executable, "-c", "import matplotlib; print(matplotlib.get_cachedir())"],
+                                         capture_output=True, text=True, check=True).stdout.strip()
+    env["XDG_CACHE_HOME"] = str(cache)
+    return env
+
+
+def against(revision: str, rounds: int) -> None:
+    """This checkout against ``revision``, run alternately (see the module's docstring)."""
+    exe = shutil.which("sixdof") or str(Path(sys.executable).with_name("sixdof"))
+    work = Path(tempfile.mkdtemp(prefix="sixdof-bench-"))
+    tree = work / "against"
+    subprocess.run(["git", "-C", str(common.ROOT), "worktree", "add", "--detach", "--quiet", str(tree), revision],
+                   check=True)
+    try:
+        sides = {"this checkout": common.ROOT / "src", revision: tree / "src"}
+        times = {side: {"cold": None, "repeated": []} for side in sides}
+        for k in range(rounds + 1):
+            # Each pair in the other order than the last: neither side always runs on a machine the other warmed.
+            for side, source in (list(sides.items()) if k % 2 == 0 else list(sides.items())[::-1]):
+                env = environment(source, work / f"cache-{list(sides).index(side)}")
+                run = [sys.executable, exe, "run", str(common.SCENARIO), "--quiet", "--out", str(work / "out")]
+                wall, _ = timed(run, env, work)
+                if k == 0:
+                    times[side]["cold"] = wall
+                else:
+                    times[side]["repeated"].append(wall)
+            print(f"  round {k}: " + ", ".join(
+                f"{side} {times[side]['cold'] if k == 0 else times[side]['repeated'][-1]:.2f} s" for side in sides),
+                flush=True)
+    finally:
+        subprocess.run(["git", "-C", str(common.ROOT), "worktree", "remove", "--force", str(tree)], check=False)
+        shutil.rmtree(work, ignore_errors=True)
+    mine, theirs = (times[side] for side in sides)
+    ratios = [a / b for a, b in zip(mine["repeated"], theirs["repeated"])]
+    print(f"cold: this checkout {mine['cold']:.2f} s, {revision} {theirs['cold']:.2f} s")
+    print(f"repeated ({rounds} pairs): this checkout median {statistics.median(mine['repeated']):.2f} s "
+          f"(best {min(mine['repeated']):.2f}), {revision} median {statistics.median(theirs['repeated']):.2f} s "
+          f"(best {min(theirs['repeated']):.2f}); ratio per pair: median {statistics.median(ratios):.3f}, "
+          f"{min(ratios):.3f}-{max(ratios):.3f}")
+    path = common.save("cli_against", {"revision": revision, "this_checkout": mine, "against": theirs,
+                                       "repeated_ratio": ratios})
+    print(f"-> {path}")
+
+
 def main():
     exe = shutil.which("sixdof") or str(Path(sys.executable).with_name("sixdof"))
     work = Path(tempfile.mkdtemp(prefix="sixdof-bench-"))
-    env = {k: v for k, v in os.environ.items()
-           if not k.startswith(("JAX_", "EQX_", "SIXDOF_", "XLA_")) and k != "PYTHONDONTWRITEBYTECODE"}
-    env["PYTHONPATH"] = os.pathsep.join([str(common.ROOT / "src"), *filter(None, [env.get("PYTHONPATH")])])
-    env["MPLCONFIGDIR"] = subprocess.run([sys.executable, "-c", "import matplotlib; print(matplotlib.get_cachedir())"],
-                                         capture_output=True, text=True, check=True).stdout.strip()
-    env["XDG_CACHE_HOME"] = str(work / "cache")  # sixdof's caches: empty for the cold run, then kept
+    env = environment(common.ROOT / "src", work / "cache")  # sixdof's caches: empty for the cold run, then kept
     run = [sys.executable, exe, "run", str(common.SCENARIO), "--quiet", "--out", str(work / "out")]
     results = work / "out" / common.SCENARIO.stem / "results.h5"
 
@@ -206,4 +256,11 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--against", metavar="REV", help="compare with this git revision, run alternately")
+    parser.add_argument("--rounds", type=int, default=6, help="repeated runs of each side with --against")
+    arguments = parser.parse_args()
+    if arguments.against:
+        against(arguments.against, arguments.rounds)
+    else:
+        main()

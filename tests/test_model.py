@@ -50,6 +50,25 @@ def test_two_spring_bounce_pitch_and_free_dofs():
 
 
 @pytest.mark.parametrize("seed", range(5))
+def test_modes_are_scipys_generalized_eigenpairs(seed):
+    """modal_analysis reduces K v = l M v by M's Cholesky factor in NumPy: the eigenpairs of scipy.linalg.eigh(K, M),
+    for a full inertia tensor (M's rotational block coupled, kg beside kg m^2) and stiffnesses over two decades."""
+    import scipy.linalg
+
+    rng = np.random.default_rng(seed)
+    R = Rotation.random(random_state=rng).as_matrix()
+    body = RigidBody(rng.uniform(100, 10_000), R @ np.diag(rng.uniform(100.0, 190.0, 3)) @ R.T)  # J1 + J2 > J3
+    mounts = [Mount(str(i), rng.uniform(-2, 2, 3), rng.uniform(1e4, 1e6, 3)) for i in range(4)]
+    system = System(body, mounts)
+    modes = modal_analysis(system.M, system.K)
+    eigenvalues, shapes = scipy.linalg.eigh(system.K, system.M)
+    np.testing.assert_allclose(modes.eigenvalues, eigenvalues, rtol=1e-12)
+    signs = np.sign(np.sum(shapes * modes.shapes, axis=0))  # the sign of a shape is a convention
+    np.testing.assert_allclose(modes.shapes, shapes * signs, rtol=0.0, atol=1e-10 * np.abs(shapes).max())
+    np.testing.assert_allclose(modes.shapes.T @ system.M @ modes.shapes, np.eye(6), rtol=0.0, atol=1e-12)
+
+
+@pytest.mark.parametrize("seed", range(5))
 def test_stiffness_symmetric_positive_semidefinite_and_rotation_invariant(seed):
     rng = np.random.default_rng(seed)
     J, R = rng.uniform(1.0, 3.0, 3), Rotation.random(random_state=rng).as_matrix()

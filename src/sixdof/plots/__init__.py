@@ -29,7 +29,6 @@ titles), :mod:`~sixdof.plots.modes`, :mod:`~sixdof.plots.time`, :mod:`~sixdof.pl
 
 from __future__ import annotations
 
-import io
 import sys
 from collections.abc import Callable, Mapping
 from pathlib import Path
@@ -165,7 +164,7 @@ def render(run, file_name: str, dpi: int | None = None) -> bytes:
     return it as PNG bytes, ``dpi`` dots per inch (default :data:`DPI`).
 
     One draw per figure (no layout engine), unlabelled ticks drawn as collections
-    (:func:`~sixdof.plots.common.freeze_unlabelled_ticks`) and fast zlib (:data:`PNG_COMPRESS_LEVEL`).
+    (:func:`~sixdof.plots.common.freeze_unlabelled_ticks`) and fast PNG writing (:func:`png`).
     """
     import matplotlib
 
@@ -175,14 +174,26 @@ def render(run, file_name: str, dpi: int | None = None) -> bytes:
 
 
 def png(figure, dpi: int | None = None) -> bytes:
-    """A figure as PNG bytes, the way :func:`render` draws it."""
-    from sixdof.plots.common import freeze_unlabelled_ticks
+    """A figure as PNG bytes, the way :func:`render` draws it: the pixels ``figure.savefig`` draws, written
+    by :func:`~sixdof.plots.common.png_bytes`."""
+    import numpy as np
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from sixdof.plots.common import freeze_unlabelled_ticks, png_bytes
 
     freeze_unlabelled_ticks(figure)
-    buffer = io.BytesIO()
-    figure.savefig(buffer, format="png", dpi=dpi or _plots.DPI,
-                   pil_kwargs={"compress_level": _plots.PNG_COMPRESS_LEVEL})
-    return buffer.getvalue()
+    dpi = dpi or _plots.DPI
+    # As savefig draws: on an Agg canvas of its own at the file's resolution, in the figure's own face colour;
+    # the figure's canvas (a notebook's, say) and resolution given back after.
+    shown, drawn_at = figure.canvas, figure.dpi
+    canvas = FigureCanvasAgg(figure)
+    figure.dpi = dpi
+    try:
+        canvas.draw()
+        return png_bytes(np.asarray(canvas.buffer_rgba()), dpi)
+    finally:
+        figure.dpi = drawn_at
+        figure.set_canvas(shown)
 
 
 def save_all(run, directory: str | Path, dpi: int | None = None) -> list[Path]:

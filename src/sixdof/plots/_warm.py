@@ -9,7 +9,6 @@ caller reading that output through a pipe would wait for it).
 """
 
 import atexit
-import io
 import os
 
 from matplotlib.figure import Figure
@@ -22,7 +21,7 @@ import sixdof.plots.validation  # noqa: F401
 _figure = Figure(figsize=(2, 2))
 _figure.add_subplot(1, 2, 1, yscale="log").plot([1.0, 1e3])
 _figure.add_subplot(1, 2, 2, projection="3d").set_title("warm")
-_figure.savefig(io.BytesIO(), format="png", dpi=30)
+sixdof.plots.png(_figure, dpi=30)
 del _figure
 
 atexit.register(os._exit, 0)

@@ -7,6 +7,10 @@ Only this package imports matplotlib, and never pyplot: figures are
 
 from __future__ import annotations
 
+import struct
+import zlib
+
+import matplotlib
 import numpy as np
 from matplotlib.axis import Ticker
 from matplotlib.collections import LineCollection
@@ -288,3 +292,31 @@ def _draw_ticks(axis, values: np.ndarray, tick) -> None:
             marks.update_from(mark)
             marks.set(transform=mark.get_transform(), clip_on=False, zorder=zorder)
             ax.add_artist(marks)
+
+
+def png_bytes(rgba: np.ndarray, dpi: float) -> bytes:
+    """An RGBA image (height, width, 4) of uint8 as a PNG file, ``dpi`` dots per inch, every row unfiltered.
+
+    Pillow, which matplotlib writes PNG with, picks each row's filter by trying them all: two thirds of the
+    encoding of these flat-colour figures (0.2 of 0.3 s of CPU for a run's six), for files 3 % smaller than
+    unfiltered rows compressed at :data:`PNG_COMPRESS_LEVEL`. The file says, as matplotlib's do, its
+    resolution and the software that drew it.
+    """
+    height, width, _ = rgba.shape
+    rows = np.empty((height, 4 * width + 1), dtype=np.uint8)
+    rows[:, 0] = 0  # filter type 0 (none) for every row
+    rows[:, 1:] = rgba.reshape(height, -1)
+
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+
+    per_metre = round(dpi / 0.0254)
+    software = f"Matplotlib version{matplotlib.__version__}, https://matplotlib.org/".encode("latin-1")
+    return b"".join([
+        b"\x89PNG\r\n\x1a\n",
+        chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0)),  # 8-bit RGBA, not interlaced
+        chunk(b"pHYs", struct.pack(">IIB", per_metre, per_metre, 1)),
+        chunk(b"tEXt", b"Software\x00" + software),
+        chunk(b"IDAT", zlib.compress(rows.tobytes(), PNG_COMPRESS_LEVEL)),
+        chunk(b"IEND", b""),
+    ])

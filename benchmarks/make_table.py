@@ -157,7 +157,7 @@ def main():
     a = load("cli_against")
     if a:
         mine, theirs, ratios = a["this_checkout"], a["against"], a["repeated_ratio"]
-        lines += [f"The last change, measured against revision `{a['revision']}` in pairs run back to back "
+        lines += [f"This checkout against revision `{a['revision']}` in pairs run back to back "
                   f"(`bench_cli.py --against`, {a['when']}): repeated, median {median(mine['repeated']):.2f} s against "
                   f"{median(theirs['repeated']):.2f} s, ratio {median(ratios):.3f} ({min(ratios):.3f}-{max(ratios):.3f} "
                   f"over {len(ratios)} pairs); cold {mine['cold']:.2f} s against {theirs['cold']:.2f} s.", ""]

@@ -298,9 +298,9 @@ def png_bytes(rgba: np.ndarray, dpi: float) -> bytes:
     """An RGBA image (height, width, 4) of uint8 as a PNG file, ``dpi`` dots per inch, every row unfiltered.
 
     Pillow, which matplotlib writes PNG with, picks each row's filter by trying them all: two thirds of the
-    encoding of these flat-colour figures (0.2 of 0.3 s of CPU for a run's six), for files 3 % smaller than
-    unfiltered rows compressed at :data:`PNG_COMPRESS_LEVEL`. The file says, as matplotlib's do, its
-    resolution and the software that drew it.
+    encoding of these flat-colour figures (0.2 of 0.3 s of CPU for a run's six), for files no smaller than
+    unfiltered rows compressed at :data:`PNG_COMPRESS_LEVEL` (2.36 MB against 2.30 MB for those six). The
+    file says, as matplotlib's do, its resolution and the software that drew it.
     """
     height, width, _ = rgba.shape
     rows = np.empty((height, 4 * width + 1), dtype=np.uint8)

@@ -234,7 +234,7 @@ def robustness(problem: DesignProblem, x, runner=None, excitation=None, settings
     spec = scatter_spec(problem.spec)
     if system.maxwell:  # the batch engine does not carry Maxwell branches: the targets alone
         responses = None
-        scale = np.concatenate([spec.factors(system, i)[0] for i in range(len(spec.chunks()))])
+        scale = spec.factors(system)[0]
     else:
         responses = sweep_on(runner or InProcess(), Study(system, excitation, settings), spec, progress)
         scale = responses.variants.stiffness_factor

@@ -150,20 +150,22 @@ class SweepSpec:
             A mount or axis that ``system`` lacks, or draws of stiffness factors <= 0 or damping factors
             < 0 (naming the ``vary`` entry).
         """
-        if chunk is None:
-            parts = [self.factors(system, i) for i in range(len(self.chunks()))]
-            return _variants(system, [np.concatenate(found) for found in zip(*parts)])
-        return _variants(system, self.factors(system, chunk))
+        k, d, x = self.factors(system, chunk)
+        return make_variants(system, stiffness_factor=k, damping_factor=d, position_offset=x)
 
-    def factors(self, system: System, chunk: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def factors(self, system: System, chunk: int | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The stiffness factors, damping factors and position offsets [m] (count, n_mounts, 3) of chunk
-        ``chunk``'s variants: what :meth:`variants` gives :func:`~sixdof.analysis.batch.make_variants`.
+        ``chunk``'s variants, or of every chunk's in order: what :meth:`variants` gives
+        :func:`~sixdof.analysis.batch.make_variants` (which refuses what the batch engine cannot run).
 
         Raises
         ------
         InputError
             As :meth:`variants`.
         """
+        if chunk is None:
+            parts = [self.factors(system, i) for i in range(len(self.chunks()))]
+            return tuple(np.concatenate(found) for found in zip(*parts))
         rows = self.chunks()[chunk]
         names = system.mount_names
         n = len(names)
@@ -210,11 +212,6 @@ class SweepSpec:
         computing (see :meth:`variants`)."""
         for chunk in range(len(self.chunks())):
             self.variants(system, chunk)
-
-
-def _variants(system: System, factors) -> Variants:
-    k, d, x = factors
-    return make_variants(system, stiffness_factor=k, damping_factor=d, position_offset=x)
 
 
 def parse_sweep_spec(text: str, source: str = "<string>") -> SweepSpec:

@@ -166,13 +166,13 @@ def against(revision: str, rounds: int) -> None:
     subprocess.run(["git", "-C", str(common.ROOT), "worktree", "add", "--detach", "--quiet", str(tree), revision],
                    check=True)
     try:
-        sides = {"this checkout": common.ROOT / "src", revision: tree / "src"}
+        sides = {"this checkout": environment(common.ROOT / "src", work / "cache-0"),
+                 revision: environment(tree / "src", work / "cache-1")}
         times = {side: {"cold": None, "repeated": []} for side in sides}
+        run = [sys.executable, exe, "run", str(common.SCENARIO), "--quiet", "--out", str(work / "out")]
         for k in range(rounds + 1):
             # Each pair in the other order than the last: neither side always runs on a machine the other warmed.
-            for side, source in (list(sides.items()) if k % 2 == 0 else list(sides.items())[::-1]):
-                env = environment(source, work / f"cache-{list(sides).index(side)}")
-                run = [sys.executable, exe, "run", str(common.SCENARIO), "--quiet", "--out", str(work / "out")]
+            for side, env in (list(sides.items()) if k % 2 == 0 else list(sides.items())[::-1]):
                 wall, _ = timed(run, env, work)
                 if k == 0:
                     times[side]["cold"] = wall

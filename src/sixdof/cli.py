@@ -123,10 +123,14 @@ def _cleanup_errors(debug: bool):
         sys.unraisablehook = lambda unraisable: None
     try:
         yield
-    finally:
+    except BaseException:
         import gc
 
-        gc.collect()  # destroy what the failure left behind while the hook is still in place
+        # Destroy what the failure left behind while the hook is still in place. Not after a success, which
+        # leaves nothing failing behind: a collection then costs ~0.05 s of a run, with JAX's objects loaded.
+        gc.collect()
+        raise
+    finally:
         sys.unraisablehook = previous
 
 

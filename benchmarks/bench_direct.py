@@ -97,9 +97,9 @@ def variant(system, excitation, settings, *, window_samples=None, unrolled=True,
         run, xs0 = direct._prepare(system, excitation, settings, direct.window_length(settings.samples, window_samples))
 
         def go():
-            xs, windows = xs0, []
+            xs, region, windows = xs0, run.region, []
             for ts, end in direct.window_spans(settings, run.window):
-                history, xs = direct._window(run, xs, ts, end, settings)
+                history, xs, region = direct._window(run, xs, region, ts, end, settings)
                 windows.append(history)
             return windows
 

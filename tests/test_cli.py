@@ -1,5 +1,6 @@
 """The ``sixdof`` command, called as ``main([...])``."""
 
+import ast
 import json
 import subprocess
 import sys
@@ -170,6 +171,21 @@ def test_the_command_ends_with_its_status_and_all_its_output(arguments, status):
         assert json.loads(result.stdout)["name"] == "bridge_beam"
     else:
         assert result.stderr.startswith("sixdof: error: ") and "missing.toml" in result.stderr
+
+
+def test_only_the_command_s_own_process_collects_garbage_less_often():
+    """The ``sixdof`` command collects every COLLECT_EVERY allocations; a program calling main() keeps its settings."""
+    from sixdof._gc import COLLECT_EVERY
+
+    code = ("import gc, sys\nfrom sixdof.cli import main\nbefore = gc.get_threshold()\n"
+            "main(['modes', 'scenarios/bridge_beam.toml', '--json'])\nlibrary = gc.get_threshold()\n"
+            "sys.argv = ['sixdof', 'modes', 'scenarios/bridge_beam.toml', '--json']\nmain()\n"
+            "print(repr((before, library, gc.get_threshold())), file=sys.stderr)\n")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    before, library, command = ast.literal_eval(result.stderr)
+    assert library == before and before[0] != COLLECT_EVERY
+    assert command == (COLLECT_EVERY, *before[1:])
 
 
 def test_examples_are_copied_runnable_and_never_overwritten(tmp_path, capsys):

@@ -21,6 +21,8 @@ import warnings
 from contextlib import contextmanager, suppress
 from functools import partial
 
+from sixdof._gc import collect_less
+
 EXIT_FAILED = 1
 EXIT_BAD_INPUT = 2
 EXIT_VALIDATION_FAILED = 3
@@ -44,6 +46,7 @@ def main(argv: list[str] | None = None) -> int:
     status = [EXIT_FAILED]  # what the process ends with if the command raises
     if argv is None:
         _skip_teardown(status)
+        collect_less()  # the command's process is sixdof's: a program calling main() keeps its settings
     status[0] = _command(args)
     return status[0]
 

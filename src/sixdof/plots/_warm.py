@@ -6,17 +6,26 @@ that each worker forked from the server starts warm.
 The server ends with the command that started it, with nothing to clean up: it skips the interpreter's
 teardown of matplotlib's modules (~0.3 s), during which it would hold the command's output open (a
 caller reading that output through a pipe would wait for it).
+
+Garbage is collected less often, as in the command's process (:mod:`sixdof._gc`), and what the server
+loaded is left out of every collection (:func:`gc.freeze`): the workers inherit both, and their memory
+pages stay shared with the server's instead of being copied when a collection touches them.
 """
 
 import atexit
+import gc
 import os
 
-from matplotlib.figure import Figure
+from sixdof._gc import collect_less
 
-import sixdof.plots.frf
-import sixdof.plots.modes
-import sixdof.plots.time
-import sixdof.plots.validation  # noqa: F401
+collect_less()  # before the imports below, which allocate most of what the server holds
+
+from matplotlib.figure import Figure  # noqa: E402
+
+import sixdof.plots.frf  # noqa: E402
+import sixdof.plots.modes  # noqa: E402
+import sixdof.plots.time  # noqa: E402
+import sixdof.plots.validation  # noqa: E402, F401
 
 _figure = Figure(figsize=(2, 2))
 _figure.add_subplot(1, 2, 1, yscale="log").plot([1.0, 1e3])
@@ -24,4 +33,5 @@ _figure.add_subplot(1, 2, 2, projection="3d").set_title("warm")
 sixdof.plots.png(_figure, dpi=30)
 del _figure
 
+gc.freeze()
 atexit.register(os._exit, 0)

@@ -585,15 +585,16 @@ def _write(f, results: Results, written=frozenset()) -> None:
     as a streamed run's time series are), dimension scales."""
     for group, attrs in results.attrs.items():
         _write_attributes(f.require_group(group) if group else f, attrs)
+    nodes = {}  # each dataset opened once: h5py's f[path] reads its type, shape and layout again each time
     for path, dataset in results.datasets.items():
-        node = f[path] if path in written else _write_dataset(f, path, dataset)
+        nodes[path] = f[path] if path in written else _write_dataset(f, path, dataset)
         if _is_scale(path, dataset):
-            node.make_scale(dataset.dims[0])
+            nodes[path].make_scale(dataset.dims[0])
     # Attach once every scale is made: h5py refuses to attach a dataset that is not yet a scale.
     for path, dataset in results.datasets.items():
         if not _is_scale(path, dataset):
             for axis, dim in enumerate(dataset.dims):
-                f[path].dims[axis].attach_scale(f[_scale_path(results.datasets, path, dim)])
+                nodes[path].dims[axis].attach_scale(nodes[_scale_path(results.datasets, path, dim)])
 
 
 def _write_dataset(f, path: str, dataset: Dataset):

@@ -53,9 +53,6 @@ def main(argv: list[str] | None = None) -> int:
 
 def _command(args) -> int:
     """Run the parsed command; its exit status (errors become one line on stderr)."""
-    from sixdof.errors import InputError, SolverError  # after parsing: ``sixdof --help`` loads no NumPy
-    from sixdof.plots.workers import FigureError
-
     try:
         with _signals(), _cleanup_errors(args.debug), warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", UserWarning)
@@ -64,20 +61,38 @@ def _command(args) -> int:
             finally:
                 for warning in caught:  # after the command's own output, one line each
                     print(f"WARNING: {warning.message}", file=sys.stderr)
-    except InputError as exc:
-        return _fail(args, f"error: {exc}", EXIT_BAD_INPUT)
-    except SolverError as exc:
-        return _fail(args, f"the solve failed, nothing was written: {exc}", EXIT_FAILED)
-    except FigureError as exc:
-        return _fail(args, f"a figure could not be drawn, nothing was written: {exc}", EXIT_FAILED)
-    except OSError as exc:
-        where = f" {exc.filename}" if exc.filename else ""
-        return _fail(args, f"could not write{where}: {exc.strerror or exc}; results already in place are unchanged",
-                     EXIT_CANNOT_WRITE)
+    except Exception as exc:
+        failure = _failure(exc)
+        if failure is None:
+            raise  # not a user's error: its traceback is what to report
+        return _fail(args, *failure)
     except KeyboardInterrupt:
         return _fail(args, "interrupted; no partial results were left", EXIT_INTERRUPTED)
     except Terminated:
         return _fail(args, "terminated (SIGTERM); no partial results were left", EXIT_TERMINATED)
+
+
+def _failure(exc: Exception) -> tuple[str, int] | None:
+    """The line to print and the exit status for an error a command raised; ``None`` for an unexpected one.
+
+    The error classes are imported here, once a command failed, not before it starts: :mod:`sixdof.errors`
+    loads NumPy (0.07-0.13 s), which the figure workers that ``run``, ``validate`` and ``plot`` start first
+    need not wait for.
+    """
+    from sixdof.errors import InputError, SolverError
+    from sixdof.plots.workers import FigureError
+
+    if isinstance(exc, InputError):
+        return f"error: {exc}", EXIT_BAD_INPUT
+    if isinstance(exc, SolverError):
+        return f"the solve failed, nothing was written: {exc}", EXIT_FAILED
+    if isinstance(exc, FigureError):
+        return f"a figure could not be drawn, nothing was written: {exc}", EXIT_FAILED
+    if isinstance(exc, OSError):
+        where = f" {exc.filename}" if exc.filename else ""
+        return (f"could not write{where}: {exc.strerror or exc}; results already in place are unchanged",
+                EXIT_CANNOT_WRITE)
+    return None
 
 
 def _skip_teardown(status: list[int]) -> None:

@@ -2,6 +2,7 @@
 
 import ast
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -186,6 +187,37 @@ def test_only_the_command_s_own_process_collects_garbage_less_often():
     before, library, command = ast.literal_eval(result.stderr)
     assert library == before and before[0] != COLLECT_EVERY
     assert command == (COLLECT_EVERY, *before[1:])
+
+
+@pytest.mark.parametrize("user_setting", [None, "OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS"])
+def test_commands_drawing_in_workers_run_blas_on_one_thread_unless_the_user_chose(tmp_path, user_setting):
+    """``run``, ``validate`` and ``plot`` as the ``sixdof`` command set OpenBLAS to one thread before NumPy loads
+    (the figure workers take the other cores); a program calling main(), another command, or a user who set a
+    thread count keeps its own."""
+    env = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")}
+    if user_setting is not None:
+        env[user_setting] = "2"
+    missing = str(tmp_path / "missing.h5")
+
+    def seen(code: str):
+        result = subprocess.run([sys.executable, "-c", "import os, sys\nfrom sixdof.cli import main\n" + code],
+                                capture_output=True, text=True, env=env)
+        return ast.literal_eval(result.stderr.strip().splitlines()[-1])
+
+    library, other = seen(f"main(['plot', {missing!r}])\nlibrary = os.environ.get('OPENBLAS_NUM_THREADS')\n"
+                          "sys.argv = ['sixdof', 'modes', 'scenarios/bridge_beam.toml', '--json']\nmain()\n"
+                          "print(repr((library, os.environ.get('OPENBLAS_NUM_THREADS'))), file=sys.stderr)")
+    assert library == other == env.get("OPENBLAS_NUM_THREADS")
+    numpy_before, command, threads = seen(
+        f"sys.argv = ['sixdof', 'plot', {missing!r}]\nnumpy_before = 'numpy' in sys.modules\nmain()\n"
+        "import numpy\nnumpy.ones((500, 500)) @ numpy.ones((500, 500))\n"
+        "print(repr((numpy_before, os.environ.get('OPENBLAS_NUM_THREADS'), len(os.listdir('/proc/self/task')))), "
+        "file=sys.stderr)")
+    assert not numpy_before
+    if user_setting is None:
+        assert command == "1" and threads == 1  # OpenBLAS read it when NumPy loaded: no thread besides this one
+    else:
+        assert command == env.get("OPENBLAS_NUM_THREADS")
 
 
 def test_examples_are_copied_runnable_and_never_overwritten(tmp_path, capsys):

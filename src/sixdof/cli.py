@@ -284,8 +284,8 @@ def _one_blas_thread() -> None:
     products (the exact engine, the checks) that gain nothing from more threads. OpenBLAS's threads spin
     while they wait for the next product, taking cores from the figures: 0.3-0.4 core-seconds of the bridge
     run, and 25 of the 44 core-seconds of its 2000 s version, which took 30 s either way. Set before NumPy
-    loads (it reads the variable then) and before the figure server starts (it inherits it). OpenBLAS takes ``OMP_NUM_THREADS`` when its own variable is unset: a user's setting of
-    either is kept.
+    loads (it reads the variable then) and before the figure server starts (it inherits it). OpenBLAS takes
+    ``OMP_NUM_THREADS`` when its own variable is unset: a user's setting of either is kept.
     """
     if not any(name in os.environ for name in ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")):
         os.environ["OPENBLAS_NUM_THREADS"] = "1"

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from sixdof import DOFS
-from sixdof.cli import _parser, main
+from sixdof.cli import BLAS_THREAD_VARIABLES, _parser, main
 from sixdof.io.store import write_results
 from store_cases import run_parts
 from systems import BRIDGE_INERTIA, BRIDGE_MASS, bridge
@@ -194,7 +194,7 @@ def test_commands_drawing_in_workers_run_blas_on_one_thread_unless_the_user_chos
     """``run``, ``validate`` and ``plot`` as the ``sixdof`` command set OpenBLAS to one thread before NumPy loads
     (the figure workers take the other cores); a program calling main(), another command, or a user who set a
     thread count keeps its own."""
-    env = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")}
+    env = {k: v for k, v in os.environ.items() if k not in BLAS_THREAD_VARIABLES}
     if user_setting is not None:
         env[user_setting] = "2"
     missing = str(tmp_path / "missing.h5")

@@ -31,6 +31,9 @@ EXIT_CANNOT_WRITE = 74  # EX_IOERR of sysexits.h
 EXIT_INTERRUPTED = 130  # 128 + SIGINT, as a shell reports a process killed by it
 EXIT_TERMINATED = 143  # 128 + SIGTERM
 
+#: What OpenBLAS reads for its thread count, in this order: a user who set any of them chose (:func:`_one_blas_thread`).
+BLAS_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")
+
 
 class Terminated(BaseException):
     """SIGTERM, raised like KeyboardInterrupt so that a run cleans up after itself."""
@@ -287,7 +290,7 @@ def _one_blas_thread() -> None:
     loads (it reads the variable then) and before the figure server starts (it inherits it). OpenBLAS takes
     ``OMP_NUM_THREADS`` when its own variable is unset: a user's setting of either is kept.
     """
-    if not any(name in os.environ for name in ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")):
+    if not any(name in os.environ for name in BLAS_THREAD_VARIABLES):
         os.environ["OPENBLAS_NUM_THREADS"] = "1"
 
 

@@ -15,9 +15,10 @@ Python keeps its bytecode caches, as an installed package has them (``PYTHONDONT
 dropped). Run: ``python benchmarks/bench_cli.py``; writes ``results/cli.json``.
 
 ``--against REV`` measures a change instead: this checkout and git revision ``REV`` (checked out into a
-temporary worktree, run with the same environment) alternately, one cold run and ``--rounds`` repeated runs
-each, every pair back to back, so that both see the same machine (the shared 2-core machine's speed drifts
-by 20-50 % between sittings: only such pairs compare); writes ``results/cli_against.json``.
+temporary worktree, run with the same environment) alternately, ``--cold-rounds`` cold runs (each with empty
+caches) and ``--rounds`` repeated runs each, every pair back to back, so that both see the same machine (the
+shared 2-core machine's speed drifts by 20-50 % between sittings: only such pairs compare); writes
+``results/cli_against.json``.
 """
 
 from __future__ import annotations
@@ -158,41 +159,42 @@ def environment(source: Path, cache: Path) -> dict:
     return env
 
 
-def against(revision: str, rounds: int) -> None:
+def against(revision: str, rounds: int, cold_rounds: int) -> None:
     """This checkout against ``revision``, run alternately (see the module's docstring)."""
     exe = shutil.which("sixdof") or str(Path(sys.executable).with_name("sixdof"))
     work = Path(tempfile.mkdtemp(prefix="sixdof-bench-"))
     tree = work / "against"
     subprocess.run(["git", "-C", str(common.ROOT), "worktree", "add", "--detach", "--quiet", str(tree), revision],
                    check=True)
+    sources = {"this checkout": common.ROOT / "src", revision: tree / "src"}
+    times = {side: {"cold": [], "repeated": []} for side in sources}
+    for source in sources.values():  # bytecode as installed: the first cold run must not be the one to write it
+        subprocess.run([sys.executable, "-m", "compileall", "-q", str(source)], check=True)
+    run = [sys.executable, exe, "run", str(common.SCENARIO), "--quiet", "--out", str(work / "out")]
     try:
-        sides = {"this checkout": environment(common.ROOT / "src", work / "cache-0"),
-                 revision: environment(tree / "src", work / "cache-1")}
-        times = {side: {"cold": None, "repeated": []} for side in sides}
-        run = [sys.executable, exe, "run", str(common.SCENARIO), "--quiet", "--out", str(work / "out")]
-        for k in range(rounds + 1):
+        # Cold pairs first, each side with caches of its own, empty at each cold run; the repeated runs then use
+        # the caches of the last cold pair.
+        for k in range(cold_rounds + rounds):
+            cold = k < cold_rounds
+            sides = {side: environment(source, work / f"cache-{side}-{min(k, cold_rounds - 1)}".replace(" ", "-"))
+                     for side, source in sources.items()}
             # Each pair in the other order than the last: neither side always runs on a machine the other warmed.
             for side, env in (list(sides.items()) if k % 2 == 0 else list(sides.items())[::-1]):
-                wall, _ = timed(run, env, work)
-                if k == 0:
-                    times[side]["cold"] = wall
-                else:
-                    times[side]["repeated"].append(wall)
-            print(f"  round {k}: " + ", ".join(
-                f"{side} {times[side]['cold'] if k == 0 else times[side]['repeated'][-1]:.2f} s" for side in sides),
-                flush=True)
+                times[side]["cold" if cold else "repeated"].append(timed(run, env, work)[0])
+            print(f"  {'cold' if cold else 'repeated'} pair {k + 1 if cold else k + 1 - cold_rounds}: " + ", ".join(
+                f"{side} {times[side]['cold' if cold else 'repeated'][-1]:.2f} s" for side in sources), flush=True)
     finally:
         subprocess.run(["git", "-C", str(common.ROOT), "worktree", "remove", "--force", str(tree)], check=False)
         shutil.rmtree(work, ignore_errors=True)
-    mine, theirs = (times[side] for side in sides)
-    ratios = [a / b for a, b in zip(mine["repeated"], theirs["repeated"])]
-    print(f"cold: this checkout {mine['cold']:.2f} s, {revision} {theirs['cold']:.2f} s")
-    print(f"repeated ({rounds} pairs): this checkout median {statistics.median(mine['repeated']):.2f} s "
-          f"(best {min(mine['repeated']):.2f}), {revision} median {statistics.median(theirs['repeated']):.2f} s "
-          f"(best {min(theirs['repeated']):.2f}); ratio per pair: median {statistics.median(ratios):.3f}, "
-          f"{min(ratios):.3f}-{max(ratios):.3f}")
+    mine, theirs = (times[side] for side in sources)
+    ratios = {kind: [a / b for a, b in zip(mine[kind], theirs[kind])] for kind in ("cold", "repeated")}
+    for kind, count in (("cold", cold_rounds), ("repeated", rounds)):
+        print(f"{kind} ({count} pairs): this checkout median {statistics.median(mine[kind]):.2f} s "
+              f"(best {min(mine[kind]):.2f}), {revision} median {statistics.median(theirs[kind]):.2f} s "
+              f"(best {min(theirs[kind]):.2f}); ratio per pair: median {statistics.median(ratios[kind]):.3f}, "
+              f"{min(ratios[kind]):.3f}-{max(ratios[kind]):.3f}")
     path = common.save("cli_against", {"revision": revision, "this_checkout": mine, "against": theirs,
-                                       "repeated_ratio": ratios})
+                                       "repeated_ratio": ratios["repeated"], "cold_ratio": ratios["cold"]})
     print(f"-> {path}")
 
 
@@ -259,8 +261,9 @@ if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--against", metavar="REV", help="compare with this git revision, run alternately")
     parser.add_argument("--rounds", type=int, default=6, help="repeated runs of each side with --against")
+    parser.add_argument("--cold-rounds", type=int, default=1, help="cold runs of each side with --against")
     arguments = parser.parse_args()
     if arguments.against:
-        against(arguments.against, arguments.rounds)
+        against(arguments.against, arguments.rounds, arguments.cold_rounds)
     else:
         main()

@@ -156,11 +156,15 @@ def main():
                   f"Machine: {c['machine']}", ""]
     a = load("cli_against")
     if a:
-        mine, theirs, ratios = a["this_checkout"], a["against"], a["repeated_ratio"]
+        mine, theirs = a["this_checkout"], a["against"]
+
+        def pairs(kind):
+            ratios = a[f"{kind}_ratio"]
+            return (f"{kind}, median {median(mine[kind]):.2f} s against {median(theirs[kind]):.2f} s, ratio "
+                    f"{median(ratios):.3f} ({min(ratios):.3f}-{max(ratios):.3f} over {len(ratios)} pairs)")
+
         lines += [f"This checkout against revision `{a['revision']}` in pairs run back to back "
-                  f"(`bench_cli.py --against`, {a['when']}): repeated, median {median(mine['repeated']):.2f} s against "
-                  f"{median(theirs['repeated']):.2f} s, ratio {median(ratios):.3f} ({min(ratios):.3f}-{max(ratios):.3f} "
-                  f"over {len(ratios)} pairs); cold {mine['cold']:.2f} s against {theirs['cold']:.2f} s.", ""]
+                  f"(`bench_cli.py --against`, {a['when']}): {pairs('repeated')}; {pairs('cold')}.", ""]
     w = load("sweep")
     if w:
         def row(r):

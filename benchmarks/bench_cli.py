@@ -5,6 +5,8 @@ command, as a user runs it:
 - cold: every cache of sixdof empty (a fresh ``XDG_CACHE_HOME``: JAX's compilation cache and the solver's
   stored traces start empty; matplotlib keeps its font list, which it builds once when installed);
 - repeated: the same command again (best and median of 5);
+- the same scenario lengthened to 2000 s (issue 14, point 5), run once: its wall time, peak memory and file
+  size (2.6 GB, removed after);
 - ``sixdof --help``, and ``sixdof plot`` of the run's results: their time (best of 3), and whether JAX is
   imported (it must not be; if it is, the sixdof modules that hold it are named);
 - a profile of one repeated run, so that a missed target says where the time goes: the main process'
@@ -26,6 +28,8 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
+import resource
 import shutil
 import statistics
 import subprocess
@@ -38,6 +42,8 @@ import common
 
 TARGET_REPEATED_S, TARGET_COLD_S = 2.5, 4.0
 REPEATS = 5
+LONG_DURATION_S = 2000.0  # the traffic scenario lengthened (issue 14, point 5)
+TARGET_LONG_S, TARGET_LONG_MB = 35.0, 1024.0
 
 # Run in a fresh process: the main process' stages, stamped as they start and end.
 PROFILE = r"""
@@ -143,6 +149,26 @@ def jax_users(args: list[str], env, cwd) -> list[str]:
     return next(line for line in log.splitlines() if line.startswith("JAX")).split()[1:]
 
 
+def long_run(exe: str, env: dict, work: Path) -> dict:
+    """``sixdof run`` of the traffic scenario lengthened to :data:`LONG_DURATION_S`, once, with its six figures and
+    results file: wall time, the largest peak memory of its processes (the main process' for such a run; the
+    figure workers are smaller) and the file's size. Its window structure is traced and compiled in this run
+    (~1 s of it)."""
+    text = common.SCENARIO.read_text()
+    lengthened = re.sub(r"^duration = [0-9.]+", f"duration = {LONG_DURATION_S}", text, count=1, flags=re.M)
+    assert lengthened != text, "the scenario's duration line moved: update bench_cli.long_run"
+    path = work / "bridge_long.toml"
+    path.write_text(lengthened)
+    before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    wall, _ = timed([sys.executable, exe, "run", str(path), "--quiet", "--out", str(work / "long")], env, work)
+    peak_kb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    size = (work / "long" / common.SCENARIO.stem / "results.h5").stat().st_size
+    shutil.rmtree(work / "long")
+    # ru_maxrss of the children is the largest any of them reached so far: valid only if it grew in this run.
+    return {"wall_s": wall, "peak_mb": peak_kb / 1024 if peak_kb > before else None, "file_gb": size / 1e9,
+            "duration_s": LONG_DURATION_S}
+
+
 def beside(value: float, target: float) -> str:
     verdict = "met" if value <= target else f"MISSED by {value - target:.2f} s"
     return f"{value:.2f} s   (target <= {target:g} s: {verdict})"
@@ -222,6 +248,11 @@ def main():
     print(f"sixdof plot: {plot_s:.2f} s (best of 3); imports JAX: {'YES: ' + ', '.join(plot_jax) if plot_jax else 'no'} "
           "(target: no)", flush=True)
 
+    long = long_run(exe, env, work)
+    peak = "unknown (not above the shorter runs')" if long["peak_mb"] is None else f"{long['peak_mb']:.0f} MB"
+    print(f"sixdof run, {LONG_DURATION_S:g} s at 1 kHz: {beside(long['wall_s'], TARGET_LONG_S)}; peak memory {peak} "
+          f"(target < {TARGET_LONG_MB:g} MB); results file {long['file_gb']:.1f} GB", flush=True)
+
     wall, log = timed([sys.executable, "-c", PROFILE, "run", str(common.SCENARIO), "--quiet", "--out",
                        str(work / "out")], env, work)
     stamps = json.loads(next(line for line in log.splitlines() if line.startswith("STAMPS "))[7:])
@@ -249,6 +280,7 @@ def main():
     path = common.save("cli", {
         "command": f"sixdof run {common.SCENARIO.relative_to(common.ROOT)} --quiet",
         "cold_s": cold, "repeated_best_s": best, "repeated_median_s": median, "repeated_s": repeated,
+        "long_run": long, "target_long_s": TARGET_LONG_S, "target_long_mb": TARGET_LONG_MB,
         "help_s": help_s, "help_imports_jax": help_jax, "plot_s": plot_s, "plot_imports_jax": plot_jax,
         "profile_stamps": stamps, "profile_wall_s": wall, "imports_s": imports, "figure_cpu_s": figures,
         "target_cold_s": TARGET_COLD_S, "target_repeated_s": TARGET_REPEATED_S,

@@ -200,10 +200,11 @@ def against(revision: str, rounds: int, cold_rounds: int) -> None:
     try:
         # Cold pairs first, each side with caches of its own, empty at each cold run; the repeated runs then use
         # the caches of the last cold pair.
+        environments = [{side: environment(source, work / f"cache-{k}-{i}")
+                         for i, (side, source) in enumerate(sources.items())} for k in range(cold_rounds)]
         for k in range(cold_rounds + rounds):
             cold = k < cold_rounds
-            sides = {side: environment(source, work / f"cache-{side}-{min(k, cold_rounds - 1)}".replace(" ", "-"))
-                     for side, source in sources.items()}
+            sides = environments[min(k, cold_rounds - 1)]
             # Each pair in the other order than the last: neither side always runs on a machine the other warmed.
             for side, env in (list(sides.items()) if k % 2 == 0 else list(sides.items())[::-1]):
                 times[side]["cold" if cold else "repeated"].append(timed(run, env, work)[0])

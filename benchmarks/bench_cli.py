@@ -164,7 +164,8 @@ def long_run(exe: str, env: dict, work: Path) -> dict:
     peak_kb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
     size = (work / "long" / common.SCENARIO.stem / "results.h5").stat().st_size
     shutil.rmtree(work / "long")
-    # ru_maxrss of the children is the largest any of them reached so far: valid only if it grew in this run.
+    # ru_maxrss of the children is the largest any of them reached so far (at least this process' size when it
+    # forked them, which Linux carries across exec): valid only if it grew in this run.
     return {"wall_s": wall, "peak_mb": peak_kb / 1024 if peak_kb > before else None, "file_gb": size / 1e9,
             "duration_s": LONG_DURATION_S}
 
@@ -203,13 +204,13 @@ def against(revision: str, rounds: int, cold_rounds: int) -> None:
         environments = [{side: environment(source, work / f"cache-{k}-{i}")
                          for i, (side, source) in enumerate(sources.items())} for k in range(cold_rounds)]
         for k in range(cold_rounds + rounds):
-            cold = k < cold_rounds
+            kind = "cold" if k < cold_rounds else "repeated"
             sides = environments[min(k, cold_rounds - 1)]
             # Each pair in the other order than the last: neither side always runs on a machine the other warmed.
             for side, env in (list(sides.items()) if k % 2 == 0 else list(sides.items())[::-1]):
-                times[side]["cold" if cold else "repeated"].append(timed(run, env, work)[0])
-            print(f"  {'cold' if cold else 'repeated'} pair {k + 1 if cold else k + 1 - cold_rounds}: " + ", ".join(
-                f"{side} {times[side]['cold' if cold else 'repeated'][-1]:.2f} s" for side in sources), flush=True)
+                times[side][kind].append(timed(run, env, work)[0])
+            print(f"  {kind} pair {len(times[revision][kind])}: "
+                  + ", ".join(f"{side} {times[side][kind][-1]:.2f} s" for side in sources), flush=True)
     finally:
         subprocess.run(["git", "-C", str(common.ROOT), "worktree", "remove", "--force", str(tree)], check=False)
         shutil.rmtree(work, ignore_errors=True)
@@ -296,6 +297,8 @@ if __name__ == "__main__":
     parser.add_argument("--rounds", type=int, default=6, help="repeated runs of each side with --against")
     parser.add_argument("--cold-rounds", type=int, default=1, help="cold runs of each side with --against")
     arguments = parser.parse_args()
+    if arguments.rounds < 1 or arguments.cold_rounds < 1:
+        parser.error("--rounds and --cold-rounds must be at least 1")
     if arguments.against:
         against(arguments.against, arguments.rounds, arguments.cold_rounds)
     else:

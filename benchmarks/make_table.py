@@ -99,7 +99,8 @@ def main():
                   f"{sp['target_error']:g} of each DOF's peak. Measured {sp['ratio']:.2f}x (best of {sp['repeat']}, "
                   f"timed alternately): {verdict(ok, miss)}; "
                   f"q' {sp['worst_dof_error_qd']:.2g}, q'' {sp['worst_dof_error_qdd']:.2g}. On this shared 2-core "
-                  "machine the ratio of best times varies between about 2.6x and 3.4x from run to run.",
+                  "machine the ratio of best times varies from run to run and between machines (the README gives "
+                  "the spans measured).",
                   f"Machine: {sp['machine']}", ""]
     b = load("batch")
     if b:

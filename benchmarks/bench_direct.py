@@ -86,7 +86,7 @@ def variant(system, excitation, settings, *, window_samples=None, unrolled=True,
             ts = saveat.subs.ts
             sol = solve_ode(field, x0, t0, t1, diffrax.SaveAt(t1=True), jump_ts, *args, **kwargs)
             return eqx.tree_at(lambda s: s.ys, sol, jnp.broadcast_to(sol.ys, (ts.size, x0.size)) + 0 * ts[:, None])
-        return solve_ode(field, x0, t0, t1, saveat, jump_ts if clip else None, *args, **kwargs)
+        return solve_ode(field, x0, t0, t1, saveat, jump_ts if clip else jump_ts[:0], *args, **kwargs)
 
     direct.solve_ode = patched_solve_ode
     if not unrolled:

@@ -460,3 +460,29 @@ def test_unrolled_stages_are_diffrax_s_method(name):
     (expected, expected_steps), (ys, steps) = results
     assert steps == expected_steps
     assert np.abs(ys - expected).max() < 1e-12 * np.abs(expected).max()
+
+
+def test_without_breakpoints_no_clipping_takes_the_same_steps(beam):
+    # A run without breakpoints traces no step clipping (jump_ts of length 0): it must step exactly as the
+    # clipped solve does when its breakpoints lie beyond the end.
+    import diffrax
+
+    from sixdof.analysis.direct import jump_times, solve_ode
+
+    harmonic = load(Harmonic(f_hz=3.0))
+    none, count = jump_times(harmonic, 0.0, 2.0)
+    assert none.shape == (0,) and count == 0
+    padded, count = jump_times(load(HalfSine(start=0.5, duration=0.1)), 0.0, 2.0)
+    assert padded.shape == (8,) and count == 2 and np.all(padded[2:] > 2.0)
+
+    A = jax.numpy.array([[0.0, 1.0], [-40.0, -0.3]])
+
+    def field(t, y, args):
+        return A @ y + jax.numpy.array([0.0, jax.numpy.sin(3 * t)])
+
+    ts = jax.numpy.linspace(0.0, 2.0, 41)
+    runs = [solve_ode(field, jax.numpy.array([1.0, 0.0]), 0.0, 2.0, diffrax.SaveAt(ts=ts), jumps, 1e-8, 1e-8,
+                      solver="Tsit5", max_steps=100_000) for jumps in (none, padded[2:] + 1.0)]
+    (unclipped, clipped) = [(np.asarray(sol.ys), int(sol.stats["num_steps"])) for sol in runs]
+    assert unclipped[1] == clipped[1] > 20
+    assert np.abs(unclipped[0] - clipped[0]).max() <= 1e-13 * np.abs(clipped[0]).max()

@@ -337,8 +337,12 @@ def solve_ode(field, x0, t0, t1, saveat, jump_ts, rtol, atol, *, solver: str, ma
 
     from sixdof.analysis import unrolled
 
-    controller = diffrax.ClipStepSizeController(diffrax.PIDController(rtol=rtol, atol=atol, dtmax=dtmax),
-                                                jump_ts=jump_ts)
+    controller = diffrax.PIDController(rtol=rtol, atol=atol, dtmax=dtmax)
+    # No breakpoints (``jump_ts`` of length 0, a static shape): no clipping traced. Clipping makes every step
+    # check the jumps and redo its first stage after one; without it the bridge traffic solve (no breakpoints)
+    # traces, lowers and compiles in 0.65 instead of 0.85 s, for the same steps and values.
+    if jump_ts.shape[0]:
+        controller = diffrax.ClipStepSizeController(controller, jump_ts=jump_ts)
     return diffrax.diffeqsolve(
         diffrax.ODETerm(field), unrolled.solver(solver), t0, t1, None, x0, args=args, saveat=saveat,
         stepsize_controller=controller, max_steps=max_steps, throw=False, event=event,
@@ -600,13 +604,14 @@ def loads_of(excitation: Excitation, settings: SimulationSettings) -> tuple[np.n
 
 def jump_times(excitation: Excitation, t0: float, t1: float) -> tuple[np.ndarray, int]:
     """The excitation's breakpoints [s] inside ``(t0, t1)`` for the step control, padded beyond ``t1`` with
-    distinct, never reached times to a power-of-two length >= 8 (few compiled shapes), and their count."""
+    distinct, never reached times to a power-of-two length >= 8 (few compiled shapes), none if there are none
+    (:func:`solve_ode` then traces no clipping), and their count."""
     jumps = np.array(sorted(b for b in excitation.breakpoints if t0 < b < t1), dtype=float)
     return _padded(jumps, t1, _jump_slots(jumps.size)), int(jumps.size)
 
 
 def _jump_slots(count: int) -> int:
-    return max(8, 1 << max(0, count - 1).bit_length())
+    return 0 if count == 0 else max(8, 1 << (count - 1).bit_length())
 
 
 def _inside(breakpoints: np.ndarray, t0: float, t1: float) -> slice:

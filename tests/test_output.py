@@ -89,6 +89,15 @@ def child(hook: str, *args: str, **env: str) -> subprocess.Popen:
                             stderr=subprocess.PIPE, text=True, env={**os.environ, "SIXDOF_JAX_CACHE": "off", **env})
 
 
+@pytest.fixture
+def own_tmpdir(tmp_path) -> dict:
+    """``TMPDIR`` for a child that will be killed: a process ended by SIGKILL cannot remove its temporary
+    folders (multiprocessing's, holding the figure workers' server socket), so they go into the test's own."""
+    folder = tmp_path / "tmp"
+    folder.mkdir()
+    return {"TMPDIR": str(folder)}
+
+
 def signal_at(process: subprocess.Popen, word: str, signum: int) -> tuple[int, str]:
     """Send ``signum`` once the process prints ``word``; its exit status and stderr."""
     for line in process.stdout:
@@ -199,9 +208,10 @@ def living_in_group(pgid: int) -> list[str]:
     return living
 
 
-def test_sigkill_debris_is_removed_by_the_next_run(previous, scenario_file, tmp_path):
+def test_sigkill_debris_is_removed_by_the_next_run(previous, scenario_file, tmp_path, own_tmpdir):
     out = tmp_path / "out"
-    returncode, _ = signal_at(child("write", "run", str(scenario_file), "--out", str(out)), "WRITING", signal.SIGKILL)
+    returncode, _ = signal_at(child("write", "run", str(scenario_file), "--out", str(out), **own_tmpdir), "WRITING",
+                              signal.SIGKILL)
     assert returncode == -signal.SIGKILL
     assert [name for name in debris(out) if ".pump.partial-" in name]  # the killed run's staging folder
     assert snapshot(out / "pump") == previous
@@ -211,10 +221,12 @@ def test_sigkill_debris_is_removed_by_the_next_run(previous, scenario_file, tmp_
 
 
 @pytest.mark.parametrize("hook", ["swap", "swapped"])
-def test_sigkill_in_the_middle_of_a_swap_is_settled_by_the_next_run(previous, scenario_file, tmp_path, hook):
+def test_sigkill_in_the_middle_of_a_swap_is_settled_by_the_next_run(previous, scenario_file, tmp_path, hook,
+                                                                     own_tmpdir):
     out = tmp_path / "out"
     scenario_file.write_text(SCENARIO.replace("points = 50", "points = 60"))
-    returncode, _ = signal_at(child(hook, "run", str(scenario_file), "--out", str(out)), "SWAPPING", signal.SIGKILL)
+    returncode, _ = signal_at(child(hook, "run", str(scenario_file), "--out", str(out), **own_tmpdir), "SWAPPING",
+                              signal.SIGKILL)
     assert returncode == -signal.SIGKILL
     # The previous folder, with the user's file, is still set aside; the new one is in place or not yet.
     assert [name for name in debris(out) if ".pump.old-" in name]

@@ -43,7 +43,8 @@ def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``sixdof`` command. Returns the process exit status.
 
     Called without ``argv`` (as the ``sixdof`` command, reading ``sys.argv``), the process ends as soon
-    as its exit handlers have run and its output is flushed (:func:`_skip_teardown`).
+    as the exit handlers registered from then on have run and its output is flushed
+    (:func:`_skip_teardown`); those a program registered before do not run.
     """
     args = _parser().parse_args(argv)
     status = [EXIT_FAILED]  # what the process ends with if the command raises

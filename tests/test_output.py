@@ -171,6 +171,46 @@ def test_a_signal_during_the_write_keeps_the_previous_results(previous, scenario
     assert debris(out) == []
 
 
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_a_run_stopped_before_its_results_are_in_place_leaves_no_folder_it_made(scenario_file, tmp_path, signum):
+    out = tmp_path / "new" / "out"
+    process = child("write", "run", str(scenario_file), "--out", str(out), "--quiet")
+    returncode, err = signal_at(process, "WRITING", signum)
+    assert returncode == (EXIT_INTERRUPTED if signum == signal.SIGINT else EXIT_TERMINATED), err
+    assert not (tmp_path / "new").exists()
+
+
+def test_checking_a_new_out_folder_makes_nothing(tmp_path):
+    out = tmp_path / "a" / "b"
+    assert output.check_target(out, "pump") == out / "pump"
+    assert os.listdir(tmp_path) == []
+    (tmp_path / "file").write_text("mine")
+    with pytest.raises(InputError, match="--out.*a folder where results can be written") as error:
+        output.check_target(tmp_path / "file" / "b", "pump")
+    assert "Not a directory" in str(error.value)
+    assert sorted(os.listdir(tmp_path)) == ["file"]
+
+
+def test_a_failed_write_removes_the_folders_it_made_unless_something_was_put_in_them(tmp_path):
+    def fail(stage):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        output.write_folder(tmp_path / "a" / "b" / "pump", fail)
+    assert os.listdir(tmp_path) == []
+
+    def fail_after_a_user_wrote(stage):
+        (stage.parent.parent / "notes.txt").write_text("mine")  # into tmp_path/a, meanwhile
+        raise OSError(28, "No space left on device")
+
+    with pytest.raises(OSError):
+        output.write_folder(tmp_path / "a" / "b" / "pump", fail_after_a_user_wrote)
+    assert os.listdir(tmp_path / "a") == ["notes.txt"]  # b, made and empty, went; a and the file stay
+    with pytest.raises(KeyboardInterrupt):
+        output.replace_files(tmp_path / "figures", fail)
+    assert sorted(os.listdir(tmp_path)) == ["a"]
+
+
 def test_ctrl_c_reaches_the_whole_process_group_and_leaves_no_process(previous, scenario_file, tmp_path):
     """Ctrl-C at a terminal signals every process of the command's group, the figure workers and their
     server too: the main process alone reports it, in one line, and no process of the run outlives it."""
@@ -265,7 +305,7 @@ def test_a_full_filesystem_is_one_line_and_leaves_nothing(scenario_file, tmp_pat
         _, err = process.communicate(timeout=120)
         assert process.returncode == EXIT_CANNOT_WRITE, err
         assert len(err.strip().splitlines()) == 1 and "No space left on device" in err
-        assert os.listdir(disk / "out") == []
+        assert os.listdir(disk) == []  # not even the --out folder it would have made
     finally:
         subprocess.run(["umount", str(disk)], check=True)
 

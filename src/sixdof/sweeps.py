@@ -233,7 +233,7 @@ class ChunkFolder:
         from sixdof.results import RunResults
 
         if not (self.path / _FINGERPRINT).exists():
-            self.path.mkdir(exist_ok=True)
+            self.path.mkdir(parents=True, exist_ok=True)  # with --out, made only now
             (self.path / _FINGERPRINT).write_text(json.dumps(self.fingerprint, indent=1), encoding="utf-8")
         write_results(self.file(index), RunResults(name=f"chunk {index}", sweep=result))
 

@@ -18,6 +18,9 @@ is complete:
   exists and is not a sixdof results folder is not replaced at all (:func:`check_target`, before any
   computing).
 * Folders are made with ``os.mkdir`` and files with ``open`` or h5py: both honour the umask.
+* ``--out`` and its missing parents are made only when the results are written (checking them makes
+  nothing), and a write that fails or is interrupted removes those it made again, if nothing else was put in
+  them meanwhile: a run that stops leaves no trace of itself.
 
 POSIX only (``fcntl``), like the command-line tool.
 """
@@ -26,6 +29,7 @@ from __future__ import annotations
 
 import errno
 import fcntl
+import itertools
 import os
 import resource
 import shutil
@@ -51,17 +55,17 @@ class KeptFilesWarning(UserWarning):
 
 
 def check_output_root(out_root: str | Path) -> Path:
-    """``out_root`` created if missing, after making sure files can be written in it.
+    """``out_root``, once sure that results can be written there: files can be made in it or, where it is
+    missing, in its nearest existing parent (where :func:`write_folder` will make it). Makes nothing.
 
     Raises
     ------
     InputError
-        If the folder cannot be created or written.
+        If the folder could not be made or written.
     """
     root = Path(out_root)
     try:
-        root.mkdir(parents=True, exist_ok=True)
-        probe = root / f".write-test-{uuid.uuid4().hex}"
+        probe = _nearest_existing(root) / f".write-test-{uuid.uuid4().hex}"
         probe.write_bytes(b"")
         probe.unlink()
     except OSError as exc:
@@ -106,9 +110,7 @@ def write_folder(target: Path, write: Callable[[Path], None]) -> Path:
     ``target`` is left as it was. Returns ``target``.
     """
     root = target.parent
-    with _locked(root):
-        _clean_debris(root)
-        stage, stage_lock = _new_stage(root, target.name)
+    stage, stage_lock, made = _stage_in(root, target.name)
     try:
         # Not held while ``write`` computes (a long run must stop on Ctrl-C at once): the writers hold
         # signals around their own file writes (:func:`held_signals`), and an interruption anywhere ends here.
@@ -119,6 +121,7 @@ def write_folder(target: Path, write: Callable[[Path], None]) -> Path:
             kept = _swap(stage, target)
     except BaseException:
         shutil.rmtree(stage, ignore_errors=True)
+        _remove_if_empty(made)
         raise
     finally:
         os.close(stage_lock)
@@ -135,10 +138,7 @@ def replace_files(directory: Path, write: Callable[[Path], list[Path]]) -> list[
     with SIGINT and SIGTERM held back. Nothing else in ``directory`` is touched, except that a results
     folder's list of sixdof's files gains the new names. Returns the files in ``directory``.
     """
-    directory.mkdir(parents=True, exist_ok=True)
-    with _locked(directory):
-        _clean_debris(directory)
-        stage, stage_lock = _new_stage(directory, "files")
+    stage, stage_lock, made = _stage_in(directory, "files")
     try:
         with held_signals():
             names = [p.name for p in write(stage)]
@@ -147,8 +147,12 @@ def replace_files(directory: Path, write: Callable[[Path], list[Path]]) -> list[
                 os.replace(stage / name, directory / name)
             if (directory / MANIFEST).exists():
                 _write_manifest(directory, set(_listed(directory)) | set(names))
-    finally:
+    except BaseException:
         shutil.rmtree(stage, ignore_errors=True)
+        _remove_if_empty(made)
+        raise
+    finally:
+        shutil.rmtree(stage, ignore_errors=True)  # emptied by the moves when it succeeded
         os.close(stage_lock)
     return [directory / name for name in names]
 
@@ -160,7 +164,7 @@ def check_room(path: Path, nbytes: int) -> None:
     Checked up front because HDF5 meets these errors deep in its own code and, once a write failed,
     repeats them in a traceback for every object it closes.
     """
-    free = shutil.disk_usage(path.parent).free
+    free = shutil.disk_usage(_nearest_existing(path.parent)).free
     if nbytes > free:
         raise OSError(errno.ENOSPC, f"No space left on device (needs at least {nbytes:,} bytes, {free:,} free)",
                       str(path))
@@ -202,6 +206,38 @@ def _locked(folder: Path) -> Iterator[None]:
         yield
     finally:
         os.close(fd)
+
+
+def _nearest_existing(path: Path) -> Path:
+    """``path`` or, where it is missing, its nearest parent that exists."""
+    return next(folder for folder in (path, *path.parents) if os.path.lexists(folder))
+
+
+def _stage_in(root: Path, name: str) -> tuple[Path, int, list[Path]]:
+    """A new staging folder in ``root``, made with its missing parents; the descriptor holding the staging
+    folder's lock, and the folders made for it (deepest first), for :func:`_remove_if_empty`."""
+    made = list(itertools.takewhile(lambda folder: not os.path.lexists(folder), (root, *root.parents)))
+    for _ in range(5):
+        root.mkdir(parents=True, exist_ok=True)
+        try:
+            with _locked(root):
+                _clean_debris(root)
+                return (*_new_stage(root, name), made)
+        except FileNotFoundError:  # another run that had made ``root`` failed and removed it meanwhile: again
+            continue
+    raise FileNotFoundError(errno.ENOENT, "made again and again, and each time removed meanwhile", str(root))
+
+
+def _remove_if_empty(folders: list[Path]) -> None:
+    """Remove ``folders`` (deepest first), made for a write that failed, as long as they are empty: anything
+    put in one meanwhile (another run's results, a user's file) keeps it and its parents."""
+    for folder in folders:
+        try:
+            folder.rmdir()
+        except FileNotFoundError:
+            continue
+        except OSError:
+            return
 
 
 def _new_stage(root: Path, name: str) -> tuple[Path, int]:

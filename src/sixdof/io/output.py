@@ -152,8 +152,8 @@ def replace_files(directory: Path, write: Callable[[Path], list[Path]]) -> list[
         _remove_if_empty(made)
         raise
     finally:
-        shutil.rmtree(stage, ignore_errors=True)  # emptied by the moves when it succeeded
         os.close(stage_lock)
+    shutil.rmtree(stage, ignore_errors=True)  # emptied by the moves, unless the writer left more
     return [directory / name for name in names]
 
 
@@ -225,7 +225,7 @@ def _stage_in(root: Path, name: str) -> tuple[Path, int, list[Path]]:
                 return (*_new_stage(root, name), made)
         except FileNotFoundError:  # another run that had made ``root`` failed and removed it meanwhile: again
             continue
-    raise FileNotFoundError(errno.ENOENT, "made again and again, and each time removed meanwhile", str(root))
+    raise FileNotFoundError(errno.ENOENT, "removed by another process each time it was made", str(root))
 
 
 def _remove_if_empty(folders: list[Path]) -> None:

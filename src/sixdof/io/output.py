@@ -208,15 +208,20 @@ def _locked(folder: Path) -> Iterator[None]:
         os.close(fd)
 
 
+def _missing(path: Path) -> list[Path]:
+    """``path`` and those of its parents that do not exist, deepest first (none if ``path`` exists)."""
+    return list(itertools.takewhile(lambda folder: not os.path.lexists(folder), (path, *path.parents)))
+
+
 def _nearest_existing(path: Path) -> Path:
     """``path`` or, where it is missing, its nearest parent that exists."""
-    return next(folder for folder in (path, *path.parents) if os.path.lexists(folder))
+    return (path, *path.parents)[len(_missing(path))]
 
 
 def _stage_in(root: Path, name: str) -> tuple[Path, int, list[Path]]:
     """A new staging folder in ``root``, made with its missing parents; the descriptor holding the staging
     folder's lock, and the folders made for it (deepest first), for :func:`_remove_if_empty`."""
-    made = list(itertools.takewhile(lambda folder: not os.path.lexists(folder), (root, *root.parents)))
+    made = _missing(root)
     for _ in range(5):
         root.mkdir(parents=True, exist_ok=True)
         try:

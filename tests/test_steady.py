@@ -13,6 +13,7 @@ from references import hysteretic_transmissibility, sdof_receptance, viscous_tra
 from sixdof.analysis.steady import steady_state, vector_amplitude
 from sixdof.analysis.superposition import superpose
 from sixdof.excitation import Excitation, HalfSine, Harmonic, Load, Unbalance
+from sixdof.io.report import steady_state_text
 from systems import four_mount, sdof
 from tolerances import RTOL_LINALG
 
@@ -51,6 +52,8 @@ def test_components_at_one_frequency_add_with_their_phases_and_switch_on_times()
     steady = steady_state(system, Excitation(loads=cancelling))
     assert steady.applied_force[0] < 1e-12 * 1e3 and np.abs(steady.q).max() < 1e-12 * 1e3 / STIFFNESS
     assert np.isnan(steady.transmissibility[0])  # no force applied: no ratio
+    isolation = steady_state_text(steady).split("force transmissibility")[1]
+    assert "nan" not in isolation and isolation.count("n/a (no force applied)") == 2  # said, not printed as nan
     # Two frequencies stay apart (ascending); a harmonic that ends and a pulse have no steady state.
     loads = (vertical(9.0, phase_deg=90.0), vertical(3.0, name="g"), vertical(5.0, name="h", duration=1.0),
              Load("hit", point=[0, 0, 0], force=[0, 0, 1.0], signal=HalfSine(start=0.1, duration=0.01)))

@@ -482,13 +482,13 @@ def steady_state_text(steady) -> str:
     headers = ["DOF", *(f"{f:.4g} Hz" for f in steady.f_hz)]
     motion = table(headers, rows)
 
-    def percent(value):
-        return "n/a (no force applied)" if not np.isfinite(value) else f"{100 * value:.1f} %"
+    def shown(value, text):  # NaN: the loads at that frequency are moments only
+        return "n/a (no force applied)" if not np.isfinite(value) else text
 
     rows = [["applied force amplitude [kN]", *(f"{v / 1e3:.4g}" for v in steady.applied_force)],
             ["force on the foundation [kN]", *(f"{v / 1e3:.4g}" for v in steady.transmitted_force)],
-            ["force transmissibility", *(f"{v:.3g}" for v in steady.transmissibility)],
-            ["isolation efficiency", *(percent(v) for v in steady.isolation_efficiency)]]
+            ["force transmissibility", *(shown(v, f"{v:.3g}") for v in steady.transmissibility)],
+            ["isolation efficiency", *(shown(v, f"{100 * v:.1f} %") for v in steady.isolation_efficiency)]]
     isolation = table(["", *headers[1:]], rows, "l" + "r" * len(steady.f_hz))
     return (_wrapped("Steady state at the operating frequencies (harmonic loads without end, once the switch-on "
                      "transient has died out; from the frequency response, loss factors included): amplitude "

@@ -158,9 +158,12 @@ def test_statics_closed_form_and_uplift():
     assert statics.uplift == ("far",)
 
 
-def test_statics_refuses_a_body_that_cannot_carry_its_weight():
-    system = System(RigidBody(1.0, [1.0, 1.0, 1.0]), [Mount("side", [0, 0, 0], [1e3, 1e3, 0])])
-    with pytest.raises(InputError, match="no stiffness against gravity"):
+@pytest.mark.parametrize("position, stiffness", [([0, 0, 0], [1e3, 1e3, 0]),  # nothing vertical: it falls
+                                                  ([0.3, 0.2, -0.5], [1e3, 1e3, 1e4])])  # off the CG: it tips over
+def test_statics_refuses_a_body_that_cannot_carry_its_weight(position, stiffness):
+    system = System(RigidBody(1.0, [1.0, 1.0, 1.0]), [Mount("one", position, stiffness)])
+    with pytest.raises(InputError, match=r"mounts: expected mounts that can carry the body's weight and its moment, "
+                                         r"got 'a layout that leaves a motion gravity drives unresisted"):
         gravity_statics(system)
 
 

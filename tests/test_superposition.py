@@ -288,6 +288,18 @@ def test_rigid_body_modes_with_horizontal_dashpots_match_exact():
     assert compare(exact(system, pieces), result).worst < RTOL_MODAL_EXACT
 
 
+def test_a_body_free_to_turn_about_one_mount_matches_exact():
+    # One mount off the CG: the body turns freely about it (three rigid-body modes that mix every DOF), and
+    # neither spring nor dashpot resists them. Their modal damping is round-off of the transform, which must
+    # not read as a coupling (it did: complex modes of the free motion's Jordan block, refused as defective).
+    system = System(bridge_body(), [Mount("only", [3.0, 0.4, -0.6], [2e8, 3e8, 6e8], damping=[1e5, 2e5, 9e5])])
+    assert len(system.modes.zero_modes) == 3
+    pieces = CASES["half_sine"]
+    result = solve(system, pieces)
+    assert result.superposition.method == "complex"  # the dashpots are not proportional to the springs
+    assert compare(exact(system, pieces), result).worst < RTOL_MODAL_EXACT
+
+
 def test_truncation_must_keep_rigid_body_modes():
     system = free_floating()
     with pytest.raises(InputError, match=r"n_modes: expected at least 3 \(the rigid-body modes"):

@@ -175,7 +175,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
             notes.append(no_statics)
         if modes.zero_modes:
             notes.append(f"the mounts leave the body unrestrained: {len(modes.zero_modes)} zero-frequency "
-                         f"mode(s), free DOFs {', '.join(modes.free_dofs)}")
+                         f"mode(s), motions no mount resists, involving {', '.join(modes.free_dofs)}")
         for note in notes:
             warnings.warn(note, SamplingWarning, stacklevel=2)
         frf, frf_extras = _frequency_responses(scenario)

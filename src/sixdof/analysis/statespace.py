@@ -29,6 +29,9 @@ from sixdof.errors import SolverError
 #: a coupling this small changes no response by more than about its own size, far below the 1e-10
 #: to which the FRF paths and the 1e-6 to which the time paths are checked against each other.
 CLASSICAL_RTOL = 1e-12
+#: Terms of a modal matrix at most this fraction of its largest are round-off of the modal transform (~1e-16
+#: measured), zero to :func:`coupling`.
+ROUND_OFF_RTOL = 1e-14
 #: Two modes are degenerate (any basis of their eigenspace is a set of modes) when their eigenvalues
 #: differ by less than this fraction of the largest eigenvalue.
 DEGENERATE_RTOL = 1e-9
@@ -75,17 +78,18 @@ def modal_basis(modes, C) -> tuple[np.ndarray, np.ndarray]:
 def coupling(D) -> np.ndarray:
     """Normalized couplings ``|D_ij| / sqrt(|D_ii D_jj|)`` of a modal matrix, 0 on the diagonal.
 
-    Between two undamped coordinates (``D_ii = D_jj = 0``) any term above round-off of the matrix is a
-    full coupling (1). Values are capped at 1.
+    Terms at round-off of the matrix (at most :data:`ROUND_OFF_RTOL` of its largest) are zero: a mode that
+    no damper resists (a rigid-body mode of a body free to turn about its mounts) has round-off there,
+    which divided by its round-off diagonal would read as a coupling. Between an undamped coordinate and
+    another, any term above round-off is a full coupling (1). Values are capped at 1.
     """
-    D = np.asarray(D)
-    d = np.sqrt(np.abs(np.diag(D)))
+    magnitude = np.abs(np.asarray(D))
+    magnitude = np.where(magnitude > ROUND_OFF_RTOL * float(np.max(magnitude, initial=0.0)), magnitude, 0.0)
+    d = np.sqrt(np.diag(magnitude))
     product = np.outer(d, d)
-    tiny = np.finfo(float).tiny
-    magnitude = np.abs(D)
     with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.where(product > tiny, magnitude / np.where(product > tiny, product, 1.0),
-                         np.where(magnitude > 1e-14 * max(float(np.max(magnitude, initial=0.0)), tiny), 1.0, 0.0))
+        ratio = np.where(product > 0.0, magnitude / np.where(product > 0.0, product, 1.0),
+                         np.where(magnitude > 0.0, 1.0, 0.0))
     np.fill_diagonal(ratio, 0.0)
     return np.minimum(ratio, 1.0)
 

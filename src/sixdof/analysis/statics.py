@@ -114,8 +114,8 @@ def _linear(system: System, Q: np.ndarray) -> np.ndarray:
     K = np.asarray(system.K)
     q, *_ = np.linalg.lstsq(K, Q, rcond=None)
     if np.linalg.norm(K @ q - Q) > 1e-8 * np.linalg.norm(Q):
-        raise InputError("mounts", "mounts that can carry the body's weight along gravity",
-                         "a layout with no stiffness against gravity (the body would fall freely)")
+        raise InputError("mounts", "mounts that can carry the body's weight and its moment",
+                         "a layout that leaves a motion gravity drives unresisted (the body would fall or tip over)")
     return q
 
 

@@ -140,7 +140,7 @@ def subsystems_text(modes) -> str:
     text = "Decoupled subsystems (DOFs coupled through M and K):\n" + "\n".join(lines)
     if modes.zero_modes:
         text += (f"\nUnrestrained: {len(modes.zero_modes)} zero-frequency mode(s); "
-                 f"free DOFs: {', '.join(modes.free_dofs)}")
+                 f"involving {', '.join(modes.free_dofs)}")
     return text
 
 

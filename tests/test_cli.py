@@ -2,6 +2,7 @@
 
 import ast
 import json
+import math
 import os
 import subprocess
 import sys
@@ -97,6 +98,28 @@ def test_warnings_go_to_stderr_and_prose_lines_stay_short(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "  per DOF: x " in out
     assert max(len(line.replace(str(tmp_path), "")) for line in out.splitlines() if not line.startswith("|")) <= 120
+
+
+def test_a_sag_no_mount_could_give_is_warned_by_modes_and_run(tmp_path, capsys):
+    """Stiffness meant in N/mm, given in N/m: both commands say so, and the run's summary keeps it."""
+    soft = tmp_path / "soft.toml"
+    soft.write_text('name = "soft"\n[body]\nmass = 100.0\ninertia = [5.0, 5.0, 5.0]\ndimensions = [1.0, 1.0, 1.0]\n'
+                    + "".join(f'[[mounts]]\nname = "{name}"\nposition = [{x}, {y}, -0.5]\nstiffness = [100, 100, 250]\n'
+                              for name, x, y in (("a", -0.4, -0.4), ("b", 0.4, -0.4), ("c", -0.4, 0.4), ("d", 0.4, 0.4))))
+    warning = "WARNING: the static deflection under gravity, 980.7 mm at the CG, exceeds the body's half-size (866 mm)"
+    assert main(["modes", str(soft)]) == 0
+    assert warning in capsys.readouterr().err
+    # With the dashpots in N s/m too (a few hundred), the vertical mode is far beyond critical: marked so.
+    soft.write_text(soft.read_text().replace("stiffness = [100, 100, 250]\n",
+                                             "stiffness = [100, 100, 250]\ndamping = [1, 1, 300]\n"))
+    assert main(["modes", str(soft)]) == 0
+    zeta = 4 * 300 / (2 * math.sqrt(4 * 250 * 100.0))  # c / c_critical of the vertical bounce
+    rows = [line.split("|") for line in capsys.readouterr().out.splitlines() if line.startswith("| 3 ")]
+    bounce = rows[0]  # mode 3, in the modes table (the first)
+    assert bounce[4].strip() == "z" and bounce[-2].strip() == f"{100 * zeta:.2f} overdamped"
+    assert main(["run", str(soft), "--out", str(tmp_path), "--quiet"]) == 0
+    assert warning in capsys.readouterr().err
+    assert warning.removeprefix("WARNING: ") in (tmp_path / "soft" / "summary.md").read_text()
 
 
 def test_bad_input_exits_2_without_traceback(tmp_path, capsys):

@@ -17,9 +17,12 @@ from sixdof import (
     InputError,
     Load,
     ModeRelease,
+    Mount,
     Rayleigh,
+    RigidBody,
     ScenarioError,
     SimulationSettings,
+    System,
     Unbalance,
     force_transmissibility,
     mount_forces,
@@ -30,7 +33,8 @@ from sixdof import (
     superpose,
 )
 from sixdof.analysis.frf import UNDAMPED_RESONANCE_RTOL, cross_check
-from sixdof.analysis.validity import SMALL_ANGLE_RAD, RangeWarning
+from sixdof.analysis.statics import STANDARD_GRAVITY, gravity_statics
+from sixdof.analysis.validity import SMALL_ANGLE_RAD, RangeWarning, static_range
 from sixdof.excitation import HalfSine, Harmonic, Haversine, Ramp, Random, Step, Sweep, Table
 from systems import bridge
 from tolerances import RTOL_AT_REST, RTOL_DIRECT_STEADY_STATE, RTOL_LINALG, RTOL_SIGNAL
@@ -316,6 +320,36 @@ def test_rotations_beyond_small_angles_are_warned_with_the_numbers():
     assert "valid to |theta| <= 0.1 rad (5.73 deg, error theta^2/2 = 0.5%)" in message
     with pytest.warns(RangeWarning, match=r"^rotations beyond small-angle theory: \|ry\| reaches "):
         superpose(beam, excitation, run.t)
+
+
+def two_springs(k_left, k_right, mass=100.0, half_span=0.5):
+    """A body on two vertical springs at y = -+half_span [m] under its weight at the CG: each carries half of
+    it, so the CG sags by the mean deflection and the body tilts about x by their difference over the span."""
+    body = RigidBody(mass, [8.0, 5.0, 9.0], dimensions=[1.2, 1.0, 0.5])
+    return System(body, [Mount("left", [0.0, -half_span, 0.0], [1e5, 1e5, k_left]),
+                         Mount("right", [0.0, half_span, 0.0], [1e5, 1e5, k_right])])
+
+
+def test_statics_no_mount_could_give_are_named_with_the_numbers():
+    weight = 100.0 * STANDARD_GRAVITY
+    half_size = math.hypot(1.2, 1.0, 0.5) / 2
+    # Stiffness meant in N/mm, given in N/m: the CG sags by W / (2 k) = 1.96 m, more than the half-size.
+    system = two_springs(250.0, 250.0)
+    statics = gravity_statics(system)
+    sag = weight / (2 * 250.0)
+    assert statics.q[2] == pytest.approx(-sag, rel=RTOL_LINALG)
+    assert static_range(statics, system) == [
+        f"the static deflection under gravity, {1e3 * sag:.4g} mm at the CG, exceeds the body's half-size "
+        f"({1e3 * half_size:.4g} mm): no mount is linear over such a stroke. Are the stiffnesses in N/m (not N/mm)?"]
+    # Springs of 2 and 100 kN/m: 245 and 4.9 mm, a tilt of 0.240 rad about x, and a sag well inside the body.
+    system = two_springs(2e3, 1e5)
+    tilt = (weight / 2 / 2e3 - weight / 2 / 1e5) / 1.0
+    (message,) = static_range(gravity_statics(system), system)
+    assert message.startswith(f"the static rotation under gravity, {tilt:.3g} rad ({math.degrees(tilt):.3g} deg), "
+                              "is beyond small-angle theory")
+    # Stiffer by 10: a tilt of 0.024 rad and a sag of 13 mm, nothing to say; nor without statics.
+    system = two_springs(2e4, 1e6)
+    assert static_range(gravity_statics(system), system) == [] and static_range(None, system) == []
 
 
 RUN = """

@@ -19,6 +19,7 @@ import numpy as np
 
 from sixdof.analysis.statespace import damping_ratios
 from sixdof.analysis.statics import try_gravity_statics
+from sixdof.analysis.validity import RangeWarning, body_length, static_range
 from sixdof.errors import InputError, Plain
 from sixdof.io import output
 from sixdof.plots.workers import FigureWorkers
@@ -171,13 +172,15 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         statics, no_statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
         zeta = damping_ratios(system.C, modes, system.branches)
         notes = sampling_warnings(scenario, modes)
-        if no_statics:
-            notes.append(no_statics)
-        if modes.zero_modes:
-            notes.append(f"the mounts leave the body unrestrained: {len(modes.zero_modes)} zero-frequency "
-                         f"mode(s), motions no mount resists, involving {', '.join(modes.free_dofs)}")
         for note in notes:
             warnings.warn(note, SamplingWarning, stacklevel=2)
+        out_of_range = ([no_statics] if no_statics else []) + static_range(statics, system)
+        if modes.zero_modes:
+            out_of_range.append(f"the mounts leave the body unrestrained: {len(modes.zero_modes)} zero-frequency "
+                                f"mode(s), motions no mount resists, involving {', '.join(modes.free_dofs)}")
+        for note in out_of_range:
+            notes.append(note)
+            warnings.warn(note, RangeWarning, stacklevel=2)
         frf, frf_extras = _frequency_responses(scenario)
         steady = None if scenario.excitation is None else steady_state(system, scenario.excitation)
         points = {p.name: p.position for p in scenario.points}
@@ -275,14 +278,13 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
     from sixdof.analysis.records import merge_stats, merge_superposition
     from sixdof.analysis.response import mount_forces, points_motion
     from sixdof.analysis.superposition import superpose
-    from sixdof.analysis.validity import RangeWarning
     from sixdof.excitation import Excitation
     from sixdof.io.scenario import MEMORY_SAMPLES
 
     system, settings, options = scenario.system, scenario.simulation, scenario.superposition
     excitation = scenario.excitation if scenario.excitation is not None else Excitation()
     points = {p.name: p.position for p in scenario.points}
-    length = _body_length(system)
+    length = body_length(system)
     keep_all = settings.samples <= MEMORY_SAMPLES
     span = (settings.start, settings.start + settings.duration)
     meter = progress_meter(progress or None, settings)
@@ -475,13 +477,6 @@ def _provenance(scenario) -> dict[str, str]:
     """What a run records about where it came from (the file adds the command line, creation time and
     versions)."""
     return {"scenario_text": scenario.text or ""}
-
-
-def _body_length(system) -> float:
-    """A length [m] for the body: half its box diagonal, else the farthest mount from the CG."""
-    if system.body.dimensions is not None:
-        return float(np.linalg.norm(system.body.dimensions) / 2)
-    return float(max(np.linalg.norm(system.positions, axis=1).max(), 1e-3))
 
 
 def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_line: str | None = None,

@@ -1,5 +1,5 @@
 """Where a time solve leaves the model's range, said as warnings: loads that never act in the simulated
-time, and rotations beyond small-angle theory.
+time, and rotations beyond small-angle theory; and statics no mount could give (:func:`static_range`).
 
 Both time paths (:func:`sixdof.analysis.direct.simulate`, :func:`sixdof.analysis.superposition.superpose`)
 call these, so a notebook user of either one is told; the results are computed all the same.
@@ -56,4 +56,31 @@ def warn_large_rotations(t: np.ndarray, q: np.ndarray) -> None:
         )
 
 
-__all__ = ["SMALL_ANGLE_RAD", "RangeWarning", "warn_idle", "warn_large_rotations"]
+def body_length(system) -> float:
+    """A length [m] for the body: half its box diagonal, else the farthest mount from the CG."""
+    if system.body.dimensions is not None:
+        return float(np.linalg.norm(system.body.dimensions) / 2)
+    return float(max(np.linalg.norm(system.positions, axis=1).max(), 1e-3))
+
+
+def static_range(statics, system) -> list[str]:
+    """What is out of range in a static equilibrium under gravity (``statics``, or None): a rotation beyond
+    :data:`SMALL_ANGLE_RAD`, or a sag of the CG larger than :func:`body_length` (no mount is linear over
+    such a stroke: typically stiffness given in N/mm where N/m is meant). One message each; none: []."""
+    if statics is None:
+        return []
+    messages = []
+    sag, tilt = float(np.linalg.norm(statics.q[:3])), float(np.max(np.abs(statics.q[3:])))
+    length = body_length(system)
+    if sag > length:
+        messages.append(f"the static deflection under gravity, {1e3 * sag:.4g} mm at the CG, exceeds the body's "
+                        f"half-size ({1e3 * length:.4g} mm): no mount is linear over such a stroke. Are the "
+                        "stiffnesses in N/m (not N/mm)?")
+    if tilt > SMALL_ANGLE_RAD:
+        messages.append(f"the static rotation under gravity, {tilt:.3g} rad ({math.degrees(tilt):.3g} deg), is "
+                        f"beyond small-angle theory (|theta| <= {SMALL_ANGLE_RAD:g} rad): the body would tip far "
+                        "over on these mounts; the results are those of the linear model")
+    return messages
+
+
+__all__ = ["SMALL_ANGLE_RAD", "RangeWarning", "body_length", "static_range", "warn_idle", "warn_large_rotations"]

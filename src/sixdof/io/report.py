@@ -50,7 +50,8 @@ def modes_table(modes, damping_ratios=None, system=None) -> str:
             row.append("-" if not np.isfinite(poles[j]) else f"{abs(poles[j]) / (2 * np.pi):.4f}")
         if damping_ratios is not None:
             zeta = damping_ratios[j]
-            row.append("-" if not np.isfinite(zeta) else f"{100 * zeta:.2f}")
+            # At or above critical a mode does not oscillate: its f is the undamped system's, not a frequency it shows.
+            row.append("-" if not np.isfinite(zeta) else f"{100 * zeta:.2f}" + (" overdamped" if zeta >= 1 else ""))
         rows.append(row)
     return table(headers, rows)
 

@@ -4,6 +4,7 @@ has died out."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -13,7 +14,7 @@ from references import hysteretic_transmissibility, sdof_receptance, viscous_tra
 from sixdof.analysis.steady import steady_state, vector_amplitude
 from sixdof.analysis.superposition import superpose
 from sixdof.excitation import Excitation, HalfSine, Harmonic, Load, Unbalance
-from sixdof.io.report import steady_state_text
+from sixdof.io.report import points_table, steady_state_text
 from systems import four_mount, sdof
 from tolerances import RTOL_LINALG
 
@@ -147,3 +148,9 @@ def test_the_run_shows_its_body_points(tmp_path, capsys):
     assert f"{az:.4g}" in row.split("|")[8]
     summary = (tmp_path / "bridge_beam_traffic" / "summary.md").read_text()
     assert "### Body points" in summary and row in summary
+    assert "Absolute motion" not in summary  # the ground does not move: nothing to say of the frame
+    # Where it moves, absolute points are said to be so (a base shock's drift would pass for the mounts' stroke).
+    text = points_table(run.points, ground_moves=True)
+    assert text.startswith("Absolute motion (fixed frame), the ground's own motion included")
+    relative = {name: dataclasses.replace(motion, relative=True) for name, motion in run.points.items()}
+    assert points_table(relative, ground_moves=True).startswith("Motion relative to the ground. Peaks over")

@@ -343,7 +343,7 @@ def _run(args) -> int:
         limits = np.stack([m.max_deflection for m in scenario.system.mounts])
         print(f"\nMount checks:\n{report.mount_check_text(outcome.mount_check, limits)}")
         if outcome.points:
-            print(f"\nBody points: {report.points_table(outcome.points)}")
+            print(f"\nBody points: {report.points_table(outcome.points, report.ground_moves(scenario))}")
     if outcome.frf is not None:
         print(f"FRF direct vs modal: {outcome.frf.max_relative_difference:.1e} (worst relative difference)")
     print(f"\nWrote {outcome.directory}: {outcome.results_path.name}, {len(outcome.figures)} figures, "

@@ -374,7 +374,7 @@ def summary_markdown(scenario, modes, statics, damping_ratios, response, forces,
             limits = np.stack([m.max_deflection for m in scenario.system.mounts])
             parts += ["### Mount checks", "", mount_check_text(mount_check, limits), ""]
         if points:
-            parts += ["### Body points", "", points_table(points), ""]
+            parts += ["### Body points", "", points_table(points, ground_moves(scenario)), ""]
         parts += ["### Peak mount forces (dynamic part, about static equilibrium; body axes)", "",
                   _mount_peaks_table(forces), ""]
         if nonlinear is not None:
@@ -496,9 +496,15 @@ def steady_state_text(steady) -> str:
                      "of each DOF of the CG:") + "\n" + motion + "\n\n" + isolation)
 
 
-def points_table(points) -> str:
+def ground_moves(scenario) -> bool:
+    """Whether the scenario's ground moves (its body points' motion is then absolute: :func:`points_table`)."""
+    return scenario.excitation is not None and scenario.excitation.ground is not None
+
+
+def points_table(points, ground_moves: bool = False) -> str:
     """Peak motion of each body point over the run (:class:`sixdof.analysis.response.PointMotion` by name),
-    per body axis: displacement and acceleration, and the largest acceleration in g."""
+    per body axis: displacement and acceleration, and the largest acceleration in g; said to be absolute when
+    ``ground_moves`` (the ground's own displacement, maybe a drift far larger than the mounts', is in it)."""
     displacements = {name: np.max(np.abs(m.displacement), axis=0) for name, m in points.items()}
     accelerations = {name: np.max(np.abs(m.acceleration), axis=0) for name, m in points.items()}
     scale, shown = display_unit(np.concatenate(list(displacements.values())), "m")
@@ -508,8 +514,10 @@ def points_table(points) -> str:
     relative = any(motion.relative for motion in points.values())
     headers = ["point", "position [m]", *(f"peak {a} [{shown}]" for a in "xyz"),
                *(f"peak a{a} [m/s^2]" for a in "xyz"), "peak a [g]"]
-    return (("Motion relative to the ground. " if relative else "")
-            + "Peaks over the run, the switch-on transient included:\n" + table(headers, rows, "llrrrrrrr"))
+    frame = ("Motion relative to the ground. " if relative else
+             "Absolute motion (fixed frame), the ground's own motion included; the mounts' deflections are "
+             "relative to it. " if ground_moves else "")
+    return frame + "Peaks over the run, the switch-on transient included:\n" + table(headers, rows, "llrrrrrrr")
 
 
 def _mount_peaks_table(forces) -> str:

@@ -24,6 +24,14 @@ def test_modes_prints_readable_tables(capsys):
     out = capsys.readouterr().out
     for text in ["f [Hz]", "38.0344", "dominant DOF", "Kinetic energy distribution", "(x, ry, rz)", "(y, z, rx)", "203.488", "compression"]:
         assert text in out
+    # The ground scenario's bearings are symmetric about x: its static ry and rz are round-off (~1e-21 rad), shown
+    # as 0 like a KE share of -1e-17, not as "-3.3881e-12 nrad" or "-0.0".
+    assert main(["modes", "scenarios/bridge_beam_ground.toml"]) == 0
+    out = capsys.readouterr().out
+    section = out.split("static deflection")[1].split("Load on each mount")[0]
+    static = dict(line.strip("| ").split(" | ")[:2] for line in section.splitlines() if line.startswith("| r"))
+    assert static["rx "].strip() == "6.1879 µrad" and static["ry "].strip() == static["rz "].strip() == "0 nrad"
+    assert "e-" not in section and "-0.0 " not in out
 
 
 def test_modes_json_has_the_documented_keys(capsys):

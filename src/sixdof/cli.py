@@ -278,7 +278,7 @@ def _print_statics(scenario, statics, no_statics: str | None = None) -> None:
     if statics is None:
         print(no_statics)
         return
-    print(report.statics_table(statics, scenario.system.mount_names))
+    print(report.statics_table(statics, scenario.system))
     if statics.uplift:
         warnings.warn(f"mounts in tension (uplift): {', '.join(statics.uplift)}", stacklevel=1)
 

@@ -131,7 +131,7 @@ def viscoelastic_table(fits) -> str:
 def ke_table(modes) -> str:
     """Kinetic-energy distribution [%]: rows are DOFs, columns are modes (the decoupling table)."""
     headers = ["DOF"] + [f"mode {j + 1} ({f:.3g} Hz)" for j, f in enumerate(modes.frequency_hz)]
-    rows = [[dof] + [f"{100 * v:.1f}" for v in modes.ke_distribution[i]] for i, dof in enumerate(DOFS)]
+    rows = [[dof] + [_fixed(100 * v, 1) for v in modes.ke_distribution[i]] for i, dof in enumerate(DOFS)]
     return table(headers, rows)
 
 
@@ -220,19 +220,35 @@ def _design_peaks(spread, peaks) -> str:
                     rows, "lrrr") + note)
 
 
-def statics_table(statics, mount_names: Sequence[str]) -> str:
-    """Static deflection of the CG and the force in each mount under gravity."""
+def statics_table(statics, system) -> str:
+    """Static deflection of the CG and the force in each mount under gravity; a deflection at round-off of the
+    largest (rotations times the body's length) is 0 (a layout symmetric about a DOF leaves ~1e-19 rad there)."""
+    from sixdof.analysis.validity import body_length
+
+    length = body_length(system)
+    q = _without_round_off(statics.q, scale=np.array([1.0, 1.0, 1.0, length, length, length]))
     rows = []
     for i, (dof, unit) in enumerate(zip(DOFS, DOF_UNITS)):
-        factor, shown = display_unit(statics.q[i], unit)
-        rows.append([dof, f"{statics.q[i] * factor:.5g} {shown}"])
+        factor, shown = display_unit(q[i], unit)
+        rows.append([dof, f"{q[i] * factor:.5g} {shown}"])
     deflection = table(["DOF", "static deflection"], rows)
     rows = [[name, *(_fixed(v / 1e3, 3) for v in force), _fixed(support / 1e3, 3),
              "TENSION (uplift)" if name in statics.uplift else "compression"]
-            for name, force, support in zip(mount_names, statics.mount_forces, statics.support)]
+            for name, force, support in zip(system.mount_names, statics.mount_forces, statics.support)]
     forces = table(["mount", "Fx [kN]", "Fy [kN]", "Fz [kN]", "carried [kN]", "state"], rows, "lrrrrl")
     return (deflection + "\n\n" + _wrapped("Load on each mount (force of the body on it, passed to the foundation; "
                                             "body axes; carried: along gravity, > 0 compression):") + "\n" + forces)
+
+
+#: In the printed tables, a value at most this fraction of the largest of its table is round-off, shown as 0.
+ROUND_OFF_RTOL = 1e-12
+
+
+def _without_round_off(values, scale=1.0) -> np.ndarray:
+    """``values`` with those at round-off of the largest (each times ``scale``, to compare units) set to 0."""
+    values = np.asarray(values, dtype=float)
+    size = np.abs(values) * scale
+    return np.where(size > ROUND_OFF_RTOL * np.max(size, initial=0.0), values, 0.0)
 
 
 def _fixed(value: float, digits: int) -> str:
@@ -258,24 +274,26 @@ MOUNT_SIGNS = _wrapped("Loads are the force of the body on each mount (passed to
 
 def mount_loads_table(check) -> str:
     """Normal force of each mount over a run (static, extremes, tension) and its peak shear loads."""
+    forces = _without_round_off(np.column_stack([-check.static_force[:, 2], check.max_compression,
+                                                 check.min_compression, check.peak_force[:, :2]]))
     rows = []
     for j, name in enumerate(check.names):
         tension = ("none" if not np.isfinite(check.tension_start_t[j]) else
                    f"TENSION {-check.min_compression[j] / 1e3:.4g} kN, from t = {check.tension_start_t[j]:.4g} s")
-        rows.append([name, f"{-check.static_force[j, 2] / 1e3:.4g}",
-                     f"{check.max_compression[j] / 1e3:.4g}", f"{check.max_compression_t[j]:.4g}",
-                     f"{check.min_compression[j] / 1e3:.4g}", f"{check.min_compression_t[j]:.4g}",
-                     *(f"{check.peak_force[j, i] / 1e3:.4g}" for i in (0, 1)), tension])
+        static, most, least, shear_u, shear_v = forces[j] / 1e3
+        rows.append([name, f"{static:.4g}", f"{most:.4g}", f"{check.max_compression_t[j]:.4g}",
+                     f"{least:.4g}", f"{check.min_compression_t[j]:.4g}", f"{shear_u:.4g}", f"{shear_v:.4g}", tension])
     return table(["mount", "static N [kN]", "max N [kN]", "at t [s]", "min N [kN]", "at t [s]",
                   "peak Fu [kN]", "peak Fv [kN]", "tension"], rows, "lrrrrrrrl")
 
 
 def mount_deflections_table(check, limits=None) -> str:
     """Peak total deflection of each mount per axis, when, and its limit (``limits``: (m, 3) [m], inf none)."""
-    scale, unit = display_unit(check.peak_deflection, "m")
+    peaks = _without_round_off(check.peak_deflection)
+    scale, unit = display_unit(peaks, "m")
     rows = []
     for j, name in enumerate(check.names):
-        cells = [f"{check.peak_deflection[j, i] * scale:.4g} @ {check.peak_deflection_t[j, i]:.4g} s"
+        cells = [f"{peaks[j, i] * scale:.4g} @ {check.peak_deflection_t[j, i]:.4g} s"
                  for i in range(3)]
         if limits is not None:
             shown = [f"{v * scale:.4g}" if np.isfinite(v) else "-" for v in limits[j]]
@@ -357,7 +375,7 @@ def summary_markdown(scenario, modes, statics, damping_ratios, response, forces,
     parts += ["## Kinetic energy distribution [%]", "", ke_table(modes), ""]
     parts += [subsystems_text(modes).replace("\n  ", "\n- ").replace(":\n", ":\n\n", 1), ""]
     if statics is not None:
-        parts += ["## Statics under gravity", "", statics_table(statics, scenario.system.mount_names), ""]
+        parts += ["## Statics under gravity", "", statics_table(statics, scenario.system), ""]
     if steady is not None:
         parts += ["## Steady state", "", steady_state_text(steady), ""]
     if random is not None:

@@ -115,6 +115,9 @@ def test_run_writes_results_figures_and_summary(outcome):
     for text in ["## Natural frequencies", "## Kinetic energy distribution", "Peak mount forces",
                  "Direct solve vs modal superposition", "![mode_shapes](mode_shapes.png)"]:
         assert text in summary
+    # A pulse has no steady state: its peaks are not said to include a switch-on transient.
+    assert "Peaks over the whole run.\n" in summary and "Peaks over the run:\n" in summary
+    assert "switch-on" not in summary
 
 
 def test_unwritable_output_is_an_error_before_any_computing(scenario, tmp_path, monkeypatch):

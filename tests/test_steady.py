@@ -154,3 +154,4 @@ def test_the_run_shows_its_body_points(tmp_path, capsys):
     assert text.startswith("Absolute motion (fixed frame), the ground's own motion included")
     relative = {name: dataclasses.replace(motion, relative=True) for name, motion in run.points.items()}
     assert points_table(relative, ground_moves=True).startswith("Motion relative to the ground. Peaks over")
+    assert "Peaks over the run, the switch-on transient included:" in points_table(run.points, steady=True)

@@ -220,7 +220,8 @@ def _parser() -> argparse.ArgumentParser:
     design.set_defaults(command=_optimize)
 
     examples = add("examples", help="copy the bundled example scenarios into a folder, to run and adapt")
-    examples.add_argument("folder", help="where the scenario files go (created; files already there are kept)")
+    examples.add_argument("folder", help="where the scenario files go (created if missing; if any of them is "
+                          "already there, nothing is copied and it is named: none is overwritten)")
     examples.set_defaults(command=_examples)
 
     exchange = add("export", help="write a results file's time histories and FRFs as UFF58 or CSV for test tools")
@@ -343,7 +344,9 @@ def _run(args) -> int:
         limits = np.stack([m.max_deflection for m in scenario.system.mounts])
         print(f"\nMount checks:\n{report.mount_check_text(outcome.mount_check, limits)}")
         if outcome.points:
-            print(f"\nBody points: {report.points_table(outcome.points, report.ground_moves(scenario))}")
+            steady = outcome.steady_state is not None
+            points = report.points_table(outcome.points, report.ground_moves(scenario), steady)
+            print(f"\nBody points: {points}")
     if outcome.frf is not None:
         print(f"FRF direct vs modal: {outcome.frf.max_relative_difference:.1e} (worst relative difference)")
     print(f"\nWrote {outcome.directory}: {outcome.results_path.name}, {len(outcome.figures)} figures, "

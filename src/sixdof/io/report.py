@@ -383,8 +383,8 @@ def summary_markdown(scenario, modes, statics, damping_ratios, response, forces,
     if srs is not None:
         parts += ["## Shock response spectra", "", srs_text(srs), ""]
     if response is not None:
-        parts += ["## Time response", "", "Peaks over the whole run, the switch-on transient included.", "",
-                  _peaks_table(response), ""]
+        transient = PEAKS_WITH_TRANSIENT if steady is not None else ""
+        parts += ["## Time response", "", f"Peaks over the whole run{transient}.", "", _peaks_table(response), ""]
         stats = response.stats
         parts += [f"Solver: {stats.solver}, rtol {stats.rtol:g}, atol {stats.atol:g} (per-DOF scaled), "
                   f"{stats.num_accepted} accepted and {stats.num_rejected} rejected steps", ""]
@@ -392,7 +392,7 @@ def summary_markdown(scenario, modes, statics, damping_ratios, response, forces,
             limits = np.stack([m.max_deflection for m in scenario.system.mounts])
             parts += ["### Mount checks", "", mount_check_text(mount_check, limits), ""]
         if points:
-            parts += ["### Body points", "", points_table(points, ground_moves(scenario)), ""]
+            parts += ["### Body points", "", points_table(points, ground_moves(scenario), steady is not None), ""]
         parts += ["### Peak mount forces (dynamic part, about static equilibrium; body axes)", "",
                   _mount_peaks_table(forces), ""]
         if nonlinear is not None:
@@ -519,10 +519,15 @@ def ground_moves(scenario) -> bool:
     return scenario.excitation is not None and scenario.excitation.ground is not None
 
 
-def points_table(points, ground_moves: bool = False) -> str:
+#: Said of a run's peaks when it has a steady state (printed apart): they are not the steady state's.
+PEAKS_WITH_TRANSIENT = ", the switch-on transient included"
+
+
+def points_table(points, ground_moves: bool = False, steady: bool = False) -> str:
     """Peak motion of each body point over the run (:class:`sixdof.analysis.response.PointMotion` by name),
     per body axis: displacement and acceleration, and the largest acceleration in g; said to be absolute when
-    ``ground_moves`` (the ground's own displacement, maybe a drift far larger than the mounts', is in it)."""
+    ``ground_moves`` (the ground's own displacement, maybe a drift far larger than the mounts', is in it), and to
+    include the switch-on transient when the run has a ``steady`` state."""
     displacements = {name: np.max(np.abs(m.displacement), axis=0) for name, m in points.items()}
     accelerations = {name: np.max(np.abs(m.acceleration), axis=0) for name, m in points.items()}
     scale, shown = display_unit(np.concatenate(list(displacements.values())), "m")
@@ -535,7 +540,8 @@ def points_table(points, ground_moves: bool = False) -> str:
     frame = ("Motion relative to the ground. " if relative else
              "Absolute motion (fixed frame), the ground's own motion included; the mounts' deflections are "
              "relative to it. " if ground_moves else "")
-    return frame + "Peaks over the run, the switch-on transient included:\n" + table(headers, rows, "llrrrrrrr")
+    return (frame + f"Peaks over the run{PEAKS_WITH_TRANSIENT if steady else ''}:\n"
+            + table(headers, rows, "llrrrrrrr"))
 
 
 def _mount_peaks_table(forces) -> str:

@@ -1,5 +1,8 @@
 """Scenario files: the bundled ones load, and every mistake gets a message naming what to fix."""
 
+import re
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -180,6 +183,26 @@ def test_bad_input_names_file_field_expectation_and_value(change, message):
     with pytest.raises(ScenarioError, match=message) as info:
         parse_scenario(bad_text(change), "case.toml")
     assert str(info.value).startswith("case.toml: ")
+
+
+def readme_mount_keys() -> list[str]:
+    """The keys of a ``[[mounts]]`` table as the README's scenario reference lists them."""
+    text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    rows = text.split("| **`[[mounts]]`** |")[1].split("| **`[damping]`** |")[0]
+    return re.findall(r"^\| `\[*(?:mounts\.)?(\w+)\]*` \|", rows, re.M)
+
+
+def test_an_unknown_mount_key_lists_the_keys_a_mount_accepts():
+    """Exactly the README's keys, and the nearest of them suggested (``bump_stop``, not the model's
+    ``bump_clearance``, which the file may not use)."""
+    keys = readme_mount_keys()
+    assert {"bump_stop", "maxwell", "dynamic_stiffness", "force_deflection"} <= set(keys)
+    text = BASE.replace("damping = [100.0, 100.0, 400.0]", "bump_stp = { clearance = [inf, inf, 0.01], "
+                        "stiffness = [0.0, 0.0, 1e6] }", 1)
+    with pytest.raises(ScenarioError) as info:
+        parse_scenario(text, "case.toml")
+    assert str(info.value) == (f"case.toml: mounts[1].bump_stp: expected one of the keys {', '.join(sorted(keys))}, "
+                               "got an unknown key; did you mean 'bump_stop'?")
 
 
 def test_missing_file_and_unreadable_file(tmp_path):

@@ -31,7 +31,7 @@ from sixdof.errors import (
     point,
 )
 from sixdof.frozen import Frozen, checked
-from sixdof.io.toml import Table, build, choices, make, parse, read_text, unique
+from sixdof.io.toml import Table, build, choices, make, parse, read_text, reject_unknown, unique
 from sixdof.model.nonlinear import ForceDeflection
 from sixdof.model.system import Maxwell, Mount, Rayleigh, RigidBody, System
 from sixdof.results import DERIVED
@@ -403,27 +403,36 @@ def _frf(table: dict) -> FrfSettings:
     return build(FrfSettings, {**table, **requests}, "frf")
 
 
+#: The keys of a ``bump_stop`` table and the :class:`~sixdof.model.system.Mount` fields they fill.
+_BUMP_STOP = {"clearance": "bump_clearance", "stiffness": "bump_stiffness"}
+#: The keys of a ``[[mounts]]`` table (the README's): the Mount's fields, ``bump_stop`` in place of the two it
+#: fills, and the tables read beside the mount. Its unknown keys are checked against this list alone.
+_MOUNT_KEYS = (*(f.name for f in dataclasses.fields(Mount) if f.init and f.name not in _BUMP_STOP.values()),
+              "bump_stop", "maxwell", "dynamic_stiffness", "force_deflection")
+
+
 def _mount(raw: Any, path: str, base_dir: Path) -> tuple[Mount, list[Maxwell], list, list]:
     """A ``[[mounts]]`` table: the mount, its ``[[mounts.maxwell]]`` branches, its ``dynamic_stiffness`` fits
     (mount name, axis, :class:`~sixdof.model.viscoelastic.MaxwellFit`) and its ``force_deflection`` tables
     (:class:`~sixdof.model.nonlinear.ForceDeflection`)."""
     if not isinstance(raw, dict):
         raise InputError(path, "a table", raw)
+    for key in _BUMP_STOP.values():  # the model's names of bump_stop's keys
+        if key in raw:
+            raise InputError(f"{path}.{key}", "bump_stop = {clearance = [...], stiffness = [...]}", Plain(key))
+    reject_unknown(raw, _MOUNT_KEYS, path)
     table = dict(raw)
     maxwell, measured = table.pop("maxwell", []), table.pop("dynamic_stiffness", [])
     stop, curves = table.pop("bump_stop", None), table.pop("force_deflection", [])
-    for key in ("bump_clearance", "bump_stiffness"):  # the model's names of bump_stop's keys
-        if key in table:
-            raise InputError(f"{path}.{key}", "bump_stop = {clearance = [...], stiffness = [...]}", Plain(key))
     if stop is not None:
-        keys = Table(stop, f"{path}.bump_stop", ("clearance", "stiffness"))
-        table["bump_clearance"], table["bump_stiffness"] = keys.value("clearance"), keys.value("stiffness")
+        keys = Table(stop, f"{path}.bump_stop", tuple(_BUMP_STOP))
+        table.update({model: keys.value(key) for key, model in _BUMP_STOP.items()})
     try:
         mount = build(Mount, table, path)
     except InputError as error:  # named as the file names them
-        for model, key in (("bump_clearance", "bump_stop.clearance"), ("bump_stiffness", "bump_stop.stiffness")):
+        for key, model in _BUMP_STOP.items():
             if error.field.endswith(f".{model}"):
-                raise InputError(error.field.replace(model, key), error.expected, error.got) from None
+                raise InputError(error.field.replace(model, f"bump_stop.{key}"), error.expected, error.got) from None
         raise
     tables = Table({"maxwell": maxwell}, path, ("maxwell",)).tables("maxwell")
     branches = []

@@ -552,18 +552,19 @@ def _with_file(table: dict, path: str, base_dir: Path) -> dict:
     file = signal.pop("file")
     if "t" in signal or "values" in signal:
         raise InputError(field, "either a file or inline t and values, not both", file)
-    signal["t"], signal["values"] = read_table_csv(file, base_dir, field)
+    signal["t"], signal["values"] = read_table_csv(file, base_dir, field, increasing=True)
     return {**table, "signal": signal}
 
 
-def read_table_csv(file: Any, base_dir: Path, field: str,
-                   columns: tuple[str, str] = ("time in s", "value")) -> tuple[list[float], list[float]]:
-    """Read a two-column CSV (default time [s], value) with an optional header line and ``#`` comment lines."""
+def read_table_csv(file: Any, base_dir: Path, field: str, columns: tuple[str, str] = ("time in s", "value"),
+                   increasing: bool = False) -> tuple[list[float], list[float]]:
+    """Read a two-column CSV (default time [s], value) with an optional header line and ``#`` comment lines;
+    with ``increasing``, its first column must increase strictly (checked here, where each row's line is known)."""
     if not isinstance(file, str) or not file:
         raise InputError(field, "a CSV file name (relative to the scenario file)", file)
     full = (base_dir / file).resolve()
-    expected = f"a UTF-8 CSV file of rows of two numbers: {', '.join(columns)}"
-    pairs, rows = [], 0
+    expected = f"a UTF-8 CSV file of rows of two finite numbers: {', '.join(columns)}"
+    pairs, lines, rows = [], [], 0
     try:
         with full.open(newline="", encoding="utf-8") as handle:
             reader = csv.reader(handle)
@@ -574,17 +575,28 @@ def read_table_csv(file: Any, base_dir: Path, field: str,
                 try:
                     if len(row) != 2:  # a third column is a mistake, not something to ignore
                         raise ValueError
-                    pairs.append((float(row[0]), float(row[1])))
+                    pair = (float(row[0]), float(row[1]))
                 except ValueError:
                     if rows > 1:  # only the first row may be a header
                         raise InputError(field, expected, Plain(f"line {reader.line_num} of {file}: {row}")) from None
+                    continue
+                if not np.all(np.isfinite(pair)):
+                    raise InputError(field, expected, Plain(f"line {reader.line_num} of {file}: {row}"))
+                pairs.append(pair)
+                lines.append(reader.line_num)
     except FileNotFoundError:
         raise InputError(field, "an existing, readable CSV file", str(full)) from None
     except (OSError, UnicodeDecodeError, csv.Error) as exc:
         raise InputError(field, expected, Plain(f"{file}: {exc}")) from None
     if len(pairs) < 2:
         raise InputError(field, f"at least 2 rows of {', '.join(columns)}", f"{len(pairs)} rows in {file}")
-    return [t for t, _ in pairs], [value for _, value in pairs]
+    first = [x for x, _ in pairs]
+    back = next((k for k in range(1, len(first)) if first[k] <= first[k - 1]), None) if increasing else None
+    if back is not None:
+        raise InputError(field, f"{expected}, the first column ({columns[0]}) strictly increasing",
+                         Plain(f"{first[back]:g} on line {lines[back]} of {file}, after {first[back - 1]:g} on line "
+                               f"{lines[back - 1]}"))
+    return first, [value for _, value in pairs]
 
 
 _TOP_LEVEL_KEYS = (

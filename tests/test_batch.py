@@ -29,7 +29,7 @@ from sixdof import (
 )
 from sixdof.analysis.batch import batch_frequencies, make_variants, run_batch, variant_matrices, variant_system
 from sixdof.io.sweep import parse_sweep_spec
-from sixdof.sweeps import sweep
+from sixdof.sweeps import Study, sweep
 from systems import BRIDGE_LOADS_TOML, bridge, bridge_toml
 from tolerances import RTOL_BATCH_CHUNKS, RTOL_BATCH_DIRECT, RTOL_BATCH_FREQUENCY, RTOL_BATCH_MATRIX, RTOL_BATCH_SCIPY
 
@@ -294,6 +294,15 @@ def test_sweep_of_a_scenario_and_its_file(tmp_path, beam):
      r"vary\[0\]\.std: expected a value \(required key\), got nothing"),
     ("count = 2\n[[vary]]\nparameter='stiffness'\ndistribution='normal'\nmean=1.0\nstd=0.1\nlow=0",
      r"vary\[0\]\.low: expected only mean, std with a normal distribution, got 0"),
+    ("count = 2\n[[vary]]\nparameter='stiffness'\ndistribution='normal'\nmean=1.0\nstd=2.0",
+     r"spec\.toml: vary\[0\]\.std: expected a standard deviation < mean / 3 = 0\.333 \(stiffness factors > 0: the "
+     r"mean at least 3 standard deviations above 0\), got 2\.0"),
+    ("count = 2\n[[vary]]\nparameter='damping'\ndistribution='normal'\nmean=0.0\nstd=0.1",
+     r"vary\[0\]\.mean: expected a mean > 0 \(damping factors >= 0\), got 0\.0"),
+    ("count = 2\n[[vary]]\nparameter='stiffness'\ndistribution='uniform'\nlow=0.0\nhigh=1.5",
+     r"vary\[0\]\.low: expected stiffness factors > 0, got 0\.0"),
+    ("[[vary]]\nparameter='damping'\ndistribution='grid'\nvalues=[1.0, -0.5]",
+     r"vary\[0\]\.values: expected damping factors >= 0, got \[1\.0, -0\.5\]"),
     ("count = 5\n[[vary]]\nparameter='stiffness'\ndistribution='grid'\nvalues=[1.0, 2.0]",
      r"count: expected the product of the grid sizes, 2 \(or no count\), got 5"),
     ("count = 2\nseeds = 1\n[[vary]]\nparameter='stiffness'\ndistribution='grid'\nvalues=[1.0, 2.0]",
@@ -311,15 +320,29 @@ def test_bad_specs_are_named(text, match):
 
 
 def test_bad_draws_and_names_are_named(beam):
-    spec = parse_sweep_spec("count = 50\n[[vary]]\nparameter='stiffness'\ndistribution='normal'\n"
-                            "mean=1.0\nstd=2.0")
-    with pytest.raises(InputError, match=r"vary\[0\]: expected stiffness factors > 0 \(narrow the "
-                                         r"distribution\), got a draw of -"):
-        spec.variants(beam)
+    """What the spec asks of the scenario's mounts is checked before any computing, naming the spec's file and
+    field: a normal draw past zero (3.3 standard deviations out, 1 in 2300 draws), a mount it lacks."""
+    spec = parse_sweep_spec("count = 5000\n[[vary]]\nparameter='stiffness'\ndistribution='normal'\n"
+                            "mean=1.0\nstd=0.3", "spec.toml")
+    with pytest.raises(InputError, match=r"^spec\.toml: vary\[0\]: expected stiffness factors > 0 \(narrow the "
+                                         r"distribution\), got a draw of -[0-9.]+ \(chunk [0-4]\)$"):
+        sweep(Study(beam), spec)
     spec = parse_sweep_spec("count = 2\n[[vary]]\nparameter='stiffness'\ndistribution='uniform'\n"
-                            "low=0.5\nhigh=1.5\nmounts=['9']")
-    with pytest.raises(InputError, match=r"vary\[0\]\.mounts: expected mount names among 1, 2, 3, 4, got '9'"):
-        spec.variants(beam)
+                            "low=0.5\nhigh=1.5\nmounts=['9']", "spec.toml")
+    with pytest.raises(InputError, match=r"^spec\.toml: vary\[0\]\.mounts: expected mount names among 1, 2, 3, 4, "
+                                         r"got '9'$"):
+        sweep(Study(beam), spec)
+
+
+def test_a_sweep_of_mounts_the_batch_engines_cannot_run_names_the_scenario_file(tmp_path, capsys):
+    from sixdof.cli import main
+
+    spec = tmp_path / "spec.toml"
+    spec.write_text(SPEC)
+    assert main(["sweep", "scenarios/bridge_beam_uplift.toml", "--spec", str(spec), "--out", str(tmp_path)]) == 2
+    assert capsys.readouterr().err.startswith("sixdof: error: scenarios/bridge_beam_uplift.toml: mounts: expected "
+                                              "linear mounts (sweeps and batches")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["spec.toml"]
 
 
 def test_bad_variants_and_unsupported_excitations_are_named(beam, variants):

@@ -310,13 +310,18 @@ def test_bad_design_input_is_one_clear_error(design, message):
         parse_scenario(_v_pair(THETA0, "[design]\n" + design))
 
 
-def test_optimize_without_targets_is_refused_before_computing(tmp_path, capsys):
+def test_optimize_without_targets_is_refused_before_computing(tmp_path, capsys, monkeypatch):
+    """Named with the scenario's file, as its other errors are, before a Dask cluster is started."""
+    monkeypatch.setattr("sixdof.tasks.task_runner", lambda *args, **kwargs: pytest.fail("workers started"))
     path = tmp_path / "v.toml"
     path.write_text(_v_pair(THETA0, ""))
-    assert main(["optimize", str(path), "--out", str(tmp_path)]) == 2
-    assert "design: expected at least one [[design.target]] and one [[design.vary]], got 0 targets, 0 variables" \
-        in capsys.readouterr().err
+    assert main(["optimize", str(path), "--out", str(tmp_path), "--workers", "2"]) == 2
+    assert capsys.readouterr().err == (f"sixdof: error: {path}: design: expected at least one [[design.target]] and "
+                                       "one [[design.vary]], got 0 targets, 0 variables\n")
     assert not list(tmp_path.glob("*_design"))
+    assert main(["optimize", "scenarios/bridge_beam_uplift.toml", "--out", str(tmp_path)]) == 2
+    assert capsys.readouterr().err.startswith("sixdof: error: scenarios/bridge_beam_uplift.toml: mounts: expected "
+                                              "linear mounts (designing mounts with bump stops")
 
 
 def test_optimize_refuses_a_bad_place_for_its_robustness_chunks_before_computing(tmp_path, capsys):

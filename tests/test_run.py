@@ -164,6 +164,14 @@ def test_cli_run_and_plot(tmp_path, capsys):
     assert results.exists()
     assert main(["plot", str(results), "--out", str(tmp_path / "figures")]) == 0
     assert (tmp_path / "figures" / "mode_shapes.png").exists()
+    capsys.readouterr()
+    blocker = tmp_path / "file"  # --out an existing file: bad input, as for run, not a failed write
+    blocker.write_text("mine")
+    for out in (blocker, blocker / "figures"):
+        assert main(["plot", str(results), "--out", str(out)]) == 2
+        assert capsys.readouterr().err == (f"sixdof: error: --out: expected a folder where results can be written, got "
+                                           f"'{out} (Not a directory)'\n")
+    assert blocker.read_text() == "mine"
 
 
 def test_cli_bad_input_writes_nothing(tmp_path, capsys):

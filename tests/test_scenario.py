@@ -1,5 +1,8 @@
 """Scenario files: the bundled ones load, and every mistake gets a message naming what to fix."""
 
+import re
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -182,6 +185,26 @@ def test_bad_input_names_file_field_expectation_and_value(change, message):
     assert str(info.value).startswith("case.toml: ")
 
 
+def readme_mount_keys() -> list[str]:
+    """The keys of a ``[[mounts]]`` table as the README's scenario reference lists them."""
+    text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    rows = text.split("| **`[[mounts]]`** |")[1].split("| **`[damping]`** |")[0]
+    return re.findall(r"^\| `\[*(?:mounts\.)?(\w+)\]*` \|", rows, re.M)
+
+
+def test_an_unknown_mount_key_lists_the_keys_a_mount_accepts():
+    """Exactly the README's keys, and the nearest of them suggested (``bump_stop``, not the model's
+    ``bump_clearance``, which the file may not use)."""
+    keys = readme_mount_keys()
+    assert {"bump_stop", "maxwell", "dynamic_stiffness", "force_deflection"} <= set(keys)
+    text = BASE.replace("damping = [100.0, 100.0, 400.0]", "bump_stp = { clearance = [inf, inf, 0.01], "
+                        "stiffness = [0.0, 0.0, 1e6] }", 1)
+    with pytest.raises(ScenarioError) as info:
+        parse_scenario(text, "case.toml")
+    assert str(info.value) == (f"case.toml: mounts[1].bump_stp: expected one of the keys {', '.join(sorted(keys))}, "
+                               "got an unknown key; did you mean 'bump_stop'?")
+
+
 def test_missing_file_and_unreadable_file(tmp_path):
     with pytest.raises(ScenarioError, match=r"nope.toml: expected an existing scenario file"):
         load_scenario(tmp_path / "nope.toml")
@@ -191,12 +214,24 @@ def test_missing_file_and_unreadable_file(tmp_path):
         load_scenario(binary)
 
 
-def test_unparsable_csv_names_the_line(tmp_path):
-    (tmp_path / "record.csv").write_text("t,value\n0.0,1.0\n0.1,oops\n")
+CSV_EXPECTED = "ground.signal.file: expected a UTF-8 CSV file of rows of two finite numbers: time in s, value"
+
+
+@pytest.mark.parametrize(("csv", "message"), [
+    ("t,value\n0.0,1.0\n0.1,oops\n", f"{CSV_EXPECTED}, got line 3 of record.csv: ['0.1', 'oops']"),
+    ("t,value\n0.0,1.0\n0.1,nan\n", f"{CSV_EXPECTED}, got line 3 of record.csv: ['0.1', 'nan']"),
+    ("# a record\nt,value\n0.0,0.0\n0.2,1.0\n\n0.1,0.5\n",
+     f"{CSV_EXPECTED}, the first column (time in s) strictly increasing, got 0.1 on line 6 of record.csv, after 0.2 "
+     "on line 4"),
+], ids=["not a number", "not finite", "times not increasing"])
+def test_a_bad_csv_names_the_field_that_reads_it_and_its_line(tmp_path, csv, message):
+    """Not the table's ``t`` or ``values``, which the file does not write: its ``file``, the CSV's line and column."""
+    (tmp_path / "record.csv").write_text(csv)
     text = BASE.replace(
         'signal = { kind = "table", t = [0.0, 0.1, 0.2], values = [0.0, 1.0, 0.0] }',
         'signal = { kind = "table", file = "record.csv" }',
     )
     (tmp_path / "case.toml").write_text(text)
-    with pytest.raises(ScenarioError, match=r"ground.signal.file: expected a UTF-8 CSV file of rows of two numbers: time in s, value, got line 3 of record.csv: \['0.1', 'oops'\]"):
+    with pytest.raises(ScenarioError) as info:
         load_scenario(tmp_path / "case.toml")
+    assert str(info.value) == f"{tmp_path / 'case.toml'}: {message}"

@@ -29,6 +29,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from sixdof.errors import InputError, Plain, SolverError
+from sixdof.io.toml import naming
 
 #: The folder of a sweep's finished chunks, beside its results folder.
 CHUNKS_SUFFIX = ".chunks"
@@ -133,6 +134,13 @@ def _where(runner) -> dict:
     return {"backend": runner.backend, "workers": runner.workers}
 
 
+def _check(scenario, spec) -> None:
+    """``spec.check`` before any computing, its refusals of the scenario's mounts named with the scenario's file
+    (those of the spec name the spec's)."""
+    with naming(getattr(scenario, "path", None)):  # a Study has no file
+        spec.check(scenario.system)
+
+
 def _with_chunk_size(spec, chunk_size):
     return spec if chunk_size is None else dataclasses.replace(spec, chunk_size=chunk_size)
 
@@ -160,7 +168,7 @@ def sweep(scenario, spec, *, chunk_size: int | None = None, workers: int | None 
     from sixdof.tasks import task_runner
 
     spec = _with_chunk_size(spec, chunk_size)
-    spec.check(scenario.system)
+    _check(scenario, spec)
     with task_runner(workers, scheduler, client) as runner:
         return sweep_on(runner, scenario, spec, progress)
 
@@ -261,7 +269,8 @@ def fingerprint(scenario, spec) -> dict:
     # Pickles of these frozen objects are the same bytes in every process for the same content (checked by the
     # resume tests); a changed accelerogram or force-deflection file changes them.
     model = pickle.dumps((scenario.system, scenario.excitation, scenario.simulation), protocol=5)
-    spec_text = json.dumps(dataclasses.asdict(spec), sort_keys=True, default=str)
+    spec_text = json.dumps({key: value for key, value in dataclasses.asdict(spec).items() if key != "path"},
+                           sort_keys=True, default=str)  # the spec's content, not where it was read from
     return {"scenario": hashlib.sha256(model).hexdigest(), "spec": hashlib.sha256(spec_text.encode()).hexdigest(),
             "sixdof version": __version__}
 
@@ -321,7 +330,7 @@ def sweep_scenario(scenario, spec, out_root: str | Path = "outputs", *, chunk_si
     from sixdof.tasks import task_runner
 
     spec = _with_chunk_size(spec, chunk_size)
-    spec.check(scenario.system)
+    _check(scenario, spec)
     target = output.check_target(out_root, scenario.name, "_sweep")
     folder = ChunkFolder(target.with_name(target.name + CHUNKS_SUFFIX), fingerprint(scenario, spec), resume)
     run = _Sweep(scenario, spec)

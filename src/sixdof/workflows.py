@@ -536,10 +536,17 @@ def redraw(results: str | Path, directory: str | Path | None = None, *,
     -------
     list of pathlib.Path
         The figures written.
+
+    Raises
+    ------
+    InputError
+        A ``directory`` where files cannot be written (``--out``), or a results file with nothing to draw.
     """
     from sixdof.io.store import load_results
     from sixdof.plots import figure_names
 
+    if directory:  # checked as run checks its --out: before reading or drawing anything
+        output.check_output_root(directory)
     run = load_results(results)
     if not figure_names(run):
         what = "a sweep's results (`sixdof sweep`): no figures" if run.sweep is not None else "nothing to draw"

@@ -173,6 +173,18 @@ class BatchResult:
         return self.variants.count
 
 
+def check_batchable(system: System) -> None:
+    """Raise an :class:`InputError` naming the mounts unless the batch engines can run variants of ``system``:
+    not with Maxwell branches (the batch engines do not carry their states) or nonlinear mounts."""
+    if system.maxwell:
+        raise InputError("mounts.maxwell", "mounts without Maxwell branches (sweeps and batches of visco-elastic "
+                         "mounts are not supported yet)", Plain(f"{len(system.maxwell)} Maxwell branches"))
+    if system.nonlinear.count:
+        raise InputError("mounts", "linear mounts (sweeps and batches of mounts with bump stops, lift-off or "
+                         "force-deflection tables are not supported yet)",
+                         Plain(f"nonlinear mount axes {', '.join(system.nonlinear.names)}"))
+
+
 def make_variants(system: System, *, stiffness_factor=None, damping_factor=None,
                   position_offset=None, count: int | None = None) -> Variants:
     """Broadcast per-variant parameters to :class:`Variants` of ``system``.
@@ -192,16 +204,9 @@ def make_variants(system: System, *, stiffness_factor=None, damping_factor=None,
     ------
     InputError
         Inconsistent counts, wrong shapes, stiffness factors <= 0, damping factors < 0, non-finite
-        values, or a system with Maxwell branches (the batch engines do not carry their states) or nonlinear
-        mounts.
+        values, or a system the batch engines cannot run (:func:`check_batchable`).
     """
-    if system.maxwell:
-        raise InputError("mounts.maxwell", "mounts without Maxwell branches (sweeps and batches of visco-elastic "
-                         "mounts are not supported yet)", Plain(f"{len(system.maxwell)} Maxwell branches"))
-    if system.nonlinear.count:
-        raise InputError("mounts", "linear mounts (sweeps and batches of mounts with bump stops, lift-off or "
-                         "force-deflection tables are not supported yet)",
-                         Plain(f"nonlinear mount axes {', '.join(system.nonlinear.names)}"))
+    check_batchable(system)
     n = len(system.mounts)
     factor_shapes = f"shape (nv,), (nv, {n}) or (nv, {n}, 3)"
     arrays = {}

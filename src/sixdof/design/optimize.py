@@ -23,7 +23,7 @@ import numpy as np
 
 from sixdof.design.problem import MARGIN, DesignProblem
 from sixdof.dofs import DOFS, dof_units
-from sixdof.errors import InputError, Plain, readonly
+from sixdof.errors import readonly
 
 if TYPE_CHECKING:
     from sixdof.analysis.batch import BatchResult
@@ -75,19 +75,11 @@ def optimize(problem: DesignProblem, *, progress=None) -> DesignResult:
     Returns
     -------
     DesignResult
-
-    Raises
-    ------
-    sixdof.errors.InputError
-        Without targets or variables.
     """
     import scipy.optimize
 
     from sixdof._jax import jax, jnp
 
-    if not problem.targets or not problem.variables:
-        raise InputError("design", "at least one [[design.target]] and one [[design.vary]]",
-                         Plain(f"{len(problem.targets)} targets, {len(problem.variables)} variables"))
     bounds = problem.bounds
     rng = np.random.default_rng(problem.spec.seed)
     starts = [np.clip(problem.initial, bounds[:, 0], bounds[:, 1])]

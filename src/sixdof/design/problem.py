@@ -84,7 +84,13 @@ class DesignProblem:
     """The targets of ``spec`` as functions of its variables, for ``system`` under gravity ``gravity``
     [m/s^2] along ``direction`` (body axes). :meth:`values`, :meth:`violations` and :meth:`objective` take
     the variables (n,) and are JAX-traceable (jit, grad, vmap); ``stiffness_scale`` (n_mounts, 3) multiplies
-    every mount-axis stiffness (the robustness study's scatter)."""
+    every mount-axis stiffness (the robustness study's scatter).
+
+    Raises
+    ------
+    sixdof.errors.InputError
+        For nonlinear mounts, or a ``spec`` without targets or variables.
+    """
 
     def __init__(self, system, spec, gravity: float = STANDARD_GRAVITY, direction=(0.0, 0.0, -1.0)) -> None:
         if system.nonlinear.count:
@@ -95,6 +101,9 @@ class DesignProblem:
         self.names = tuple(m.name for m in system.mounts)
         self.variables = variables(spec, self.names, system.positions)
         self.targets = spec.target
+        if not self.targets or not self.variables:
+            raise InputError("design", "at least one [[design.target]] and one [[design.vary]]",
+                             Plain(f"{len(self.targets)} targets, {len(self.variables)} variables"))
         self.M = np.asarray(system.M, dtype=float)
         self._L_inv = inverse_cholesky(self.M)
         weight = system.body.mass * gravity * np.asarray(direction, dtype=float) / np.linalg.norm(direction)

@@ -13,6 +13,7 @@ import numpy as np
 from sixdof.design.optimize import DesignResult, Robustness, optimize, robustness
 from sixdof.design.problem import DesignProblem
 from sixdof.io import output
+from sixdof.io.toml import naming
 
 
 @dataclass(frozen=True, eq=False)
@@ -97,7 +98,9 @@ def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: b
     from sixdof.progress import meter
     from sixdof.tasks import task_runner
 
-    problem = DesignProblem(scenario.system, scenario.design, scenario.statics.gravity, scenario.statics.direction)
+    with naming(scenario.path):  # refusals of the scenario's mounts and [design], named like the file's own
+        problem = DesignProblem(scenario.system, scenario.design, scenario.statics.gravity,
+                                scenario.statics.direction)
     target = output.check_target(out_root, scenario.name, "_design")
     with task_runner(workers, scheduler, client) as runner:  # a bad address fails before the optimization
         shown = meter(progress, scenario.design.starts, "starts", "optimize")

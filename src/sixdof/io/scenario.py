@@ -31,7 +31,7 @@ from sixdof.errors import (
     point,
 )
 from sixdof.frozen import Frozen, checked
-from sixdof.io.toml import Table, build, choices, make, parse, read_text, unique
+from sixdof.io.toml import Table, build, choices, make, parse, read_text, reject_unknown, unique
 from sixdof.model.nonlinear import ForceDeflection
 from sixdof.model.system import Maxwell, Mount, Rayleigh, RigidBody, System
 from sixdof.results import DERIVED
@@ -403,27 +403,36 @@ def _frf(table: dict) -> FrfSettings:
     return build(FrfSettings, {**table, **requests}, "frf")
 
 
+#: The keys of a ``bump_stop`` table and the :class:`~sixdof.model.system.Mount` fields they fill.
+_BUMP_STOP = {"clearance": "bump_clearance", "stiffness": "bump_stiffness"}
+#: The keys of a ``[[mounts]]`` table (the README's): the Mount's fields, ``bump_stop`` in place of the two it
+#: fills, and the tables read beside the mount. Its unknown keys are checked against this list alone.
+_MOUNT_KEYS = (*(f.name for f in dataclasses.fields(Mount) if f.init and f.name not in _BUMP_STOP.values()),
+              "bump_stop", "maxwell", "dynamic_stiffness", "force_deflection")
+
+
 def _mount(raw: Any, path: str, base_dir: Path) -> tuple[Mount, list[Maxwell], list, list]:
     """A ``[[mounts]]`` table: the mount, its ``[[mounts.maxwell]]`` branches, its ``dynamic_stiffness`` fits
     (mount name, axis, :class:`~sixdof.model.viscoelastic.MaxwellFit`) and its ``force_deflection`` tables
     (:class:`~sixdof.model.nonlinear.ForceDeflection`)."""
     if not isinstance(raw, dict):
         raise InputError(path, "a table", raw)
+    for key in _BUMP_STOP.values():  # the model's names of bump_stop's keys
+        if key in raw:
+            raise InputError(f"{path}.{key}", "bump_stop = {clearance = [...], stiffness = [...]}", Plain(key))
+    reject_unknown(raw, _MOUNT_KEYS, path)
     table = dict(raw)
     maxwell, measured = table.pop("maxwell", []), table.pop("dynamic_stiffness", [])
     stop, curves = table.pop("bump_stop", None), table.pop("force_deflection", [])
-    for key in ("bump_clearance", "bump_stiffness"):  # the model's names of bump_stop's keys
-        if key in table:
-            raise InputError(f"{path}.{key}", "bump_stop = {clearance = [...], stiffness = [...]}", Plain(key))
     if stop is not None:
-        keys = Table(stop, f"{path}.bump_stop", ("clearance", "stiffness"))
-        table["bump_clearance"], table["bump_stiffness"] = keys.value("clearance"), keys.value("stiffness")
+        keys = Table(stop, f"{path}.bump_stop", tuple(_BUMP_STOP))
+        table.update({model: keys.value(key) for key, model in _BUMP_STOP.items()})
     try:
         mount = build(Mount, table, path)
     except InputError as error:  # named as the file names them
-        for model, key in (("bump_clearance", "bump_stop.clearance"), ("bump_stiffness", "bump_stop.stiffness")):
+        for key, model in _BUMP_STOP.items():
             if error.field.endswith(f".{model}"):
-                raise InputError(error.field.replace(model, key), error.expected, error.got) from None
+                raise InputError(error.field.replace(model, f"bump_stop.{key}"), error.expected, error.got) from None
         raise
     tables = Table({"maxwell": maxwell}, path, ("maxwell",)).tables("maxwell")
     branches = []
@@ -543,18 +552,19 @@ def _with_file(table: dict, path: str, base_dir: Path) -> dict:
     file = signal.pop("file")
     if "t" in signal or "values" in signal:
         raise InputError(field, "either a file or inline t and values, not both", file)
-    signal["t"], signal["values"] = read_table_csv(file, base_dir, field)
+    signal["t"], signal["values"] = read_table_csv(file, base_dir, field, increasing=True)
     return {**table, "signal": signal}
 
 
-def read_table_csv(file: Any, base_dir: Path, field: str,
-                   columns: tuple[str, str] = ("time in s", "value")) -> tuple[list[float], list[float]]:
-    """Read a two-column CSV (default time [s], value) with an optional header line and ``#`` comment lines."""
+def read_table_csv(file: Any, base_dir: Path, field: str, columns: tuple[str, str] = ("time in s", "value"),
+                   increasing: bool = False) -> tuple[list[float], list[float]]:
+    """Read a two-column CSV (default time [s], value) with an optional header line and ``#`` comment lines;
+    with ``increasing``, its first column must increase strictly (checked here, where each row's line is known)."""
     if not isinstance(file, str) or not file:
         raise InputError(field, "a CSV file name (relative to the scenario file)", file)
     full = (base_dir / file).resolve()
-    expected = f"a UTF-8 CSV file of rows of two numbers: {', '.join(columns)}"
-    pairs, rows = [], 0
+    expected = f"a UTF-8 CSV file of rows of two finite numbers: {', '.join(columns)}"
+    pairs, lines, rows = [], [], 0
     try:
         with full.open(newline="", encoding="utf-8") as handle:
             reader = csv.reader(handle)
@@ -565,17 +575,28 @@ def read_table_csv(file: Any, base_dir: Path, field: str,
                 try:
                     if len(row) != 2:  # a third column is a mistake, not something to ignore
                         raise ValueError
-                    pairs.append((float(row[0]), float(row[1])))
+                    pair = (float(row[0]), float(row[1]))
                 except ValueError:
                     if rows > 1:  # only the first row may be a header
                         raise InputError(field, expected, Plain(f"line {reader.line_num} of {file}: {row}")) from None
+                    continue
+                if not np.all(np.isfinite(pair)):
+                    raise InputError(field, expected, Plain(f"line {reader.line_num} of {file}: {row}"))
+                pairs.append(pair)
+                lines.append(reader.line_num)
     except FileNotFoundError:
         raise InputError(field, "an existing, readable CSV file", str(full)) from None
     except (OSError, UnicodeDecodeError, csv.Error) as exc:
         raise InputError(field, expected, Plain(f"{file}: {exc}")) from None
     if len(pairs) < 2:
         raise InputError(field, f"at least 2 rows of {', '.join(columns)}", f"{len(pairs)} rows in {file}")
-    return [t for t, _ in pairs], [value for _, value in pairs]
+    first = [x for x, _ in pairs]
+    back = next((k for k in range(1, len(first)) if first[k] <= first[k - 1]), None) if increasing else None
+    if back is not None:
+        raise InputError(field, f"{expected}, the first column ({columns[0]}) strictly increasing",
+                         Plain(f"{first[back]:g} on line {lines[back]} of {file}, after {first[back - 1]:g} on line "
+                               f"{lines[back - 1]}"))
+    return first, [value for _, value in pairs]
 
 
 _TOP_LEVEL_KEYS = (

@@ -6,6 +6,7 @@ key suggested, every error names the file and the field.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -13,17 +14,20 @@ from typing import Any
 
 import numpy as np
 
-from sixdof.analysis.batch import CROSS_CHECK, ENGINES, Variants, make_variants
+from sixdof.analysis.batch import CROSS_CHECK, ENGINES, Variants, check_batchable, make_variants
 from sixdof.dofs import AXES, MOUNT_AXES
 from sixdof.errors import InputError, Plain, boolean, integer, integer_check, number_check, optional
 from sixdof.frozen import Frozen, checked
-from sixdof.io.toml import Table, build, is_number, parse, read_text
+from sixdof.io.toml import Table, build, is_number, naming, parse, read_text
 from sixdof.model.system import System
 from sixdof.tasks import chunk_rng, partition
 
 PARAMETERS = ("stiffness", "damping", "position")
 DISTRIBUTIONS = ("uniform", "normal", "grid")
 _NEEDS = {"uniform": ("low", "high"), "normal": ("mean", "std"), "grid": ("values",)}
+#: A normal distribution of stiffness or damping factors has its mean at least this many standard deviations
+#: above 0 (a tolerance band of +-3 sigma that stays positive).
+NORMAL_MARGIN = 3
 
 
 def _one_of(names: tuple[str, ...]):
@@ -102,6 +106,26 @@ class Vary(Frozen):
             raise InputError("std", "a standard deviation > 0", self.std)
         if self.independent and self.distribution == "grid":
             raise InputError("independent", "false for a grid (one grid value per variant)", self.independent)
+        if self.parameter != "position":
+            self._check_factors()
+
+    def _check_factors(self) -> None:
+        """Refuse, when the spec is read, a distribution of factors that would draw stiffness factors <= 0 or
+        damping factors < 0. A normal one reaches any value: its mean must be :data:`NORMAL_MARGIN` standard
+        deviations above 0 (a draw further out, at most one in 740, is still refused when drawn, before any
+        computing)."""
+        stiffness = self.parameter == "stiffness"
+        valid = f"{self.parameter} factors {'> 0' if stiffness else '>= 0'}"
+        allowed = (lambda x: x > 0) if stiffness else (lambda x: x >= 0)
+        if self.distribution == "uniform" and not allowed(self.low):
+            raise InputError("low", valid, self.low)
+        if self.distribution == "grid" and not all(map(allowed, self.values)):
+            raise InputError("values", valid, list(self.values))
+        if self.distribution == "normal" and not self.mean > 0:
+            raise InputError("mean", f"a mean > 0 ({valid})", self.mean)
+        if self.distribution == "normal" and not self.mean > NORMAL_MARGIN * self.std:
+            raise InputError("std", f"a standard deviation < mean / {NORMAL_MARGIN} = {self.mean / NORMAL_MARGIN:.3g} "
+                             f"({valid}: the mean at least {NORMAL_MARGIN} standard deviations above 0)", self.std)
 
 
 #: Variants per chunk of a sweep when the spec does not say (:attr:`SweepSpec.chunk_size`): a few seconds of
@@ -128,6 +152,8 @@ class SweepSpec:
         How the responses are computed (:func:`sixdof.analysis.batch.run_batch`).
     cross_check : int
         Variants also solved by diffrax (drawn with ``seed``).
+    path : pathlib.Path or None
+        The file it was read from (named by the errors of :meth:`check`); not part of the sweep.
     """
 
     count: int
@@ -136,6 +162,7 @@ class SweepSpec:
     chunk_size: int | None = None
     engine: str = "exact"
     cross_check: int = CROSS_CHECK
+    path: Path | None = dataclasses.field(default=None, compare=False)
 
     def chunks(self) -> list[range]:
         """The variant indices of each chunk."""
@@ -209,9 +236,12 @@ class SweepSpec:
 
     def check(self, system: System) -> None:
         """Draw every chunk's variants once, one chunk at a time, so that a bad draw fails before any
-        computing (see :meth:`variants`)."""
-        for chunk in range(len(self.chunks())):
-            self.variants(system, chunk)
+        computing (see :meth:`variants`). A ``system`` the batch engines cannot run is refused first, naming
+        its mounts; then what the spec asks of it, naming the spec's file (:attr:`path`) and field."""
+        check_batchable(system)
+        with naming(self.path):
+            for chunk in range(len(self.chunks())):
+                self.variants(system, chunk)
 
 
 def parse_sweep_spec(text: str, source: str = "<string>") -> SweepSpec:
@@ -239,7 +269,8 @@ def parse_sweep_spec(text: str, source: str = "<string>") -> SweepSpec:
     InputError
         ``field: expected ..., got ...`` prefixed with ``source``.
     """
-    return parse(text, source, _spec)
+    spec = parse(text, source, _spec)
+    return spec if source == "<string>" else dataclasses.replace(spec, path=Path(source))
 
 
 def load_sweep_spec(path: str | Path) -> SweepSpec:

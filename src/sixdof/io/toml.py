@@ -4,7 +4,8 @@ A file's text is parsed with the standard library's :mod:`tomllib`; its tables a
 :class:`Table`, which tracks the field path (``mounts[2].stiffness``) and rejects unknown keys with the
 closest valid key suggested ("did you mean"); :func:`build` turns a table into a frozen object whose
 field names are its keys. Every error is an :class:`~sixdof.errors.InputError` naming the field, and
-:func:`parse` puts the file name in front (:class:`~sixdof.errors.ScenarioError`).
+:func:`parse` puts the file name in front (:class:`~sixdof.errors.ScenarioError`), as :func:`naming` does for
+the checks made once a file is read.
 """
 
 from __future__ import annotations
@@ -12,7 +13,8 @@ from __future__ import annotations
 import dataclasses
 import difflib
 import tomllib
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -32,10 +34,24 @@ def parse(text: str, source: str, read: Callable[[dict], Any]) -> Any:
     except RecursionError:  # tomllib recurses once per level of nested arrays or inline tables
         raise ScenarioError(source, InputError("", "valid TOML", Plain("arrays or tables nested too deep to "
                                                                        "read"))) from None
-    try:
+    with naming(source):
         return read(raw)
+
+
+@contextmanager
+def naming(source: str | Path | None) -> Iterator[None]:
+    """An :class:`~sixdof.errors.InputError` raised in the block gets the file name ``source`` put in front
+    (:class:`~sixdof.errors.ScenarioError`), as :func:`parse` does: for the checks of a file's content made
+    once it is read (a sweep spec's draws against the scenario's mounts). ``None`` (text read from no file)
+    and an error that names its file already leave the error as it is."""
+    try:
+        yield
+    except ScenarioError:
+        raise
     except InputError as exc:
-        raise ScenarioError(source, exc) from None
+        if source is None:
+            raise
+        raise ScenarioError(str(source), exc) from None
 
 
 def read_text(path: str | Path, what: str) -> str:

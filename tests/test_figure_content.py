@@ -254,6 +254,23 @@ def test_time_dofs_zooms_on_the_shock_beside_the_whole_record_and_the_file_keeps
         "shock", 2.0, 0.01)
 
 
+def test_time_dofs_keeps_the_last_time_label_of_a_zoom_inside_the_figure():
+    from figures import assert_texts_clear
+    from sixdof.plots import plot_time_histories
+
+    # A 0.4 s record of an 11 ms shock: the zoom spans 0 to 0.1 s, "0.10" labels its right edge.
+    system = four_mount(m=MASS, k=(2e5, 3e5, 8e5), damping=(100.0, 100.0, 300.0))
+    excitation = Excitation(loads=(Load("impact", [0.2, 0.1, 0.0], force=[0, 0, 5e3],
+                                        signal=HalfSine(start=0.01, duration=0.011)),))
+    response = simulate(system, excitation, SimulationSettings(duration=0.4, sample_rate_hz=2000.0))
+    fig = plot_time_histories(response, events={name: Event(*event)
+                                                for name, event in excitation.events(0.0, 0.4).items()})
+    zoom = fig.axes[-1]
+    assert zoom.get_xlim() == pytest.approx((0.0, 0.1))
+    assert_texts_clear(fig)
+    assert [label.get_text() for label in zoom.get_xticklabels()][-1] == "0.10"
+
+
 def test_superposition_zooms_on_the_shock_beside_the_whole_overlay():
     from sixdof.analysis.compare import compare
     from sixdof.analysis.superposition import superpose
@@ -380,9 +397,21 @@ def test_mount_shear_png_is_drawn_for_a_shear_load_and_draws_each_resultant():
         assert f"peak shear load {shear.max() / 1e3:.4g} kN" in ax.get_title(loc="left")
         assert f"at t = {response.t[np.argmax(deflection)]:.4g} s" in ax.get_title(loc="left")
     # Frozen ticks (what render() draws) draw the same picture.
-    from figures import frozen_tick_difference
+    from figures import assert_texts_clear, frozen_tick_difference
 
     assert frozen_tick_difference(lambda: plot_mount_shear(check, response.t, name="machine")).max() <= 1.01 / 255
+    # A sideways bump, zoomed on: each row's title (two lines) stays over its panel, clear of the zoom's heading.
+    bump = Excitation(loads=(Load("trolley", [0.2, 0.1, 0.3], force=[-2500.0, 875.0, 0.0],
+                                  signal=HalfSine(start=0.01, duration=0.015)),))
+    response = simulate(system, bump, SimulationSettings(duration=0.6, sample_rate_hz=2000.0))
+    check = mount_check(system, mount_forces(system, response), response.t, gravity_statics(system))
+    fig = plot_mount_shear(check, response.t, events={name: Event(*event)
+                                                      for name, event in bump.events(0.0, 0.6).items()})
+    assert fig.axes[1].get_title(loc="left").startswith("zoom: trolley")
+    assert_texts_clear(fig)
+    renderer = fig.canvas.get_renderer()
+    for whole in fig.axes[::2]:  # matplotlib keeps a left title as _left_title
+        assert whole._left_title.get_window_extent(renderer).x1 <= whole.get_window_extent(renderer).x1
     # A vertical load through the middle: the shear left (rocking) is below SHEAR_SHARE of the normal swing.
     vertical, _ = checked(300.0, Harmonic(f_hz=7.0), 1.0)
     normal = np.max(np.abs(vertical.compression + vertical.static_force[:, None, 2]))

@@ -76,13 +76,14 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
     ground = getattr(history, _GROUND[key]) if key in _GROUND else None
     relative = getattr(history, f"{key}_relative") if ground is not None and np.any(ground != 0) else None
     if zoom is None:  # translations left, rotations right (the legend above them)
-        margins(fig, left=0.8, right=0.15, top=0.95, bottom=0.55, wspace=1.0, hspace=0.55, columns=2, rows=3)
+        margins(fig, left=0.8, right=0.3, top=0.95, bottom=0.55, wspace=1.0, hspace=0.55, columns=2, rows=3)
         grid = fig.subplots(3, 2, sharex=True)
         panels = [[ax] for ax in grid.T.flat]
         time_axes(grid, t)
     else:  # one row per DOF: the whole record, then the zoom
         spec = fig.add_gridspec(6, 2, width_ratios=(3, 2))
-        margins(fig, left=0.8, right=0.15, top=1.2, bottom=0.55, wspace=0.9, hspace=0.5, columns=2, rows=6,
+        # The right margin holds half the last time label ("0.10" ends past the axes).
+        margins(fig, left=0.8, right=0.3, top=1.2, bottom=0.55, wspace=0.9, hspace=0.5, columns=2, rows=6,
                 target=spec)
         panels = [[fig.add_subplot(spec[i, 0]), fig.add_subplot(spec[i, 1])] for i in range(6)]
         _time_column([row[0] for row in panels], (t[0], t[-1]))
@@ -558,10 +559,11 @@ def plot_mount_shear(check: MountCheck, t, *, name: str = "", events: Mapping[st
         window = zoom_window(t, shear - shear[:, :1])
     factor, unit = display_unit(shear, "N")
     rows = len(check.names)
-    fig = Figure(figsize=(12, 1.4 + 1.55 * rows + 0.6))
+    # Each row's title on two lines (on one it ran past its panel into the zoom's heading): 0.15 in more per row.
+    fig = Figure(figsize=(12, 1.4 + 1.7 * rows + 0.6))
     fig.suptitle(title(name, "shear load of each mount (resultant of u and v, static + dynamic)"), fontsize=12)
     spec = fig.add_gridspec(rows, 1 if window is None else 2, width_ratios=None if window is None else (3, 2))
-    margins(fig, left=0.9, right=0.2, top=0.75, bottom=0.55, wspace=0.8, hspace=0.45,
+    margins(fig, left=0.9, right=0.2, top=0.9, bottom=0.55, wspace=0.8, hspace=0.6,
             columns=1 if window is None else 2, rows=rows, target=spec)
     panels = [[fig.add_subplot(spec[k, c]) for c in range(1 if window is None else 2)] for k in range(rows)]
     _time_column([row[0] for row in panels], (t[0], t[-1]))
@@ -577,7 +579,7 @@ def plot_mount_shear(check: MountCheck, t, *, name: str = "", events: Mapping[st
             row[0].axvspan(*window[:2], color="0.85", zorder=0)
         j, i = int(np.argmax(sliding[k])), int(np.argmax(shear[k]))
         scale, shown = display_unit(sliding[k, j], "m")
-        row[0].set_title(f"mount {mount}: peak shear load {factor * shear[k, i]:.4g} {unit} at t = {t[i]:.4g} s, "
+        row[0].set_title(f"mount {mount}: peak shear load {factor * shear[k, i]:.4g} {unit} at t = {t[i]:.4g} s,\n"
                          f"peak shear deflection {scale * sliding[k, j]:.4g} {shown} at t = {t[j]:.4g} s",
                          fontsize=9, loc="left")
     return fig

@@ -308,8 +308,15 @@ def test_random_png_draws_the_input_and_each_response_with_its_rms():
     fig = plot_random(random, name="box")
     top, bottom = fig.axes
     g2 = STANDARD_GRAVITY**2
-    assert top.get_title() == f"input: ground acceleration, {random.input_rms / STANDARD_GRAVITY:.3g} grms"
+    assert top.get_title() == (f"input: ground acceleration, {random.input_rms / STANDARD_GRAVITY:.3g} grms, "
+                               "PSD peak 0.04 g²/Hz")
     np.testing.assert_allclose(top.lines[0].get_ydata(), random.input_psd / g2)
+    # The input spans less than a decade: its plateau's level is labelled on the axis, not only 0.01 and 0.02.
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    FigureCanvasAgg(fig).draw()
+    labels = [label.get_text() for label in top.yaxis.get_ticklabels(which="both") if label.get_text()]
+    assert {"0.01", "0.02", "0.03", "0.04"} <= set(labels)
     assert "[g²/Hz]" in top.get_ylabel() and "[g²/Hz]" in bottom.get_ylabel()
     lines = {line.get_label(): line for line in bottom.lines}
     # The point at the CG moves as the CG: its curves are the CG's, drawn once with both names.

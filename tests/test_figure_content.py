@@ -195,6 +195,20 @@ def test_mode_shapes_give_their_scale_and_every_mount_with_its_axis():
     plain = four_mount()
     fig = plot_mode_shapes(plain.modes, plain)
     assert not [line for line in fig.axes[0].get_lines() if line.get_color() == "black"]
+    # The bridge's bearings come in pairs 0.39 m apart on a 40 m beam, drawn at one place: one label each pair,
+    # neither hidden behind the other.
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from systems import bridge
+
+    beam = bridge()
+    fig = plot_mode_shapes(beam.modes, beam)
+    FigureCanvasAgg(fig).draw()
+    renderer = fig.canvas.get_renderer()
+    for ax in fig.axes:
+        assert [text.get_text() for text in ax.texts] == ["1, 2", "3, 4"]
+        first, second = (text.get_window_extent(renderer) for text in ax.texts)
+        assert not first.overlaps(second)
 
 
 def test_the_excitation_names_its_shocks_and_switch_ons_within_the_record():

@@ -255,7 +255,7 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
     # After a nonlinear mount engages the two differ by design: the differences end there, as the agreement does.
     first = np.nan if contacts is None else float(contacts.first_engaged_t)
     cut = bool(first < t[-1])  # False for nan
-    compared = t <= max(first, t[0]) if cut else np.ones(len(t), dtype=bool)
+    compared = slice(0, max(int(np.searchsorted(t, first, side="right")), 1)) if cut else slice(None)
     end = max(first, t[min(1, len(t) - 1)]) if cut else t[-1]
     peaks = np.max(np.abs(q_direct[compared]), axis=0)
     zoom = event_window(events or {}, t)

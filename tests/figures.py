@@ -23,3 +23,31 @@ def frozen_tick_difference(draw) -> np.ndarray:
     frozen = draw()
     plots.common.freeze_unlabelled_ticks(frozen)
     return np.abs(pixels(frozen) - pixels(draw()))
+
+
+
+def assert_texts_clear(figure) -> None:
+    """Drawn, every text of ``figure`` (titles, tick and axis labels, annotations, legends) lies inside it, none
+    clipped at its edges, and no two of its titles and legends overlap."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    FigureCanvasAgg(figure).draw()
+    renderer = figure.canvas.get_renderer()
+    titles = [figure._suptitle] if figure._suptitle is not None else []  # no public getter of the artist
+    labels = []
+    for ax in figure.axes:
+        titles += [getattr(ax, name) for name in ("title", "_left_title", "_right_title")]
+        labels += [*ax.xaxis.get_ticklabels(which="both"), *ax.yaxis.get_ticklabels(which="both"), ax.xaxis.label,
+                   ax.yaxis.label, *ax.texts]
+    legends = [legend for legend in [*figure.legends, *(ax.get_legend() for ax in figure.axes)] if legend is not None]
+    boxes = {id(artist): (artist.get_text() if hasattr(artist, "get_text") else "legend",
+                          artist.get_window_extent(renderer))
+             for artist in [*titles, *labels, *legends]
+             if artist.get_visible() and (not hasattr(artist, "get_text") or artist.get_text())}
+    width, height = figure.canvas.get_width_height()
+    for text, box in boxes.values():
+        assert box.x0 >= 0 and box.y0 >= 0 and box.x1 <= width and box.y1 <= height, (text, box.bounds)
+    heads = [boxes[id(artist)] for artist in [*titles, *legends] if id(artist) in boxes]
+    for a in range(len(heads)):
+        for b in range(a + 1, len(heads)):
+            assert not heads[a][1].overlaps(heads[b][1]), (heads[a][0], heads[b][0])

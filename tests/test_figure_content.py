@@ -195,6 +195,20 @@ def test_mode_shapes_give_their_scale_and_every_mount_with_its_axis():
     plain = four_mount()
     fig = plot_mode_shapes(plain.modes, plain)
     assert not [line for line in fig.axes[0].get_lines() if line.get_color() == "black"]
+    # The bridge's bearings come in pairs 0.39 m apart on a 40 m beam, drawn at one place: one label each pair,
+    # neither hidden behind the other.
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from systems import bridge
+
+    beam = bridge()
+    fig = plot_mode_shapes(beam.modes, beam)
+    FigureCanvasAgg(fig).draw()
+    renderer = fig.canvas.get_renderer()
+    for ax in fig.axes:
+        assert [text.get_text() for text in ax.texts] == ["1, 2", "3, 4"]
+        first, second = (text.get_window_extent(renderer) for text in ax.texts)
+        assert not first.overlaps(second)
 
 
 def test_the_excitation_names_its_shocks_and_switch_ons_within_the_record():
@@ -254,6 +268,23 @@ def test_time_dofs_zooms_on_the_shock_beside_the_whole_record_and_the_file_keeps
         "shock", 2.0, 0.01)
 
 
+def test_time_dofs_keeps_the_last_time_label_of_a_zoom_inside_the_figure():
+    from figures import assert_texts_clear
+    from sixdof.plots import plot_time_histories
+
+    # A 0.4 s record of an 11 ms shock: the zoom spans 0 to 0.1 s, "0.10" labels its right edge.
+    system = four_mount(m=MASS, k=(2e5, 3e5, 8e5), damping=(100.0, 100.0, 300.0))
+    excitation = Excitation(loads=(Load("impact", [0.2, 0.1, 0.0], force=[0, 0, 5e3],
+                                        signal=HalfSine(start=0.01, duration=0.011)),))
+    response = simulate(system, excitation, SimulationSettings(duration=0.4, sample_rate_hz=2000.0))
+    fig = plot_time_histories(response, events={name: Event(*event)
+                                                for name, event in excitation.events(0.0, 0.4).items()})
+    zoom = fig.axes[-1]
+    assert zoom.get_xlim() == pytest.approx((0.0, 0.1))
+    assert_texts_clear(fig)
+    assert [label.get_text() for label in zoom.get_xticklabels()][-1] == "0.10"
+
+
 def test_superposition_zooms_on_the_shock_beside_the_whole_overlay():
     from sixdof.analysis.compare import compare
     from sixdof.analysis.superposition import superpose
@@ -291,8 +322,15 @@ def test_random_png_draws_the_input_and_each_response_with_its_rms():
     fig = plot_random(random, name="box")
     top, bottom = fig.axes
     g2 = STANDARD_GRAVITY**2
-    assert top.get_title() == f"input: ground acceleration, {random.input_rms / STANDARD_GRAVITY:.3g} grms"
+    assert top.get_title() == (f"input: ground acceleration, {random.input_rms / STANDARD_GRAVITY:.3g} grms, "
+                               "PSD peak 0.04 g²/Hz")
     np.testing.assert_allclose(top.lines[0].get_ydata(), random.input_psd / g2)
+    # The input spans less than a decade: its plateau's level is labelled on the axis, not only 0.01 and 0.02.
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    FigureCanvasAgg(fig).draw()
+    labels = [label.get_text() for label in top.yaxis.get_ticklabels(which="both") if label.get_text()]
+    assert {"0.01", "0.02", "0.03", "0.04"} <= set(labels)
     assert "[g²/Hz]" in top.get_ylabel() and "[g²/Hz]" in bottom.get_ylabel()
     lines = {line.get_label(): line for line in bottom.lines}
     # The point at the CG moves as the CG: its curves are the CG's, drawn once with both names.
@@ -380,9 +418,21 @@ def test_mount_shear_png_is_drawn_for_a_shear_load_and_draws_each_resultant():
         assert f"peak shear load {shear.max() / 1e3:.4g} kN" in ax.get_title(loc="left")
         assert f"at t = {response.t[np.argmax(deflection)]:.4g} s" in ax.get_title(loc="left")
     # Frozen ticks (what render() draws) draw the same picture.
-    from figures import frozen_tick_difference
+    from figures import assert_texts_clear, frozen_tick_difference
 
     assert frozen_tick_difference(lambda: plot_mount_shear(check, response.t, name="machine")).max() <= 1.01 / 255
+    # A sideways bump, zoomed on: each row's title (two lines) stays over its panel, clear of the zoom's heading.
+    bump = Excitation(loads=(Load("trolley", [0.2, 0.1, 0.3], force=[-2500.0, 875.0, 0.0],
+                                  signal=HalfSine(start=0.01, duration=0.015)),))
+    response = simulate(system, bump, SimulationSettings(duration=0.6, sample_rate_hz=2000.0))
+    check = mount_check(system, mount_forces(system, response), response.t, gravity_statics(system))
+    fig = plot_mount_shear(check, response.t, events={name: Event(*event)
+                                                      for name, event in bump.events(0.0, 0.6).items()})
+    assert fig.axes[1].get_title(loc="left").startswith("zoom: trolley")
+    assert_texts_clear(fig)
+    renderer = fig.canvas.get_renderer()
+    for whole in fig.axes[::2]:  # matplotlib keeps a left title as _left_title
+        assert whole._left_title.get_window_extent(renderer).x1 <= whole.get_window_extent(renderer).x1
     # A vertical load through the middle: the shear left (rocking) is below SHEAR_SHARE of the normal swing.
     vertical, _ = checked(300.0, Harmonic(f_hz=7.0), 1.0)
     normal = np.max(np.abs(vertical.compression + vertical.static_force[:, None, 2]))

@@ -269,6 +269,60 @@ def test_superposition_difference_of_a_quiet_dof_is_the_agreement():
         assert np.max(np.abs(drawn_relative(ax))) == pytest.approx(agreement.per_dof[i], rel=1e-9)
 
 
+def contact_at(first: float):
+    """A ContactSummary of one bump stop that engaged first at ``first`` [s]."""
+    from sixdof.analysis.contact import ContactSummary
+
+    one = np.ones(1)
+    return ContactSummary(names=("m0 w",), kinds=("bump stop",), engagements=np.ones(1, np.int64), first_t=first * one,
+                          engaged_time=0.1 * one, peak_penetration=1e-4 * one, peak_lift=np.nan * one,
+                          deflection_min=-1e-3 * one, deflection_max=1e-3 * one, interval_law=np.zeros(1, np.int64),
+                          interval_start=first * one, interval_end=(first + 0.1) * one, first_engaged_t=first)
+
+
+def test_superposition_of_a_nonlinear_run_draws_the_differences_until_the_first_engagement():
+    # Until a mount engages at 0.4 s the two agree to 1e-12; after it, by design, x differs by half its peak and z
+    # (at rest until then) moves in the direct solve alone. The run's agreement covers t <= 0.4 s.
+    from sixdof.analysis.compare import compare
+
+    first = 0.4
+    t = np.linspace(0.0, 1.0, 1001)
+    wave, after = np.sin(2 * np.pi * 3 * t), t > first
+    q = np.zeros((len(t), 6))
+    q[:, 0], q[:, 3] = 1e-3 * wave, 2e-3 * wave
+    q[after, 2] = 2e-3 * np.sin(2 * np.pi * 5 * (t[after] - first))
+    q_modal = q.copy()
+    q_modal[:, [0, 3]] += np.outer(np.where(after, 0.5e-3, 1e-15) * np.cos(2 * np.pi * 7 * t), [1.0, 2.0])
+    q_modal[:, 2] = 0.0
+    direct, modal = (TimeHistory(t=t, q=values, qd=values, qdd=values) for values in (q, q_modal))
+    agreement = compare(q[~after], q_modal[~after], length=0.5)
+    assert agreement.quiet == ("y", "z", "ry", "rz") and agreement.ok
+    run = RunResults(name="snubbed", response=direct, superposition=modal, agreement=agreement,
+                     contacts=contact_at(first))
+    draw = next(draw for name, _, _, draw in plots.FIGURES if name == "superposition.png")
+    fig = draw(run)  # as sixdof run and sixdof plot draw it: the run's contacts given
+    assert f"t = {first:.4g} s; the superposition is not valid after it" in fig.get_suptitle()
+    for i in range(6):
+        left, right = fig.axes[2 * i], fig.axes[2 * i + 1]
+        assert right.get_xlim() == (0.0, first) and left.get_xlim() == (0.0, 1.0)
+        title = right.get_title()
+        assert "round-off" not in title
+        if i in (0, 3):  # drawn until the engagement, its peak the agreement's
+            line = right.lines[0]
+            assert line.get_xdata()[-1] <= first
+            assert np.max(np.abs(drawn_relative(right))) == pytest.approx(agreement.per_dof[i], rel=1e-9)
+            assert title == f"{DOFS[i]}: max|Δ| / peak for t ≤ 0.4 s = {agreement.per_dof[i]:.2e}"
+            assert [line.get_label() for line in left.get_lines()] == ["direct integration", "modal superposition",
+                                                                       "first engagement"]
+            assert left.get_lines()[2].get_xdata()[0] == first
+        else:  # at rest until the engagement: said so, and z only until then (it moves after)
+            assert not right.lines
+            assert title == ("z: not excited for t ≤ 0.4 s" if i == 2 else f"{DOFS[i]}: not excited")
+    # Without contacts (a linear run) the whole record is compared.
+    whole = plots.plot_superposition(direct, modal, compare(q, q_modal, length=0.5))
+    assert whole.axes[1].get_xlim() == (0.0, 1.0) and "first engagement" not in whole.get_suptitle()
+
+
 def test_bode_marks_natural_frequencies(parts):
     fig = plots.plot_bode(parts["frf"], parts["modes"])
     assert labelled_axes(fig)

@@ -123,7 +123,7 @@ FIGURES: tuple[tuple[str, tuple[str, ...], Callable[[object], bool], Callable[[o
     ("superposition.png", ("response", "superposition", "agreement", "events", "system", "contacts"),
      lambda run: run.response is not None and run.superposition is not None,
      lambda run: _plots.plot_superposition(run.response, run.superposition, run.agreement, name=_linear_name(run),
-                                           events=run.events)),
+                                           events=run.events, contacts=run.contacts)),
     ("bode.png", ("frf", "modes", "steady_state", "system"), lambda run: run.frf is not None,
      lambda run: _plots.plot_bode(run.frf, run.modes, name=_linear_name(run),
                                   operating_hz=None if run.steady_state is None else run.steady_state.f_hz)),

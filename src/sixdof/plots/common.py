@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import struct
 import zlib
+from functools import partial
 
 import matplotlib
 import numpy as np
@@ -87,19 +88,20 @@ def time_axes(axes: np.ndarray, t: np.ndarray) -> None:
         ax.set_xlabel("time t [s]")
 
 
-def plain_tick(value: float, _position=None) -> str:
-    """A log-axis tick as a plain number, only at 1, 2 and 5 times a power of ten (a formatter)."""
+def plain_tick(value: float, _position=None, mantissas=(1, 2, 5)) -> str:
+    """A log-axis tick as a plain number, only at ``mantissas`` (1, 2 and 5) times a power of ten (a formatter)."""
     if value <= 0:
         return ""
     mantissa = round(value / 10 ** np.floor(np.log10(value)), 6)
-    return f"{value:g}" if mantissa in (1.0, 2.0, 5.0) else ""
+    return f"{value:g}" if mantissa in mantissas else ""
 
 
-def plain_log_ticks(axis) -> None:
-    """Ticks of a log ``axis`` labelled in plain numbers at 1, 2 and 5 times a power of ten (20, 50, 100 rather
-    than 2 x 10^1, 5 x 10^1, 10^2; ``4 x 10^-2`` beside ``10^-2``)."""
-    axis.set_major_formatter(FuncFormatter(plain_tick))
-    axis.set_minor_formatter(FuncFormatter(plain_tick))
+def plain_log_ticks(axis, mantissas=(1, 2, 5)) -> None:
+    """Ticks of a log ``axis`` labelled in plain numbers at ``mantissas`` (1, 2 and 5) times a power of ten (20,
+    50, 100 rather than 2 x 10^1, 5 x 10^1, 10^2; ``4 x 10^-2`` beside ``10^-2``)."""
+    formatter = FuncFormatter(partial(plain_tick, mantissas=tuple(mantissas)))
+    axis.set_major_formatter(formatter)
+    axis.set_minor_formatter(formatter)
 
 
 def plain_frequencies(ax) -> None:

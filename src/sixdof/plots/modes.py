@@ -22,6 +22,9 @@ MIN_ASPECT = 0.2
 #: Side of the fallback body box along an axis where every mount lies in a plane through the CG, as
 #: a fraction of the largest side.
 FLAT_SIDE = 0.1
+#: Mounts closer than this, as a fraction of the drawn span along each axis (a bridge's pair of bearings 0.39 m
+#: apart on a 40 m beam, 0.03), are drawn at one place: they get one label ("1, 2"), one would hide the other.
+SAME_PLACE = 0.06
 
 _MODES = "a sixdof.analysis.modal.Modes"
 
@@ -117,8 +120,9 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, name: str = 
     Each mode shape is scaled so that the largest displacement of a box corner or mount is
     :data:`MODE_SCALE` of the box's largest side (rotations at most :data:`MAX_DRAWN_ROTATION`,
     drawn as finite rotations); each panel gives the factor the mass-normalized shape is drawn at. Light
-    grey is the rest position, colour the deformed body; triangles mark the mounts' ground side (named),
-    dots their body side; inclined mounts show their w axis.
+    grey is the rest position, colour the deformed body; triangles mark the mounts' ground side (named; mounts
+    drawn at one place, within :data:`SAME_PLACE`, share a label: "1, 2"), dots their body side; inclined mounts
+    show their w axis.
 
     Parameters
     ----------
@@ -161,6 +165,7 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, name: str = 
     # that MIN_ASPECT keeps slender bodies visible.
     reach = 1.05 * np.max(np.abs(np.concatenate([points, *drawn])), axis=0)
     aspect = np.maximum(reach, MIN_ASPECT * float(np.max(reach)))
+    labelled = same_place(mounts / (2.0 * aspect))
     for j, moved in enumerate(drawn):
         ax = fig.add_subplot(rows, columns, j + 1, projection="3d")
         # Artists drawn in their zorder, not sorted by depth: the box's faces (each collection still orders
@@ -176,8 +181,10 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, name: str = 
             ax.scatter(*body_side.T, marker="o", s=22, color="tab:red", depthshade=False, label="mount (body side)")
             for a, b in zip(mounts, body_side):
                 ax.plot(*np.stack([a, b]).T, color="tab:red", linewidth=1.0)
-            for mount, p in zip(names, mounts):  # below the ground side, on white: clear of markers and edges
-                ax.text(p[0], p[1], p[2] - 0.04 * largest, mount, fontsize=7, color="black", ha="center", va="top",
+            for group in labelled:  # below the ground side, on white: clear of markers and edges
+                p = np.mean(mounts[group], axis=0)
+                ax.text(p[0], p[1], p[2] - 0.04 * largest, ", ".join(names[k] for k in group), fontsize=7,
+                        color="black", ha="center", va="top",
                         bbox={"facecolor": "white", "alpha": 0.8, "pad": 0.6, "linewidth": 0}, zorder=10)
             if inclined:  # each mount's w axis (its normal direction), from its ground side
                 for p, w in zip(mounts, system.axes[:, 2]):
@@ -207,6 +214,19 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, name: str = 
         # matplotlib's automatic placement (off in sixdof.plots.render) raises again at each draw.
         ax.title.set_y(1.0)
     return fig
+
+
+def same_place(points: np.ndarray, within: float = SAME_PLACE) -> list[list[int]]:
+    """Indices of ``points`` (n, 3) grouped by place: each joins the first group whose first point is within
+    ``within`` of it (same unit as ``points``), in order."""
+    groups: list[list[int]] = []
+    for k, p in enumerate(points):
+        group = next((g for g in groups if np.linalg.norm(points[g[0]] - p) < within), None)
+        if group is None:
+            groups.append([k])
+        else:
+            group.append(k)
+    return groups
 
 
 def plot_ke_distribution(modes: Modes, ax=None, *, name: str = "") -> Figure:

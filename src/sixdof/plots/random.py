@@ -34,11 +34,13 @@ def plot_random(random: RandomResponse, *, name: str = "") -> Figure:
     if random.input_kind == "force":
         top.loglog(f, random.input_psd, color="black", linewidth=1.4)
         top.set_ylabel("force PSD [N²/Hz]")
-        top.set_title(f"input: force, RMS {random.input_rms:.4g} N", fontsize=10)
+        top.set_title(f"input: force, RMS {random.input_rms:.4g} N, PSD peak {np.max(random.input_psd):.3g} N²/Hz",
+                      fontsize=10)
     else:
         top.loglog(f, random.input_psd / STANDARD_GRAVITY**2, color="black", linewidth=1.4)
         top.set_ylabel("ground acceleration PSD [g²/Hz]")
-        top.set_title(f"input: ground acceleration, {random.input_rms / STANDARD_GRAVITY:.3g} grms", fontsize=10)
+        top.set_title(f"input: ground acceleration, {random.input_rms / STANDARD_GRAVITY:.3g} grms, "
+                      f"PSD peak {np.max(random.input_psd) / STANDARD_GRAVITY**2:.3g} g²/Hz", fontsize=10)
     curves = [(random.qdd_psd[:, i], f"CG {DOFS[i]}", random.qdd_rms[i]) for i in range(3)
               if np.any(random.qdd_psd[:, i] > 0)]
     for name_, psd, rms in zip(random.points, random.point_acceleration_psd, random.point_acceleration_rms):
@@ -63,7 +65,10 @@ def plot_random(random: RandomResponse, *, name: str = "") -> Figure:
         ax.grid(True, which="both", alpha=0.25)
         ax.set_xlim(f[0], f[-1])
     plain_frequencies(bottom)
-    plain_log_ticks(top.yaxis)  # 0.01, 0.02, 0.04 g²/Hz rather than 10^-2 beside 4 x 10^-2
+    # 0.01, 0.02, 0.04 g²/Hz rather than 10^-2 beside 4 x 10^-2; within about a decade 1-2-5 labels one or two
+    # ticks, not a 0.04 plateau: 3 and 4 too.
+    low, high = top.get_ylim()
+    plain_log_ticks(top.yaxis, (1, 2, 3, 4, 5) if high <= 20 * low else (1, 2, 5))
     return fig
 
 

@@ -10,6 +10,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
 from sixdof.analysis.compare import Agreement, relative_to_ground
+from sixdof.analysis.contact import ContactSummary
 from sixdof.analysis.mountcheck import MountCheck
 from sixdof.analysis.response import MountForces
 from sixdof.dofs import DOFS, FORCE_UNITS, display_unit, dof_units
@@ -75,13 +76,14 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
     ground = getattr(history, _GROUND[key]) if key in _GROUND else None
     relative = getattr(history, f"{key}_relative") if ground is not None and np.any(ground != 0) else None
     if zoom is None:  # translations left, rotations right (the legend above them)
-        margins(fig, left=0.8, right=0.15, top=0.95, bottom=0.55, wspace=1.0, hspace=0.55, columns=2, rows=3)
+        margins(fig, left=0.8, right=0.3, top=0.95, bottom=0.55, wspace=1.0, hspace=0.55, columns=2, rows=3)
         grid = fig.subplots(3, 2, sharex=True)
         panels = [[ax] for ax in grid.T.flat]
         time_axes(grid, t)
     else:  # one row per DOF: the whole record, then the zoom
         spec = fig.add_gridspec(6, 2, width_ratios=(3, 2))
-        margins(fig, left=0.8, right=0.15, top=1.2, bottom=0.55, wspace=0.9, hspace=0.5, columns=2, rows=6,
+        # The right margin holds half the last time label ("0.10" ends past the axes).
+        margins(fig, left=0.8, right=0.3, top=1.2, bottom=0.55, wspace=0.9, hspace=0.5, columns=2, rows=6,
                 target=spec)
         panels = [[fig.add_subplot(spec[i, 0]), fig.add_subplot(spec[i, 1])] for i in range(6)]
         _time_column([row[0] for row in panels], (t[0], t[-1]))
@@ -210,9 +212,14 @@ def unexcited(values: np.ndarray) -> np.ndarray:
 
 
 def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agreement | None = None, *,
-                       name: str = "", events: Mapping[str, Event] | None = None) -> Figure:
+                       name: str = "", events: Mapping[str, Event] | None = None,
+                       contacts: ContactSummary | None = None) -> Figure:
     """Direct solution and modal superposition overlaid (left), and their difference divided by the
     DOF's peak (right, with the agreement tolerance dashed), per DOF.
+
+    With nonlinear mounts the (linear) superposition holds only until the first of them engages: the
+    overlays mark that time, and the differences, their peaks and the titles cover the record up to it
+    (what the run's agreement compares).
 
     Parameters
     ----------
@@ -229,6 +236,9 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
     events : mapping of str to sixdof.results.Event, optional
         The excitation's shocks and switch-ons: the overlay of the one worth a zoom
         (:func:`event_window`) is drawn again in a middle column.
+    contacts : sixdof.analysis.contact.ContactSummary, optional
+        What the nonlinear mounts did: the differences are drawn until its ``first_engaged_t`` [s] (nan:
+        none engaged, the whole record).
 
     Returns
     -------
@@ -237,32 +247,41 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
     require(direct, "direct", TimeHistory, _HISTORY)
     require(modal, "modal", TimeHistory, _HISTORY)
     require(agreement, "agreement", (Agreement, type(None)), "a sixdof.analysis.compare.Agreement (or None)")
+    require(contacts, "contacts", (ContactSummary, type(None)), "a sixdof.analysis.contact.ContactSummary (or None)")
     if modal.q.shape != direct.q.shape:
         raise InputError("modal.q", f"shape {direct.q.shape} (that of direct.q)", f"shape {modal.q.shape}")
     t = direct.t
     q_direct, q_modal = relative_to_ground(direct, modal)  # what the agreement compares
-    peaks = np.max(np.abs(q_direct), axis=0)
+    # After a nonlinear mount engages the two differ by design: the differences end there, as the agreement does.
+    first = np.nan if contacts is None else float(contacts.first_engaged_t)
+    cut = bool(first < t[-1])  # False for nan
+    compared = slice(0, max(int(np.searchsorted(t, first, side="right")), 1)) if cut else slice(None)
+    end = max(first, t[min(1, len(t) - 1)]) if cut else t[-1]
+    peaks = np.max(np.abs(q_direct[compared]), axis=0)
     zoom = event_window(events or {}, t)
     fig = Figure(figsize=(13, 13) if zoom is None else (15, 12))  # a report page scales it to its width
     heading = "direct solution vs modal superposition" + (", relative to the ground" if direct.has_ground else "")
     if agreement is not None:
         verdict = "within" if agreement.ok else "EXCEEDS"
-        heading += (f"\nworst relative difference {agreement.worst:.2e} in "
-                    f"{agreement.worst_dof} ({verdict} tolerance {agreement.tolerance:.0e})")
+        heading += (f"\nworst relative difference {agreement.worst:.2e} in {agreement.worst_dof}"
+                    f"{' before the first engagement' if cut else ''} ({verdict} tolerance {agreement.tolerance:.0e})")
+    top = 1.25 if cut else 1.0  # a third line of title: what the first engagement means
     if zoom is None:
-        margins(fig, left=0.8, right=0.15, top=1.0, bottom=0.55, wspace=1.1, hspace=0.45, columns=2, rows=6)
-        axes = fig.subplots(6, 2, sharex=True)
+        margins(fig, left=0.8, right=0.3, top=top, bottom=0.55, wspace=1.1, hspace=0.45, columns=2, rows=6)
+        axes = fig.subplots(6, 2, sharex="col")
         zooms = [None] * 6
     else:  # the overlay's zoom between the overlay and the difference
         spec = fig.add_gridspec(6, 3, width_ratios=(3, 2, 3))
-        margins(fig, left=0.8, right=0.15, top=1.0, bottom=0.55, wspace=1.0, hspace=0.45, columns=3, rows=6,
+        margins(fig, left=0.8, right=0.3, top=top, bottom=0.55, wspace=1.0, hspace=0.45, columns=3, rows=6,
                 target=spec)
         grid = np.array([[fig.add_subplot(spec[i, c]) for c in range(3)] for i in range(6)])
-        for column in grid.T[[0, 2]]:
-            _time_column(column, (t[0], t[-1]))
+        _time_column(grid[:, 0], (t[0], t[-1]))
+        _time_column(grid[:, 2], (t[0], end))
         axes, zooms = grid[:, [0, 2]], list(grid[:, 1])
         _time_column(zooms, zoom[:2], f"zoom: {zoom[2]}")
     quiet = unexcited(q_direct)
+    quiet_compared = unexcited(q_direct[compared])  # a DOF still at rest when the first mount engages
+    span = f" for t ≤ {first:.4g} s" if cut else ""
     tolerance_drawn = False
     for i in range(6):
         factor, label = display_unit(q_direct[:, i], _UNITS["q"][i])
@@ -289,6 +308,11 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
             left.set_ylabel(f"{DOFS[i]} [{label}]")
             if zoom is not None:
                 left.axvspan(*zoom[:2], color="0.85", zorder=0)
+            if cut:
+                for ax in (left, zooms[i]):
+                    if ax is not None:
+                        ax.axvline(first, color="tab:red", linestyle="-.", linewidth=1.0,
+                                   label="first engagement")  # its time: in the name and the titles
         # Divided as the agreement divides it: by the DOF's own peak, or for a quiet DOF (round-off
         # only) by the largest peak of all DOFs, rotations times the agreement's length (see compare).
         denominator, against = float(peaks[i]), "peak"
@@ -296,22 +320,23 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
             length = float(agreement.length)
             largest = float(np.max(peaks * np.array([1.0, 1.0, 1.0, length, length, length])))
             denominator, against = (largest / length if i >= 3 else largest), "largest peak"
-        difference = q_modal[:, i] - q_direct[:, i]
+        difference = q_modal[compared, i] - q_direct[compared, i]
         relative = difference / denominator if denominator > 0 else difference
-        if quiet[i] or not np.any(relative):  # round-off against round-off: its size said, not drawn
+        if quiet_compared[i] or not np.any(relative):  # round-off against round-off: its size said, not drawn
             size = float(np.max(np.abs(relative))) if relative.size else 0.0
             text = ("identical: both exactly zero" if size == 0 else
                     f"round-off only: max|Δ| / {against} = {size:.1e}")
             right.text(0.5, 0.5, text, transform=right.transAxes, ha="center", va="center", fontsize=10,
                        color="0.4")
             right.set_yticks([])
-            right.set_title(f"{DOFS[i]}: not excited", fontsize=9)
+            # A DOF at rest until the first engagement may move after it: "not excited" only for the span compared.
+            right.set_title(f"{DOFS[i]}: not excited" + ("" if quiet[i] else span), fontsize=9)
             continue
         # The power of ten in the axis label, not in an offset text above the axes (where the title is).
         largest = float(np.max(np.abs(relative))) if relative.size else 0.0
         exponent = int(np.floor(np.log10(largest))) if largest > 0 else 0
         unit = 10.0 ** exponent
-        plot_long(right, t, relative / unit, color="tab:purple", linewidth=0.9)
+        plot_long(right, t[compared], relative / unit, color="tab:purple", linewidth=0.9)
         right.set_ylabel(f"Δ{DOFS[i]} / {against} [×10{_superscript(exponent)}]" if exponent
                          else f"Δ{DOFS[i]} / {against} [1]")
         # Tolerance lines only where they do not flatten the curve into a line.
@@ -320,16 +345,21 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
             for sign in (-1, 1):
                 right.axhline(sign * agreement.tolerance / unit, color="tab:red", linestyle="--", linewidth=0.8)
         if agreement is not None:
-            note = " (quiet DOF: round-off only)" if against != "peak" else ""
-            right.set_title(f"{DOFS[i]}: max|Δ| / {against} = {agreement.per_dof[i]:.2e}{note}", fontsize=9)
+            # Drawn, so more than round-off: quiet only against the largest peak (see compare).
+            note = " (quiet DOF)" if against != "peak" else ""
+            right.set_title(f"{DOFS[i]}: max|Δ| / {against}{span} = {agreement.per_dof[i]:.2e}{note}", fontsize=9)
     if tolerance_drawn:
         heading += "; dashed red: ± tolerance"
+    if cut:
+        heading += (f"\ndash-dot red: a nonlinear mount first engages at t = {first:.4g} s; the superposition is not "
+                    "valid after it (differences drawn until then)")
     fig.suptitle(title(name, heading), fontsize=13)
     shown = [ax for ax in axes[:, 0] if ax.get_lines()]
-    if shown:  # above the first panel, whichever panel holds the first curves
+    if shown:  # above the first panel, whichever panel holds the first curves; compact, clear of the zoom's heading
         axes[0, 0].legend(*shown[0].get_legend_handles_labels(), fontsize=9, loc="lower left",
-                          bbox_to_anchor=(0.0, 1.0), ncols=2, frameon=False)
+                          bbox_to_anchor=(0.0, 1.0), ncols=3, frameon=False, handlelength=1.5, columnspacing=1.0)
     time_axes(axes, t)
+    axes[0, 1].set_xlim(t[0], end)  # the differences' column: the span compared (its axes share it)
     return fig
 
 
@@ -529,10 +559,11 @@ def plot_mount_shear(check: MountCheck, t, *, name: str = "", events: Mapping[st
         window = zoom_window(t, shear - shear[:, :1])
     factor, unit = display_unit(shear, "N")
     rows = len(check.names)
-    fig = Figure(figsize=(12, 1.4 + 1.55 * rows + 0.6))
+    # Each row's title on two lines (on one it ran past its panel into the zoom's heading): 0.15 in more per row.
+    fig = Figure(figsize=(12, 1.4 + 1.7 * rows + 0.6))
     fig.suptitle(title(name, "shear load of each mount (resultant of u and v, static + dynamic)"), fontsize=12)
     spec = fig.add_gridspec(rows, 1 if window is None else 2, width_ratios=None if window is None else (3, 2))
-    margins(fig, left=0.9, right=0.2, top=0.75, bottom=0.55, wspace=0.8, hspace=0.45,
+    margins(fig, left=0.9, right=0.2, top=0.9, bottom=0.55, wspace=0.8, hspace=0.6,
             columns=1 if window is None else 2, rows=rows, target=spec)
     panels = [[fig.add_subplot(spec[k, c]) for c in range(1 if window is None else 2)] for k in range(rows)]
     _time_column([row[0] for row in panels], (t[0], t[-1]))
@@ -548,7 +579,7 @@ def plot_mount_shear(check: MountCheck, t, *, name: str = "", events: Mapping[st
             row[0].axvspan(*window[:2], color="0.85", zorder=0)
         j, i = int(np.argmax(sliding[k])), int(np.argmax(shear[k]))
         scale, shown = display_unit(sliding[k, j], "m")
-        row[0].set_title(f"mount {mount}: peak shear load {factor * shear[k, i]:.4g} {unit} at t = {t[i]:.4g} s, "
+        row[0].set_title(f"mount {mount}: peak shear load {factor * shear[k, i]:.4g} {unit} at t = {t[i]:.4g} s,\n"
                          f"peak shear deflection {scale * sliding[k, j]:.4g} {shown} at t = {t[j]:.4g} s",
                          fontsize=9, loc="left")
     return fig

@@ -241,14 +241,14 @@ def statics_table(statics, system) -> str:
 
 
 #: In the printed tables, a value at most this fraction of the largest of its table is round-off, shown as 0.
-ROUND_OFF_RTOL = 1e-12
+SHOWN_AS_ZERO_RTOL = 1e-12
 
 
 def _without_round_off(values, scale=1.0) -> np.ndarray:
     """``values`` with those at round-off of the largest (each times ``scale``, to compare units) set to 0."""
     values = np.asarray(values, dtype=float)
     size = np.abs(values) * scale
-    return np.where(size > ROUND_OFF_RTOL * np.max(size, initial=0.0), values, 0.0)
+    return np.where(size > SHOWN_AS_ZERO_RTOL * np.max(size, initial=0.0), values, 0.0)
 
 
 def _fixed(value: float, digits: int) -> str:

@@ -392,7 +392,7 @@ def summary_markdown(scenario, modes, statics, damping_ratios, response, forces,
             limits = np.stack([m.max_deflection for m in scenario.system.mounts])
             parts += ["### Mount checks", "", mount_check_text(mount_check, limits), ""]
         if points:
-            parts += ["### Body points", "", points_table(points, ground_moves(scenario), steady is not None), ""]
+            parts += ["### Body points", "", points_table(points, moving_ground(scenario), steady is not None), ""]
         parts += ["### Peak mount forces (dynamic part, about static equilibrium; body axes)", "",
                   _mount_peaks_table(forces), ""]
         if nonlinear is not None:
@@ -514,7 +514,7 @@ def steady_state_text(steady) -> str:
                      "of each DOF of the CG:") + "\n" + motion + "\n\n" + isolation)
 
 
-def ground_moves(scenario) -> bool:
+def moving_ground(scenario) -> bool:
     """Whether the scenario's ground moves (its body points' motion is then absolute: :func:`points_table`)."""
     return scenario.excitation is not None and scenario.excitation.ground is not None
 

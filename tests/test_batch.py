@@ -221,6 +221,19 @@ def test_sweep_command_prints_the_cross_check(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "Cross-check of the exact engine: diffrax solved variants 0, 1, 2; peak agreement worst " in out
     assert ": ok\n  per DOF: x " in out and "3 variants, exact engine" in out
+    # The peaks' percentiles in the run summary's display units (mm, µrad ...), each row its own, not raw SI.
+    import h5py
+
+    with h5py.File(tmp_path / "out" / "beam_sweep" / "sweep.h5") as f:
+        peaks = f["sweep/peak_q"][()]
+    rows = {line.split("|")[1].strip(): line.split("|")[2:5] for line in out.splitlines() if line.startswith("| peak")}
+    for j, dof in enumerate(("x", "y", "z", "rx", "ry", "rz")):
+        (label, cells), = ((k, v) for k, v in rows.items() if k.startswith(f"peak {dof} ["))
+        unit = label.split("[")[1].rstrip("]")
+        factor = {"mm": 1e3, "µm": 1e6, "nm": 1e9, "mrad": 1e3, "µrad": 1e6, "nrad": 1e9}[unit]
+        shown = np.array([float(c) for c in cells])
+        np.testing.assert_allclose(shown, factor * np.percentile(peaks[:, j], [5, 50, 95]), rtol=5e-4)
+        assert 1.0 <= shown.max() < 1000.0 or unit in ("nm", "nrad")
 
 
 def test_spec_draws_only_what_it_names(beam):

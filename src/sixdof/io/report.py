@@ -318,9 +318,10 @@ def summary_table(frequency_hz, peak_q=None) -> str:
     batch of variants; read one column at a time (they may be HDF5 datasets too large to hold whole)."""
     rows = [[f"f{j + 1} [Hz]", *(f"{v:.5g}" for v in np.percentile(frequency_hz[:, j], [5, 50, 95]))]
             for j in range(6)]
-    if peak_q is not None:
-        rows += [[f"peak {dof} [{unit}]", *(f"{v:.4g}" for v in np.percentile(peak_q[:, j], [5, 50, 95]))]
-                 for j, (dof, unit) in enumerate(zip(DOFS, DOF_UNITS))]
+    for j, (dof, unit) in enumerate(zip(DOFS, DOF_UNITS) if peak_q is not None else ()):
+        values = np.percentile(peak_q[:, j], [5, 50, 95])
+        scale, shown = display_unit(values, unit)
+        rows.append([f"peak {dof} [{shown}]", *(f"{scale * v:.4g}" for v in values)])
     return f"{len(frequency_hz)} variants\n\n" + table(["quantity", "p5", "p50", "p95"], rows)
 
 

@@ -238,6 +238,11 @@ def test_optimize_writes_a_scenario_that_reproduces_the_design_and_a_labelled_fi
     assert names == ["decoupling.png", "design.h5", "frequencies.png", "optimized.toml", "summary.md"]
     optimized = load_scenario(folder / "optimized.toml")  # a complete, valid scenario
     assert optimized.name == "engine_inclined_mounts_optimized" and optimized.simulation is not None
+    # It says what it is: the original's description would describe the mounts it no longer has.
+    assert optimized.description.endswith("(mounts optimized by sixdof optimize for the [design] targets of "
+                                          "engine_inclined_mounts)")
+    assert (folder / "optimized.toml").read_text().startswith("# Written by `sixdof optimize` from "
+                                                              "engine_inclined_mounts.toml")
     with h5py.File(folder / "design.h5") as f:
         values, labels = f["values"][()], [s.decode() for s in f["target"][()]]
         assert bool(f.attrs["all_met"]) and f["met"][()].all()

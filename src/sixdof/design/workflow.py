@@ -46,12 +46,15 @@ class DesignOutcome:
 
 
 def optimized_toml(scenario, system) -> str:
-    """The scenario's text with the mounts of ``system`` and the name ``<name>_optimized``: comments and
-    layout kept (tomlkit), relative file references made absolute (the file lives elsewhere)."""
+    """The scenario's text with the mounts of ``system``, the name ``<name>_optimized`` and a description and
+    first line that say so: comments and layout kept (tomlkit), relative file references made absolute (the
+    file lives elsewhere)."""
     import tomlkit
 
     document = tomlkit.parse(scenario.text)
     document["name"] = f"{scenario.name}_optimized"
+    said = OPTIMIZED_NOTE.format(name=scenario.name)
+    document["description"] = f"{scenario.description} ({said})" if scenario.description else said
     for table, mount in zip(document["mounts"], system.mounts):
         table["position"] = [float(v) for v in mount.position]
         table["stiffness"] = [float(v) for v in mount.stiffness]
@@ -59,7 +62,14 @@ def optimized_toml(scenario, system) -> str:
             table["axes"] = [[float(v) for v in row] for row in mount.axes]
     base = scenario.path.parent if scenario.path is not None else Path(".")
     _absolute_files(document, base.resolve())
-    return tomlkit.dumps(document)
+    source = scenario.path.name if scenario.path is not None else "the scenario"
+    return (f"# Written by `sixdof optimize` from {source}: its [[mounts]] position, stiffness and axes are the\n"
+            f"# optimized design's; the comments below are the original's and may describe the mounts before.\n"
+            + tomlkit.dumps(document))
+
+
+#: The optimized scenario's description says what it is (``sixdof run`` prints it as its title).
+OPTIMIZED_NOTE = "mounts optimized by sixdof optimize for the [design] targets of {name}"
 
 
 def _absolute_files(node, base: Path) -> None:

@@ -92,6 +92,21 @@ def test_constant_loss_model_against_kramers_kronig(eta, decades):
     assert model.long_term > 0.5 * k  # the static stiffness stays with the long-term spring
 
 
+def test_the_fits_table_names_the_fits_beyond_a_measured_table_s_limits():
+    import dataclasses
+
+    from sixdof.io.report import viscoelastic_table
+
+    close = dataclasses.replace(constant_loss_model(1e6, 0.02, (10.0, 100.0)), name="a w")
+    wide = dataclasses.replace(constant_loss_model(1e6, 0.2, (1.0, 1000.0)), name="b u")
+    assert close.modulus_error < 0.05 and close.loss_angle_error_deg < 1 and wide.modulus_error > 0.05
+    assert "Note" not in viscoelastic_table([close])
+    text = viscoelastic_table([close, wide])
+    table, note = text.split("\n\n")  # a paragraph of its own, not a row of the Markdown table
+    assert note.startswith("Note: b u miss what they model by up to ")
+    assert f"{100 * wide.modulus_error:.3g} % in |K*| and {wide.loss_angle_error_deg:.3g} deg" in note.replace("\n", " ")
+
+
 def write(tmp_path, rows, header="f [Hz], K' [N/m], loss factor [-]"):
     path = tmp_path / "mount.csv"
     path.write_text("\n".join([header, *rows]) + "\n")

@@ -119,13 +119,28 @@ def nonlinear_text(contacts, energy, refined, agreement, stats) -> str:
 
 
 def viscoelastic_table(fits) -> str:
-    """Each Maxwell fit: what it models, its data, its long-term stiffness, branches and worst errors."""
+    """Each Maxwell fit: what it models, its data, its long-term stiffness, branches and worst errors; and a
+    note naming the fits that miss what they model by more than a measured table's fit may."""
+    from sixdof.model.viscoelastic import FIT_LOSS_ANGLE_ERROR_DEG, FIT_MODULUS_ERROR
+
     headers = ["mount axis", "fitted to", "band [Hz]", "long-term k0 [N/m]", "branches", "max |K*| error [%]",
                "max loss angle error [deg]"]
     rows = [[fit.name, fit.source, f"{fit.f_hz[0]:.3g}-{fit.f_hz[-1]:.3g}", f"{fit.long_term:.4g}",
              str(int(np.count_nonzero(fit.stiffness))), f"{100 * fit.modulus_error:.2f}",
              f"{fit.loss_angle_error_deg:.2f}"] for fit in fits]
-    return table(headers, rows)
+    loose = [fit for fit in fits
+             if fit.modulus_error > FIT_MODULUS_ERROR or fit.loss_angle_error_deg > FIT_LOSS_ANGLE_ERROR_DEG]
+    if not loose:
+        return table(headers, rows)
+    note = (f"Note: {', '.join(fit.name for fit in loose)} miss what they model by up to "
+            f"{100 * max(fit.modulus_error for fit in loose):.3g} % in |K*| and "
+            f"{max(fit.loss_angle_error_deg for fit in loose):.3g} deg in loss angle (beyond the "
+            f"{100 * FIT_MODULUS_ERROR:g} % and {FIT_LOSS_ANGLE_ERROR_DEG:g} deg a measured table's fit must meet): "
+            "the time run, the FRFs and validate model these mounts as fitted, that far from their table or the "
+            "stiffness and loss factor given. A loss factor that stays constant over a band is not causal "
+            "(Kramers-Kronig): no number of branches removes that misfit; a narrower band (loss_factor_band_hz) "
+            "lowers it.")
+    return table(headers, rows) + "\n\n" + _wrapped(note)  # a blank line: Markdown would read it as a row
 
 
 def ke_table(modes) -> str:

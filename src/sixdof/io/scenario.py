@@ -465,13 +465,9 @@ def _mount(raw: Any, path: str, base_dir: Path) -> tuple[Mount, list[Maxwell], l
     return mount, branches, fits, tables
 
 
-#: A fit of measured dynamic stiffness must reach these unless the scenario states others.
-FIT_MODULUS_ERROR = 0.05
-FIT_LOSS_ANGLE_ERROR_DEG = 1.0
-
-
 def _fit(mount: Mount, raw: Any, field: str, base_dir: Path):
     """One ``dynamic_stiffness`` table: the measured data of ``file`` fitted along ``axis``."""
+    from sixdof.model import viscoelastic
     from sixdof.model.viscoelastic import AXES, fit_maxwell, read_dynamic_stiffness
 
     table = Table(raw, field, ("file", "axis", "terms", "max_modulus_error", "max_loss_angle_error_deg"))
@@ -484,8 +480,8 @@ def _fit(mount: Mount, raw: Any, field: str, base_dir: Path):
     fit = fit_maxwell(f_hz, storage, loss, table.value("terms", None), field=field)
     limits = [number_check(expected, low=0.0, strict=True)(table.value(key, default), f"{field}.{key}")
               for key, default, expected in (
-                  ("max_modulus_error", FIT_MODULUS_ERROR, "a relative error > 0"),
-                  ("max_loss_angle_error_deg", FIT_LOSS_ANGLE_ERROR_DEG, "an angle in deg > 0"))]
+                  ("max_modulus_error", viscoelastic.FIT_MODULUS_ERROR, "a relative error > 0"),
+                  ("max_loss_angle_error_deg", viscoelastic.FIT_LOSS_ANGLE_ERROR_DEG, "an angle in deg > 0"))]
     if fit.modulus_error > limits[0] or fit.loss_angle_error_deg > limits[1]:
         raise InputError(field, f"a Maxwell fit within {100 * limits[0]:g} % in |K*| and {limits[1]:g} deg in loss "
                          "angle over the data (raise terms, or the limits max_modulus_error and "

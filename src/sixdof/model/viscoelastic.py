@@ -36,6 +36,11 @@ TABLE = ("a UTF-8 CSV file of a header row, then rows of three numbers: frequenc
 TERMS_PER_DECADE = 2
 #: Points per decade at which :func:`constant_loss_model` samples its constant complex stiffness.
 POINTS_PER_DECADE = 20
+#: A fit this close to its data (worst relative error in ``|K*|``, worst loss angle error in degrees) models the
+#: mount it was fitted to: a scenario's measured table must be fitted this well unless it states other limits,
+#: and the report says which fits are not (a constant loss factor made causal over a wide band cannot be).
+FIT_MODULUS_ERROR = 0.05
+FIT_LOSS_ANGLE_ERROR_DEG = 1.0
 
 
 def relaxation(f_hz, tau) -> np.ndarray:

@@ -98,6 +98,17 @@ def test_the_psd_is_log_log_between_breakpoints_and_its_rms_exact():
     assert flat.rms / G == pytest.approx(np.sqrt(0.04 * 1980.0), rel=1e-12)  # grms = sqrt(S (f2 - f1))
 
 
+@pytest.mark.parametrize("slope", [-1.0, -1.0 + 9e-6, -1.0 - 3e-9, -1.0 + 1e-13])
+def test_the_rms_of_a_segment_near_the_slope_minus_one_is_exact(slope, recwarn):
+    """At slope -1 the integral is s0 f0 ln(f1 / f0); near it, the closed form s0 f0 ((f1/f0)^(b+1) - 1) / (b + 1)
+    must not be switched for that limit within a tolerance (which was off by 1.2e-5 at b = -1 + 9e-6)."""
+    f0, f1, s0 = 10.0, 2000.0, 0.01
+    psd = PSD(f_hz=[f0, f1], value=[s0, s0 * (f1 / f0) ** slope], unit="(m/s^2)^2/Hz")
+    reference = quad(lambda f: s0 * (f / f0) ** slope, f0, f1, limit=200, epsabs=0.0, epsrel=1e-13)[0]
+    assert psd.rms**2 == pytest.approx(reference, rel=1e-12)
+    assert not recwarn.list  # no division by zero on the way
+
+
 @pytest.mark.parametrize(("kwargs", "message"), [
     ({"f_hz": [20.0, 10.0], "value": [1.0, 1.0]}, r"f_hz: expected increasing frequencies \[Hz\] > 0, at least 2"),
     ({"f_hz": [20.0], "value": [1.0]}, r"f_hz: expected increasing frequencies"),

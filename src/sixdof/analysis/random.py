@@ -76,10 +76,13 @@ class PSD(Frozen):
     def rms(self) -> float:
         """The input's RMS in SI (m/s^2 or N): the exact integral of the log-log segments."""
         f, s = self.f_hz, self.value * PSD_UNITS[self.unit]
-        slope = np.diff(np.log(s)) / np.diff(np.log(f))
-        area = np.where(np.isclose(slope, -1.0), s[:-1] * f[:-1] * np.log(f[1:] / f[:-1]),
-                        s[:-1] * f[:-1] / (slope + 1) * ((f[1:] / f[:-1]) ** (slope + 1) - 1))
-        return float(np.sqrt(np.sum(area)))
+        span = np.log(f[1:] / f[:-1])
+        # A segment S = s0 (f / f0)^b holds s0 f0 ((f1 / f0)^(b+1) - 1) / (b + 1) = s0 f0 L expm1(x) / x, with
+        # L = ln(f1 / f0) and x = (b + 1) L: one form, exact as b nears -1 (where it tends to s0 f0 L), no switch.
+        x = np.diff(np.log(s)) + span
+        with np.errstate(divide="ignore", invalid="ignore"):
+            relative = np.where(x == 0.0, 1.0, np.expm1(x) / x)
+        return float(np.sqrt(np.sum(s[:-1] * f[:-1] * span * relative)))
 
 
 @dataclass(frozen=True)

@@ -26,6 +26,7 @@ from sixdof.validation.random_time import (
     synthesize,
 )
 from systems import sdof, skewed_box, small_box
+from tolerances import RTOL_TIME_CHECK_RMS
 
 
 def test_a_table_with_slopes_is_a_cubic_hermite_spline():
@@ -131,6 +132,15 @@ def test_a_coupled_box_under_a_random_force_agrees_with_its_time_history():
     assert check.segment_s == pytest.approx(4 / 0.6387, rel=0.01) and check.averages >= 31
     assert check.sigma.min() > 0.005 and check.sigma.max() < 1.0
     assert not check.notes
+    # Its RMS from the FRFs is the random response's, integrated apart (to 4e-8 here).
+    response = random_module.random_response(system, random, {"corner": [0.3, 0.2, 0.1]})
+    expected = {f"rms:{kind}:{dof}": values[i] for kind, values in (("q", response.q_rms), ("qdd", response.qdd_rms))
+                for i, dof in enumerate(("x", "y", "z", "rx", "ry", "rz"))}
+    expected |= {f"rms:point:corner:{a}": response.point_acceleration_rms[0, j] for j, a in enumerate("xyz")}
+    shown = dict(zip(check.judged, check.frequency_rms))
+    assert set(expected) <= set(shown)
+    for name, value in expected.items():
+        assert shown[name] == pytest.approx(value, rel=RTOL_TIME_CHECK_RMS), name
 
 
 def test_a_model_three_percent_too_stiff_fails_the_check(monkeypatch):

@@ -356,6 +356,19 @@ def fine_grid(low: float, high: float, welch: Welch, bandwidth: float) -> tuple[
     return np.arange(max(math.ceil((low - pad) / step), 1), math.floor((high + pad) / step) + 1) * step, notes
 
 
+def band_mean_squares(f_fine: np.ndarray, fine: dict, edges: dict, low: float, high: float) -> dict[str, float]:
+    """``integral S df`` of each PSD of ``fine`` (at ``f_fine`` [Hz]; ``edges``: at ``low`` and ``high``): the
+    trapezoidal rule over the band ``[low, high]``, its ends included, outside which the PSD is zero. A sum
+    over the whole grid (as the trapezoidal rule over it) counts the PSD's jump at each edge as a whole step:
+    on the electronics box it put 0.12 % (z acceleration) to 0.31 % (z displacement) on the mean squares."""
+    from scipy.integrate import trapezoid
+
+    inside = (f_fine > low) & (f_fine < high)
+    f = np.concatenate([[low], f_fine[inside], [high]])
+    return {name: float(trapezoid(np.concatenate([edges[name][:1], psd[inside], edges[name][1:]]), f))
+            for name, psd in fine.items()}
+
+
 def octave_bands(f_hz: np.ndarray, low: float, high: float) -> list[tuple[float, np.ndarray]]:
     """``(centre [Hz], bins)`` of each octave band (centres 1000 * 2^k Hz) holding Welch bins ``f_hz`` inside
     the PSD's band ``[low, high]``: a bin beyond it holds only leakage, whose scatter the band errors (for a
@@ -506,7 +519,8 @@ def random_time_check(system, random, points=None, settings: TimeCheckSettings |
 
     # Record mean squares.
     largest: dict[str, float] = {}
-    mean_square = {name: float(np.sum(fine[name]) * step) for name in fine}
+    mean_square = band_mean_squares(f_fine, fine, _transfer_psds(model, random, points, np.array([low, high])),
+                                    low, high)
     for name, (_, unit) in series.items():
         largest[_family(name, unit)] = max(largest.get(_family(name, unit), 0.0), mean_square[name])
     for name, (x, unit) in series.items():

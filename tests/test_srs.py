@@ -38,6 +38,31 @@ def test_the_ramp_invariant_filter_matches_an_independent_integration():
         assert value == pytest.approx(np.max(np.abs(absolute)), rel=1e-4)
 
 
+def test_peaks_between_the_record_s_samples_are_found():
+    """Oscillators up to near the Nyquist frequency of a 10 kHz record of a tone burst and noise, against the peak
+    of the exact response to the same input (linear between samples) at 100 points per sample: found to within
+    1 - cos(pi / PEAK_STEPS_PER_PERIOD) = 0.31 % (at the record's samples: 3-5 % low above 1.5 kHz)."""
+    from scipy.signal import cont2discrete, dlsim
+
+    from sixdof.analysis.srs import PEAK_STEPS_PER_PERIOD
+
+    rate, dense = 10000.0, 100
+    t = np.arange(0.0, 0.05, 1.0 / rate)
+    noise = np.random.default_rng(3).standard_normal(t.size)
+    x = np.where(t < 0.004, 50.0 * np.sin(2 * np.pi * 2170.0 * t), 0.0) + np.where(t < 0.01, 10.0 * noise, 0.0)
+    x[0] = 0.0  # at rest before the record, as both sides take it
+    f = np.array([300.0, 1500.0, 2170.0, 3000.0, 4500.0])
+    found = srs(t, x, f, q=10.0)
+    u = np.interp(np.arange((t.size - 1) * dense + 1) / (rate * dense), t, x)
+    for fn, value in zip(f, found):
+        w, zeta = 2 * np.pi * fn, 0.05
+        a = np.array([[0.0, 1.0], [-w * w, -2 * zeta * w]])  # relative motion, driven by -base acceleration
+        exact = cont2discrete((a, np.array([[0.0], [-1.0]]), a[1:], np.zeros((1, 1))), 1 / (rate * dense), "foh")
+        peak = np.max(np.abs(dlsim(exact, u)[1]))
+        missed = 1 - np.cos(np.pi / PEAK_STEPS_PER_PERIOD)
+        assert -missed - 1e-4 < value / peak - 1 < 1e-4, fn  # 1e-4: the reference's own steps
+
+
 def test_the_spectrum_tends_to_the_peak_input_at_high_frequency_and_to_zero_at_low():
     t = np.arange(0.0, 0.5, 1.0 / RATE)
     found = srs(t, _half_sine(t), np.array([0.5, 5000.0]), q=10.0)

@@ -6,10 +6,17 @@ driven at its base by the sampled acceleration; its absolute acceleration is com
 ramp-invariant digital filter (D. O. Smallwood, "An improved recursive formula for calculating shock
 response spectra", Shock and Vibration Bulletin 51, 1981), exact for an input varying linearly between
 samples; the SRS is the largest magnitude over the record (maximax: during and after the shock).
+
+The largest magnitude is sought at :data:`PEAK_STEPS_PER_PERIOD` steps per period of each oscillator at
+least: where the record is sampled coarser (above a tenth of its rate, the usual limit), the filter runs
+on the input linearly interpolated between the samples, as it already takes it, at a step that divides
+the record's. At the record's own steps, a peak falling between two samples would read up to
+``1 - cos(pi f dt)`` low: 19 % at a fifth of the sample rate.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -18,6 +25,9 @@ from sixdof.errors import InputError, frequency_band, integer_check, number_chec
 from sixdof.frozen import Frozen, checked
 from sixdof.results import Result, label, quantity
 
+#: Steps per period of an oscillator at which :func:`srs` seeks its peak: one between two steps reads at most
+#: ``1 - cos(pi / 40)`` = 0.31 % low.
+PEAK_STEPS_PER_PERIOD = 40
 
 @dataclass(frozen=True)
 class SRSSettings(Frozen):
@@ -88,12 +98,17 @@ def srs(t, acceleration, f_hz, q: float = 10.0) -> np.ndarray:
     zeta = 1.0 / (2.0 * q)
     out = np.empty(f.size)
     for k, fn in enumerate(f):
-        a = 2 * np.pi * fn * zeta * dt  # Smallwood's A and B
-        b = 2 * np.pi * fn * np.sqrt(1 - zeta**2) * dt
+        steps = max(1, math.ceil(PEAK_STEPS_PER_PERIOD * fn * dt))  # per sample of the record
+        # The input linear between samples, as the filter takes it, from 0 one sample before the first (the
+        # filter's start from rest): exact values of the same response in between.
+        fine = np.interp(np.arange(x.size * steps + 1) / steps, np.arange(x.size + 1), np.append(0.0, x))
+        h = dt / steps
+        a = 2 * np.pi * fn * zeta * h  # Smallwood's A and B
+        b = 2 * np.pi * fn * np.sqrt(1 - zeta**2) * h
         e, sinc = np.exp(-a), np.sin(b) / b
         num = [1 - e * sinc, 2 * e * (sinc - np.cos(b)), e**2 - e * sinc]
         den = [1.0, -2 * e * np.cos(b), e**2]
-        out[k] = np.max(np.abs(lfilter(num, den, x)))
+        out[k] = np.max(np.abs(lfilter(num, den, fine)[steps:]))
     return out
 
 

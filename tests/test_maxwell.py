@@ -233,6 +233,27 @@ def test_scenario_branches_fits_and_causal_loss_factors(tmp_path):
     assert hysteretic.band_hz == (5.0, 80.0) and hysteretic.loss_angle_error_deg < np.degrees(np.arctan(0.1))
 
 
+def test_a_steady_state_outside_a_fit_s_band_is_said_with_the_mount_there(tmp_path):
+    from sixdof.analysis.validity import RangeWarning
+    from sixdof.workflows import run_scenario
+
+    loads = "".join(f'[[loads]]\nname = "{n}"\npoint = [0.1, 0.0, 0.0]\nforce = [0.0, 0.0, 50.0]\n'
+                    f'signal = {{ kind = "harmonic", f_hz = {f} }}\n' for n, f in (("in", 40.0), ("out", 120.0)))
+    sc = scenario(tmp_path, damping='[damping]\nloss_factor_model = "maxwell"\nloss_factor_band_hz = [5.0, 80.0]\n'
+                  + loads)
+    with pytest.warns(RangeWarning) as caught:
+        outcome = run_scenario(sc, tmp_path / "out", log=lambda *a: None)
+    said = [str(w.message) for w in caught if "outside the" in str(w.message)]
+    assert len(said) == 1 and said[0] in outcome.warnings
+    assert said[0].startswith("steady state at 120 Hz, outside the 5-80 Hz band of the Maxwell fit of a u, a v "
+                              "(fitted to loss factor 0.1)")
+    fit = sc.viscoelastic[0]  # the mount the steady state used there: the fit's, branch by branch
+    storage = fit.long_term + sum(k * (2 * np.pi * 120.0 * t) ** 2 / (1 + (2 * np.pi * 120.0 * t) ** 2)
+                                  for k, t in zip(fit.stiffness, fit.tau))
+    loss = sum(k * 2 * np.pi * 120.0 * t / (1 + (2 * np.pi * 120.0 * t) ** 2) for k, t in zip(fit.stiffness, fit.tau))
+    assert f"(a u: K' {storage / 1e3:.4g} kN/m and loss factor {loss / storage:.3g} at 120 Hz)" in said[0]
+
+
 @pytest.mark.parametrize(("extra", "damping", "match"), [
     ('[[mounts.maxwell]]\nstiffness = [0.0, 0.0, 1e4]\ntau = 0.01\nc = 3', "", r"mounts\[0\]\.maxwell\[0\]\.c: "),
     ('[[mounts.maxwell]]\nstiffness = [0.0, 0.0, 1e4]\ntau = -1', "", r"mounts\[0\]\.maxwell\[0\]\.tau: expected"),

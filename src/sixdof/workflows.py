@@ -19,7 +19,7 @@ import numpy as np
 
 from sixdof.analysis.statespace import damping_ratios
 from sixdof.analysis.statics import try_gravity_statics
-from sixdof.analysis.validity import RangeWarning, body_length, static_range
+from sixdof.analysis.validity import RangeWarning, body_length, fit_band_range, static_range
 from sixdof.errors import InputError, Plain
 from sixdof.io import output
 from sixdof.plots.workers import FigureWorkers
@@ -183,6 +183,9 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
             warnings.warn(note, RangeWarning, stacklevel=2)
         frf, frf_extras = _frequency_responses(scenario)
         steady = None if scenario.excitation is None else steady_state(system, scenario.excitation)
+        for note in [] if steady is None else fit_band_range(scenario.viscoelastic, steady.f_hz):
+            notes.append(note)
+            warnings.warn(note, RangeWarning, stacklevel=2)
         points = {p.name: p.position for p in scenario.points}
         random = None if scenario.random is None else random_response(system, scenario.random, points)
         if random is not None and scenario.random.time_check is not None:

@@ -83,4 +83,31 @@ def static_range(statics, system) -> list[str]:
     return messages
 
 
-__all__ = ["SMALL_ANGLE_RAD", "RangeWarning", "body_length", "static_range", "warn_idle", "warn_large_rotations"]
+def fit_band_range(fits, f_hz) -> list[str]:
+    """What lies outside the band of a Maxwell fit (:class:`~sixdof.model.viscoelastic.MaxwellFit`) among the
+    operating frequencies ``f_hz`` [Hz] of the steady state: there the mount is the fit's extrapolation, which
+    neither its table nor its loss factor vouches for. One message per band and source; none: []."""
+    from sixdof.model.viscoelastic import maxwell_stiffness
+
+    groups: dict[tuple, list] = {}
+    for fit in fits:
+        groups.setdefault((fit.f_hz[0], fit.f_hz[-1], fit.source), []).append(fit)
+    messages = []
+    for (low, high, source), members in groups.items():
+        outside = [float(f) for f in np.atleast_1d(f_hz) if not low <= f <= high]
+        if not outside:
+            continue
+        first = members[0]
+        k = maxwell_stiffness(np.array(outside), first.long_term, first.stiffness, first.tau)
+        at = "; ".join(f"K' {kf.real / 1e3:.4g} kN/m and loss factor {kf.imag / kf.real:.3g} at {f:.4g} Hz"
+                       for f, kf in zip(outside, k))
+        messages.append(f"steady state at {', '.join(f'{f:.4g}' for f in outside)} Hz, outside the "
+                        f"{low:.3g}-{high:.3g} Hz band of the Maxwell fit of {', '.join(m.name for m in members)} "
+                        f"(fitted to {source}): there the mount is the fit's extrapolation ({first.name}: {at}); "
+                        "a band (loss_factor_band_hz) or a table (dynamic_stiffness) reaching it models the mount "
+                        "there as given")
+    return messages
+
+
+__all__ = ["SMALL_ANGLE_RAD", "RangeWarning", "body_length", "fit_band_range", "static_range", "warn_idle",
+           "warn_large_rotations"]

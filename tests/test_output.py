@@ -171,6 +171,53 @@ def test_a_signal_during_the_write_keeps_the_previous_results(previous, scenario
     assert debris(out) == []
 
 
+@pytest.mark.parametrize(("signum", "status", "word"), [(signal.SIGINT, EXIT_INTERRUPTED, "interrupted"),
+                                                       (signal.SIGTERM, EXIT_TERMINATED, "terminated (SIGTERM)")])
+def test_a_signal_during_the_swap_is_acted_on_once_the_results_are_in_place_and_said_so(
+        previous, scenario_file, tmp_path, signum, status, word):
+    """Held back while the new folder replaces the previous one, the signal ends the command once it has: the
+    report must say the new results are complete and in place, not that nothing was left."""
+    out = tmp_path / "out"
+    scenario_file.write_text(SCENARIO.replace("points = 50", "points = 60"))
+    returncode, err = signal_at(child("swap", "run", str(scenario_file), "--out", str(out), "--quiet"), "SWAPPING",
+                                signum)
+    assert returncode == status
+    kept, said = err.strip().splitlines()  # the user's file kept (said as it is done), then the interruption
+    assert kept.startswith("WARNING: ") and kept.endswith("kept them: notes.txt")
+    assert said == f"sixdof: {word}; it came once the results were complete, and they are in place in {out / 'pump'}"
+    import h5py
+
+    with h5py.File(out / "pump" / "results.h5") as f:  # the new run's: 60 frequencies
+        assert f["frf/f_hz"].shape == (60,)
+    assert (out / "pump" / "notes.txt").read_text() == "mine" and debris(out) == []
+
+
+def test_a_second_ctrl_c_does_not_cut_the_cleanup_short(tmp_path, monkeypatch):
+    """Ctrl-C pressed twice (or ``timeout -s INT``'s repeat) lands the second while the staging folder is being
+    removed: held back there, it must not leave the folder behind."""
+    import shutil
+
+    monkeypatch.setattr(signal, "signal", signal.signal)  # restored after: the handler set below too
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)  # a terminal's, even under a background run
+    remove = shutil.rmtree
+
+    def interrupted_rmtree(path, *args, **kwargs):
+        signal.raise_signal(signal.SIGINT)
+        remove(path, *args, **kwargs)
+
+    def write(stage):
+        (stage / "results.h5").write_bytes(b"partial")
+        raise KeyboardInterrupt  # the first Ctrl-C, while the run computes
+
+    monkeypatch.setattr(shutil, "rmtree", interrupted_rmtree)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            output.write_folder(tmp_path / "out" / "pump", write)
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert not (tmp_path / "out").exists()
+
+
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
 def test_a_run_stopped_before_its_results_are_in_place_leaves_no_folder_it_made(scenario_file, tmp_path, signum):
     out = tmp_path / "new" / "out"

@@ -72,10 +72,18 @@ def _command(args) -> int:
         if failure is None:
             raise  # not a user's error: its traceback is what to report
         return _fail(args, *failure)
-    except KeyboardInterrupt:
-        return _fail(args, "interrupted; no partial results were left", EXIT_INTERRUPTED)
-    except Terminated:
-        return _fail(args, "terminated (SIGTERM); no partial results were left", EXIT_TERMINATED)
+    except KeyboardInterrupt as exc:
+        return _fail(args, f"interrupted; {_left(exc)}", EXIT_INTERRUPTED)
+    except Terminated as exc:
+        return _fail(args, f"terminated (SIGTERM); {_left(exc)}", EXIT_TERMINATED)
+
+
+def _left(interruption: BaseException) -> str:
+    """What an interruption left: nothing, or (received while they were put in place) complete results."""
+    written = getattr(interruption, "written", None)  # set by sixdof.io.output once the results are in place
+    if written is None:
+        return "no partial results were left"
+    return f"it came once the results were complete, and they are in place in {written}"
 
 
 def _failure(exc: Exception) -> tuple[str, int] | None:

@@ -10,9 +10,11 @@ is complete:
 * The swap (previous folder renamed aside, new one renamed into place, the user's files moved across,
   previous one removed) runs under an exclusive ``flock`` on ``<out>`` itself: two runs into the same
   target publish one after the other. SIGINT and SIGTERM are held back while a file is written (by its
-  writer: :func:`held_signals`) and while the folder is swapped, and acted on once that is done; while a
-  run computes they act at once. A SIGKILL in the middle of a swap leaves the
-  previous folder as ``.<name>.old-<id>``; the next run finishes or undoes that swap before anything else.
+  writer: :func:`held_signals`) and while the folder is swapped, and acted on once that is done (after a
+  swap, their exception carries ``written``: the results are complete and in place); while a run computes
+  they act at once, and while a failed or stopped run removes its staging folder they are held and dropped.
+  A SIGKILL in the middle of a swap leaves the previous folder as ``.<name>.old-<id>``; the next run
+  finishes or undoes that swap before anything else.
 * Each results folder lists the files sixdof wrote in ``.sixdof-files``. Any other file in a folder being
   replaced is the user's: it is moved into the new folder and reported, never deleted. A folder that
   exists and is not a sixdof results folder is not replaced at all (:func:`check_target`, before any
@@ -116,19 +118,39 @@ def write_folder(target: Path, write: Callable[[Path], None]) -> Path:
         # signals around their own file writes (:func:`held_signals`), and an interruption anywhere ends here.
         write(stage)
         _write_manifest(stage, [p.name for p in stage.iterdir()])
-        with held_signals(), _locked(root):
+        with held_signals(deliver=False) as received, _locked(root):
             _check_replaceable(target)  # something else may have been put there meanwhile
             kept = _swap(stage, target)
     except BaseException:
-        shutil.rmtree(stage, ignore_errors=True)
-        _remove_if_empty(made)
+        _remove_stage(stage, made)
         raise
     finally:
         os.close(stage_lock)
     if kept:
         warnings.warn(f"{target} held {len(kept)} file(s) that sixdof did not write; kept them: {', '.join(kept)}",
                       KeptFilesWarning, stacklevel=2)
+    _deliver(received, target)
     return target
+
+
+def _remove_stage(stage: Path, made: list[Path]) -> None:
+    """Remove a staging folder (and the folders made for it) after a failure: with SIGINT and SIGTERM held back,
+    so that a second Ctrl-C (a terminal's repeat, ``timeout``'s) does not cut the cleanup short and leave it."""
+    with held_signals(deliver=False):  # the failure being handled already ends the command
+        shutil.rmtree(stage, ignore_errors=True)
+        _remove_if_empty(made)
+
+
+def _deliver(received: list[int], written: Path) -> None:
+    """Act on a signal held back while results were put in place, now that they are: its exception (the
+    handler's: KeyboardInterrupt, or the command line's for SIGTERM) carries ``written``, the complete results,
+    so that the report does not say that nothing was left."""
+    if received:
+        try:
+            signal.raise_signal(received[0])
+        except BaseException as exc:
+            exc.written = written
+            raise
 
 
 def replace_files(directory: Path, write: Callable[[Path], list[Path]]) -> list[Path]:
@@ -142,18 +164,18 @@ def replace_files(directory: Path, write: Callable[[Path], list[Path]]) -> list[
     try:
         with held_signals():
             names = [p.name for p in write(stage)]
-        with held_signals(), _locked(directory):
+        with held_signals(deliver=False) as received, _locked(directory):
             for name in names:
                 os.replace(stage / name, directory / name)
             if (directory / MANIFEST).exists():
                 _write_manifest(directory, set(_listed(directory)) | set(names))
     except BaseException:
-        shutil.rmtree(stage, ignore_errors=True)
-        _remove_if_empty(made)
+        _remove_stage(stage, made)
         raise
     finally:
         os.close(stage_lock)
     shutil.rmtree(stage, ignore_errors=True)  # emptied by the moves, unless the writer left more
+    _deliver(received, directory)
     return [directory / name for name in names]
 
 
@@ -175,25 +197,28 @@ def check_room(path: Path, nbytes: int) -> None:
 
 
 @contextmanager
-def held_signals() -> Iterator[None]:
+def held_signals(deliver: bool = True) -> Iterator[list[int]]:
     """Hold SIGINT and SIGTERM back during the block, then deliver the first one received.
 
     A KeyboardInterrupt raised inside h5py's or matplotlib's C code can be swallowed there ("Exception
     ignored in ..."), and the write would then go on as if nothing happened; held back, it is raised
     where the caller can still clean up. Outside the main thread (where Python cannot handle signals)
     the block runs as it is.
+
+    The block gets the list of the signals received; with ``deliver=False`` they are left to the caller
+    (to act on once the results are in place, or not at all while a failure is being handled).
     """
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
     received: list[int] = []
+    if threading.current_thread() is not threading.main_thread():
+        yield received
+        return
     previous = {s: signal.signal(s, lambda signum, frame: received.append(signum)) for s in _HELD_SIGNALS}
     try:
-        yield
+        yield received
     finally:
         for s, handler in previous.items():
             signal.signal(s, handler)
-        if received:
+        if received and deliver:
             signal.raise_signal(received[0])
 
 

@@ -146,7 +146,8 @@ def plot_free_decays(report: ValidationReport, *, name: str = "") -> Figure:
             for sign in (-1, 1):
                 plot_long(ax, t, sign * amplitude * np.exp(-sigma * t) / unit, color="black", linestyle="--",
                           linewidth=0.8, label="fitted envelope" if sign > 0 else None)
-        heading = f"mode {mode}, fitted: $f_d$ {estimate.f_damped_hz:.5g} Hz, $\\zeta$ {estimate.zeta:.4f}"
+        heading = (f"mode {mode}, fitted: $f_d$ {estimate.f_damped_hz:.5g} Hz, $\\zeta$ {estimate.zeta:.4f}"
+                   if len(te) else f"mode {mode}: no decaying oscillation to fit (FAIL)")
         if mode in rows:
             row = rows[mode]
             heading += f"\nmodel: $f_d$ {row.f_damped_model_hz:.5g} Hz, $\\zeta$ {row.zeta_model:.4f}"

@@ -28,7 +28,8 @@ from sixdof import (
     superpose,
 )
 from sixdof.analysis.batch import batch_frequencies, make_variants, run_batch, variant_matrices, variant_system
-from sixdof.io.sweep import parse_sweep_spec
+from sixdof.io.report import summary_table
+from sixdof.io.sweep import load_sweep_spec, parse_sweep_spec
 from sixdof.sweeps import Study, sweep
 from systems import BRIDGE_LOADS_TOML, bridge, bridge_toml
 from tolerances import RTOL_BATCH_CHUNKS, RTOL_BATCH_DIRECT, RTOL_BATCH_FREQUENCY, RTOL_BATCH_MATRIX, RTOL_BATCH_SCIPY
@@ -234,6 +235,20 @@ def test_sweep_command_prints_the_cross_check(tmp_path, capsys):
         shown = np.array([float(c) for c in cells])
         np.testing.assert_allclose(shown, factor * np.percentile(peaks[:, j], [5, 50, 95]), rtol=5e-4)
         assert 1.0 <= shown.max() < 1000.0 or unit in ("nm", "nrad")
+
+
+def test_a_sweep_under_a_moving_ground_says_its_peaks_are_absolute(tmp_path):
+    from sixdof.io.scenario import load_scenario
+    from sixdof.sweeps import sweep_scenario
+
+    spec = tmp_path / "spec.toml"
+    spec.write_text('count = 3\nseed = 1\n[[vary]]\nparameter = "stiffness"\ndistribution = "uniform"\n'
+                    'low = 0.9\nhigh = 1.1\n')
+    table = sweep_scenario(load_scenario("scenarios/bridge_beam_ground.toml"), load_sweep_spec(spec), tmp_path).table
+    assert all(f"| peak {dof} (absolute) [" in table for dof in ("x", "y", "z", "rx", "ry", "rz"))
+    assert table.endswith("The ground moves: the peaks are of the body's absolute motion, the ground's drift "
+                          "included, not of the mounts' deflection.")
+    assert "(absolute)" not in summary_table(np.ones((3, 6)), np.ones((3, 6)))  # a fixed ground: nothing to say
 
 
 def test_spec_draws_only_what_it_names(beam):

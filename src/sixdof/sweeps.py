@@ -324,7 +324,7 @@ def sweep_scenario(scenario, spec, out_root: str | Path = "outputs", *, chunk_si
     import h5py
 
     from sixdof.io import output
-    from sixdof.io.report import summary_table
+    from sixdof.io.report import moving_ground, summary_table
     from sixdof.io.stream import ResultsStream
     from sixdof.results import RunResults
     from sixdof.tasks import task_runner
@@ -351,7 +351,8 @@ def sweep_scenario(scenario, spec, out_root: str | Path = "outputs", *, chunk_si
                                      sweep=merged, provenance={"scenario_text": scenario.text}),
                           sweep={"count": spec.count})
         with h5py.File(path, "r") as f:  # one column at a time: the client never holds every variant
-            outcome["table"] = summary_table(f["sweep/frequency_hz"], f.get("sweep/peak_q"))
+            outcome["table"] = summary_table(f["sweep/frequency_hz"], f.get("sweep/peak_q"),
+                                             moving_ground(scenario))
         outcome["result"] = merged
 
     output.write_folder(target, write)

@@ -328,16 +328,22 @@ def mount_check_text(check, limits=None) -> str:
     return "\n".join(parts)
 
 
-def summary_table(frequency_hz, peak_q=None) -> str:
+def summary_table(frequency_hz, peak_q=None, ground_moves: bool = False) -> str:
     """Percentiles (5, 50, 95 %) of each natural frequency (nv, 6) [Hz] and each DOF's peak (nv, 6) over a
-    batch of variants; read one column at a time (they may be HDF5 datasets too large to hold whole)."""
+    batch of variants; read one column at a time (they may be HDF5 datasets too large to hold whole). With the
+    ground moving, the peaks are said to be of the absolute motion (its drift included), not the mounts'."""
     rows = [[f"f{j + 1} [Hz]", *(f"{v:.5g}" for v in np.percentile(frequency_hz[:, j], [5, 50, 95]))]
             for j in range(6)]
     for j, (dof, unit) in enumerate(zip(DOFS, DOF_UNITS) if peak_q is not None else ()):
         values = np.percentile(peak_q[:, j], [5, 50, 95])
         scale, shown = display_unit(values, unit)
-        rows.append([f"peak {dof} [{shown}]", *(f"{scale * v:.4g}" for v in values)])
-    return f"{len(frequency_hz)} variants\n\n" + table(["quantity", "p5", "p50", "p95"], rows)
+        rows.append([f"peak {dof}{' (absolute)' if ground_moves else ''} [{shown}]",
+                     *(f"{scale * v:.4g}" for v in values)])
+    text = f"{len(frequency_hz)} variants\n\n" + table(["quantity", "p5", "p50", "p95"], rows)
+    if peak_q is not None and ground_moves:
+        text += ("\n\nThe ground moves: the peaks are of the body's absolute motion, the ground's drift included, "
+                 "not of the mounts' deflection.")
+    return text
 
 
 def validation_text(report) -> str:

@@ -194,7 +194,7 @@ def test_engine_scenario_passes_through_the_command(tmp_path, capsys):
     system = load_scenario(ENGINE).system
     assert main(["validate", ENGINE, "--out", str(tmp_path)]) == 0
     out = capsys.readouterr().out
-    assert "hysteretic loss factors of mount(s) left, right, rear left out of the model" in out
+    assert "hysteretic loss factors of mount(s) 'left', 'right', 'rear' left out of the model" in out
     assert "Verdict: PASS (all 24 checks of 6 modes within their limits)" in out
     report = load_results(tmp_path / "engine_inclined_mounts_validation" / "results.h5").validation
     assert report.verdict == "PASS" and report.mode_verdicts == ("PASS",) * 6

@@ -447,7 +447,7 @@ def validate(system: System, settings: ValidationSettings | None = None, *,
         model = system.linearized() if model is system else model
     reference, without = integrated_model(model)
     if without:
-        notes.append(f"hysteretic loss factors of mount(s) {', '.join(without)} left out of the model: a "
+        notes.append(f"hysteretic loss factors of mount(s) {', '.join(map(repr, without))} left out of the model: a "
                      "frequency-independent complex stiffness has no time-domain form, so the time histories "
                      "cannot contain it (the frequency responses of `sixdof run` include it)")
     M = np.asarray(reference.M)

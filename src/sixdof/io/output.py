@@ -37,7 +37,7 @@ import signal
 import threading
 import uuid
 import warnings
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -102,12 +102,14 @@ def _check_replaceable(target: Path) -> None:
                                + (", ..." if len(found) > 5 else "")))
 
 
-def write_folder(target: Path, write: Callable[[Path], None]) -> Path:
+def write_folder(target: Path, write: Callable[[Path], None], carry: Iterable[str] = ()) -> Path:
     """Have ``write(stage)`` fill a fresh staging folder, then swap it into ``target`` (see the module).
 
     Files of the user's found in a previous ``target`` are moved into the new one, with a
-    :class:`KeptFilesWarning`. On any failure or interruption the staging folder is removed and
-    ``target`` is left as it was. Returns ``target``.
+    :class:`KeptFilesWarning`. Files sixdof wrote there go with the previous folder, except those named in
+    ``carry`` (an export's files of the other format) that ``write`` did not write again: they are kept
+    as they were. On any failure or interruption the staging folder is removed and ``target`` is left as
+    it was. Returns ``target``.
     """
     root = target.parent
     stage, stage_lock, made = _stage_in(root, target.name)
@@ -115,9 +117,10 @@ def write_folder(target: Path, write: Callable[[Path], None]) -> Path:
         # Not held while ``write`` computes (a long run must stop on Ctrl-C at once): the writers hold
         # signals around their own file writes (:func:`held_signals`), and an interruption anywhere ends here.
         write(stage)
-        _write_manifest(stage, [p.name for p in stage.iterdir()])
         with held_signals(), _locked(root):
             _check_replaceable(target)  # something else may have been put there meanwhile
+            _carry_over(target, stage, carry)
+            _write_manifest(stage, [p.name for p in stage.iterdir()])
             kept = _swap(stage, target)
     except BaseException:
         shutil.rmtree(stage, ignore_errors=True)
@@ -275,6 +278,23 @@ def _clean_debris(root: Path) -> None:
                 shutil.rmtree(entry, ignore_errors=True)
             else:
                 os.replace(entry, target)
+
+
+def _carry_over(previous: Path, stage: Path, names: Iterable[str]) -> None:
+    """Link the files ``names`` that sixdof wrote in ``previous`` into ``stage``, where it has none of that
+    name; hold ``previous``'s parent's lock. Linked, not moved: ``previous`` stays whole until the swap, so
+    a run killed before it loses nothing."""
+    names = set(names)
+    if not names or not (previous / MANIFEST).exists():
+        return
+    for name in sorted(names & set(_listed(previous))):
+        source, destination = previous / name, stage / name
+        if os.path.lexists(destination) or source.is_symlink() or not source.is_file():
+            continue
+        try:
+            os.link(source, destination)
+        except OSError:  # ``previous`` is on another filesystem (a mount point), or this one has no hard links
+            shutil.copy2(source, destination)
 
 
 def _swap(stage: Path, target: Path) -> list[str]:

@@ -17,6 +17,10 @@ is complete:
   replaced is the user's: it is moved into the new folder and reported, never deleted. A folder that
   exists and is not a sixdof results folder is not replaced at all (:func:`check_target`, before any
   computing).
+* Files put into a folder one by one (:func:`replace_files`: ``sixdof plot``) replace only files sixdof wrote
+  there; a file of the same name that it did not write is refused before anything is drawn
+  (:func:`check_files`). The names written join the folder's ``.sixdof-files`` (made if missing), so that
+  the next redraw may replace them.
 * Folders are made with ``os.mkdir`` and files with ``open`` or h5py: both honour the umask.
 * ``--out`` and its missing parents are made only when the results are written (checking them makes
   nothing), and a write that fails or is interrupted removes those it made again, if nothing else was put in
@@ -102,6 +106,27 @@ def _check_replaceable(target: Path) -> None:
                                + (", ..." if len(found) > 5 else "")))
 
 
+def check_files(directory: str | Path, names: Iterable[str]) -> None:
+    """Raise unless each of the files ``names`` is absent from ``directory`` or one sixdof wrote there: what
+    :func:`replace_files` may write over. Makes nothing.
+
+    Raises
+    ------
+    InputError
+        Naming the files sixdof did not write (``--out``), before anything is drawn.
+    """
+    directory = Path(directory)
+    if not directory.is_dir():
+        return
+    names = list(names)
+    ours = _sixdofs(directory, names)
+    theirs = sorted(name for name in names if os.path.lexists(directory / name) and name not in ours)
+    if theirs:
+        raise InputError("--out", f"no file that sixdof did not write under the names it writes in {directory} "
+                         "(such a file is never overwritten): choose another --out or move them elsewhere",
+                         Plain(f"{len(theirs)} such file(s): {', '.join(theirs)}"))
+
+
 def write_folder(target: Path, write: Callable[[Path], None], carry: Iterable[str] = ()) -> Path:
     """Have ``write(stage)`` fill a fresh staging folder, then swap it into ``target`` (see the module).
 
@@ -138,18 +163,29 @@ def replace_files(directory: Path, write: Callable[[Path], list[Path]]) -> list[
     """Have ``write(stage)`` write files into a staging folder, then move them all into ``directory``.
 
     Each file replaces its namesake whole (no reader ever sees a truncated figure), and the set is moved
-    with SIGINT and SIGTERM held back. Nothing else in ``directory`` is touched, except that a results
-    folder's list of sixdof's files gains the new names. Returns the files in ``directory``.
+    with SIGINT and SIGTERM held back. A namesake sixdof did not write is never replaced: the caller checks
+    with :func:`check_files` before writing, and the move checks again. Nothing else in ``directory`` is
+    touched, except that its list of sixdof's files (made if missing) gains the new names. Returns the
+    files in ``directory``.
+
+    Raises
+    ------
+    InputError
+        A namesake sixdof did not write, put there while ``write`` ran; nothing is moved.
     """
     stage, stage_lock, made = _stage_in(directory, "files")
     try:
         with held_signals():
             names = [p.name for p in write(stage)]
         with held_signals(), _locked(directory):
+            check_files(directory, names)  # something may have been put there meanwhile
+            if (directory / MANIFEST).exists():
+                earlier = set(_listed(directory))
+            else:  # the first list: a results folder of an earlier version's files go into it too
+                earlier = _sixdofs(directory, ()) & set(os.listdir(directory))
             for name in names:
                 os.replace(stage / name, directory / name)
-            if (directory / MANIFEST).exists():
-                _write_manifest(directory, set(_listed(directory)) | set(names))
+            _write_manifest(directory, earlier | set(names))
     except BaseException:
         shutil.rmtree(stage, ignore_errors=True)
         _remove_if_empty(made)
@@ -316,10 +352,7 @@ def _swap(stage: Path, target: Path) -> list[str]:
 
 def _keep_users_files(old: Path, new: Path) -> list[str]:
     """Move the entries of ``old`` that sixdof did not write into ``new``; returns their names."""
-    if (old / MANIFEST).exists():
-        ours = {MANIFEST, *_listed(old)}
-    else:  # written by an earlier version: only the names sixdof writes are its own
-        ours = _UNLISTED | set(os.listdir(new))
+    ours = _sixdofs(old, os.listdir(new))
     kept = []
     for entry in sorted(os.listdir(old)):
         if entry not in ours:
@@ -329,6 +362,16 @@ def _keep_users_files(old: Path, new: Path) -> list[str]:
             os.replace(old / entry, destination)
             kept.append(destination.name)
     return kept
+
+
+def _sixdofs(folder: Path, new: Iterable[str]) -> set[str]:
+    """The names in ``folder`` that are sixdof's: those of its list of sixdof's files or, in a results folder
+    written by an earlier version (no list), the names sixdof writes (``new``: those a new write brings)."""
+    if (folder / MANIFEST).exists():
+        return {MANIFEST, *_listed(folder)}
+    if set(os.listdir(folder)) & {"results.h5", "sweep.h5"}:
+        return _UNLISTED | set(new)
+    return set()
 
 
 def _listed(folder: Path) -> list[str]:

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from sixdof import DOFS
-from sixdof.cli import BLAS_THREAD_VARIABLES, _parser, main
+from sixdof.cli import BLAS_THREAD_VARIABLES, EXIT_CANNOT_WRITE, EXIT_CLOSED_PIPE, _parser, main
 from sixdof.io.store import write_results
 from store_cases import run_parts
 from systems import BRIDGE_INERTIA, BRIDGE_MASS, bridge
@@ -203,6 +203,30 @@ def test_the_command_ends_with_its_status_and_all_its_output(arguments, status):
         assert json.loads(result.stdout)["name"] == "bridge_beam"
     else:
         assert result.stderr.startswith("sixdof: error: ") and "missing.toml" in result.stderr
+
+
+@pytest.mark.parametrize("command", ["modes", "examples"])
+def test_a_reader_that_went_away_ends_the_command_quietly(command, tmp_path):
+    """``sixdof modes ... | head -1``: output to a closed pipe ends the command with 128 + SIGPIPE, as a shell
+    reports ``yes | head``, and no message (nothing failed: the examples are copied in full)."""
+    arguments = {"modes": ["modes", "scenarios/bridge_beam_traffic.toml"], "examples": ["examples", str(tmp_path)]}
+    code = f"import sys\nfrom sixdof.cli import main\nsys.argv = ['sixdof', *{arguments[command]!r}]\nsys.exit(main())\n"
+    process = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    process.stdout.close()  # before the command has written anything
+    with process.stderr:
+        err = process.stderr.read()
+    assert process.wait() == EXIT_CLOSED_PIPE and err == ""
+    if command == "examples":
+        assert sorted(p.name for p in tmp_path.iterdir()) == sorted(p.name for p in Path("scenarios").iterdir())
+
+
+def test_a_broken_pipe_that_is_not_the_output_s_is_a_failed_write():
+    """A BrokenPipeError with stdout and stderr still read (a socket's, say) is reported as any failed write."""
+    code = ("import sys\nfrom sixdof import cli\ndef broken(args):\n    raise BrokenPipeError(32, 'Broken pipe')\n"
+            "cli._modes = broken\nsys.argv = ['sixdof', 'modes', 'scenarios/bridge_beam.toml']\nsys.exit(cli.main())\n")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert result.returncode == EXIT_CANNOT_WRITE
+    assert result.stderr == "sixdof: could not write: Broken pipe; results already in place are unchanged\n"
 
 
 def test_only_the_command_s_own_process_collects_garbage_less_often():

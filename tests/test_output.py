@@ -12,9 +12,9 @@ from pathlib import Path
 
 import pytest
 
-from sixdof import InputError, parse_scenario, run_scenario
+from sixdof import InputError, load_results, parse_scenario, run_scenario
 from sixdof import workflows as run_module
-from sixdof.cli import EXIT_BAD_INPUT, EXIT_CANNOT_WRITE, EXIT_INTERRUPTED, EXIT_TERMINATED, main
+from sixdof.cli import EXIT_BAD_INPUT, EXIT_CANNOT_WRITE, EXIT_CLOSED_PIPE, EXIT_INTERRUPTED, EXIT_TERMINATED, main
 from sixdof.errors import ScenarioError
 from sixdof.io import output
 
@@ -379,6 +379,20 @@ def test_folders_and_files_follow_the_umask(tmp_path, umask):
         os.umask(previous_umask)
     assert target.stat().st_mode & 0o777 == 0o777 & ~umask
     assert (target / "results.h5").stat().st_mode & 0o777 == 0o666 & ~umask
+
+
+def test_a_reader_that_went_away_is_no_failed_write(scenario_file, tmp_path):
+    """``sixdof run ... | head -3`` with the reader gone before the tables are printed: the results are written
+    in full, and the command ends with 128 + SIGPIPE and no word of a failed write."""
+    process = child("none", "run", str(scenario_file), "--out", str(tmp_path / "out"))
+    process.stdout.close()
+    with process.stderr:
+        err = process.stderr.read()
+    assert process.wait() == EXIT_CLOSED_PIPE and err == ""
+    folder = tmp_path / "out" / "pump"
+    assert sorted(os.listdir(folder)) == sorted([output.MANIFEST, *(folder / output.MANIFEST).read_text().split()])
+    assert {"results.h5", "summary.md", "bode.png"} <= set(os.listdir(folder)) and debris(tmp_path / "out") == []
+    assert load_results(folder / "results.h5").frf is not None
 
 
 def test_plot_replaces_the_figures_all_or_nothing(previous, tmp_path):

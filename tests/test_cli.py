@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from sixdof import DOFS
+from sixdof import DOFS, InputError
 from sixdof.cli import BLAS_THREAD_VARIABLES, EXIT_CANNOT_WRITE, EXIT_CLOSED_PIPE, _parser, main
 from sixdof.io.store import write_results
 from store_cases import run_parts
@@ -139,7 +139,8 @@ def test_bad_input_exits_2_without_traceback(tmp_path, capsys):
     assert "Traceback" not in err
 
 
-def test_sweep_writes_distributions(tmp_path, capsys):
+def sweep_files(tmp_path) -> tuple[Path, Path]:
+    """A scenario of 0.2 s under a half-sine and a spec of 8 variants of its stiffness, written into ``tmp_path``."""
     scenario = tmp_path / "s.toml"
     scenario.write_text(
         'name = "s"\n[body]\nmass = 100.0\ninertia = [5.0, 6.0, 7.0]\n'
@@ -153,6 +154,11 @@ def test_sweep_writes_distributions(tmp_path, capsys):
     )
     spec = tmp_path / "spec.toml"
     spec.write_text('count = 8\nseed = 1\n[[vary]]\nparameter = "stiffness"\ndistribution = "uniform"\nlow = 0.8\nhigh = 1.2\n')
+    return scenario, spec
+
+
+def test_sweep_writes_distributions(tmp_path, capsys):
+    scenario, spec = sweep_files(tmp_path)
     assert main(["sweep", str(scenario), "--spec", str(spec), "--out", str(tmp_path / "out")]) == 0
     assert (tmp_path / "out" / "s_sweep" / "sweep.h5").exists()
     assert "Wrote" in capsys.readouterr().out
@@ -160,6 +166,24 @@ def test_sweep_writes_distributions(tmp_path, capsys):
     assert main(["sweep", str(scenario), "--spec", str(spec), "--out", str(tmp_path / "out2")]) == 2
     assert "vary[0].parameter" in capsys.readouterr().err
     assert not (tmp_path / "out2").exists()
+
+
+@pytest.mark.parametrize("size", ["0", "-5"])
+def test_a_chunk_size_below_one_is_refused_before_computing(size, tmp_path, monkeypatch, capsys):
+    """``--chunk-size`` is checked as the spec's ``chunk_size`` is (0 was read as "not given", -5 failed once
+    computed)."""
+    from sixdof import sweeps
+    from sixdof.io.scenario import load_scenario
+    from sixdof.io.sweep import load_sweep_spec
+
+    scenario, spec = sweep_files(tmp_path)
+    monkeypatch.setattr(sweeps._Sweep, "run", lambda *args, **kwargs: pytest.fail("computed anyway"))
+    out = tmp_path / "out"
+    assert main(["sweep", str(scenario), "--spec", str(spec), "--out", str(out), "--chunk-size", size]) == 2
+    assert capsys.readouterr().err == f"sixdof: error: --chunk-size: expected a positive integer, got {size}\n"
+    with pytest.raises(InputError, match=r"^--chunk-size: expected a positive integer, got 2\.0$"):
+        sweeps.sweep(load_scenario(scenario), load_sweep_spec(spec), chunk_size=2.0)
+    assert not out.exists()
 
 
 def loaded_modules(code: str, modules=("numpy", "scipy", "jax", "matplotlib", "h5py")) -> list[str]:

@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from sixdof import DOFS
-from sixdof.cli import BLAS_THREAD_VARIABLES, _parser, main
+from sixdof import DOFS, InputError
+from sixdof.cli import BLAS_THREAD_VARIABLES, EXIT_CANNOT_WRITE, EXIT_CLOSED_PIPE, _parser, main
 from sixdof.io.store import write_results
 from store_cases import run_parts
 from systems import BRIDGE_INERTIA, BRIDGE_MASS, bridge
@@ -139,7 +139,8 @@ def test_bad_input_exits_2_without_traceback(tmp_path, capsys):
     assert "Traceback" not in err
 
 
-def test_sweep_writes_distributions(tmp_path, capsys):
+def sweep_files(tmp_path) -> tuple[Path, Path]:
+    """A scenario of 0.2 s under a half-sine and a spec of 8 variants of its stiffness, written into ``tmp_path``."""
     scenario = tmp_path / "s.toml"
     scenario.write_text(
         'name = "s"\n[body]\nmass = 100.0\ninertia = [5.0, 6.0, 7.0]\n'
@@ -153,6 +154,11 @@ def test_sweep_writes_distributions(tmp_path, capsys):
     )
     spec = tmp_path / "spec.toml"
     spec.write_text('count = 8\nseed = 1\n[[vary]]\nparameter = "stiffness"\ndistribution = "uniform"\nlow = 0.8\nhigh = 1.2\n')
+    return scenario, spec
+
+
+def test_sweep_writes_distributions(tmp_path, capsys):
+    scenario, spec = sweep_files(tmp_path)
     assert main(["sweep", str(scenario), "--spec", str(spec), "--out", str(tmp_path / "out")]) == 0
     assert (tmp_path / "out" / "s_sweep" / "sweep.h5").exists()
     assert "Wrote" in capsys.readouterr().out
@@ -160,6 +166,24 @@ def test_sweep_writes_distributions(tmp_path, capsys):
     assert main(["sweep", str(scenario), "--spec", str(spec), "--out", str(tmp_path / "out2")]) == 2
     assert "vary[0].parameter" in capsys.readouterr().err
     assert not (tmp_path / "out2").exists()
+
+
+@pytest.mark.parametrize("size", ["0", "-5"])
+def test_a_chunk_size_below_one_is_refused_before_computing(size, tmp_path, monkeypatch, capsys):
+    """``--chunk-size`` is checked as the spec's ``chunk_size`` is (0 was read as "not given", -5 failed once
+    computed)."""
+    from sixdof import sweeps
+    from sixdof.io.scenario import load_scenario
+    from sixdof.io.sweep import load_sweep_spec
+
+    scenario, spec = sweep_files(tmp_path)
+    monkeypatch.setattr(sweeps._Sweep, "run", lambda *args, **kwargs: pytest.fail("computed anyway"))
+    out = tmp_path / "out"
+    assert main(["sweep", str(scenario), "--spec", str(spec), "--out", str(out), "--chunk-size", size]) == 2
+    assert capsys.readouterr().err == f"sixdof: error: --chunk-size: expected a positive integer, got {size}\n"
+    with pytest.raises(InputError, match=r"^--chunk-size: expected a positive integer, got 2\.0$"):
+        sweeps.sweep(load_scenario(scenario), load_sweep_spec(spec), chunk_size=2.0)
+    assert not out.exists()
 
 
 def loaded_modules(code: str, modules=("numpy", "scipy", "jax", "matplotlib", "h5py")) -> list[str]:
@@ -203,6 +227,30 @@ def test_the_command_ends_with_its_status_and_all_its_output(arguments, status):
         assert json.loads(result.stdout)["name"] == "bridge_beam"
     else:
         assert result.stderr.startswith("sixdof: error: ") and "missing.toml" in result.stderr
+
+
+@pytest.mark.parametrize("command", ["modes", "examples"])
+def test_a_reader_that_went_away_ends_the_command_quietly(command, tmp_path):
+    """``sixdof modes ... | head -1``: output to a closed pipe ends the command with 128 + SIGPIPE, as a shell
+    reports ``yes | head``, and no message (nothing failed: the examples are copied in full)."""
+    arguments = {"modes": ["modes", "scenarios/bridge_beam_traffic.toml"], "examples": ["examples", str(tmp_path)]}
+    code = f"import sys\nfrom sixdof.cli import main\nsys.argv = ['sixdof', *{arguments[command]!r}]\nsys.exit(main())\n"
+    process = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    process.stdout.close()  # before the command has written anything
+    with process.stderr:
+        err = process.stderr.read()
+    assert process.wait() == EXIT_CLOSED_PIPE and err == ""
+    if command == "examples":
+        assert sorted(p.name for p in tmp_path.iterdir()) == sorted(p.name for p in Path("scenarios").iterdir())
+
+
+def test_a_broken_pipe_that_is_not_the_output_s_is_a_failed_write():
+    """A BrokenPipeError with stdout and stderr still read (a socket's, say) is reported as any failed write."""
+    code = ("import sys\nfrom sixdof import cli\ndef broken(args):\n    raise BrokenPipeError(32, 'Broken pipe')\n"
+            "cli._modes = broken\nsys.argv = ['sixdof', 'modes', 'scenarios/bridge_beam.toml']\nsys.exit(cli.main())\n")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert result.returncode == EXIT_CANNOT_WRITE
+    assert result.stderr == "sixdof: could not write: Broken pipe; results already in place are unchanged\n"
 
 
 def test_only_the_command_s_own_process_collects_garbage_less_often():

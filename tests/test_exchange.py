@@ -4,6 +4,7 @@ the csv module, both against the results file; a file of the wrong kind refused.
 from __future__ import annotations
 
 import csv
+import os
 
 import numpy as np
 import pytest
@@ -78,3 +79,26 @@ def test_a_format_or_file_of_the_wrong_kind_is_refused(results, tmp_path):
     bad.write_text("no")
     with pytest.raises(InputError, match=r"results: expected an HDF5 results file written by sixdof"):
         export(bad, tmp_path, "csv")
+
+
+def test_each_format_replaces_its_own_files_and_keeps_the_other_s(results, tmp_path, capsys):
+    """UFF58 then CSV into one folder: both kept; CSV again from a run with FRFs only replaces the CSVs (the
+    time history's, no longer in the results, goes) and leaves the UFF58 file and the user's file alone."""
+    pytest.importorskip("pyuff")
+    folder = tmp_path / "small_export"
+    assert main(["export", str(results), "--out", str(tmp_path)]) == 0
+    uff = (folder / "small.uff").read_bytes()
+    (folder / "notes.txt").write_text("mine")
+    assert main(["export", str(results), "--format", "csv", "--out", str(tmp_path)]) == 0
+    assert "kept them: notes.txt" in capsys.readouterr().err
+    assert sorted(os.listdir(folder)) == [".sixdof-files", "notes.txt", "small.uff", "small_frf.csv", "small_time.csv"]
+    assert (folder / "small.uff").read_bytes() == uff
+    assert (folder / ".sixdof-files").read_text().split() == ["small.uff", "small_frf.csv", "small_time.csv"]
+    frf_only = SCENARIO.split("[simulation]")[0] + "[frf]" + SCENARIO.split("[frf]")[1].replace("points = 50",
+                                                                                                 "points = 30")
+    frf_only = run_scenario(parse_scenario(frf_only), tmp_path / "frf_only", progress=False)
+    assert main(["export", str(frf_only.results_path), "--format", "csv", "--out", str(tmp_path)]) == 0
+    assert sorted(os.listdir(folder)) == [".sixdof-files", "notes.txt", "small.uff", "small_frf.csv"]
+    assert (folder / "small.uff").read_bytes() == uff and (folder / "notes.txt").read_text() == "mine"
+    with (folder / "small_frf.csv").open() as stream:
+        assert len(list(csv.reader(stream))) == 1 + 30  # the header and the new run's frequencies

@@ -12,9 +12,9 @@ from pathlib import Path
 
 import pytest
 
-from sixdof import InputError, parse_scenario, run_scenario
+from sixdof import InputError, load_results, parse_scenario, run_scenario
 from sixdof import workflows as run_module
-from sixdof.cli import EXIT_CANNOT_WRITE, EXIT_INTERRUPTED, EXIT_TERMINATED
+from sixdof.cli import EXIT_BAD_INPUT, EXIT_CANNOT_WRITE, EXIT_CLOSED_PIPE, EXIT_INTERRUPTED, EXIT_TERMINATED, main
 from sixdof.errors import ScenarioError
 from sixdof.io import output
 
@@ -428,6 +428,20 @@ def test_folders_and_files_follow_the_umask(tmp_path, umask):
     assert (target / "results.h5").stat().st_mode & 0o777 == 0o666 & ~umask
 
 
+def test_a_reader_that_went_away_is_no_failed_write(scenario_file, tmp_path):
+    """``sixdof run ... | head -3`` with the reader gone before the tables are printed: the results are written
+    in full, and the command ends with 128 + SIGPIPE and no word of a failed write."""
+    process = child("none", "run", str(scenario_file), "--out", str(tmp_path / "out"))
+    process.stdout.close()
+    with process.stderr:
+        err = process.stderr.read()
+    assert process.wait() == EXIT_CLOSED_PIPE and err == ""
+    folder = tmp_path / "out" / "pump"
+    assert sorted(os.listdir(folder)) == sorted([output.MANIFEST, *(folder / output.MANIFEST).read_text().split()])
+    assert {"results.h5", "summary.md", "bode.png"} <= set(os.listdir(folder)) and debris(tmp_path / "out") == []
+    assert load_results(folder / "results.h5").frf is not None
+
+
 def test_plot_replaces_the_figures_all_or_nothing(previous, tmp_path):
     folder = tmp_path / "out" / "pump"
     returncode, err = signal_at(child("plot", "plot", str(folder / "results.h5")), "PLOTTED", signal.SIGINT)
@@ -438,3 +452,44 @@ def test_plot_replaces_the_figures_all_or_nothing(previous, tmp_path):
     _, err = process.communicate(timeout=120)
     assert process.returncode == 0, err
     assert set(snapshot(folder)) == set(previous) and debris(folder) == []
+
+
+def test_plot_never_overwrites_a_file_sixdof_did_not_write(previous, tmp_path, capsys):
+    results = tmp_path / "out" / "pump" / "results.h5"
+    theirs = tmp_path / "mine"
+    theirs.mkdir()
+    (theirs / "bode.png").write_bytes(b"my figure")
+    assert main(["plot", str(results), "--out", str(theirs)]) == EXIT_BAD_INPUT
+    assert (f"sixdof: error: --out: expected no file that sixdof did not write under the names it writes in {theirs} "
+            "(such a file is never overwritten): choose another --out or move them elsewhere, got 1 such file(s): "
+            "bode.png\n") in capsys.readouterr().err
+    assert snapshot(theirs) == {"bode.png": b"my figure"} and debris(theirs) == []
+    # A folder sixdof drew into lists what it drew: the next redraw replaces those, and only those.
+    figures = tmp_path / "figures"
+    assert main(["plot", str(results), "--out", str(figures)]) == 0
+    drawn = {name: (figures / name).stat().st_ino for name in snapshot(figures) if name.endswith(".png")}
+    assert sorted(drawn) == (figures / output.MANIFEST).read_text().split()
+    (figures / "notes.txt").write_text("mine")
+    assert main(["plot", str(results), "--out", str(figures)]) == 0
+    assert all((figures / name).stat().st_ino != inode for name, inode in drawn.items())
+    assert set(snapshot(figures)) == {output.MANIFEST, "notes.txt", *drawn}
+    # A results folder of an earlier version (no list): its figures are sixdof's, and its files join the list.
+    (results.parent / output.MANIFEST).unlink()
+    assert main(["plot", str(results)]) == 0
+    assert (results.parent / output.MANIFEST).read_text().split() == sorted({"results.h5", "summary.md", *drawn})
+    assert snapshot(results.parent)["notes.txt"] == b"mine"
+
+
+def test_a_file_put_in_place_while_the_figures_are_drawn_is_not_overwritten(tmp_path):
+    folder = tmp_path / "figures"
+    folder.mkdir()
+
+    def draw(stage):
+        (folder / "bode.png").write_bytes(b"my figure")  # saved by the user meanwhile
+        (stage / "bode.png").write_bytes(b"drawn")
+        return [stage / "bode.png"]
+
+    with pytest.raises(InputError, match=r"--out: expected no file that sixdof did not write .* got 1 such file\(s\): "
+                                         r"bode.png$"):
+        output.replace_files(folder, draw)
+    assert snapshot(folder) == {"bode.png": b"my figure"} and os.listdir(folder) == ["bode.png"]

@@ -3,7 +3,8 @@
 Exit status: 0 done; 1 the solve failed or a figure could not be drawn; 2 bad input (nothing computed,
 nothing written); 3 ``validate`` found the model and the time histories disagreeing beyond their limits
 (verdict FAIL; its results were written); 74 a file could not be written (full disk, file-size limit,
-permissions); 130 interrupted (SIGINT), 143 terminated (SIGTERM). Whatever the status, results already in place are
+permissions); 130 interrupted (SIGINT), 141 its output's reader went away (``sixdof run ... | head``: the rest
+of the output is dropped, silently), 143 terminated (SIGTERM). Whatever the status, results already in place are
 left whole: a results folder is replaced completely or not at all (:mod:`sixdof.io.output`).
 """
 
@@ -13,6 +14,7 @@ import argparse
 import atexit
 import json
 import os
+import select
 import signal
 import sys
 import threading
@@ -29,6 +31,7 @@ EXIT_VALIDATION_FAILED = 3
 EXIT_TARGETS_NOT_MET = 3  # optimize: the best compromise is written, as validate writes a failed validation
 EXIT_CANNOT_WRITE = 74  # EX_IOERR of sysexits.h
 EXIT_INTERRUPTED = 130  # 128 + SIGINT, as a shell reports a process killed by it
+EXIT_CLOSED_PIPE = 141  # 128 + SIGPIPE: as a shell reports a command killed by writing to a closed pipe (`yes | head`)
 EXIT_TERMINATED = 143  # 128 + SIGTERM
 
 #: What OpenBLAS reads for its thread count, in this order: a user who set any of them chose (:func:`_one_blas_thread`).
@@ -63,11 +66,16 @@ def _command(args) -> int:
         with _signals(), _cleanup_errors(args.debug), warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", UserWarning)
             try:
-                return args.command(args)
+                status = args.command(args)
+                # Flushed here, where a closed pipe is caught, not by the last flush at exit, which cannot report it.
+                sys.stdout.flush()
+                return status
             finally:
                 for warning in caught:  # after the command's own output, one line each
                     print(f"WARNING: {warning.message}", file=sys.stderr)
     except Exception as exc:
+        if isinstance(exc, BrokenPipeError) and _closed_pipes():
+            return EXIT_CLOSED_PIPE  # whoever read the output stopped reading: nothing failed, nothing to say
         failure = _failure(exc)
         if failure is None:
             raise  # not a user's error: its traceback is what to report
@@ -107,6 +115,29 @@ def _failure(exc: Exception) -> tuple[str, int] | None:
         return (f"could not write{where}: {exc.strerror or exc}; results already in place are unchanged",
                 EXIT_CANNOT_WRITE)
     return None
+
+
+def _closed_pipes() -> bool:
+    """Whether stdout or stderr is a pipe that nobody reads any more (``sixdof run ... | head -3``). Each such
+    stream is pointed at /dev/null, so that what is left to write (the last flush) goes nowhere quietly, as
+    in the Python documentation's "Note on SIGPIPE".
+
+    Asked of the streams themselves, not of the BrokenPipeError: one from elsewhere (a socket) is a failure.
+    """
+    closed = False
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            fd = stream.fileno()
+        except (AttributeError, ValueError, OSError):  # replaced by a stream without a file (a test's capture)
+            continue
+        poll = select.poll()
+        poll.register(fd, 0)  # errors and hang-ups are reported whatever is asked; a pipe without readers has one
+        if any(events & (select.POLLERR | select.POLLHUP) for _, events in poll.poll(0)):
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, fd)
+            os.close(devnull)
+            closed = True
+    return closed
 
 
 def _skip_teardown(status: list[int]) -> None:

@@ -28,7 +28,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from sixdof.errors import InputError, Plain, SolverError
+from sixdof.errors import InputError, Plain, SolverError, integer
 from sixdof.io.toml import naming
 
 #: The folder of a sweep's finished chunks, beside its results folder.
@@ -142,7 +142,11 @@ def _check(scenario, spec) -> None:
 
 
 def _with_chunk_size(spec, chunk_size):
-    return spec if chunk_size is None else dataclasses.replace(spec, chunk_size=chunk_size)
+    """``spec`` with ``chunk_size`` variants per chunk where one is given, checked as the spec file's own is
+    (``dataclasses.replace`` checks nothing: 0 read as "not given", -5 failed only once computed)."""
+    if chunk_size is None:
+        return spec
+    return dataclasses.replace(spec, chunk_size=integer(chunk_size, "--chunk-size", "a positive integer", 1))
 
 
 def sweep(scenario, spec, *, chunk_size: int | None = None, workers: int | None = None,
@@ -154,7 +158,7 @@ def sweep(scenario, spec, *, chunk_size: int | None = None, workers: int | None 
     scenario : sixdof.io.scenario.Scenario
     spec : sixdof.io.sweep.SweepSpec
     chunk_size : int, optional
-        Variants per chunk (default: the spec's); with the seed it fixes the variants drawn.
+        Variants per chunk, at least 1 (default: the spec's); with the seed it fixes the variants drawn.
     workers, scheduler, client : optional
         Where the chunks run (:func:`sixdof.tasks.task_runner`): default this process.
     progress : None, bool, "text" or "tqdm", optional
@@ -164,6 +168,11 @@ def sweep(scenario, spec, *, chunk_size: int | None = None, workers: int | None 
     -------
     sixdof.analysis.batch.BatchResult
         Every variant, in order.
+
+    Raises
+    ------
+    InputError
+        Bad spec draws, a ``chunk_size`` below 1 (``--chunk-size``) or a bad place to run: before any computing.
     """
     from sixdof.tasks import task_runner
 
@@ -318,8 +327,8 @@ def sweep_scenario(scenario, spec, out_root: str | Path = "outputs", *, chunk_si
     Raises
     ------
     InputError
-        Bad spec draws, an unusable ``out_root``, chunks of an interrupted sweep without ``resume`` or of
-        another scenario or spec with it: all before any computing.
+        Bad spec draws or ``chunk_size`` (``--chunk-size``), an unusable ``out_root``, chunks of an interrupted
+        sweep without ``resume`` or of another scenario or spec with it: all before any computing.
     """
     import h5py
 

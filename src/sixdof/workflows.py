@@ -530,7 +530,8 @@ def redraw(results: str | Path, directory: str | Path | None = None, *,
            workers: FigureWorkers | None = None) -> list[Path]:
     """Draw every figure of a results file again (``sixdof plot``) and put them into ``directory``
     (default: beside the file), each replacing its namesake and all of them at once
-    (:func:`sixdof.io.output.replace_files`).
+    (:func:`sixdof.io.output.replace_files`). A namesake that sixdof did not write is never replaced: it is
+    refused before anything is drawn.
 
     The figures are drawn by ``workers`` (:class:`sixdof.plots.workers.FigureWorkers`; the command line
     starts them before it reads the file); default: in this process.
@@ -543,7 +544,8 @@ def redraw(results: str | Path, directory: str | Path | None = None, *,
     Raises
     ------
     InputError
-        A ``directory`` where files cannot be written (``--out``), or a results file with nothing to draw.
+        A ``directory`` where files cannot be written or holding a file sixdof did not write under a figure's
+        name (``--out``), or a results file with nothing to draw.
     """
     from sixdof.io.store import load_results
     from sixdof.plots import figure_names
@@ -555,6 +557,8 @@ def redraw(results: str | Path, directory: str | Path | None = None, *,
         what = "a sweep's results (`sixdof sweep`): no figures" if run.sweep is not None else "nothing to draw"
         raise InputError("results", "a results file with something to draw (the results.h5 of `sixdof run` or "
                          "`sixdof validate`)", Plain(f"{results}: {what}"))
+    directory = Path(directory) if directory else Path(results).parent
+    output.check_files(directory, figure_names(run))
     with FigureWorkers(processes=0) if workers is None else contextlib.nullcontext(workers) as drawing:
         drawing.submit(run)
-        return output.replace_files(Path(directory) if directory else Path(results).parent, drawing.save)
+        return output.replace_files(directory, drawing.save)

@@ -20,6 +20,8 @@ from sixdof.dofs import DOF_UNITS, DOFS, FORCE_UNITS, LOADS
 from sixdof.errors import InputError, Plain
 
 FORMATS = ("uff58", "csv")
+#: The files each format writes (at most), named after the run.
+_FILES = {"uff58": ("{}.uff",), "csv": ("{}_time.csv", "{}_frf.csv")}
 _TIME, _FRF = 1, 4  # UFF58 function types
 _DISPLACEMENT, _ACCELERATION, _FORCE = 8, 12, 13  # UFF58 specific data types
 _SECONDS, _HERTZ = 17, 18
@@ -83,7 +85,8 @@ def _write_csv(path: Path, headers: list[str], columns: list[np.ndarray]) -> Non
 
 def export(results: str | Path, out_root: str | Path | None = None, fmt: str = "uff58") -> list[Path]:
     """Write a results file's time histories and FRFs for other tools, into ``<out_root>/<name>_export/``
-    (default: beside the results file), all or nothing.
+    (default: beside the results file), all or nothing. The files of the other format there are kept: each
+    export replaces its own format's files only.
 
     ``"uff58"``: ``<name>.uff`` (see the module). ``"csv"``: ``<name>_time.csv`` (t [s], the CG's q [m, rad],
     each point's acceleration [m/s^2]) and ``<name>_frf.csv`` (f [Hz], the real and imaginary part of each
@@ -104,6 +107,8 @@ def export(results: str | Path, out_root: str | Path | None = None, fmt: str = "
     if run.response is None and run.frf is None:
         raise InputError("results", "a run with time histories or FRFs to export", Plain(f"{results}: neither"))
     name = run.name or results.stem
+    files = {each: [pattern.format(name) for pattern in patterns] for each, patterns in _FILES.items()}
+    (uff_file,), (time_file, frf_file) = files["uff58"], files["csv"]
     target = output.check_target(out_root if out_root is not None else results.parent, name, "_export")
     written: list[str] = []
 
@@ -111,7 +116,7 @@ def export(results: str | Path, out_root: str | Path | None = None, fmt: str = "
         if fmt == "uff58":
             import pyuff
 
-            path = stage / f"{name}.uff"
+            path = stage / uff_file
             pyuff.UFF(str(path)).write_sets(uff58_sets(run), mode="add")
             written.append(path.name)
             return
@@ -121,8 +126,8 @@ def export(results: str | Path, out_root: str | Path | None = None, fmt: str = "
             for point, motion in run.points.items():
                 headers += [f"{point} a{a} [m/s^2]" for a in "xyz"]
                 columns += list(motion.acceleration.T)
-            _write_csv(stage / f"{name}_time.csv", headers, columns)
-            written.append(f"{name}_time.csv")
+            _write_csv(stage / time_file, headers, columns)
+            written.append(time_file)
         if run.frf is not None:
             frf = run.frf.direct
             headers, columns = ["f [Hz]"], [frf.f_hz]
@@ -132,8 +137,10 @@ def export(results: str | Path, out_root: str | Path | None = None, fmt: str = "
                         f"{DOF_UNITS[i]}/({FORCE_UNITS[j]})"
                     headers += [f"Re {dof}/{load} [{unit}]", f"Im {dof}/{load} [{unit}]"]
                     columns += [frf.H[:, i, j].real, frf.H[:, i, j].imag]
-            _write_csv(stage / f"{name}_frf.csv", headers, columns)
-            written.append(f"{name}_frf.csv")
+            _write_csv(stage / frf_file, headers, columns)
+            written.append(frf_file)
 
-    output.write_folder(target, write)
+    # Exports of both formats live side by side: re-exporting one must not take the other's files away.
+    others = [file for each, names in files.items() if each != fmt for file in names]
+    output.write_folder(target, write, carry=others)
     return [target / n for n in written]

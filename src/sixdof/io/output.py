@@ -19,6 +19,10 @@ is complete:
   replaced is the user's: it is moved into the new folder and reported, never deleted. A folder that
   exists and is not a sixdof results folder is not replaced at all (:func:`check_target`, before any
   computing).
+* Files put into a folder one by one (:func:`replace_files`: ``sixdof plot``) replace only files sixdof wrote
+  there; a file of the same name that it did not write is refused before anything is drawn
+  (:func:`check_files`). The names written join the folder's ``.sixdof-files`` (made if missing), so that
+  the next redraw may replace them.
 * Folders are made with ``os.mkdir`` and files with ``open`` or h5py: both honour the umask.
 * ``--out`` and its missing parents are made only when the results are written (checking them makes
   nothing), and a write that fails or is interrupted removes those it made again, if nothing else was put in
@@ -39,7 +43,7 @@ import signal
 import threading
 import uuid
 import warnings
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -104,12 +108,35 @@ def _check_replaceable(target: Path) -> None:
                                + (", ..." if len(found) > 5 else "")))
 
 
-def write_folder(target: Path, write: Callable[[Path], None]) -> Path:
+def check_files(directory: str | Path, names: Iterable[str]) -> None:
+    """Raise unless each of the files ``names`` is absent from ``directory`` or one sixdof wrote there: what
+    :func:`replace_files` may write over. Makes nothing.
+
+    Raises
+    ------
+    InputError
+        Naming the files sixdof did not write (``--out``), before anything is drawn.
+    """
+    directory = Path(directory)
+    if not directory.is_dir():
+        return
+    names = list(names)
+    ours = _sixdofs(directory, names)
+    theirs = sorted(name for name in names if os.path.lexists(directory / name) and name not in ours)
+    if theirs:
+        raise InputError("--out", f"no file that sixdof did not write under the names it writes in {directory} "
+                         "(such a file is never overwritten): choose another --out or move them elsewhere",
+                         Plain(f"{len(theirs)} such file(s): {', '.join(theirs)}"))
+
+
+def write_folder(target: Path, write: Callable[[Path], None], carry: Iterable[str] = ()) -> Path:
     """Have ``write(stage)`` fill a fresh staging folder, then swap it into ``target`` (see the module).
 
     Files of the user's found in a previous ``target`` are moved into the new one, with a
-    :class:`KeptFilesWarning`. On any failure or interruption the staging folder is removed and
-    ``target`` is left as it was. Returns ``target``.
+    :class:`KeptFilesWarning`. Files sixdof wrote there go with the previous folder, except those named in
+    ``carry`` (an export's files of the other format) that ``write`` did not write again: they are kept
+    as they were. On any failure or interruption the staging folder is removed and ``target`` is left as
+    it was. Returns ``target``.
     """
     root = target.parent
     stage, stage_lock, made = _stage_in(root, target.name)
@@ -117,9 +144,10 @@ def write_folder(target: Path, write: Callable[[Path], None]) -> Path:
         # Not held while ``write`` computes (a long run must stop on Ctrl-C at once): the writers hold
         # signals around their own file writes (:func:`held_signals`), and an interruption anywhere ends here.
         write(stage)
-        _write_manifest(stage, [p.name for p in stage.iterdir()])
         with held_signals(deliver=False) as received, _locked(root):
             _check_replaceable(target)  # something else may have been put there meanwhile
+            _carry_over(target, stage, carry)
+            _write_manifest(stage, [p.name for p in stage.iterdir()])
             kept = _swap(stage, target)
     except BaseException:
         _remove_stage(stage, made)
@@ -157,18 +185,29 @@ def replace_files(directory: Path, write: Callable[[Path], list[Path]]) -> list[
     """Have ``write(stage)`` write files into a staging folder, then move them all into ``directory``.
 
     Each file replaces its namesake whole (no reader ever sees a truncated figure), and the set is moved
-    with SIGINT and SIGTERM held back. Nothing else in ``directory`` is touched, except that a results
-    folder's list of sixdof's files gains the new names. Returns the files in ``directory``.
+    with SIGINT and SIGTERM held back. A namesake sixdof did not write is never replaced: the caller checks
+    with :func:`check_files` before writing, and the move checks again. Nothing else in ``directory`` is
+    touched, except that its list of sixdof's files (made if missing) gains the new names. Returns the
+    files in ``directory``.
+
+    Raises
+    ------
+    InputError
+        A namesake sixdof did not write, put there while ``write`` ran; nothing is moved.
     """
     stage, stage_lock, made = _stage_in(directory, "files")
     try:
         with held_signals():
             names = [p.name for p in write(stage)]
         with held_signals(deliver=False) as received, _locked(directory):
+            check_files(directory, names)  # something may have been put there meanwhile
+            if (directory / MANIFEST).exists():
+                earlier = set(_listed(directory))
+            else:  # the first list: a results folder of an earlier version's files go into it too
+                earlier = _sixdofs(directory, ()) & set(os.listdir(directory))
             for name in names:
                 os.replace(stage / name, directory / name)
-            if (directory / MANIFEST).exists():
-                _write_manifest(directory, set(_listed(directory)) | set(names))
+            _write_manifest(directory, earlier | set(names))
     except BaseException:
         _remove_stage(stage, made)
         raise
@@ -302,6 +341,23 @@ def _clean_debris(root: Path) -> None:
                 os.replace(entry, target)
 
 
+def _carry_over(previous: Path, stage: Path, names: Iterable[str]) -> None:
+    """Link the files ``names`` that sixdof wrote in ``previous`` into ``stage``, where it has none of that
+    name; hold ``previous``'s parent's lock. Linked, not moved: ``previous`` stays whole until the swap, so
+    a run killed before it loses nothing."""
+    names = set(names)
+    if not names or not (previous / MANIFEST).exists():
+        return
+    for name in sorted(names & set(_listed(previous))):
+        source, destination = previous / name, stage / name
+        if os.path.lexists(destination) or source.is_symlink() or not source.is_file():
+            continue
+        try:
+            os.link(source, destination)
+        except OSError:  # ``previous`` is on another filesystem (a mount point), or this one has no hard links
+            shutil.copy2(source, destination)
+
+
 def _swap(stage: Path, target: Path) -> list[str]:
     """Put ``stage`` in the place of ``target``; returns the names of the user's files moved across."""
     if not target.exists():
@@ -321,10 +377,7 @@ def _swap(stage: Path, target: Path) -> list[str]:
 
 def _keep_users_files(old: Path, new: Path) -> list[str]:
     """Move the entries of ``old`` that sixdof did not write into ``new``; returns their names."""
-    if (old / MANIFEST).exists():
-        ours = {MANIFEST, *_listed(old)}
-    else:  # written by an earlier version: only the names sixdof writes are its own
-        ours = _UNLISTED | set(os.listdir(new))
+    ours = _sixdofs(old, os.listdir(new))
     kept = []
     for entry in sorted(os.listdir(old)):
         if entry not in ours:
@@ -334,6 +387,16 @@ def _keep_users_files(old: Path, new: Path) -> list[str]:
             os.replace(old / entry, destination)
             kept.append(destination.name)
     return kept
+
+
+def _sixdofs(folder: Path, new: Iterable[str]) -> set[str]:
+    """The names in ``folder`` that are sixdof's: those of its list of sixdof's files or, in a results folder
+    written by an earlier version (no list), the names sixdof writes (``new``: those a new write brings)."""
+    if (folder / MANIFEST).exists():
+        return {MANIFEST, *_listed(folder)}
+    if set(os.listdir(folder)) & {"results.h5", "sweep.h5"}:
+        return _UNLISTED | set(new)
+    return set()
 
 
 def _listed(folder: Path) -> list[str]:

@@ -166,7 +166,7 @@ class SweepSpec:
 
     def chunks(self) -> list[range]:
         """The variant indices of each chunk."""
-        return partition(self.count, self.chunk_size or CHUNK_SIZE)
+        return partition(self.count, CHUNK_SIZE if self.chunk_size is None else self.chunk_size)
 
     def variants(self, system: System, chunk: int | None = None) -> Variants:
         """The variants of chunk ``chunk`` for ``system``, or of every chunk in order (deterministic).

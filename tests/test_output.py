@@ -151,7 +151,7 @@ def test_a_folder_sixdof_did_not_write_is_never_replaced(tmp_path, monkeypatch):
     (theirs / "thesis.tex").write_text("years of work")
     monkeypatch.setattr(run_module, "damping_ratios", lambda *a: pytest.fail("computed anyway"))
     with pytest.raises(InputError, match=r"--out: expected .*pump to be a sixdof results folder \(or absent\).* "
-                                         r"got a folder holding 1 other entries: thesis.tex"):
+                                         r"got a folder holding 1 other entry: thesis.tex"):
         run_scenario(parse_scenario(SCENARIO, "pump.toml"), tmp_path / "out", progress=False)
     assert snapshot(theirs) == {"thesis.tex": b"years of work"}
 

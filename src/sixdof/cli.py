@@ -466,8 +466,8 @@ def _sweep(args) -> int:
         kept = len(ChunkFolder.finished_in(chunks))
         if not kept:
             raise
-        note = (f"the {kept} chunks finished are kept in {chunks}: the same command with --resume computes only "
-                "the others")
+        finished = f"the {kept} chunks finished are" if kept > 1 else "the chunk finished is"
+        note = f"{finished} kept in {chunks}: the same command with --resume computes only the others"
         if isinstance(exc, SolverError):
             return _fail(args, f"the solve failed: {exc}; {note}", EXIT_FAILED)
         if isinstance(exc, Terminated):

@@ -104,8 +104,8 @@ def _check_replaceable(target: Path) -> None:
         found = sorted(p.name for p in target.iterdir())
         raise InputError("--out", f"{target} to be a sixdof results folder (or absent) before it is replaced; "
                          "choose another --out or scenario name",
-                         Plain(f"a folder holding {len(found)} other entries: {', '.join(found[:5])}"
-                               + (", ..." if len(found) > 5 else "")))
+                         Plain(f"a folder holding {len(found)} other {'entries' if len(found) > 1 else 'entry'}: "
+                               f"{', '.join(found[:5])}" + (", ..." if len(found) > 5 else "")))
 
 
 def check_files(directory: str | Path, names: Iterable[str]) -> None:

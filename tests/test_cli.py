@@ -161,7 +161,8 @@ def test_sweep_writes_distributions(tmp_path, capsys):
     scenario, spec = sweep_files(tmp_path)
     assert main(["sweep", str(scenario), "--spec", str(spec), "--out", str(tmp_path / "out")]) == 0
     assert (tmp_path / "out" / "s_sweep" / "sweep.h5").exists()
-    assert "Wrote" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "Wrote" in out and out.startswith("s\n\n")  # a scenario without a description: its name alone, no "s: "
     spec.write_text('count = 8\n[[vary]]\nparameter = "mass"\n')
     assert main(["sweep", str(scenario), "--spec", str(spec), "--out", str(tmp_path / "out2")]) == 2
     assert "vary[0].parameter" in capsys.readouterr().err

@@ -117,6 +117,11 @@ def _failure(exc: Exception) -> tuple[str, int] | None:
     return None
 
 
+def _title(scenario) -> str:
+    """The first line a command prints of its scenario: its name and description (the name alone without one)."""
+    return f"{scenario.name}: {scenario.description}" if scenario.description else scenario.name
+
+
 def _closed_pipes() -> bool:
     """Whether stdout or stderr is a pipe that nobody reads any more (``sixdof run ... | head -3``). Each such
     stream is pointed at /dev/null, so that what is left to write (the last flush) goes nowhere quietly, as
@@ -297,7 +302,7 @@ def _modes(args) -> int:
         return 0
     if args.sensitivity:
         raise InputError("--sensitivity", "--json as well (the derivatives are arrays)", Plain("--sensitivity alone"))
-    print(f"{scenario.name}: {scenario.description}\n")
+    print(f"{_title(scenario)}\n")
     print(report.modes_table(modes, zeta if system.C.any() or system.maxwell else None, system))
     print(report.damping_note(system))
     print("\nKinetic energy distribution [%] (share of each mode's kinetic energy in each DOF):")
@@ -353,7 +358,7 @@ def _run(args) -> int:
         scenario = load_scenario(args.scenario)
         outcome = run_scenario(scenario, args.out, progress=_progress(args), command_line=" ".join(sys.argv),
                                workers=workers)
-    print(f"{scenario.name}: {scenario.description}\n")
+    print(f"{_title(scenario)}\n")
     print(report.modes_table(outcome.modes, outcome.damping_ratios, scenario.system))
     print(report.damping_note(scenario.system))
     if scenario.viscoelastic:
@@ -474,7 +479,7 @@ def _sweep(args) -> int:
             return _fail(args, f"terminated (SIGTERM); {note}", EXIT_TERMINATED)
         return _fail(args, f"interrupted; {note}", EXIT_INTERRUPTED)
     result = outcome.result
-    print(f"{scenario.name}: {scenario.description}\n")
+    print(f"{_title(scenario)}\n")
     print(outcome.table)
     if result.cross_check is not None:
         checked = ", ".join(str(i) for i in result.cross_check_variants)

@@ -230,3 +230,19 @@ def test_windows_merge_to_the_whole_run_check():
     for name in ("peak_deflection", "peak_deflection_t", "peak_force", "peak_force_t", "max_compression",
                  "max_compression_t", "min_compression", "min_compression_t", "tension_start_t", "over_limit_t"):
         np.testing.assert_array_equal(getattr(merged, name), getattr(whole, name), err_msg=name)
+
+
+@pytest.mark.parametrize(("mass", "unit"), [(5.0, "N"), (500.0, "kN")])
+def test_the_statics_table_shows_a_light_body_s_loads_in_newtons(mass, unit):
+    """One unit per table, the one that shows its largest value from 1 up: a 5 kg box's 12 N per mount read
+    0.012 kN; a 500 kg body's stay in kN."""
+    from sixdof.io.report import statics_table
+    from systems import four_mount
+
+    system = four_mount(m=mass)
+    statics = gravity_statics(system)
+    text = statics_table(statics, system)
+    assert f"Fz [{unit}]" in text and f"carried [{unit}]" in text
+    carried = [float(line.split("|")[5]) for line in text.splitlines() if line.startswith("| m") and "mount" not in line]
+    weight = mass * STANDARD_GRAVITY / (1.0 if unit == "N" else 1e3)
+    assert sum(carried) == pytest.approx(weight, rel=1e-3) and len(carried) == 4

@@ -247,10 +247,12 @@ def statics_table(statics, system) -> str:
         factor, shown = display_unit(q[i], unit)
         rows.append([dof, f"{q[i] * factor:.5g} {shown}"])
     deflection = table(["DOF", "static deflection"], rows)
-    rows = [[name, *(_fixed(v / 1e3, 3) for v in force), _fixed(support / 1e3, 3),
+    factor, unit = display_unit(statics.mount_forces, "N")  # one unit for the table: kN, or N for a light body
+    rows = [[name, *(_fixed(v * factor, 3) for v in force), _fixed(support * factor, 3),
              "TENSION (uplift)" if name in statics.uplift else "compression"]
             for name, force, support in zip(system.mount_names, statics.mount_forces, statics.support)]
-    forces = table(["mount", "Fx [kN]", "Fy [kN]", "Fz [kN]", "carried [kN]", "state"], rows, "lrrrrl")
+    forces = table(["mount", f"Fx [{unit}]", f"Fy [{unit}]", f"Fz [{unit}]", f"carried [{unit}]", "state"], rows,
+                   "lrrrrl")
     return (deflection + "\n\n" + _wrapped("Load on each mount (force of the body on it, passed to the foundation; "
                                             "body axes; carried: along gravity, > 0 compression):") + "\n" + forces)
 
@@ -291,15 +293,17 @@ def mount_loads_table(check) -> str:
     """Normal force of each mount over a run (static, extremes, tension) and its peak shear loads."""
     forces = _without_round_off(np.column_stack([-check.static_force[:, 2], check.max_compression,
                                                  check.min_compression, check.peak_force[:, :2]]))
+    factor, unit = display_unit(forces, "N")  # one unit for the table: kN, or N for a light body
     rows = []
     for j, name in enumerate(check.names):
         tension = ("none" if not np.isfinite(check.tension_start_t[j]) else
-                   f"TENSION {-check.min_compression[j] / 1e3:.4g} kN, from t = {check.tension_start_t[j]:.4g} s")
-        static, most, least, shear_u, shear_v = forces[j] / 1e3
+                   f"TENSION {-check.min_compression[j] * factor:.4g} {unit}, "
+                   f"from t = {check.tension_start_t[j]:.4g} s")
+        static, most, least, shear_u, shear_v = forces[j] * factor
         rows.append([name, f"{static:.4g}", f"{most:.4g}", f"{check.max_compression_t[j]:.4g}",
                      f"{least:.4g}", f"{check.min_compression_t[j]:.4g}", f"{shear_u:.4g}", f"{shear_v:.4g}", tension])
-    return table(["mount", "static N [kN]", "max N [kN]", "at t [s]", "min N [kN]", "at t [s]",
-                  "peak Fu [kN]", "peak Fv [kN]", "tension"], rows, "lrrrrrrrl")
+    return table(["mount", f"static N [{unit}]", f"max N [{unit}]", "at t [s]", f"min N [{unit}]", "at t [s]",
+                  f"peak Fu [{unit}]", f"peak Fv [{unit}]", "tension"], rows, "lrrrrrrrl")
 
 
 def mount_deflections_table(check, limits=None) -> str:
@@ -526,8 +530,9 @@ def steady_state_text(steady) -> str:
     def shown(value, text):  # NaN: the loads at that frequency are moments only
         return "n/a (no force applied)" if not np.isfinite(value) else text
 
-    rows = [["applied force amplitude [kN]", *(f"{v / 1e3:.4g}" for v in steady.applied_force)],
-            ["force on the foundation [kN]", *(f"{v / 1e3:.4g}" for v in steady.transmitted_force)],
+    factor, unit = display_unit(steady.applied_force, "N")
+    rows = [[f"applied force amplitude [{unit}]", *(f"{v * factor:.4g}" for v in steady.applied_force)],
+            [f"force on the foundation [{unit}]", *(f"{v * factor:.4g}" for v in steady.transmitted_force)],
             ["force transmissibility", *(shown(v, f"{v:.3g}") for v in steady.transmissibility)],
             ["isolation efficiency", *(shown(v, f"{100 * v:.1f} %") for v in steady.isolation_efficiency)]]
     isolation = table(["", *headers[1:]], rows, "l" + "r" * len(steady.f_hz))
@@ -567,9 +572,11 @@ def points_table(points, ground_moves: bool = False, steady: bool = False) -> st
 
 
 def _mount_peaks_table(forces) -> str:
-    rows = [[name, *(f"{p / 1e3:.4g}" for p in np.max(np.abs(force), axis=0))]
-            for name, force in [*zip(forces.names, forces.total), ("foundation (total)", forces.foundation_force)]]
-    return table(["mount", "peak |Fx| [kN]", "peak |Fy| [kN]", "peak |Fz| [kN]"], rows)
+    peaks = [(name, np.max(np.abs(force), axis=0))
+             for name, force in [*zip(forces.names, forces.total), ("foundation (total)", forces.foundation_force)]]
+    factor, unit = display_unit([p for _, p in peaks], "N")
+    rows = [[name, *(f"{v * factor:.4g}" for v in p)] for name, p in peaks]
+    return table(["mount", f"peak |Fx| [{unit}]", f"peak |Fy| [{unit}]", f"peak |Fz| [{unit}]"], rows)
 
 
 def _agreement_table(agreement, superposition) -> str:

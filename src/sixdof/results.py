@@ -25,7 +25,7 @@ import numpy as np
 
 from sixdof.dofs import AXES, DOFS, LOADS, MOUNT_AXES, UNITS, MixedUnits, motion_units, unit_attrs
 from sixdof.errors import InputError, Plain, readonly
-from sixdof.frozen import Frozen
+from sixdof.frozen import Frozen, brief_repr
 
 # ----------------------------------------------------------------------------------------------------
 # Field descriptions.
@@ -116,7 +116,13 @@ def _motion(order: int, description: str = "absolute motion of the centre of gra
 
 
 class Result:
-    """Base of the described result classes: ``result.to_xarray()`` (see :func:`to_xarray`)."""
+    """Base of the described result classes: ``result.to_xarray()`` (see :func:`to_xarray`), and a one-line
+    repr (:func:`sixdof.frozen.brief_repr`)."""
+
+    def __init_subclass__(cls, **kwargs) -> None:
+        super().__init_subclass__(**kwargs)
+        if "__repr__" not in cls.__dict__:  # kept by @dataclass, which runs after this
+            cls.__repr__ = brief_repr
 
     def to_xarray(self):
         """This result as an :class:`xarray.Dataset`: named dims, coordinates and units (needs xarray)."""

@@ -44,6 +44,7 @@ from sixdof.analysis.frf import parse_direction, receptance
 from sixdof.analysis.statespace import damped_modes
 from sixdof.dofs import DOFS
 from sixdof.errors import InputError, SolverError, point, readonly
+from sixdof.frozen import brief_repr
 from sixdof.model.kinematics import unit_load
 from sixdof.progress import meter
 from sixdof.results import TimeHistory, label, part, quantity, sequence, stacked
@@ -368,6 +369,8 @@ class ValidationReport:
     verdict : str
         ``PASS`` when every mode passed, else ``FAIL``.
     """
+
+    __repr__ = brief_repr  # one line, not every sample
 
     rows: tuple[ModeCheck, ...] = stacked(lambda: ModeCheck, dim="mode", key="mode")
     random_runs: tuple[RandomRun, ...] = sequence(lambda: RandomRun, group="random", key=lambda run: f"mode_{run.mode}")

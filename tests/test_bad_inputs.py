@@ -9,6 +9,7 @@ table. A mutation that sixdof accepted would be a bad input passing silently.
 
 import json
 import math
+import re
 import shutil
 import tomllib
 from pathlib import Path
@@ -304,3 +305,24 @@ def test_api_arguments_of_another_kind_are_named(name, order, match):
              "f_hz": np.array([1.0, 2.0]), "point": [0.0, 0.0, 0.0], "x": "x"}
     with pytest.raises(InputError, match=f"^{match}$"):
         _call(name, *(given[word] for word in order.split()))
+
+
+@pytest.mark.parametrize(("field", "make", "got"), [
+    ("mounts", lambda body, mount, load: dict(body=body, mounts=mount), "a Mount"),
+    ("mounts", lambda body, mount, load: dict(body=body, mounts="front"), "'front'"),
+    ("maxwell", lambda body, mount, load: dict(body=body, mounts=[mount], maxwell=mount), "a Mount"),
+    ("force_deflection", lambda body, mount, load: dict(body=body, mounts=[mount], force_deflection=mount), "a Mount"),
+    ("loads", lambda body, mount, load: dict(loads=load), "a Load"),
+    ("loads", lambda body, mount, load: dict(loads={"push": load}), "a dict"),
+])
+def test_one_item_where_a_sequence_of_them_goes_is_named(field, make, got):
+    # As System(mounts=...) has always done, one item alone is refused (not wrapped): a sequence is expected.
+    from sixdof import Excitation, System
+
+    (system, excitation, _) = _one_of_each()
+    kwargs = make(system.body, system.mounts[0], excitation.loads[0])
+    kind = {"mounts": "Mount", "maxwell": "Maxwell", "force_deflection": "ForceDeflection", "loads": "Load or Unbalance"}
+    with pytest.raises(InputError, match=rf"^{field}: expected a sequence of {kind[field]}, got {re.escape(got)}"):
+        (Excitation if field == "loads" else System)(**kwargs)
+    # Any iterable of them is a sequence.
+    assert Excitation(loads=iter([excitation.loads[0]])).loads == excitation.loads

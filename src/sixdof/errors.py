@@ -172,6 +172,18 @@ def instance(value: Any, field: str, *kinds: type | None) -> Any:
     raise InputError(field, expected, kind_of(value))
 
 
+def tuple_of(value: Any, field: str, expected: str) -> tuple:
+    """``value``'s items as a tuple: a list, tuple or other iterable of items, not one item alone (nor a string,
+    whose characters are not items, nor a mapping, whose keys are not). Each item is checked by the caller."""
+    if isinstance(value, (str, bytes, dict)):
+        raise InputError(field, expected, kind_of(value))
+    try:
+        items = iter(value)
+    except TypeError:  # one item alone, as ``Excitation(loads=Load(...))``
+        raise InputError(field, expected, kind_of(value)) from None
+    return tuple(items)
+
+
 def kind_of(value: Any) -> Any:
     """A received value for a message about its kind: strings, numbers and None as they are, an object as
     "a Load" (the repr of a model object runs over several lines of arrays, its class is what is wrong)."""
@@ -265,6 +277,11 @@ def vector3_check(expected: str):
 def array_check(expected: str, shape: tuple[int, ...]):
     """Check of finite values of ``shape`` (read-only array)."""
     return lambda value, field: finite_array(value, field, expected, shape)
+
+
+def tuple_check(expected: str):
+    """Check of a sequence of items, returned as a tuple (see :func:`tuple_of`)."""
+    return lambda value, field: tuple_of(value, field, expected)
 
 
 def choice_check(choices: tuple[str, ...]):

@@ -18,7 +18,7 @@ whose worker dies is computed again by the scheduler and a chunk whose computati
 :data:`RETRIES` times. Workers started here run with one BLAS and one XLA
 thread each (N workers on N cores do not oversubscribe) and with JAX's persistent compilation cache on, so
 that a worker loads the compiled solvers instead of compiling them anew (:class:`WorkerSetup`); they ignore
-SIGINT, which this process handles (:func:`dask_setup`).
+SIGINT, which this process handles (:func:`dask_setup`), and log nothing (this process reports failures).
 
 This is the only module that imports Dask; the batch engine knows nothing of it.
 """
@@ -260,12 +260,16 @@ def task_runner(workers: int | None = None, scheduler: str | None = None, client
             # takes 1.34x as long (measured). sixdof's workers keep glibc's adaptive default.
             # Ctrl-C reaches the workers too (the whole process group): they ignore it from their start
             # (_sigint_blocked) and once started (dask_setup, restarted workers too); this process handles it and
-            # closes the client, then the cluster (the stack's order).
+            # closes the client, then the cluster (the stack's order). Dask's own logs are off: each failure of a
+            # chunk reaches this process (its future re-raises the exception, a lost worker is a KilledWorker),
+            # which says it in one line; beside that Dask logs races of its own shutdown, a worker's heartbeat in
+            # flight as the scheduler closes on a loaded machine ("Failed to communicate with scheduler during
+            # heartbeat", dask/distributed#7105), and each failed chunk's traceback a second time.
             with _sigint_blocked(), dask.config.set(
                     {"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
                 cluster = stack.enter_context(LocalCluster(
                     n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
-                    silence_logs=logging.ERROR, env={**WORKER_ENV, **_passed_env()}, preload=[__name__]))
+                    silence_logs=logging.CRITICAL, env={**WORKER_ENV, **_passed_env()}, preload=[__name__]))
             client = stack.enter_context(Client(cluster))
             backend = "dask-local"
         else:

@@ -9,6 +9,7 @@ table. A mutation that sixdof accepted would be a bad input passing silently.
 
 import json
 import math
+import re
 import shutil
 import tomllib
 from pathlib import Path
@@ -253,3 +254,75 @@ def test_each_bad_api_call_is_refused_naming_the_field(name, kwargs, field):
     with pytest.raises(InputError) as error:
         getattr(sixdof, name)(**kwargs)
     assert field in str(error.value)
+
+
+def _one_of_each():
+    """A system, an excitation with one load, and simulation settings: the model arguments of the API."""
+    from sixdof import Excitation, Load, SimulationSettings, System
+
+    load = Load(name="push", point=[0.1, 0.0, 0.0], force=[1.0, 0.0, 0.0], signal=Harmonic(f_hz=2.0))
+    system = System(RigidBody(**VALID_CALLS["RigidBody"]), [Mount(**VALID_CALLS["Mount"])])
+    return system, Excitation(loads=[load]), SimulationSettings(duration=1.0, sample_rate_hz=100.0)
+
+
+def _call(name, *args):
+    """``sixdof.<name>`` (or, with a dot, the analysis module's function) called with ``args``."""
+    import importlib
+
+    import sixdof
+
+    if "." in name:
+        module, function = name.rsplit(".", 1)
+        return getattr(importlib.import_module(f"sixdof.analysis.{module}"), function)(*args)
+    return getattr(sixdof, name)(*args)
+
+
+# API functions called with a model argument in another's place: (function, argument order, message).
+WRONG_KINDS = [
+    ("simulate", "excitation system settings", r"system: expected a System, got an Excitation"),
+    ("simulate", "system settings excitation", r"settings: expected a SimulationSettings, got an Excitation"),
+    ("simulate", "system system settings", r"excitation: expected an Excitation or None, got a System"),
+    ("superpose", "excitation system times", r"system: expected a System, got an Excitation"),
+    ("superpose", "system settings times", r"excitation: expected an Excitation or None, got a SimulationSettings"),
+    ("receptance", "excitation f_hz", r"system: expected a System, got an Excitation"),
+    ("point_frf", "f_hz system point x point x", r"system: expected a System, got an array of shape \(2,\)"),
+    ("force_transmissibility", "excitation f_hz point x", r"system: expected a System, got an Excitation"),
+    ("ground_transmissibility", "excitation f_hz x point", r"system: expected a System, got an Excitation"),
+    ("steady.steady_state", "excitation system", r"system: expected a System, got an Excitation"),
+    ("steady.steady_state", "system system", r"excitation: expected an Excitation, got a System"),
+    ("random.random_response", "system excitation", r"random: expected a RandomInput, got an Excitation"),
+    ("gravity_statics", "excitation", r"system: expected a System, got an Excitation"),
+    ("design_metrics", "excitation", r"system: expected a System, got an Excitation"),
+    ("sensitivities", "settings", r"system: expected a System, got a SimulationSettings"),
+    ("mount_forces", "system excitation", r"response: expected a TimeHistory, got an Excitation"),
+]
+
+
+@pytest.mark.parametrize(("name", "order", "match"), WRONG_KINDS, ids=[f"{n}({o})" for n, o, _ in WRONG_KINDS])
+def test_api_arguments_of_another_kind_are_named(name, order, match):
+    system, excitation, settings = _one_of_each()
+    given = {"system": system, "excitation": excitation, "settings": settings, "times": np.linspace(0.0, 1.0, 11),
+             "f_hz": np.array([1.0, 2.0]), "point": [0.0, 0.0, 0.0], "x": "x"}
+    with pytest.raises(InputError, match=f"^{match}$"):
+        _call(name, *(given[word] for word in order.split()))
+
+
+@pytest.mark.parametrize(("field", "make", "got"), [
+    ("mounts", lambda body, mount, load: dict(body=body, mounts=mount), "a Mount"),
+    ("mounts", lambda body, mount, load: dict(body=body, mounts="front"), "'front'"),
+    ("maxwell", lambda body, mount, load: dict(body=body, mounts=[mount], maxwell=mount), "a Mount"),
+    ("force_deflection", lambda body, mount, load: dict(body=body, mounts=[mount], force_deflection=mount), "a Mount"),
+    ("loads", lambda body, mount, load: dict(loads=load), "a Load"),
+    ("loads", lambda body, mount, load: dict(loads={"push": load}), "a dict"),
+])
+def test_one_item_where_a_sequence_of_them_goes_is_named(field, make, got):
+    # As System(mounts=...) has always done, one item alone is refused (not wrapped): a sequence is expected.
+    from sixdof import Excitation, System
+
+    (system, excitation, _) = _one_of_each()
+    kwargs = make(system.body, system.mounts[0], excitation.loads[0])
+    kind = {"mounts": "Mount", "maxwell": "Maxwell", "force_deflection": "ForceDeflection", "loads": "Load or Unbalance"}
+    with pytest.raises(InputError, match=rf"^{field}: expected a sequence of {kind[field]}, got {re.escape(got)}"):
+        (Excitation if field == "loads" else System)(**kwargs)
+    # Any iterable of them is a sequence.
+    assert Excitation(loads=iter([excitation.loads[0]])).loads == excitation.loads

@@ -350,3 +350,87 @@ def test_a_sweep_s_fingerprint_is_the_same_in_another_process():
     here = fingerprint(scenario, load_sweep_spec("scenarios/sweeps/bearing_tolerance.toml"))
     assert here == there
 
+
+
+def _sweep_command(tmp_path, count):
+    """The command line of a sweep of the beam on two workers, without progress, as a subprocess runs it."""
+    import sys
+
+    scenario, spec = tmp_path / "beam.toml", tmp_path / "spec.toml"
+    scenario.write_text(SCENARIO.text)
+    spec.write_text(f"count = {count}\nseed = 1\nchunk_size = 20\ncross_check = 0\n[[vary]]\nparameter = 'stiffness'\n"
+                    "distribution = 'uniform'\nlow = 0.8\nhigh = 1.2\n")
+    return [sys.executable, "-m", "sixdof", "sweep", str(scenario), "--spec", str(spec), "--workers", "2",
+            "--out", str(tmp_path / "out"), "--quiet"]
+
+
+def _interrupted(command, ready):
+    """``command`` run in its own process group, as a terminal runs it, and Ctrl-C'd there (SIGINT to the whole
+    group) once ``ready(pgid)``: its exit status and stderr lines, once no process of the group is left."""
+    import subprocess
+
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               env={**os.environ, "SIXDOF_JAX_CACHE": "off"}, start_new_session=True)
+    deadline = time.monotonic() + 120
+    while not ready(process.pid) and process.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert process.poll() is None, "the sweep ended before it could be interrupted"
+    os.killpg(process.pid, signal.SIGINT)
+    _, err = process.communicate(timeout=120)
+    deadline = time.monotonic() + 10  # workers that closed their pipes may still be ending
+    while _group(process.pid) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert _group(process.pid) == []
+    return process.returncode, err.strip().splitlines()
+
+
+def _group(pgid):
+    """Command lines of the living processes of group ``pgid`` (zombies aside)."""
+    from pathlib import Path
+
+    living = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rpartition(")")[2].split()  # after "pid (name)": state, ppid, pgrp...
+            if int(fields[2]) == pgid and fields[0] != "Z":
+                living.append((stat.parent / "cmdline").read_text().replace("\0", " "))
+        except (OSError, ValueError, IndexError):  # a process that ended meanwhile
+            continue
+    return living
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc"), reason="finds the process group's processes in /proc")
+def test_ctrl_c_at_a_sweep_on_two_workers_is_one_line_and_its_chunks_are_kept(tmp_path):
+    """Ctrl-C at a terminal signals the Dask workers too: they ignore it (a worker's event loop stopped by it
+    printed some 30 lines of traceback), the main process says it in its one line and closes the cluster."""
+    chunks = tmp_path / "out" / ("beam_sweep" + CHUNKS_SUFFIX)
+    status, err = _interrupted(_sweep_command(tmp_path, 400), lambda pgid: any(chunks.glob("chunk-*.h5")))
+    assert status == 130 and len(err) == 1, err
+    assert re.fullmatch(r"sixdof: interrupted; the \d+ chunks finished are kept in .*beam_sweep\.chunks: the same "
+                        r"command with --resume computes only the others", err[0]), err
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc"), reason="finds the process group's processes in /proc")
+def test_ctrl_c_while_the_workers_start_is_one_line(tmp_path):
+    """Ctrl-C while the worker processes import (before Dask runs their setup): they are started with SIGINT
+    blocked, so none dies of it (which failed the cluster's start with some 100 lines of tracebacks), and the
+    main process, which held it back meanwhile, says it in one line."""
+    def starting(pgid):
+        return any("spawn_main" in command for command in _group(pgid))
+
+    status, err = _interrupted(_sweep_command(tmp_path, 40), starting)
+    assert status == 130 and err == ["sixdof: interrupted; no partial results were left"], err
+
+
+def test_the_workers_of_a_local_cluster_log_nothing(capfd):
+    """A worker's heartbeat in flight as the scheduler closes is logged as an error by Dask ("Failed to communicate
+    with scheduler during heartbeat", about 30 lines with its traceback) on a loaded machine, after a run that
+    went well: a race of Dask's own shutdown that cannot be timed here, so the worker logs it on request."""
+    import logging
+
+    def log_a_heartbeat_failure():
+        logging.getLogger("distributed.worker").error("Failed to communicate with scheduler during heartbeat.")
+
+    with task_runner(workers=1) as runner:
+        runner.client.run(log_a_heartbeat_failure)
+    assert "heartbeat" not in capfd.readouterr().err

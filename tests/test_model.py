@@ -49,6 +49,54 @@ def test_two_spring_bounce_pitch_and_free_dofs():
     assert set(modes.free_dofs) == {"x", "y", "ry", "rz"}
 
 
+def bounce_pitch_stiffness(x_share: float):
+    """The two-spring bounce-pitch system's M, K and largest eigenvalue [rad^2/s^2], with K[x, x] set so that x,
+    free, has ``x_share`` times that largest eigenvalue as its own."""
+    mounts = [Mount("front", [0, -1.2, 0], [0, 0, 3e4]), Mount("rear", [0, 1.5, 0], [0, 0, 4e4])]
+    system = System(RigidBody(1200.0, [1800.0, 1800.0, 3600.0]), mounts)
+    largest = modal_analysis(system.M, system.K).eigenvalues[-1]
+    K = np.array(system.K)
+    K[0, 0] = x_share * largest * system.M[0, 0]
+    return system.M, K, largest
+
+
+def test_round_off_negative_eigenvalues_of_free_dofs_are_zero_modes():
+    # A free-free system's zero eigenvalues come out of the solve with either sign, ~1e-12 of the largest.
+    M, K, _ = bounce_pitch_stiffness(-1e-12)
+    modes = modal_analysis(M, K)
+    assert modes.zero_modes == (0, 1, 2, 3)
+    assert np.all(modes.frequency_hz[:4] == 0.0) and "x" in modes.free_dofs
+
+
+def test_a_stiffness_matrix_that_is_not_positive_semidefinite_is_named():
+    with pytest.raises(InputError, match=r"^K: expected a symmetric positive semi-definite stiffness matrix: "
+                                         r"eigenvalues lambda of K v = lambda M v >= -1e-10 times the largest "
+                                         r"\|lambda\| \(round-off of zero\), got lambda = -1 rad\^2/s\^2, the largest "
+                                         r"\|lambda\| being 1$"):
+        modal_analysis(np.eye(6), -np.eye(6))
+    # Beyond round-off: a negative eigenvalue a millionth of the largest is a sign mistake, not a zero.
+    M, K, largest = bounce_pitch_stiffness(-1e-6)
+    with pytest.raises(InputError, match=rf"^K: .* got lambda = {-1e-6 * largest:.6g} rad\^2/s\^2, the largest "
+                                         rf"\|lambda\| being {largest:.6g}$"):
+        modal_analysis(M, K)
+
+
+@pytest.mark.parametrize(("M", "K", "match"), [
+    (np.eye(3), np.eye(3), r"^M: expected a symmetric positive definite \(6, 6\) mass matrix in kg, kg m\^2, got an "
+                           r"array of shape \(3, 3\)$"),
+    (np.eye(6), np.eye(3), r"^K: expected a symmetric positive semi-definite \(6, 6\) stiffness matrix in N/m, N, "
+                           r"N m/rad, got an array of shape \(3, 3\)$"),
+    (np.eye(6), np.ones(6), r"^K: .* got an array of shape \(6,\)$"),
+    (np.eye(6), "K", r"^K: .* got 'K'$"),
+    (np.eye(6), np.diag([1.0, 1.0, np.nan, 1.0, 1.0, 1.0]), r"^K: .* got K\[2, 2\] = nan$"),
+    (np.eye(6), np.triu(np.ones((6, 6))), r"^K: expected a symmetric .* got K\[0, 1\] = 1 and K\[1, 0\] = 0$"),
+    (-np.eye(6), np.eye(6), r"^M: expected a symmetric positive definite .* got eigenvalues \[-1.0, "),
+])
+def test_modal_analysis_names_a_matrix_it_cannot_take(M, K, match):
+    with pytest.raises(InputError, match=match):
+        modal_analysis(M, K)
+
+
 @pytest.mark.parametrize("seed", range(5))
 def test_modes_are_scipys_generalized_eigenpairs(seed):
     """modal_analysis reduces K v = l M v by M's Cholesky factor in NumPy: the eigenpairs of scipy.linalg.eigh(K, M),

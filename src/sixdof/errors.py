@@ -161,6 +161,44 @@ def file_name(value: Any, field: str = "name") -> str:
     return value
 
 
+def instance(value: Any, field: str, *kinds: type | None) -> Any:
+    """``value`` when it is an instance of one of ``kinds`` (``None`` among them lets ``None`` through): the
+    check of a public function's model arguments, so that one given in another's place
+    (``simulate(excitation, system, settings)``) is named with the kind expected and the kind received, not met
+    later as an AttributeError deep inside the computation."""
+    if (value is None and None in kinds) or isinstance(value, tuple(k for k in kinds if k is not None)):
+        return value
+    expected = " or ".join(_a(k.__name__) if k is not None else "None" for k in kinds)
+    raise InputError(field, expected, kind_of(value))
+
+
+def tuple_of(value: Any, field: str, expected: str) -> tuple:
+    """``value``'s items as a tuple: a list, tuple or other iterable of items, not one item alone (nor a string,
+    whose characters are not items, nor a mapping, whose keys are not). Each item is checked by the caller."""
+    if isinstance(value, (str, bytes, dict)):
+        raise InputError(field, expected, kind_of(value))
+    try:
+        items = iter(value)
+    except TypeError:  # one item alone, as ``Excitation(loads=Load(...))``
+        raise InputError(field, expected, kind_of(value)) from None
+    return tuple(items)
+
+
+def kind_of(value: Any) -> Any:
+    """A received value for a message about its kind: strings, numbers and None as they are, an object as
+    "a Load" (the repr of a model object runs over several lines of arrays, its class is what is wrong)."""
+    if value is None or isinstance(value, (str, bytes, int, float, complex, np.number, np.bool_)):
+        return value
+    if isinstance(value, np.ndarray):
+        return Plain(f"an array of shape {value.shape}")
+    return Plain(_a(type(value).__name__))
+
+
+def _a(noun: str) -> str:
+    """``noun`` with its indefinite article: "a System", "an Excitation"."""
+    return f"{'an' if noun[:1].lower() in 'aeiou' else 'a'} {noun}"
+
+
 def memory_check(field: str, needed_bytes: float, expected: str, got: str) -> None:
     """Refuse up front a size that cannot fit in this machine's physical memory, with the numbers: better
     than a solve that swaps for an hour or is killed at its end.
@@ -239,6 +277,11 @@ def vector3_check(expected: str):
 def array_check(expected: str, shape: tuple[int, ...]):
     """Check of finite values of ``shape`` (read-only array)."""
     return lambda value, field: finite_array(value, field, expected, shape)
+
+
+def tuple_check(expected: str):
+    """Check of a sequence of items, returned as a tuple (see :func:`tuple_of`)."""
+    return lambda value, field: tuple_of(value, field, expected)
 
 
 def choice_check(choices: tuple[str, ...]):

@@ -17,7 +17,8 @@ finishes: a cluster may grow) are in flight, so the client holds only those chun
 whose worker dies is computed again by the scheduler and a chunk whose computation raises is retried
 :data:`RETRIES` times. Workers started here run with one BLAS and one XLA
 thread each (N workers on N cores do not oversubscribe) and with JAX's persistent compilation cache on, so
-that a worker loads the compiled solvers instead of compiling them anew (:class:`WorkerSetup`).
+that a worker loads the compiled solvers instead of compiling them anew (:class:`WorkerSetup`); they ignore
+SIGINT, which this process handles (:func:`dask_setup`), and log nothing (this process reports failures).
 
 This is the only module that imports Dask; the batch engine knows nothing of it.
 """
@@ -27,6 +28,8 @@ from __future__ import annotations
 import contextlib
 import logging
 import os
+import signal
+import threading
 import time
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
@@ -158,6 +161,43 @@ class WorkerSetup:
         pass
 
 
+def dask_setup(worker) -> None:
+    """Dask's preload hook, run in each worker process of a local cluster as it starts (``preload`` of
+    :func:`task_runner`'s ``LocalCluster``): the worker ignores SIGINT. Ctrl-C reaches the whole process group;
+    this process alone handles it and closes the cluster, as the figure workers leave it to this process
+    (:mod:`sixdof.plots.workers`). Without it each worker's event loop stops on the KeyboardInterrupt and prints
+    its traceback, some 30 lines a worker, before sixdof's one line.
+
+    Not on a cluster sixdof did not start (``--scheduler``, ``client=``): its workers' Ctrl-C is their owner's."""
+    if threading.current_thread() is threading.main_thread():  # where a signal handler can be set
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+@contextlib.contextmanager
+def _sigint_blocked():
+    """SIGINT held back during the block and delivered when it ends, blocked meanwhile in this (the main) thread:
+    the cluster's threads started meanwhile, and the worker processes they start, inherit the mask. A Ctrl-C in
+    the second or two before a worker has run :func:`dask_setup` then neither kills it (a worker killed while it
+    starts fails the cluster's start with some 100 lines of tracebacks) nor is lost to this process."""
+    if not hasattr(signal, "pthread_sigmask") or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    import multiprocessing.resource_tracker
+
+    from sixdof.io.output import held_signals
+
+    # The thread that starts multiprocessing's resource tracker unblocks SIGINT when it has (the cluster's event
+    # loop would, on its first queue): started here first, it is left alone.
+    multiprocessing.resource_tracker.ensure_running()
+    # Held too: a thread started before the block, which does not block it, may be the one the kernel gives it to.
+    with held_signals():
+        previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        try:
+            yield
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
 def _plugin():
     """:class:`WorkerSetup` as a :class:`distributed.WorkerPlugin` (the class is made where Dask is imported)."""
     from distributed.diagnostics.plugin import WorkerPlugin
@@ -218,10 +258,18 @@ def task_runner(workers: int | None = None, scheduler: str | None = None, client
             # Dask starts workers with MALLOC_TRIM_THRESHOLD_=65536, which fixes glibc's mmap threshold at 128 kB:
             # every large temporary array of the exact engine is then mapped and unmapped anew, and a chunk
             # takes 1.34x as long (measured). sixdof's workers keep glibc's adaptive default.
-            with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
+            # Ctrl-C reaches the workers too (the whole process group): they ignore it from their start
+            # (_sigint_blocked) and once started (dask_setup, restarted workers too); this process handles it and
+            # closes the client, then the cluster (the stack's order). Dask's own logs are off: each failure of a
+            # chunk reaches this process (its future re-raises the exception, a lost worker is a KilledWorker),
+            # which says it in one line; beside that Dask logs races of its own shutdown, a worker's heartbeat in
+            # flight as the scheduler closes on a loaded machine ("Failed to communicate with scheduler during
+            # heartbeat", dask/distributed#7105), and each failed chunk's traceback a second time.
+            with _sigint_blocked(), dask.config.set(
+                    {"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
                 cluster = stack.enter_context(LocalCluster(
                     n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
-                    silence_logs=logging.ERROR, env={**WORKER_ENV, **_passed_env()}))
+                    silence_logs=logging.CRITICAL, env={**WORKER_ENV, **_passed_env()}, preload=[__name__]))
             client = stack.enter_context(Client(cluster))
             backend = "dask-local"
         else:

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from sixdof.analysis.modal import inverse_cholesky
-from sixdof.errors import InputError, readonly
+from sixdof.errors import InputError, instance, readonly
 
 #: Two eigenvalues closer than this fraction of the largest are one repeated eigenvalue.
 REPEATED_RTOL = 1e-8
@@ -91,6 +91,9 @@ def design_metrics(system, torque_axis=None) -> DesignMetrics:
     -------
     DesignMetrics
     """
+    from sixdof.model.system import System
+
+    instance(system, "system", System)
     M, K, modes = system.M, system.K, system.modes
     shares = modes.ke_distribution
     tra = roll = angle = tra_shares = axis = None
@@ -204,6 +207,9 @@ def sensitivities(system) -> Sensitivities:
     """
     from sixdof._jax import jax, jnp
     from sixdof.model.kinematics import mount_matrix_jax
+    from sixdof.model.system import System
+
+    instance(system, "system", System)
 
     M = np.asarray(system.M, dtype=float)
     L_inv = inverse_cholesky(M)

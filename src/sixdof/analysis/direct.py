@@ -47,21 +47,29 @@ import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from sixdof._jax import jax, jnp
 from sixdof.analysis.records import SolverStats, merge_stats
 from sixdof.analysis.validity import warn_idle, warn_large_rotations
-from sixdof.errors import InputError, SolverError, integer, integer_check, memory_check, number, number_check, readonly
+from sixdof.errors import (
+    InputError,
+    SolverError,
+    instance,
+    integer,
+    integer_check,
+    memory_check,
+    number,
+    number_check,
+    readonly,
+)
 from sixdof.excitation import Excitation
 from sixdof.frozen import Frozen
+from sixdof.model.system import System
 from sixdof.progress import Meter, meter
 from sixdof.results import TimeHistory, label, time_concat
-
-if TYPE_CHECKING:
-    from sixdof.model.system import System
 
 #: The solvers (diffrax's methods of these names). Explicit Runge-Kutta methods suit the problem (it is not
 #: stiff: 0.6 to 38 Hz for the bridge beam); the implicit ones are there for comparison.
@@ -595,11 +603,18 @@ def _load_vectors(excitation: Excitation) -> tuple[np.ndarray, tuple]:
 
 def loads_of(excitation: Excitation, settings: SimulationSettings) -> tuple[np.ndarray, tuple]:
     """The loads of a solve, its arguments checked: generalized forces (n_loads, 6) [N, N m] and signals."""
-    if not isinstance(excitation, Excitation):
-        raise InputError("excitation", "an Excitation", excitation)
-    if not isinstance(settings, SimulationSettings):
-        raise InputError("settings", "a SimulationSettings", settings)
+    instance(excitation, "excitation", Excitation)
+    instance(settings, "settings", SimulationSettings)
     return _load_vectors(excitation)
+
+
+def _arguments(system: System, excitation: Excitation | None, settings: SimulationSettings) -> Excitation:
+    """The excitation of a solve (``None``: none), once each argument is checked to be of its kind: so that
+    ``simulate(excitation, system, settings)`` is one clear error, not an AttributeError from inside."""
+    instance(system, "system", System)
+    instance(settings, "settings", SimulationSettings)
+    excitation = instance(excitation, "excitation", Excitation, None)
+    return Excitation() if excitation is None else excitation
 
 
 def jump_times(excitation: Excitation, t0: float, t1: float) -> tuple[np.ndarray, int]:
@@ -754,8 +769,7 @@ def simulate_windows(system: System, excitation: Excitation | None, settings: Si
         For a load that never acts in the simulated time (when called), and, after the last window, for
         rotations of the run beyond :data:`~sixdof.analysis.validity.SMALL_ANGLE_RAD`.
     """
-    if excitation is None:
-        excitation = Excitation()
+    excitation = _arguments(system, excitation, settings)
     window = window_length(settings.samples, integer(window_samples, "window_samples", "a positive integer", 1))
     warn_idle(excitation, settings.start, settings.start + settings.duration)
     run, xs = _prepare(system, excitation, settings, window)
@@ -962,8 +976,7 @@ def simulate(system: System, excitation: Excitation | None, settings: Simulation
         For a load that never acts in the simulated time, and for rotations beyond
         :data:`~sixdof.analysis.validity.SMALL_ANGLE_RAD`.
     """
-    if not isinstance(settings, SimulationSettings):
-        raise InputError("settings", "a SimulationSettings", settings)
+    _arguments(system, excitation, settings)  # before the settings' size is read
     memory_check("sample_rate_hz", settings.samples * SOLVE_BYTES_PER_SAMPLE, "a number of output samples",
                  f"{settings.samples:.3g} samples")
     meter = progress_meter(progress, settings)

@@ -38,7 +38,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -46,11 +45,9 @@ from sixdof import results as schema
 from sixdof.analysis.response import global_damping
 from sixdof.analysis.statespace import complex_modes, is_classical, modal_basis, modal_damping_ratios
 from sixdof.dofs import AXES, DOF_UNITS, DOFS, FORCE_UNITS, UNITS, per_load_units
-from sixdof.errors import InputError, Plain, SolverError, choice_check, direction_check, point, readonly
+from sixdof.errors import InputError, Plain, SolverError, choice_check, direction_check, instance, point, readonly
 from sixdof.model.kinematics import mount_matrix, point_map, response_row, unit_load
-
-if TYPE_CHECKING:
-    from sixdof.model.system import System
+from sixdof.model.system import System
 
 __all__ = [
     "FRF", "FRFCrossCheck", "ForceTransmissibility", "GroundTransmissibility", "PointFRF", "QUANTITIES",
@@ -470,12 +467,14 @@ def receptance(system: System, f_hz, method: str = "direct", basis: str = "auto"
     Raises
     ------
     InputError
-        Bad frequencies (negative, non-finite; zero for an unrestrained system; on the natural
-        frequency of an undamped mode, :func:`check_resonances`), method or basis.
+        A ``system`` that is not a System; bad frequencies (negative, non-finite; zero for an
+        unrestrained system; on the natural frequency of an undamped mode, :func:`check_resonances`),
+        method or basis.
     SolverError
         The dynamic stiffness is singular at a requested frequency, or the complex modes are nearly
         defective.
     """
+    instance(system, "system", System)  # the FRFs of points and transmissibilities come through here
     f = _frequencies(f_hz)
     check_resonances(system, f)
     _check_method(method, "method")

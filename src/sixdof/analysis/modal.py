@@ -8,13 +8,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from sixdof.dofs import DOFS, UNITS
-from sixdof.errors import readonly
+from sixdof.errors import InputError, Plain, readonly, real_array
 from sixdof.results import Result, label, quantity
 
 #: A mode is rigid (zero frequency) when its eigenvalue is below this fraction of the largest.
 ZERO_MODE_RTOL = 1e-10
 #: Two DOFs are coupled when their scaled coupling term exceeds this fraction of the matrix scale.
 COUPLING_RTOL = 1e-9
+#: M and K are symmetric when ``|X - X'|`` is within this fraction of ``max |X|``: round-off of an assembly
+#: (``A' k A`` sums its terms in another order on each side) is ~1e-16, a typing mistake far more.
+SYMMETRY_RTOL = 1e-10
 
 
 @dataclass(frozen=True, eq=False)
@@ -86,17 +89,33 @@ def modal_analysis(M: np.ndarray, K: np.ndarray) -> Modes:
     Returns
     -------
     Modes
+
+    Raises
+    ------
+    InputError
+        If M or K is not a finite (6, 6) symmetric matrix, M is not positive definite, or K has an eigenvalue
+        ``lambda`` below ``-ZERO_MODE_RTOL`` times the largest ``|lambda|`` (more negative than round-off
+        leaves the zero eigenvalues of an unrestrained body).
     """
-    M = np.asarray(M, dtype=float)
-    K = np.asarray(K, dtype=float)
+    M = _symmetric(M, "M", "a symmetric positive definite (6, 6) mass matrix in kg, kg m^2")
+    K = _symmetric(K, "K", "a symmetric positive semi-definite (6, 6) stiffness matrix in N/m, N, N m/rad")
     # LAPACK's reduction (dsygv): M = L L', the symmetric L^-1 K L^-T's eigenpairs, shapes L^-T y. NumPy
     # rather than scipy.linalg.eigh(K, M): the same steps, and no 0.1-0.2 s import of scipy.linalg in a run.
-    L_inv = inverse_cholesky(M)
+    try:
+        L_inv = inverse_cholesky(M)
+    except np.linalg.LinAlgError:
+        raise InputError("M", "a symmetric positive definite (6, 6) mass matrix in kg, kg m^2",
+                         Plain(f"eigenvalues {np.linalg.eigvalsh(M).tolist()}")) from None
     reduced = L_inv @ K @ L_inv.T
     eigenvalues, reduced_shapes = np.linalg.eigh((reduced + reduced.T) / 2)
     shapes = L_inv.T @ reduced_shapes
-    # Round-off makes the eigenvalues of unrestrained DOFs tiny and of either sign: they are zero.
+    # Round-off makes the eigenvalues of unrestrained DOFs tiny and of either sign: they are zero. One more
+    # negative than that is no round-off: K is not positive semi-definite (its sqrt would be NaN).
     scale = max(float(np.max(np.abs(eigenvalues))), np.finfo(float).tiny)
+    if eigenvalues[0] < -ZERO_MODE_RTOL * scale:
+        raise InputError("K", f"a symmetric positive semi-definite stiffness matrix: eigenvalues lambda of "
+                         f"K v = lambda M v >= -{ZERO_MODE_RTOL:g} times the largest |lambda| (round-off of zero)",
+                         Plain(f"lambda = {eigenvalues[0]:.6g} rad^2/s^2, the largest |lambda| being {scale:.6g}"))
     zero = np.abs(eigenvalues) <= ZERO_MODE_RTOL * scale
     eigenvalues = np.where(zero, 0.0, eigenvalues)
     order = np.argsort(eigenvalues, kind="stable")
@@ -125,6 +144,23 @@ def modal_analysis(M: np.ndarray, K: np.ndarray) -> Modes:
         zero_modes=tuple(int(j) for j in np.flatnonzero(zero)),
         free_dofs=free_dofs,
     )
+
+
+def _symmetric(value, field: str, expected: str) -> np.ndarray:
+    """``value`` as a finite (6, 6) float array, symmetric within :data:`SYMMETRY_RTOL` (the eigen-solution
+    reads one triangle: the other would be silently ignored)."""
+    X = real_array(value, field, expected, 2)
+    if X.shape != (6, 6):
+        raise InputError(field, expected, Plain(f"an array of shape {X.shape}"))
+    if not np.all(np.isfinite(X)):
+        i, j = np.argwhere(~np.isfinite(X))[0]
+        raise InputError(field, expected, Plain(f"{field}[{i}, {j}] = {X[i, j]}"))
+    asymmetry = float(np.max(np.abs(X - X.T)))
+    if asymmetry > SYMMETRY_RTOL * float(np.max(np.abs(X))):
+        i, j = np.unravel_index(np.argmax(np.abs(X - X.T)), X.shape)
+        raise InputError(field, expected, Plain(f"{field}[{i}, {j}] = {X[i, j]:.6g} and {field}[{j}, {i}] = "
+                                                f"{X[j, i]:.6g}"))
+    return X
 
 
 def coupled_subsystems(M: np.ndarray, K: np.ndarray, rtol: float = COUPLING_RTOL):

@@ -23,7 +23,7 @@ import numpy as np
 
 from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.dofs import DOFS, MixedUnits, dof_units, mixed_units
-from sixdof.errors import InputError, Plain, choice_check, finite_array, optional, point_check, readonly
+from sixdof.errors import InputError, Plain, choice_check, finite_array, instance, optional, point_check, readonly
 from sixdof.frozen import Frozen, checked
 from sixdof.results import Result, label, part, quantity
 
@@ -285,11 +285,19 @@ def random_response(system, random: RandomInput, points=None) -> RandomResponse:
     Returns
     -------
     RandomResponse
+
+    Raises
+    ------
+    InputError
+        For a ``system`` that is not a System or a ``random`` that is not a RandomInput.
     """
     from scipy.integrate import simpson
 
     from sixdof.model.kinematics import unit_load
+    from sixdof.model.system import System
 
+    instance(system, "system", System)
+    instance(random, "random", RandomInput)
     points = dict(points or {})
     f = frequency_grid(system, random.psd)
     omega = 2 * np.pi * f

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from sixdof.dofs import UNITS
-from sixdof.errors import point, readonly
+from sixdof.errors import instance, point, readonly
 from sixdof.model.kinematics import point_map
 from sixdof.results import Result, TimeHistory, quantity
 
@@ -157,6 +157,10 @@ def mount_forces(system: System, response: TimeHistory) -> MountForces:
     -------
     MountForces
     """
+    from sixdof.model.system import System
+
+    instance(system, "system", System)
+    instance(response, "response", TimeHistory)
     z, zd = response.q_relative, response.qd_relative
     T = point_map(system.positions)  # (m, 3, 6)
     # The same product as point_motion, so a mount's deformation is its point's relative motion exactly.

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from sixdof.dofs import UNITS
-from sixdof.errors import InputError, Plain, number
+from sixdof.errors import InputError, Plain, instance, number
 from sixdof.model.kinematics import mount_local_map, mount_matrix
 from sixdof.results import Result, label, quantity
 
@@ -91,9 +91,12 @@ def gravity_statics(system: System, g: float = STANDARD_GRAVITY, direction=(0.0,
     Raises
     ------
     InputError
-        If ``g`` or ``direction`` is invalid, or the mounts cannot carry the weight (the body is free
-        to move along gravity).
+        If ``system`` is not a System, ``g`` or ``direction`` is invalid, or the mounts cannot carry the
+        weight (the body is free to move along gravity).
     """
+    from sixdof.model.system import System
+
+    instance(system, "system", System)
     g = number(g, "statics.gravity", "a positive acceleration in m/s^2", low=0.0, strict=True)
     d = np.asarray(direction, dtype=float)
     if d.shape != (3,) or not np.all(np.isfinite(d)) or np.linalg.norm(d) == 0:

@@ -22,7 +22,7 @@ import numpy as np
 
 from sixdof import results as schema
 from sixdof.dofs import UNITS
-from sixdof.errors import InputError, readonly
+from sixdof.errors import InputError, instance, readonly
 
 #: Operating frequencies closer than this (relative) are one frequency: their components add up.
 SAME_FREQUENCY_RTOL = 1e-12
@@ -113,9 +113,18 @@ def steady_state(system, excitation) -> SteadyState | None:
     None when there is none to give: no harmonic load without end; a ground motion (its own steady state
     is not part of this one, which would then be wrong); or an operating frequency at the resonance of a
     mode that no damping acts on (the response grows without bound).
+
+    Raises
+    ------
+    InputError
+        For a ``system`` that is not a System or an ``excitation`` that is not an Excitation.
     """
     from sixdof.analysis.frf import check_resonances, foundation_forces, receptance
+    from sixdof.excitation import Excitation
+    from sixdof.model.system import System
 
+    instance(system, "system", System)
+    instance(excitation, "excitation", Excitation)
     f_hz, applied, gross = operating_phasors(excitation)
     if not f_hz.size or excitation.ground is not None:
         return None

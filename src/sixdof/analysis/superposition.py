@@ -35,7 +35,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cache, partial
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -46,12 +45,10 @@ from sixdof.analysis.records import SuperpositionInfo, SuperpositionState
 from sixdof.analysis.statespace import CLASSICAL_RTOL, complex_modes, modal_basis
 from sixdof.analysis.statespace import coupling as coupling_of
 from sixdof.analysis.validity import warn_idle, warn_large_rotations
-from sixdof.errors import InputError, SolverError, finite_array, increasing_times, integer, number, readonly
+from sixdof.errors import InputError, SolverError, finite_array, increasing_times, instance, integer, number, readonly
 from sixdof.excitation import Excitation
+from sixdof.model.system import System
 from sixdof.results import TimeHistory
-
-if TYPE_CHECKING:
-    from sixdof.model.system import System
 
 METHODS = ("auto", "real", "complex")
 
@@ -174,7 +171,7 @@ def superpose(
     Raises
     ------
     InputError
-        On bad times, options or a ``start`` from another computation.
+        On arguments of the wrong kind, bad times, options or a ``start`` from another computation.
     SolverError
         If the complex modes cannot be computed reliably.
 
@@ -184,7 +181,8 @@ def superpose(
         For a load that never acts from ``t[0]`` to ``t[-1]``, and for rotations beyond
         :data:`~sixdof.analysis.validity.SMALL_ANGLE_RAD`.
     """
-    if excitation is None:
+    instance(system, "system", System)
+    if instance(excitation, "excitation", Excitation, None) is None:
         excitation = Excitation()
     t = increasing_times(t, "t")
     q0 = qd0 = f0 = None

@@ -26,6 +26,7 @@ from sixdof.errors import (
     optional,
     point_check,
     readonly,
+    tuple_check,
     vector3_check,
 )
 from sixdof.excitation.signals import Harmonic, Signal, signal_field
@@ -284,7 +285,7 @@ class Excitation(Frozen):
         Default: at rest in static equilibrium.
     """
 
-    loads: tuple = checked(lambda loads, field: tuple(loads), default=())
+    loads: tuple = checked(tuple_check("a sequence of Load or Unbalance"), default=())
     ground: GroundMotion | None = None
     initial: InitialState | ModeRelease | None = None
 

@@ -30,6 +30,8 @@ from sixdof.errors import (
     point_check,
     readonly,
     real_array,
+    tuple_check,
+    tuple_of,
     vector3,
 )
 from sixdof.frozen import Frozen, checked
@@ -386,12 +388,12 @@ class System(Frozen):
 
     body: RigidBody = part(lambda: RigidBody, prefix="body_")
     mounts: tuple[Mount, ...] = stacked(lambda: Mount, dim="mount", prefix="mount_", key="name",
-                                        check=lambda mounts, field: tuple(mounts))
+                                        check=tuple_check("a sequence of Mount"))
     rayleigh: Rayleigh | None = part(lambda: Rayleigh, prefix="rayleigh_", default=None)
     modal_damping: float | tuple[float, ...] | None = label(
         default=None, check=_modal_ratios, encode=lambda ratios: np.atleast_1d(np.asarray(ratios, dtype=float)))
     maxwell: tuple[Maxwell, ...] = stacked(lambda: Maxwell, dim="branch", prefix="maxwell_", key="name", default=(),
-                                           check=lambda branches, field: tuple(branches))
+                                           check=tuple_check("a sequence of Maxwell"))
     force_deflection: tuple[ForceDeflection, ...] = sequence(lambda: ForceDeflection, group="force_deflection",
                                                              key=lambda table: f"{table.mount}_{table.axis}",
                                                              default=())
@@ -446,7 +448,8 @@ class System(Frozen):
             raise InputError("maxwell", "unique branch names", f"{', '.join(duplicated)} repeated")
 
     def _check_tables(self, mounts: list[str]) -> None:
-        self._derive(force_deflection=tuple(self.force_deflection))
+        self._derive(force_deflection=tuple_of(self.force_deflection, "force_deflection",
+                                               "a sequence of ForceDeflection"))
         for i, table in enumerate(self.force_deflection):
             if not isinstance(table, ForceDeflection):
                 raise InputError(f"force_deflection[{i}]", "a ForceDeflection", table)

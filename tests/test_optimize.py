@@ -254,7 +254,7 @@ def test_optimize_writes_a_scenario_that_reproduces_the_design_and_a_labelled_fi
         np.testing.assert_allclose(f["robustness/peak_percentiles"][()], np.percentile(peaks, [5, 50, 95], axis=0).T)
         assert f["robustness/stiffness_factor"].shape == (1000, 3, 3) and bool(f["robustness"].attrs["cross_check_ok"])
         optimized_peaks = f["peaks"][()]
-    assert "Peak responses at the CG to the scenario's loads (exact batch engine)" in out
+    assert "Peak responses at the CG to the scenario's excitation (exact batch engine)" in out
     assert "Cross-check of the exact engine: diffrax solved samples" in out
     # The optimized scenario's response, by modal superposition, gives the file's peaks.
     from sixdof.analysis.superposition import superpose
@@ -333,3 +333,15 @@ def test_optimize_refuses_a_bad_place_for_its_robustness_chunks_before_computing
     assert main(["optimize", "scenarios/engine_inclined_mounts.toml", "--out", str(tmp_path), "--workers", "0"]) == 2
     assert "sixdof: error: --workers: expected a number of worker processes >= 1, got 0" in capsys.readouterr().err
     assert not list(tmp_path.iterdir())
+
+
+def test_the_design_peaks_under_a_moving_ground_are_said_to_be_absolute():
+    from types import SimpleNamespace
+
+    from sixdof.io.report import _design_peaks
+
+    spread = SimpleNamespace(tolerance=0.2, peak_percentiles=np.ones((12, 3)), responses=SimpleNamespace(cross_check=None))
+    peaks = (np.ones(12), np.ones(12))
+    assert _design_peaks(spread, peaks, True).startswith(
+        "Peak responses at the CG (absolute: the ground moves, its drift included) to the scenario's excitation")
+    assert "absolute" not in _design_peaks(spread, peaks, False)

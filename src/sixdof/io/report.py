@@ -185,10 +185,11 @@ def _target_value(target, value: float) -> str:
     return f"{value:.4g}{unit}"
 
 
-def design_tables(problem, result, spread, peaks=None) -> str:
+def design_tables(problem, result, spread, peaks=None, ground_moves: bool = False) -> str:
     """The optimization's verdict, its targets before and after (with the robustness study) and its variables;
     with ``peaks`` (the given and the optimized design's peak ``|q|`` and ``|q''|``, (12,) each) and the
-    samples' peak responses, their table too."""
+    samples' peak responses, their table too (said to be absolute, the ground's drift included, when
+    ``ground_moves``)."""
     short = [f"{t.label}: {_target_value(t, v)} (short by {100 * s:.3g} % of the bound)"
              for t, v, s in zip(problem.targets, result.values, result.violations) if s > 0]
     verdict = ("All targets met by the optimized design." if not short else
@@ -209,10 +210,12 @@ def design_tables(problem, result, spread, peaks=None) -> str:
                        for v, x0, x in zip(problem.variables, result.x_initial, result.x)], "lrrr")
     text = (f"{verdict}\n\nTargets ({len(spread.values)} samples with every mount-axis stiffness scattered "
             f"uniformly {tolerance}):\n{targets}\n\nVariables (stiffness as factors):\n{variables}")
-    return text if peaks is None or spread.peak_percentiles is None else text + "\n\n" + _design_peaks(spread, peaks)
+    if peaks is None or spread.peak_percentiles is None:
+        return text
+    return text + "\n\n" + _design_peaks(spread, peaks, ground_moves)
 
 
-def _design_peaks(spread, peaks) -> str:
+def _design_peaks(spread, peaks, ground_moves: bool) -> str:
     """The scenario's peak responses at the CG: the given and optimized designs, and their spread over the
     robustness samples (exact batch engine), with the diffrax cross-check's agreement."""
     from sixdof.design.optimize import PEAK_RESPONSES
@@ -230,7 +233,8 @@ def _design_peaks(spread, peaks) -> str:
     note = "" if check is None else (
         f"\nCross-check of the exact engine: diffrax solved samples "
         f"{', '.join(str(i) for i in responses.cross_check_variants)}; peak agreement {check}")
-    return ("Peak responses at the CG to the scenario's loads (exact batch engine):\n"
+    absolute = " (absolute: the ground moves, its drift included)" if ground_moves else ""
+    return (f"Peak responses at the CG{absolute} to the scenario's excitation (exact batch engine):\n"
             + table(["quantity", "given design", "optimized", f"5 / 50 / 95 % at stiffness {tolerance}"],
                     rows, "lrrr") + note)
 

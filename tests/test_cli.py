@@ -69,6 +69,18 @@ def test_modes_json_keys_are_the_results_file_s_names(tmp_path, capsys):
     assert data["frequencies_hz"] == data["frequency_hz"]  # the name of earlier versions, kept
 
 
+def test_modes_json_numbers_a_free_body_s_rigid_body_modes_as_integers(tmp_path, capsys):
+    """One mount under the CG leaves three rigid-body modes (the body turns about it): numbered 1, 2, 3, as the
+    file's attribute, not 1.0, 2.0, 3.0."""
+    scenario = tmp_path / "free.toml"
+    scenario.write_text('name = "free"\n[body]\nmass = 10.0\ninertia = [1.0, 1.0, 1.0]\n[[mounts]]\nname = "a"\n'
+                        'position = [0.0, 0.0, -0.1]\nstiffness = [1e4, 1e4, 1e4]\n')
+    assert main(["modes", str(scenario), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["rigid_body_modes"] == [1, 2, 3] and all(type(j) is int for j in data["rigid_body_modes"])
+    assert data["zero_modes"] == [0, 1, 2]
+
+
 def test_version_module_entry_and_options_after_the_command(capsys):
     from sixdof import __version__
 

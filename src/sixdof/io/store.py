@@ -483,7 +483,7 @@ def _attribute(value: Any) -> Any:
         strings = array.ndim == 1 and all(isinstance(v, str) for v in array.tolist())
         return tuple(array.tolist()) if strings else None
     if array.dtype.kind in "biuf":
-        return readonly(array)
+        return readonly(array, None)  # its own type: mode numbers stay integers (as a file gives them back)
     return None
 
 

@@ -222,6 +222,9 @@ def test_sweep_command_prints_the_cross_check(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "Cross-check of the exact engine: diffrax solved variants 0, 1, 2; peak agreement worst " in out
     assert ": ok\n  per DOF: x " in out and "3 variants, exact engine" in out
+    summary = (tmp_path / "out" / "beam_sweep" / "summary.md").read_text()  # the terminal's tables, kept
+    assert summary.startswith("# beam: sweep of 3 variants\n") and "| f1 [Hz]" in summary
+    assert "Cross-check of the exact engine: diffrax solved variants 0, 1, 2; peak agreement worst " in summary
     # The peaks' percentiles in the run summary's display units (mm, µrad ...), each row its own, not raw SI.
     import h5py
 

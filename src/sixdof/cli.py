@@ -453,6 +453,7 @@ def _export(args) -> int:
 
 def _sweep(args) -> int:
     from sixdof.errors import SolverError
+    from sixdof.io import report
     from sixdof.io.output import check_target
     from sixdof.io.scenario import load_scenario
     from sixdof.io.sweep import load_sweep_spec
@@ -482,11 +483,9 @@ def _sweep(args) -> int:
     print(f"{_title(scenario)}\n")
     print(outcome.table)
     if result.cross_check is not None:
-        checked = ", ".join(str(i) for i in result.cross_check_variants)
-        print(f"\nCross-check of the {result.engine} engine: diffrax solved variants {checked}; peak agreement "
-              f"{result.cross_check}")
+        print(f"\n{report.sweep_check_text(result)}")
     resumed = f", {outcome.resumed} of them resumed" if outcome.resumed else ""
-    print(f"\nWrote {outcome.directory / 'sweep.h5'} ({outcome.count} variants, {result.engine} engine, "
+    print(f"\nWrote {outcome.directory / 'sweep.h5'} and summary.md ({outcome.count} variants, {result.engine} engine, "
           f"{result.chunks} chunk{'s' if result.chunks != 1 else ''}{resumed}, {result.backend} with "
           f"{result.workers} worker{'s' if result.workers != 1 else ''}, {result.wall_time_s:.2f} s)")
     return 0

@@ -333,7 +333,7 @@ def sweep_scenario(scenario, spec, out_root: str | Path = "outputs", *, chunk_si
     import h5py
 
     from sixdof.io import output
-    from sixdof.io.report import moving_ground, summary_table
+    from sixdof.io.report import moving_ground, summary_table, sweep_check_text
     from sixdof.io.stream import ResultsStream
     from sixdof.results import RunResults
     from sixdof.tasks import task_runner
@@ -363,6 +363,11 @@ def sweep_scenario(scenario, spec, out_root: str | Path = "outputs", *, chunk_si
             outcome["table"] = summary_table(f["sweep/frequency_hz"], f.get("sweep/peak_q"),
                                              moving_ground(scenario))
         outcome["result"] = merged
+        about = f"{scenario.description}\n\n" if scenario.description else ""
+        check = sweep_check_text(merged)
+        (stage / "summary.md").write_text(f"# {scenario.name}: sweep of {spec.count} variants\n\n{about}"
+                                          f"{outcome['table']}\n" + (f"\n{check}\n" if check else ""),
+                                          encoding="utf-8")
 
     output.write_folder(target, write)
     folder.remove(len(run.chunks))

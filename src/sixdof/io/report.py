@@ -354,6 +354,16 @@ def summary_table(frequency_hz, peak_q=None, ground_moves: bool = False) -> str:
     return text
 
 
+def sweep_check_text(result) -> str:
+    """The cross-check of a sweep's engine by diffrax (:class:`~sixdof.analysis.batch.BatchResult`): the variants
+    solved and the worst agreement of their peaks; "" without one."""
+    if result.cross_check is None:
+        return ""
+    checked = ", ".join(str(i) for i in result.cross_check_variants)
+    return (f"Cross-check of the {result.engine} engine: diffrax solved variants {checked}; peak agreement "
+            f"{result.cross_check}")
+
+
 def validation_text(report) -> str:
     """The validation of a :class:`sixdof.validation.ValidationReport`: its table with each mode's
     verdict, each check against its limit, the thresholds, the notes and the overall verdict."""

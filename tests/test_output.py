@@ -136,6 +136,22 @@ def test_a_rerun_keeps_the_users_files_and_says_so(previous, tmp_path):
     assert debris(out) == []
 
 
+def test_an_export_inside_the_previous_results_is_kept_and_said_to_be_sixdof_s_stale_one(previous, tmp_path):
+    """``sixdof export`` writes into the results folder by default: a re-run keeps that folder (nobody asked for it
+    to go) and says it is sixdof's, made from the results replaced, not a file sixdof did not write."""
+    from sixdof.cli import main
+
+    out = tmp_path / "out"
+    assert main(["export", str(out / "pump" / "results.h5"), "--format", "csv"]) == 0
+    with pytest.warns(output.KeptFilesWarning) as caught:
+        run_scenario(parse_scenario(SCENARIO.replace("points = 50", "points = 60"), "pump.toml"), out, progress=False)
+    said = sorted(str(w.message) for w in caught)
+    assert said == [f"{out / 'pump'} held 1 file(s) that sixdof did not write; kept them: notes.txt",
+                    f"{out / 'pump'} held pump_export, written by sixdof from the results this run replaces: kept, "
+                    "but made from the previous results (write it again to match the new ones)"]
+    assert (out / "pump" / "pump_export" / output.MANIFEST).is_file() and debris(out) == []
+
+
 def test_files_sixdof_wrote_before_are_replaced_not_kept(previous, tmp_path):
     # A figure the previous run drew and this one does not is sixdof's own: it goes with the old folder.
     out = tmp_path / "out"

@@ -154,8 +154,16 @@ def write_folder(target: Path, write: Callable[[Path], None], carry: Iterable[st
         raise
     finally:
         os.close(stage_lock)
-    if kept:
-        warnings.warn(f"{target} held {len(kept)} file(s) that sixdof did not write; kept them: {', '.join(kept)}",
+    # A results folder of sixdof's inside the previous one (an export, written into it by default) is not the
+    # user's but no longer matches the new results: kept all the same (nobody asked for it to go), said as such.
+    stale = [name for name in kept if (target / name / MANIFEST).is_file()]
+    users = [name for name in kept if name not in stale]
+    if users:
+        warnings.warn(f"{target} held {len(users)} file(s) that sixdof did not write; kept them: {', '.join(users)}",
+                      KeptFilesWarning, stacklevel=2)
+    if stale:
+        warnings.warn(f"{target} held {', '.join(stale)}, written by sixdof from the results this run replaces: kept, "
+                      "but made from the previous results (write it again to match the new ones)",
                       KeptFilesWarning, stacklevel=2)
     _deliver(received, target)
     return target

@@ -483,7 +483,7 @@ def _sweep(args) -> int:
     print(f"{_title(scenario)}\n")
     print(outcome.table)
     if result.cross_check is not None:
-        print(f"\n{report.sweep_check_text(result)}")
+        print(f"\n{report.cross_check_text(result)}")
     resumed = f", {outcome.resumed} of them resumed" if outcome.resumed else ""
     print(f"\nWrote {outcome.directory / 'sweep.h5'} and summary.md ({outcome.count} variants, {result.engine} engine, "
           f"{result.chunks} chunk{'s' if result.chunks != 1 else ''}{resumed}, {result.backend} with "

@@ -333,7 +333,7 @@ def sweep_scenario(scenario, spec, out_root: str | Path = "outputs", *, chunk_si
     import h5py
 
     from sixdof.io import output
-    from sixdof.io.report import moving_ground, summary_table, sweep_check_text
+    from sixdof.io.report import cross_check_text, moving_ground, summary_table
     from sixdof.io.stream import ResultsStream
     from sixdof.results import RunResults
     from sixdof.tasks import task_runner
@@ -364,7 +364,7 @@ def sweep_scenario(scenario, spec, out_root: str | Path = "outputs", *, chunk_si
                                              moving_ground(scenario))
         outcome["result"] = merged
         about = f"{scenario.description}\n\n" if scenario.description else ""
-        check = sweep_check_text(merged)
+        check = cross_check_text(merged)
         (stage / "summary.md").write_text(f"# {scenario.name}: sweep of {spec.count} variants\n\n{about}"
                                           f"{outcome['table']}\n" + (f"\n{check}\n" if check else ""),
                                           encoding="utf-8")

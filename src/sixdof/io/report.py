@@ -228,11 +228,8 @@ def _design_peaks(spread, peaks, ground_moves: bool) -> str:
         factor, shown = display_unit(values, unit)
         rows.append([f"peak {quantity}", *(f"{v * factor:.4g} {shown}" for v in values[:2]),
                      " / ".join(f"{v * factor:.4g}" for v in values[2:]) + f" {shown}"])
-    responses = spread.responses
-    check = responses.cross_check
-    note = "" if check is None else (
-        f"\nCross-check of the exact engine: diffrax solved samples "
-        f"{', '.join(str(i) for i in responses.cross_check_variants)}; peak agreement {check}")
+    check = cross_check_text(spread.responses, "samples")
+    note = f"\n{check}" if check else ""
     absolute = " (absolute: the ground moves, its drift included)" if ground_moves else ""
     return (f"Peak responses at the CG{absolute} to the scenario's excitation (exact batch engine):\n"
             + table(["quantity", "given design", "optimized", f"5 / 50 / 95 % at stiffness {tolerance}"],
@@ -354,13 +351,14 @@ def summary_table(frequency_hz, peak_q=None, ground_moves: bool = False) -> str:
     return text
 
 
-def sweep_check_text(result) -> str:
-    """The cross-check of a sweep's engine by diffrax (:class:`~sixdof.analysis.batch.BatchResult`): the variants
-    solved and the worst agreement of their peaks; "" without one."""
+def cross_check_text(result, solved: str = "variants") -> str:
+    """The cross-check of a batch engine by diffrax (:class:`~sixdof.analysis.batch.BatchResult`: a sweep's
+    variants, or an optimization's robustness ``solved="samples"``): those solved and the worst agreement of
+    their peaks; "" without one."""
     if result.cross_check is None:
         return ""
     checked = ", ".join(str(i) for i in result.cross_check_variants)
-    return (f"Cross-check of the {result.engine} engine: diffrax solved variants {checked}; peak agreement "
+    return (f"Cross-check of the {result.engine} engine: diffrax solved {solved} {checked}; peak agreement "
             f"{result.cross_check}")
 
 

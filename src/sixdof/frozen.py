@@ -58,9 +58,8 @@ def _brief(value: Any) -> str:
     return repr(value)
 
 
-class Frozen:
-    """Base of the validated frozen dataclasses: runs every field's check, then :meth:`__check__`; a one-line
-    repr (:func:`brief_repr`)."""
+class BriefRepr:
+    """Base of dataclasses that print on one line (:func:`brief_repr`): the model objects and the results."""
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
@@ -68,6 +67,11 @@ class Frozen:
         # class defines none).
         if "__repr__" not in cls.__dict__:
             cls.__repr__ = brief_repr
+
+
+class Frozen(BriefRepr):
+    """Base of the validated frozen dataclasses: runs every field's check, then :meth:`__check__`; a one-line
+    repr (:class:`BriefRepr`)."""
 
     def __post_init__(self) -> None:
         for f in dataclasses.fields(self):

@@ -25,7 +25,7 @@ import numpy as np
 
 from sixdof.dofs import AXES, DOFS, LOADS, MOUNT_AXES, UNITS, MixedUnits, motion_units, unit_attrs
 from sixdof.errors import InputError, Plain, readonly
-from sixdof.frozen import Frozen, brief_repr
+from sixdof.frozen import BriefRepr, Frozen
 
 # ----------------------------------------------------------------------------------------------------
 # Field descriptions.
@@ -115,14 +115,9 @@ def _motion(order: int, description: str = "absolute motion of the centre of gra
     return quantity(motion_units(order), ("t", "dof"), description=description)
 
 
-class Result:
+class Result(BriefRepr):
     """Base of the described result classes: ``result.to_xarray()`` (see :func:`to_xarray`), and a one-line
-    repr (:func:`sixdof.frozen.brief_repr`)."""
-
-    def __init_subclass__(cls, **kwargs) -> None:
-        super().__init_subclass__(**kwargs)
-        if "__repr__" not in cls.__dict__:  # kept by @dataclass, which runs after this
-            cls.__repr__ = brief_repr
+    repr (:class:`sixdof.frozen.BriefRepr`)."""
 
     def to_xarray(self):
         """This result as an :class:`xarray.Dataset`: named dims, coordinates and units (needs xarray)."""

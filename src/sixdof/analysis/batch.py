@@ -44,7 +44,7 @@ from sixdof.analysis.compare import Agreement, compare
 from sixdof.analysis.modal import ZERO_MODE_RTOL
 from sixdof.dofs import UNITS
 from sixdof.errors import InputError, Plain, SolverError, integer, readonly
-from sixdof.frozen import brief_repr
+from sixdof.frozen import BriefRepr
 from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import mount_matrix_jax
 from sixdof.model.system import Mount, System
@@ -102,7 +102,7 @@ class Variants:
 
 
 @dataclass(frozen=True, eq=False)
-class BatchResult:
+class BatchResult(BriefRepr):
     """Result of :func:`run_batch`.
 
     Attributes
@@ -140,8 +140,6 @@ class BatchResult:
         Chunks of the sweep (:func:`sixdof.tasks.partition`; each drew its variants with its own seed):
         1 for a batch.
     """
-
-    __repr__ = brief_repr  # one line, not every sample
 
     variants: Variants = part(lambda: Variants, prefix="")
     frequency_hz: np.ndarray = quantity("Hz", ("variant", "mode"), description="undamped natural frequencies of each "

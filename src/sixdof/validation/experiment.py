@@ -44,7 +44,7 @@ from sixdof.analysis.frf import parse_direction, receptance
 from sixdof.analysis.statespace import damped_modes
 from sixdof.dofs import DOFS
 from sixdof.errors import InputError, SolverError, point, readonly
-from sixdof.frozen import brief_repr
+from sixdof.frozen import BriefRepr
 from sixdof.model.kinematics import unit_load
 from sixdof.progress import meter
 from sixdof.results import TimeHistory, label, part, quantity, sequence, stacked
@@ -343,7 +343,7 @@ class RandomRun:
 
 
 @dataclass(frozen=True, eq=False)
-class ValidationReport:
+class ValidationReport(BriefRepr):
     """Result of :func:`validate`: one row per elastic mode, and the runs behind them.
 
     Attributes
@@ -369,8 +369,6 @@ class ValidationReport:
     verdict : str
         ``PASS`` when every mode passed, else ``FAIL``.
     """
-
-    __repr__ = brief_repr  # one line, not every sample
 
     rows: tuple[ModeCheck, ...] = stacked(lambda: ModeCheck, dim="mode", key="mode")
     random_runs: tuple[RandomRun, ...] = sequence(lambda: RandomRun, group="random", key=lambda run: f"mode_{run.mode}")

@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 import sixdof.sweeps
+from processes import assert_group_ends, living_in_group
 from sixdof import InputError, parse_scenario, simulate
 from sixdof.analysis.batch import run_batch, variant_system
 from sixdof.io.scenario import load_scenario
@@ -377,26 +378,8 @@ def _interrupted(command, ready):
     assert process.poll() is None, "the sweep ended before it could be interrupted"
     os.killpg(process.pid, signal.SIGINT)
     _, err = process.communicate(timeout=120)
-    deadline = time.monotonic() + 10  # workers that closed their pipes may still be ending
-    while _group(process.pid) and time.monotonic() < deadline:
-        time.sleep(0.05)
-    assert _group(process.pid) == []
+    assert_group_ends(process.pid, within_s=10.0)  # workers that closed their pipes may still be ending
     return process.returncode, err.strip().splitlines()
-
-
-def _group(pgid):
-    """Command lines of the living processes of group ``pgid`` (zombies aside)."""
-    from pathlib import Path
-
-    living = []
-    for stat in Path("/proc").glob("[0-9]*/stat"):
-        try:
-            fields = stat.read_text().rpartition(")")[2].split()  # after "pid (name)": state, ppid, pgrp...
-            if int(fields[2]) == pgid and fields[0] != "Z":
-                living.append((stat.parent / "cmdline").read_text().replace("\0", " "))
-        except (OSError, ValueError, IndexError):  # a process that ended meanwhile
-            continue
-    return living
 
 
 @pytest.mark.skipif(not os.path.isdir("/proc"), reason="finds the process group's processes in /proc")
@@ -417,7 +400,7 @@ def test_ctrl_c_while_the_workers_start_is_one_line(tmp_path):
     blocked, so none dies of it (which failed the cluster's start with some 100 lines of tracebacks), and the
     main process, which held it back meanwhile, says it in one line."""
     def starting(pgid):
-        return any("spawn_main" in command for command in _group(pgid))
+        return any("spawn_main" in command for command in living_in_group(pgid))
 
     status, err = _interrupted(_sweep_command(tmp_path, 40), starting)
     assert status == 130 and err == ["sixdof: interrupted; no partial results were left"], err

@@ -7,11 +7,11 @@ import os
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
 
+from processes import assert_group_ends
 from sixdof import InputError, load_results, parse_scenario, run_scenario
 from sixdof import workflows as run_module
 from sixdof.cli import EXIT_BAD_INPUT, EXIT_CANNOT_WRITE, EXIT_CLOSED_PIPE, EXIT_INTERRUPTED, EXIT_TERMINATED, main
@@ -291,24 +291,7 @@ def test_ctrl_c_reaches_the_whole_process_group_and_leaves_no_process(previous, 
     assert err.strip().splitlines() == ["sixdof: interrupted; no partial results were left"]
     assert snapshot(out / "pump") == previous
     assert debris(out) == []
-    deadline = time.monotonic() + 5.0  # a process that closed its pipes may still be ending
-    while living_in_group(process.pid) and time.monotonic() < deadline:
-        time.sleep(0.05)
-    assert living_in_group(process.pid) == []
-
-
-def living_in_group(pgid: int) -> list[str]:
-    """Command lines of the processes of group ``pgid`` that still run (zombies aside: whether a container's
-    init reaps them is not the run's doing); empty where /proc is missing."""
-    living = []
-    for stat in Path("/proc").glob("[0-9]*/stat"):
-        try:
-            fields = stat.read_text().rpartition(")")[2].split()  # after "pid (name)": state, ppid, pgrp...
-            if int(fields[2]) == pgid and fields[0] != "Z":
-                living.append((stat.parent / "cmdline").read_text().replace("\0", " "))
-        except (OSError, IndexError, ValueError):
-            continue  # ended meanwhile
-    return living
+    assert_group_ends(process.pid, within_s=5.0)
 
 
 def test_sigkill_debris_is_removed_by_the_next_run(previous, scenario_file, tmp_path, own_tmpdir):

@@ -51,8 +51,10 @@ from sixdof.errors import InputError, Plain, file_name
 
 #: The list of files sixdof wrote into a results folder (one name per line).
 MANIFEST = ".sixdof-files"
+#: The results files that make a folder without a list sixdof's (written by an earlier version).
+_RESULTS_FILES = frozenset({"results.h5", "sweep.h5"})
 #: Files that earlier versions wrote without a manifest (``*.png`` figures are judged by the new run).
-_UNLISTED = frozenset({"results.h5", "sweep.h5", "summary.md", "validation.md"})
+_UNLISTED = _RESULTS_FILES | {"summary.md", "validation.md"}
 _HELD_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
 
@@ -402,7 +404,7 @@ def _sixdofs(folder: Path, new: Iterable[str]) -> set[str]:
     written by an earlier version (no list), the names sixdof writes (``new``: those a new write brings)."""
     if (folder / MANIFEST).exists():
         return {MANIFEST, *_listed(folder)}
-    if set(os.listdir(folder)) & {"results.h5", "sweep.h5"}:
+    if set(os.listdir(folder)) & _RESULTS_FILES:
         return _UNLISTED | set(new)
     return set()
 
@@ -422,4 +424,4 @@ def _write_manifest(folder: Path, names) -> None:
 def _is_results_folder(folder: Path) -> bool:
     """Written by sixdof (its list of files, or a results file of an earlier version), or empty."""
     names = set(os.listdir(folder))
-    return not names or MANIFEST in names or bool(names & {"results.h5", "sweep.h5"})
+    return not names or MANIFEST in names or bool(names & _RESULTS_FILES)

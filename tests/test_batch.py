@@ -7,6 +7,8 @@ superpose) run on each variant's own System and with scipy's DOP853, per DOF rel
 peak.
 """
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 import scipy.integrate
@@ -28,10 +30,11 @@ from sixdof import (
     superpose,
 )
 from sixdof.analysis.batch import batch_frequencies, make_variants, run_batch, variant_matrices, variant_system
-from sixdof.io.report import summary_table
+from sixdof.analysis.modal import pair_by_similarity
+from sixdof.io.report import summary_table, tracked_modes_table
 from sixdof.io.sweep import load_sweep_spec, parse_sweep_spec
 from sixdof.sweeps import Study, sweep
-from systems import BRIDGE_LOADS_TOML, bridge, bridge_toml
+from systems import BRIDGE_LOADS_TOML, bridge, bridge_toml, four_mount
 from tolerances import RTOL_BATCH_CHUNKS, RTOL_BATCH_DIRECT, RTOL_BATCH_FREQUENCY, RTOL_BATCH_MATRIX, RTOL_BATCH_SCIPY
 
 # Loads that move all six DOFs: an off-centre harmonic force and a pulse near one end.
@@ -174,6 +177,70 @@ def test_batch_frequencies_equal_modal_analysis_per_variant(beam):
         np.testing.assert_allclose(f[i], expected, rtol=RTOL_BATCH_FREQUENCY, atol=0)
 
 
+def test_modes_are_followed_by_their_shapes_where_their_frequencies_cross():
+    # Mounts in the CG's plane, doubly symmetric: x and y translations are modes of their own, at
+    # sqrt(4 k / m) / 2 pi. Scaling every mount's kx across ky's value swaps the two lowest frequencies.
+    m, k = 500.0, (2e5, 2.2e5, 8e5)
+    system = four_mount(m=m, h=0.0, k=k)
+    scale = np.linspace(0.8, 1.3, 11)
+    variants = make_variants(system, stiffness_factor=np.stack([np.stack([scale, np.ones(11), np.ones(11)], -1)] * 4, 1))
+    result = run_batch(system, variants)
+    f_x = np.sqrt(4 * k[0] * scale / m) / (2 * np.pi)
+    f_y = np.sqrt(4 * k[1] / m) / (2 * np.pi)
+    x, y = system.modes.dominant_dof.index("x"), system.modes.dominant_dof.index("y")
+    np.testing.assert_allclose(result.tracked_frequency_hz[:, x], f_x, rtol=RTOL_BATCH_FREQUENCY)
+    np.testing.assert_allclose(result.tracked_frequency_hz[:, y], f_y, rtol=RTOL_BATCH_FREQUENCY)
+    np.testing.assert_allclose(result.tracked_mac[:, [x, y]], 1.0, rtol=1e-12)
+    # Ascending order follows neither: its lowest frequency is x's, then y's.
+    np.testing.assert_allclose(result.frequency_hz[:, 0], np.minimum(f_x, f_y), rtol=RTOL_BATCH_FREQUENCY)
+    assert np.any(result.frequency_hz[:, 0] != result.tracked_frequency_hz[:, x])
+    # Every variant's six frequencies, each once.
+    np.testing.assert_array_equal(np.sort(result.tracked_frequency_hz, axis=1), result.frequency_hz)
+
+
+def test_tracked_modes_pair_as_an_independent_eigen_solution_does(beam):
+    # scipy's eigh per variant, each pairing checked against every permutation's total MAC.
+    import itertools
+
+    import scipy.linalg
+
+    rng = np.random.default_rng(11)
+    variants = make_variants(beam, stiffness_factor=rng.uniform(0.7, 1.3, (8, 4, 3)),
+                             position_offset=rng.normal(0.0, 0.05, (8, 4, 3)))
+    result = run_batch(beam, variants)
+    nominal = scipy.linalg.eigh(beam.K, beam.M)[1]
+    permutations = np.array(list(itertools.permutations(range(6))))
+    for i in range(variants.count):
+        system = variant_system(beam, variants, i)
+        lam, shapes = scipy.linalg.eigh(system.K, system.M)
+        mac = (nominal.T @ beam.M @ shapes) ** 2 / np.outer(np.diag(nominal.T @ beam.M @ nominal),
+                                                          np.diag(shapes.T @ beam.M @ shapes))
+        best = permutations[np.argmax(mac[np.arange(6), permutations].sum(axis=1))]
+        np.testing.assert_allclose(result.tracked_frequency_hz[i], np.sqrt(lam[best]) / (2 * np.pi),
+                                   rtol=RTOL_BATCH_FREQUENCY)
+        np.testing.assert_allclose(result.tracked_mac[i], mac[np.arange(6), best], atol=1e-9)
+
+
+def test_pairing_takes_the_most_similar_pair_first():
+    similarity = np.array([[0.9, 0.8, 0.0], [0.95, 0.1, 0.0]])
+    # (1, 0) first, then row 0 takes what is left of its best: column 1.
+    np.testing.assert_array_equal(pair_by_similarity(similarity), [1, 0])
+    np.testing.assert_array_equal(pair_by_similarity(np.stack([similarity, similarity[::-1]])), [[1, 0], [0, 1]])
+    np.testing.assert_array_equal(pair_by_similarity([[-np.inf, 0.5], [0.2, 0.9]]), [-1, 1])  # never with -inf
+    np.testing.assert_array_equal(pair_by_similarity([[0.3], [0.7]]), [-1, 0])
+
+
+def test_a_mode_not_clearly_found_is_said_so():
+    modes = SimpleNamespace(frequency_hz=np.arange(1.0, 7.0), dominant_dof=("x", "y", "z", "rx", "ry", "rz"))
+    tracked = np.tile(np.arange(1.0, 7.0), (4, 1))
+    mac = np.ones((4, 6))
+    assert "MAC below" not in tracked_modes_table(modes, tracked, mac)
+    mac[[1, 3], 2] = [0.6, 0.85]
+    text = tracked_modes_table(modes, tracked, mac)
+    assert "| 3 (z)" in text and "0.600 |" in text
+    assert "MAC below 0.9: mode 3 in 2 variants." in text
+
+
 def test_batched_matrices_include_rayleigh_and_modal_damping(beam):
     rng = np.random.default_rng(5)
     system = System(beam.body, beam.mounts, rayleigh=Rayleigh.from_ratio(0.02, (0.6, 38.0)),
@@ -224,6 +291,7 @@ def test_sweep_command_prints_the_cross_check(tmp_path, capsys):
     assert ": ok\n  per DOF: x " in out and "3 variants, exact engine" in out
     summary = (tmp_path / "out" / "beam_sweep" / "summary.md").read_text()  # the terminal's tables, kept
     assert summary.startswith("# beam: sweep of 3 variants\n") and "| f1 [Hz]" in summary
+    assert "| mode (dominant DOF) | nominal [Hz] | p5 [Hz] | p50 [Hz] | p95 [Hz] | lowest MAC |" in summary
     assert "Cross-check of the exact engine: diffrax solved variants 0, 1, 2; peak agreement worst " in summary
     # The peaks' percentiles in the run summary's display units (mm, µrad ...), each row its own, not raw SI.
     import h5py
@@ -249,8 +317,8 @@ def test_a_sweep_under_a_moving_ground_says_its_peaks_are_absolute(tmp_path):
                     'low = 0.9\nhigh = 1.1\n')
     table = sweep_scenario(load_scenario("scenarios/bridge_beam_ground.toml"), load_sweep_spec(spec), tmp_path).table
     assert all(f"| peak {dof} (absolute) [" in table for dof in ("x", "y", "z", "rx", "ry", "rz"))
-    assert table.endswith("The ground moves: the peaks are of the body's absolute motion, the ground's drift "
-                          "included, not of the mounts' deflection.")
+    assert ("| peak rz (absolute) [" in table.split("The ground moves: the peaks are of the body's absolute motion, "
+                                                 "the ground's drift included, not of the mounts' deflection.")[0])
     assert "(absolute)" not in summary_table(np.ones((3, 6)), np.ones((3, 6)))  # a fixed ground: nothing to say
 
 

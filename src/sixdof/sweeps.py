@@ -333,7 +333,7 @@ def sweep_scenario(scenario, spec, out_root: str | Path = "outputs", *, chunk_si
     import h5py
 
     from sixdof.io import output
-    from sixdof.io.report import cross_check_text, moving_ground, summary_table
+    from sixdof.io.report import cross_check_text, moving_ground, summary_table, tracked_modes_table
     from sixdof.io.stream import ResultsStream
     from sixdof.results import RunResults
     from sixdof.tasks import task_runner
@@ -360,8 +360,9 @@ def sweep_scenario(scenario, spec, out_root: str | Path = "outputs", *, chunk_si
                                      sweep=merged, provenance={"scenario_text": scenario.text}),
                           sweep={"count": spec.count})
         with h5py.File(path, "r") as f:  # one column at a time: the client never holds every variant
-            outcome["table"] = summary_table(f["sweep/frequency_hz"], f.get("sweep/peak_q"),
-                                             moving_ground(scenario))
+            outcome["table"] = (summary_table(f["sweep/frequency_hz"], f.get("sweep/peak_q"), moving_ground(scenario))
+                                + "\n\n" + tracked_modes_table(scenario.system.modes, f["sweep/tracked_frequency_hz"],
+                                                                 f["sweep/tracked_mac"]))
         outcome["result"] = merged
         about = f"{scenario.description}\n\n" if scenario.description else ""
         check = cross_check_text(merged)

@@ -3,9 +3,11 @@
 A batch varies the mounts of one system: stiffness factors, damping factors and position offsets,
 per variant, per mount and per mount axis (:class:`Variants`). :func:`run_batch` assembles every
 variant's M, K, C, natural frequencies and mode shapes in one ``jax.vmap`` of the pure assembly
-functions of :mod:`sixdof.model.system` (``jnp.linalg.eigh`` of the mass-scaled stiffness), then
-computes every variant's response, keeping only what is asked for: the peak of ``|q|`` and ``|q''|`` per
-DOF at the output samples, and the full :class:`~sixdof.results.TimeHistory` of a few chosen variants.
+functions of :mod:`sixdof.model.system` (``jnp.linalg.eigh`` of the mass-scaled stiffness), follows each
+nominal mode into every variant by its shape (:func:`track_modes`: ascending order mixes modes whose
+frequencies cross), then computes every variant's response, keeping only what is asked for: the peak of
+``|q|`` and ``|q''|`` per DOF at the output samples, and the full :class:`~sixdof.results.TimeHistory` of a
+few chosen variants.
 
 Two engines compute the responses:
 
@@ -41,7 +43,7 @@ import numpy as np
 
 from sixdof._jax import jax, jnp
 from sixdof.analysis.compare import Agreement, compare
-from sixdof.analysis.modal import ZERO_MODE_RTOL
+from sixdof.analysis.modal import ZERO_MODE_RTOL, pair_by_similarity
 from sixdof.dofs import UNITS
 from sixdof.errors import InputError, Plain, SolverError, integer, readonly
 from sixdof.frozen import BriefRepr
@@ -110,6 +112,12 @@ class BatchResult(BriefRepr):
     variants : Variants
     frequency_hz : ndarray, shape (nv, 6)
         Undamped natural frequencies of each variant, ascending [Hz].
+    tracked_frequency_hz : ndarray, shape (nv, 6), or None
+        ``[v, j]``: natural frequency of variant v's mode that has the shape of the nominal mode j [Hz]
+        (:func:`track_modes`); ``None`` in files written before it was kept.
+    tracked_mac : ndarray, shape (nv, 6), or None
+        ``[v, j]``: how alike the shapes of that mode and nominal mode j are (mass-weighted MAC: 1 the same
+        shape, 0 orthogonal); a low value means mode j is not clearly found in variant v.
     peak_q : ndarray, shape (nv, 6) or None
         ``max |q|`` over the output samples per DOF [m, rad]; ``None`` without a simulation.
     peak_qdd : ndarray, shape (nv, 6) or None
@@ -144,6 +152,12 @@ class BatchResult(BriefRepr):
     variants: Variants = part(lambda: Variants, prefix="")
     frequency_hz: np.ndarray = quantity("Hz", ("variant", "mode"), description="undamped natural frequencies of each "
                                         "variant")
+    tracked_frequency_hz: np.ndarray | None = quantity(
+        "Hz", ("variant", "mode"), default=None,
+        description="natural frequency of each variant's mode with the shape of nominal mode j (mass-weighted MAC)")
+    tracked_mac: np.ndarray | None = quantity(
+        "1", ("variant", "mode"), default=None,
+        description="mass-weighted MAC of that mode with nominal mode j (1: the same shape)")
     settings: Any = part(lambda: import_module("sixdof.analysis.direct").SimulationSettings, prefix="", default=None)
     peak_q: np.ndarray | None = quantity(UNITS["q"], ("variant", "dof"), default=None,
                                          description="max |q| over the output samples")
@@ -307,6 +321,36 @@ def variant_matrices(system: System, variants: Variants) -> tuple[np.ndarray, np
     return _assembled(system, variants)[:3]
 
 
+def track_modes(system: System, frequency_hz, shapes) -> tuple[np.ndarray, np.ndarray]:
+    """Follow each nominal mode of ``system`` into its variants by shape.
+
+    Ascending order mixes modes: where two frequencies cross from one variant to the next, "f1" is one mode in
+    some variants and another in the rest, and its spread is neither's. Each variant's modes are instead paired
+    with the nominal modes by the mass-weighted modal assurance criterion, most alike first
+    (:func:`~sixdof.analysis.modal.pair_by_similarity`): the sweep's spread of each mode's frequency.
+
+    Parameters
+    ----------
+    system : System
+        The nominal system (the variants share its mass).
+    frequency_hz : ndarray, shape (nv, 6)
+        The variants' natural frequencies, ascending [Hz].
+    shapes : ndarray, shape (nv, 6, 6)
+        Their mode shapes (columns), mass-normalized.
+
+    Returns
+    -------
+    tracked_frequency_hz, tracked_mac : ndarray, shape (nv, 6)
+        ``[v, j]``: the frequency [Hz] of variant v's mode paired with nominal mode j, and their MAC.
+    """
+    # Both sets mass-normalized with the same M: MAC = (phi_i' M psi_j)^2 / (phi_i' M phi_i psi_j' M psi_j) is the
+    # square of the mass-weighted product alone.
+    mac = np.einsum("di,de,vej->vij", system.modes.shapes, np.asarray(system.M), np.asarray(shapes)) ** 2
+    paired = pair_by_similarity(mac)  # 6 x 6: every nominal mode gets a variant's mode
+    rows = np.arange(len(mac))[:, None]
+    return readonly(np.asarray(frequency_hz)[rows, paired]), readonly(mac[rows, np.arange(6), paired])
+
+
 def batch_frequencies(system: System, variants: Variants) -> np.ndarray:
     """Undamped natural frequencies of every variant, shape (nv, 6), ascending [Hz]."""
     _, _, lam = variant_matrices(system, variants)
@@ -380,10 +424,11 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     cross_check = integer(cross_check, "cross_check", "a number of variants >= 0", 0)
     start = time.perf_counter()
     K, C, lam, shapes = _assembled(system, variants)
-    frequency = readonly(np.sqrt(lam) / (2.0 * np.pi))
+    frequency = np.sqrt(lam) / (2.0 * np.pi)
+    tracked, mac = track_modes(system, frequency, shapes)
+    modal = dict(frequency_hz=readonly(frequency), tracked_frequency_hz=tracked, tracked_mac=mac)
     if excitation is None or settings is None:
-        return BatchResult(variants=variants, frequency_hz=frequency, engine=engine,
-                           wall_time_s=time.perf_counter() - start)
+        return BatchResult(variants=variants, **modal, engine=engine, wall_time_s=time.perf_counter() - start)
     if isinstance(excitation.initial, ModeRelease):
         raise InputError("excitation.initial", "an InitialState in a batch (a mode release depends "
                          "on each variant's modes)", Plain("a ModeRelease"))
@@ -409,7 +454,7 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     kept = {int(i): _history(system, variants, int(i), excitation, settings, engine) for i in histories}
     checked = cross_check_sample(nv, cross_check, seed)
     direct = direct_peaks(system, variants, checked, excitation, settings, progress)
-    return BatchResult(variants=variants, frequency_hz=frequency, peak_q=readonly(peaks[:, :6]),
+    return BatchResult(variants=variants, **modal, peak_q=readonly(peaks[:, :6]),
                        peak_qdd=readonly(peaks[:, 6:]), num_steps=steps, num_rejected=rejected, histories=kept,
                        settings=settings, engine=engine, chunk_size=int(chunks[0].size),
                        **cross_check_fields(checked, direct, peaks[checked]), wall_time_s=time.perf_counter() - start)

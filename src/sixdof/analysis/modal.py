@@ -185,3 +185,30 @@ def coupled_subsystems(M: np.ndarray, K: np.ndarray, rtol: float = COUPLING_RTOL
     # Row i of (I + A)^5 is nonzero at every DOF within 5 steps of DOF i: its whole component.
     reach = np.linalg.matrix_power(np.eye(6, dtype=int) + edges + edges.T, 5) > 0
     return tuple(dict.fromkeys(tuple(DOFS[j] for j in np.flatnonzero(row)) for row in reach))
+
+
+def pair_by_similarity(similarity) -> np.ndarray:
+    """Pair rows with columns of ``similarity`` (..., n, m), most similar pair first, each row and column used
+    once: how modes are followed by their shapes (the damped modes of :func:`sixdof.analysis.statespace.damped_modes`,
+    a sweep's variants in :func:`sixdof.analysis.batch.run_batch`).
+
+    Entries of ``-inf`` are never paired. Greedy rather than the optimal assignment: a pair whose shapes agree
+    best is never broken up to raise the sum of others (which for similar shapes picks the same pairs).
+
+    Returns
+    -------
+    ndarray of int, shape (..., n)
+        The column paired with each row; -1 for a row left unpaired.
+    """
+    left = np.array(similarity, dtype=float)  # a copy: paired rows and columns are struck out of it
+    *batch, n, m = left.shape
+    left = left.reshape(-1, n, m)
+    cases = np.arange(len(left))
+    paired = np.full((len(left), n), -1)
+    for _ in range(min(n, m)):
+        row, column = np.divmod(np.argmax(left.reshape(len(left), -1), axis=1), m)
+        found = left[cases, row, column] > -np.inf
+        paired[cases[found], row[found]] = column[found]
+        left[cases, row, :] = -np.inf
+        left[cases, :, column] = -np.inf
+    return paired.reshape(*batch, n)

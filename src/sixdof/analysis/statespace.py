@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from sixdof.analysis.modal import pair_by_similarity
 from sixdof.errors import SolverError
 
 #: Damping is classical when its largest normalized modal coupling is at most this. Round-off of the
@@ -237,15 +238,13 @@ def damped_modes(C, modes, branches=None) -> tuple[np.ndarray, np.ndarray]:
     complex_ = complex_modes(np.diag(modes.eigenvalues), D, remedy=None, maxwell=maxwell)
     eigenvalues, vectors = complex_.eigenvalues, complex_.right
     oscillating = np.flatnonzero(eigenvalues.imag > 1e-9 * np.abs(eigenvalues).max())
-    pairs = [(abs(vectors[r, k]) ** 2 / np.real(np.vdot(vectors[:n, k], vectors[:n, k])), r, k)
-             for r in np.flatnonzero(modes.omega > 0) for k in oscillating]
-    # Pair undamped and complex modes by shape, most similar first, each used once.
-    paired = {}
-    for _, r, k in sorted(pairs, reverse=True):
-        if r not in paired and k not in paired.values():
-            paired[r] = k
-            poles[r] = eigenvalues[k]
-            shapes[:, r] = phi @ vectors[:n, k]
+    top = vectors[:n, oscillating]
+    similarity = np.abs(top) ** 2 / np.real(np.sum(np.conj(top) * top, axis=0))
+    similarity[modes.omega <= 0] = -np.inf  # rigid-body modes have no pole
+    for r, j in enumerate(pair_by_similarity(similarity)):
+        if j >= 0:
+            poles[r] = eigenvalues[oscillating[j]]
+            shapes[:, r] = phi @ top[:, j]
     return poles, shapes
 
 

@@ -11,6 +11,7 @@ import pytest
 
 from sixdof import InputError, load_results, parse_scenario, run_scenario
 from sixdof.cli import main
+from sixdof.io.store import load_tree
 from test_run import SCENARIO
 
 #: Binary UFF58 holds doubles: the even time axis comes back as min + k * increment (1 ulp off), the rest exactly.
@@ -21,6 +22,27 @@ RTOL_TIME_AXIS = 1e-14
 def results(tmp_path_factory):
     outcome = run_scenario(parse_scenario(SCENARIO.replace("duration = 0.6", "duration = 0.2")),
                            tmp_path_factory.mktemp("run"), progress=False)
+    return outcome.results_path
+
+
+#: The small run shaken by its base instead of struck: a 1 g half-sine acceleration of the ground, inclined in y-z.
+GROUND = """[ground]
+quantity = "acceleration"
+direction = [0.0, 0.6, 0.8]
+scale = 9.81
+signal = { kind = "half_sine", start = 0.05, duration = 0.02 }
+
+"""
+#: The ground's channels: the results file's dataset, its UFF58 ordinate type and its CSV column letter.
+GROUND_CHANNELS = (("time/ground_displacement", 8, "d"), ("time/ground_velocity", 11, "v"),
+                   ("time/ground_acceleration", 12, "a"))
+
+
+@pytest.fixture(scope="module")
+def shaken(tmp_path_factory):
+    text = (SCENARIO.split("[[loads]]")[0] + GROUND + "[simulation]"
+            + SCENARIO.split("[simulation]")[1].replace("duration = 0.6", "duration = 0.2"))
+    outcome = run_scenario(parse_scenario(text), tmp_path_factory.mktemp("shaken"), progress=False)
     return outcome.results_path
 
 
@@ -102,3 +124,44 @@ def test_each_format_replaces_its_own_files_and_keeps_the_other_s(results, tmp_p
     assert (folder / "small.uff").read_bytes() == uff and (folder / "notes.txt").read_text() == "mine"
     with (folder / "small_frf.csv").open() as stream:
         assert len(list(csv.reader(stream))) == 1 + 30  # the header and the new run's frequencies
+
+
+def test_uff58_of_a_base_excited_run_carries_the_ground_motion_as_input_channels(shaken, tmp_path):
+    """The ground's displacement, velocity and acceleration per axis after the body's histories: node 0, entity
+    GROUND, its own DOF as reference, each equal to the results file's dataset and labelled with its units."""
+    pyuff = pytest.importorskip("pyuff")
+    assert main(["export", str(shaken), "--out", str(tmp_path)]) == 0
+    tree, run = load_tree(shaken), load_results(shaken)
+    uff = pyuff.UFF(str(tmp_path / "small_export" / "small.uff"))
+    sets = [uff.read_sets(k) for k in range(uff.get_n_sets())]
+    first = 6 + 3 * len(run.points)
+    assert len(sets) == first + 9 + 36
+    assert np.abs(tree.array("time/ground_acceleration")).max() > 1.0  # the shake is there to be exported
+    for n, (path, data_type, _) in enumerate(GROUND_CHANNELS):
+        for axis in range(3):
+            data = sets[first + 3 * n + axis]
+            assert (data["func_type"], data["rsp_node"], data["rsp_dir"], data["ref_node"], data["ref_dir"],
+                    data["ordinate_spec_data_type"]) == (1, 0, axis + 1, 0, axis + 1, data_type)
+            assert data["rsp_ent_name"].strip() == data["ref_ent_name"].strip() == "GROUND"
+            assert data["ordinate_axis_units_lab"].strip() == tree[path].units
+            assert data["id1"].strip() == f"small: ground {path.split('_')[-1]} {'xyz'[axis]} (input)"
+            np.testing.assert_allclose(data["x"], tree.array("time/t"), rtol=RTOL_TIME_AXIS, atol=1e-15)
+            np.testing.assert_array_equal(data["data"], tree.array(path)[:, axis])
+    assert sets[first + 9]["func_type"] == 4  # the receptances follow
+
+
+def test_csv_of_a_base_excited_run_carries_the_ground_motion_after_the_body_s_columns(shaken, tmp_path):
+    from sixdof.io.exchange import export
+
+    files = export(shaken, tmp_path, "csv")
+    tree = load_tree(shaken)
+    with files[0].open() as stream:
+        rows = list(csv.reader(stream))
+    table = np.array(rows[1:], dtype=float)
+    first = 1 + 6 + 3
+    for n, (path, _, letter) in enumerate(GROUND_CHANNELS):
+        columns = slice(first + 3 * n, first + 3 * n + 3)
+        assert rows[0][columns] == [f"ground {letter}{axis} [{tree[path].units}]" for axis in "xyz"]
+        np.testing.assert_array_equal(table[:, columns], tree.array(path))
+    assert len(rows[0]) == first + 9
+    assert rows[0][first + 6:] == ["ground ax [m/s^2]", "ground ay [m/s^2]", "ground az [m/s^2]"]

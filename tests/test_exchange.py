@@ -53,7 +53,8 @@ def test_uff58_carries_every_history_and_receptance_with_its_dof_and_units(resul
     run = load_results(results)
     uff = pyuff.UFF(str(tmp_path / "small_export" / "small.uff"))
     sets = [uff.read_sets(k) for k in range(uff.get_n_sets())]
-    assert len(sets) == 6 + 3 * len(run.points) + 36
+    first = 6 + 3 * len(run.points)  # then the applied loads, the input
+    assert len(sets) == first + 6 + 36
     for k in range(6):  # the CG's displacement: node 1, direction k+1
         data = sets[k]
         assert (data["func_type"], data["rsp_node"], data["rsp_dir"], data["ordinate_spec_data_type"]) == (1, 1, k + 1, 8)
@@ -63,8 +64,16 @@ def test_uff58_carries_every_history_and_receptance_with_its_dof_and_units(resul
     top = sets[6 + 2]  # the first point's z acceleration: node 2, direction 3, ordinate type 12
     assert (top["rsp_node"], top["rsp_dir"], top["ordinate_spec_data_type"]) == (2, 3, 12)
     np.testing.assert_array_equal(top["data"], run.points["top"].acceleration[:, 2])
+    Q = load_tree(results)["time/Q"]
+    assert np.abs(Q.data).max() > 100.0  # the hit is there to be exported
+    for j in range(6):  # the applied loads: excitation force at node 1, direction j+1, its own DOF as reference
+        data = sets[first + j]
+        assert (data["func_type"], data["rsp_node"], data["rsp_dir"], data["ref_node"], data["ref_dir"],
+                data["ordinate_spec_data_type"]) == (1, 1, j + 1, 1, j + 1, 13)
+        assert data["ordinate_axis_units_lab"].strip() == ("N" if j < 3 else "N m") == dict(Q.units.factors)["load"][j]
+        np.testing.assert_array_equal(data["data"], Q.data[:, j])
     frf = run.frf.direct
-    for data in sets[6 + 3 * len(run.points):]:  # receptance: response over reference (node 1 both)
+    for data in sets[first + 6:]:  # receptance: response over reference (node 1 both)
         i, j = data["rsp_dir"] - 1, data["ref_dir"] - 1
         assert (data["func_type"], data["ordinate_spec_data_type"], data["orddenom_spec_data_type"]) == (4, 8, 13)
         assert data["orddenom_axis_units_lab"].strip() == ("N" if j < 3 else "N m")
@@ -84,6 +93,9 @@ def test_csv_columns_name_their_quantity_and_unit_and_hold_the_results(results, 
     table = np.array(rows[1:], dtype=float)
     np.testing.assert_array_equal(table[:, 0], run.response.t)  # CSV keeps every digit (repr)
     np.testing.assert_array_equal(table[:, 1:7], run.response.q)
+    loads = rows[0].index("Fx [N]")  # the input: the applied loads, after the points
+    assert loads == 1 + 6 + 3 * len(run.points) and rows[0][loads + 3:] == ["Mx [N m]", "My [N m]", "Mz [N m]"]
+    np.testing.assert_array_equal(table[:, loads:], load_tree(results).array("time/Q"))
     with files[1].open() as stream:
         rows = list(csv.reader(stream))
     assert rows[0][1:3] == ["Re x/Fx [m/N]", "Im x/Fx [m/N]"] and "Re rx/Mx [rad/(N m)]" in rows[0]

@@ -8,11 +8,13 @@ ordinate type 8; the points' accelerations, type 12), the receptance function ty
 per excitation force, types 8 over 13), all in binary UFF58 (58b) double precision, which reads back exactly
 (ASCII UFF58 keeps 6 digits of an uneven abscissa such as a log frequency grid), with SI unit labels.
 
-A base-excited run's time histories end with its input, the ground's motion: displacement, velocity and
-acceleration (types 8, 11, 12) at node 0 along +X, +Y, +Z, entity ``GROUND``. An input channel names its
-own DOF as its reference too (the response channels' reference is ``NONE``, node 0, direction 0), so a test
-tool can tell the reference channels, a shaker's control accelerometer, from the responses: this is
-sixdof's convention, UFF58 itself has no input flag for a time history.
+The time histories end with the run's inputs: a base-excited run's ground motion, displacement, velocity and
+acceleration (types 8, 11, 12) at node 0 along +X, +Y, +Z, entity ``GROUND``; a run with loads, the applied
+generalized force at the CG (excitation force, type 13, in N and N m: the reference of the receptances) at
+node 1 along +X..+RZ. An input channel names its own DOF as its reference too (the response channels'
+reference is ``NONE``, node 0, direction 0), so a test tool can tell the reference channels, a shaker's
+control accelerometer or a force gauge, from the responses: this is sixdof's convention, UFF58 itself has
+no input flag for a time history.
 """
 
 from __future__ import annotations
@@ -50,7 +52,8 @@ class _Input(NamedTuple):
     entity, node, direction : str, int, int
         UFF58 DOF identification: entity name, node and direction (1-6 for +X..+RZ).
     data_type : int
-        UFF58 specific data type of the ordinate (8 displacement, 11 velocity, 12 acceleration).
+        UFF58 specific data type of the ordinate (8 displacement, 11 velocity, 12 acceleration, 13 excitation
+        force).
     units : str
         SI units of ``data``.
     data : ndarray, shape (n,)
@@ -69,7 +72,8 @@ class _Input(NamedTuple):
 
 def _inputs(response) -> list[_Input]:
     """The input channels of a run's time histories: with ground motion, the ground's displacement [m],
-    velocity [m/s] and acceleration [m/s^2] along x, y, z (body axes), in that order; none without.
+    velocity [m/s] and acceleration [m/s^2] along x, y, z (body axes), in that order; then, when the run
+    applies loads, their generalized force at the CG [N, N m] per load ``Fx .. Mz``.
 
     Parameters
     ----------
@@ -79,14 +83,20 @@ def _inputs(response) -> list[_Input]:
     -------
     list of _Input
     """
-    if not response.has_ground:
-        return []
-    motions = (("d", "displacement", _DISPLACEMENT, "m", response.ground_displacement),
-               ("v", "velocity", _VELOCITY, "m/s", response.ground_velocity),
-               ("a", "acceleration", _ACCELERATION, "m/s^2", response.ground_acceleration))
-    return [_Input(f"ground {letter}{axis}", f"ground {kind} {axis}", "GROUND", _GROUND_NODE, k + 1, data_type, units,
-                   np.asarray(motion[:, k], float))
-            for letter, kind, data_type, units, motion in motions for k, axis in enumerate("xyz")]
+    channels = []
+    if response.has_ground:
+        motions = (("d", "displacement", _DISPLACEMENT, "m", response.ground_displacement),
+                   ("v", "velocity", _VELOCITY, "m/s", response.ground_velocity),
+                   ("a", "acceleration", _ACCELERATION, "m/s^2", response.ground_acceleration))
+        channels += [_Input(f"ground {letter}{axis}", f"ground {kind} {axis}", "GROUND", _GROUND_NODE, k + 1,
+                            data_type, units, np.asarray(motion[:, k], float))
+                     for letter, kind, data_type, units, motion in motions for k, axis in enumerate("xyz")]
+    # Q holds the loads only (the ground acts through the mounts): all zero when the run applies none, and six
+    # channels of zeros would only pose as a force input.
+    if response.Q is not None and np.any(response.Q):
+        channels += [_Input(load, f"applied load {load}", "CG", 1, j + 1, _FORCE, FORCE_UNITS[j],
+                            np.asarray(response.Q[:, j], float)) for j, load in enumerate(LOADS)]
+    return channels
 
 
 def _abscissa(x: np.ndarray) -> dict:
@@ -158,8 +168,9 @@ def export(results: str | Path, out_root: str | Path | None = None, fmt: str = "
 
     ``"uff58"``: ``<name>.uff`` (see the module). ``"csv"``: ``<name>_time.csv`` (t [s], the CG's q [m, rad],
     each point's acceleration [m/s^2], then the input channels: a base-excited run's ground displacement,
-    velocity and acceleration, ``ground dx [m]`` ... ``ground az [m/s^2]``) and ``<name>_frf.csv`` (f [Hz],
-    the real and imaginary part of each receptance entry), unit in every column header.
+    velocity and acceleration, ``ground dx [m]`` ... ``ground az [m/s^2]``, and the applied loads'
+    generalized force, ``Fx [N]`` ... ``Mz [N m]``, when there are loads) and ``<name>_frf.csv`` (f [Hz], the
+    real and imaginary part of each receptance entry), unit in every column header.
 
     Returns
     -------

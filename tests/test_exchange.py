@@ -11,6 +11,7 @@ import pytest
 
 from sixdof import InputError, load_results, parse_scenario, run_scenario
 from sixdof.cli import main
+from sixdof.io.store import load_tree
 from test_run import SCENARIO
 
 #: Binary UFF58 holds doubles: the even time axis comes back as min + k * increment (1 ulp off), the rest exactly.
@@ -24,6 +25,27 @@ def results(tmp_path_factory):
     return outcome.results_path
 
 
+#: The small run shaken by its base instead of struck: a 1 g half-sine acceleration of the ground, inclined in y-z.
+GROUND = """[ground]
+quantity = "acceleration"
+direction = [0.0, 0.6, 0.8]
+scale = 9.81
+signal = { kind = "half_sine", start = 0.05, duration = 0.02 }
+
+"""
+#: The ground's channels: the results file's dataset, its UFF58 ordinate type and its CSV column letter.
+GROUND_CHANNELS = (("time/ground_displacement", 8, "d"), ("time/ground_velocity", 11, "v"),
+                   ("time/ground_acceleration", 12, "a"))
+
+
+@pytest.fixture(scope="module")
+def shaken(tmp_path_factory):
+    text = (SCENARIO.split("[[loads]]")[0] + GROUND + "[simulation]"
+            + SCENARIO.split("[simulation]")[1].replace("duration = 0.6", "duration = 0.2"))
+    outcome = run_scenario(parse_scenario(text), tmp_path_factory.mktemp("shaken"), progress=False)
+    return outcome.results_path
+
+
 def test_uff58_carries_every_history_and_receptance_with_its_dof_and_units(results, tmp_path, capsys):
     pyuff = pytest.importorskip("pyuff")
     assert main(["export", str(results), "--out", str(tmp_path)]) == 0
@@ -31,7 +53,8 @@ def test_uff58_carries_every_history_and_receptance_with_its_dof_and_units(resul
     run = load_results(results)
     uff = pyuff.UFF(str(tmp_path / "small_export" / "small.uff"))
     sets = [uff.read_sets(k) for k in range(uff.get_n_sets())]
-    assert len(sets) == 6 + 3 * len(run.points) + 36
+    first = 6 + 3 * len(run.points)  # then the applied loads, the input
+    assert len(sets) == first + 6 + 36
     for k in range(6):  # the CG's displacement: node 1, direction k+1
         data = sets[k]
         assert (data["func_type"], data["rsp_node"], data["rsp_dir"], data["ordinate_spec_data_type"]) == (1, 1, k + 1, 8)
@@ -41,8 +64,16 @@ def test_uff58_carries_every_history_and_receptance_with_its_dof_and_units(resul
     top = sets[6 + 2]  # the first point's z acceleration: node 2, direction 3, ordinate type 12
     assert (top["rsp_node"], top["rsp_dir"], top["ordinate_spec_data_type"]) == (2, 3, 12)
     np.testing.assert_array_equal(top["data"], run.points["top"].acceleration[:, 2])
+    Q = load_tree(results)["time/Q"]
+    assert np.abs(Q.data).max() > 100.0  # the hit is there to be exported
+    for j in range(6):  # the applied loads: excitation force at node 1, direction j+1, its own DOF as reference
+        data = sets[first + j]
+        assert (data["func_type"], data["rsp_node"], data["rsp_dir"], data["ref_node"], data["ref_dir"],
+                data["ordinate_spec_data_type"]) == (1, 1, j + 1, 1, j + 1, 13)
+        assert data["ordinate_axis_units_lab"].strip() == ("N" if j < 3 else "N m") == dict(Q.units.factors)["load"][j]
+        np.testing.assert_array_equal(data["data"], Q.data[:, j])
     frf = run.frf.direct
-    for data in sets[6 + 3 * len(run.points):]:  # receptance: response over reference (node 1 both)
+    for data in sets[first + 6:]:  # receptance: response over reference (node 1 both)
         i, j = data["rsp_dir"] - 1, data["ref_dir"] - 1
         assert (data["func_type"], data["ordinate_spec_data_type"], data["orddenom_spec_data_type"]) == (4, 8, 13)
         assert data["orddenom_axis_units_lab"].strip() == ("N" if j < 3 else "N m")
@@ -62,6 +93,9 @@ def test_csv_columns_name_their_quantity_and_unit_and_hold_the_results(results, 
     table = np.array(rows[1:], dtype=float)
     np.testing.assert_array_equal(table[:, 0], run.response.t)  # CSV keeps every digit (repr)
     np.testing.assert_array_equal(table[:, 1:7], run.response.q)
+    loads = rows[0].index("Fx [N]")  # the input: the applied loads, after the points
+    assert loads == 1 + 6 + 3 * len(run.points) and rows[0][loads + 3:] == ["Mx [N m]", "My [N m]", "Mz [N m]"]
+    np.testing.assert_array_equal(table[:, loads:], load_tree(results).array("time/Q"))
     with files[1].open() as stream:
         rows = list(csv.reader(stream))
     assert rows[0][1:3] == ["Re x/Fx [m/N]", "Im x/Fx [m/N]"] and "Re rx/Mx [rad/(N m)]" in rows[0]
@@ -102,3 +136,44 @@ def test_each_format_replaces_its_own_files_and_keeps_the_other_s(results, tmp_p
     assert (folder / "small.uff").read_bytes() == uff and (folder / "notes.txt").read_text() == "mine"
     with (folder / "small_frf.csv").open() as stream:
         assert len(list(csv.reader(stream))) == 1 + 30  # the header and the new run's frequencies
+
+
+def test_uff58_of_a_base_excited_run_carries_the_ground_motion_as_input_channels(shaken, tmp_path):
+    """The ground's displacement, velocity and acceleration per axis after the body's histories: node 0, entity
+    GROUND, its own DOF as reference, each equal to the results file's dataset and labelled with its units."""
+    pyuff = pytest.importorskip("pyuff")
+    assert main(["export", str(shaken), "--out", str(tmp_path)]) == 0
+    tree, run = load_tree(shaken), load_results(shaken)
+    uff = pyuff.UFF(str(tmp_path / "small_export" / "small.uff"))
+    sets = [uff.read_sets(k) for k in range(uff.get_n_sets())]
+    first = 6 + 3 * len(run.points)
+    assert len(sets) == first + 9 + 36
+    assert np.abs(tree.array("time/ground_acceleration")).max() > 1.0  # the shake is there to be exported
+    for n, (path, data_type, _) in enumerate(GROUND_CHANNELS):
+        for axis in range(3):
+            data = sets[first + 3 * n + axis]
+            assert (data["func_type"], data["rsp_node"], data["rsp_dir"], data["ref_node"], data["ref_dir"],
+                    data["ordinate_spec_data_type"]) == (1, 0, axis + 1, 0, axis + 1, data_type)
+            assert data["rsp_ent_name"].strip() == data["ref_ent_name"].strip() == "GROUND"
+            assert data["ordinate_axis_units_lab"].strip() == tree[path].units
+            assert data["id1"].strip() == f"small: ground {path.split('_')[-1]} {'xyz'[axis]} (input)"
+            np.testing.assert_allclose(data["x"], tree.array("time/t"), rtol=RTOL_TIME_AXIS, atol=1e-15)
+            np.testing.assert_array_equal(data["data"], tree.array(path)[:, axis])
+    assert sets[first + 9]["func_type"] == 4  # the receptances follow
+
+
+def test_csv_of_a_base_excited_run_carries_the_ground_motion_after_the_body_s_columns(shaken, tmp_path):
+    from sixdof.io.exchange import export
+
+    files = export(shaken, tmp_path, "csv")
+    tree = load_tree(shaken)
+    with files[0].open() as stream:
+        rows = list(csv.reader(stream))
+    table = np.array(rows[1:], dtype=float)
+    first = 1 + 6 + 3
+    for n, (path, _, letter) in enumerate(GROUND_CHANNELS):
+        columns = slice(first + 3 * n, first + 3 * n + 3)
+        assert rows[0][columns] == [f"ground {letter}{axis} [{tree[path].units}]" for axis in "xyz"]
+        np.testing.assert_array_equal(table[:, columns], tree.array(path))
+    assert len(rows[0]) == first + 9
+    assert rows[0][first + 6:] == ["ground ax [m/s^2]", "ground ay [m/s^2]", "ground az [m/s^2]"]

@@ -1,18 +1,27 @@
 """Results for test and correlation tools (issue 19, point 5): a run's time histories and FRFs as universal
 file format dataset 58 (what test labs exchange; written with pyuff) or as CSV.
 
-UFF58 conventions used: node 1 is the centre of gravity, nodes 2, 3... the ``[[points]]`` in their order;
-directions 1-6 are +X, +Y, +Z, +RX, +RY, +RZ (body axes). Time histories are function type 1 (the CG's
-displacement, ordinate type 8; the points' accelerations, type 12), the receptance function type 4
-(response displacement per excitation force, types 8 over 13), all in binary UFF58 (58b) double precision,
-which reads back exactly (ASCII UFF58 keeps 6 digits of an uneven abscissa such as a log frequency grid),
-with SI unit labels.
+UFF58 conventions used: node 1 is the centre of gravity, nodes 2, 3... the ``[[points]]`` in their order,
+node 0 the ground (the usual finite-element label of the fixed ground; never a body node); directions 1-6
+are +X, +Y, +Z, +RX, +RY, +RZ (body axes). Time histories are function type 1 (the CG's displacement,
+ordinate type 8; the points' accelerations, type 12), the receptance function type 4 (response displacement
+per excitation force, types 8 over 13), all in binary UFF58 (58b) double precision, which reads back exactly
+(ASCII UFF58 keeps 6 digits of an uneven abscissa such as a log frequency grid), with SI unit labels.
+
+The time histories end with the run's inputs: a base-excited run's ground motion, displacement, velocity and
+acceleration (types 8, 11, 12) at node 0 along +X, +Y, +Z, entity ``GROUND``; a run with loads, the applied
+generalized force at the CG (excitation force, type 13, in N and N m: the reference of the receptances) at
+node 1 along +X..+RZ. An input channel names its own DOF as its reference too (the response channels'
+reference is ``NONE``, node 0, direction 0), so a test tool can tell the reference channels, a shaker's
+control accelerometer or a force gauge, from the responses: this is sixdof's convention, UFF58 itself has
+no input flag for a time history.
 """
 
 from __future__ import annotations
 
 import csv
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -23,10 +32,71 @@ FORMATS = ("uff58", "csv")
 #: The files each format writes (at most), named after the run.
 _FILES = {"uff58": ("{}.uff",), "csv": ("{}_time.csv", "{}_frf.csv")}
 _TIME, _FRF = 1, 4  # UFF58 function types
-_DISPLACEMENT, _ACCELERATION, _FORCE = 8, 12, 13  # UFF58 specific data types
+_DISPLACEMENT, _VELOCITY, _ACCELERATION, _FORCE = 8, 11, 12, 13  # UFF58 specific data types
 _SECONDS, _HERTZ = 17, 18
 #: A time history has no denominator (UFF58 type 0, "unknown").
 _NO_DENOMINATOR = {"orddenom_spec_data_type": 0, "orddenom_axis_units_lab": "NONE"}
+#: The ground's UFF58 node (see the module).
+_GROUND_NODE = 0
+
+
+class _Input(NamedTuple):
+    """One input channel of a run's time histories, as both formats write it.
+
+    Attributes
+    ----------
+    name : str
+        Short name: the CSV column's, before its unit (``"ground az"``).
+    description : str
+        What it is, for UFF58's ID line 1 (``"ground acceleration z"``).
+    entity, node, direction : str, int, int
+        UFF58 DOF identification: entity name, node and direction (1-6 for +X..+RZ).
+    data_type : int
+        UFF58 specific data type of the ordinate (8 displacement, 11 velocity, 12 acceleration, 13 excitation
+        force).
+    units : str
+        SI units of ``data``.
+    data : ndarray, shape (n,)
+        The channel at the response's times.
+    """
+
+    name: str
+    description: str
+    entity: str
+    node: int
+    direction: int
+    data_type: int
+    units: str
+    data: np.ndarray
+
+
+def _inputs(response) -> list[_Input]:
+    """The input channels of a run's time histories: with ground motion, the ground's displacement [m],
+    velocity [m/s] and acceleration [m/s^2] along x, y, z (body axes), in that order; then, when the run
+    applies loads, their generalized force at the CG [N, N m] per load ``Fx .. Mz``.
+
+    Parameters
+    ----------
+    response : sixdof.results.TimeHistory
+
+    Returns
+    -------
+    list of _Input
+    """
+    channels = []
+    if response.has_ground:
+        motions = (("d", "displacement", _DISPLACEMENT, "m", response.ground_displacement),
+                   ("v", "velocity", _VELOCITY, "m/s", response.ground_velocity),
+                   ("a", "acceleration", _ACCELERATION, "m/s^2", response.ground_acceleration))
+        channels += [_Input(f"ground {letter}{axis}", f"ground {kind} {axis}", "GROUND", _GROUND_NODE, k + 1,
+                            data_type, units, np.asarray(motion[:, k], float))
+                     for letter, kind, data_type, units, motion in motions for k, axis in enumerate("xyz")]
+    # Q holds the loads only (the ground acts through the mounts): all zero when the run applies none, and six
+    # channels of zeros would only pose as a force input.
+    if response.Q is not None and np.any(response.Q):
+        channels += [_Input(load, f"applied load {load}", "CG", 1, j + 1, _FORCE, FORCE_UNITS[j],
+                            np.asarray(response.Q[:, j], float)) for j, load in enumerate(LOADS)]
+    return channels
 
 
 def _abscissa(x: np.ndarray) -> dict:
@@ -38,8 +108,8 @@ def _abscissa(x: np.ndarray) -> dict:
 
 
 def uff58_sets(run) -> list[dict]:
-    """The UFF58 datasets of a run: the CG's displacement per DOF, each point's acceleration per axis, and
-    the receptance per response DOF and load (see the module)."""
+    """The UFF58 datasets of a run: the CG's displacement per DOF, each point's acceleration per axis, the
+    input channels (:func:`_inputs`), and the receptance per response DOF and load (see the module)."""
     import pyuff
 
     sets = []
@@ -61,6 +131,14 @@ def uff58_sets(run) -> list[dict]:
                     abscissa_spec_data_type=_SECONDS, abscissa_axis_units_lab="s",
                     ordinate_spec_data_type=_ACCELERATION, ordinate_axis_units_lab="m/s^2", **_NO_DENOMINATOR,
                     data=np.asarray(motion.acceleration[:, axis], float), x=t, num_pts=t.size, **_abscissa(t)))
+        for channel in _inputs(run.response):
+            sets.append(pyuff.prepare_58(
+                binary=1, func_type=_TIME, rsp_node=channel.node, rsp_dir=channel.direction, ref_node=channel.node,
+                ref_dir=channel.direction, ord_data_type=4, id1=f"{name}: {channel.description} (input)",
+                rsp_ent_name=channel.entity, ref_ent_name=channel.entity,
+                abscissa_spec_data_type=_SECONDS, abscissa_axis_units_lab="s",
+                ordinate_spec_data_type=channel.data_type, ordinate_axis_units_lab=channel.units, **_NO_DENOMINATOR,
+                data=channel.data, x=t, num_pts=t.size, **_abscissa(t)))
     if run.frf is not None:
         frf = run.frf.direct
         f = np.asarray(frf.f_hz, float)
@@ -89,8 +167,10 @@ def export(results: str | Path, out_root: str | Path | None = None, fmt: str = "
     export replaces its own format's files only.
 
     ``"uff58"``: ``<name>.uff`` (see the module). ``"csv"``: ``<name>_time.csv`` (t [s], the CG's q [m, rad],
-    each point's acceleration [m/s^2]) and ``<name>_frf.csv`` (f [Hz], the real and imaginary part of each
-    receptance entry), unit in every column header.
+    each point's acceleration [m/s^2], then the input channels: a base-excited run's ground displacement,
+    velocity and acceleration, ``ground dx [m]`` ... ``ground az [m/s^2]``, and the applied loads'
+    generalized force, ``Fx [N]`` ... ``Mz [N m]``, when there are loads) and ``<name>_frf.csv`` (f [Hz], the
+    real and imaginary part of each receptance entry), unit in every column header.
 
     Returns
     -------
@@ -126,6 +206,9 @@ def export(results: str | Path, out_root: str | Path | None = None, fmt: str = "
             for point, motion in run.points.items():
                 headers += [f"{point} a{a} [m/s^2]" for a in "xyz"]
                 columns += list(motion.acceleration.T)
+            for channel in _inputs(run.response):
+                headers.append(f"{channel.name} [{channel.units}]")
+                columns.append(channel.data)
             _write_csv(stage / time_file, headers, columns)
             written.append(time_file)
         if run.frf is not None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 import os
+import warnings
 
 import numpy as np
 import pytest
@@ -79,6 +80,41 @@ def test_uff58_carries_every_history_and_receptance_with_its_dof_and_units(resul
         assert data["orddenom_axis_units_lab"].strip() == ("N" if j < 3 else "N m")
         np.testing.assert_array_equal(data["x"], frf.f_hz)  # an uneven (log) grid, every digit kept
         np.testing.assert_array_equal(data["data"], frf.H[:, i, j])
+
+
+def test_uff58_unit_exponents_follow_the_unit_labels(results):
+    # Records 8-11: a test tool that reads the exponents (length, force) rather than the label gets the same unit.
+    pytest.importorskip("pyuff")
+    from sixdof.io.exchange import uff58_sets
+
+    expected = {"m": (1, 0), "m/s^2": (1, 0), "rad": (0, 0), "N": (0, 1), "N m": (1, 1), "s": (0, 0), "Hz": (0, 0),
+                "NONE": (0, 0)}
+    for data in uff58_sets(load_results(results)):
+        for axis in ("abscissa", "ordinate", "orddenom"):
+            label = data[f"{axis}_axis_units_lab"]
+            assert (data[f"{axis}_len_unit_exp"], data[f"{axis}_force_unit_exp"]) == expected[label], (data["id1"], axis)
+
+
+def test_uff58_keeps_the_node_and_direction_of_a_point_with_a_long_name(results, tmp_path):
+    # Record 6 has 10 characters for an entity name: a longer one shifted the node and direction out of their
+    # columns (read back as node 0). The whole name stays in the ID line.
+    import dataclasses
+
+    pyuff = pytest.importorskip("pyuff")
+    from sixdof.io.exchange import uff58_sets
+
+    run = load_results(results)
+    run = dataclasses.replace(run, points={"circuit_board_corner": run.points["top"]})
+    path = tmp_path / "long.uff"
+    with warnings.catch_warnings():  # pyuff leaves a handle per binary dataset to the garbage collector
+        warnings.simplefilter("ignore", ResourceWarning)
+        pyuff.UFF(str(path)).write_sets(uff58_sets(run), mode="add")
+    uff = pyuff.UFF(str(path))
+    for axis in range(3):
+        data = uff.read_sets(6 + axis)
+        assert (data["rsp_node"], data["rsp_dir"], data["rsp_ent_name"].strip()) == (2, axis + 1, "circuit_bo")
+        assert data["id1"].strip() == f"small: circuit_board_corner acceleration {'xyz'[axis]}"
+        np.testing.assert_array_equal(data["data"], run.points["circuit_board_corner"].acceleration[:, axis])
 
 
 def test_csv_columns_name_their_quantity_and_unit_and_hold_the_results(results, tmp_path):

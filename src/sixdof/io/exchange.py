@@ -6,7 +6,9 @@ node 0 the ground (the usual finite-element label of the fixed ground; never a b
 are +X, +Y, +Z, +RX, +RY, +RZ (body axes). Time histories are function type 1 (the CG's displacement,
 ordinate type 8; the points' accelerations, type 12), the receptance function type 4 (response displacement
 per excitation force, types 8 over 13), all in binary UFF58 (58b) double precision, which reads back exactly
-(ASCII UFF58 keeps 6 digits of an uneven abscissa such as a log frequency grid), with SI unit labels.
+(ASCII UFF58 keeps 6 digits of an uneven abscissa such as a log frequency grid), with SI unit labels and
+their length and force exponents. An entity name is cut to UFF58's 10 characters (a point's whole name is in
+the ID line).
 
 The time histories end with the run's inputs: a base-excited run's ground motion, displacement, velocity and
 acceleration (types 8, 11, 12) at node 0 along +X, +Y, +Z, entity ``GROUND``; a run with loads, the applied
@@ -35,7 +37,8 @@ _TIME, _FRF = 1, 4  # UFF58 function types
 _DISPLACEMENT, _VELOCITY, _ACCELERATION, _FORCE = 8, 11, 12, 13  # UFF58 specific data types
 _SECONDS, _HERTZ = 17, 18
 #: A time history has no denominator (UFF58 type 0, "unknown").
-_NO_DENOMINATOR = {"orddenom_spec_data_type": 0, "orddenom_axis_units_lab": "NONE"}
+_NO_DENOMINATOR = {"orddenom_spec_data_type": 0, "orddenom_axis_units_lab": "NONE", "orddenom_len_unit_exp": 0,
+                   "orddenom_force_unit_exp": 0, "orddenom_temp_unit_exp": 0}
 #: The ground's UFF58 node (see the module).
 _GROUND_NODE = 0
 
@@ -107,6 +110,38 @@ def _abscissa(x: np.ndarray) -> dict:
     return {"abscissa_spacing": 0, "abscissa_min": float(x[0]), "abscissa_inc": 0.0}
 
 
+#: UFF58 record 6 gives an entity name 10 characters (format 10A1): pyuff writes a longer one whole, which pushes
+#: the node and direction out of their columns (a 13-character point name read back as node 0).
+_ENTITY_CHARACTERS = 10
+#: The length and force exponents UFF58 records 8-11 give each unit sixdof writes (time has none: UFF58's unit
+#: system is length, force and temperature).
+_UNIT_EXPONENTS = {"m": (1, 0), "m/s": (1, 0), "m/s^2": (1, 0), "rad": (0, 0), "rad/s": (0, 0), "rad/s^2": (0, 0),
+                   "N": (0, 1), "N m": (1, 1), "s": (0, 0), "Hz": (0, 0)}
+
+
+def _axis(axis: str, data_type: int, units: str) -> dict:
+    """The UFF58 fields of one axis (``"abscissa"``, ``"ordinate"`` or ``"orddenom"``): its specific data type,
+    unit label and the label's length and force exponents."""
+    length, force = _UNIT_EXPONENTS[units]
+    return {f"{axis}_spec_data_type": data_type, f"{axis}_axis_units_lab": units, f"{axis}_len_unit_exp": length,
+            f"{axis}_force_unit_exp": force, f"{axis}_temp_unit_exp": 0}
+
+
+def _time_history(label: str, node: int, direction: int, entity: str, data_type: int, units: str, data, t,
+                  reference: tuple[int, int, str] = (0, 0, "NONE")) -> dict:
+    """One time history as a UFF58 dataset (function type 1, real, double precision): ``label`` its ID line,
+    the response at ``node`` along ``direction`` of ``entity``, with ``reference`` (node, direction, entity)."""
+    import pyuff
+
+    ref_node, ref_dir, ref_entity = reference
+    return pyuff.prepare_58(
+        binary=1, func_type=_TIME, rsp_node=node, rsp_dir=direction, ref_node=ref_node, ref_dir=ref_dir,
+        ord_data_type=4, id1=label, rsp_ent_name=entity[:_ENTITY_CHARACTERS],
+        ref_ent_name=ref_entity[:_ENTITY_CHARACTERS], **_axis("abscissa", _SECONDS, "s"),
+        **_axis("ordinate", data_type, units), **_NO_DENOMINATOR, data=np.asarray(data, float), x=t, num_pts=t.size,
+        **_abscissa(t))
+
+
 def uff58_sets(run) -> list[dict]:
     """The UFF58 datasets of a run: the CG's displacement per DOF, each point's acceleration per axis, the
     input channels (:func:`_inputs`), and the receptance per response DOF and load (see the module)."""
@@ -117,28 +152,16 @@ def uff58_sets(run) -> list[dict]:
     if run.response is not None:
         t = np.asarray(run.response.t, float)
         for i, dof in enumerate(DOFS):
-            sets.append(pyuff.prepare_58(
-                binary=1, func_type=_TIME, rsp_node=1, rsp_dir=i + 1, ref_node=0, ref_dir=0, ord_data_type=4,
-                id1=f"{name}: CG {dof} displacement", rsp_ent_name="CG", ref_ent_name="NONE",
-                abscissa_spec_data_type=_SECONDS, abscissa_axis_units_lab="s",
-                ordinate_spec_data_type=_DISPLACEMENT, ordinate_axis_units_lab=DOF_UNITS[i], **_NO_DENOMINATOR,
-                data=np.asarray(run.response.q[:, i], float), x=t, num_pts=t.size, **_abscissa(t)))
+            sets.append(_time_history(f"{name}: CG {dof} displacement", 1, i + 1, "CG", _DISPLACEMENT, DOF_UNITS[i],
+                                      run.response.q[:, i], t))
         for k, (point, motion) in enumerate(run.points.items()):
             for axis in range(3):
-                sets.append(pyuff.prepare_58(
-                    binary=1, func_type=_TIME, rsp_node=k + 2, rsp_dir=axis + 1, ref_node=0, ref_dir=0, ord_data_type=4,
-                    id1=f"{name}: {point} acceleration {'xyz'[axis]}", rsp_ent_name=point, ref_ent_name="NONE",
-                    abscissa_spec_data_type=_SECONDS, abscissa_axis_units_lab="s",
-                    ordinate_spec_data_type=_ACCELERATION, ordinate_axis_units_lab="m/s^2", **_NO_DENOMINATOR,
-                    data=np.asarray(motion.acceleration[:, axis], float), x=t, num_pts=t.size, **_abscissa(t)))
+                sets.append(_time_history(f"{name}: {point} acceleration {'xyz'[axis]}", k + 2, axis + 1, point,
+                                          _ACCELERATION, "m/s^2", motion.acceleration[:, axis], t))
         for channel in _inputs(run.response):
-            sets.append(pyuff.prepare_58(
-                binary=1, func_type=_TIME, rsp_node=channel.node, rsp_dir=channel.direction, ref_node=channel.node,
-                ref_dir=channel.direction, ord_data_type=4, id1=f"{name}: {channel.description} (input)",
-                rsp_ent_name=channel.entity, ref_ent_name=channel.entity,
-                abscissa_spec_data_type=_SECONDS, abscissa_axis_units_lab="s",
-                ordinate_spec_data_type=channel.data_type, ordinate_axis_units_lab=channel.units, **_NO_DENOMINATOR,
-                data=channel.data, x=t, num_pts=t.size, **_abscissa(t)))
+            sets.append(_time_history(f"{name}: {channel.description} (input)", channel.node, channel.direction,
+                                      channel.entity, channel.data_type, channel.units, channel.data, t,
+                                      reference=(channel.node, channel.direction, channel.entity)))
     if run.frf is not None:
         frf = run.frf.direct
         f = np.asarray(frf.f_hz, float)
@@ -147,9 +170,8 @@ def uff58_sets(run) -> list[dict]:
                 sets.append(pyuff.prepare_58(
                     binary=1, func_type=_FRF, rsp_node=1, rsp_dir=i + 1, ref_node=1, ref_dir=j + 1, ord_data_type=6,
                     id1=f"{name}: receptance {dof} per {load}", rsp_ent_name="CG", ref_ent_name="CG",
-                    abscissa_spec_data_type=_HERTZ, abscissa_axis_units_lab="Hz",
-                    ordinate_spec_data_type=_DISPLACEMENT, ordinate_axis_units_lab=DOF_UNITS[i],
-                    orddenom_spec_data_type=_FORCE, orddenom_axis_units_lab=FORCE_UNITS[j],
+                    **_axis("abscissa", _HERTZ, "Hz"), **_axis("ordinate", _DISPLACEMENT, DOF_UNITS[i]),
+                    **_axis("orddenom", _FORCE, FORCE_UNITS[j]),
                     data=np.asarray(frf.H[:, i, j], complex), x=f, num_pts=f.size, **_abscissa(f)))
     return sets
 

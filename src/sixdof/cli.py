@@ -584,9 +584,14 @@ def _design_json(scenario, sensitivity: bool, plain) -> dict:
            "roll_mode": None if metrics.roll_mode is None else metrics.roll_mode + 1,
            "elastic_axes": plain(metrics.elastic_axes), "principal_stiffness": plain(metrics.principal_stiffness)}
     if sensitivity:
+        from sixdof.io.report import without_round_off
+
         found = sensitivities(scenario.system)
-        out.update(frequency_sensitivity=plain(found.frequency.filled(np.nan)),  # masked: no derivative -> null
-                   decoupling_sensitivity=plain(found.decoupling.filled(np.nan)),
+
+        def shown(values):  # masked: no derivative -> null; round-off of the mode's largest (1e-36 for 0) -> 0
+            return plain(np.where(values.mask, np.nan, without_round_off(values.data, axis=(1, 2))))
+
+        out.update(frequency_sensitivity=shown(found.frequency), decoupling_sensitivity=shown(found.decoupling),
                    repeated_modes=[[j + 1 for j in group] for group in found.repeated_modes],
                    sensitivity_axes=["mode", "mount", "mount_axis"])
     return out

@@ -561,12 +561,30 @@ def _modes_json(scenario, modes, statics, zeta, sensitivity: bool = False) -> di
     # Modes of a system with nonlinear mounts are those of its linearization about the static equilibrium.
     out["linearized_axes"] = list(laws.names)
     out["linearized_stiffness"] = [float(k) for k in laws.tangent]
+    out["full_model_poles"] = _full_model_poles(scenario.system, modes, plain)
     out.update(_design_json(scenario, sensitivity, plain))
     if statics is not None:
         fixed = group("statics")
         out["statics"] = {**fixed, "mounts": fixed["mount"], "mount_forces_n": fixed["mount_force"],
                           "support_n": fixed["support"]}
     return out
+
+
+def _full_model_poles(system, modes, plain) -> dict | None:
+    """With Maxwell branches, the pole of each mode in the full visco-elastic model (the augmented state space,
+    :func:`sixdof.analysis.statespace.damped_modes`), as the modes table's "f full model" column shows it:
+    ``frequency_hz`` |lambda| / 2 pi, ``damped_frequency_hz`` Im(lambda) / 2 pi and ``damping_ratio``
+    -Re(lambda) / |lambda|, per mode (null: a rigid-body or overdamped mode); None without branches."""
+    import numpy as np
+
+    from sixdof.analysis.statespace import damped_modes
+
+    if not system.branches.count:
+        return None
+    poles, _ = damped_modes(system.C, modes, system.branches)
+    size = np.abs(poles)
+    return {"frequency_hz": plain(size / (2 * np.pi)), "damped_frequency_hz": plain(poles.imag / (2 * np.pi)),
+            "damping_ratio": plain(-poles.real / size)}
 
 
 def _design_json(scenario, sensitivity: bool, plain) -> dict:

@@ -13,6 +13,8 @@ from sixdof import InputError, Mount, RigidBody, System, parse_scenario
 from sixdof.analysis.design import design_metrics, elastic_center, sensitivities
 from sixdof.analysis.modal import modal_analysis
 from sixdof.cli import main
+from sixdof.io.report import SHOWN_AS_ZERO_RTOL
+from sixdof.io.scenario import load_scenario
 from sixdof.model.kinematics import mount_matrix
 from systems import bridge, skewed_box
 
@@ -153,11 +155,33 @@ def test_modes_json_carries_the_design_metrics_and_sensitivities(tmp_path, capsy
     assert out["roll_mode_tra_angle_deg"] == pytest.approx(metrics.roll_mode_tra_angle_deg)
     assert len(out["decoupling_percent"]) == 6 and out["elastic_center"] is None
     assert np.shape(out["frequency_sensitivity"]) == (6, 4, 3)  # mode, mount, axis: Hz per N/m
-    np.testing.assert_allclose(out["frequency_sensitivity"], sensitivities(system).frequency)
+    exact = sensitivities(system).frequency  # printed: its round-off of a mode's largest as 0 (the next test)
+    np.testing.assert_allclose(out["frequency_sensitivity"], exact, atol=SHOWN_AS_ZERO_RTOL * np.abs(exact).max())
     assert main(["modes", str(path)]) == 0
     assert "Torque-roll axis (torque about [1, 0, 0])" in capsys.readouterr().out
     assert main(["modes", str(path), "--sensitivity"]) == 2
     assert "--sensitivity: expected --json as well" in capsys.readouterr().err
+
+
+def test_modes_json_prints_a_sensitivity_zero_by_symmetry_as_zero(capsys):
+    """A mode of a decoupled subsystem moves no mount along an axis whose DOFs it lacks (x: x, ry, rz; y: y, rz,
+    rx; z: z, rx, ry): the derivatives of its frequency and decoupling by that axis' stiffness are exactly 0, not
+    the 1e-36 that automatic differentiation leaves; every other derivative is printed as it is."""
+    scenario = "scenarios/equipment_elastomer.toml"
+    system = load_scenario(scenario).system
+    assert all(np.array_equal(axes, np.eye(3)) for axes in system.axes)  # u, v, w: the body's x, y, z
+    assert main(["modes", scenario, "--json", "--sensitivity"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    moving = ({"x", "ry", "rz"}, {"y", "rz", "rx"}, {"z", "rx", "ry"})
+    found = sensitivities(system)
+    for name, exact in (("frequency_sensitivity", found.frequency), ("decoupling_sensitivity", found.decoupling)):
+        printed = np.array(out[name], dtype=float)
+        for mode, dof in enumerate(system.modes.dominant_dof):
+            (subsystem,) = [set(group) for group in system.modes.subsystems if dof in group]
+            still = [axis for axis in range(3) if not subsystem & moving[axis]]
+            assert still and np.all(printed[mode][:, still] == 0.0), (name, mode, printed[mode])
+            others = [axis for axis in range(3) if axis not in still]
+            np.testing.assert_allclose(printed[mode][:, others], exact[mode][:, others], rtol=1e-12)
 
 
 def test_a_zero_torque_axis_is_refused_naming_the_field():

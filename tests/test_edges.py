@@ -34,7 +34,7 @@ from sixdof import (
 )
 from sixdof.analysis.frf import UNDAMPED_RESONANCE_RTOL, cross_check
 from sixdof.analysis.statics import STANDARD_GRAVITY, gravity_statics
-from sixdof.analysis.validity import SMALL_ANGLE_RAD, RangeWarning, static_range
+from sixdof.analysis.validity import SMALL_ANGLE_RAD, RangeWarning, body_length, static_range
 from sixdof.excitation import HalfSine, Harmonic, Haversine, Ramp, Random, Step, Sweep, Table
 from systems import bridge
 from tolerances import RTOL_AT_REST, RTOL_DIRECT_STEADY_STATE, RTOL_LINALG, RTOL_SIGNAL
@@ -350,6 +350,24 @@ def test_statics_no_mount_could_give_are_named_with_the_numbers():
     # Stiffer by 10: a tilt of 0.024 rad and a sag of 13 mm, nothing to say; nor without statics.
     system = two_springs(2e4, 1e6)
     assert static_range(gravity_statics(system), system) == [] and static_range(None, system) == []
+
+
+def test_a_mount_at_the_cg_is_no_stiffness_in_n_per_mm():
+    """Without dimensions the body's size comes from its inertia, not only from the mounts' reach: one mount
+    under the CG (reach 0) at 5 Hz is no warning, the same mount 1000 times too soft still is one."""
+    a, b, c = 1.2, 1.0, 0.5  # a uniform box: its inertia gives back its half-diagonal
+    body = RigidBody(100.0, 100.0 / 12 * np.array([b**2 + c**2, a**2 + c**2, a**2 + b**2]))
+    half_size = math.hypot(a, b, c) / 2
+
+    def at_cg(k):
+        return System(body, [Mount("under", [0.0, 0.0, 0.0], [k, k, k])])
+
+    assert static_range(gravity_statics(at_cg(1e5)), at_cg(1e5)) == []  # a sag of 9.8 mm
+    assert body_length(at_cg(1e5)) == pytest.approx(half_size, rel=RTOL_LINALG)
+    sag = 100.0 * STANDARD_GRAVITY / 1e2
+    assert static_range(gravity_statics(at_cg(1e2)), at_cg(1e2)) == [
+        f"the static deflection under gravity, {1e3 * sag:.4g} mm at the CG, exceeds the body's half-size "
+        f"({1e3 * half_size:.4g} mm): no mount is linear over such a stroke. Are the stiffnesses in N/m (not N/mm)?"]
 
 
 RUN = """

@@ -2,6 +2,7 @@
 form, the exact matrix exponential of an augmented state-space system built here, and the frequency domain."""
 
 import dataclasses
+import json
 
 import numpy as np
 import pytest
@@ -15,10 +16,11 @@ from sixdof.analysis.frf import cross_check, receptance
 from sixdof.analysis.response import mount_forces
 from sixdof.analysis.statespace import damped_modes, damping_ratios
 from sixdof.analysis.superposition import superpose
+from sixdof.cli import main
 from sixdof.errors import InputError, ScenarioError
 from sixdof.excitation import Excitation, GroundMotion, InitialState, Load
 from sixdof.excitation.signals import HalfSine, Step
-from sixdof.io.scenario import parse_scenario
+from sixdof.io.scenario import load_scenario, parse_scenario
 from sixdof.io.store import load_results, write_results
 from sixdof.results import RunResults
 from systems import FOUR_MOUNT_CORNERS, THREE_MOUNTS, skewed_machine
@@ -156,6 +158,30 @@ def test_frf_methods_and_poles_of_the_full_model():
     zeta = damping_ratios(system.C, system.modes, system.branches)
     np.testing.assert_allclose(zeta, -poles.real / np.abs(poles), rtol=1e-12)
     assert np.all(zeta > damping_ratios(system.C, system.modes))  # the branches dissipate in every mode
+
+
+def test_modes_json_gives_the_poles_of_the_full_model(capsys):
+    """``modes --json`` carries what its table shows: each mode's pole in the full visco-elastic model, an
+    eigenvalue of the augmented state space built here; null without Maxwell branches."""
+    scenario = "scenarios/equipment_elastomer.toml"
+    assert main(["modes", scenario, "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    poles = data["full_model_poles"]
+    f, fd, zeta = (np.array(poles[key]) for key in ("frequency_hz", "damped_frequency_hz", "damping_ratio"))
+    assert f.shape == (6,) and np.all(f > np.array(data["frequency_hz"]))  # the branches stiffen every mode
+    np.testing.assert_allclose(zeta, data["damping_ratio"], rtol=1e-12)
+    np.testing.assert_allclose(fd, f * np.sqrt(1 - zeta**2), rtol=1e-12)
+    eigenvalues = np.linalg.eigvals(augmented(load_scenario(scenario).system))
+    for pole in 2 * np.pi * (-zeta * f + 1j * fd):
+        assert np.min(np.abs(eigenvalues - pole)) <= 1e-9 * abs(pole)
+    assert main(["modes", scenario]) == 0
+    rows = [row.split("|") for row in capsys.readouterr().out.split("\n\n")[1].splitlines()  # the modes table
+            if row.startswith("|")]
+    assert rows[0][6].strip() == "f full model [Hz]"
+    shown = [float(row[6]) for row in rows[2:]]
+    assert shown == [round(v, 4) for v in f]  # the table's "f full model [Hz]"
+    assert main(["modes", "scenarios/bridge_beam.toml", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["full_model_poles"] is None
 
 
 def test_store_round_trip(tmp_path):

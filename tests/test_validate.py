@@ -296,3 +296,21 @@ def test_bad_estimation_input():
         validate(small_box(), settings=3)
     with pytest.raises(InputError, match=r"^load_direction: expected one of 'x', 'y', 'z'"):
         validate(small_box(), settings=ValidationSettings(load_direction="rx"))
+
+
+def test_the_table_names_each_column_s_unit_and_the_peak_column_is_its_check():
+    """Every column but the labels says its unit, and the peak's column holds what its check holds: the offset
+    in Hz that the stated rule compares with a bin (a relative error there was compared with nothing)."""
+    row = _row(f_peak_estimated_hz=9.99 + 0.06)
+    checks = tuple(experiment.mode_checks(row, 24))
+    report = experiment.ValidationReport(rows=(row,), random_runs=(), decays=(), load_point=np.zeros(3),
+                                         load_direction=np.array([0.0, 0.0, 1.0]), random_duration_s=1.0,
+                                         wall_time_s=1.0, checks=checks, mode_verdicts=("PASS",), verdict="PASS")
+    headers, (values,) = report.table()
+    assert [h for h in headers if not h.endswith(("[Hz]", "[1]", "[relative]"))] == ["mode", "dof"]
+    peak = headers.index("fpk_h1 - fpk_model [Hz]")
+    assert values[peak] == pytest.approx(0.06) and checks[2].name == "frf_peak" and checks[2].unit == "Hz"
+    assert checks[2].value == pytest.approx(values[peak]) and checks[2].limit == values[headers.index("df [Hz]")]
+    text = validation_text(report)
+    assert "| fpk_h1 - fpk_model [Hz] |" in text.splitlines()[0] and "+0.06 |" in text.splitlines()[2]
+    assert "frf_peak: |fpk_h1 - fpk_model| <= PEAK_BINS df" in text

@@ -561,12 +561,30 @@ def _modes_json(scenario, modes, statics, zeta, sensitivity: bool = False) -> di
     # Modes of a system with nonlinear mounts are those of its linearization about the static equilibrium.
     out["linearized_axes"] = list(laws.names)
     out["linearized_stiffness"] = [float(k) for k in laws.tangent]
+    out["full_model_poles"] = _full_model_poles(scenario.system, modes, plain)
     out.update(_design_json(scenario, sensitivity, plain))
     if statics is not None:
         fixed = group("statics")
         out["statics"] = {**fixed, "mounts": fixed["mount"], "mount_forces_n": fixed["mount_force"],
                           "support_n": fixed["support"]}
     return out
+
+
+def _full_model_poles(system, modes, plain) -> dict | None:
+    """With Maxwell branches, the pole of each mode in the full visco-elastic model (the augmented state space,
+    :func:`sixdof.analysis.statespace.damped_modes`), as the modes table's "f full model" column shows it:
+    ``frequency_hz`` |lambda| / 2 pi, ``damped_frequency_hz`` Im(lambda) / 2 pi and ``damping_ratio``
+    -Re(lambda) / |lambda|, per mode (null: a rigid-body or overdamped mode); None without branches."""
+    import numpy as np
+
+    from sixdof.analysis.statespace import damped_modes
+
+    if not system.branches.count:
+        return None
+    poles, _ = damped_modes(system.C, modes, system.branches)
+    size = np.abs(poles)
+    return {"frequency_hz": plain(size / (2 * np.pi)), "damped_frequency_hz": plain(poles.imag / (2 * np.pi)),
+            "damping_ratio": plain(-poles.real / size)}
 
 
 def _design_json(scenario, sensitivity: bool, plain) -> dict:
@@ -584,9 +602,14 @@ def _design_json(scenario, sensitivity: bool, plain) -> dict:
            "roll_mode": None if metrics.roll_mode is None else metrics.roll_mode + 1,
            "elastic_axes": plain(metrics.elastic_axes), "principal_stiffness": plain(metrics.principal_stiffness)}
     if sensitivity:
+        from sixdof.io.report import without_round_off
+
         found = sensitivities(scenario.system)
-        out.update(frequency_sensitivity=plain(found.frequency.filled(np.nan)),  # masked: no derivative -> null
-                   decoupling_sensitivity=plain(found.decoupling.filled(np.nan)),
+
+        def shown(values):  # masked: no derivative -> null; round-off of the mode's largest (1e-36 for 0) -> 0
+            return plain(np.where(values.mask, np.nan, without_round_off(values.data, axis=(1, 2))))
+
+        out.update(frequency_sensitivity=shown(found.frequency), decoupling_sensitivity=shown(found.decoupling),
                    repeated_modes=[[j + 1 for j in group] for group in found.repeated_modes],
                    sensitivity_axes=["mode", "mount", "mount_axis"])
     return out

@@ -242,7 +242,7 @@ def statics_table(statics, system) -> str:
     from sixdof.analysis.validity import body_length
 
     length = body_length(system)
-    q = _without_round_off(statics.q, scale=np.array([1.0, 1.0, 1.0, length, length, length]))
+    q = without_round_off(statics.q, scale=np.array([1.0, 1.0, 1.0, length, length, length]))
     rows = []
     for i, (dof, unit) in enumerate(zip(DOFS, DOF_UNITS)):
         factor, shown = display_unit(q[i], unit)
@@ -262,11 +262,12 @@ def statics_table(statics, system) -> str:
 SHOWN_AS_ZERO_RTOL = 1e-12
 
 
-def _without_round_off(values, scale=1.0) -> np.ndarray:
-    """``values`` with those at round-off of the largest (each times ``scale``, to compare units) set to 0."""
+def without_round_off(values, scale=1.0, axis=None) -> np.ndarray:
+    """``values`` with those at round-off of the largest (each times ``scale``, to compare units) set to 0: the
+    largest of all, or along ``axis`` (an int or a tuple of them: each row's own largest)."""
     values = np.asarray(values, dtype=float)
     size = np.abs(values) * scale
-    return np.where(size > SHOWN_AS_ZERO_RTOL * np.max(size, initial=0.0), values, 0.0)
+    return np.where(size > SHOWN_AS_ZERO_RTOL * np.max(size, axis=axis, keepdims=True, initial=0.0), values, 0.0)
 
 
 def _fixed(value: float, digits: int) -> str:
@@ -292,8 +293,8 @@ MOUNT_SIGNS = _wrapped("Loads are the force of the body on each mount (passed to
 
 def mount_loads_table(check) -> str:
     """Normal force of each mount over a run (static, extremes, tension) and its peak shear loads."""
-    forces = _without_round_off(np.column_stack([-check.static_force[:, 2], check.max_compression,
-                                                 check.min_compression, check.peak_force[:, :2]]))
+    forces = without_round_off(np.column_stack([-check.static_force[:, 2], check.max_compression,
+                                                check.min_compression, check.peak_force[:, :2]]))
     factor, unit = display_unit(forces, "N")  # one unit for the table: kN, or N for a light body
     rows = []
     for j, name in enumerate(check.names):
@@ -309,7 +310,7 @@ def mount_loads_table(check) -> str:
 
 def mount_deflections_table(check, limits=None) -> str:
     """Peak total deflection of each mount per axis, when, and its limit (``limits``: (m, 3) [m], inf none)."""
-    peaks = _without_round_off(check.peak_deflection)
+    peaks = without_round_off(check.peak_deflection)
     scale, unit = display_unit(peaks, "m")
     rows = []
     for j, name in enumerate(check.names):

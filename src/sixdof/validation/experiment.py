@@ -246,30 +246,32 @@ class ModeCheck:
         return self.zeta_estimated - self.zeta_model
 
     @property
-    def f_peak_error(self) -> float:
-        """Relative error of the estimated FRF peak against the model's peak."""
-        return self.f_peak_estimated_hz / self.f_peak_model_hz - 1.0
+    def f_peak_offset_hz(self) -> float:
+        """``f_peak_estimated_hz - f_peak_model_hz`` [Hz]: what the ``frf_peak`` check holds against a bin."""
+        return self.f_peak_estimated_hz - self.f_peak_model_hz
 
 
-#: Columns of :meth:`ValidationReport.table`: (attribute, header, format).
+#: Columns of :meth:`ValidationReport.table`: (attribute, header, format). Each header names its unit as the
+#: other tables do ([1]: a ratio; [relative]: over the model's value), in the units of the checks (:data:`CHECKS`)
+#: so that a column and its check show the same number; the frequencies are named as in the checks' rules.
 COLUMNS = (
     ("mode", "mode", "{:d}"),
     ("dominant_dof", "dof", "{}"),
-    ("f_model_hz", "f_model_hz", "{:.5g}"),
-    ("f_damped_model_hz", "fd_model_hz", "{:.6g}"),
-    ("f_damped_estimated_hz", "fd_decay_hz", "{:.6g}"),
-    ("f_damped_error", "fd_err", "{:+.1e}"),
-    ("zeta_model", "zeta_model", "{:.5f}"),
-    ("zeta_estimated", "zeta_decay", "{:.5f}"),
-    ("zeta_error", "zeta_err", "{:+.1e}"),
-    ("f_peak_model_hz", "fpk_model_hz", "{:.5g}"),
-    ("f_peak_estimated_hz", "fpk_h1_hz", "{:.5g}"),
-    ("f_peak_error", "fpk_err", "{:+.1e}"),
-    ("frequency_resolution_hz", "df_hz", "{:.2g}"),
-    ("h1_median_error", "h1_err_med", "{:.1e}"),
-    ("h1_error_in_sigmas", "h1_err/sigma", "{:.2f}"),
-    ("h1_error_at_peak", "h1_err_pk", "{:.1e}"),
-    ("h1_sigma_at_peak", "h1_sigma_pk", "{:.1e}"),
+    ("f_model_hz", "f_model [Hz]", "{:.5g}"),
+    ("f_damped_model_hz", "fd_model [Hz]", "{:.6g}"),
+    ("f_damped_estimated_hz", "fd_decay [Hz]", "{:.6g}"),
+    ("f_damped_error", "fd_err [relative]", "{:+.1e}"),
+    ("zeta_model", "zeta_model [1]", "{:.5f}"),
+    ("zeta_estimated", "zeta_decay [1]", "{:.5f}"),
+    ("zeta_error", "zeta_err [1]", "{:+.1e}"),
+    ("f_peak_model_hz", "fpk_model [Hz]", "{:.5g}"),
+    ("f_peak_estimated_hz", "fpk_h1 [Hz]", "{:.5g}"),
+    ("f_peak_offset_hz", "fpk_h1 - fpk_model [Hz]", "{:+.2g}"),
+    ("frequency_resolution_hz", "df [Hz]", "{:.2g}"),
+    ("h1_median_error", "h1_err_med [relative]", "{:.1e}"),
+    ("h1_error_in_sigmas", "h1_err/sigma [1]", "{:.2f}"),
+    ("h1_error_at_peak", "h1_err_pk [relative]", "{:.1e}"),
+    ("h1_sigma_at_peak", "h1_sigma_pk [relative]", "{:.1e}"),
 )
 
 
@@ -604,7 +606,7 @@ def mode_checks(row: ModeCheck, h1_bins: int) -> list[Check]:
     return [
         _check(row.mode, "decay_frequency", abs(row.f_damped_error), DECAY_RTOL),
         _check(row.mode, "decay_damping", abs(row.zeta_error), DECAY_RTOL * row.zeta_model + DECAY_ZETA_ATOL),
-        _check(row.mode, "frf_peak", abs(row.f_peak_estimated_hz - row.f_peak_model_hz),
+        _check(row.mode, "frf_peak", abs(row.f_peak_offset_hz),
                PEAK_BINS * row.frequency_resolution_hz),
         _check(row.mode, "frf_h1", row.h1_error_in_sigmas, h1_limit),
     ]

@@ -196,6 +196,9 @@ def test_uff58_of_a_base_excited_run_carries_the_ground_motion_as_input_channels
             np.testing.assert_allclose(data["x"], tree.array("time/t"), rtol=RTOL_TIME_AXIS, atol=1e-15)
             np.testing.assert_array_equal(data["data"], tree.array(path)[:, axis])
     assert sets[first + 9]["func_type"] == 4  # the receptances follow
+    assert [sets[k]["id1"].strip() for k in (0, 3, 6)] == ["small: CG x displacement (absolute)",
+                                                           "small: CG rx displacement (absolute)",
+                                                           "small: top acceleration x (absolute)"]
 
 
 def test_csv_of_a_base_excited_run_carries_the_ground_motion_after_the_body_s_columns(shaken, tmp_path):
@@ -213,3 +216,8 @@ def test_csv_of_a_base_excited_run_carries_the_ground_motion_after_the_body_s_co
         np.testing.assert_array_equal(table[:, columns], tree.array(path))
     assert len(rows[0]) == first + 9
     assert rows[0][first + 6:] == ["ground ax [m/s^2]", "ground ay [m/s^2]", "ground az [m/s^2]"]
+    # With the ground moving, the body's channels say they are absolute (as stored: q, not q_relative).
+    assert rows[0][1:first] == [*(f"{d} (absolute) [{u}]" for d, u in zip(("x", "y", "z", "rx", "ry", "rz"),
+                                                                          ("m",) * 3 + ("rad",) * 3)),
+                                *(f"top a{a} (absolute) [m/s^2]" for a in "xyz")]
+    np.testing.assert_array_equal(table[:, 1:7], tree.array("time/q"))

@@ -127,6 +127,14 @@ def _axis(axis: str, data_type: int, units: str) -> dict:
             f"{axis}_force_unit_exp": force, f"{axis}_temp_unit_exp": 0}
 
 
+def _frame(response, relative: bool = False) -> str:
+    """What a body channel's motion is measured from, for its name: nothing when the ground is fixed (absolute and
+    relative are the same), else " (absolute)" or " (relative)" (to the ground), as a test tool cannot tell."""
+    if not response.has_ground:
+        return ""
+    return " (relative)" if relative else " (absolute)"
+
+
 def _time_history(label: str, node: int, direction: int, entity: str, data_type: int, units: str, data, t,
                   reference: tuple[int, int, str] = (0, 0, "NONE")) -> dict:
     """One time history as a UFF58 dataset (function type 1, real, double precision): ``label`` its ID line,
@@ -152,12 +160,13 @@ def uff58_sets(run) -> list[dict]:
     if run.response is not None:
         t = np.asarray(run.response.t, float)
         for i, dof in enumerate(DOFS):
-            sets.append(_time_history(f"{name}: CG {dof} displacement", 1, i + 1, "CG", _DISPLACEMENT, DOF_UNITS[i],
-                                      run.response.q[:, i], t))
+            sets.append(_time_history(f"{name}: CG {dof} displacement{_frame(run.response)}", 1, i + 1, "CG",
+                                      _DISPLACEMENT, DOF_UNITS[i], run.response.q[:, i], t))
         for k, (point, motion) in enumerate(run.points.items()):
             for axis in range(3):
-                sets.append(_time_history(f"{name}: {point} acceleration {'xyz'[axis]}", k + 2, axis + 1, point,
-                                          _ACCELERATION, "m/s^2", motion.acceleration[:, axis], t))
+                sets.append(_time_history(
+                    f"{name}: {point} acceleration {'xyz'[axis]}{_frame(run.response, motion.relative)}", k + 2,
+                    axis + 1, point, _ACCELERATION, "m/s^2", motion.acceleration[:, axis], t))
         for channel in _inputs(run.response):
             sets.append(_time_history(f"{name}: {channel.description} (input)", channel.node, channel.direction,
                                       channel.entity, channel.data_type, channel.units, channel.data, t,
@@ -192,7 +201,9 @@ def export(results: str | Path, out_root: str | Path | None = None, fmt: str = "
     each point's acceleration [m/s^2], then the input channels: a base-excited run's ground displacement,
     velocity and acceleration, ``ground dx [m]`` ... ``ground az [m/s^2]``, and the applied loads'
     generalized force, ``Fx [N]`` ... ``Mz [N m]``, when there are loads) and ``<name>_frf.csv`` (f [Hz], the
-    real and imaginary part of each receptance entry), unit in every column header.
+    real and imaginary part of each receptance entry), unit in every column header. With the ground moving, a
+    body channel's name says what its motion is measured from: ``x (absolute) [m]``, ``top ax (relative) [m/s^2]``
+    (the UFF58 ID lines too).
 
     Returns
     -------
@@ -223,10 +234,11 @@ def export(results: str | Path, out_root: str | Path | None = None, fmt: str = "
             written.append(path.name)
             return
         if run.response is not None:
-            headers = ["t [s]", *(f"{d} [{u}]" for d, u in zip(DOFS, DOF_UNITS))]
+            frame = _frame(run.response)
+            headers = ["t [s]", *(f"{d}{frame} [{u}]" for d, u in zip(DOFS, DOF_UNITS))]
             columns = [run.response.t, *run.response.q.T]
             for point, motion in run.points.items():
-                headers += [f"{point} a{a} [m/s^2]" for a in "xyz"]
+                headers += [f"{point} a{a}{_frame(run.response, motion.relative)} [m/s^2]" for a in "xyz"]
                 columns += list(motion.acceleration.T)
             for channel in _inputs(run.response):
                 headers.append(f"{channel.name} [{channel.units}]")

@@ -400,8 +400,9 @@ class System(Frozen):
     equilibrium: np.ndarray = quantity(UNITS["q"], ("dof",), default_factory=lambda: np.zeros(6),
                                        check=lambda value, field: readonly(finite_array(
                                            value, field, "6 finite values [m, rad]", (6,))),
-                                       description="static equilibrium from the unloaded state about which the "
-                                       "mounts are linearized")
+                                       description="static equilibrium from the unloaded state about which "
+                                       "nonlinear mounts are linearized (zero for linear mounts: their statics "
+                                       "under gravity are /statics)")
 
     #: Stored beside the fields (not read back: the system recomputes them).
     derived = {

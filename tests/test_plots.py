@@ -134,13 +134,21 @@ def test_finite_rotations_are_scipys():
         np.testing.assert_allclose(R, Rotation.from_rotvec(vector).as_matrix(), rtol=0.0, atol=1e-15)
 
 
-def test_body_box_falls_back_to_the_mount_extents():
+def test_body_box_falls_back_to_the_mount_extents_or_the_inertia_s_box():
     system = bridge("equal", dimensions=None)
-    largest = 2 * 19.55
-    np.testing.assert_allclose(plots.body_box(system), [0.39, largest, 2.062], rtol=RTOL_DRAWN)
-    # Every mount at the CG's height.
+    # The uniform box of the beam's mass and inertia: Lx^2 = 6 (Jyy + Jzz - Jxx) / m, ...
+    J, m = np.diag(system.body.inertia), system.body.mass
+    inertial = np.sqrt(6 * (J.sum() - 2 * J) / m)
+    np.testing.assert_allclose(inertial, [0.7652, 39.988, 2.5521], rtol=1e-4)
+    np.testing.assert_allclose(plots.body_box(system), inertial, rtol=RTOL_DRAWN)  # beyond the mounts' [0.39, 39.1, 2.06]
+    # Mounts reaching further than that box: the box reaching the mounts.
+    spread = System(system.body, [dataclasses.replace(m, position=m.position * 10.0) for m in system.mounts])
+    np.testing.assert_allclose(plots.body_box(spread), [3.9, 391.0, 20.62], rtol=RTOL_DRAWN)
+    # Every mount at the CG's height, or one mount under the CG: the inertia's box, not a flat slab.
     planar = System(system.body, [dataclasses.replace(m, position=m.position * [1.0, 1.0, 0.0]) for m in system.mounts])
-    np.testing.assert_allclose(plots.body_box(planar), [0.39, largest, plots.FLAT_SIDE * largest], rtol=RTOL_DRAWN)
+    np.testing.assert_allclose(plots.body_box(planar), inertial, rtol=RTOL_DRAWN)
+    single = System(system.body, [dataclasses.replace(system.mounts[0], position=[0.0, 0.0, 0.0])])
+    np.testing.assert_allclose(plots.body_box(single), inertial, rtol=RTOL_DRAWN)
     np.testing.assert_array_equal(plots.body_box(bridge("equal")), [1.2, 40.0, 2.0])
     fig = plots.plot_mode_shapes(modal_analysis(system.M, system.K), system)
     assert len(fig.axes) == 6

@@ -58,14 +58,13 @@ def warn_large_rotations(t: np.ndarray, q: np.ndarray) -> None:
 
 def body_length(system) -> float:
     """A length [m] for the body: half its box diagonal when its ``dimensions`` are given; else the larger of
-    the farthest mount from the CG and half the diagonal of the uniform box of the body's mass and inertia,
-    ``sqrt(1.5 trace(J) / m)`` (a uniform box has ``trace(J) = m d^2 / 6``)."""
+    the farthest mount from the CG and half the diagonal of the uniform box of the body's mass and inertia
+    (:attr:`~sixdof.model.system.RigidBody.inertia_box`, ``sqrt(1.5 trace(J) / m)``)."""
     body = system.body
     if body.dimensions is not None:
         return float(np.linalg.norm(body.dimensions) / 2)
     # The mounts alone can be arbitrarily near the CG (one mount under it): the inertia says the body's size.
-    inertial = math.sqrt(1.5 * float(np.trace(body.inertia)) / body.mass)
-    return float(max(np.linalg.norm(system.positions, axis=1).max(), inertial))
+    return float(max(np.linalg.norm(system.positions, axis=1).max(), np.linalg.norm(body.inertia_box) / 2))
 
 
 def static_range(statics, system) -> list[str]:

@@ -141,6 +141,14 @@ class RigidBody(Frozen):
         "m", ("axis",), default=None, description="size of the box drawn for the body, centred on the CG",
         check=optional(_three("3 positive lengths [Lx, Ly, Lz] in m", lambda dims: np.all(dims > 0))))
 
+    @property
+    def inertia_box(self) -> np.ndarray:
+        """Sides ``[Lx, Ly, Lz]`` [m] of the uniform box with this mass and the inertia's diagonal: what stands for
+        the body's size where its ``dimensions`` are not given (``Jxx = m (Ly^2 + Lz^2) / 12``, so
+        ``Lx^2 = 6 (Jyy + Jzz - Jxx) / m``; zero for a side the triangle inequality leaves none)."""
+        J = np.diag(self.inertia)
+        return np.sqrt(np.maximum(6.0 * (np.sum(J) - 2.0 * J) / self.mass, 0.0))
+
 
 def _deflection_limits(value, field: str) -> np.ndarray:
     """A mount's deflection limit [m]: one value for its three axes, or one per axis u, v, w;

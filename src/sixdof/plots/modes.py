@@ -33,8 +33,9 @@ def body_box(system: System | None) -> np.ndarray:
     """Size [Lx, Ly, Lz] of the box drawn for the body [m], centred on the CG.
 
     The body's ``dimensions`` when given; otherwise the box reaching the mounts (symmetric about
-    the CG); a side of zero length (every mount in a plane through the CG) is made
-    :data:`FLAT_SIDE` of the largest. Without a system: a 1 m cube.
+    the CG) or the uniform box of the body's inertia (:attr:`~sixdof.model.system.RigidBody.inertia_box`),
+    whichever is larger along each axis; a side of zero length is made :data:`FLAT_SIDE` of the largest.
+    Without a system: a 1 m cube.
 
     Parameters
     ----------
@@ -51,7 +52,9 @@ def body_box(system: System | None) -> np.ndarray:
     if system.body.dimensions is not None:
         return np.asarray(system.body.dimensions, dtype=float)
     positions = system.positions
-    size = 2.0 * np.max(np.abs(positions), axis=0) if len(positions) else np.ones(3)
+    reach = 2.0 * np.max(np.abs(positions), axis=0) if len(positions) else np.zeros(3)
+    # Mounts in a plane through the CG, or one mount under it, reach no side: the inertia gives the body its size.
+    size = np.maximum(reach, system.body.inertia_box)
     largest = float(np.max(size)) or 1.0
     return np.where(size <= 1e-9 * largest, FLAT_SIDE * largest, size)
 

@@ -87,8 +87,8 @@ def test_uff58_unit_exponents_follow_the_unit_labels(results):
     pytest.importorskip("pyuff")
     from sixdof.io.exchange import uff58_sets
 
-    expected = {"m": (1, 0), "m/s^2": (1, 0), "rad": (0, 0), "N": (0, 1), "N m": (1, 1), "s": (0, 0), "Hz": (0, 0),
-                "NONE": (0, 0)}
+    expected = {"m": (1, 0), "m/s": (1, 0), "m/s^2": (1, 0), "rad": (0, 0), "N": (0, 1), "N m": (1, 1), "s": (0, 0),
+                "Hz": (0, 0), "NONE": (0, 0)}
     for data in uff58_sets(load_results(results)):
         for axis in ("abscissa", "ordinate", "orddenom"):
             label = data[f"{axis}_axis_units_lab"]
@@ -195,6 +195,8 @@ def test_uff58_of_a_base_excited_run_carries_the_ground_motion_as_input_channels
             assert data["id1"].strip() == f"small: ground {path.split('_')[-1]} {'xyz'[axis]} (input)"
             np.testing.assert_allclose(data["x"], tree.array("time/t"), rtol=RTOL_TIME_AXIS, atol=1e-15)
             np.testing.assert_array_equal(data["data"], tree.array(path)[:, axis])
+            # Records 8-11 read back: the ground's displacement, velocity and acceleration are all of length 1.
+            assert (data["ordinate_len_unit_exp"], data["ordinate_force_unit_exp"]) == (1, 0)
     assert sets[first + 9]["func_type"] == 4  # the receptances follow
     assert [sets[k]["id1"].strip() for k in (0, 3, 6)] == ["small: CG x displacement (absolute)",
                                                            "small: CG rx displacement (absolute)",

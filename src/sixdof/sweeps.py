@@ -34,6 +34,9 @@ from sixdof.io.toml import naming
 #: The folder of a sweep's finished chunks, beside its results folder.
 CHUNKS_SUFFIX = ".chunks"
 _FINGERPRINT = "sweep.json"
+#: What a chunk file holds, raised when that changes (2: the modes followed by their shapes), so that a resumed
+#: sweep refuses chunks of an earlier kind up front instead of failing to merge them at the end.
+CHUNK_FORMAT = 2
 
 
 class Study(NamedTuple):
@@ -281,7 +284,7 @@ def fingerprint(scenario, spec) -> dict:
     spec_text = json.dumps({key: value for key, value in dataclasses.asdict(spec).items() if key != "path"},
                            sort_keys=True, default=str)  # the spec's content, not where it was read from
     return {"scenario": hashlib.sha256(model).hexdigest(), "spec": hashlib.sha256(spec_text.encode()).hexdigest(),
-            "sixdof version": __version__}
+            "sixdof version": __version__, "chunk format": CHUNK_FORMAT}
 
 
 @dataclass(frozen=True)

@@ -43,7 +43,7 @@ import numpy as np
 
 from sixdof._jax import jax, jnp
 from sixdof.analysis.compare import Agreement, compare
-from sixdof.analysis.modal import ZERO_MODE_RTOL, pair_by_similarity
+from sixdof.analysis.modal import ZERO_MODE_RTOL, pair_by_similarity, repeated_groups
 from sixdof.dofs import UNITS
 from sixdof.errors import InputError, Plain, SolverError, integer, readonly
 from sixdof.frozen import BriefRepr
@@ -329,6 +329,11 @@ def track_modes(system: System, frequency_hz, shapes) -> tuple[np.ndarray, np.nd
     with the nominal modes by the mass-weighted modal assurance criterion, most alike first
     (:func:`~sixdof.analysis.modal.pair_by_similarity`): the sweep's spread of each mode's frequency.
 
+    The modes of a repeated nominal frequency (:func:`~sixdof.analysis.modal.repeated_groups`: a symmetric layout's
+    pairs, the rigid-body modes) have no shapes of their own, only a space: the group is followed as one, each
+    variant's mode judged by its share in that space (the sum of its MACs with the group's modes), and the modes
+    found take the group's places in ascending order.
+
     Parameters
     ----------
     system : System
@@ -346,9 +351,15 @@ def track_modes(system: System, frequency_hz, shapes) -> tuple[np.ndarray, np.nd
     # Both sets mass-normalized with the same M: MAC = (phi_i' M psi_j)^2 / (phi_i' M phi_i psi_j' M psi_j) is the
     # square of the mass-weighted product alone.
     mac = np.einsum("di,de,vej->vij", system.modes.shapes, np.asarray(system.M), np.asarray(shapes)) ** 2
-    paired = pair_by_similarity(mac)  # 6 x 6: every nominal mode gets a variant's mode
-    rows = np.arange(len(mac))[:, None]
-    return readonly(np.asarray(frequency_hz)[rows, paired]), readonly(mac[rows, np.arange(6), paired])
+    groups = repeated_groups(system.modes.eigenvalues)
+    for group in groups:
+        mac[:, group, :] = mac[:, group, :].sum(axis=1, keepdims=True)
+    paired = pair_by_similarity(mac)  # 6 x 6: every nominal mode gets a variant's mode, unless the MAC is NaN
+    for group in groups:  # the variants' modes are ascending: so are their sorted indices
+        paired[:, group] = np.sort(paired[:, group], axis=1)
+    rows, found = np.arange(len(mac))[:, None], paired >= 0
+    frequency = np.where(found, np.asarray(frequency_hz)[rows, paired], np.nan)
+    return readonly(frequency), readonly(np.where(found, mac[rows, np.arange(6), paired], np.nan))
 
 
 def batch_frequencies(system: System, variants: Variants) -> np.ndarray:

@@ -28,11 +28,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sixdof.analysis.modal import inverse_cholesky
+from sixdof.analysis.modal import inverse_cholesky, repeated_groups
 from sixdof.errors import InputError, instance, readonly
 
-#: Two eigenvalues closer than this fraction of the largest are one repeated eigenvalue.
-REPEATED_RTOL = 1e-8
 #: The elastic centre exists when the symmetric part of ``-A^-1 B`` is at most this fraction of the mount
 #: set's length scale ``sqrt(trace(C) / trace(A))`` (``C`` the rotational stiffness block).
 ELASTIC_CENTER_RTOL = 1e-6
@@ -222,8 +220,7 @@ def sensitivities(system) -> Sensitivities:
     stiffness = np.asarray(system.stiffnesses, dtype=float)
     eigenvalues = np.asarray(modal(stiffness)[0])
     d_eigenvalues, d_decoupling = (np.array(d) for d in jax.jacfwd(modal)(stiffness))  # (6, n, 3) each
-    scale = max(float(np.max(np.abs(eigenvalues))), np.finfo(float).tiny)
-    groups = _repeated(eigenvalues, REPEATED_RTOL * scale)
+    groups = repeated_groups(eigenvalues)
     shapeless = np.zeros(len(eigenvalues), dtype=bool)  # modes whose shape (so decoupling) is not unique
     for group in groups:  # the group mean's derivative is basis-independent; a member's is not
         d_eigenvalues[list(group)] = d_eigenvalues[list(group)].mean(axis=0)
@@ -253,20 +250,5 @@ def modes_jax(M, L_inv, K):
     eigenvalues, vectors = jnp.linalg.eigh(L_inv @ K @ L_inv.T)
     shapes = L_inv.T @ vectors
     return eigenvalues, shapes, shapes * (M @ shapes)
-
-
-def _repeated(eigenvalues: np.ndarray, tolerance: float) -> list[tuple[int, ...]]:
-    """Runs of ascending ``eigenvalues`` closer than ``tolerance`` to their neighbour, as index groups."""
-    groups, run = [], [0]
-    for j in range(1, len(eigenvalues)):
-        if eigenvalues[j] - eigenvalues[j - 1] <= tolerance:
-            run.append(j)
-        else:
-            if len(run) > 1:
-                groups.append(tuple(run))
-            run = [j]
-    if len(run) > 1:
-        groups.append(tuple(run))
-    return groups
 
 

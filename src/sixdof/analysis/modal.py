@@ -187,6 +187,29 @@ def coupled_subsystems(M: np.ndarray, K: np.ndarray, rtol: float = COUPLING_RTOL
     return tuple(dict.fromkeys(tuple(DOFS[j] for j in np.flatnonzero(row)) for row in reach))
 
 
+#: Two eigenvalues closer than this fraction of the largest are one repeated eigenvalue.
+REPEATED_RTOL = 1e-8
+
+
+def repeated_groups(eigenvalues, rtol: float = REPEATED_RTOL) -> list[tuple[int, ...]]:
+    """Runs of ascending ``eigenvalues`` closer than ``rtol`` of the largest to their neighbour, as index groups:
+    repeated eigenvalues (the rigid-body modes' zeros among them), whose modes' shapes are any basis of the
+    group's space."""
+    eigenvalues = np.asarray(eigenvalues, dtype=float)
+    tolerance = rtol * max(float(np.max(np.abs(eigenvalues))), np.finfo(float).tiny)
+    groups, run = [], [0]
+    for j in range(1, len(eigenvalues)):
+        if eigenvalues[j] - eigenvalues[j - 1] <= tolerance:
+            run.append(j)
+        else:
+            if len(run) > 1:
+                groups.append(tuple(run))
+            run = [j]
+    if len(run) > 1:
+        groups.append(tuple(run))
+    return groups
+
+
 def pair_by_similarity(similarity) -> np.ndarray:
     """Pair rows with columns of ``similarity`` (..., n, m), most similar pair first, each row and column used
     once: how modes are followed by their shapes (the damped modes of :func:`sixdof.analysis.statespace.damped_modes`,

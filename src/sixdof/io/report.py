@@ -361,18 +361,24 @@ def tracked_modes_table(modes, tracked_hz, mac) -> str:
     """Percentiles (5, 50, 95 %) of each nominal mode's frequency over a batch of variants, followed by its shape
     (``tracked_hz`` and ``mac``, (nv, 6): :func:`sixdof.analysis.batch.track_modes`), with the lowest MAC of the
     pairing; read one column at a time, as :func:`summary_table`. ``modes``: the nominal system's."""
+    from sixdof.analysis.modal import repeated_groups
+
+    labels = [f"{j + 1} ({dof})" for j, dof in enumerate(modes.dominant_dof)]
+    for group in repeated_groups(modes.eigenvalues):  # no shape of its own: one of the group, in ascending order
+        for j in group:
+            labels[j] = f"{j + 1} (of {group[0] + 1}-{group[-1] + 1}, repeated)"
     rows, unclear = [], []
-    for j, (f, dof) in enumerate(zip(modes.frequency_hz, modes.dominant_dof)):
+    for j, (f, name) in enumerate(zip(modes.frequency_hz, labels)):
         alike = np.asarray(mac[:, j])
         spread = np.percentile(tracked_hz[:, j], [5, 50, 95])
-        rows.append([f"{j + 1} ({dof})", f"{f:.5g}", *(f"{v:.5g}" for v in spread), f"{np.min(alike):.3f}"])
+        rows.append([name, f"{f:.5g}", *(f"{v:.5g}" for v in spread), f"{np.min(alike):.3f}"])
         below = int(np.count_nonzero(alike < SAME_SHAPE_MAC))
         if below:
             unclear.append(f"mode {j + 1} in {below} variant{'s' if below > 1 else ''}")
     text = ("Each mode followed by its shape (the variant's mode most alike the nominal one, by mass-weighted MAC; "
             "f1..f6 above are each variant's frequencies in ascending order, which mixes modes whose frequencies "
-            "cross):\n\n" + table(["mode (dominant DOF)", "nominal [Hz]", "p5 [Hz]", "p50 [Hz]", "p95 [Hz]",
-                                     "lowest MAC"], rows))
+            "cross; a repeated nominal frequency is followed as the space of its modes, their MACs summed):\n\n"
+            + table(["mode (dominant DOF)", "nominal [Hz]", "p5 [Hz]", "p50 [Hz]", "p95 [Hz]", "lowest MAC"], rows))
     if unclear:
         text += (f"\n\nMAC below {SAME_SHAPE_MAC}: {', '.join(unclear)}. There the variant's mode shape has changed "
                  "so much that it is not clearly the nominal mode: its frequency spread mixes shapes.")

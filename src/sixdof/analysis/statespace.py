@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sixdof.analysis.modal import pair_by_similarity
+from sixdof.analysis.modal import pair_by_similarity, repeated_groups
 from sixdof.errors import SolverError
 
 #: Damping is classical when its largest normalized modal coupling is at most this. Round-off of the
@@ -61,18 +61,11 @@ def modal_basis(modes, C) -> tuple[np.ndarray, np.ndarray]:
     C = np.asarray(C, dtype=float)
     basis = np.array(modes.shapes)
     omega2 = np.array(modes.eigenvalues)
-    scale = max(float(np.max(omega2)), np.finfo(float).tiny)
-    start = 0
-    while start < len(omega2):
-        stop = start + 1
-        while stop < len(omega2) and omega2[stop] - omega2[start] <= DEGENERATE_RTOL * scale:
-            stop += 1
-        if stop - start > 1:
-            block = basis[:, start:stop]
-            _, rotation = np.linalg.eigh(block.T @ C @ block)
-            basis[:, start:stop] = block @ rotation
-            omega2[start:stop] = np.mean(omega2[start:stop])
-        start = stop
+    for group in repeated_groups(omega2, DEGENERATE_RTOL):
+        block = basis[:, group]
+        _, rotation = np.linalg.eigh(block.T @ C @ block)
+        basis[:, group] = block @ rotation
+        omega2[list(group)] = np.mean(omega2[list(group)])
     return basis, omega2
 
 

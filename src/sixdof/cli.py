@@ -24,6 +24,7 @@ from contextlib import contextmanager, suppress
 from functools import partial
 
 from sixdof._gc import collect_less
+from sixdof._malloc import keep_freed_memory
 
 EXIT_FAILED = 1
 EXIT_BAD_INPUT = 2
@@ -54,6 +55,7 @@ def main(argv: list[str] | None = None) -> int:
     if argv is None:
         _skip_teardown(status)
         collect_less()  # the command's process is sixdof's: a program calling main() keeps its settings
+        keep_freed_memory()
         if args.command in (_run, _validate, _plot):
             _one_blas_thread()
     status[0] = _command(args)

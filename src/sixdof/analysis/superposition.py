@@ -33,6 +33,7 @@ window, without the direct solve's state.
 from __future__ import annotations
 
 import math
+import weakref
 from dataclasses import dataclass
 from functools import cache, partial
 
@@ -422,7 +423,7 @@ def modal_solve(
     breakpoints = _breakpoints(breakpoints)
     t_start = _start_time(start, t)
 
-    plan = Plan(M, C, K if modes is None else modes, method, n_modes, f_max_hz, branches)
+    plan = _plan(M, C, K if modes is None else modes, method, n_modes, f_max_hz, branches)
     loads = _as_loads(force, force_rates)
     residual_rates = bool(residual and plan.dropped.size and loads is not None and loads.rates and ground is None)
     times = t if t_start == t[0] else np.concatenate([[t_start], t])
@@ -435,6 +436,22 @@ def modal_solve(
     drive = make_drive(times, t.size, breakpoints, loads, ground, nodes=nodes, pieces=pieces,
                        rates=residual_rates, ground_start=None if start is None else start.ground)
     return _respond(plan, drive, M, q0, qd0, start, residual, residual_rates, branch_forces)
+
+
+#: The plans made from each set of modes (``System.modes`` is computed once per system), by the rest of their
+#: inputs: the windows of a run, and repeated runs of a system, share one modal solution (0.45 ms a call).
+_PLANS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _plan(M, C, modes, method, n_modes, f_max_hz, branches) -> Plan:
+    """The :class:`Plan` of these arguments (see :class:`Plan`): kept for given ``modes``, made anew from K."""
+    if isinstance(modes, np.ndarray):
+        return Plan(M, C, modes, method, n_modes, f_max_hz, branches)
+    plans = _PLANS.setdefault(modes, {})
+    key = (M.tobytes(), C.tobytes(), method, n_modes, f_max_hz, branches)  # branches: a system's, by identity
+    if key not in plans:
+        plans[key] = Plan(M, C, modes, method, n_modes, f_max_hz, branches)
+    return plans[key]
 
 
 def _start_time(start, t) -> float:
@@ -491,6 +508,7 @@ class Plan:
                                  "branches (a dropped mode has no static residual through a branch)",
                                  n_modes if n_modes is not None else f_max_hz)
         self.kept = _select(self.omega2, n_modes, f_max_hz)
+        self._coordinates = {}
         self.dropped = np.flatnonzero(~np.isin(np.arange(6), self.kept))
         self.method = method
         self.chosen = "real" if method == "real" or (method == "auto" and self.classical) else "complex"
@@ -510,10 +528,13 @@ class Plan:
             self.fastest += float(np.max(1.0 / branches.tau) + np.max(coupling.sum(axis=0))
                                   + np.max(coupling.sum(axis=1)))
 
-    def coordinates(self, run):
-        solve_method, kept = run
-        return _modal_coordinates(self.basis, self.omega2, self.D, np.asarray(kept), solve_method,
-                                  all_complex=self.method == "complex", branches=self.branches)
+    def coordinates(self, run) -> ModalCoordinates:
+        """The first-order coordinates of one of :attr:`runs`, made once."""
+        if run not in self._coordinates:
+            solve_method, kept = run
+            self._coordinates[run] = _modal_coordinates(self.basis, self.omega2, self.D, np.asarray(kept), solve_method,
+                                                        all_complex=self.method == "complex", branches=self.branches)
+        return self._coordinates[run]
 
 
 def _reason(method, coupling, classical, branches=None) -> str:
@@ -583,6 +604,8 @@ def _respond(plan, drive, M, q0, qd0, start, residual, residual_rates, branch_fo
         approximation=approximation, n_intervals=drive.n_intervals, quadrature_nodes=drive.nodes_per_interval,
         end=end,
     )
+    for computed in (q, qd, qdd):  # arrays of this computation alone: the history holds them without a copy
+        computed.flags.writeable = False
     return TimeHistory(t=drive.t, q=q, qd=qd, qdd=qdd, maxwell_force=branch_force, superposition=info)
 
 
@@ -847,8 +870,10 @@ def run_coordinates(modal: ModalCoordinates, drive: Drive, z0) -> np.ndarray:
 #: one step at a time: the filter's cost is per coordinate, the step's per time step.
 FILTERED_COORDINATES = 48
 
-#: Steps per block of :func:`_filter`: one (blocks, BLOCK) x (BLOCK, BLOCK) matrix product per coordinate.
-BLOCK = 32
+#: Steps per block of :func:`_filter`: one (blocks, BLOCK) x (BLOCK, BLOCK) matrix product per coordinate. Its
+#: cost grows with BLOCK, the scan across blocks with their number: 20,000 steps of six coordinates take
+#: 0.62-0.66 ms with 8 to 16, 0.86 ms with 32.
+BLOCK = 16
 _LAG = np.subtract.outer(np.arange(BLOCK), np.arange(BLOCK))  # i - j
 
 
@@ -1049,6 +1074,7 @@ def make_drive(times, n_out, breakpoints, loads, ground=None, *, nodes, pieces, 
     length = np.diff(points)
     if inner.size == 0 and pieces == 1:  # one piece per interval
         piece_interval, piece_length, piece_start = np.arange(n_int), length, times[:-1]
+        last = slice(None)  # each interval's last piece: all of them (a slice: no gathers below)
     else:
         longest = float(np.max(np.diff(times))) / pieces
         parts = np.maximum(np.ceil(length / longest * (1 - 1e-12)).astype(np.int64), 1)
@@ -1056,7 +1082,7 @@ def make_drive(times, n_out, breakpoints, loads, ground=None, *, nodes, pieces, 
         piece_length = np.repeat(length / parts, parts)
         index = np.arange(piece_length.size) - np.repeat(np.cumsum(parts) - parts, parts)
         piece_start = np.repeat(points[:-1], parts) + index * piece_length
-    last = np.append(np.flatnonzero(np.diff(piece_interval)), piece_interval.size - 1)  # of each interval
+        last = np.append(np.flatnonzero(np.diff(piece_interval)), piece_interval.size - 1)  # of each interval
 
     # The times every signal is evaluated at, once: the grid's start when it is an output, then each
     # piece's nodes and its end (the next piece's start; the grid's time after an interval's last piece),
@@ -1067,8 +1093,7 @@ def make_drive(times, n_out, breakpoints, loads, ground=None, *, nodes, pieces, 
     padded = np.empty(_padded_size(count))
     padded[:head] = times[0]
     grid = padded[head:count].reshape(piece_length.size, nodes + 1)
-    np.multiply.outer(piece_length, 0.5 * (1.0 + x), out=grid[:, :nodes])
-    grid[:, :nodes] += piece_start[:, None]
+    np.add(piece_start[:, None], piece_length[:, None] * (0.5 * (1.0 + x)), out=grid[:, :nodes])
     grid[:-1, nodes] = piece_start[1:]
     grid[last, nodes] = times[1:]
     padded[count:] = times[-1]
@@ -1118,7 +1143,7 @@ def make_drive(times, n_out, breakpoints, loads, ground=None, *, nodes, pieces, 
         regular=regular, regular_tau=regular_tau, regular_weight=regular_weight, regular_values=regular_values,
         irregular=irregular, irregular_start=np.cumsum(counts) - counts,
         irregular_tau=np.repeat(times[irregular + 1], counts) - irregular_nodes,
-        irregular_weight=(piece_length[:, None] * (0.5 * w))[in_irregular].reshape(-1),
+        irregular_weight=(piece_length[in_irregular, None] * (0.5 * w)).reshape(-1),
         irregular_values=on_grid[in_irregular, :nodes].reshape(irregular_nodes.size, n_c),
         columns_out=columns_out, rates_out=rates_out, ground_end=ground_end,
         nodes_per_interval=nodes * pieces,

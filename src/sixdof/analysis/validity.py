@@ -12,6 +12,7 @@ import warnings
 
 import numpy as np
 
+from sixdof.analysis.compare import column_peaks
 from sixdof.dofs import DOFS
 
 #: Largest rotation [rad] for which eq. (1) holds: it linearizes the rotations (sin theta ~ theta,
@@ -40,11 +41,11 @@ def warn_large_rotations(t: np.ndarray, q: np.ndarray) -> None:
     q : ndarray, shape (n, 6)
         Displacements [m, rad] (the rotations are the last three columns).
     """
-    rotations = np.abs(np.asarray(q)[:, 3:])
-    peaks = rotations.max(axis=0, initial=0.0)
+    rotations = np.asarray(q)[:, 3:]
+    peaks = column_peaks(rotations)
     beyond = [
         f"|{DOFS[3 + j]}| reaches {peaks[j]:.3g} rad ({math.degrees(peaks[j]):.3g} deg) at "
-        f"t = {t[int(np.argmax(rotations[:, j]))]:.6g} s"
+        f"t = {t[int(np.argmax(np.abs(rotations[:, j])))]:.6g} s"
         for j in np.flatnonzero(peaks > SMALL_ANGLE_RAD)
     ]
     if beyond:

@@ -10,6 +10,7 @@ translation of the foundation under every mount; :class:`InitialState` and :clas
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import ClassVar
 
 import numpy as np
@@ -65,6 +66,10 @@ class Load(Frozen):
 
     def components(self) -> tuple[tuple[np.ndarray, Signal], ...]:
         """``((Q, signal),)``: the generalized force (6,) [N, N m] multiplied by the signal."""
+        return self._components
+
+    @cached_property
+    def _components(self) -> tuple[tuple[np.ndarray, Signal], ...]:  # asked for several times by every solve
         return ((readonly(generalized_force(self.point, self.force, self.moment)), self.signal),)
 
 
@@ -127,6 +132,10 @@ class Unbalance(Frozen):
 
     def components(self) -> tuple[tuple[np.ndarray, Signal], ...]:
         """Two components: ``u`` times ``cos(theta)`` and ``v`` times ``sin(theta)`` (see class doc)."""
+        return self._components
+
+    @cached_property
+    def _components(self) -> tuple[tuple[np.ndarray, Signal], ...]:  # asked for several times by every solve
         e = np.eye(3)[int(np.argmin(np.abs(self.axis)))]  # the body axis least aligned with the spin axis
         u = e - np.dot(e, self.axis) * self.axis
         u /= np.linalg.norm(u)

@@ -101,6 +101,14 @@ def main():
                   f"q' {sp['worst_dof_error_qd']:.2g}, q'' {sp['worst_dof_error_qdd']:.2g}. On this shared 2-core "
                   "machine the ratio of best times varies from run to run and between machines (the README gives "
                   "the spans measured).",
+                  *([] if "engine_faults" not in sp else [
+                      f"Page faults a call: sixdof.superpose {sp['engine_faults']:.0f}, the exact discretization "
+                      f"{sp['exact_faults']:.0f} (glibc's allocator returns freed memory to the system)."]),
+                  *([] if not sp.get("kept") else [
+                      f"With the allocator keeping the memory it frees, as the sixdof command sets it "
+                      f"(`sixdof/_malloc.py`): {sp['kept']['engine_s'] * 1e3:.1f} ms (median "
+                      f"{sp['kept']['engine_median_s'] * 1e3:.1f}) against {sp['kept']['exact_s'] * 1e3:.1f} ms "
+                      f"(median {sp['kept']['exact_median_s'] * 1e3:.1f}): {sp['kept']['ratio']:.2f}x."]),
                   f"Machine: {sp['machine']}", ""]
     b = load("batch")
     if b:

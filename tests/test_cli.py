@@ -4,6 +4,7 @@ import ast
 import json
 import math
 import os
+import platform
 import subprocess
 import sys
 from pathlib import Path
@@ -279,6 +280,42 @@ def test_only_the_command_s_own_process_collects_garbage_less_often():
     before, library, command = ast.literal_eval(result.stderr)
     assert library == before and before[0] != COLLECT_EVERY
     assert command == (COLLECT_EVERY, *before[1:])
+
+
+@pytest.mark.skipif(platform.libc_ver()[0] != "glibc", reason="glibc's allocator")
+@pytest.mark.parametrize("user_setting", [None, "MALLOC_TRIM_THRESHOLD_"])
+def test_the_command_s_own_process_keeps_the_memory_it_frees(user_setting):
+    """As the ``sixdof`` command, arrays of a few MB allocated and freed again come back without page faults
+    (glibc's defaults hand them back to the system and fault them in anew every time); a program calling main()
+    and a user who set glibc's own variables keep their allocator as it was."""
+    from sixdof._malloc import VARIABLES
+
+    env = {k: v for k, v in os.environ.items() if k not in VARIABLES}
+    if user_setting is not None:
+        env[user_setting] = str(128 * 1024)
+    churn = ("import resource, numpy as np\n"
+             "def faults():\n"
+             "    for _ in range(13):  # six arrays of 3.2 MB at a time, then none; counted after three rounds\n"
+             "        if _ == 3:\n"
+             "            before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt\n"
+             "        arrays = [np.ones(400_000) for _ in range(6)]\n"
+             "        del arrays\n"
+             "    return resource.getrusage(resource.RUSAGE_SELF).ru_minflt - before\n")
+
+    def faults(call: str) -> int:
+        result = subprocess.run([sys.executable, "-c", f"import sys\nfrom sixdof.cli import main\n{churn}{call}\n"
+                                 "print(faults(), file=sys.stderr)"], capture_output=True, text=True, env=env)
+        assert result.returncode == 0, result.stderr
+        return int(result.stderr.strip().splitlines()[-1])
+
+    pages = 10 * 6 * 400_000 * 8 // 4096  # every array's pages, every round
+    library = faults("main(['modes', 'scenarios/bridge_beam.toml', '--json'])")
+    command = faults("sys.argv = ['sixdof', 'modes', 'scenarios/bridge_beam.toml', '--json']\nmain()")
+    assert library > pages // 2
+    if user_setting is None:
+        assert command < pages // 100
+    else:
+        assert command > pages // 2
 
 
 @pytest.mark.parametrize("user_setting", [None, "OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS"])

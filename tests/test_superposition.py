@@ -9,6 +9,7 @@
 
 from __future__ import annotations
 
+import gc
 import math
 from functools import cache
 from types import SimpleNamespace
@@ -38,8 +39,10 @@ from sixdof import (
     superpose,
 )
 from sixdof import excitation as ex
-from sixdof.analysis.compare import Agreement
+from sixdof.analysis import superposition
+from sixdof.analysis.compare import Agreement, column_peaks
 from sixdof.analysis.superposition import QUADRATURE_RTOL, modal_solve, quadrature_size
+from sixdof.errors import readonly
 from sixdof.results import TimeHistory
 from systems import BRIDGE_MASS, BRIDGE_POSITIONS, bridge, bridge_body, four_mount
 from tolerances import (
@@ -555,3 +558,43 @@ def test_quadrature_size_keeps_the_error_bound(theta, theta_ground):
         fewer = max(math.factorial(n) ** 4 / ((2 * n + 1) * math.factorial(2 * n) ** 3) * (theta / pieces) ** (2 * n),
                     math.factorial(n) / math.factorial(2 * n) * (theta_ground / pieces) ** n)
         assert fewer > QUADRATURE_RTOL
+
+
+def test_column_peaks_are_each_columns_largest_magnitude():
+    values = np.random.default_rng(4).standard_normal((2001, 6)) * [1e-4, 1e-7, 3.0, 1e-9, 5e2, 1.0]
+    np.testing.assert_array_equal(column_peaks(values), np.max(np.abs(values), axis=0))
+    np.testing.assert_array_equal(column_peaks(values[:, 3:]), np.max(np.abs(values[:, 3:]), axis=0))
+    np.testing.assert_array_equal(column_peaks(np.zeros((0, 3))), np.zeros(3))
+    assert np.isnan(column_peaks(np.array([[1.0, np.nan], [2.0, 0.0]]))[1])
+
+
+def test_a_systems_modal_plan_is_solved_once_and_released_with_it():
+    # Repeated runs and the windows of a run share the plan (and its complex modes) of one system's modes;
+    # another damping gets its own; a system no longer used takes its plans with it.
+    excitation = EXCITATIONS["harmonic_step_half_sine"]
+    system = bridge("two_pairs")
+    first = superpose(system, excitation, T)
+    plans = superposition._PLANS[system.modes]
+    again = superpose(system, excitation, T)
+    assert len(plans) == 1 and superposition._PLANS[system.modes] is plans
+    for name in ("q", "qd", "qdd"):
+        np.testing.assert_array_equal(getattr(again, name), getattr(first, name))
+    other = superpose(SYSTEMS["combined"], excitation, T)
+    assert other.superposition.coupling != first.superposition.coupling
+    assert compare(superpose(bridge("two_pairs"), excitation, T), first).worst == 0.0
+    count = len(superposition._PLANS)
+    del system, plans
+    gc.collect()
+    assert len(superposition._PLANS) < count
+
+
+def test_the_history_holds_the_engines_arrays_and_copies_anyone_elses():
+    result = solve(SYSTEMS["dashpots"], CASES["step"])
+    assert all(a.base is None and not a.flags.writeable for a in (result.q, result.qd, result.qdd))
+    assert readonly(result.q) is result.q
+    mine = np.ones((3, 6))
+    for given in (mine, mine[1:], readonly(mine)[1:]):  # writeable, a view of writeable memory, a view
+        held = readonly(given)
+        assert held is not given and not held.flags.writeable
+    mine[:] = 2.0
+    assert np.all(held == 1.0)

@@ -582,6 +582,10 @@ def test_a_systems_modal_plan_is_solved_once_and_released_with_it():
     other = superpose(SYSTEMS["combined"], excitation, T)
     assert other.superposition.coupling != first.superposition.coupling
     assert compare(superpose(bridge("two_pairs"), excitation, T), first).worst == 0.0
+    duck = SimpleNamespace(eigenvalues=system.modes.eigenvalues, shapes=system.modes.shapes)  # not kept
+    for modes in (duck, None):
+        alike = modal_solve(system.M, system.C, system.K, T, modes=modes)
+        assert compare(alike, modal_solve(system.M, system.C, system.K, T, modes=system.modes)).worst < 1e-12
     count = len(superposition._PLANS)
     del system, plans
     gc.collect()

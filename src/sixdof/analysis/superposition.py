@@ -444,10 +444,11 @@ _PLANS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def _plan(M, C, modes, method, n_modes, f_max_hz, branches) -> Plan:
-    """The :class:`Plan` of these arguments (see :class:`Plan`): kept for given ``modes``, made anew from K."""
-    if isinstance(modes, np.ndarray):
+    """The :class:`Plan` of these arguments (see :class:`Plan`): kept for given modes, made anew from K."""
+    try:
+        plans = _PLANS.setdefault(modes, {})
+    except TypeError:  # K, or modes of a kind that cannot be referenced weakly (anything with eigenvalues, shapes)
         return Plan(M, C, modes, method, n_modes, f_max_hz, branches)
-    plans = _PLANS.setdefault(modes, {})
     key = (M.tobytes(), C.tobytes(), method, n_modes, f_max_hz, branches)  # branches: a system's, by identity
     if key not in plans:
         plans[key] = Plan(M, C, modes, method, n_modes, f_max_hz, branches)

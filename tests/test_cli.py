@@ -283,16 +283,16 @@ def test_only_the_command_s_own_process_collects_garbage_less_often():
 
 
 @pytest.mark.skipif(platform.libc_ver()[0] != "glibc", reason="glibc's allocator")
-@pytest.mark.parametrize("user_setting", [None, "MALLOC_TRIM_THRESHOLD_"])
+@pytest.mark.parametrize("user_setting", [None, "MALLOC_TRIM_THRESHOLD_", "GLIBC_TUNABLES"])
 def test_the_command_s_own_process_keeps_the_memory_it_frees(user_setting):
     """As the ``sixdof`` command, arrays of a few MB allocated and freed again come back without page faults
     (glibc's defaults hand them back to the system and fault them in anew every time); a program calling main()
     and a user who set glibc's own variables keep their allocator as it was."""
     from sixdof._malloc import VARIABLES
 
-    env = {k: v for k, v in os.environ.items() if k not in VARIABLES}
+    env = {k: v for k, v in os.environ.items() if k not in (*VARIABLES, "GLIBC_TUNABLES")}
     if user_setting is not None:
-        env[user_setting] = str(128 * 1024)
+        env[user_setting] = "glibc.malloc.trim_threshold=131072" if user_setting == "GLIBC_TUNABLES" else "131072"
     churn = ("import resource, numpy as np\n"
              "def faults():\n"
              "    for _ in range(13):  # six arrays of 3.2 MB at a time, then none; counted after three rounds\n"

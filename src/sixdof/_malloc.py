@@ -18,7 +18,8 @@ M_TRIM_THRESHOLD, M_MMAP_THRESHOLD = -1, -3
 TRIM_BYTES = 128 << 20
 #: Blocks above this size get a mapping of their own [bytes]: glibc's largest (its adaptive threshold's limit).
 MMAP_BYTES = 32 << 20
-#: The variables that set them when the process starts: a user's choice is kept.
+#: The variables that set them when the process starts: a user's choice is kept (and any ``glibc.malloc``
+#: tunable in ``GLIBC_TUNABLES``).
 VARIABLES = ("MALLOC_TRIM_THRESHOLD_", "MALLOC_MMAP_THRESHOLD_", "MALLOC_TOP_PAD_", "MALLOC_ARENA_MAX")
 
 
@@ -26,13 +27,14 @@ def keep_freed_memory() -> bool:
     """Fix glibc's trim and mmap thresholds at :data:`TRIM_BYTES` and :data:`MMAP_BYTES`; whether they were set.
 
     Process-wide: for the ``sixdof`` command's process, never for a program that calls sixdof as a library.
-    Nothing is done without glibc (no ``mallopt``) or where the user set one of :data:`VARIABLES`.
+    Nothing is done without glibc (no ``mallopt``) or where the user set one of :data:`VARIABLES` or a malloc
+    tunable.
     """
-    if any(name in os.environ for name in VARIABLES):
+    if any(name in os.environ for name in VARIABLES) or "glibc.malloc." in os.environ.get("GLIBC_TUNABLES", ""):
         return False
     try:
         mallopt = ctypes.CDLL(None).mallopt
-    except (OSError, AttributeError):
+    except (OSError, AttributeError, TypeError):  # no C library by that name, no mallopt (Windows: TypeError)
         return False
     mapped, trimmed = mallopt(M_MMAP_THRESHOLD, MMAP_BYTES), mallopt(M_TRIM_THRESHOLD, TRIM_BYTES)
     return bool(mapped and trimmed)

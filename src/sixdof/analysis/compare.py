@@ -20,11 +20,10 @@ QUIET_RTOL = 1e-6
 def column_peaks(values) -> np.ndarray:
     """The largest magnitude of each column of ``values`` (n, k), shape (k,); zeros when n = 0.
 
-    Reduced along the rows of the transposed copy: numpy reduces across the rows of a narrow array several
-    times slower (for 20,001 x 6: 0.44 against 0.06 ms, the copy included).
+    Reduced along the rows of a transposed copy of the magnitudes: numpy reduces across the rows of a narrow
+    array several times slower (for 20,001 x 6: 0.44 against 0.06 ms, the copy included).
     """
-    columns = np.ascontiguousarray(np.asarray(values, dtype=float).T)
-    return np.abs(columns, out=columns).max(axis=1, initial=0.0)
+    return np.abs(np.asarray(values, dtype=float).T, order="C").max(axis=1, initial=0.0)
 
 
 @dataclass(frozen=True, eq=False)

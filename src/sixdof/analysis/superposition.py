@@ -33,7 +33,6 @@ window, without the direct solve's state.
 from __future__ import annotations
 
 import math
-import weakref
 from dataclasses import dataclass
 from functools import cache, partial
 
@@ -46,7 +45,17 @@ from sixdof.analysis.records import SuperpositionInfo, SuperpositionState
 from sixdof.analysis.statespace import CLASSICAL_RTOL, complex_modes, modal_basis
 from sixdof.analysis.statespace import coupling as coupling_of
 from sixdof.analysis.validity import warn_idle, warn_large_rotations
-from sixdof.errors import InputError, SolverError, finite_array, increasing_times, instance, integer, number, readonly
+from sixdof.errors import (
+    InputError,
+    SolverError,
+    finite_array,
+    handed_over,
+    increasing_times,
+    instance,
+    integer,
+    number,
+    readonly,
+)
 from sixdof.excitation import Excitation
 from sixdof.model.system import System
 from sixdof.results import TimeHistory
@@ -423,7 +432,7 @@ def modal_solve(
     breakpoints = _breakpoints(breakpoints)
     t_start = _start_time(start, t)
 
-    plan = _plan(M, C, K if modes is None else modes, method, n_modes, f_max_hz, branches)
+    plan = Plan(M, C, K if modes is None else modes, method, n_modes, f_max_hz, branches)
     loads = _as_loads(force, force_rates)
     residual_rates = bool(residual and plan.dropped.size and loads is not None and loads.rates and ground is None)
     times = t if t_start == t[0] else np.concatenate([[t_start], t])
@@ -436,23 +445,6 @@ def modal_solve(
     drive = make_drive(times, t.size, breakpoints, loads, ground, nodes=nodes, pieces=pieces,
                        rates=residual_rates, ground_start=None if start is None else start.ground)
     return _respond(plan, drive, M, q0, qd0, start, residual, residual_rates, branch_forces)
-
-
-#: The plans made from each set of modes (``System.modes`` is computed once per system), by the rest of their
-#: inputs: the windows of a run, and repeated runs of a system, share one modal solution (0.45 ms a call).
-_PLANS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-
-
-def _plan(M, C, modes, method, n_modes, f_max_hz, branches) -> Plan:
-    """The :class:`Plan` of these arguments (see :class:`Plan`): kept for given modes, made anew from K."""
-    try:
-        plans = _PLANS.setdefault(modes, {})
-    except TypeError:  # K, or modes of a kind that cannot be referenced weakly (anything with eigenvalues, shapes)
-        return Plan(M, C, modes, method, n_modes, f_max_hz, branches)
-    key = (M.tobytes(), C.tobytes(), method, n_modes, f_max_hz, branches)  # branches: a system's, by identity
-    if key not in plans:
-        plans[key] = Plan(M, C, modes, method, n_modes, f_max_hz, branches)
-    return plans[key]
 
 
 def _start_time(start, t) -> float:
@@ -509,7 +501,6 @@ class Plan:
                                  "branches (a dropped mode has no static residual through a branch)",
                                  n_modes if n_modes is not None else f_max_hz)
         self.kept = _select(self.omega2, n_modes, f_max_hz)
-        self._coordinates = {}
         self.dropped = np.flatnonzero(~np.isin(np.arange(6), self.kept))
         self.method = method
         self.chosen = "real" if method == "real" or (method == "auto" and self.classical) else "complex"
@@ -529,13 +520,10 @@ class Plan:
             self.fastest += float(np.max(1.0 / branches.tau) + np.max(coupling.sum(axis=0))
                                   + np.max(coupling.sum(axis=1)))
 
-    def coordinates(self, run) -> ModalCoordinates:
-        """The first-order coordinates of one of :attr:`runs`, made once."""
-        if run not in self._coordinates:
-            solve_method, kept = run
-            self._coordinates[run] = _modal_coordinates(self.basis, self.omega2, self.D, np.asarray(kept), solve_method,
-                                                        all_complex=self.method == "complex", branches=self.branches)
-        return self._coordinates[run]
+    def coordinates(self, run):
+        solve_method, kept = run
+        return _modal_coordinates(self.basis, self.omega2, self.D, np.asarray(kept), solve_method,
+                                  all_complex=self.method == "complex", branches=self.branches)
 
 
 def _reason(method, coupling, classical, branches=None) -> str:
@@ -605,9 +593,8 @@ def _respond(plan, drive, M, q0, qd0, start, residual, residual_rates, branch_fo
         approximation=approximation, n_intervals=drive.n_intervals, quadrature_nodes=drive.nodes_per_interval,
         end=end,
     )
-    for computed in (q, qd, qdd):  # arrays of this computation alone: the history holds them without a copy
-        computed.flags.writeable = False
-    return TimeHistory(t=drive.t, q=q, qd=qd, qdd=qdd, maxwell_force=branch_force, superposition=info)
+    return TimeHistory(t=drive.t, q=handed_over(q), qd=handed_over(qd), qdd=handed_over(qdd),
+                       maxwell_force=branch_force, superposition=info)
 
 
 def _select(omega2, n_modes, f_max_hz):

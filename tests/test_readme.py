@@ -27,3 +27,12 @@ def test_python_examples_run(code, tmp_path):
 def test_listed_scenarios_load(name):
     scenario = load_scenario(README.parent / "scenarios" / name)
     assert scenario.description
+
+
+def test_quick_start_installs_the_package_alone_and_tests_with_their_extra():
+    """The run command installs sixdof without the test extra (pytest, Dask, the peer libraries: hundreds of MB
+    a user running one example does not need); the test command installs the test extra and runs pytest."""
+    first_block = re.search(r"```bash\n(.*?)```", README.read_text(), re.S).group(1).splitlines()
+    run, test = first_block
+    assert re.search(r'pip install -e \.(\s|$)', run) and "[test]" not in run and "sixdof run scenarios/" in run
+    assert 'pip install -e ".[test]"' in test and test.rstrip().endswith("python -m pytest")

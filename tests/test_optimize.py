@@ -4,6 +4,7 @@ writes, and bad design input."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -232,11 +233,23 @@ def _with(spec, **changes):
 def test_optimize_writes_a_scenario_that_reproduces_the_design_and_a_labelled_file(tmp_path, capsys):
     assert main(["optimize", "scenarios/engine_inclined_mounts.toml", "--out", str(tmp_path), "--quiet"]) == 0
     out = capsys.readouterr().out
-    assert "All targets met by the optimized design." in out and "P(met)" in out
     folder = tmp_path / "engine_inclined_mounts_design"
+    with h5py.File(folder / "design.h5") as f:  # the verdict from the samples' own counts
+        values, labels = f["robustness/values"][()], [s.decode() for s in f["target"][()]]
+    assert labels[0].startswith("frequency of the ry mode in [9, 13]") and labels[1].endswith(">= 95 %")
+    within = ((values[:, 0] >= 9) & (values[:, 0] <= 13) & (values[:, 1] >= 95) & (values[:, 2] >= 7)
+              & (values[:, 2] <= 11) & (values[:, 3] <= 0.006))
+    assert 0 < within.sum() < 1000
+    assert out.startswith(f"All targets met by the nominal design; met in {round(within.mean() * 100)} % of the "
+                          f"scattered samples ({within.sum()} of 1000, every mount-axis stiffness +-15 %).\n")
+    assert "P(met)" in out
     names = sorted(p.name for p in folder.iterdir() if not p.name.startswith("."))
     assert names == ["decoupling.png", "design.h5", "frequencies.png", "optimized.toml", "summary.md"]
     optimized = load_scenario(folder / "optimized.toml")  # a complete, valid scenario
+    # Written with the digits that matter: each optimized stiffness to 4 significant figures.
+    changed = [k for m, m0 in zip(optimized.system.mounts, load_scenario("scenarios/engine_inclined_mounts.toml")
+                                  .system.mounts) for k, k0 in zip(m.stiffness, m0.stiffness) if k != k0]
+    assert len(changed) == 7 and all(float(f"{k:.4g}") == k for k in changed)
     assert optimized.name == "engine_inclined_mounts_optimized" and optimized.simulation is not None
     # It says what it is: the original's description would describe the mounts it no longer has.
     assert optimized.description.endswith("(mounts optimized by sixdof optimize for the [design] targets of "
@@ -289,7 +302,8 @@ bounds = [0.5, 2.0]
     path.write_text(text)
     assert main(["optimize", str(path), "--out", str(tmp_path), "--quiet"]) == 3
     captured = capsys.readouterr()
-    assert "NOT MET, the best compromise found:" in captured.out
+    assert captured.out.startswith("NOT MET by the nominal design; met in 0 % of the scattered samples (0 of 1000, "
+                                   "every mount-axis stiffness +-15 %).\nThe best compromise found:\n")
     assert "frequency of the z mode in [1, 2] Hz" in captured.out and "short by" in captured.out
     assert "targets are not all met" in captured.err
     # The best compromise: every stiffness in the x-z plane at its lower bound (the lowest frequency).
@@ -345,3 +359,123 @@ def test_the_design_peaks_under_a_moving_ground_are_said_to_be_absolute():
     assert _design_peaks(spread, peaks, True).startswith(
         "Peak responses at the CG (absolute: the ground moves, its drift included) to the scenario's excitation")
     assert "absolute" not in _design_peaks(spread, peaks, False)
+
+
+# Four mounts 0.4 m below the CG at the corners of a rectangle, as stiff in shear as in compression: the
+# rocking stiffness about y, sum k (x^2 + z^2) with the x-ry coupling, falls as they rise to the CG's plane.
+LOW_BOX = """
+name = "low_box"
+[body]
+mass = 100.0
+inertia = [5.0, 6.0, 7.0]
+[[mounts]]
+name = "a"
+position = [0.3, 0.2, -0.4]
+stiffness = [1e5, 1e5, 1e5]
+[[mounts]]
+name = "b"
+position = [-0.3, 0.2, -0.4]
+stiffness = [1e5, 1e5, 1e5]
+[[mounts]]
+name = "c"
+position = [-0.3, -0.2, -0.4]
+stiffness = [1e5, 1e5, 1e5]
+[[mounts]]
+name = "d"
+position = [0.3, -0.2, -0.4]
+stiffness = [1e5, 1e5, 1e5]
+[design]
+starts = 1
+samples = 20
+{design}
+"""
+
+
+def test_a_tied_offset_moves_mounts_all_below_the_cg_along_the_axis_and_a_mirrored_pair_symmetrically():
+    from sixdof.io.report import design_tables
+
+    scenario = parse_scenario(LOW_BOX.format(design="""
+[[design.target]]
+kind = "frequency"
+dof = "ry"
+f_hz = [12.0, 12.5]
+[[design.vary]]
+parameter = "position"
+axes = ["z"]
+bounds = [-0.05, 0.40]
+tied = true
+[[design.vary]]
+parameter = "position"
+mounts = ["a", "b"]
+axes = ["x"]
+bounds = [-0.1, 0.1]
+tied = true
+"""))
+    problem = DesignProblem(scenario.system, scenario.design)
+    z, x = problem.variables
+    assert (z.rule, x.rule) == ("along +z", "mirrored across x = 0")
+    # By hand: +0.4 along z raises every mount from z = -0.4 to the CG's plane; +0.05 along x spreads the pair
+    # a (x = 0.3) and b (x = -0.3) to +-0.35, c and d stay.
+    moved = problem.system_at([0.4, 0.05]).positions
+    np.testing.assert_allclose(moved, [[0.35, 0.2, 0.0], [-0.35, 0.2, 0.0], [-0.3, -0.2, 0.0], [0.3, -0.2, 0.0]],
+                               rtol=0, atol=1e-15)
+    # The ry mode is at 22.2 Hz as given and 12.3 Hz in the CG's plane (12.5 Hz 0.02 m below it): the
+    # optimizer must raise the mounts by more than 0.37 m, which a tied offset that lowered them could not.
+    result = optimize(problem)
+    assert result.met.all() and result.x[0] > 0.37
+    system = problem.system_at(result.x)
+    np.testing.assert_allclose(system.positions[:, 2], -0.4 + result.x[0], rtol=0, atol=1e-15)
+    a, b = system.positions[:2]
+    assert a[0] == -b[0] == 0.3 + result.x[1]
+    f_ry = system.modes.frequency_hz[int(np.argmax(system.modes.ke_distribution[4]))]
+    assert 12.0 <= f_ry <= 12.5
+    # The table says which rule each offset followed.
+    spread = robustness(problem, result.x)
+    text = design_tables(problem, result, spread)
+    assert "| position z: a, b, c, d | along +z" in text and "| position x: a, b       | mirrored across x = 0" in text
+
+
+def test_the_verdict_counts_the_samples_that_meet_every_target():
+    # The nominal optimum of BOX stops just inside its window's low edge: met by the design, by few samples.
+    from sixdof.io.report import design_tables, share_percent
+
+    scenario = parse_scenario(BOX.format(objective=""))
+    problem = DesignProblem(scenario.system, scenario.design)
+    result = optimize(problem)
+    spread = robustness(problem, result.x)
+    f_z = spread.values[:, 0]
+    met = int(np.count_nonzero((f_z >= 10.2) & (f_z <= 14.0)))  # counted from the samples' frequencies
+    assert 0 < met < 1000
+    text = design_tables(problem, result, spread)
+    assert text.startswith(f"All targets met by the nominal design; met in {share_percent(met, 1000)} of the "
+                           f"scattered samples ({met} of 1000, every mount-axis stiffness +-15 %).\n")
+    assert f" {share_percent(met, 1000)} |\n" in text  # the target's own P(met), the last column
+
+
+@pytest.mark.parametrize(("count", "total", "shown"), [
+    (390, 1000, "39 %"), (999, 1000, "99.9 %"), (9999, 10000, "99.99 %"), (1000, 1000, "100 %"), (1, 1000, "0.1 %"),
+    (0, 1000, "0 %"), (2, 3, "67 %")])
+def test_a_share_of_samples_never_reads_as_all_or_none_when_it_is_not(count, total, shown):
+    from sixdof.io.report import share_percent
+
+    assert share_percent(count, total) == shown
+
+
+def test_a_design_not_met_says_so_and_how_many_samples_meet_it():
+    from sixdof.io.report import design_verdict
+
+    assert design_verdict(False, 0, 1000, 0.15) == ("NOT MET by the nominal design; met in 0 % of the scattered "
+                                                     "samples (0 of 1000, every mount-axis stiffness +-15 %).")
+
+
+def test_the_design_is_written_with_the_digits_that_matter():
+    from sixdof.design.workflow import written_design
+
+    given = parse_scenario(BOX.format(objective="")).system
+    changed = [dataclasses.replace(m, stiffness=[240828.13696695745, 7e4, 1e5], position=[0.3487654, 0.2, 0.0])
+               if i == 0 else m for i, m in enumerate(given.mounts)]
+    written = written_design(given, dataclasses.replace(given, mounts=changed))
+    a = written.mounts[0]
+    assert a.stiffness.tolist() == [240800.0, 7e4, 1e5] and a.position.tolist() == [0.3488, 0.2, 0.0]
+    assert [m.stiffness.tolist() for m in written.mounts[1:]] == [m.stiffness.tolist() for m in given.mounts[1:]]
+

@@ -142,8 +142,8 @@ class Robustness:
 
     Attributes
     ----------
-    probability : ndarray, shape (n_targets,)
-        Share of the samples meeting each target [1].
+    met : ndarray of bool, shape (samples, n_targets)
+        Whether each sample meets each target.
     percentiles : ndarray, shape (n_targets, 3)
         5th, 50th, 95th percentile of each target's value.
     values : ndarray, shape (samples, n_targets)
@@ -154,11 +154,21 @@ class Robustness:
         samples. ``None`` for mounts with Maxwell branches, which the batch engine does not carry.
     """
 
-    probability: np.ndarray
+    met: np.ndarray
     percentiles: np.ndarray
     values: np.ndarray
     tolerance: float
     responses: BatchResult | None = None
+
+    @property
+    def probability(self) -> np.ndarray:
+        """Share of the samples meeting each target [1], shape (n_targets,)."""
+        return readonly(self.met.mean(axis=0))
+
+    @property
+    def all_met(self) -> int:
+        """How many samples meet every target at once."""
+        return int(np.count_nonzero(self.met.all(axis=1)))
 
     @property
     def peak_percentiles(self) -> np.ndarray | None:
@@ -232,6 +242,6 @@ def robustness(problem: DesignProblem, x, runner=None, excitation=None, settings
         scale = responses.variants.stiffness_factor
     values = np.asarray(jax.jit(jax.vmap(lambda s: problem.values(jnp.asarray(x), s)))(jnp.asarray(scale)))
     met = np.asarray(jax.vmap(problem.violations)(jnp.asarray(values))) == 0
-    return Robustness(probability=readonly(met.mean(axis=0)),
+    return Robustness(met=readonly(met, bool),
                       percentiles=readonly(np.percentile(values, [5, 50, 95], axis=0).T),
                       values=readonly(values), tolerance=problem.spec.tolerance, responses=responses)

@@ -35,8 +35,8 @@ ROBUST_STREAM = 2**32 - 1
 class Variable:
     """One scalar design variable: what it changes (``parameter``, the mounts by index, the axis index:
     a mount axis for a stiffness, a body axis for a position or an angle's rotation axis), its bounds, its
-    value in the given design, a name for tables (``"stiffness w: left, right"``), and the sign it acts
-    with on each of its mounts (see :func:`variables`)."""
+    value in the given design, a name for tables (``"stiffness w: left, right"``), the sign it acts with on
+    each of its mounts and the rule that gave them, for tables (see :func:`variables`)."""
 
     parameter: str
     mounts: tuple[int, ...]
@@ -45,20 +45,47 @@ class Variable:
     initial: float
     name: str
     signs: tuple[float, ...]
+    rule: str = ""
 
 
-#: The body axis whose sign tells the mirrored mount of a tied pair, per offset or rotation axis (x, y, z):
-#: an offset along x moves a mount at -x the other way; a turn about y (in the x-z plane) or about z turns a
-#: mount at -x the other way, a turn about x one at -y.
+#: The body axis across whose plane a tied group must be mirrored for an offset or a rotation to act
+#: mirror-symmetrically, per offset or rotation axis (x, y, z): an offset along x keeps a pair at +-x
+#: symmetric by moving the mount at -x the other way; a turn about y (in the x-z plane) or about z does so by
+#: turning the mount at -x the other way, a turn about x the mount at -y.
 _MIRROR_AXIS = {"position": (0, 1, 2), "angle": (1, 0, 0)}
+#: Two mount coordinates [m] closer than this are the same (mirror images of each other when of opposite sign).
+MIRROR_ATOL = 1e-9
+
+
+def mirrored(coordinates) -> bool:
+    """Whether mounts at ``coordinates`` [m] along one body axis are mirror images across that axis' plane
+    through the CG: none on the plane, and each at c matched by one at -c (positions, not the axis' name,
+    decide: four mounts all below the CG are not mirrored across z = 0)."""
+    c = np.sort(np.asarray(coordinates, dtype=float))
+    return bool(len(c) > 1 and np.all(np.abs(c) > MIRROR_ATOL) and np.allclose(c, -c[::-1], rtol=0, atol=MIRROR_ATOL))
+
+
+def _signs(parameter: str, group: tuple[int, ...], axis: int, positions: np.ndarray) -> tuple[tuple[float, ...], str]:
+    """The signs a tied variable acts with on the mounts of ``group`` and the rule, said for tables."""
+    if parameter == "stiffness":
+        return (1.0,) * len(group), "alike"
+    mirror = _MIRROR_AXIS[parameter][axis]
+    plane = f"{AXES[mirror]} = 0"
+    coordinates = positions[list(group), mirror]
+    if len(group) > 1 and mirrored(coordinates):
+        return tuple(float(np.sign(c)) for c in coordinates), f"mirrored across {plane}"
+    if parameter == "position":
+        return (1.0,) * len(group), f"along +{AXES[axis]}"
+    return (1.0,) * len(group), f"alike (not mirrored across {plane})" if len(group) > 1 else "right-handed"
 
 
 def variables(spec, mount_names: tuple[str, ...], positions) -> tuple[Variable, ...]:
     """The scalar variables of ``spec.vary``: per axis, one shared by the listed mounts when ``tied``, else one
-    per mount (an angle has one axis, ``about``). A tied offset or angle keeps a mirror-symmetric pair
-    symmetric: it acts the other way on a mount on the negative side of the mirror axis
-    (:data:`_MIRROR_AXIS`: for an offset along an axis, that axis; for a turn about y or z, x; about x, y), at
-    ``positions`` (n_mounts, 3) [m]. Stiffness factors act alike on every tied mount."""
+    per mount (an angle has one axis, ``about``). An offset moves each mount along +axis and a turn is
+    right-handed about its axis, except on a tied group mirrored across the plane of :data:`_MIRROR_AXIS`
+    (:func:`mirrored`, from ``positions`` (n_mounts, 3) [m]: for an offset along an axis, that axis'; for a
+    turn about y or z, x = 0; about x, y = 0): there the mounts on the negative side move or turn the other
+    way, which keeps the pair mirror-symmetric. Stiffness factors act alike on every tied mount."""
     positions = np.asarray(positions, dtype=float)
     found = []
     for entry in spec.vary:
@@ -73,10 +100,8 @@ def variables(spec, mount_names: tuple[str, ...], positions) -> tuple[Variable, 
         for group in groups:
             for axis, axis_name in axes:
                 label = f"{entry.parameter} {axis_name}: {', '.join(mount_names[i] for i in group)}"
-                mirror = _MIRROR_AXIS.get(entry.parameter)
-                signs = tuple(1.0 if mirror is None or len(group) == 1 or positions[i, mirror[axis]] >= 0 else -1.0
-                              for i in group)
-                found.append(Variable(entry.parameter, group, axis, entry.bounds, initial, label, signs))
+                signs, rule = _signs(entry.parameter, group, axis, positions)
+                found.append(Variable(entry.parameter, group, axis, entry.bounds, initial, label, signs, rule))
     return tuple(found)
 
 

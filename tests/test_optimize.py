@@ -479,3 +479,86 @@ def test_the_design_is_written_with_the_digits_that_matter():
     assert a.stiffness.tolist() == [240800.0, 7e4, 1e5] and a.position.tolist() == [0.3488, 0.2, 0.0]
     assert [m.stiffness.tolist() for m in written.mounts[1:]] == [m.stiffness.tolist() for m in given.mounts[1:]]
 
+
+RATIO_BOX = BOX.replace('f_hz = [10.2, 14.0]', 'f_hz = [12.0, 14.0]').replace(
+    'axes = ["w"]', 'axes = ["u", "v", "w"]')
+
+
+def test_a_stiffness_ratio_keeps_the_optimum_buildable():
+    # Four mounts in the CG's plane: the z mode is pure, f_z = sqrt(sum k_w / m) / 2 pi, 10.07 Hz as given, so
+    # the window [12, 14] Hz needs k_w x (12 / 10.07)^2 = 1.42 at least. Alone, the optimizer raises k_w only,
+    # and k_v / k_w = 0.7 / 1.42 = 0.49; with the ratio at most 0.4 it must keep k_v / k_w within it too.
+    free = parse_scenario(RATIO_BOX.format(objective=""))
+    problem = DesignProblem(free.system, free.design)
+    system = problem.system_at(optimize(problem).x)
+    assert max(m.stiffness[1] / m.stiffness[2] for m in system.mounts) > 0.45
+    bounded = parse_scenario(RATIO_BOX.format(objective="[[design.stiffness_ratio]]\nmin = 0.2\nmax = 0.4"))
+    problem = DesignProblem(bounded.system, bounded.design)
+    result = optimize(problem)
+    assert result.met.all()
+    system = problem.system_at(result.x)
+    ratios = np.array([[m.stiffness[0] / m.stiffness[2], m.stiffness[1] / m.stiffness[2]] for m in system.mounts])
+    assert np.all(ratios <= 0.4) and np.all(ratios >= 0.2)
+    f_z = system.modes.frequency_hz[int(np.argmax(system.modes.ke_distribution[2]))]
+    assert 12.0 <= f_z <= 14.0
+    # The summary shows each constrained mount's ratios, given and optimized.
+    from sixdof.io.report import design_tables
+
+    text = design_tables(problem, result, robustness(problem, result.x))
+    row = next(line for line in text.splitlines() if line.startswith("| a "))
+    assert [c.strip() for c in row.split("|")[2:5]] == ["[0.2, 0.4]", "0.5 / 0.7",
+                                                        f"{ratios[0, 0]:.4g} / {ratios[0, 1]:.4g}"]
+
+
+def test_a_stiffness_ratio_no_variable_can_change_is_refused_before_optimizing():
+    text = BOX.format(objective="[[design.stiffness_ratio]]\nmax = 0.6\nmounts = [\"a\"]")  # k_v / k_w = 0.7
+    text = text.replace('axes = ["w"]', 'axes = ["w"]\nmounts = ["b", "c", "d"]')
+    scenario = parse_scenario(text)
+    with pytest.raises(InputError, match=r"stiffness_ratio\[0\]: expected <= 0\.6 for k_v / k_w of mount a, or a "
+                                         r"\[\[design\.vary\]\] of its stiffness, got 0\.7, fixed"):
+        DesignProblem(scenario.system, scenario.design)
+
+
+@pytest.mark.parametrize(("design", "message"), [
+    ('starts = 1000000000',
+     r"design\.starts: expected at most 1,000 starts, got 1,000,000,000 \(at least 11\.6 days of computing at 1 ms "
+     r"each\)$"),
+    ('samples = 1000000000000',
+     r"design\.samples: expected at most 10,000,000 samples, got 1,000,000,000,000 \(at least 347 days of "
+     r"computing at 30 µs each\)$"),
+    ('robust_samples = 1000000000',
+     r"design\.robust_samples: expected at most 10,000 samples, got 1,000,000,000 \(at least 44\.4 h of computing "
+     r"at 160 µs each\)$"),  # 8 starts of one iteration at 20 µs a sample
+    ('[[design.target]]\nkind = "frequency"\ndof = "z"\nf_hz = [8.0, 5.0]',
+     r"design\.target\[0\]\.f_hz: expected a window \[lo, hi\] in Hz with 0 < lo < hi, got \[8\.0, 5\.0\]"),
+    ('[[design.target]]\nkind = "frequency"\ndof = "z"\nf_hz = [5.0, 8.0]\n'
+     '[[design.target]]\nkind = "frequency"\ndof = "z"\nf_hz = [10.0, 12.0]',
+     r"design\.target\[1\]\.f_hz: expected a window overlapping target\[0\]'s \[5, 8\] Hz \(the same z mode cannot "
+     r"be in both\), got \[10\.0, 12\.0\]"),
+    ('[[design.vary]]\nparameter = "stiffness"\nmounts = ["left"]\naxes = ["w"]\nbounds = [0.5, 2.0]\n'
+     '[[design.vary]]\nparameter = "stiffness"\nbounds = [0.5, 2.0]',
+     r"design\.vary\[1\]: expected each mount parameter varied by one \[\[design\.vary\]\] only, got stiffness w "
+     r"of mount left varied by vary\[0\] too"),
+    ('[[design.vary]]\nparameter = "angle"\nabout = "y"\nbounds = [-5.0, 5.0]\ntied = true\n'
+     '[[design.vary]]\nparameter = "angle"\nmounts = ["right"]\nabout = "y"\nbounds = [-5.0, 5.0]',
+     r"design\.vary\[1\]: expected each mount parameter varied by one \[\[design\.vary\]\] only, got the angle "
+     r"about y of mount right varied by vary\[0\] too"),
+    ('[[design.stiffness_ratio]]\nmin = 0.5\nmax = 0.2',
+     r"design\.stiffness_ratio\[0\]\.max: expected a ratio above min = 0\.5, got 0\.2"),
+    ('[[design.stiffness_ratio]]\nmounts = ["left"]\nmax = 0.5\n[[design.stiffness_ratio]]\nmin = 0.1',
+     r"design\.stiffness_ratio\[1\]\.mounts: expected each mount in one \[\[design\.stiffness_ratio\]\] only, "
+     r"got left, in stiffness_ratio\[0\] too"),
+])
+def test_impossible_or_contradictory_design_input_is_refused_before_optimizing(design, message):
+    with pytest.raises(InputError, match=message):
+        parse_scenario(_v_pair(THETA0, "[design]\n" + design))
+
+
+def test_optimize_refuses_too_many_starts_with_one_line_and_exit_2(tmp_path, capsys):
+    path = tmp_path / "v.toml"
+    path.write_text(_v_pair(THETA0, "[design]\nstarts = 1000000000\n"))
+    assert main(["optimize", str(path), "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"sixdof: error: {path}: design.starts: expected at most 1,000 starts, got 1,000,000,000 "
+                          "(at least ") and err.count("\n") == 1
+    assert not list(tmp_path.glob("*_design"))

@@ -26,6 +26,10 @@ from sixdof.errors import InputError, Plain
 
 #: Relative margin inside each target's bounds that the optimizer aims for.
 MARGIN = 0.01
+#: Relative margin inside each stiffness ratio's bounds that the optimizer keeps to: wider than the change of
+#: a ratio by the written design's rounding (2 x 5e-5 at 4 significant figures,
+#: :data:`sixdof.design.workflow.STIFFNESS_DIGITS`), so the design as written keeps within the bounds too.
+RATIO_MARGIN = 1e-3
 #: The random stream of the robust objective's samples (:attr:`DesignProblem.robust_scatter`): the robustness
 #: study's chunk ``i`` draws from ``[seed, i]``, so this one is out of their reach.
 ROBUST_STREAM = 2**32 - 1
@@ -133,11 +137,20 @@ class DesignProblem:
         self._L_inv = inverse_cholesky(self.M)
         weight = system.body.mass * gravity * np.asarray(direction, dtype=float) / np.linalg.norm(direction)
         self._gravity = np.concatenate([weight, np.zeros(3)])  # at the CG
+        self.ratio_constraints = _ratio_constraints(spec, self.names, self.variables,
+                                                    np.asarray(system.stiffnesses, dtype=float))
         self._tra_frame = None
         if spec.torque_axis is not None:
             tra = torque_roll_axis(self.M, np.asarray(spec.torque_axis) / np.linalg.norm(spec.torque_axis))
             self._tra = tra
             self._tra_frame = np.kron(np.eye(2), tra_frame(tra))
+
+    def ratio_slack(self, x, margin: float = RATIO_MARGIN) -> np.ndarray:
+        """How far each stiffness-ratio constraint of design ``x`` is inside its bound (>= 0 where kept), in
+        units of the mount's compression stiffness [1]; bounds tightened by the relative ``margin``. Linear in
+        ``x`` (stiffness factors scale the stiffness), shape (n_constraints,): see :func:`_ratio_constraints`."""
+        rows, offsets = self.ratio_constraints(margin)
+        return rows @ np.asarray(x, dtype=float) + offsets
 
     @property
     def initial(self) -> np.ndarray:
@@ -258,6 +271,59 @@ class DesignProblem:
         spec = self.spec
         return chunk_rng(spec.seed, ROBUST_STREAM).uniform(
             1 - spec.tolerance, 1 + spec.tolerance, (spec.robust_samples, len(self.names), 3))
+
+
+def _ratio_constraints(spec, names: tuple[str, ...], variables: tuple[Variable, ...], stiffness: np.ndarray):
+    """The stiffness-ratio constraints of ``spec`` (:class:`~sixdof.design.spec.StiffnessRatio`) as a function
+    of the relative margin (bounds tightened by it) giving ``rows`` (n_constraints, n_variables) and
+    ``offsets`` (n_constraints,), kept where ``rows @ x + offsets >= 0``. A mount-axis stiffness is ``k0`` times the one
+    stiffness factor acting on it (or 1), so ``k_s / k_w >= r`` reads ``(k0_s f_s - r k0_w f_w) / k0_w >= 0``,
+    linear in the factors; ``<= r`` the other way.
+
+    Raises
+    ------
+    InputError
+        A mount with no compression stiffness, or a constraint that no variable can change and the given
+        design breaks.
+    """
+    factor = {}  # (mount, mount axis) -> the variable scaling it
+    for k, variable in enumerate(variables):
+        if variable.parameter == "stiffness":
+            for mount in variable.mounts:
+                factor[mount, variable.axis] = k
+    terms = []  # per constraint: [(variable or None, coefficient)], its sign and bound, where it came from
+    for i, entry in enumerate(spec.stiffness_ratio):
+        field = f"stiffness_ratio[{i}]"
+        for name in entry.mounts:
+            mount = names.index(name)
+            k0 = stiffness[mount]
+            if not k0[2] > 0:
+                raise InputError(f"{field}.mounts", "mounts with a compression stiffness k_w > 0", name)
+            for shear in (0, 1):
+                for sign, bound in ((1.0, entry.min), (-1.0, entry.max)):
+                    if bound is not None:
+                        terms.append((mount, shear, sign, bound, field, name))
+
+    def assembled(margin: float):
+        rows, offsets = np.zeros((len(terms), len(variables))), np.zeros(len(terms))
+        for c, (mount, shear, sign, bound, _, _) in enumerate(terms):
+            k0 = stiffness[mount]
+            bound = bound * (1 + sign * margin)  # min raised, max lowered
+            for axis, coefficient in ((shear, sign * k0[shear] / k0[2]), (2, -sign * bound)):
+                k = factor.get((mount, axis))
+                if k is None:
+                    offsets[c] += coefficient
+                else:
+                    rows[c, k] += coefficient
+        return rows, offsets
+
+    rows, offsets = assembled(0.0)
+    for c, (mount, shear, sign, bound, field, name) in enumerate(terms):
+        if not rows[c].any() and offsets[c] < 0:
+            ratio = stiffness[mount, shear] / stiffness[mount, 2]
+            raise InputError(field, f"{'>=' if sign > 0 else '<='} {bound:g} for k_{MOUNT_AXES[shear]} / k_w of mount "
+                             f"{name}, or a [[design.vary]] of its stiffness", Plain(f"{ratio:.4g}, fixed"))
+    return assembled
 
 
 def _rotation(axis: int, angle):

@@ -130,7 +130,7 @@ def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: b
     decoupling = next((t for t in problem.targets if t.kind == "decoupling"), None)
     coordinates = "body" if decoupling is None else decoupling.coordinates
     before, after = (_decoupling(s, scenario.design.torque_axis, coordinates) for s in (scenario.system, system))
-    tables = report.design_tables(problem, result, spread, peaks, report.moving_ground(scenario))
+    tables = report.design_tables(problem, result, spread, peaks, report.moving_ground(scenario), system)
     log(tables)
     figures = {
         "frequencies.png": plot_design_frequencies(scenario.system.modes, system.modes, problem.targets,

@@ -205,12 +205,13 @@ def design_verdict(met: bool, samples_met: int, samples: int, tolerance: float) 
             f"{samples}, every mount-axis stiffness +-{100 * tolerance:g} %).")
 
 
-def design_tables(problem, result, spread, peaks=None, ground_moves: bool = False) -> str:
+def design_tables(problem, result, spread, peaks=None, ground_moves: bool = False, system=None) -> str:
     """The optimization's verdict (the nominal design's, and the share of the robustness study's samples
     meeting every target), its targets before and after (with the robustness study) and its variables, each
     with the rule it acts by; with ``peaks`` (the given and the optimized design's peak ``|q|`` and ``|q''|``,
     (12,) each) and the samples' peak responses, their table too (said to be absolute, the ground's drift
-    included, when ``ground_moves``)."""
+    included, when ``ground_moves``); with stiffness-ratio constraints, each constrained mount's ratios in
+    the given design and in ``system`` (the optimized design as written; default the optimizer's)."""
     short = [f"{t.label}: {_target_value(t, v)} (short by {100 * s:.3g} % of the bound)"
              for t, v, s in zip(problem.targets, result.values, result.violations) if s > 0]
     samples = len(spread.values)
@@ -235,9 +236,25 @@ def design_tables(problem, result, spread, peaks=None, ground_moves: bool = Fals
     text = (f"{verdict}\n\nTargets ({samples} samples with every mount-axis stiffness scattered "
             f"uniformly {tolerance}):\n{targets}\n\nVariables (stiffness as factors; acts: how a tied "
             f"variable moves its mounts):\n{variables}")
+    if problem.spec.stiffness_ratio:
+        text += "\n\n" + _ratio_table(problem, system if system is not None else problem.system_at(result.x))
     if peaks is None or spread.peak_percentiles is None:
         return text
     return text + "\n\n" + _design_peaks(spread, peaks, ground_moves)
+
+
+def _ratio_table(problem, system) -> str:
+    """Shear over compression stiffness (``k_u / k_w``, ``k_v / k_w``) of each mount a
+    ``[[design.stiffness_ratio]]`` constrains, given and optimized (``system``), with its bounds."""
+    rows = []
+    for entry in problem.spec.stiffness_ratio:
+        bounds = f"[{'-' if entry.min is None else f'{entry.min:g}'}, {'-' if entry.max is None else f'{entry.max:g}'}]"
+        for name in entry.mounts:
+            j = problem.names.index(name)
+            ratios = [k[:2] / k[2] for k in (problem.system.stiffnesses[j], system.stiffnesses[j])]
+            rows.append([name, bounds, *(" / ".join(f"{r:.4g}" for r in pair) for pair in ratios)])
+    return ("Stiffness ratios, shear over compression (k_u / k_w and k_v / k_w):\n"
+            + table(["mount", "bounds", "given", "optimized"], rows, "llrr"))
 
 
 def _design_peaks(spread, peaks, ground_moves: bool) -> str:

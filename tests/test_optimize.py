@@ -236,10 +236,11 @@ def test_optimize_writes_a_scenario_that_reproduces_the_design_and_a_labelled_fi
     folder = tmp_path / "engine_inclined_mounts_design"
     with h5py.File(folder / "design.h5") as f:  # the verdict from the samples' own counts
         values, labels = f["robustness/values"][()], [s.decode() for s in f["target"][()]]
+        all_met = f["robustness"].attrs["samples_all_met"]
     assert labels[0].startswith("frequency of the ry mode in [9, 13]") and labels[1].endswith(">= 95 %")
     within = ((values[:, 0] >= 9) & (values[:, 0] <= 13) & (values[:, 1] >= 95) & (values[:, 2] >= 7)
               & (values[:, 2] <= 11) & (values[:, 3] <= 0.006))
-    assert 0 < within.sum() < 1000
+    assert 0 < within.sum() < 1000 and all_met == within.sum()
     assert out.startswith(f"All targets met by the nominal design; met in {round(within.mean() * 100)} % of the "
                           f"scattered samples ({within.sum()} of 1000, every mount-axis stiffness +-15 %).\n")
     assert "P(met)" in out
@@ -472,11 +473,15 @@ def test_the_design_is_written_with_the_digits_that_matter():
     from sixdof.design.workflow import written_design
 
     given = parse_scenario(BOX.format(objective="")).system
-    changed = [dataclasses.replace(m, stiffness=[240828.13696695745, 7e4, 1e5], position=[0.3487654, 0.2, 0.0])
-               if i == 0 else m for i, m in enumerate(given.mounts)]
+    c, s = math.cos(math.radians(16.51)), math.sin(math.radians(16.51))
+    turned = [[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]]
+    changed = [dataclasses.replace(m, stiffness=[240828.13696695745, 7e4, 1e5], position=[0.3487654, 0.2, 0.0],
+                                   axes=turned) if i == 0 else m for i, m in enumerate(given.mounts)]
     written = written_design(given, dataclasses.replace(given, mounts=changed))
     a = written.mounts[0]
     assert a.stiffness.tolist() == [240800.0, 7e4, 1e5] and a.position.tolist() == [0.3488, 0.2, 0.0]
+    assert a.axes.tolist() == [[0.95877015, 0.0, 0.284182686], [0.0, 1.0, 0.0], [-0.284182686, 0.0, 0.95877015]]
+    np.testing.assert_allclose(a.axes @ a.axes.T, np.eye(3), rtol=0, atol=1e-9)
     assert [m.stiffness.tolist() for m in written.mounts[1:]] == [m.stiffness.tolist() for m in given.mounts[1:]]
 
 

@@ -72,7 +72,7 @@ def mirrored(coordinates) -> bool:
 def _signs(parameter: str, group: tuple[int, ...], axis: int, positions: np.ndarray) -> tuple[tuple[float, ...], str]:
     """The signs a tied variable acts with on the mounts of ``group`` and the rule, said for tables."""
     if parameter == "stiffness":
-        return (1.0,) * len(group), "alike"
+        return (1.0,) * len(group), "alike" if len(group) > 1 else ""
     mirror = _MIRROR_AXIS[parameter][axis]
     plane = f"{AXES[mirror]} = 0"
     coordinates = positions[list(group), mirror]

@@ -162,20 +162,24 @@ def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: b
 STIFFNESS_DIGITS = 4
 #: Resolution [m] of an optimized mount position as written and reported: 0.1 mm, a drawing's.
 POSITION_RESOLUTION = 1e-4
+#: Decimals of an optimized mount's axes (direction cosines) as written and reported: a turn of 1e-9 rad at
+#: most, and rows orthonormal to 1e-9, well within the 1e-6 a scenario's axes are checked to.
+AXES_DECIMALS = 9
 
 
 def written_design(given, optimized):
     """``optimized`` (a :class:`~sixdof.model.system.System`) with each mount stiffness the optimization changed
-    rounded to :data:`STIFFNESS_DIGITS` significant figures and each position it changed to
-    :data:`POSITION_RESOLUTION`; what ``given`` had stays as it was. Axes keep every digit: their rows must
-    stay orthonormal."""
+    rounded to :data:`STIFFNESS_DIGITS` significant figures, each position it changed to
+    :data:`POSITION_RESOLUTION` and axes it turned to :data:`AXES_DECIMALS`; what ``given`` had stays as it
+    was."""
     mounts = []
     for before, after in zip(given.mounts, optimized.mounts):
         stiffness = [k if k == k0 else float(f"{k:.{STIFFNESS_DIGITS}g}")
                      for k, k0 in zip(after.stiffness.tolist(), before.stiffness.tolist())]
         position = [p if p == p0 else round(round(p / POSITION_RESOLUTION) * POSITION_RESOLUTION, 10)
                     for p, p0 in zip(after.position.tolist(), before.position.tolist())]
-        mounts.append(dataclasses.replace(after, stiffness=stiffness, position=position))
+        axes = after.axes if np.array_equal(after.axes, before.axes) else np.round(after.axes, AXES_DECIMALS) + 0.0
+        mounts.append(dataclasses.replace(after, stiffness=stiffness, position=position, axes=axes))
     return dataclasses.replace(optimized, mounts=mounts)
 
 
@@ -297,6 +301,7 @@ def _write_h5(path: Path, problem: DesignProblem, result: DesignResult, spread: 
                   "all_met": bool(np.all(result.met)), "objective": problem.spec.objective,
                   "robust_samples": problem.spec.robust_samples if problem.spec.objective == "robust" else 0},
              "robustness": {"tolerance": spread.tolerance, "samples": len(spread.values),
+                            "samples_all_met": spread.all_met,
                             "seed": problem.spec.seed,
                             "engine": "none (Maxwell branches)" if spread.responses is None else "exact batch"}}
     if spread.responses is not None and spread.responses.cross_check is not None:

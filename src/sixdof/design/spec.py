@@ -13,8 +13,11 @@
 
 - ``"stiffness"``: factors on the stiffness along the mount's own ``axes`` (``"u"``, ``"v"``, ``"w"``;
   default all three), one variable per axis;
-- ``"position"``: offsets [m] along the body ``axes`` (``"x"``, ``"y"``, ``"z"``), one variable per axis;
-- ``"angle"``: a rotation [deg] of the mount's axes about the body axis ``about`` (``"x"``, ``"y"``, ``"z"``).
+- ``"position"``: offsets [m] along the body ``axes`` (``"x"``, ``"y"``, ``"z"``), one variable per axis: each
+  mount moves along +axis, except in a tied group mirrored across that axis' plane (judged from the
+  positions: :func:`sixdof.design.problem.mirrored`), whose mounts on the negative side move the other way;
+- ``"angle"``: a rotation [deg] of the mount's axes about the body axis ``about`` (``"x"``, ``"y"``, ``"z"``),
+  right-handed, mirrored likewise (across x = 0 for a turn about y or z, y = 0 about x).
 
 Each mount parameter is varied by one entry at most (a mount axis' stiffness, a position along a body axis,
 a turn about a body axis).
@@ -196,7 +199,10 @@ class DesignSpec(Frozen):
     starting points the optimizer tries (the given design first, then random points within the bounds);
     ``objective``: ``"nominal"``, the targets met by the design itself, or ``"robust"``, the shortfalls'
     squares averaged over ``robust_samples`` designs scattered like the robustness study's (a fixed
-    sample, so the objective stays smooth: see :class:`~sixdof.design.problem.DesignProblem`)."""
+    sample, so the objective stays smooth: see :class:`~sixdof.design.problem.DesignProblem`);
+    ``stiffness_ratio``: the :class:`StiffnessRatio` constraints. Sizes beyond :data:`MAX_STARTS`,
+    :data:`~sixdof.tasks.MAX_VARIANTS` samples and :data:`MAX_ROBUST_SAMPLES` are refused with the least time
+    they would take, and so are frequency targets of one DOF whose windows do not overlap."""
 
     torque_axis: tuple[float, float, float] | None = None
     target: tuple[Target, ...] = ()

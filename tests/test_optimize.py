@@ -567,3 +567,25 @@ def test_optimize_refuses_too_many_starts_with_one_line_and_exit_2(tmp_path, cap
     assert err.startswith(f"sixdof: error: {path}: design.starts: expected at most 1,000 starts, got 1,000,000,000 "
                           "(at least ") and err.count("\n") == 1
     assert not list(tmp_path.glob("*_design"))
+
+
+@pytest.mark.parametrize(("mounts", "signs", "rule"), [
+    (["a", "b"], (1.0, -1.0), "mirrored across x = 0"),  # x = 0.3 and -0.3: b turns the other way
+    (["a", "d"], (1.0, 1.0), "alike (not mirrored across x = 0)"),  # both at x = 0.3
+    (["a", "b", "c"], (1.0, 1.0, 1.0), "alike (not mirrored across x = 0)"),  # 0.3, -0.3, -0.3: no pairs
+    (["a"], (1.0,), "right-handed"),
+])
+def test_a_tied_turn_about_y_is_mirrored_only_for_a_group_mirrored_across_x(mounts, signs, rule):
+    scenario = parse_scenario(LOW_BOX.format(design=f"""
+[[design.target]]
+kind = "decoupling"
+min_percent = 90.0
+[[design.vary]]
+parameter = "angle"
+about = "y"
+mounts = {mounts}
+bounds = [-5.0, 5.0]
+tied = true
+""".replace("'", '"')))
+    (variable,) = DesignProblem(scenario.system, scenario.design).variables
+    assert (variable.signs, variable.rule) == (signs, rule)

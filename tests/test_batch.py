@@ -443,6 +443,13 @@ def test_sweep_of_a_scenario_and_its_file(tmp_path, beam):
     ("count = 2\ncross_check = -1\n[[vary]]\nparameter='stiffness'\ndistribution='grid'\nvalues=[1.0, 2.0]",
      r"cross_check: expected a number of variants >= 0, got -1"),
     ("count = 2\n[[vary]\n", r"spec\.toml: expected valid TOML"),
+    ("count = 1000000000\n[[vary]]\nparameter='stiffness'\ndistribution='uniform'\nlow=0.5\nhigh=1.5",
+     r"spec\.toml: count: expected at most 10,000,000 variants, got 1,000,000,000 \(at least 8\.33 h of computing "
+     r"at 30 µs each\)$"),
+    ("".join(f"[[vary]]\nparameter='position'\ndistribution='grid'\naxes=['{a}']\nvalues={list(range(2000))}\n"
+             for a in "xyz"),
+     r"spec\.toml: vary: expected at most 10,000,000 variants in the grids' full factorial, got 8,000,000,000 "
+     r"\(at least 2\.78 days of computing at 30 µs each\)$"),
 ])
 def test_bad_specs_are_named(text, match):
     with pytest.raises(InputError, match=match):

@@ -180,6 +180,12 @@ def test_sweep_writes_distributions(tmp_path, capsys):
     assert main(["sweep", str(scenario), "--spec", str(spec), "--out", str(tmp_path / "out2")]) == 2
     assert "vary[0].parameter" in capsys.readouterr().err
     assert not (tmp_path / "out2").exists()
+    spec.write_text('count = 1000000000\n[[vary]]\nparameter = "stiffness"\ndistribution = "uniform"\nlow = 0.8\n'
+                    'high = 1.2\n')  # refused up front, with the time it would take
+    assert main(["sweep", str(scenario), "--spec", str(spec), "--out", str(tmp_path / "out2")]) == 2
+    assert capsys.readouterr().err == (f"sixdof: error: {spec}: count: expected at most 10,000,000 variants, got "
+                                       "1,000,000,000 (at least 8.33 h of computing at 30 µs each)\n")
+    assert not (tmp_path / "out2").exists()
 
 
 @pytest.mark.parametrize("size", ["0", "-5"])

@@ -4,6 +4,7 @@ writes, and bad design input."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -232,11 +233,24 @@ def _with(spec, **changes):
 def test_optimize_writes_a_scenario_that_reproduces_the_design_and_a_labelled_file(tmp_path, capsys):
     assert main(["optimize", "scenarios/engine_inclined_mounts.toml", "--out", str(tmp_path), "--quiet"]) == 0
     out = capsys.readouterr().out
-    assert "All targets met by the optimized design." in out and "P(met)" in out
     folder = tmp_path / "engine_inclined_mounts_design"
+    with h5py.File(folder / "design.h5") as f:  # the verdict from the samples' own counts
+        values, labels = f["robustness/values"][()], [s.decode() for s in f["target"][()]]
+        all_met = f["robustness"].attrs["samples_all_met"]
+    assert labels[0].startswith("frequency of the ry mode in [9, 13]") and labels[1].endswith(">= 95 %")
+    within = ((values[:, 0] >= 9) & (values[:, 0] <= 13) & (values[:, 1] >= 95) & (values[:, 2] >= 7)
+              & (values[:, 2] <= 11) & (values[:, 3] <= 0.006))
+    assert 0 < within.sum() < 1000 and all_met == within.sum()
+    assert out.startswith(f"All targets met by the nominal design; met in {round(within.mean() * 100)} % of the "
+                          f"scattered samples ({within.sum()} of 1000, every mount-axis stiffness +-15 %).\n")
+    assert "P(met)" in out
     names = sorted(p.name for p in folder.iterdir() if not p.name.startswith("."))
     assert names == ["decoupling.png", "design.h5", "frequencies.png", "optimized.toml", "summary.md"]
     optimized = load_scenario(folder / "optimized.toml")  # a complete, valid scenario
+    # Written with the digits that matter: each optimized stiffness to 4 significant figures.
+    changed = [k for m, m0 in zip(optimized.system.mounts, load_scenario("scenarios/engine_inclined_mounts.toml")
+                                  .system.mounts) for k, k0 in zip(m.stiffness, m0.stiffness) if k != k0]
+    assert len(changed) == 7 and all(float(f"{k:.4g}") == k for k in changed)
     assert optimized.name == "engine_inclined_mounts_optimized" and optimized.simulation is not None
     # It says what it is: the original's description would describe the mounts it no longer has.
     assert optimized.description.endswith("(mounts optimized by sixdof optimize for the [design] targets of "
@@ -289,7 +303,8 @@ bounds = [0.5, 2.0]
     path.write_text(text)
     assert main(["optimize", str(path), "--out", str(tmp_path), "--quiet"]) == 3
     captured = capsys.readouterr()
-    assert "NOT MET, the best compromise found:" in captured.out
+    assert captured.out.startswith("NOT MET by the nominal design; met in 0 % of the scattered samples (0 of 1000, "
+                                   "every mount-axis stiffness +-15 %).\nThe best compromise found:\n")
     assert "frequency of the z mode in [1, 2] Hz" in captured.out and "short by" in captured.out
     assert "targets are not all met" in captured.err
     # The best compromise: every stiffness in the x-z plane at its lower bound (the lowest frequency).
@@ -345,3 +360,232 @@ def test_the_design_peaks_under_a_moving_ground_are_said_to_be_absolute():
     assert _design_peaks(spread, peaks, True).startswith(
         "Peak responses at the CG (absolute: the ground moves, its drift included) to the scenario's excitation")
     assert "absolute" not in _design_peaks(spread, peaks, False)
+
+
+# Four mounts 0.4 m below the CG at the corners of a rectangle, as stiff in shear as in compression: the
+# rocking stiffness about y, sum k (x^2 + z^2) with the x-ry coupling, falls as they rise to the CG's plane.
+LOW_BOX = """
+name = "low_box"
+[body]
+mass = 100.0
+inertia = [5.0, 6.0, 7.0]
+[[mounts]]
+name = "a"
+position = [0.3, 0.2, -0.4]
+stiffness = [1e5, 1e5, 1e5]
+[[mounts]]
+name = "b"
+position = [-0.3, 0.2, -0.4]
+stiffness = [1e5, 1e5, 1e5]
+[[mounts]]
+name = "c"
+position = [-0.3, -0.2, -0.4]
+stiffness = [1e5, 1e5, 1e5]
+[[mounts]]
+name = "d"
+position = [0.3, -0.2, -0.4]
+stiffness = [1e5, 1e5, 1e5]
+[design]
+starts = 1
+samples = 20
+{design}
+"""
+
+
+def test_a_tied_offset_moves_mounts_all_below_the_cg_along_the_axis_and_a_mirrored_pair_symmetrically():
+    from sixdof.io.report import design_tables
+
+    scenario = parse_scenario(LOW_BOX.format(design="""
+[[design.target]]
+kind = "frequency"
+dof = "ry"
+f_hz = [12.0, 12.5]
+[[design.vary]]
+parameter = "position"
+axes = ["z"]
+bounds = [-0.05, 0.40]
+tied = true
+[[design.vary]]
+parameter = "position"
+mounts = ["a", "b"]
+axes = ["x"]
+bounds = [-0.1, 0.1]
+tied = true
+"""))
+    problem = DesignProblem(scenario.system, scenario.design)
+    z, x = problem.variables
+    assert (z.rule, x.rule) == ("along +z", "mirrored across x = 0")
+    # By hand: +0.4 along z raises every mount from z = -0.4 to the CG's plane; +0.05 along x spreads the pair
+    # a (x = 0.3) and b (x = -0.3) to +-0.35, c and d stay.
+    moved = problem.system_at([0.4, 0.05]).positions
+    np.testing.assert_allclose(moved, [[0.35, 0.2, 0.0], [-0.35, 0.2, 0.0], [-0.3, -0.2, 0.0], [0.3, -0.2, 0.0]],
+                               rtol=0, atol=1e-15)
+    # The ry mode is at 22.2 Hz as given and 12.3 Hz in the CG's plane (12.5 Hz 0.02 m below it): the
+    # optimizer must raise the mounts by more than 0.37 m, which a tied offset that lowered them could not.
+    result = optimize(problem)
+    assert result.met.all() and result.x[0] > 0.37
+    system = problem.system_at(result.x)
+    np.testing.assert_allclose(system.positions[:, 2], -0.4 + result.x[0], rtol=0, atol=1e-15)
+    a, b = system.positions[:2]
+    assert a[0] == -b[0] == 0.3 + result.x[1]
+    f_ry = system.modes.frequency_hz[int(np.argmax(system.modes.ke_distribution[4]))]
+    assert 12.0 <= f_ry <= 12.5
+    # The table says which rule each offset followed.
+    spread = robustness(problem, result.x)
+    text = design_tables(problem, result, spread)
+    assert "| position z: a, b, c, d | along +z" in text and "| position x: a, b       | mirrored across x = 0" in text
+
+
+def test_the_verdict_counts_the_samples_that_meet_every_target():
+    # The nominal optimum of BOX stops just inside its window's low edge: met by the design, by few samples.
+    from sixdof.io.report import design_tables, share_percent
+
+    scenario = parse_scenario(BOX.format(objective=""))
+    problem = DesignProblem(scenario.system, scenario.design)
+    result = optimize(problem)
+    spread = robustness(problem, result.x)
+    f_z = spread.values[:, 0]
+    met = int(np.count_nonzero((f_z >= 10.2) & (f_z <= 14.0)))  # counted from the samples' frequencies
+    assert 0 < met < 1000
+    text = design_tables(problem, result, spread)
+    assert text.startswith(f"All targets met by the nominal design; met in {share_percent(met, 1000)} of the "
+                           f"scattered samples ({met} of 1000, every mount-axis stiffness +-15 %).\n")
+    assert f" {share_percent(met, 1000)} |\n" in text  # the target's own P(met), the last column
+
+
+@pytest.mark.parametrize(("count", "total", "shown"), [
+    (390, 1000, "39 %"), (999, 1000, "99.9 %"), (9999, 10000, "99.99 %"), (1000, 1000, "100 %"), (1, 1000, "0.1 %"),
+    (0, 1000, "0 %"), (2, 3, "67 %")])
+def test_a_share_of_samples_never_reads_as_all_or_none_when_it_is_not(count, total, shown):
+    from sixdof.io.report import share_percent
+
+    assert share_percent(count, total) == shown
+
+
+def test_a_design_not_met_says_so_and_how_many_samples_meet_it():
+    from sixdof.io.report import design_verdict
+
+    assert design_verdict(False, 0, 1000, 0.15) == ("NOT MET by the nominal design; met in 0 % of the scattered "
+                                                     "samples (0 of 1000, every mount-axis stiffness +-15 %).")
+
+
+def test_the_design_is_written_with_the_digits_that_matter():
+    from sixdof.design.workflow import written_design
+
+    given = parse_scenario(BOX.format(objective="")).system
+    c, s = math.cos(math.radians(16.51)), math.sin(math.radians(16.51))
+    turned = [[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]]
+    changed = [dataclasses.replace(m, stiffness=[240828.13696695745, 7e4, 1e5], position=[0.3487654, 0.2, 0.0],
+                                   axes=turned) if i == 0 else m for i, m in enumerate(given.mounts)]
+    written = written_design(given, dataclasses.replace(given, mounts=changed))
+    a = written.mounts[0]
+    assert a.stiffness.tolist() == [240800.0, 7e4, 1e5] and a.position.tolist() == [0.3488, 0.2, 0.0]
+    assert a.axes.tolist() == [[0.95877015, 0.0, 0.284182686], [0.0, 1.0, 0.0], [-0.284182686, 0.0, 0.95877015]]
+    np.testing.assert_allclose(a.axes @ a.axes.T, np.eye(3), rtol=0, atol=1e-9)
+    assert [m.stiffness.tolist() for m in written.mounts[1:]] == [m.stiffness.tolist() for m in given.mounts[1:]]
+
+
+RATIO_BOX = BOX.replace('f_hz = [10.2, 14.0]', 'f_hz = [12.0, 14.0]').replace(
+    'axes = ["w"]', 'axes = ["u", "v", "w"]')
+
+
+def test_a_stiffness_ratio_keeps_the_optimum_buildable():
+    # Four mounts in the CG's plane: the z mode is pure, f_z = sqrt(sum k_w / m) / 2 pi, 10.07 Hz as given, so
+    # the window [12, 14] Hz needs k_w x (12 / 10.07)^2 = 1.42 at least. Alone, the optimizer raises k_w only,
+    # and k_v / k_w = 0.7 / 1.42 = 0.49; with the ratio at most 0.4 it must keep k_v / k_w within it too.
+    free = parse_scenario(RATIO_BOX.format(objective=""))
+    problem = DesignProblem(free.system, free.design)
+    system = problem.system_at(optimize(problem).x)
+    assert max(m.stiffness[1] / m.stiffness[2] for m in system.mounts) > 0.45
+    bounded = parse_scenario(RATIO_BOX.format(objective="[[design.stiffness_ratio]]\nmin = 0.2\nmax = 0.4"))
+    problem = DesignProblem(bounded.system, bounded.design)
+    result = optimize(problem)
+    assert result.met.all()
+    system = problem.system_at(result.x)
+    ratios = np.array([[m.stiffness[0] / m.stiffness[2], m.stiffness[1] / m.stiffness[2]] for m in system.mounts])
+    assert np.all(ratios <= 0.4) and np.all(ratios >= 0.2)
+    f_z = system.modes.frequency_hz[int(np.argmax(system.modes.ke_distribution[2]))]
+    assert 12.0 <= f_z <= 14.0
+    # The summary shows each constrained mount's ratios, given and optimized.
+    from sixdof.io.report import design_tables
+
+    text = design_tables(problem, result, robustness(problem, result.x))
+    row = next(line for line in text.splitlines() if line.startswith("| a "))
+    assert [c.strip() for c in row.split("|")[2:5]] == ["[0.2, 0.4]", "0.5 / 0.7",
+                                                        f"{ratios[0, 0]:.4g} / {ratios[0, 1]:.4g}"]
+
+
+def test_a_stiffness_ratio_no_variable_can_change_is_refused_before_optimizing():
+    text = BOX.format(objective="[[design.stiffness_ratio]]\nmax = 0.6\nmounts = [\"a\"]")  # k_v / k_w = 0.7
+    text = text.replace('axes = ["w"]', 'axes = ["w"]\nmounts = ["b", "c", "d"]')
+    scenario = parse_scenario(text)
+    with pytest.raises(InputError, match=r"stiffness_ratio\[0\]: expected <= 0\.6 for k_v / k_w of mount a, or a "
+                                         r"\[\[design\.vary\]\] of its stiffness, got 0\.7, fixed"):
+        DesignProblem(scenario.system, scenario.design)
+
+
+@pytest.mark.parametrize(("design", "message"), [
+    ('starts = 1000000000',
+     r"design\.starts: expected at most 1,000 starts, got 1,000,000,000 \(at least 11\.6 days of computing at 1 ms "
+     r"each\)$"),
+    ('samples = 1000000000000',
+     r"design\.samples: expected at most 10,000,000 samples, got 1,000,000,000,000 \(at least 347 days of "
+     r"computing at 30 µs each\)$"),
+    ('robust_samples = 1000000000',
+     r"design\.robust_samples: expected at most 10,000 samples, got 1,000,000,000 \(at least 44\.4 h of computing "
+     r"at 160 µs each\)$"),  # 8 starts of one iteration at 20 µs a sample
+    ('[[design.target]]\nkind = "frequency"\ndof = "z"\nf_hz = [8.0, 5.0]',
+     r"design\.target\[0\]\.f_hz: expected a window \[lo, hi\] in Hz with 0 < lo < hi, got \[8\.0, 5\.0\]"),
+    ('[[design.target]]\nkind = "frequency"\ndof = "z"\nf_hz = [5.0, 8.0]\n'
+     '[[design.target]]\nkind = "frequency"\ndof = "z"\nf_hz = [10.0, 12.0]',
+     r"design\.target\[1\]\.f_hz: expected a window overlapping target\[0\]'s \[5, 8\] Hz \(the same z mode cannot "
+     r"be in both\), got \[10\.0, 12\.0\]"),
+    ('[[design.vary]]\nparameter = "stiffness"\nmounts = ["left"]\naxes = ["w"]\nbounds = [0.5, 2.0]\n'
+     '[[design.vary]]\nparameter = "stiffness"\nbounds = [0.5, 2.0]',
+     r"design\.vary\[1\]: expected each mount parameter varied by one \[\[design\.vary\]\] only, got stiffness w "
+     r"of mount left varied by vary\[0\] too"),
+    ('[[design.vary]]\nparameter = "angle"\nabout = "y"\nbounds = [-5.0, 5.0]\ntied = true\n'
+     '[[design.vary]]\nparameter = "angle"\nmounts = ["right"]\nabout = "y"\nbounds = [-5.0, 5.0]',
+     r"design\.vary\[1\]: expected each mount parameter varied by one \[\[design\.vary\]\] only, got the angle "
+     r"about y of mount right varied by vary\[0\] too"),
+    ('[[design.stiffness_ratio]]\nmin = 0.5\nmax = 0.2',
+     r"design\.stiffness_ratio\[0\]\.max: expected a ratio above min = 0\.5, got 0\.2"),
+    ('[[design.stiffness_ratio]]\nmounts = ["left"]\nmax = 0.5\n[[design.stiffness_ratio]]\nmin = 0.1',
+     r"design\.stiffness_ratio\[1\]\.mounts: expected each mount in one \[\[design\.stiffness_ratio\]\] only, "
+     r"got left, in stiffness_ratio\[0\] too"),
+])
+def test_impossible_or_contradictory_design_input_is_refused_before_optimizing(design, message):
+    with pytest.raises(InputError, match=message):
+        parse_scenario(_v_pair(THETA0, "[design]\n" + design))
+
+
+def test_optimize_refuses_too_many_starts_with_one_line_and_exit_2(tmp_path, capsys):
+    path = tmp_path / "v.toml"
+    path.write_text(_v_pair(THETA0, "[design]\nstarts = 1000000000\n"))
+    assert main(["optimize", str(path), "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"sixdof: error: {path}: design.starts: expected at most 1,000 starts, got 1,000,000,000 "
+                          "(at least ") and err.count("\n") == 1
+    assert not list(tmp_path.glob("*_design"))
+
+
+@pytest.mark.parametrize(("mounts", "signs", "rule"), [
+    (["a", "b"], (1.0, -1.0), "mirrored across x = 0"),  # x = 0.3 and -0.3: b turns the other way
+    (["a", "d"], (1.0, 1.0), "alike (not mirrored across x = 0)"),  # both at x = 0.3
+    (["a", "b", "c"], (1.0, 1.0, 1.0), "alike (not mirrored across x = 0)"),  # 0.3, -0.3, -0.3: no pairs
+    (["a"], (1.0,), "right-handed"),
+])
+def test_a_tied_turn_about_y_is_mirrored_only_for_a_group_mirrored_across_x(mounts, signs, rule):
+    scenario = parse_scenario(LOW_BOX.format(design=f"""
+[[design.target]]
+kind = "decoupling"
+min_percent = 90.0
+[[design.vary]]
+parameter = "angle"
+about = "y"
+mounts = {mounts}
+bounds = [-5.0, 5.0]
+tied = true
+""".replace("'", '"')))
+    (variable,) = DesignProblem(scenario.system, scenario.design).variables
+    assert (variable.signs, variable.rule) == (signs, rule)

@@ -54,6 +54,40 @@ WORKER_ENV = {
 BACKENDS = ("in-process", "dask-local", "dask")
 
 
+#: The most variants a sweep or a robustness study may ask for (:func:`check_count`): 10^7 take 6 min of the
+#: exact engine for frequencies alone and about 10 h with the bundled bridge's 20,001-sample simulation
+#: (3.5 ms a variant), in 10^4 chunk files; more is a typo or a job for several runs.
+MAX_VARIANTS = 10**7
+#: The least one variant costs the exact batch engine [s]: its natural frequencies alone (no simulation);
+#: measured 34-54 us on the bundled engine_inclined_mounts scenario in chunks of 1000 (2 shared cores).
+SECONDS_PER_VARIANT = 30e-6
+
+
+def duration_text(seconds: float) -> str:
+    """``seconds`` in the unit that reads best: "50 µs", "40 s", "3.2 h", "12 days", "3.2e+04 years"."""
+    for unit, size in (("years", 365.25 * 86400), ("days", 86400), ("h", 3600), ("min", 60), ("s", 1.0),
+                       ("ms", 1e-3)):
+        if seconds >= 2 * size or unit in ("s", "ms") and seconds >= size:
+            return f"{seconds / size:.3g} {unit}"
+    return f"{seconds * 1e6:.3g} µs"
+
+
+def check_count(count: int, field: str, what: str = "variants", limit: int = MAX_VARIANTS,
+                seconds_each: float = SECONDS_PER_VARIANT) -> None:
+    """Refuse up front a study of more than ``limit`` ``what``, with the time they would take at
+    ``seconds_each`` [s] each (default: a sweep's variants on the exact engine, :data:`SECONDS_PER_VARIANT`).
+
+    Raises
+    ------
+    InputError
+        ``field: expected at most <limit> <what>, got <count> (at least <time> at <seconds_each> each)``.
+    """
+    if count > limit:
+        raise InputError(field, f"at most {limit:,} {what}",
+                         Plain(f"{count:,} (at least {duration_text(count * seconds_each)} of computing at "
+                               f"{duration_text(seconds_each)} each)"))
+
+
 def partition(count: int, size: int) -> list[range]:
     """``range(count)`` cut into ``ceil(count / size)`` chunks whose sizes differ by one at most."""
     chunks = -(-count // size)

@@ -6,6 +6,9 @@ bounded, smooth, small problem (a few to a few tens of variables) for which a qu
 exact gradients converges in tens of iterations; optimistix and optax add nothing there and have no
 simple bounds. It starts from the given design and from ``spec.starts - 1`` points drawn uniformly within
 the bounds (seeded), stops a start once every target is met with its margin, and keeps the best design.
+With ``[[design.stiffness_ratio]]`` constraints (linear in the stiffness factors) it uses scipy's SLSQP
+instead, the same search with those inequalities, each kept with the margin
+:data:`~sixdof.design.problem.RATIO_MARGIN`; a design within them beats any outside.
 With ``objective = "robust"`` the same search minimizes the squared shortfalls averaged over a fixed
 sample of scattered designs (:meth:`DesignProblem.objective`).
 
@@ -21,13 +24,18 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from sixdof.design.problem import MARGIN, DesignProblem
+from sixdof.design.problem import MARGIN, RATIO_MARGIN, DesignProblem
 from sixdof.dofs import DOFS, dof_units
 from sixdof.errors import readonly
 
 if TYPE_CHECKING:
     from sixdof.analysis.batch import BatchResult
     from sixdof.io.sweep import SweepSpec
+
+
+#: How far a stiffness-ratio constraint, in units of the mount's compression stiffness, may be broken by an
+#: SLSQP iterate's round-off and still count as kept (its bound has the relative margin RATIO_MARGIN, 1e-3).
+RATIO_SLACK_ATOL = 1e-9
 
 
 @dataclass(frozen=True, eq=False)
@@ -95,6 +103,12 @@ def optimize(problem: DesignProblem, *, progress=None) -> DesignResult:
         # A gradient through a repeated eigenvalue's shapes is undefined (inf/nan): treat as flat there.
         return float(f), np.where(np.isfinite(g), g, 0.0)
 
+    rows, offsets = problem.ratio_constraints(RATIO_MARGIN)
+    constrained = len(offsets) > 0
+
+    def kept(x) -> bool:  # the stiffness ratios within their bounds (round-off of SLSQP's iterates allowed)
+        return not constrained or bool(np.all(rows @ x + offsets >= -RATIO_SLACK_ATOL))
+
     best = None
     for index, start in enumerate(starts):
         def record(x, index=index):
@@ -104,7 +118,7 @@ def optimize(problem: DesignProblem, *, progress=None) -> DesignResult:
             else:
                 objective = float(robust(jnp.asarray(x)))
             history.append(np.concatenate([[index, objective], x, found]))
-            if objective == 0.0:
+            if objective == 0.0 and kept(x):
                 raise StopIteration  # every target met with its margin
 
         found = start
@@ -115,14 +129,22 @@ def optimize(problem: DesignProblem, *, progress=None) -> DesignResult:
         else:  # scipy ends a minimization whose callback raises StopIteration, with that iterate
             # Tolerances far below the defaults: the objective is a sum of squared relative shortfalls, ~1e-6
             # when a target is missed by 0.1 %, which the defaults (relative to max(|f|, 1)) call converged.
-            found = scipy.optimize.minimize(fun, start, jac=True, method="L-BFGS-B", bounds=bounds, callback=record,
-                                            options={"maxiter": 500, "ftol": 1e-15, "gtol": 1e-12}).x
-        score = float(value_and_grad(jnp.asarray(found))[0])
+            if constrained:  # linear inequalities: SLSQP, the bounded quasi-Newton method that takes them
+                found = scipy.optimize.minimize(
+                    fun, start, jac=True, method="SLSQP", bounds=bounds, callback=record,
+                    constraints=[{"type": "ineq", "fun": lambda x: rows @ x + offsets, "jac": lambda x: rows}],
+                    options={"maxiter": 500, "ftol": 1e-15}).x
+            else:
+                found = scipy.optimize.minimize(fun, start, jac=True, method="L-BFGS-B", bounds=bounds,
+                                                callback=record, options={"maxiter": 500, "ftol": 1e-15,
+                                                                          "gtol": 1e-12}).x
+        found = np.clip(np.asarray(found, dtype=float), bounds[:, 0], bounds[:, 1])
+        score = (not kept(found), float(value_and_grad(jnp.asarray(found))[0]))  # a design within the ratios first
         if best is None or score < best[0]:
-            best = (score, np.asarray(found, dtype=float))
+            best = (score, found)
         if progress is not None:
             progress.show(index + 1)
-        if score == 0.0:
+        if score == (False, 0.0):
             break
     x = best[1]
     # The given design's values even where its variables lie outside the bounds (its start is clipped).
@@ -142,8 +164,8 @@ class Robustness:
 
     Attributes
     ----------
-    probability : ndarray, shape (n_targets,)
-        Share of the samples meeting each target [1].
+    met : ndarray of bool, shape (samples, n_targets)
+        Whether each sample meets each target.
     percentiles : ndarray, shape (n_targets, 3)
         5th, 50th, 95th percentile of each target's value.
     values : ndarray, shape (samples, n_targets)
@@ -154,11 +176,21 @@ class Robustness:
         samples. ``None`` for mounts with Maxwell branches, which the batch engine does not carry.
     """
 
-    probability: np.ndarray
+    met: np.ndarray
     percentiles: np.ndarray
     values: np.ndarray
     tolerance: float
     responses: BatchResult | None = None
+
+    @property
+    def probability(self) -> np.ndarray:
+        """Share of the samples meeting each target [1], shape (n_targets,)."""
+        return readonly(self.met.mean(axis=0))
+
+    @property
+    def all_met(self) -> int:
+        """How many samples meet every target at once."""
+        return int(np.count_nonzero(self.met.all(axis=1)))
 
     @property
     def peak_percentiles(self) -> np.ndarray | None:
@@ -232,6 +264,6 @@ def robustness(problem: DesignProblem, x, runner=None, excitation=None, settings
         scale = responses.variants.stiffness_factor
     values = np.asarray(jax.jit(jax.vmap(lambda s: problem.values(jnp.asarray(x), s)))(jnp.asarray(scale)))
     met = np.asarray(jax.vmap(problem.violations)(jnp.asarray(values))) == 0
-    return Robustness(probability=readonly(met.mean(axis=0)),
+    return Robustness(met=readonly(met, bool),
                       percentiles=readonly(np.percentile(values, [5, 50, 95], axis=0).T),
                       values=readonly(values), tolerance=problem.spec.tolerance, responses=responses)

@@ -26,6 +26,10 @@ from sixdof.errors import InputError, Plain
 
 #: Relative margin inside each target's bounds that the optimizer aims for.
 MARGIN = 0.01
+#: Relative margin inside each stiffness ratio's bounds that the optimizer keeps to: wider than the change of
+#: a ratio by the written design's rounding (2 x 5e-5 at 4 significant figures,
+#: :data:`sixdof.design.workflow.STIFFNESS_DIGITS`), so the design as written keeps within the bounds too.
+RATIO_MARGIN = 1e-3
 #: The random stream of the robust objective's samples (:attr:`DesignProblem.robust_scatter`): the robustness
 #: study's chunk ``i`` draws from ``[seed, i]``, so this one is out of their reach.
 ROBUST_STREAM = 2**32 - 1
@@ -35,8 +39,8 @@ ROBUST_STREAM = 2**32 - 1
 class Variable:
     """One scalar design variable: what it changes (``parameter``, the mounts by index, the axis index:
     a mount axis for a stiffness, a body axis for a position or an angle's rotation axis), its bounds, its
-    value in the given design, a name for tables (``"stiffness w: left, right"``), and the sign it acts
-    with on each of its mounts (see :func:`variables`)."""
+    value in the given design, a name for tables (``"stiffness w: left, right"``), the sign it acts with on
+    each of its mounts and the rule that gave them, for tables (see :func:`variables`)."""
 
     parameter: str
     mounts: tuple[int, ...]
@@ -45,20 +49,47 @@ class Variable:
     initial: float
     name: str
     signs: tuple[float, ...]
+    rule: str = ""
 
 
-#: The body axis whose sign tells the mirrored mount of a tied pair, per offset or rotation axis (x, y, z):
-#: an offset along x moves a mount at -x the other way; a turn about y (in the x-z plane) or about z turns a
-#: mount at -x the other way, a turn about x one at -y.
+#: The body axis across whose plane a tied group must be mirrored for an offset or a rotation to act
+#: mirror-symmetrically, per offset or rotation axis (x, y, z): an offset along x keeps a pair at +-x
+#: symmetric by moving the mount at -x the other way; a turn about y (in the x-z plane) or about z does so by
+#: turning the mount at -x the other way, a turn about x the mount at -y.
 _MIRROR_AXIS = {"position": (0, 1, 2), "angle": (1, 0, 0)}
+#: Two mount coordinates [m] closer than this are the same (mirror images of each other when of opposite sign).
+MIRROR_ATOL = 1e-9
+
+
+def mirrored(coordinates) -> bool:
+    """Whether mounts at ``coordinates`` [m] along one body axis are mirror images across that axis' plane
+    through the CG: none on the plane, and each at c matched by one at -c (positions, not the axis' name,
+    decide: four mounts all below the CG are not mirrored across z = 0)."""
+    c = np.sort(np.asarray(coordinates, dtype=float))
+    return bool(len(c) > 1 and np.all(np.abs(c) > MIRROR_ATOL) and np.allclose(c, -c[::-1], rtol=0, atol=MIRROR_ATOL))
+
+
+def _signs(parameter: str, group: tuple[int, ...], axis: int, positions: np.ndarray) -> tuple[tuple[float, ...], str]:
+    """The signs a tied variable acts with on the mounts of ``group`` and the rule, said for tables."""
+    if parameter == "stiffness":
+        return (1.0,) * len(group), "alike" if len(group) > 1 else ""
+    mirror = _MIRROR_AXIS[parameter][axis]
+    plane = f"{AXES[mirror]} = 0"
+    coordinates = positions[list(group), mirror]
+    if len(group) > 1 and mirrored(coordinates):
+        return tuple(float(np.sign(c)) for c in coordinates), f"mirrored across {plane}"
+    if parameter == "position":
+        return (1.0,) * len(group), f"along +{AXES[axis]}"
+    return (1.0,) * len(group), f"alike (not mirrored across {plane})" if len(group) > 1 else "right-handed"
 
 
 def variables(spec, mount_names: tuple[str, ...], positions) -> tuple[Variable, ...]:
     """The scalar variables of ``spec.vary``: per axis, one shared by the listed mounts when ``tied``, else one
-    per mount (an angle has one axis, ``about``). A tied offset or angle keeps a mirror-symmetric pair
-    symmetric: it acts the other way on a mount on the negative side of the mirror axis
-    (:data:`_MIRROR_AXIS`: for an offset along an axis, that axis; for a turn about y or z, x; about x, y), at
-    ``positions`` (n_mounts, 3) [m]. Stiffness factors act alike on every tied mount."""
+    per mount (an angle has one axis, ``about``). An offset moves each mount along +axis and a turn is
+    right-handed about its axis, except on a tied group mirrored across the plane of :data:`_MIRROR_AXIS`
+    (:func:`mirrored`, from ``positions`` (n_mounts, 3) [m]: for an offset along an axis, that axis'; for a
+    turn about y or z, x = 0; about x, y = 0): there the mounts on the negative side move or turn the other
+    way, which keeps the pair mirror-symmetric. Stiffness factors act alike on every tied mount."""
     positions = np.asarray(positions, dtype=float)
     found = []
     for entry in spec.vary:
@@ -73,10 +104,8 @@ def variables(spec, mount_names: tuple[str, ...], positions) -> tuple[Variable, 
         for group in groups:
             for axis, axis_name in axes:
                 label = f"{entry.parameter} {axis_name}: {', '.join(mount_names[i] for i in group)}"
-                mirror = _MIRROR_AXIS.get(entry.parameter)
-                signs = tuple(1.0 if mirror is None or len(group) == 1 or positions[i, mirror[axis]] >= 0 else -1.0
-                              for i in group)
-                found.append(Variable(entry.parameter, group, axis, entry.bounds, initial, label, signs))
+                signs, rule = _signs(entry.parameter, group, axis, positions)
+                found.append(Variable(entry.parameter, group, axis, entry.bounds, initial, label, signs, rule))
     return tuple(found)
 
 
@@ -108,11 +137,20 @@ class DesignProblem:
         self._L_inv = inverse_cholesky(self.M)
         weight = system.body.mass * gravity * np.asarray(direction, dtype=float) / np.linalg.norm(direction)
         self._gravity = np.concatenate([weight, np.zeros(3)])  # at the CG
+        self.ratio_constraints = _ratio_constraints(spec, self.names, self.variables,
+                                                    np.asarray(system.stiffnesses, dtype=float))
         self._tra_frame = None
         if spec.torque_axis is not None:
             tra = torque_roll_axis(self.M, np.asarray(spec.torque_axis) / np.linalg.norm(spec.torque_axis))
             self._tra = tra
             self._tra_frame = np.kron(np.eye(2), tra_frame(tra))
+
+    def ratio_slack(self, x, margin: float = RATIO_MARGIN) -> np.ndarray:
+        """How far each stiffness-ratio constraint of design ``x`` is inside its bound (>= 0 where kept), in
+        units of the mount's compression stiffness [1]; bounds tightened by the relative ``margin``. Linear in
+        ``x`` (stiffness factors scale the stiffness), shape (n_constraints,): see :func:`_ratio_constraints`."""
+        rows, offsets = self.ratio_constraints(margin)
+        return rows @ np.asarray(x, dtype=float) + offsets
 
     @property
     def initial(self) -> np.ndarray:
@@ -233,6 +271,59 @@ class DesignProblem:
         spec = self.spec
         return chunk_rng(spec.seed, ROBUST_STREAM).uniform(
             1 - spec.tolerance, 1 + spec.tolerance, (spec.robust_samples, len(self.names), 3))
+
+
+def _ratio_constraints(spec, names: tuple[str, ...], variables: tuple[Variable, ...], stiffness: np.ndarray):
+    """The stiffness-ratio constraints of ``spec`` (:class:`~sixdof.design.spec.StiffnessRatio`) as a function
+    of the relative margin (bounds tightened by it) giving ``rows`` (n_constraints, n_variables) and
+    ``offsets`` (n_constraints,), kept where ``rows @ x + offsets >= 0``. A mount-axis stiffness is ``k0`` times the one
+    stiffness factor acting on it (or 1), so ``k_s / k_w >= r`` reads ``(k0_s f_s - r k0_w f_w) / k0_w >= 0``,
+    linear in the factors; ``<= r`` the other way.
+
+    Raises
+    ------
+    InputError
+        A mount with no compression stiffness, or a constraint that no variable can change and the given
+        design breaks.
+    """
+    factor = {}  # (mount, mount axis) -> the variable scaling it
+    for k, variable in enumerate(variables):
+        if variable.parameter == "stiffness":
+            for mount in variable.mounts:
+                factor[mount, variable.axis] = k
+    terms = []  # per constraint: [(variable or None, coefficient)], its sign and bound, where it came from
+    for i, entry in enumerate(spec.stiffness_ratio):
+        field = f"stiffness_ratio[{i}]"
+        for name in entry.mounts:
+            mount = names.index(name)
+            k0 = stiffness[mount]
+            if not k0[2] > 0:
+                raise InputError(f"{field}.mounts", "mounts with a compression stiffness k_w > 0", name)
+            for shear in (0, 1):
+                for sign, bound in ((1.0, entry.min), (-1.0, entry.max)):
+                    if bound is not None:
+                        terms.append((mount, shear, sign, bound, field, name))
+
+    def assembled(margin: float):
+        rows, offsets = np.zeros((len(terms), len(variables))), np.zeros(len(terms))
+        for c, (mount, shear, sign, bound, _, _) in enumerate(terms):
+            k0 = stiffness[mount]
+            bound = bound * (1 + sign * margin)  # min raised, max lowered
+            for axis, coefficient in ((shear, sign * k0[shear] / k0[2]), (2, -sign * bound)):
+                k = factor.get((mount, axis))
+                if k is None:
+                    offsets[c] += coefficient
+                else:
+                    rows[c, k] += coefficient
+        return rows, offsets
+
+    rows, offsets = assembled(0.0)
+    for c, (mount, shear, sign, bound, field, name) in enumerate(terms):
+        if not rows[c].any() and offsets[c] < 0:
+            ratio = stiffness[mount, shear] / stiffness[mount, 2]
+            raise InputError(field, f"{'>=' if sign > 0 else '<='} {bound:g} for k_{MOUNT_AXES[shear]} / k_w of mount "
+                             f"{name}, or a [[design.vary]] of its stiffness", Plain(f"{ratio:.4g}, fixed"))
+    return assembled
 
 
 def _rotation(axis: int, angle):

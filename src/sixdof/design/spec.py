@@ -13,12 +13,23 @@
 
 - ``"stiffness"``: factors on the stiffness along the mount's own ``axes`` (``"u"``, ``"v"``, ``"w"``;
   default all three), one variable per axis;
-- ``"position"``: offsets [m] along the body ``axes`` (``"x"``, ``"y"``, ``"z"``), one variable per axis;
-- ``"angle"``: a rotation [deg] of the mount's axes about the body axis ``about`` (``"x"``, ``"y"``, ``"z"``).
+- ``"position"``: offsets [m] along the body ``axes`` (``"x"``, ``"y"``, ``"z"``), one variable per axis: each
+  mount moves along +axis, except in a tied group mirrored across that axis' plane (judged from the
+  positions: :func:`sixdof.design.problem.mirrored`), whose mounts on the negative side move the other way;
+- ``"angle"``: a rotation [deg] of the mount's axes about the body axis ``about`` (``"x"``, ``"y"``, ``"z"``),
+  right-handed, mirrored likewise (across x = 0 for a turn about y or z, y = 0 about x).
+
+Each mount parameter is varied by one entry at most (a mount axis' stiffness, a position along a body axis,
+a turn about a body axis).
+
+``[[design.stiffness_ratio]]`` entries, each over ``mounts`` (names; default all), keep each shear stiffness
+over the compression stiffness (``k_u / k_w`` and ``k_v / k_w``) within ``min`` and/or ``max``: a
+constraint of the optimizer (what a buildable elastomer mount allows).
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
@@ -35,6 +46,7 @@ from sixdof.errors import (
     optional,
 )
 from sixdof.frozen import Frozen, checked
+from sixdof.tasks import check_count
 
 TARGET_KINDS = ("frequency", "decoupling", "static_deflection", "tra_angle")
 PARAMETERS = ("stiffness", "position", "angle")
@@ -72,6 +84,7 @@ def _names(choices: tuple[str, ...], what: str):
     return check
 
 
+_POSITIVE_RATIO = optional(number_check("a positive stiffness ratio", low=0.0, strict=True))
 _PERCENT = number_check("a percentage from 0 to 100", low=0.0)
 _POSITIVE = number_check("a positive number", low=0.0, strict=True)
 
@@ -148,6 +161,37 @@ class Vary(Frozen):
 
 
 @dataclass(frozen=True)
+class StiffnessRatio(Frozen):
+    """One ``[[design.stiffness_ratio]]``: each shear stiffness over the compression stiffness of ``mounts``
+    (``k_u / k_w`` and ``k_v / k_w``, names; default all, checked by :func:`check_mounts`) within ``min``
+    and/or ``max`` [1]."""
+
+    min: float | None = checked(_POSITIVE_RATIO, default=None)
+    max: float | None = checked(_POSITIVE_RATIO, default=None)
+    mounts: tuple[str, ...] | None = None
+
+    def __check__(self) -> None:
+        if self.min is None and self.max is None:
+            raise InputError("max", "a min or a max (or both) of the shear over compression stiffness",
+                             Plain("neither"))
+        if self.min is not None and self.max is not None and not self.min < self.max:
+            raise InputError("max", f"a ratio above min = {self.min:g}", self.max)
+
+
+#: The most optimizer starts a design may ask for: each runs up to 500 iterations (1.2 ms each measured for the
+#: bundled engine design's objective and gradient), so 1000 starts take up to 10 min.
+MAX_STARTS = 1000
+#: The least an optimizer start costs [s]: one evaluation of the objective and its gradient (1.2 ms measured
+#: for the bundled engine design; a start takes up to 500).
+SECONDS_PER_START = 1e-3
+#: The most samples the robust objective may average: each iteration solves and differentiates all of them,
+#: 0.2 s for 10,000 (21-24 us each measured on the bundled engine design).
+MAX_ROBUST_SAMPLES = 10_000
+#: The least one sample of the robust objective costs a start [s]: one iteration's solve and gradient.
+SECONDS_PER_ROBUST_SAMPLE = 20e-6
+
+
+@dataclass(frozen=True)
 class DesignSpec(Frozen):
     """The ``[design]`` table: ``torque_axis`` (body axes; for the TRA metrics and targets), the targets,
     the variables, and the robustness study of the optimized design: every mount-axis stiffness scaled by
@@ -155,7 +199,10 @@ class DesignSpec(Frozen):
     starting points the optimizer tries (the given design first, then random points within the bounds);
     ``objective``: ``"nominal"``, the targets met by the design itself, or ``"robust"``, the shortfalls'
     squares averaged over ``robust_samples`` designs scattered like the robustness study's (a fixed
-    sample, so the objective stays smooth: see :class:`~sixdof.design.problem.DesignProblem`)."""
+    sample, so the objective stays smooth: see :class:`~sixdof.design.problem.DesignProblem`);
+    ``stiffness_ratio``: the :class:`StiffnessRatio` constraints. Sizes beyond :data:`MAX_STARTS`,
+    :data:`~sixdof.tasks.MAX_VARIANTS` samples and :data:`MAX_ROBUST_SAMPLES` are refused with the least time
+    they would take, and so are frequency targets of one DOF whose windows do not overlap."""
 
     torque_axis: tuple[float, float, float] | None = None
     target: tuple[Target, ...] = ()
@@ -166,8 +213,14 @@ class DesignSpec(Frozen):
     starts: int = checked(integer_check("an integer >= 1", 1), default=8)
     objective: str = checked(choice_check(OBJECTIVES), default="nominal")
     robust_samples: int = checked(integer_check("an integer >= 1", 1), default=128)
+    stiffness_ratio: tuple[StiffnessRatio, ...] = ()
 
     def __check__(self) -> None:
+        check_count(self.starts, "starts", "starts", MAX_STARTS, SECONDS_PER_START)
+        check_count(self.samples, "samples", "samples")  # the robustness study is a sweep of the design
+        check_count(self.robust_samples, "robust_samples", "samples", MAX_ROBUST_SAMPLES,
+                    self.starts * SECONDS_PER_ROBUST_SAMPLE)
+        _check_compatible(self.target)
         if self.tolerance > 0.9:
             raise InputError("tolerance", "a relative tolerance from 0 to 0.9", self.tolerance)
         if self.objective == "robust" and self.tolerance == 0:
@@ -179,15 +232,58 @@ class DesignSpec(Frozen):
                              Plain("no torque_axis"))
 
 
-def check_mounts(spec: DesignSpec, mount_names: tuple[str, ...]) -> DesignSpec:
-    """``spec`` with each variable's ``mounts`` checked against the system's (default: all)."""
-    import dataclasses
+def _check_compatible(targets: tuple[Target, ...]) -> None:
+    """Refuse two targets on one quantity that cannot both hold: frequency windows of one DOF's mode that do
+    not overlap (the other kinds bound a quantity on one side only, so any two of a kind hold together)."""
+    for j, later in enumerate(targets):
+        for i, earlier in enumerate(targets[:j]):
+            if later.kind == earlier.kind == "frequency" and later.dof == earlier.dof and (
+                    later.f_hz[0] > earlier.f_hz[1] or later.f_hz[1] < earlier.f_hz[0]):
+                raise InputError(f"target[{j}].f_hz", f"a window overlapping target[{i}]'s [{earlier.f_hz[0]:g}, "
+                                 f"{earlier.f_hz[1]:g}] Hz (the same {later.dof} mode cannot be in both)",
+                                 list(later.f_hz))
 
-    vary = []
-    for i, entry in enumerate(spec.vary):
-        try:
-            mounts = _names(mount_names, "mount names")(entry.mounts, "mounts") or mount_names
-        except InputError as exc:
-            raise exc.within(f"vary[{i}]") from None
-        vary.append(dataclasses.replace(entry, mounts=mounts))
-    return dataclasses.replace(spec, vary=tuple(vary))
+
+def _varied(entry: Vary) -> list[tuple[str, str]]:
+    """What ``entry`` varies of each of its mounts: (parameter, axis) pairs, the axis ``about`` for an angle."""
+    axes = (entry.about,) if entry.parameter == "angle" else entry.axes
+    return [(entry.parameter, axis) for axis in axes]
+
+
+def check_mounts(spec: DesignSpec, mount_names: tuple[str, ...]) -> DesignSpec:
+    """``spec`` with each variable's and stiffness ratio's ``mounts`` checked against the system's (default:
+    all), and each mount parameter varied by one entry at most.
+
+    Raises
+    ------
+    InputError
+        An unknown mount, or a mount parameter varied twice (naming the later entry and the earlier).
+    """
+    def resolved(entries, name):
+        found = []
+        for i, entry in enumerate(entries):
+            try:
+                mounts = _names(mount_names, "mount names")(entry.mounts, "mounts") or mount_names
+            except InputError as exc:
+                raise exc.within(f"{name}[{i}]") from None
+            found.append(dataclasses.replace(entry, mounts=mounts))
+        return tuple(found)
+
+    vary, ratios = resolved(spec.vary, "vary"), resolved(spec.stiffness_ratio, "stiffness_ratio")
+    seen: dict[tuple[str, str, str], int] = {}
+    for i, entry in enumerate(vary):
+        for mount in entry.mounts:
+            for parameter, axis in _varied(entry):
+                earlier = seen.setdefault((mount, parameter, axis), i)
+                if earlier != i:
+                    what = f"the angle about {axis}" if parameter == "angle" else f"{parameter} {axis}"
+                    raise InputError(f"vary[{i}]", "each mount parameter varied by one [[design.vary]] only",
+                                     Plain(f"{what} of mount {mount} varied by vary[{earlier}] too"))
+    seen_ratio: dict[str, int] = {}
+    for i, entry in enumerate(ratios):
+        for mount in entry.mounts:
+            earlier = seen_ratio.setdefault(mount, i)
+            if earlier != i:
+                raise InputError(f"stiffness_ratio[{i}].mounts", "each mount in one [[design.stiffness_ratio]] only",
+                                 Plain(f"{mount}, in stiffness_ratio[{earlier}] too"))
+    return dataclasses.replace(spec, vary=vary, stiffness_ratio=ratios)

@@ -5,6 +5,7 @@ All or nothing, as every run (:mod:`sixdof.io.output`)."""
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -12,6 +13,7 @@ import numpy as np
 
 from sixdof.design.optimize import DesignResult, Robustness, optimize, robustness
 from sixdof.design.problem import DesignProblem
+from sixdof.errors import readonly
 from sixdof.io import output
 from sixdof.io.toml import naming
 
@@ -116,15 +118,19 @@ def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: b
         shown = meter(progress, scenario.design.starts, "starts", "optimize")
         result = optimize(problem, progress=shown)
         shown.close()
-        spread = robustness(problem, result.x, runner, scenario.excitation, scenario.simulation, progress)
-    system = problem.system_at(result.x)
+        # What is reported, studied and written is the design as written, with the digits that matter.
+        system = written_design(scenario.system, problem.system_at(result.x))
+        as_written = DesignProblem(system, scenario.design, scenario.statics.gravity, scenario.statics.direction)
+        result = _evaluated(result, as_written)
+        spread = robustness(as_written, as_written.initial, runner, scenario.excitation, scenario.simulation,
+                            progress)
     peaks = None if spread.peak_percentiles is None else tuple(
         _peaks(s, scenario) for s in (scenario.system, system))
     text = optimized_toml(scenario, system)
     decoupling = next((t for t in problem.targets if t.kind == "decoupling"), None)
     coordinates = "body" if decoupling is None else decoupling.coordinates
     before, after = (_decoupling(s, scenario.design.torque_axis, coordinates) for s in (scenario.system, system))
-    tables = report.design_tables(problem, result, spread, peaks, report.moving_ground(scenario))
+    tables = report.design_tables(problem, result, spread, peaks, report.moving_ground(scenario), system)
     log(tables)
     figures = {
         "frequencies.png": plot_design_frequencies(scenario.system.modes, system.modes, problem.targets,
@@ -148,6 +154,40 @@ def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: b
     files = tuple(target / n for n in ("optimized.toml", "design.h5", "summary.md", *figures))
     return DesignOutcome(directory=target, problem=problem, result=result, robustness=spread, system=system,
                          files=files)
+
+
+#: Significant figures of an optimized stiffness [N/m] as written and reported: 4 change it by at most 5e-5 of
+#: itself, and a natural frequency by 2.5e-5, far inside the 1 % margin the optimizer keeps within each target
+#: (:data:`sixdof.design.problem.MARGIN`) and the +-15 % a catalogue mount's stiffness scatters by.
+STIFFNESS_DIGITS = 4
+#: Resolution [m] of an optimized mount position as written and reported: 0.1 mm, a drawing's.
+POSITION_RESOLUTION = 1e-4
+#: Decimals of an optimized mount's axes (direction cosines) as written and reported: a turn of 1e-9 rad at
+#: most, and rows orthonormal to 1e-9, well within the 1e-6 a scenario's axes are checked to.
+AXES_DECIMALS = 9
+
+
+def written_design(given, optimized):
+    """``optimized`` (a :class:`~sixdof.model.system.System`) with each mount stiffness the optimization changed
+    rounded to :data:`STIFFNESS_DIGITS` significant figures, each position it changed to
+    :data:`POSITION_RESOLUTION` and axes it turned to :data:`AXES_DECIMALS`; what ``given`` had stays as it
+    was."""
+    mounts = []
+    for before, after in zip(given.mounts, optimized.mounts):
+        stiffness = [k if k == k0 else float(f"{k:.{STIFFNESS_DIGITS}g}")
+                     for k, k0 in zip(after.stiffness.tolist(), before.stiffness.tolist())]
+        position = [p if p == p0 else round(round(p / POSITION_RESOLUTION) * POSITION_RESOLUTION, 10)
+                    for p, p0 in zip(after.position.tolist(), before.position.tolist())]
+        axes = after.axes if np.array_equal(after.axes, before.axes) else np.round(after.axes, AXES_DECIMALS) + 0.0
+        mounts.append(dataclasses.replace(after, stiffness=stiffness, position=position, axes=axes))
+    return dataclasses.replace(optimized, mounts=mounts)
+
+
+def _evaluated(result: DesignResult, problem: DesignProblem) -> DesignResult:
+    """``result`` with the target values and violations of ``problem``'s given design (the design as written)."""
+    values = np.asarray(problem.values(problem.initial))
+    return dataclasses.replace(result, values=readonly(values),
+                               violations=readonly(np.asarray(problem.violations(values))))
 
 
 def _peaks(system, scenario) -> np.ndarray:
@@ -261,6 +301,7 @@ def _write_h5(path: Path, problem: DesignProblem, result: DesignResult, spread: 
                   "all_met": bool(np.all(result.met)), "objective": problem.spec.objective,
                   "robust_samples": problem.spec.robust_samples if problem.spec.objective == "robust" else 0},
              "robustness": {"tolerance": spread.tolerance, "samples": len(spread.values),
+                            "samples_all_met": spread.all_met,
                             "seed": problem.spec.seed,
                             "engine": "none (Maxwell branches)" if spread.responses is None else "exact batch"}}
     if spread.responses is not None and spread.responses.cross_check is not None:

@@ -185,34 +185,76 @@ def _target_value(target, value: float) -> str:
     return f"{value:.4g}{unit}"
 
 
-def design_tables(problem, result, spread, peaks=None, ground_moves: bool = False) -> str:
-    """The optimization's verdict, its targets before and after (with the robustness study) and its variables;
-    with ``peaks`` (the given and the optimized design's peak ``|q|`` and ``|q''|``, (12,) each) and the
-    samples' peak responses, their table too (said to be absolute, the ground's drift included, when
-    ``ground_moves``)."""
+def share_percent(count: int, total: int) -> str:
+    """``count`` of ``total`` as a percentage with the digits that keep it honest: never "100 %" unless all,
+    never "0 %" unless none (999 of 1000 is "99.9 %", not "100 %")."""
+    percent = 100.0 * count / total
+    for decimals in range(0, 7):
+        shown = f"{percent:.{decimals}f}"
+        if (float(shown) == 100.0) == (count == total) and (float(shown) == 0.0) == (count == 0):
+            return f"{shown} %"
+    return f"{percent:g} %"
+
+
+def design_verdict(met: bool, samples_met: int, samples: int, tolerance: float) -> str:
+    """The first line of ``sixdof optimize``'s report: whether the nominal (optimized) design meets every
+    target, and in how many of the ``samples`` with every mount-axis stiffness scattered by +-``tolerance``
+    [1] every target holds (``samples_met``)."""
+    nominal = "All targets met by the nominal design" if met else "NOT MET by the nominal design"
+    return (f"{nominal}; met in {share_percent(samples_met, samples)} of the scattered samples ({samples_met} of "
+            f"{samples}, every mount-axis stiffness +-{100 * tolerance:g} %).")
+
+
+def design_tables(problem, result, spread, peaks=None, ground_moves: bool = False, system=None) -> str:
+    """The optimization's verdict (the nominal design's, and the share of the robustness study's samples
+    meeting every target), its targets before and after (with the robustness study) and its variables, each
+    with the rule it acts by; with ``peaks`` (the given and the optimized design's peak ``|q|`` and ``|q''|``,
+    (12,) each) and the samples' peak responses, their table too (said to be absolute, the ground's drift
+    included, when ``ground_moves``); with stiffness-ratio constraints, each constrained mount's ratios in
+    the given design and in ``system`` (the optimized design as written; default the optimizer's)."""
     short = [f"{t.label}: {_target_value(t, v)} (short by {100 * s:.3g} % of the bound)"
              for t, v, s in zip(problem.targets, result.values, result.violations) if s > 0]
-    verdict = ("All targets met by the optimized design." if not short else
-               "NOT MET, the best compromise found:\n" + "\n".join(f"  {line}" for line in short))
+    samples = len(spread.values)
+    verdict = design_verdict(not short, spread.all_met, samples, spread.tolerance)
+    if short:
+        verdict += "\nThe best compromise found:\n" + "\n".join(f"  {line}" for line in short)
     tolerance = f"+-{100 * spread.tolerance:g} %"
     if problem.spec.objective == "robust":
         verdict += (f"\nObjective: robust, the squared shortfalls averaged over {problem.spec.robust_samples} "
                     f"designs with every mount-axis stiffness scattered uniformly {tolerance}.")
+    met_counts = np.count_nonzero(spread.met, axis=0)
     targets = table(
         ["target", "given design", "optimized", "met", f"5 / 50 / 95 % at stiffness {tolerance}", "P(met)"],
         [[t.label, _target_value(t, a), _target_value(t, b), "yes" if s == 0 else "NO",
-          " / ".join(_target_value(t, p) for p in spread.percentiles[k]), f"{100 * spread.probability[k]:.0f} %"]
+          " / ".join(_target_value(t, p) for p in spread.percentiles[k]), share_percent(met_counts[k], samples)]
          for k, (t, a, b, s) in enumerate(zip(problem.targets, result.values_initial, result.values,
                                               result.violations))], "lrrlrr")
     units = {"stiffness": "x", "position": "m", "angle": "deg"}
-    variables = table(["variable", "bounds", "given", "optimized"],
-                      [[v.name, f"[{v.bounds[0]:g}, {v.bounds[1]:g}] {units[v.parameter]}", f"{x0:.4g}", f"{x:.4g}"]
-                       for v, x0, x in zip(problem.variables, result.x_initial, result.x)], "lrrr")
-    text = (f"{verdict}\n\nTargets ({len(spread.values)} samples with every mount-axis stiffness scattered "
-            f"uniformly {tolerance}):\n{targets}\n\nVariables (stiffness as factors):\n{variables}")
+    variables = table(["variable", "acts", "bounds", "given", "optimized"],
+                      [[v.name, v.rule, f"[{v.bounds[0]:g}, {v.bounds[1]:g}] {units[v.parameter]}", f"{x0:.4g}",
+                        f"{x:.4g}"] for v, x0, x in zip(problem.variables, result.x_initial, result.x)], "llrrr")
+    text = (f"{verdict}\n\nTargets ({samples} samples with every mount-axis stiffness scattered "
+            f"uniformly {tolerance}):\n{targets}\n\nVariables (stiffness as factors; acts: how a tied "
+            f"variable moves its mounts):\n{variables}")
+    if problem.spec.stiffness_ratio:
+        text += "\n\n" + _ratio_table(problem, system if system is not None else problem.system_at(result.x))
     if peaks is None or spread.peak_percentiles is None:
         return text
     return text + "\n\n" + _design_peaks(spread, peaks, ground_moves)
+
+
+def _ratio_table(problem, system) -> str:
+    """Shear over compression stiffness (``k_u / k_w``, ``k_v / k_w``) of each mount a
+    ``[[design.stiffness_ratio]]`` constrains, given and optimized (``system``), with its bounds."""
+    rows = []
+    for entry in problem.spec.stiffness_ratio:
+        bounds = f"[{'-' if entry.min is None else f'{entry.min:g}'}, {'-' if entry.max is None else f'{entry.max:g}'}]"
+        for name in entry.mounts:
+            j = problem.names.index(name)
+            ratios = [k[:2] / k[2] for k in (problem.system.stiffnesses[j], system.stiffnesses[j])]
+            rows.append([name, bounds, *(" / ".join(f"{r:.4g}" for r in pair) for pair in ratios)])
+    return ("Stiffness ratios, shear over compression (k_u / k_w and k_v / k_w):\n"
+            + table(["mount", "bounds", "given", "optimized"], rows, "llrr"))
 
 
 def _design_peaks(spread, peaks, ground_moves: bool) -> str:

@@ -360,15 +360,17 @@ _DESIGN_SETTINGS = ("tolerance", "samples", "seed", "starts", "objective", "robu
 
 
 def _design(raw: dict, system: System):
-    from sixdof.design.spec import DesignSpec, Target, Vary, check_mounts
+    from sixdof.design.spec import DesignSpec, StiffnessRatio, Target, Vary, check_mounts
 
-    table = Table(raw, "design", ("torque_axis", "target", "vary", *_DESIGN_SETTINGS))
+    table = Table(raw, "design", ("torque_axis", "target", "vary", "stiffness_ratio", *_DESIGN_SETTINGS))
     axis = table.value("torque_axis", None)
     targets = tuple(build(Target, t, f"design.target[{i}]") for i, t in enumerate(table.tables("target")))
     vary = tuple(build(Vary, t, f"design.vary[{i}]") for i, t in enumerate(table.tables("vary")))
+    ratios = tuple(build(StiffnessRatio, t, f"design.stiffness_ratio[{i}]")
+                   for i, t in enumerate(table.tables("stiffness_ratio")))
     settings = {k: raw[k] for k in _DESIGN_SETTINGS if k in raw}
     spec = make(DesignSpec, "design", torque_axis=None if axis is None else _checked_vector(axis, "design.torque_axis"),
-                target=targets, vary=vary, **settings)
+                target=targets, vary=vary, stiffness_ratio=ratios, **settings)
     return make(check_mounts, "design", spec=spec, mount_names=tuple(m.name for m in system.mounts))
 
 

@@ -20,7 +20,7 @@ from sixdof.errors import InputError, Plain, boolean, integer, integer_check, nu
 from sixdof.frozen import Frozen, checked
 from sixdof.io.toml import Table, build, is_number, naming, parse, read_text
 from sixdof.model.system import System
-from sixdof.tasks import chunk_rng, partition
+from sixdof.tasks import check_count, chunk_rng, partition
 
 PARAMETERS = ("stiffness", "damping", "position")
 DISTRIBUTIONS = ("uniform", "normal", "grid")
@@ -290,10 +290,13 @@ def _spec(raw: dict) -> SweepSpec:
         raise InputError("engine", "one of " + ", ".join(ENGINES), engine)
     cross_check = integer(top.value("cross_check", CROSS_CHECK), "cross_check", "a number of variants >= 0", 0)
     grids = [len(v.values) for v in vary if v.distribution == "grid"]
+    if grids:  # before the count that must equal it, which would name an impossible product as expected
+        check_count(math.prod(grids), "vary", "variants in the grids' full factorial")
     count = top.value("count", math.prod(grids) if grids else None)
     if count is None:
         raise InputError("count", "a positive integer (number of random variants)", Plain("nothing"))
     count = integer(count, "count", "a positive integer", 1)
+    check_count(count, "count")
     if grids and count != math.prod(grids):
         raise InputError("count", f"the product of the grid sizes, {math.prod(grids)} (or no count)", count)
     return SweepSpec(count=count, seed=seed, vary=vary, chunk_size=chunk, engine=engine, cross_check=cross_check)

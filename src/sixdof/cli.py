@@ -391,7 +391,8 @@ def _run(args) -> int:
         print(f"\nMount checks:\n{report.mount_check_text(outcome.mount_check, limits)}")
         if outcome.points:
             steady = outcome.steady_state is not None
-            points = report.points_table(outcome.points, report.moving_ground(scenario), steady)
+            points = report.points_table(outcome.points, report.moving_ground(scenario), steady,
+                                         ground=outcome.response)
             print(f"\nBody points: {points}")
     if outcome.frf is not None:
         print(f"FRF direct vs modal: {outcome.frf.max_relative_difference:.1e} (worst relative difference)")

@@ -11,7 +11,7 @@ from sixdof.dofs import display_unit
 from sixdof.errors import ScenarioError
 from sixdof.excitation import GroundMotion, Table
 from sixdof.excitation.baseline import BASELINE_DEGREE, integrate_record, polynomial_baseline
-from sixdof.io.report import peaks_text, points_table
+from sixdof.io.report import baseline_text, peaks_text, points_table
 from sixdof.io.scenario import parse_scenario, read_table_csv
 from sixdof.results import TimeHistory
 from sixdof.workflows import run_scenario
@@ -154,6 +154,13 @@ def test_the_baseline_key_corrects_the_record_and_keeps_the_one_given(tmp_path):
     ground = scenario.excitation.ground
     assert np.array_equal(ground.recorded.values, a + 0.001)
     assert np.array_equal(ground.signal.values, polynomial_baseline(t, a + 0.001, 3))
+    # What the default correction changed, against the closed form of the offset (the bundled record ends at rest
+    # within 1e-5 m/s and 1e-6 m): 1 mg times the scale, over the 20 s record.
+    default = _scenario(tmp_path, 'baseline = "polynomial"\n', offset=0.001).excitation.ground
+    offset = 0.001 * default.scale
+    text = baseline_text(default).replace("\n", " ")
+    assert "(polynomial of degree 2 in velocity: " in text and f"changed by at most {offset:.3g} m/s²" in text
+    assert f"ended at {offset * 20:.3g} m/s and {offset * 20**2 / 2:.3g} m, corrected at rest" in text
     plain = _scenario(tmp_path).excitation.ground
     assert plain.baseline == "none" and plain.signal is plain.recorded
 

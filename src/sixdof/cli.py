@@ -381,6 +381,9 @@ def _run(args) -> int:
         if truncation is not None:
             kept = ", ".join(str(j + 1) for j in info.modes_kept)
             print(f"Truncated to modes {kept}; against all modes: {truncation}")
+        ground = scenario.excitation.ground if scenario.excitation is not None else None
+        if ground is not None and ground.baseline != "none":
+            print(report.baseline_text(ground))
         stats = outcome.response.stats
         print(f"Solver {stats.solver}: {stats.num_accepted} steps, {stats.num_rejected} rejected, "
               f"{stats.wall_time_s:.2f} s")

@@ -456,7 +456,11 @@ def summary_markdown(scenario, modes, statics, damping_ratios, response, forces,
         parts += ["## Shock response spectra", "", srs_text(srs), ""]
     if response is not None:
         transient = PEAKS_WITH_TRANSIENT if steady is not None else ""
-        parts += ["## Time response", "", f"Peaks over the whole run{transient}.", "", peaks_text(response), ""]
+        parts += ["## Time response", ""]
+        ground = scenario.excitation.ground if scenario.excitation is not None else None
+        if ground is not None and ground.baseline != "none":
+            parts += [baseline_text(ground), ""]
+        parts += [f"Peaks over the whole run{transient}.", "", peaks_text(response), ""]
         stats = response.stats
         parts += [f"Solver: {stats.solver}, rtol {stats.rtol:g}, atol {stats.atol:g} (per-DOF scaled), "
                   f"{stats.num_accepted} accepted and {stats.num_rejected} rejected steps", ""]
@@ -494,6 +498,25 @@ def peaks_text(response) -> str:
             + _peaks_table(response.t, response.q_relative, response.qd_relative, response.qdd_relative)
             + "\n\nAbsolute (fixed frame, the ground's own motion included):\n\n"
             + _peaks_table(response.t, response.q, response.qd, response.qdd))
+
+
+def baseline_text(ground) -> str:
+    """What the baseline correction of a ground record changed (a :class:`~sixdof.excitation.GroundMotion` with
+    ``baseline`` set): the largest change of acceleration, and where the record as given ended."""
+    from sixdof.excitation.baseline import BASELINE_DEGREE, integrate_record
+
+    recorded = ground.recorded
+    change = ground.scale * np.max(np.abs(np.asarray(ground.signal.values) - recorded.values))
+    peak = abs(ground.scale) * np.max(np.abs(recorded.values))
+    v, d = integrate_record(recorded.t, ground.scale * np.asarray(recorded.values))
+    degree = ground.baseline_degree or BASELINE_DEGREE
+    how = ("a straight line off the acceleration, the one that brings it to rest at its end" if degree == 2 else
+           "the least-squares fit to its velocity, brought to rest at its end")
+    return _wrapped(f"Ground record baseline-corrected ({ground.baseline} of degree {degree} in velocity: {how}; "
+                    "Boore 2001, Boore, Stephens & Joyner 2002): "
+                    f"acceleration changed by at most {change:.3g} m/s² ({100 * change / peak:.3g} % of its peak "
+                    f"{peak:.3g} m/s²); as given, the record ended at {v[-1]:.3g} m/s and {d[-1]:.3g} m, corrected "
+                    "at rest.")
 
 
 def ground_in_motion(response) -> bool:

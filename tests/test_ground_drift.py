@@ -132,6 +132,9 @@ def test_the_drift_is_judged_at_its_stated_share_once_the_record_is_over():
         ended[-1, 0] = factor * GROUND_DRIFT_SHARE * peak
         assert (ground_drift(ground, times, ended) is not None) == warns
     assert ground_drift(ground, times[:50], u[:50]) is None  # the record goes on after the run
+    velocity = GroundMotion(quantity="velocity", direction=[1, 0, 0], signal=Table(t=[0.0, 1.0], values=[1.0, 1.0]))
+    ramp = np.outer([0.0, 0.5, 1.0], [1.0, 0.0, 0.0])  # its exact integral
+    assert "Correct the velocity record's baseline before use" in ground_drift(velocity, [0.0, 0.5, 1.0], ramp)
     shock = GroundMotion(quantity="acceleration", direction=[1, 0, 0],
                          signal={"kind": "half_sine", "start": 0.0, "duration": 0.1})
     assert ground_drift(shock, times, u) is None  # a pulse's change of velocity is the motion asked for

@@ -342,8 +342,8 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
                                                  force=joined.mount_check.force,
                                                  compression=joined.mount_check.compression))
     notes = []
-    drift = None if excitation.ground is None else ground_drift(excitation.ground, response.t,
-                                                                response.ground_displacement)
+    drift = None if not response.has_ground else ground_drift(excitation.ground, response.t,
+                                                              response.ground_displacement)
     if drift is not None:
         notes.append(drift)
         warnings.warn(drift, GroundDriftWarning, stacklevel=3)

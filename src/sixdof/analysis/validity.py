@@ -1,8 +1,11 @@
 """Where a time solve leaves the model's range, said as warnings: loads that never act in the simulated
-time, and rotations beyond small-angle theory; and statics no mount could give (:func:`static_range`).
+time, and rotations beyond small-angle theory; statics no mount could give (:func:`static_range`); and a ground
+record whose integrated displacement drifts (:func:`ground_drift`).
 
 Both time paths (:func:`sixdof.analysis.direct.simulate`, :func:`sixdof.analysis.superposition.superpose`)
-call these, so a notebook user of either one is told; the results are computed all the same.
+call the first two, so a notebook user of either one is told; the results are computed all the same. The drift
+is judged by a run (:func:`sixdof.workflows.run_scenario`) over its whole span, once: not by the inner solves of
+the checks that synthesize records of their own (a random record's displacement wanders by nature).
 """
 
 from __future__ import annotations

@@ -30,7 +30,13 @@ from sixdof.errors import (
     tuple_check,
     vector3_check,
 )
-from sixdof.excitation.baseline import BASELINE_DEGREE, BASELINE_METHODS, MAX_BASELINE_DEGREE, polynomial_baseline
+from sixdof.excitation.baseline import (
+    BASELINE_DEGREE,
+    BASELINE_METHODS,
+    MAX_BASELINE_DEGREE,
+    integrate_record,
+    polynomial_baseline,
+)
 from sixdof.excitation.signals import Harmonic, Signal, Table, signal_field
 from sixdof.frozen import Frozen, checked
 from sixdof.model.kinematics import generalized_force
@@ -249,6 +255,17 @@ class GroundMotion(Frozen):
                              Plain(f"{signal.t.size} samples"))
         values = polynomial_baseline(signal.t, signal.values, degree)
         return Table(t=signal.t, values=values, outside="zero")
+
+    @property
+    def baseline_effect(self) -> tuple[float, float, tuple[float, float], int]:
+        """What the baseline correction changed: the largest change of acceleration [m/s^2], the record's peak as
+        given [m/s^2], its end velocity and displacement as given ``(v, d)`` [m/s, m] (the corrected record ends
+        at rest), and the polynomial's degree. For a ground with ``baseline`` set."""
+        recorded, scale = self.recorded, abs(self.scale)
+        change = scale * float(np.max(np.abs(np.asarray(self.signal.values) - recorded.values)))
+        v, d = integrate_record(recorded.t, self.scale * np.asarray(recorded.values))
+        degree = BASELINE_DEGREE if self.baseline_degree is None else self.baseline_degree
+        return change, scale * float(np.max(np.abs(recorded.values))), (float(v[-1]), float(d[-1])), degree
 
     @property
     def rigid_vector(self) -> np.ndarray:

@@ -503,19 +503,13 @@ def peaks_text(response) -> str:
 def baseline_text(ground) -> str:
     """What the baseline correction of a ground record changed (a :class:`~sixdof.excitation.GroundMotion` with
     ``baseline`` set): the largest change of acceleration, and where the record as given ended."""
-    from sixdof.excitation.baseline import BASELINE_DEGREE, integrate_record
-
-    recorded = ground.recorded
-    change = ground.scale * np.max(np.abs(np.asarray(ground.signal.values) - recorded.values))
-    peak = abs(ground.scale) * np.max(np.abs(recorded.values))
-    v, d = integrate_record(recorded.t, ground.scale * np.asarray(recorded.values))
-    degree = ground.baseline_degree or BASELINE_DEGREE
+    change, peak, (v, d), degree = ground.baseline_effect
     how = ("a straight line off the acceleration, the one that brings it to rest at its end" if degree == 2 else
            "the least-squares fit to its velocity, brought to rest at its end")
     return _wrapped(f"Ground record baseline-corrected ({ground.baseline} of degree {degree} in velocity: {how}; "
                     "Boore 2001, Boore, Stephens & Joyner 2002): "
                     f"acceleration changed by at most {change:.3g} m/s² ({100 * change / peak:.3g} % of its peak "
-                    f"{peak:.3g} m/s²); as given, the record ended at {v[-1]:.3g} m/s and {d[-1]:.3g} m, corrected "
+                    f"{peak:.3g} m/s²); as given, the record ended at {v:.3g} m/s and {d:.3g} m, corrected "
                     "at rest.")
 
 

@@ -7,12 +7,13 @@ import pytest
 from scipy.linalg import null_space
 
 from sixdof.analysis.validity import GROUND_DRIFT_SHARE, GroundDriftWarning, ground_drift
+from sixdof.cli import main
 from sixdof.dofs import display_unit
 from sixdof.errors import ScenarioError
 from sixdof.excitation import GroundMotion, Table
 from sixdof.excitation.baseline import BASELINE_DEGREE, integrate_record, polynomial_baseline
 from sixdof.io.report import baseline_text, peaks_text, points_table
-from sixdof.io.scenario import parse_scenario, read_table_csv
+from sixdof.io.scenario import load_scenario, parse_scenario, read_table_csv
 from sixdof.results import TimeHistory
 from sixdof.workflows import run_scenario
 from tolerances import RTOL_BASELINE, RTOL_RECORD_INTEGRAL
@@ -143,12 +144,18 @@ def test_the_drift_is_judged_at_its_stated_share_once_the_record_is_over():
 SCENARIO = (SCENARIOS / "cabinet_earthquake.toml").read_text()
 
 
-def _scenario(tmp_path, ground_keys="", offset=0.0, duration=25.0):
+def _scenario_file(tmp_path, ground_keys="", offset=0.0, duration=25.0) -> Path:
+    """The bundled cabinet scenario with its record offset by ``offset`` g, and ``ground_keys`` in ``[ground]``."""
     t, a = read_table_csv("ground_accelerogram.csv", SCENARIOS, "file")
     np.savetxt(tmp_path / "record.csv", np.column_stack([t, np.array(a) + offset]), delimiter=",")
     text = (SCENARIO.replace("ground_accelerogram.csv", "record.csv").replace("[ground]\n", f"[ground]\n{ground_keys}")
             .replace("duration = 25.0", f"duration = {duration}"))
-    return parse_scenario(text, str(tmp_path / "cabinet.toml"), tmp_path)
+    (tmp_path / "cabinet.toml").write_text(text)
+    return tmp_path / "cabinet.toml"
+
+
+def _scenario(tmp_path, ground_keys="", offset=0.0, duration=25.0):
+    return load_scenario(_scenario_file(tmp_path, ground_keys, offset, duration))
 
 
 def test_the_baseline_key_corrects_the_record_and_keeps_the_one_given(tmp_path):
@@ -230,3 +237,14 @@ def test_a_run_on_a_drifting_record_warns_and_puts_relative_motion_first(tmp_pat
     assert headers[0] == f"peak x rel [{unit}]" and headers[3] == f"peak x abs [{unit}]"
     assert cells[0] == f"{factor * relative[0]:.4g}" and cells[3] == f"{factor * absolute[0]:.4g}"
     assert absolute[0] > 50 * relative[0]  # the drift: metres against the mounts' millimetres
+
+
+def test_a_run_on_the_corrected_record_does_not_warn_and_says_what_it_changed(tmp_path, capsys):
+    path = _scenario_file(tmp_path, 'baseline = "polynomial"\n', offset=0.001, duration=20.0)
+    assert main(["run", str(path), "--out", str(tmp_path / "out"), "--quiet"]) == 0
+    printed = capsys.readouterr()
+    assert "WARNING" not in printed.err
+    text = baseline_text(load_scenario(path).excitation.ground)
+    summary = (tmp_path / "out" / "cabinet_earthquake" / "summary.md").read_text()
+    assert text in printed.out and text in summary and "## Warnings" not in summary
+    assert summary.index(text) < summary.index("Relative to the ground") < summary.index("Absolute (fixed frame")

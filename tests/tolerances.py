@@ -138,3 +138,14 @@ RTOL_QUOTED = 1e-5
 # included) against random_response's (Simpson on its own grid): two quadratures of the same smooth PSD. A sum
 # over the grid, counting the PSD's jump at each band edge as a whole step, was 5.9e-5 off on the small box.
 RTOL_TIME_CHECK_RMS = 1e-6
+
+# --- ground records and their baseline (tests/test_ground_drift.py) ---
+# Velocity and displacement of a linearly interpolated acceleration (first-order hold) against the closed
+# form of a straight-line acceleration, relative to their peaks: cumulative sums of exact increments, 2000
+# intervals of round-off (measured ~1e-15).
+RTOL_RECORD_INTEGRAL = 1e-12
+# A baseline-corrected record (polynomial fit to its velocity, its ends brought to rest: a KKT solve of at most
+# 8 unknowns on powers of normalized time) against the exact answers: its end velocity and displacement against
+# zero, and the same correction of the record with a polynomial drift added, relative to the record's peak
+# velocity, displacement or acceleration (measured <= 4e-14; the fit's conditioning grows with its degree).
+RTOL_BASELINE = 1e-10

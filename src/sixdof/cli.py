@@ -381,6 +381,9 @@ def _run(args) -> int:
         if truncation is not None:
             kept = ", ".join(str(j + 1) for j in info.modes_kept)
             print(f"Truncated to modes {kept}; against all modes: {truncation}")
+        ground = scenario.excitation.ground if scenario.excitation is not None else None
+        if ground is not None and ground.baseline != "none":
+            print(report.baseline_text(ground))
         stats = outcome.response.stats
         print(f"Solver {stats.solver}: {stats.num_accepted} steps, {stats.num_rejected} rejected, "
               f"{stats.wall_time_s:.2f} s")
@@ -391,7 +394,8 @@ def _run(args) -> int:
         print(f"\nMount checks:\n{report.mount_check_text(outcome.mount_check, limits)}")
         if outcome.points:
             steady = outcome.steady_state is not None
-            points = report.points_table(outcome.points, report.moving_ground(scenario), steady)
+            points = report.points_table(outcome.points, report.moving_ground(scenario), steady,
+                                         ground=outcome.response)
             print(f"\nBody points: {points}")
     if outcome.frf is not None:
         print(f"FRF direct vs modal: {outcome.frf.max_relative_difference:.1e} (worst relative difference)")

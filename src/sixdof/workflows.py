@@ -19,7 +19,14 @@ import numpy as np
 
 from sixdof.analysis.statespace import damping_ratios
 from sixdof.analysis.statics import try_gravity_statics
-from sixdof.analysis.validity import RangeWarning, body_length, fit_band_range, static_range
+from sixdof.analysis.validity import (
+    GroundDriftWarning,
+    RangeWarning,
+    body_length,
+    fit_band_range,
+    ground_drift,
+    static_range,
+)
 from sixdof.errors import InputError, Plain
 from sixdof.io import output
 from sixdof.plots.workers import FigureWorkers
@@ -335,6 +342,11 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
                                                  force=joined.mount_check.force,
                                                  compression=joined.mount_check.compression))
     notes = []
+    drift = None if not response.has_ground else ground_drift(excitation.ground, response.t,
+                                                              response.ground_displacement)
+    if drift is not None:
+        notes.append(drift)
+        warnings.warn(drift, GroundDriftWarning, stacklevel=3)
     if not agreement.ok:
         notes.append(f"direct and modal superposition disagree: worst DOF {agreement.worst_dof} at "
                      f"{agreement.worst:.3g} of its peak (tolerance {agreement.tolerance:.0e})")

@@ -1,8 +1,11 @@
 """Where a time solve leaves the model's range, said as warnings: loads that never act in the simulated
-time, and rotations beyond small-angle theory; and statics no mount could give (:func:`static_range`).
+time, and rotations beyond small-angle theory; statics no mount could give (:func:`static_range`); and a ground
+record whose integrated displacement drifts (:func:`ground_drift`).
 
 Both time paths (:func:`sixdof.analysis.direct.simulate`, :func:`sixdof.analysis.superposition.superpose`)
-call these, so a notebook user of either one is told; the results are computed all the same.
+call the first two, so a notebook user of either one is told; the results are computed all the same. The drift
+is judged by a run (:func:`sixdof.workflows.run_scenario`) over its whole span, once: not by the inner solves of
+the checks that synthesize records of their own (a random record's displacement wanders by nature).
 """
 
 from __future__ import annotations
@@ -13,7 +16,7 @@ import warnings
 import numpy as np
 
 from sixdof.analysis.compare import column_peaks
-from sixdof.dofs import DOFS
+from sixdof.dofs import DOFS, display_unit
 
 #: Largest rotation [rad] for which eq. (1) holds: it linearizes the rotations (sin theta ~ theta,
 #: cos theta ~ 1), whose error grows as theta^2 / 2, 0.5 % at 0.1 rad (5.7 deg).
@@ -114,5 +117,58 @@ def fit_band_range(fits, f_hz) -> list[str]:
     return messages
 
 
-__all__ = ["SMALL_ANGLE_RAD", "RangeWarning", "body_length", "fit_band_range", "static_range", "warn_idle",
-           "warn_large_rotations"]
+#: A ground displacement integrated from a velocity or an acceleration drifts when its value at the end of a
+#: run is beyond this share of its peak over the run (once the record is over): a record that ends at rest
+#: ends near zero; a baseline offset ends near the peak (0.1 % of a 0.25 g peak over 20 s: 0.5 m).
+GROUND_DRIFT_SHARE = 0.1
+
+
+class GroundDriftWarning(RangeWarning):
+    """The ground displacement integrated from the record drifts (see :data:`GROUND_DRIFT_SHARE`)."""
+
+
+def ground_drift(ground, t, displacement) -> str | None:
+    """What drifts in a run's recorded ground motion (a :class:`~sixdof.excitation.GroundMotion`), or None.
+
+    A ground recorded as a velocity or an acceleration (a ``table`` signal) is integrated from rest; it drifts
+    when its displacement at the run's end is beyond :data:`GROUND_DRIFT_SHARE` of its peak over the run, which
+    in a record is a baseline error. Judged once the record is over (one that runs past the end of the run is
+    still moving there), or for one held without end. Signals given by formula are left alone: a shock pulse's
+    change of velocity, and the drift it makes, is the motion asked for.
+
+    Parameters
+    ----------
+    ground : GroundMotion
+    t : ndarray, shape (n,)
+        The run's output times [s], increasing.
+    displacement : ndarray, shape (n, 3)
+        The ground's displacement [m], body axes (:attr:`sixdof.results.TimeHistory.ground_displacement`).
+
+    Returns
+    -------
+    str or None
+        The message: the end value, its share of the peak and the advice to use ``[ground] baseline``.
+    """
+    if ground.quantity == "displacement" or ground.signal.kind != "table" or len(t) == 0:
+        return None
+    over = ground.signal.support[1]
+    if math.isfinite(over) and over > t[-1]:  # the record goes on after the run: the ground is still moving
+        return None
+    along = np.asarray(displacement) @ ground.direction
+    peak, end = float(np.max(np.abs(along))), float(along[-1])
+    if peak == 0.0 or abs(end) <= GROUND_DRIFT_SHARE * peak:
+        return None
+    factor, unit = display_unit([peak, end], "m")
+    # A corrected accelerogram ends at rest (to round-off), so the advice is always one of these.
+    advice = ("Correct the velocity record's baseline before use ([ground] baseline corrects accelerograms)"
+              if ground.quantity == "velocity" else
+              'Set [ground] baseline = "polynomial" to bring the record to rest at its end')
+    return (f"ground motion: its displacement, integrated from the {ground.quantity} from rest, ends at "
+            f"{end * factor:.4g} {unit} at t = {t[-1]:.6g} s, {100 * abs(end) / peak:.3g} % of its peak "
+            f"{peak * factor:.4g} {unit} (a drift: beyond {100 * GROUND_DRIFT_SHARE:g} %), most likely a baseline "
+            "error of the record; the body's absolute motion drifts with it, the mounts feel only the motion "
+            f"relative to the ground. {advice}")
+
+
+__all__ = ["GROUND_DRIFT_SHARE", "SMALL_ANGLE_RAD", "GroundDriftWarning", "RangeWarning", "body_length",
+           "fit_band_range", "ground_drift", "static_range", "warn_idle", "warn_large_rotations"]

@@ -30,7 +30,14 @@ from sixdof.errors import (
     tuple_check,
     vector3_check,
 )
-from sixdof.excitation.signals import Harmonic, Signal, signal_field
+from sixdof.excitation.baseline import (
+    BASELINE_DEGREE,
+    BASELINE_METHODS,
+    MAX_BASELINE_DEGREE,
+    integrate_record,
+    polynomial_baseline,
+)
+from sixdof.excitation.signals import Harmonic, Signal, Table, signal_field
 from sixdof.frozen import Frozen, checked
 from sixdof.model.kinematics import generalized_force
 
@@ -179,16 +186,38 @@ class GroundMotion(Frozen):
     scale : float, optional
         Multiplies the signal [m, m/s or m/s^2 per signal unit]: ``9.81`` for a record in g.
         Default 1.
+    baseline : {"none", "polynomial"}, optional
+        Baseline correction of an accelerogram (a ``table`` signal of ``quantity = "acceleration"``):
+        ``"polynomial"`` removes the derivative of a polynomial fitted to the record's integrated velocity,
+        so that the ground ends at rest where it started (:func:`sixdof.excitation.baseline.polynomial_baseline`:
+        Boore 2001; Boore, Stephens & Joyner 2002). ``signal`` is then the corrected record and ``recorded``
+        the one given. Default ``"none"``: the record as given.
+    baseline_degree : int, optional
+        Degree of that polynomial, 2 to 6 (only with a baseline). Default 2
+        (:data:`sixdof.excitation.baseline.BASELINE_DEGREE`).
     """
 
     quantity: str = checked(choice_check(GROUND_QUANTITIES))
     direction: np.ndarray = checked(direction_check("a non-zero 3-vector in body axes"))
     signal: Signal | None = checked(signal_field, default=None)
     scale: float = checked(number_check("a finite non-zero number"), default=1.0)
+    baseline: str = checked(choice_check(BASELINE_METHODS), default="none")
+    baseline_degree: int | None = checked(optional(integer_check(f"an integer from 2 to {MAX_BASELINE_DEGREE}", 2)),
+                                          default=None)
 
     def __check__(self) -> None:
         if self.scale == 0.0:
             raise InputError("scale", "a finite non-zero number", self.scale)
+        if self.baseline_degree is not None:
+            if self.baseline == "none":
+                raise InputError("baseline_degree", "baseline = 'polynomial' (the degree is its polynomial's)",
+                                 self.baseline_degree)
+            if self.baseline_degree > MAX_BASELINE_DEGREE:
+                raise InputError("baseline_degree", f"an integer from 2 to {MAX_BASELINE_DEGREE}",
+                                 self.baseline_degree)
+        self._derive(recorded=self.signal)
+        if self.baseline != "none":
+            self._derive(signal=self._corrected())
         points = np.array(self.signal.breakpoints, dtype=float)
         if self.quantity != "displacement" or points.size == 0:
             return
@@ -209,6 +238,34 @@ class GroundMotion(Frozen):
                 Plain(f"a {self.signal.kind} signal jumping by {after[i] - predicted[i]:.6g} at "
                       f"t = {points[i]:.6g} s"),
             )
+
+    def _corrected(self) -> Table:
+        """The record with its baseline corrected (``baseline = "polynomial"``)."""
+        signal = self.signal
+        accelerogram = (self.quantity == "acceleration" and isinstance(signal, Table) and signal.slopes is None
+                        and signal.outside == "zero")
+        if not accelerogram:
+            raise InputError("baseline", "'none' unless the ground is an accelerogram (quantity = 'acceleration', "
+                             "a table signal with outside = 'zero' and no slopes)",
+                             Plain(f"'{self.baseline}' for a {self.quantity} {signal.kind} signal"))
+        degree = BASELINE_DEGREE if self.baseline_degree is None else self.baseline_degree
+        if signal.t.size < degree + 2:
+            raise InputError("baseline_degree" if self.baseline_degree is not None else "signal",
+                             f"a record of at least {degree + 2} samples for a baseline of degree {degree}",
+                             Plain(f"{signal.t.size} samples"))
+        values = polynomial_baseline(signal.t, signal.values, degree)
+        return Table(t=signal.t, values=values, outside="zero")
+
+    @property
+    def baseline_effect(self) -> tuple[float, float, tuple[float, float], int]:
+        """What the baseline correction changed: the largest change of acceleration [m/s^2], the record's peak as
+        given [m/s^2], its end velocity and displacement as given ``(v, d)`` [m/s, m] (the corrected record ends
+        at rest), and the polynomial's degree. For a ground with ``baseline`` set."""
+        recorded, scale = self.recorded, abs(self.scale)
+        change = scale * float(np.max(np.abs(np.asarray(self.signal.values) - recorded.values)))
+        v, d = integrate_record(recorded.t, self.scale * np.asarray(recorded.values))
+        degree = BASELINE_DEGREE if self.baseline_degree is None else self.baseline_degree
+        return change, scale * float(np.max(np.abs(recorded.values))), (float(v[-1]), float(d[-1])), degree
 
     @property
     def rigid_vector(self) -> np.ndarray:

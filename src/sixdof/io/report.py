@@ -498,7 +498,11 @@ def summary_markdown(scenario, modes, statics, damping_ratios, response, forces,
         parts += ["## Shock response spectra", "", srs_text(srs), ""]
     if response is not None:
         transient = PEAKS_WITH_TRANSIENT if steady is not None else ""
-        parts += ["## Time response", "", f"Peaks over the whole run{transient}.", "", _peaks_table(response), ""]
+        parts += ["## Time response", ""]
+        ground = scenario.excitation.ground if scenario.excitation is not None else None
+        if ground is not None and ground.baseline != "none":
+            parts += [baseline_text(ground), ""]
+        parts += [f"Peaks over the whole run{transient}.", "", peaks_text(response), ""]
         stats = response.stats
         parts += [f"Solver: {stats.solver}, rtol {stats.rtol:g}, atol {stats.atol:g} (per-DOF scaled), "
                   f"{stats.num_accepted} accepted and {stats.num_rejected} rejected steps", ""]
@@ -506,7 +510,8 @@ def summary_markdown(scenario, modes, statics, damping_ratios, response, forces,
             limits = np.stack([m.max_deflection for m in scenario.system.mounts])
             parts += ["### Mount checks", "", mount_check_text(mount_check, limits), ""]
         if points:
-            parts += ["### Body points", "", points_table(points, moving_ground(scenario), steady is not None), ""]
+            parts += ["### Body points", "", points_table(points, moving_ground(scenario), steady is not None,
+                                                          ground=response), ""]
         parts += ["### Peak mount forces (dynamic part, about static equilibrium; body axes)", "",
                   _mount_peaks_table(forces), ""]
         if nonlinear is not None:
@@ -526,15 +531,45 @@ def summary_markdown(scenario, modes, statics, damping_ratios, response, forces,
     return "\n".join(parts)
 
 
-def _peaks_table(response) -> str:
+def peaks_text(response) -> str:
+    """The peaks of each DOF over a run (:class:`~sixdof.results.TimeHistory`): where the ground moves, those
+    relative to it first (what the mounts feel, free of the ground's drift), then the absolute ones."""
+    if not ground_in_motion(response):
+        return _peaks_table(response.t, response.q, response.qd, response.qdd)
+    return ("Relative to the ground (what the mounts feel):\n\n"
+            + _peaks_table(response.t, response.q_relative, response.qd_relative, response.qdd_relative)
+            + "\n\nAbsolute (fixed frame, the ground's own motion included):\n\n"
+            + _peaks_table(response.t, response.q, response.qd, response.qdd))
+
+
+def baseline_text(ground) -> str:
+    """What the baseline correction of a ground record changed (a :class:`~sixdof.excitation.GroundMotion` with
+    ``baseline`` set): the largest change of acceleration, and where the record as given ended."""
+    change, peak, (v, d), degree = ground.baseline_effect
+    how = ("a straight line off the acceleration, the one that brings it to rest at its end" if degree == 2 else
+           "the least-squares fit to its velocity, brought to rest at its end")
+    return _wrapped(f"Ground record baseline-corrected ({ground.baseline} of degree {degree} in velocity: {how}; "
+                    "Boore 2001, Boore, Stephens & Joyner 2002): "
+                    f"acceleration changed by at most {change:.3g} m/s² ({100 * change / peak:.3g} % of its peak "
+                    f"{peak:.3g} m/s²); as given, the record ended at {v:.3g} m/s and {d:.3g} m, corrected "
+                    "at rest.")
+
+
+def ground_in_motion(response) -> bool:
+    """Whether the ground under a run (:class:`~sixdof.results.TimeHistory`) moves: present and not all zero."""
+    return response.has_ground and bool(np.any(response.ground_displacement) or np.any(response.ground_acceleration))
+
+
+def _peaks_table(t, q, qd, qdd) -> str:
+    """Peak ``q`` (signed, with its time), ``|q'|`` and ``|q''|`` of each DOF, arrays (n, 6) at times ``t``."""
     rows = []
     for i, (dof, unit) in enumerate(zip(DOFS, DOF_UNITS)):
-        k = int(np.argmax(np.abs(response.q[:, i])))
+        k = int(np.argmax(np.abs(q[:, i])))
         cells = []
-        for order, values in enumerate((response.q[:, i], response.qd[:, i], response.qdd[:, i])):
+        for order, values in enumerate((q[:, i], qd[:, i], qdd[:, i])):
             scale, shown = display_unit(values, unit + ("", "/s", "/s^2")[order])
             cells.append(f"{scale * (values[k] if order == 0 else np.max(np.abs(values))):.5g} {shown}")
-        rows.append([dof, cells[0], f"{response.t[k]:.3f}", cells[1], cells[2]])
+        rows.append([dof, cells[0], f"{t[k]:.3f}", cells[1], cells[2]])
     return table(["DOF", "peak q", "at t [s]", "peak |q'|", "peak |q''|"], rows)
 
 
@@ -638,25 +673,35 @@ def moving_ground(scenario) -> bool:
 PEAKS_WITH_TRANSIENT = ", the switch-on transient included"
 
 
-def points_table(points, ground_moves: bool = False, steady: bool = False) -> str:
+def points_table(points, ground_moves: bool = False, steady: bool = False, ground=None) -> str:
     """Peak motion of each body point over the run (:class:`sixdof.analysis.response.PointMotion` by name),
-    per body axis: displacement and acceleration, and the largest acceleration in g; said to be absolute when
-    ``ground_moves`` (the ground's own displacement, maybe a drift far larger than the mounts', is in it), and to
-    include the switch-on transient when the run has a ``steady`` state."""
+    per body axis: displacement and acceleration, and the largest acceleration in g. Absolute motion is said to
+    be absolute when ``ground_moves`` (the ground's own displacement, maybe a drift far larger than the mounts',
+    is in it); given the run's ``ground`` (its :class:`~sixdof.results.TimeHistory`, at the points' times), the
+    displacement relative to the ground comes first. Said to include the switch-on transient when the run has
+    a ``steady`` state."""
+    relative = any(motion.relative for motion in points.values())
+    beside = None  # the displacement relative to the ground, before the absolute one
+    if ground is not None and not relative and ground_moves and ground.has_ground:
+        beside = {name: np.max(np.abs(m.displacement - ground.ground_displacement), axis=0)
+                  for name, m in points.items()}
     displacements = {name: np.max(np.abs(m.displacement), axis=0) for name, m in points.items()}
     accelerations = {name: np.max(np.abs(m.acceleration), axis=0) for name, m in points.items()}
-    scale, shown = display_unit(np.concatenate(list(displacements.values())), "m")
+    scale, shown = display_unit(np.concatenate(list(displacements.values()) + list((beside or {}).values())), "m")
     rows = [[name, ", ".join(f"{v:.4g}" for v in motion.position),
+             *(f"{scale * v:.4g}" for v in (beside[name] if beside else ())),
              *(f"{scale * v:.4g}" for v in displacements[name]), *(f"{a:.4g}" for a in accelerations[name]),
              f"{accelerations[name].max() / STANDARD_GRAVITY:.3g}"] for name, motion in points.items()]
-    relative = any(motion.relative for motion in points.values())
-    headers = ["point", "position [m]", *(f"peak {a} [{shown}]" for a in "xyz"),
+    headers = ["point", "position [m]", *(f"peak {a} rel [{shown}]" for a in ("xyz" if beside else "")),
+               *(f"peak {a}{' abs' if beside else ''} [{shown}]" for a in "xyz"),
                *(f"peak a{a} [m/s^2]" for a in "xyz"), "peak a [g]"]
     frame = ("Motion relative to the ground. " if relative else
+             "Displacement relative to the ground (rel: what the mounts feel) first, then absolute (abs: fixed "
+             "frame, the ground's own motion included); accelerations absolute (what the body feels). " if beside else
              "Absolute motion (fixed frame), the ground's own motion included; the mounts' deflections are "
              "relative to it. " if ground_moves else "")
     return (frame + f"Peaks over the run{PEAKS_WITH_TRANSIENT if steady else ''}:\n"
-            + table(headers, rows, "llrrrrrrr"))
+            + table(headers, rows, "ll" + "r" * (len(headers) - 2)))
 
 
 def _mount_peaks_table(forces) -> str:

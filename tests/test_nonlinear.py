@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 import scipy.integrate
 
-from sixdof import Mount, Rayleigh, RigidBody, System
+from sixdof import Maxwell, Mount, Rayleigh, RigidBody, System
 from sixdof.analysis.contact import ENERGY_TOLERANCE, contact_summary, energy_balance, total_deflection
 from sixdof.analysis.direct import SimulationSettings, is_nonlinear, simulate
 from sixdof.analysis.response import mount_forces
@@ -401,41 +401,45 @@ def test_contacts_changing_within_one_step_are_located_in_time_order():
 # ----------------------------------------------------------------------------------------------------
 
 KV_MASS, KV_K, KV_C, KV_V0 = 100.0, 2.5e4, 300.0, 0.5  # kg; N/m, N s/m per mount along w; m/s upwards
+KV_TAU = 0.01  # s: relaxation time of a Maxwell branch
 
 
-def kelvin_voigt_system() -> System:
-    """A body on four mounts along w that lift off (spring KV_K and dashpot KV_C in parallel), at rest under
-    gravity: symmetric, so a vertical velocity moves z alone, m z'' = -m g - min(K d + C d', 0) (K = 4 k,
-    C = 4 c, zeta = 0.19) while the mounts touch (d < 0), nothing else while they have lifted off."""
+def kelvin_voigt_system(branch: float) -> System:
+    """A body on four mounts along w that lift off (spring KV_K and dashpot KV_C in parallel, and a Maxwell branch
+    of stiffness ``branch`` [N/m] and KV_TAU if ``branch`` > 0), at rest under gravity: symmetric, so a vertical
+    velocity moves z alone, m z'' = -m g - min(K d + C d' + F_b, 0) (K = 4 k, C = 4 c, zeta = 0.19, F_b the
+    branches' force) while the mounts touch (d < 0), nothing else while they have lifted off."""
     mounts = [Mount(f"m{i}", p, [2e5, 2e5, KV_K], damping=[0.0, 0.0, KV_C], tension=False)
               for i, p in enumerate(corners(0.4, 0.3, 0.1))]
-    system = System(RigidBody(KV_MASS, [10.0, 12.0, 14.0]), mounts)
+    branches = [Maxwell(f"b{i}", f"m{i}", [0.0, 0.0, branch], KV_TAU) for i in range(4)] if branch else []
+    system = System(RigidBody(KV_MASS, [10.0, 12.0, 14.0]), mounts, maxwell=branches)
     return at_equilibrium(system, gravity_statics(system))
 
 
-def kelvin_voigt_reference(times):
+def kelvin_voigt_reference(times, branch: float):
     """The total deflection d and its rate of the body thrown upwards at KV_V0 from rest, integrated here with
-    scipy's DOP853 phase by phase: in contact until the load K d + C d' reaches zero (it pulls from then on), in
-    flight (d'' = -g) until d < 0 and K d + C d' < 0 both hold. Returns (n, 2) and the events (t, "lift"/"touch",
-    d)."""
-    K, C, g = 4 * KV_K, 4 * KV_C, STANDARD_GRAVITY
+    scipy's DOP853 phase by phase: in contact until the load K d + C d' + F_b reaches zero (it pulls from then on),
+    in flight (d'' = -g) until d < 0 and K d + C d' + F_b < 0 both hold. The branches' force follows
+    F_b' = 4 k_b d' - F_b / tau in contact, F_b' = -F_b / tau (unloaded) in flight. Returns (n, 3) and the events
+    (t, "lift"/"touch", d)."""
+    K, C, KB, g = 4 * KV_K, 4 * KV_C, 4 * branch, STANDARD_GRAVITY
 
     def contact(t, y):
-        return [y[1], -g - (K * y[0] + C * y[1]) / KV_MASS]
+        return [y[1], -g - (K * y[0] + C * y[1] + y[2]) / KV_MASS, KB * y[1] - y[2] / KV_TAU]
 
     def flight(t, y):
-        return [y[1], -g]
+        return [y[1], -g, -y[2] / KV_TAU]
 
     def lifts(t, y):
-        return K * y[0] + C * y[1]
+        return K * y[0] + C * y[1] + y[2]
 
     def touches(t, y):
-        return max(y[0], (K * y[0] + C * y[1]) / K)
+        return max(y[0], lifts(t, y) / K)
 
     lifts.terminal = touches.terminal = True
     lifts.direction, touches.direction = 1, -1
-    y, t, touching = np.array([-KV_MASS * g / K, KV_V0]), 0.0, True
-    out, events = np.full((times.size, 2), np.nan), []
+    y, t, touching = np.array([-KV_MASS * g / K, KV_V0, 0.0]), 0.0, True
+    out, events = np.full((times.size, 3), np.nan), []
     while t < times[-1]:
         solution = scipy.integrate.solve_ivp(contact if touching else flight, (t, times[-1]), y, method="DOP853",
                                              rtol=1e-12, atol=1e-15, events=lifts if touching else touches,
@@ -450,20 +454,24 @@ def kelvin_voigt_reference(times):
     return out, events
 
 
-def test_a_spring_and_dashpot_that_cannot_pull_lift_off_where_their_load_turns():
-    system = kelvin_voigt_system()
+@pytest.mark.parametrize("branch", [0.0, 2.0e4], ids=["spring and dashpot", "with a Maxwell branch"])
+def test_a_spring_and_dashpot_that_cannot_pull_lift_off_where_their_load_turns(branch):
+    system = kelvin_voigt_system(branch)
     settings = SimulationSettings(duration=0.5, sample_rate_hz=2000.0)
     history = simulate(system, Excitation(initial=InitialState(qd=[0.0, 0.0, KV_V0, 0.0, 0.0, 0.0])), settings)
-    reference, events = kelvin_voigt_reference(history.t)
+    reference, events = kelvin_voigt_reference(history.t, branch)
     static = system.equilibrium[2]
     np.testing.assert_allclose(static, -KV_MASS * STANDARD_GRAVITY / (4 * KV_K), rtol=RTOL_STATICS)
     for mine, exact in ((static + history.q[:, 2], reference[:, 0]), (history.qd[:, 2], reference[:, 1])):
         assert np.max(np.abs(mine - exact)) <= RTOL_DIRECT_EXACT * np.max(np.abs(exact))
-    # One lift-off and one touch-down, per mount, at the reference's times: the lift-off 5 mm below the unloaded
+    if branch:
+        force = history.maxwell_force.sum(axis=1)
+        assert np.max(np.abs(force - reference[:, 2])) <= RTOL_DIRECT_EXACT * np.max(np.abs(reference[:, 2]))
+    # One lift-off and one touch-down, per mount, at the reference's times: the lift-off 5 or 7 mm below the unloaded
     # mount (the dashpot would pull from there), not where the spring's deflection crosses zero.
     assert [kind for _, kind, _ in events] == ["lift", "touch"]
     lift, touch = events[0][0], events[1][0]
-    assert events[0][2] < -4e-3 and abs(events[1][2]) < 1e-12
+    assert events[0][2] < -2e-3 and abs(events[1][2]) < 1e-12
     contacts = history.contacts
     np.testing.assert_array_equal(contacts.law, np.repeat(np.arange(4)[None], 2, axis=0).ravel())
     np.testing.assert_array_equal(contacts.region_to, [1] * 4 + [0] * 4)  # lifted, then in contact again

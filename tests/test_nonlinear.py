@@ -16,7 +16,7 @@ from sixdof.analysis.direct import SimulationSettings, is_nonlinear, simulate
 from sixdof.analysis.response import mount_forces
 from sixdof.analysis.statics import STANDARD_GRAVITY, at_equilibrium, gravity_statics
 from sixdof.errors import InputError, ScenarioError
-from sixdof.excitation import Excitation, InitialState, Load
+from sixdof.excitation import Excitation, GroundMotion, InitialState, Load
 from sixdof.excitation.signals import HalfSine
 from sixdof.io.scenario import load_scenario, parse_scenario
 from sixdof.model.nonlinear import ForceDeflection
@@ -485,6 +485,91 @@ def test_a_spring_and_dashpot_that_cannot_pull_lift_off_where_their_load_turns(b
     assert flying.sum() > 100 and np.all(w[:, flying] == 0.0)
     balance = energy_balance(system, history)  # the spring's 0.5 J let go of at lift-off counted as dissipated
     assert balance.ok, balance.worst
+
+
+GROUND_DROP, GROUND_PULSE = -0.02, (0.01, 0.02)  # m; s: start, duration of the half-sine ground displacement
+
+
+def dropping_ground_reference(times):
+    """The body of :func:`kelvin_voigt_system` (no branch) at rest when the ground drops GROUND_DROP and comes back
+    in a half-sine, integrated here with scipy's DOP853 in the body's absolute displacement y about its rest
+    position, piece by piece of the ground's motion (its velocity jumps at the pulse's ends) and phase by phase of
+    the contact: d = d_s + y - u_g, d' = y' - v_g, y'' = -g - min(K d + C d', 0) / m while in contact (until the
+    load reaches zero, or jumps past it at a piece's start), y'' = -g in flight (until d < 0 and the load < 0).
+    Returns y, y' (n, 2) and the times of the events with their kinds."""
+    K, C, g = 4 * KV_K, 4 * KV_C, STANDARD_GRAVITY
+    start, duration = GROUND_PULSE
+    d_s = -KV_MASS * g / K
+
+    def ground(t, pulse):  # u_g, v_g, on a piece of the motion (the pulse's or not) up to its ends included
+        if pulse:
+            phase = np.pi * (t - start) / duration
+            return GROUND_DROP * np.sin(phase), GROUND_DROP * np.pi / duration * np.cos(phase)
+        return 0.0, 0.0
+
+    def load(t, y, pulse):
+        u, v = ground(t, pulse)
+        return K * (d_s + y[0] - u) + C * (y[1] - v)
+
+    def contact(t, y, pulse):
+        return [y[1], -g - load(t, y, pulse) / KV_MASS]
+
+    def flight(t, y, pulse):
+        return [y[1], -g]
+
+    def lifts(t, y, pulse):
+        return load(t, y, pulse)
+
+    def touches(t, y, pulse):
+        return max(d_s + y[0] - ground(t, pulse)[0], load(t, y, pulse) / K)
+
+    lifts.terminal = touches.terminal = True
+    lifts.direction, touches.direction = 1, -1
+    y, t, touching = np.zeros(2), 0.0, True
+    out, events = np.full((times.size, 2), np.nan), []
+    ends = [start, start + duration, times[-1]]
+    while t < times[-1]:
+        pulse = start <= t < start + duration
+        if touching and lifts(t, y, pulse) > 0 or not touching and touches(t, y, pulse) < 0:  # jumped past zero
+            events.append((t, "lift" if touching else "touch"))
+            touching = not touching
+        stop = min(e for e in ends if e > t)
+        solution = scipy.integrate.solve_ivp(contact if touching else flight, (t, stop), y, method="DOP853",
+                                             rtol=1e-12, atol=1e-15, events=lifts if touching else touches,
+                                             dense_output=True, args=(pulse,))
+        assert solution.success
+        inside = (times >= t) & (times <= solution.t[-1])
+        out[inside] = solution.sol(times[inside]).T
+        y, t = solution.y[:, -1], solution.t[-1]
+        if solution.status == 1:
+            events.append((t, "lift" if touching else "touch"))
+            touching = not touching
+    return out, events
+
+
+def test_lift_off_when_the_ground_drops_away_with_a_jump_in_its_velocity():
+    """The ground's velocity jumps at the pulse's ends: the mounts' dashpot load jumps past zero there, which no step
+    brackets (it changes between one step's end and the next one's start). The body lifts off at the pulse's start,
+    and the ground comes back up into it 16 ms later."""
+    system = kelvin_voigt_system(0.0)
+    signal = HalfSine(start=GROUND_PULSE[0], duration=GROUND_PULSE[1])
+    excitation = Excitation(ground=GroundMotion(quantity="displacement", direction=[0.0, 0.0, 1.0], signal=signal,
+                                                scale=GROUND_DROP))
+    settings = SimulationSettings(duration=0.3, sample_rate_hz=2000.0)
+    history = simulate(system, excitation, settings)
+    reference, events = dropping_ground_reference(history.t)
+    for mine, exact in ((history.q[:, 2], reference[:, 0]), (history.qd[:, 2], reference[:, 1])):
+        assert np.max(np.abs(mine - exact)) <= RTOL_DIRECT_EXACT * np.max(np.abs(exact))
+    assert [kind for _, kind in events] == ["lift", "touch"] and events[0][0] == GROUND_PULSE[0]
+    contacts = history.contacts
+    for law in range(4):
+        mine = contacts.law == law
+        np.testing.assert_array_equal(contacts.region_to[mine], [1 if kind == "lift" else 0 for _, kind in events])
+        np.testing.assert_allclose(contacts.t[mine], [t for t, _ in events], rtol=0,
+                                   atol=RTOL_EVENT_TIME * settings.duration)
+    w = system.nonlinear.static_force[:, None] + mount_forces(system, history).local[:, :, 2]
+    assert w.max() <= 1e-12 * np.abs(w).max()
+    assert energy_balance(system, history).ok
 
 
 @pytest.mark.slow  # ~30 s on 2 cores: 4 s of the bridge at a 0.5 ms step cap

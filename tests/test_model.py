@@ -22,6 +22,7 @@ from tolerances import (
     RTOL_COMPLEX_DAMPING_RATIO,
     RTOL_DAMPING_RATIO,
     RTOL_FREQUENCY,
+    RTOL_ILL_CONDITIONED_STATICS,
     RTOL_LINALG,
     RTOL_STATICS,
     RTOL_ZERO_ENTRY,
@@ -206,10 +207,62 @@ def test_statics_closed_form_and_uplift():
     assert statics.uplift == ("far",)
 
 
-@pytest.mark.parametrize("position, stiffness", [([0, 0, 0], [1e3, 1e3, 0]),  # nothing vertical: it falls
-                                                  ([0.3, 0.2, -0.5], [1e3, 1e3, 1e4])])  # off the CG: it tips over
-def test_statics_refuses_a_body_that_cannot_carry_its_weight(position, stiffness):
-    system = System(RigidBody(1.0, [1.0, 1.0, 1.0]), [Mount("one", position, stiffness)])
+def exact_solve(A, b):
+    """``A x = b`` by Gaussian elimination in exact rational arithmetic (no rounding at all)."""
+    from fractions import Fraction
+
+    n = len(b)
+    rows = [[Fraction(float(v)) for v in A[i]] + [Fraction(float(b[i]))] for i in range(n)]
+    for i in range(n):
+        pivot = next(r for r in range(i, n) if rows[r][i] != 0)
+        rows[i], rows[pivot] = rows[pivot], rows[i]
+        for r in range(n):
+            if r != i and rows[r][i] != 0:
+                factor = rows[r][i] / rows[i][i]
+                rows[r] = [a - factor * c for a, c in zip(rows[r], rows[i])]
+    return np.array([float(rows[i][n] / rows[i][i]) for i in range(n)])
+
+
+@pytest.mark.parametrize("stops", [False, True], ids=["linear", "bump stops never reached (Newton)"])
+def test_statics_of_an_ill_conditioned_layout(stops):
+    """One mount of 1e12 N/m and three of 1e4 N/m: K is non-singular (condition 2e8), the body sags about the stiff
+    mount as about a pin. Against the exact (rational) solution of K q = W, with K assembled here."""
+    stiffness = [1e12, 1e4, 1e4, 1e4]
+    positions = [np.array([sx * 0.5, sy * 0.5, -0.5]) for sx, sy in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+    stop = dict(bump_clearance=[np.inf, np.inf, 0.5], bump_stiffness=[0.0, 0.0, 1e5]) if stops else {}
+    system = System(RigidBody(500.0, [40.0, 60.0, 80.0]),
+                    [Mount(f"m{i}", p, [k] * 3, **stop) for i, (p, k) in enumerate(zip(positions, stiffness))])
+    assert bool(system.nonlinear.count) == stops
+    rows = [np.concatenate([e, np.cross(p, e)]) for p in positions for e in np.eye(3)]  # deflection per unit q
+    K = sum(k * np.outer(r, r) for k, r in zip(np.repeat(stiffness, 3), rows))
+    W = np.array([0.0, 0.0, -500.0 * 9.80665, 0.0, 0.0, 0.0])
+    exact = exact_solve(K, W)
+    statics = gravity_statics(system)
+    assert np.abs(statics.q - exact).max() <= RTOL_ILL_CONDITIONED_STATICS * np.abs(exact).max()
+    assert exact[2] == pytest.approx(-0.0817, abs=1e-4) and np.linalg.norm(exact[3:]) == pytest.approx(0.1156, abs=1e-4)
+    # The stiff mount's 5 nm deflection is a difference of rotations and translations of ~0.08: its load, 1e12 N/m
+    # times that, keeps ~4e-9 of the weight's digits (measured 3.6e-9).
+    assert statics.support.sum() == pytest.approx(500.0 * 9.80665, rel=RTOL_ILL_CONDITIONED_STATICS)
+
+
+def test_statics_of_a_free_motion_that_gravity_does_not_drive():
+    """Two mounts on a line under the CG: rolling about that line is free, but the weight does not drive it; each
+    mount carries half the weight and nothing rolls."""
+    system = System(RigidBody(10.0, [1.0, 1.0, 1.0]),
+                    [Mount("a", [0.0, -1.0, -0.3], [1e3, 1e3, 1e4]), Mount("b", [0.0, 1.0, -0.3], [1e3, 1e3, 1e4])])
+    statics = gravity_statics(system)
+    assert statics.support == pytest.approx([49.0332500, 49.0332500], rel=RTOL_STATICS)
+    assert statics.q[2] == pytest.approx(-98.0665 / 2e4, rel=RTOL_STATICS)
+    assert np.abs(statics.q[[0, 1, 3, 4, 5]]).max() <= RTOL_STATICS * abs(statics.q[2])
+
+
+@pytest.mark.parametrize("mounts", [[Mount("one", [0, 0, 0], [1e3, 1e3, 0])],  # nothing vertical: it falls
+                                    [Mount("one", [0.3, 0.2, -0.5], [1e3, 1e3, 1e4])],  # off the CG: it tips over
+                                    # on a line beside the CG: it rolls about the line
+                                    [Mount("a", [0.1, -1.0, -0.3], [1e3, 1e3, 1e4]),
+                                     Mount("b", [0.1, 1.0, -0.3], [1e12, 1e12, 1e12])]])
+def test_statics_refuses_a_body_that_cannot_carry_its_weight(mounts):
+    system = System(RigidBody(1.0, [1.0, 1.0, 1.0]), mounts)
     with pytest.raises(InputError, match=r"mounts: expected mounts that can carry the body's weight and its moment, "
                                          r"got 'a layout that leaves a motion gravity drives unresisted"):
         gravity_statics(system)

@@ -10,14 +10,15 @@ import numpy as np
 import pytest
 import scipy.integrate
 
-from sixdof import Mount, Rayleigh, RigidBody, System
+from sixdof import Maxwell, Mount, Rayleigh, RigidBody, System
 from sixdof.analysis.contact import ENERGY_TOLERANCE, contact_summary, energy_balance, total_deflection
 from sixdof.analysis.direct import SimulationSettings, is_nonlinear, simulate
+from sixdof.analysis.response import mount_forces
 from sixdof.analysis.statics import STANDARD_GRAVITY, at_equilibrium, gravity_statics
 from sixdof.errors import InputError, ScenarioError
-from sixdof.excitation import Excitation, InitialState, Load
+from sixdof.excitation import Excitation, GroundMotion, InitialState, Load
 from sixdof.excitation.signals import HalfSine
-from sixdof.io.scenario import parse_scenario
+from sixdof.io.scenario import load_scenario, parse_scenario
 from sixdof.model.nonlinear import ForceDeflection
 from systems import FOUR_MOUNT_CORNERS
 from tolerances import RTOL_DIRECT_EXACT, RTOL_STATICS
@@ -393,6 +394,198 @@ def test_contacts_changing_within_one_step_are_located_in_time_order():
     exact = reference[:, :6]
     error = np.max(np.abs(history.q - exact), axis=0) / np.max(np.abs(exact), axis=0)
     assert np.all(error <= RTOL_DIRECT_EXACT), error
+
+
+# ----------------------------------------------------------------------------------------------------
+# 3b. A unilateral spring and dashpot: the whole mount carries no tension (issue 45).
+# ----------------------------------------------------------------------------------------------------
+
+KV_MASS, KV_K, KV_C, KV_V0 = 100.0, 2.5e4, 300.0, 0.5  # kg; N/m, N s/m per mount along w; m/s upwards
+KV_TAU = 0.01  # s: relaxation time of a Maxwell branch
+
+
+def kelvin_voigt_system(branch: float) -> System:
+    """A body on four mounts along w that lift off (spring KV_K and dashpot KV_C in parallel, and a Maxwell branch
+    of stiffness ``branch`` [N/m] and KV_TAU if ``branch`` > 0), at rest under gravity: symmetric, so a vertical
+    velocity moves z alone, m z'' = -m g - min(K d + C d' + F_b, 0) (K = 4 k, C = 4 c, zeta = 0.19, F_b the
+    branches' force) while the mounts touch (d < 0), nothing else while they have lifted off."""
+    mounts = [Mount(f"m{i}", p, [2e5, 2e5, KV_K], damping=[0.0, 0.0, KV_C], tension=False)
+              for i, p in enumerate(corners(0.4, 0.3, 0.1))]
+    branches = [Maxwell(f"b{i}", f"m{i}", [0.0, 0.0, branch], KV_TAU) for i in range(4)] if branch else []
+    system = System(RigidBody(KV_MASS, [10.0, 12.0, 14.0]), mounts, maxwell=branches)
+    return at_equilibrium(system, gravity_statics(system))
+
+
+def kelvin_voigt_reference(times, branch: float):
+    """The total deflection d and its rate of the body thrown upwards at KV_V0 from rest, integrated here with
+    scipy's DOP853 phase by phase: in contact until the load K d + C d' + F_b reaches zero (it pulls from then on),
+    in flight (d'' = -g) until d < 0 and K d + C d' + F_b < 0 both hold. The branches' force follows
+    F_b' = 4 k_b d' - F_b / tau in contact, F_b' = -F_b / tau (unloaded) in flight. Returns (n, 3) and the events
+    (t, "lift"/"touch", d)."""
+    K, C, KB, g = 4 * KV_K, 4 * KV_C, 4 * branch, STANDARD_GRAVITY
+
+    def contact(t, y):
+        return [y[1], -g - (K * y[0] + C * y[1] + y[2]) / KV_MASS, KB * y[1] - y[2] / KV_TAU]
+
+    def flight(t, y):
+        return [y[1], -g, -y[2] / KV_TAU]
+
+    def lifts(t, y):
+        return K * y[0] + C * y[1] + y[2]
+
+    def touches(t, y):
+        return max(y[0], lifts(t, y) / K)
+
+    lifts.terminal = touches.terminal = True
+    lifts.direction, touches.direction = 1, -1
+    y, t, touching = np.array([-KV_MASS * g / K, KV_V0, 0.0]), 0.0, True
+    out, events = np.full((times.size, 3), np.nan), []
+    while t < times[-1]:
+        solution = scipy.integrate.solve_ivp(contact if touching else flight, (t, times[-1]), y, method="DOP853",
+                                             rtol=1e-12, atol=1e-15, events=lifts if touching else touches,
+                                             dense_output=True)
+        assert solution.success
+        inside = (times >= t) & (times <= solution.t[-1])
+        out[inside] = solution.sol(times[inside]).T
+        y, t = solution.y[:, -1], solution.t[-1]
+        if solution.status == 1:
+            events.append((t, "lift" if touching else "touch", y[0]))
+            touching = not touching
+    return out, events
+
+
+@pytest.mark.parametrize("branch", [0.0, 2.0e4], ids=["spring and dashpot", "with a Maxwell branch"])
+def test_a_spring_and_dashpot_that_cannot_pull_lift_off_where_their_load_turns(branch):
+    system = kelvin_voigt_system(branch)
+    settings = SimulationSettings(duration=0.5, sample_rate_hz=2000.0)
+    history = simulate(system, Excitation(initial=InitialState(qd=[0.0, 0.0, KV_V0, 0.0, 0.0, 0.0])), settings)
+    reference, events = kelvin_voigt_reference(history.t, branch)
+    static = system.equilibrium[2]
+    np.testing.assert_allclose(static, -KV_MASS * STANDARD_GRAVITY / (4 * KV_K), rtol=RTOL_STATICS)
+    for mine, exact in ((static + history.q[:, 2], reference[:, 0]), (history.qd[:, 2], reference[:, 1])):
+        assert np.max(np.abs(mine - exact)) <= RTOL_DIRECT_EXACT * np.max(np.abs(exact))
+    if branch:
+        force = history.maxwell_force.sum(axis=1)
+        assert np.max(np.abs(force - reference[:, 2])) <= RTOL_DIRECT_EXACT * np.max(np.abs(reference[:, 2]))
+    # One lift-off and one touch-down, per mount, at the reference's times: the lift-off 5 or 7 mm below the unloaded
+    # mount (the dashpot would pull from there), not where the spring's deflection crosses zero.
+    assert [kind for _, kind, _ in events] == ["lift", "touch"]
+    lift, touch = events[0][0], events[1][0]
+    assert events[0][2] < -2e-3 and abs(events[1][2]) < 1e-12
+    contacts = history.contacts
+    np.testing.assert_array_equal(contacts.law, np.repeat(np.arange(4)[None], 2, axis=0).ravel())
+    np.testing.assert_array_equal(contacts.region_to, [1] * 4 + [0] * 4)  # lifted, then in contact again
+    np.testing.assert_allclose(contacts.t, np.repeat([lift, touch], 4), rtol=0,
+                               atol=RTOL_EVENT_TIME * settings.duration)
+    # No mount ever pulls: the w load of each, static included, is <= 0 but for round-off, and 0 while lifted.
+    forces = mount_forces(system, history)
+    w = system.nonlinear.static_force[:, None] + forces.local[:, :, 2]
+    assert w.max() <= 1e-12 * np.abs(w).max()
+    flying = (history.t > lift) & (history.t < touch)
+    assert flying.sum() > 100 and np.all(w[:, flying] == 0.0)
+    balance = energy_balance(system, history)  # the spring's 0.5 J let go of at lift-off counted as dissipated
+    assert balance.ok, balance.worst
+
+
+GROUND_DROP, GROUND_PULSE = -0.02, (0.01, 0.02)  # m; s: start, duration of the half-sine ground displacement
+
+
+def dropping_ground_reference(times):
+    """The body of :func:`kelvin_voigt_system` (no branch) at rest when the ground drops GROUND_DROP and comes back
+    in a half-sine, integrated here with scipy's DOP853 in the body's absolute displacement y about its rest
+    position, piece by piece of the ground's motion (its velocity jumps at the pulse's ends) and phase by phase of
+    the contact: d = d_s + y - u_g, d' = y' - v_g, y'' = -g - min(K d + C d', 0) / m while in contact (until the
+    load reaches zero, or jumps past it at a piece's start), y'' = -g in flight (until d < 0 and the load < 0).
+    Returns y, y' (n, 2) and the times of the events with their kinds."""
+    K, C, g = 4 * KV_K, 4 * KV_C, STANDARD_GRAVITY
+    start, duration = GROUND_PULSE
+    d_s = -KV_MASS * g / K
+
+    def ground(t, pulse):  # u_g, v_g, on a piece of the motion (the pulse's or not) up to its ends included
+        if pulse:
+            phase = np.pi * (t - start) / duration
+            return GROUND_DROP * np.sin(phase), GROUND_DROP * np.pi / duration * np.cos(phase)
+        return 0.0, 0.0
+
+    def load(t, y, pulse):
+        u, v = ground(t, pulse)
+        return K * (d_s + y[0] - u) + C * (y[1] - v)
+
+    def contact(t, y, pulse):
+        return [y[1], -g - load(t, y, pulse) / KV_MASS]
+
+    def flight(t, y, pulse):
+        return [y[1], -g]
+
+    def lifts(t, y, pulse):
+        return load(t, y, pulse)
+
+    def touches(t, y, pulse):
+        return max(d_s + y[0] - ground(t, pulse)[0], load(t, y, pulse) / K)
+
+    lifts.terminal = touches.terminal = True
+    lifts.direction, touches.direction = 1, -1
+    y, t, touching = np.zeros(2), 0.0, True
+    out, events = np.full((times.size, 2), np.nan), []
+    ends = [start, start + duration, times[-1]]
+    while t < times[-1]:
+        pulse = start <= t < start + duration
+        if touching and lifts(t, y, pulse) > 0 or not touching and touches(t, y, pulse) < 0:  # jumped past zero
+            events.append((t, "lift" if touching else "touch"))
+            touching = not touching
+        stop = min(e for e in ends if e > t)
+        solution = scipy.integrate.solve_ivp(contact if touching else flight, (t, stop), y, method="DOP853",
+                                             rtol=1e-12, atol=1e-15, events=lifts if touching else touches,
+                                             dense_output=True, args=(pulse,))
+        assert solution.success
+        inside = (times >= t) & (times <= solution.t[-1])
+        out[inside] = solution.sol(times[inside]).T
+        y, t = solution.y[:, -1], solution.t[-1]
+        if solution.status == 1:
+            events.append((t, "lift" if touching else "touch"))
+            touching = not touching
+    return out, events
+
+
+def test_lift_off_when_the_ground_drops_away_with_a_jump_in_its_velocity():
+    """The ground's velocity jumps at the pulse's ends: the mounts' dashpot load jumps past zero there, which no step
+    brackets (it changes between one step's end and the next one's start). The body lifts off at the pulse's start,
+    and the ground comes back up into it 16 ms later."""
+    system = kelvin_voigt_system(0.0)
+    signal = HalfSine(start=GROUND_PULSE[0], duration=GROUND_PULSE[1])
+    excitation = Excitation(ground=GroundMotion(quantity="displacement", direction=[0.0, 0.0, 1.0], signal=signal,
+                                                scale=GROUND_DROP))
+    settings = SimulationSettings(duration=0.3, sample_rate_hz=2000.0)
+    history = simulate(system, excitation, settings)
+    reference, events = dropping_ground_reference(history.t)
+    for mine, exact in ((history.q[:, 2], reference[:, 0]), (history.qd[:, 2], reference[:, 1])):
+        assert np.max(np.abs(mine - exact)) <= RTOL_DIRECT_EXACT * np.max(np.abs(exact))
+    assert [kind for _, kind in events] == ["lift", "touch"] and events[0][0] == GROUND_PULSE[0]
+    contacts = history.contacts
+    for law in range(4):
+        mine = contacts.law == law
+        np.testing.assert_array_equal(contacts.region_to[mine], [1 if kind == "lift" else 0 for _, kind in events])
+        np.testing.assert_allclose(contacts.t[mine], [t for t, _ in events], rtol=0,
+                                   atol=RTOL_EVENT_TIME * settings.duration)
+    w = system.nonlinear.static_force[:, None] + mount_forces(system, history).local[:, :, 2]
+    assert w.max() <= 1e-12 * np.abs(w).max()
+    assert energy_balance(system, history).ok
+
+
+@pytest.mark.slow  # ~30 s on 2 cores: 4 s of the bridge at a 0.5 ms step cap
+def test_bridge_bearings_that_cannot_pull_never_pull():
+    """bridge_beam_uplift: bearings 3 and 4 lift off, and none of the four, all tension = false, ever pulls (its
+    largest w load, static included, is <= 0 but for round-off; the dashpots used to pull 0.82 kN first)."""
+    scenario = load_scenario("scenarios/bridge_beam_uplift.toml")
+    system = scenario.system
+    history = simulate(system, scenario.excitation, scenario.simulation)
+    w = system.nonlinear.static_force[:, None] + mount_forces(system, history).local[:, :, 2]
+    assert not any(mount.tension for mount in system.mounts)
+    assert np.all(w.max(axis=1) <= 1e-12 * np.abs(w).max())
+    lifted = np.unique(history.contacts.law[history.contacts.region_to == system.nonlinear.lifted_region[0]])
+    assert system.nonlinear.names[0] == "1 w" and lifted.tolist() == [2, 3]  # bearings 3 and 4
+    assert np.all(w[2:].max(axis=1) == 0.0)  # and carried nothing while lifted
+    assert energy_balance(system, history).ok
 
 
 # ----------------------------------------------------------------------------------------------------

@@ -204,17 +204,22 @@ def with_extremes(balance: EnergyBalance, peak: float, scale: float) -> EnergyBa
 
 def stored_energy(system, response) -> np.ndarray:
     """Energy stored in the mounts about the static equilibrium (n,) [J]: the linearized springs ``z' K z / 2``,
-    the nonlinear laws' excess over their tangent, the Maxwell branches' springs ``f^2 / (2 k)``."""
+    the nonlinear laws' excess over their tangent, the Maxwell branches' springs ``f^2 / (2 k)``. A mount lifted off
+    stores nothing in its spring (the direct solve counts what it let go of as dissipated)."""
     z = response.q_relative
     K = np.asarray(system.K)
     stored = 0.5 * np.einsum("ni,ij,nj->n", z, K, z)
     laws = system.nonlinear
+    branches = system.branches
     if laws.count:
         d = z @ laws.rows.T
         d_s = laws.static_deflection
-        excess = (laws.potential(d_s + d) - laws.potential(d_s) - laws.static_force * d - 0.5 * laws.tangent * d * d)
+        branch = 0.0 if not branches.count else (
+            response.maxwell_force @ laws.branch_map(branches.mount, branches.axis).T)
+        contact = laws.in_contact(d_s + d, response.qd_relative @ laws.rows.T, branch)
+        excess = (contact * laws.potential(d_s + d) - laws.potential(d_s) - laws.static_force * d
+                  - 0.5 * laws.tangent * d * d)
         stored = stored + excess.sum(axis=1)
-    branches = system.branches
     if branches.count:
         stored = stored + (response.maxwell_force ** 2 / (2 * branches.stiffness)).sum(axis=1)
     return stored

@@ -398,7 +398,6 @@ def _solve_segment(p, xs0, ts, t0, t1, jump_ts, rtol, atol, region, *, solver: s
     ended, whether an event ended it and which boundary (ne, 2: below, above).
     """
     import diffrax
-    import optimistix as optx
 
     A, B, sigma = p["A"], p["B"], p["sigma"]
     laws = p["laws"]
@@ -414,6 +413,10 @@ def _solve_segment(p, xs0, ts, t0, t1, jump_ts, rtol, atol, region, *, solver: s
     c = jnp.zeros(size).at[6:12].set(-Minv @ f0)
     # The dashpots of mounts lifted off are off: C_off z', z' = w - r v_g, no longer resists the motion.
     C_off = rows.T @ (((1.0 - pick(laws["contact"], region)) * laws["damping"])[:, None] * rows)
+    # So are the Maxwell branches of a lifted mount: they carry nothing and relax, f' = -f / tau.
+    lifts = laws["lifts"]
+    lifted = lifts & (region == laws["lifted_region"])
+    off = laws["branches"].T @ lifted.astype(A.dtype)
     big = 1e30
     padded = jnp.concatenate([jnp.full((knots.shape[0], 1), -jnp.inf), knots, jnp.full((knots.shape[0], 1), jnp.inf)],
                              axis=1)
@@ -426,7 +429,9 @@ def _solve_segment(p, xs0, ts, t0, t1, jump_ts, rtol, atol, region, *, solver: s
         """``x'`` in the region, and the input ``u``."""
         u = _input(t, x[12:14], p, code)
         dx = A @ x + B @ u + c
-        return dx.at[6:12].add(Minv @ (C_off @ dx[:6])), u
+        zd, f = dx[:6], x[14:]
+        dx = dx.at[6:12].add(Minv @ (C_off @ zd + R.T @ (off * f)))
+        return dx.at[14:].add(-off * k_b * (R @ zd)), u
 
     def field(t, ys, args):
         x = ys[:size] * sigma
@@ -434,24 +439,31 @@ def _solve_segment(p, xs0, ts, t0, t1, jump_ts, rtol, atol, region, *, solver: s
         z, w, f = x[:6], x[6:12], x[14:]
         zd = dx[:6]
         v_g = _ground_kinematics(code, p, t, x[12:14])[1]
-        mounts = K @ z + dK @ z + f0 + (C - C_off) @ zd + R.T @ f  # generalized force of the mounts on the foundation
+        # The generalized force of the mounts on the foundation.
+        mounts = K @ z + dK @ z + f0 + (C - C_off) @ zd + R.T @ ((1.0 - off) * f)
         power = p["vectors"].T @ u[:-1] @ w - v_g * (r @ mounts)  # the ground moves against the mounts' force
         loss = zd @ (C - C_off) @ zd + jnp.sum(f * f / (k_b * tau))
         return jnp.concatenate([dx, jnp.stack([power, loss])]) / scale
 
-    def deflection(ys):
-        return laws["static"] + rows @ (ys[:6] * sigma[:6])
-
     # Distances to the region's knots, below and above (ne, 2), over each axis's deflection scale: the event is the
-    # nearest reaching zero (one continuous function, which bisection brackets on the step's dense output).
+    # nearest reaching zero (one continuous function, which bisection brackets on the step's dense output). A mount
+    # that lifts off leaves contact where its whole load F = r(d) + c d' + f_b would pull (F / k_max, a deflection,
+    # reaching zero), and touches again where d < 0 and F < 0 both hold.
     delta, length = laws["hysteresis"], laws["hysteresis"] / REGION_HYSTERESIS
 
-    def distances(y):
-        d = deflection(y)
-        return jnp.stack([d - low + delta, high - d + delta], axis=1) / length[:, None]
+    def distances(t, y):
+        x = y[:size] * sigma
+        d = laws["static"] + rows @ x[:6]
+        rate = rows @ (x[6:12] - r * _ground_kinematics(code, p, t, x[12:14])[1])
+        at = jnp.sum(knots < d[:, None], axis=1)  # the region of d alone, lifted or not
+        load = pick(laws["intercept"], at) + pick(laws["slope"], at) * d + laws["damping"] * rate
+        e = (load + laws["branches"] @ x[14:]) / laws["stiffness_scale"]
+        below = jnp.where(lifted, jnp.maximum(d - low, e), d - low)
+        above = jnp.where(lifts & ~lifted, jnp.minimum(high - d, -e), high - d)
+        return jnp.stack([below + delta, above + delta], axis=1) / length[:, None]
 
-    event = diffrax.Event(lambda t, y, args, **kw: jnp.min(distances(y)), direction=False,
-                          root_finder=optx.Bisection(rtol=1e-12, atol=1e-12, flip="detect"))
+    event = diffrax.Event(lambda t, y, args, **kw: jnp.min(distances(t, y)), direction=False,
+                          root_finder=_event_bisection())
     # An event is a sign change between steps: capped steps see every excursion past a knot that lasts two steps.
     sol = solve_ode(field, xs0, t0, t1, diffrax.SaveAt(ts=ts, t1=True), jump_ts, rtol, atol, args=None,
                     solver=solver, max_steps=max_steps, event=event, dtmax=p["dtmax"])
@@ -467,11 +479,29 @@ def _solve_segment(p, xs0, ts, t0, t1, jump_ts, rtol, atol, region, *, solver: s
     qdd, Q, ground = jax.vmap(outputs)(ts, xs)
     energy = ys[:, size:] * p["energy_scale"]
     stats = jnp.stack([sol.stats["num_steps"], sol.stats["num_accepted_steps"], sol.stats["num_rejected_steps"]])
-    at_end = distances(sol.ys[last])
+    at_end = distances(sol.ts[last], sol.ys[last])
     crossed = (sol.result == diffrax.RESULTS.event_occurred) & (at_end == jnp.min(at_end))
     ok = (sol.result == diffrax.RESULTS.successful) | (sol.result == diffrax.RESULTS.event_occurred)
     result = jax.tree.leaves(sol.result)[0]
     return sol.ys[last], xs, qdd, Q, ground, ok, result, stats, energy, sol.ts[last], crossed
+
+
+def _event_bisection():
+    """The root finder of the events: bisection that stops once the time is bracketed to its tolerance.
+
+    The distances of :func:`_solve_segment` fall through zero at every event (``flip=True``), so it needs no check
+    that they change sign within the step, nor that they are near zero where it stops: a ground velocity that jumps
+    at a breakpoint (a kinked displacement, a table) makes a lift-off mount's dashpot load jump between one step's
+    end (just before the breakpoint) and the next one's start (just after). That next step is then past the event
+    at both ends, its value there is not small, and the root is its start.
+    """
+    import optimistix as optx
+
+    class EventBisection(optx.Bisection):
+        def terminate(self, fn, y, args, options, state, tags):
+            return jnp.abs(state.lower - state.upper) < self.atol + self.rtol * jnp.abs(y), optx.RESULTS.successful
+
+    return EventBisection(rtol=1e-12, atol=1e-12, flip=True)
 
 
 def _failure(result) -> str:
@@ -690,7 +720,7 @@ def _prepare(system: System, excitation: Excitation, settings: SimulationSetting
     if is_nonlinear(system):
         params = {**params, **_nonlinear_params(system, excitation, sigma, settings)}
         xs0 = np.concatenate([xs0, [0.0, 0.0]])  # the work done and the energy dissipated since the start
-        region = laws.region(laws.static_deflection + laws.rows @ x0[:6])
+        region = laws.state(*_law_motion(laws, params, code, r, t0, x0))
     example = _window_args(params, xs0, np.zeros(window + 1), t0, t1, np.zeros(slots), settings, region)
     solve = _compiled_window(example, solver=settings.solver, code=code, max_steps=settings.max_steps,
                              nonlinear=region is not None)
@@ -718,7 +748,9 @@ def _nonlinear_params(system: System, excitation: Excitation, sigma: np.ndarray,
     energy = 0.5 * float(np.sum(np.diag(M) * sigma[6:12] ** 2))
     return {"laws": {"rows": laws.rows, "knots": laws.knots, "slope": laws.slope, "intercept": laws.intercept,
                      "static": laws.static_deflection, "force": laws.static_force, "tangent": laws.tangent,
-                     "hysteresis": REGION_HYSTERESIS * scale_d, "contact": laws.contact, "damping": laws.damping},
+                     "hysteresis": REGION_HYSTERESIS * scale_d, "contact": laws.contact, "damping": laws.damping,
+                     "lifts": laws.lifts, "lifted_region": laws.lifted_region, "stiffness_scale": laws.stiffness_scale,
+                     "branches": laws.branch_map(branches.mount, branches.axis)},
             "Minv": np.linalg.inv(M), "C": np.asarray(system.C, dtype=float),
             "K": np.asarray(system.K, dtype=float), "R": branches.rows.reshape(-1, 6),
             "k_b": branches.stiffness, "tau": branches.tau,
@@ -878,9 +910,13 @@ def _segments(run: _Run, xs0: np.ndarray, region: np.ndarray, saves: np.ndarray,
             raise SolverError(f"direct solve: the contact of {laws.names[int(np.argmax(crossed.any(axis=1)))]} "
                               f"chatters at t = {t_end:.9g} s ({MAX_STALLED_EVENTS} changes of state without "
                               "moving on); give the stop damping or a softer contact stiffness")
-        new = _next_region(run, float(t_end), xs_end[:size] * run.sigma, region, crossed)
+        x_end = xs_end[:size] * run.sigma
+        new = _next_region(run, float(t_end), x_end, region, crossed)
         for e in np.flatnonzero(new != region):
             events.append((float(t_end), int(e), int(region[e]), int(new[e])))
+        d = laws.static_deflection + laws.rows @ x_end[:6]
+        xs_end = xs_end.copy()
+        xs_end[size + 1] += _released(laws, d, region, new) / run.params["energy_scale"][1]
         xs, t0, region = xs_end, float(t_end), new
     events = np.array(events, dtype=float).reshape(-1, 4)
     contacts = ContactEvents(names=laws.names, static_region=laws.static_region, t=readonly(events[:, 0]),
@@ -890,18 +926,47 @@ def _segments(run: _Run, xs0: np.ndarray, region: np.ndarray, saves: np.ndarray,
     return xs_end, x, qdd, Q, kin, True, result, steps, extra, region
 
 
+def _ground_velocity(params: dict, code: int, t: float, x: np.ndarray) -> float:
+    """The ground's velocity along its direction [m/s] at ``t`` and state ``x`` (:func:`_ground_kinematics`'s)."""
+    if code in (1, 2):
+        signal = params["ground_signal"]
+        value = signal.derivative(np.float64(t)) if code == 1 else signal(np.float64(t))
+        return float(params["ground_scale"] * np.asarray(value))
+    return float(x[13]) if code == 3 else 0.0
+
+
+def _law_motion(laws, params: dict, code: int, r: np.ndarray, t: float, x: np.ndarray):
+    """Each force law's deflection [m], its rate [m/s] (from the relative velocity ``z' = w - r v_g``) and the force
+    of its Maxwell branches [N] at time ``t`` and state ``x``."""
+    d = laws.static_deflection + laws.rows @ x[:6]
+    rate = laws.rows @ (x[6:12] - r * _ground_velocity(params, code, t, x))
+    return d, rate, params["laws"]["branches"] @ x[14:]
+
+
 def _next_region(run: _Run, t: float, x: np.ndarray, region: np.ndarray, crossed: np.ndarray) -> np.ndarray:
     """The force laws' regions after an event at time ``t`` and state ``x``: the triggered axis moves across its
-    knot (``crossed`` (ne, 2): below, above), and every axis sitting on a knot goes where it is moving."""
+    knot (``crossed`` (ne, 2): below, above), and every axis sitting on a knot goes where it is moving. A mount
+    that lifts off, lifted, stays so until its event; in contact, it lifts off where its load reached zero first."""
     laws, p = run.laws, run.params
-    d = laws.static_deflection + laws.rows @ x[:6]
-    v_g = x[13]  # the ground's velocity, a state unless the ground is given as a displacement:
-    if run.code == 1:
-        v_g = float(p["ground_scale"] * np.asarray(p["ground_signal"].derivative(np.float64(t))))
-    rate = laws.rows @ (x[6:12] - run.r * v_g)  # d' from the relative velocity z' = w - r v_g
+    d, rate, branch = _law_motion(laws, p, run.code, run.r, t, x)
     ahead = laws.region(d + np.sign(rate) * p["laws"]["hysteresis"])
     new = np.where(crossed[:, 0], region - 1, np.where(crossed[:, 1], region + 1, ahead))
+    lifted = laws.lifts & (region == laws.lifted_region)
+    high = np.take_along_axis(np.concatenate([laws.knots, np.full((laws.count, 1), np.inf)], axis=1),
+                              region[:, None], axis=1)[:, 0]
+    load = laws.trial_force(d, rate, branch) / laws.stiffness_scale
+    lifts_off = laws.lifts & ~lifted & crossed[:, 1] & (-load <= high - d)
+    new = np.where(lifted, np.where(crossed[:, 0], np.minimum(laws.region(d), laws.lifted_region - 1), region),
+                   np.where(lifts_off, laws.lifted_region, new))
     return np.clip(new, 0, laws.knots.shape[1]).astype(np.int64)
+
+
+def _released(laws, d: np.ndarray, before: np.ndarray, after: np.ndarray) -> float:
+    """The energy a change of region from ``before`` to ``after`` at deflections ``d`` [m] takes out of the mounts
+    [J]: a mount lifting off while compressed (its dashpot pulled first) lets go of its spring's energy, which its
+    free relaxation dissipates; touching again while compressed takes it back."""
+    return float(np.sum(laws.potential(d) * (laws.contact[np.arange(laws.count), before]
+                                             - laws.contact[np.arange(laws.count), after])))
 
 
 _MOTION = ("displacement", "velocity", "acceleration")

@@ -168,15 +168,19 @@ def mount_forces(system: System, response: TimeHistory) -> MountForces:
     A = np.asarray(system.axes)  # (m, 3, 3): rows are the mount's axes
     local_elastic, local_damping = (np.einsum("mij,mnj->mni", A, x) * k[:, None, :]
                                     for x, k in ((deformation, system.stiffnesses), (rate, system.dampings)))
-    laws = system.nonlinear
-    if laws.count:  # a nonlinear axis carries r(static + dynamic deflection) less its static load
-        d = np.einsum("mij,mnj->mni", A, deformation)[laws.mount, :, laws.axis]  # (ne, n)
-        total = (laws.static_deflection[:, None] + d).T
-        local_elastic[laws.mount, :, laws.axis] = (laws.force(total) - laws.static_force).T
-        local_damping[laws.mount, :, laws.axis] *= laws.in_contact(total).T  # a lifted mount's dashpot is off
     branches = system.branches
     if branches.count:  # a Maxwell branch's force acts along its mount's axis, beside the dashpot's
         np.add.at(local_damping, (branches.mount, slice(None), branches.axis), response.maxwell_force.T)
+    laws = system.nonlinear
+    if laws.count:  # a nonlinear axis carries r(static + dynamic deflection) less its static load
+        d, d_rate = (np.einsum("mij,mnj->mni", A, x)[laws.mount, :, laws.axis].T for x in (deformation, rate))
+        total = laws.static_deflection + d  # (n, ne)
+        branch = 0.0 if not branches.count else (
+            response.maxwell_force @ laws.branch_map(branches.mount, branches.axis).T)
+        # A mount lifted off carries nothing along the axis: neither spring, dashpot nor Maxwell branch.
+        contact = laws.in_contact(total, d_rate, branch).T
+        local_elastic[laws.mount, :, laws.axis] = contact * laws.force(total).T - laws.static_force[:, None]
+        local_damping[laws.mount, :, laws.axis] *= contact
     elastic, damping = (np.einsum("mji,mnj->mni", A, x) for x in (local_elastic, local_damping))
     total = elastic + damping
     other = zd @ global_damping(system).T

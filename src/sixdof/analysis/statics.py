@@ -113,13 +113,40 @@ def gravity_statics(system: System, g: float = STANDARD_GRAVITY, direction=(0.0,
     return Statics(gravity, q, forces, local, support, uplift)
 
 
+#: An eigenvalue of the stiffness scaled to unit diagonal below this fraction of the largest is a zero stiffness
+#: (a mechanism): round-off leaves ~1e-16 there, while a real mount set stays far above (one mount of 1e12 N/m
+#: among three of 1e4 N/m: 5e-9).
+MECHANISM_RTOL = 1e-12
+#: Gravity drives a mechanism when its load along the motion exceeds this fraction of the whole (scaled) load:
+#: a motion it does not drive sees round-off only.
+MECHANISM_LOAD_RTOL = 1e-8
+
+
 def _linear(system: System, Q: np.ndarray) -> np.ndarray:
-    K = np.asarray(system.K)
-    q, *_ = np.linalg.lstsq(K, Q, rcond=None)
-    if np.linalg.norm(K @ q - Q) > 1e-8 * np.linalg.norm(Q):
+    q = solve_stiffness(np.asarray(system.K), Q)
+    if q is None:
         raise InputError("mounts", "mounts that can carry the body's weight and its moment",
                          "a layout that leaves a motion gravity drives unresisted (the body would fall or tip over)")
     return q
+
+
+def solve_stiffness(K: np.ndarray, Q: np.ndarray) -> np.ndarray | None:
+    """The displacement ``q`` (6,) [m, rad] with ``K q = Q`` (6,) [N, N m], or ``None`` when ``Q`` drives a motion
+    that ``K`` (6, 6) [N/m, N, N m/rad] does not resist (a mechanism).
+
+    Whether ``K`` is singular is decided on ``K`` scaled to unit diagonal (each DOF in its own units, by its own
+    stiffness), not on ``K`` itself: its entries span many decades (N/m against N m/rad, a stiff mount beside soft
+    ones), so a residual or an eigenvalue of ``K`` relative to its largest calls a merely ill-conditioned ``K``
+    singular. A motion that ``Q`` does not drive (free but unloaded) gets no displacement.
+    """
+    diagonal = np.diag(K)
+    scale = np.where(diagonal > 0, 1.0 / np.sqrt(np.where(diagonal > 0, diagonal, 1.0)), 1.0)
+    eigenvalues, vectors = np.linalg.eigh(scale[:, None] * K * scale[None, :])
+    load = vectors.T @ (scale * Q)
+    stiff = eigenvalues > MECHANISM_RTOL * max(eigenvalues.max(), 0.0)
+    if np.any(np.abs(load[~stiff]) > MECHANISM_LOAD_RTOL * np.linalg.norm(load)):
+        return None
+    return scale * (vectors[:, stiff] @ (load[stiff] / eigenvalues[stiff]))
 
 
 #: Newton iterations of the nonlinear statics: a piecewise-linear law needs one per change of region.
@@ -156,9 +183,12 @@ def _newton(system: System, Q: np.ndarray) -> np.ndarray:
     G = residual(q)
     size = np.linalg.norm(Q)
     for _ in range(NEWTON_ITERATIONS):
-        if np.linalg.norm(G) <= 1e-10 * size:
+        K = tangent(q)
+        # Converged to round-off: the residual's floor is set by the mount loads summed (K q), which a stiff mount
+        # makes far larger than the weight; measured against the weight alone, an ill-conditioned K never converges.
+        if np.linalg.norm(G) <= 1e-10 * (size + np.linalg.norm(K, 2) * np.linalg.norm(q)):
             return q
-        step, *_ = np.linalg.lstsq(tangent(q), -G, rcond=None)
+        step, *_ = np.linalg.lstsq(K, -G, rcond=None)
         length = 1.0
         while length > 1e-6:  # backtracking: a full step may jump past a knot into a worse region
             trial = q + length * step

@@ -7,15 +7,21 @@ The body receives ``-r``. Three things make ``r`` nonlinear, each continuous in 
 
 - a **bump stop** (``Mount.bump_clearance``, ``Mount.bump_stiffness``): a contact spring that engages in both
   directions once ``|d|`` exceeds the clearance, adding ``k_s (|d| - c) sign(d)``;
-- **lift-off** (``Mount.tension = False``): the mount carries no tension along ``w``, ``r = min(r, 0)``;
+- **lift-off** (``Mount.tension = False``): the mount carries no tension along ``w`` from any of its parts. Its
+  whole load there, spring, dashpot and Maxwell branches together, ``F = r(d) + c d' + sum f_b``, is carried while
+  compressive and the mount is in contact; it lifts off where ``F`` would turn to tension (not where ``d`` crosses
+  zero: a dashpot pulls before) and carries nothing while lifted, its branches relaxing unloaded; it touches again
+  where ``d < 0`` and ``F < 0`` both hold (the standard unilateral Kelvin-Voigt contact, ``min(F, 0)``). Lifted,
+  the law is ``r = 0``: its region beyond the knot at zero, :attr:`ForceLaws.lifted_region`, whatever ``d``;
 - a **force-deflection table** (:class:`ForceDeflection`): ``r`` interpolated piecewise-linearly in a measured
   table, extrapolated with its end slopes, in place of the linear stiffness on that axis.
 
 Combined, each law is continuous and piecewise linear: knots ``X_1 < ... < X_P`` split the deflection into
 ``P + 1`` regions, in region ``i`` ``r = a_i + s_i d``. Inside a region the motion is linear; the direct solve
-(:mod:`sixdof.analysis.direct`) locates every crossing of a knot as an event and changes the region there, so
-it never steps over a kink. The linear paths (modes, FRFs, superposition) use the slope of the region of the
-static equilibrium (:attr:`sixdof.model.system.System.equilibrium`): the linearization.
+(:mod:`sixdof.analysis.direct`) locates every crossing of a knot, and every zero crossing of a lift-off mount's
+``F``, as an event and changes the region there, so it never steps over a kink. The linear paths (modes, FRFs,
+superposition) use the slope of the region of the static equilibrium
+(:attr:`sixdof.model.system.System.equilibrium`): the linearization.
 """
 
 from __future__ import annotations
@@ -170,10 +176,44 @@ class ForceLaws:
         return np.take_along_axis(np.broadcast_to(table, region.shape[:-1] + table.shape), region[..., None],
                                   axis=-1)[..., 0]
 
-    def in_contact(self, d) -> np.ndarray:
-        """1 where the mount touches the body along the axis at deflections ``d`` (..., ne) [m], 0 where it has
-        lifted off."""
-        return self._pick(self.contact, self.region(np.asarray(d, dtype=float)))
+    @cached_property
+    def lifts(self) -> np.ndarray:
+        """Whether each axis lifts off (``Mount.tension = False``) (ne,)."""
+        return np.array(["lift-off" in kind for kind in self.kinds], dtype=bool)
+
+    @cached_property
+    def lifted_region(self) -> np.ndarray:
+        """The region of each axis that lifts off while lifted (ne,): beyond its last knot (zero), where ``r = 0``
+        and the dashpot is off; -1 for an axis that does not lift off."""
+        return np.where(self.lifts, np.isfinite(self.knots).sum(axis=1), -1).astype(np.int64)
+
+    @cached_property
+    def stiffness_scale(self) -> np.ndarray:
+        """The largest slope of each law (ne,) [N/m]: turns a load into a deflection for the events of lift-off."""
+        return np.maximum(np.abs(self.slope).max(axis=1, initial=0.0), np.finfo(float).tiny)
+
+    def branch_map(self, mount, axis) -> np.ndarray:
+        """(ne, nb): 1 where Maxwell branch ``b``, on mount ``mount[b]`` along ``axis[b]``, acts along law ``e``."""
+        return ((self.mount[:, None] == np.asarray(mount)[None, :])
+                & (self.axis[:, None] == np.asarray(axis)[None, :])).astype(float)
+
+    def trial_force(self, d, rate, branch_force=0.0) -> np.ndarray:
+        """The whole load of each axis in contact (..., ne) [N]: ``r(d) + c d' + sum f_b`` at deflections ``d`` [m],
+        deflection rates ``rate`` [m/s] and forces of its Maxwell branches summed ``branch_force`` [N]."""
+        return self.force(d) + self.damping * np.asarray(rate, dtype=float) + branch_force
+
+    def state(self, d, rate, branch_force=0.0) -> np.ndarray:
+        """The region of each axis (..., ne) at deflections ``d`` [m], rates ``rate`` [m/s] and branch forces
+        ``branch_force`` [N]: :meth:`region`, but :attr:`lifted_region` for an axis that lifts off where its
+        :meth:`trial_force` would pull."""
+        region = self.region(d)
+        pulls = self.lifts & (self.trial_force(d, rate, branch_force) > 0)
+        return np.where(pulls, self.lifted_region, region)
+
+    def in_contact(self, d, rate, branch_force=0.0) -> np.ndarray:
+        """1 where the mount touches the body along the axis (..., ne), 0 where it has lifted off; arguments as
+        :meth:`state`."""
+        return self._pick(self.contact, self.state(d, rate, branch_force))
 
     def force(self, d) -> np.ndarray:
         """``r(d)`` (..., ne) [N] at deflections ``d`` (..., ne) [m]."""

@@ -210,8 +210,9 @@ class Mount(Frozen):
     bump_stiffness : array_like, shape (3,), optional
         Stiffness of the bump stops [N/m], > 0 where a clearance is given. Default zero.
     tension : bool, optional
-        False: the mount carries no tensile force along ``w`` and lifts off instead (its static preload taken
-        into account; it must be in compression at rest). Default True.
+        False: the mount carries no tensile force along ``w`` from any of its parts (spring, dashpot, Maxwell
+        branches) and lifts off instead (its static preload taken into account; it must be in compression at
+        rest; :mod:`sixdof.model.nonlinear`). Default True.
 
     The mount's ``w`` axis is its normal (compression) axis, pointing from the foundation towards
     the body: the mount is compressed when its body point moves along ``-w`` relative to the ground.

@@ -157,7 +157,7 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
 
 
 #: Legend of the tension shading: a mount that pulls on the body (a linear one holds; one with tension = false lifts
-#: off, where only its dashpot can pull, while it extends just before it separates).
+#: off instead, spring, dashpot and branches together, so it is never shaded).
 TENSION_LABEL = "tension (the mount pulls; one with tension = false lifts off instead)"
 #: The second curve of a ground-driven run (absolute or relative motion) is drawn on the first's scale only
 #: while its peak is at most this many times the first's.

@@ -318,7 +318,9 @@ def _modes(args) -> int:
 
 
 def _print_statics(scenario, statics, no_statics: str | None = None) -> None:
-    """The statics under gravity (or why there are none), and a warning for mounts in tension."""
+    """The statics under gravity (or why there are none), what gravity's geometric stiffness does to the modes
+    (:func:`~sixdof.analysis.validity.geometric_stiffness_note`), and a warning for mounts in tension."""
+    from sixdof.analysis.validity import geometric_stiffness_note
     from sixdof.io import report
 
     print(f"\nStatics under gravity ({scenario.statics.gravity} m/s^2 along {list(scenario.statics.direction)}):")
@@ -326,6 +328,9 @@ def _print_statics(scenario, statics, no_statics: str | None = None) -> None:
         print(no_statics)
         return
     print(report.statics_table(statics, scenario.system))
+    note = geometric_stiffness_note(scenario.system, scenario.statics.vector)
+    if note is not None:
+        print(note)
     if statics.uplift:
         warnings.warn(f"mounts in tension (uplift): {', '.join(statics.uplift)}", stacklevel=1)
 

@@ -24,6 +24,7 @@ from sixdof.analysis.validity import (
     RangeWarning,
     body_length,
     fit_band_range,
+    geometric_stiffness_note,
     ground_drift,
     static_range,
 )
@@ -191,6 +192,9 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         for note in out_of_range:
             notes.append(note)
             warnings.warn(note, RangeWarning, stacklevel=2)
+        stiffness_note = geometric_stiffness_note(system, scenario.statics.vector)
+        if stiffness_note is not None and not system.geometric_stiffness:
+            notes.append(stiffness_note)  # a choice of the model, not a range it leaves: a note, not a warning
         frf, frf_extras = _frequency_responses(scenario)
         points = {p.name: p.position for p in scenario.points}
         random = None if scenario.random is None else random_response(system, scenario.random, points)

@@ -2,6 +2,7 @@
 on springs below its CG, symmetry at equilibrium, and every path that takes K (FRF, batches, gradients, files)."""
 
 import dataclasses
+import json
 from pathlib import Path
 
 import h5py
@@ -163,6 +164,8 @@ def test_modes_command_prints_the_line_off_and_on(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "K includes gravity's geometric stiffness ([statics] geometric_stiffness = true): it moves mode 1 (y) " \
            "most, by -3.7 %" in out
+    main(["modes", str(on), "--json"])
+    assert json.loads(capsys.readouterr().out)["geometric_stiffness"] is True
 
 
 SCENARIO = """name = "block"

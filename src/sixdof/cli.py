@@ -572,6 +572,7 @@ def _modes_json(scenario, modes, statics, zeta, sensitivity: bool = False) -> di
     # Modes of a system with nonlinear mounts are those of its linearization about the static equilibrium.
     out["linearized_axes"] = list(laws.names)
     out["linearized_stiffness"] = [float(k) for k in laws.tangent]
+    out["geometric_stiffness"] = scenario.system.geometric_stiffness  # whether K (so the modes) holds gravity's K_G
     out["full_model_poles"] = _full_model_poles(scenario.system, modes, plain)
     out.update(_design_json(scenario, sensitivity, plain))
     if statics is not None:

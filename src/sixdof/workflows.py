@@ -192,9 +192,8 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         for note in out_of_range:
             notes.append(note)
             warnings.warn(note, RangeWarning, stacklevel=2)
+        # A choice of the model, not a range it leaves: said beside the modes, not among the warnings.
         stiffness_note = geometric_stiffness_note(system, scenario.statics.vector)
-        if stiffness_note is not None and not system.geometric_stiffness:
-            notes.append(stiffness_note)  # a choice of the model, not a range it leaves: a note, not a warning
         frf, frf_extras = _frequency_responses(scenario)
         points = {p.name: p.position for p in scenario.points}
         random = None if scenario.random is None else random_response(system, scenario.random, points)
@@ -232,7 +231,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
             text = report.summary_markdown(scenario, modes, statics, zeta, run.response, run.mount_forces,
                                             run.agreement, run.superposition, frf, figures, notes,
                                             mount_check=run.mount_check, steady=steady, points=run.points,
-                                            random=random, srs=run.srs,
+                                            random=random, srs=run.srs, stiffness_note=stiffness_note,
                                             nonlinear=None if run.contacts is None else (run.contacts, run.energy,
                                                                                          run.refined))
             (stage / "summary.md").write_text(text, encoding="utf-8")

@@ -151,6 +151,13 @@ def test_the_bundled_cabinet_is_told_that_its_sway_modes_would_drop():
     assert geometric_stiffness_note(bridge.system, bridge.statics.vector) is None  # under 1 %: nothing said
 
 
+def test_a_body_the_preload_would_tip_over_is_told_so():
+    # Soft mounts 0.5 m below the CG of 100 kg: rocking stiffness 4 (250 0.4^2 + 100 0.5^2) = 260 N m/rad < W h = 490.
+    system = four_mount(100.0, (5.0, 5.0, 5.0), 0.4, 0.4, 0.5, (100.0, 100.0, 250.0))
+    assert geometric_stiffness_note(system, DOWN).startswith(
+        "gravity's geometric stiffness would leave K + K_G with a negative eigenvalue: the body would tip over")
+
+
 def test_modes_command_prints_the_line_off_and_on(tmp_path, capsys):
     main(["modes", str(SCENARIOS / "cabinet_earthquake.toml")])
     lines = capsys.readouterr().out.splitlines()

@@ -179,7 +179,13 @@ def geometric_stiffness_shifts(system, gravity) -> np.ndarray | None:
     """How much gravity's geometric stiffness (:attr:`sixdof.model.system.System.K_geometric`) moves each natural
     frequency: ``f_with / f_without - 1`` (6,) per mode in ascending order (NaN for a zero-frequency mode), under
     ``gravity`` (3,) [m/s^2, body axes] unless ``system`` already holds its own. The modes without it are those of
-    :attr:`~sixdof.model.system.System.K_mounts`. None when the mounts cannot carry the weight (no preload)."""
+    :attr:`~sixdof.model.system.System.K_mounts`. None when the mounts cannot carry the weight (no preload).
+
+    Raises
+    ------
+    InputError
+        (field ``K``) When ``K + K_G`` is not positive semi-definite: the body would tip over.
+    """
     import dataclasses
 
     from sixdof.analysis.modal import modal_analysis
@@ -199,7 +205,15 @@ def geometric_stiffness_note(system, gravity) -> str | None:
     """One line on gravity's geometric stiffness: with it in K, that it is and the largest shift of a mode it
     makes; without it, only when it would move a mode by more than :data:`GEOMETRIC_SHIFT`, which mode and how
     much (:func:`geometric_stiffness_shifts`). None otherwise."""
-    shifts = geometric_stiffness_shifts(system, gravity)
+    from sixdof.errors import InputError
+
+    try:
+        shifts = geometric_stiffness_shifts(system, gravity)
+    except InputError as exc:  # K + K_G not positive semi-definite: the preload tips the body over
+        if exc.field != "K":
+            raise
+        return ("gravity's geometric stiffness would leave K + K_G with a negative eigenvalue: the body would tip "
+                "over on these mounts (mounts below the CG too soft in rocking for the weight they carry)")
     if shifts is None or not np.any(np.isfinite(shifts)):
         return None
     j = int(np.nanargmax(np.abs(shifts)))

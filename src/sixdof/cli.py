@@ -318,7 +318,9 @@ def _modes(args) -> int:
 
 
 def _print_statics(scenario, statics, no_statics: str | None = None) -> None:
-    """The statics under gravity (or why there are none), and a warning for mounts in tension."""
+    """The statics under gravity (or why there are none), what gravity's geometric stiffness does to the modes
+    (:func:`~sixdof.analysis.validity.geometric_stiffness_note`), and a warning for mounts in tension."""
+    from sixdof.analysis.validity import geometric_stiffness_note
     from sixdof.io import report
 
     print(f"\nStatics under gravity ({scenario.statics.gravity} m/s^2 along {list(scenario.statics.direction)}):")
@@ -326,6 +328,9 @@ def _print_statics(scenario, statics, no_statics: str | None = None) -> None:
         print(no_statics)
         return
     print(report.statics_table(statics, scenario.system))
+    note = geometric_stiffness_note(scenario.system, scenario.statics.vector)
+    if note is not None:
+        print(note)
     if statics.uplift:
         warnings.warn(f"mounts in tension (uplift): {', '.join(statics.uplift)}", stacklevel=1)
 
@@ -567,6 +572,7 @@ def _modes_json(scenario, modes, statics, zeta, sensitivity: bool = False) -> di
     # Modes of a system with nonlinear mounts are those of its linearization about the static equilibrium.
     out["linearized_axes"] = list(laws.names)
     out["linearized_stiffness"] = [float(k) for k in laws.tangent]
+    out["geometric_stiffness"] = scenario.system.geometric_stiffness  # whether K (so the modes) holds gravity's K_G
     out["full_model_poles"] = _full_model_poles(scenario.system, modes, plain)
     out.update(_design_json(scenario, sensitivity, plain))
     if statics is not None:

@@ -53,8 +53,8 @@ def quantity(units: str | MixedUnits | Callable, dims: tuple[str, ...], *, name:
     """A dataclass field holding an array: its ``units`` (SI, ``"1"`` dimensionless, ``""`` text
     labels, :class:`~sixdof.dofs.MixedUnits` where translations and rotations mix, or a function of the
     result returning one of these), the name of each axis (``dims``), and optionally its stored ``name``,
-    a ``description``, converters to and from the stored array, and the field's validation ``check``
-    (see :mod:`sixdof.frozen`)."""
+    a ``description`` (text, or a function of the result returning it), converters to and from the stored
+    array, and the field's validation ``check`` (see :mod:`sixdof.frozen`)."""
     return _field({"kind": "quantity", "units": units, "dims": tuple(dims), "name": name,
                    "description": description, "encode": encode or _same,
                    "decode": decode or _same}, default, default_factory, check)
@@ -408,7 +408,8 @@ def to_xarray(result):
         if meta["kind"] == "quantity":
             stored = meta["name"] or name
             units = meta["units"](result) if callable(meta["units"]) else meta["units"]
-            extra = {**unit_attrs(units), **({"description": meta["description"]} if meta["description"] else {})}
+            text = meta["description"](result) if callable(meta["description"]) else meta["description"]
+            extra = {**unit_attrs(units), **({"description": text} if text else {})}
             if tuple(meta["dims"]) == (stored,):
                 coords[stored] = (stored, np.asarray(value), extra)
             else:

@@ -24,6 +24,7 @@ from sixdof.analysis.validity import (
     RangeWarning,
     body_length,
     fit_band_range,
+    geometric_stiffness_note,
     ground_drift,
     static_range,
 )
@@ -191,6 +192,8 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         for note in out_of_range:
             notes.append(note)
             warnings.warn(note, RangeWarning, stacklevel=2)
+        # A choice of the model, not a range it leaves: said beside the modes, not among the warnings.
+        stiffness_note = geometric_stiffness_note(system, scenario.statics.vector)
         frf, frf_extras = _frequency_responses(scenario)
         points = {p.name: p.position for p in scenario.points}
         random = None if scenario.random is None else random_response(system, scenario.random, points)
@@ -228,7 +231,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
             text = report.summary_markdown(scenario, modes, statics, zeta, run.response, run.mount_forces,
                                             run.agreement, run.superposition, frf, figures, notes,
                                             mount_check=run.mount_check, steady=steady, points=run.points,
-                                            random=random, srs=run.srs,
+                                            random=random, srs=run.srs, stiffness_note=stiffness_note,
                                             nonlinear=None if run.contacts is None else (run.contacts, run.energy,
                                                                                          run.refined))
             (stage / "summary.md").write_text(text, encoding="utf-8")

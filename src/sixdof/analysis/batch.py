@@ -48,7 +48,7 @@ from sixdof.dofs import UNITS
 from sixdof.errors import InputError, Plain, SolverError, integer, readonly
 from sixdof.frozen import BriefRepr
 from sixdof.model.damping import damping_matrix
-from sixdof.model.kinematics import mount_matrix_jax
+from sixdof.model.kinematics import mount_matrix_jax, stiffness_jax
 from sixdof.model.system import Mount, System
 from sixdof.progress import meter
 from sixdof.results import label, part, quantity
@@ -271,7 +271,7 @@ def variant_system(system: System, variants: Variants, index: int) -> System:
               m.damping * variants.damping_factor[index, j], m.axes, m.loss_factor)
         for j, m in enumerate(system.mounts)
     ]
-    return System(system.body, mounts, system.rayleigh, system.modal_damping)
+    return System(system.body, mounts, system.rayleigh, system.modal_damping, gravity_preload=system.gravity_preload)
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -280,14 +280,15 @@ def variant_system(system: System, variants: Variants, index: int) -> System:
 
 
 @jax.jit
-def _assemble(M, positions, stiffness, damping, axes, alpha, beta, zeta):
+def _assemble(M, positions, stiffness, damping, axes, alpha, beta, zeta, weight):
     """K, C (nv, 6, 6), eigenvalues omega^2 (nv, 6) and mass-normalized mode shapes (nv, 6, 6) of every
-    variant: the model's own assembly and damping matrix, vmapped."""
+    variant: the model's own assembly and damping matrix, vmapped; K with the geometric stiffness of each
+    variant's own preload under the weight ``weight`` (3,) [N] (zero: none)."""
     chol = jnp.linalg.cholesky(M)
     chol_inv = jnp.linalg.inv(chol)
 
     def one(pos, k, d):
-        K = mount_matrix_jax(pos, k, axes)
+        K = stiffness_jax(pos, k, axes, weight)
         Kt = chol_inv @ K @ chol_inv.T
         lam, V = jnp.linalg.eigh(0.5 * (Kt + Kt.T))
         lam = jnp.where(jnp.abs(lam) <= ZERO_MODE_RTOL * jnp.max(jnp.abs(lam)), 0.0, lam)
@@ -310,7 +311,7 @@ def _assembled(system: System, variants: Variants):
     out = _assemble(
         np.asarray(system.M), system.positions[None] + variants.position_offset,
         system.stiffnesses[None] * variants.stiffness_factor,
-        system.dampings[None] * variants.damping_factor, system.axes, alpha, beta, zeta,
+        system.dampings[None] * variants.damping_factor, system.axes, alpha, beta, zeta, system.preload_weight,
     )
     return tuple(np.asarray(a) for a in out)
 

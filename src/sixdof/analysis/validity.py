@@ -170,5 +170,64 @@ def ground_drift(ground, t, displacement) -> str | None:
             f"relative to the ground. {advice}")
 
 
-__all__ = ["GROUND_DRIFT_SHARE", "SMALL_ANGLE_RAD", "GroundDriftWarning", "RangeWarning", "body_length",
-           "fit_band_range", "ground_drift", "static_range", "warn_idle", "warn_large_rotations"]
+#: A natural frequency that gravity's geometric stiffness moves by more than this share is worth a line when K
+#: leaves it out (:func:`geometric_stiffness_note`).
+GEOMETRIC_SHIFT = 0.01
+
+
+def geometric_stiffness_shifts(system, gravity) -> np.ndarray | None:
+    """How much gravity's geometric stiffness (:attr:`sixdof.model.system.System.K_geometric`) moves each natural
+    frequency: ``f_with / f_without - 1`` (6,) per mode in ascending order (NaN for a zero-frequency mode), under
+    ``gravity`` (3,) [m/s^2, body axes] unless ``system`` already holds its own. The modes without it are those of
+    :attr:`~sixdof.model.system.System.K_mounts`. None when the mounts cannot carry the weight (no preload).
+
+    Raises
+    ------
+    InputError
+        (field ``K``) When ``K + K_G`` is not positive semi-definite: the body would tip over.
+    """
+    import dataclasses
+
+    from sixdof.analysis.modal import modal_analysis
+    from sixdof.errors import InputError
+
+    preloaded = system if system.geometric_stiffness else dataclasses.replace(system, gravity_preload=gravity)
+    try:
+        K = preloaded.K
+    except InputError:
+        return None
+    with_, without = (modal_analysis(system.M, k).frequency_hz for k in (K, system.K_mounts))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(without > 0, with_ / np.where(without > 0, without, 1.0) - 1.0, np.nan)
+
+
+def geometric_stiffness_note(system, gravity) -> str | None:
+    """One line on gravity's geometric stiffness: with it in K, that it is and the largest shift of a mode it
+    makes; without it, only when it would move a mode by more than :data:`GEOMETRIC_SHIFT`, which mode and how
+    much (:func:`geometric_stiffness_shifts`). None otherwise."""
+    from sixdof.errors import InputError
+
+    try:
+        shifts = geometric_stiffness_shifts(system, gravity)
+    except InputError as exc:  # K + K_G not positive semi-definite: the preload tips the body over
+        if exc.field != "K":
+            raise
+        return ("gravity's geometric stiffness would leave K + K_G with a negative eigenvalue: the body would tip "
+                "over on these mounts (mounts below the CG too soft in rocking for the weight they carry)")
+    if shifts is None or not np.any(np.isfinite(shifts)):
+        return None
+    j = int(np.nanargmax(np.abs(shifts)))
+    shift = float(shifts[j])
+    mode = f"mode {j + 1} ({system.modes.dominant_dof[j]})"
+    if system.geometric_stiffness:
+        return (f"K includes gravity's geometric stiffness ([statics] geometric_stiffness = true): it moves "
+                f"{mode} most, by {100 * shift:+.2g} %")
+    if abs(shift) <= GEOMETRIC_SHIFT:
+        return None
+    return (f"gravity's geometric stiffness would {'lower' if shift < 0 else 'raise'} {mode} by "
+            f"{100 * abs(shift):.2g} %; [statics] geometric_stiffness = true includes it")
+
+
+__all__ = ["GEOMETRIC_SHIFT", "GROUND_DRIFT_SHARE", "SMALL_ANGLE_RAD", "GroundDriftWarning", "RangeWarning",
+           "body_length", "fit_band_range", "geometric_stiffness_note", "geometric_stiffness_shifts", "ground_drift",
+           "static_range", "warn_idle", "warn_large_rotations"]

@@ -477,13 +477,16 @@ def validation_text(report) -> str:
 
 def summary_markdown(scenario, modes, statics, damping_ratios, response, forces, agreement,
                      superposition, frf, figures, notes, mount_check=None, steady=None, points=None,
-                     random=None, srs=None, nonlinear=None) -> str:
-    """The run summary as Markdown text (see :func:`sixdof.workflows.run_scenario`)."""
+                     random=None, srs=None, nonlinear=None, stiffness_note=None) -> str:
+    """The run summary as Markdown text (see :func:`sixdof.workflows.run_scenario`); ``stiffness_note``: the
+    line on gravity's geometric stiffness (:func:`sixdof.analysis.validity.geometric_stiffness_note`), or None."""
     parts = [f"# {scenario.name}", "", scenario.description, ""]
     if notes:
         parts += ["## Warnings", "", *(f"- {n}" for n in notes), ""]
     parts += ["## Natural frequencies", "", modes_table(modes, damping_ratios, scenario.system), "",
               damping_note(scenario.system), ""]
+    if stiffness_note is not None:
+        parts += [stiffness_note[0].upper() + stiffness_note[1:] + ".", ""]
     if scenario.viscoelastic:
         parts += ["## Visco-elastic mounts", "", viscoelastic_table(scenario.viscoelastic), ""]
     parts += ["## Kinetic energy distribution [%]", "", ke_table(modes), ""]

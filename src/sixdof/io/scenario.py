@@ -69,10 +69,19 @@ class Point(Frozen):
 
 @dataclass(frozen=True)
 class StaticsSettings(Frozen):
-    """Gravity for the static deflection: ``gravity`` [m/s^2] along ``direction`` (body axes)."""
+    """Gravity for the static deflection: ``gravity`` [m/s^2] along ``direction`` (body axes); with
+    ``geometric_stiffness``, the geometric stiffness of the mounts' preload under it is part of K
+    (:attr:`sixdof.model.system.System.K_geometric`)."""
 
     gravity: float = checked(number_check("a positive acceleration in m/s^2", low=0.0, strict=True), default=9.80665)
     direction: tuple[float, float, float] = checked(_checked_vector, default=(0.0, 0.0, -1.0))
+    geometric_stiffness: bool = checked(boolean, default=False)
+
+    @property
+    def vector(self) -> np.ndarray:
+        """Gravity in body axes (3,) [m/s^2]."""
+        direction = np.asarray(self.direction, dtype=float)
+        return self.gravity * direction / np.linalg.norm(direction)
 
 
 @dataclass(frozen=True)
@@ -287,6 +296,9 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
         from sixdof.analysis.statics import at_equilibrium, gravity_statics
 
         system = at_equilibrium(system, gravity_statics(system, statics.gravity, statics.direction))
+    if statics.geometric_stiffness:  # before any computation: mounts that cannot carry the weight have no preload
+        system = dataclasses.replace(system, gravity_preload=statics.vector)
+        system.K  # noqa: B018 (raises InputError naming statics.geometric_stiffness)
 
     loads = tuple(_load(t, f"loads[{i}]", base_dir) for i, t in enumerate(top.tables("loads")))
     ground, initial = top.table("ground", default=None), top.table("initial", default=None)

@@ -265,7 +265,8 @@ class _Encoder:
             for dim, length in zip(dims, data.shape):
                 self.scale(group, dim, length)
         units = meta["units"](obj) if callable(meta["units"]) else meta["units"]
-        self.add(path, data, units, dims, description=meta["description"] or None)
+        description = meta["description"](obj) if callable(meta["description"]) else meta["description"]
+        self.add(path, data, units, dims, description=description or None)
 
     def encode(self, obj, group: str, prefix: str = "") -> None:
         """Every described field of ``obj``, and the derived quantities it stores, into ``group``."""

@@ -283,7 +283,7 @@ def variant_system(system: System, variants: Variants, index: int) -> System:
 def _assemble(M, positions, stiffness, damping, axes, alpha, beta, zeta, weight):
     """K, C (nv, 6, 6), eigenvalues omega^2 (nv, 6) and mass-normalized mode shapes (nv, 6, 6) of every
     variant: the model's own assembly and damping matrix, vmapped; K with the geometric stiffness of each
-    variant's own preload under the weight ``weight`` (3,) [N] (zero: none)."""
+    variant's own preload under the weight ``weight`` (3,) [N] (None: none)."""
     chol = jnp.linalg.cholesky(M)
     chol_inv = jnp.linalg.inv(chol)
 

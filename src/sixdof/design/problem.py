@@ -137,7 +137,7 @@ class DesignProblem:
         self._L_inv = inverse_cholesky(self.M)
         weight = system.body.mass * gravity * np.asarray(direction, dtype=float) / np.linalg.norm(direction)
         self._gravity = np.concatenate([weight, np.zeros(3)])  # at the CG
-        self._preload = system.preload_weight  # gravity's geometric stiffness (zero weight: left out)
+        self._preload = system.preload_weight  # gravity's geometric stiffness (None: left out)
         self.ratio_constraints = _ratio_constraints(spec, self.names, self.variables,
                                                     np.asarray(system.stiffnesses, dtype=float))
         self._tra_frame = None

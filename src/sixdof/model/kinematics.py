@@ -183,8 +183,9 @@ def stiffness_jax(positions, stiffnesses, axes, weight):
     ----------
     positions, stiffnesses, axes
         As :func:`mount_matrix_jax` (``stiffnesses`` [N/m]).
-    weight : array_like, shape (3,)
-        The body's weight ``m g`` in body axes [N]; zero: the mounts' stiffness alone (no preload).
+    weight : array_like, shape (3,), or None
+        The body's weight ``m g`` in body axes [N]; None: the mounts' stiffness alone (no preload, and no statics
+        traced: the batches' hot path without the option).
 
     Returns
     -------
@@ -196,6 +197,8 @@ def stiffness_jax(positions, stiffnesses, axes, weight):
     local = jnp.einsum("nij,njk->nik", jnp.asarray(axes, dtype=float), point_map_jax(positions))  # (n, 3, 6)
     k = jnp.asarray(stiffnesses, dtype=float)
     K = jnp.einsum("nia,ni,nib->ab", local, k, local)
+    if weight is None:
+        return K
     diagonal = jnp.diagonal(K)
     scale = jnp.where(diagonal > 0, 1.0 / jnp.sqrt(jnp.where(diagonal > 0, diagonal, 1.0)), 1.0)
     load = jnp.concatenate([jnp.asarray(weight, dtype=float), jnp.zeros(3)])

@@ -579,11 +579,11 @@ class System(Frozen):
         return self.gravity_preload is not None
 
     @property
-    def preload_weight(self) -> np.ndarray:
-        """The weight ``m g`` (3,) [N] in body axes whose mount preload's geometric stiffness :attr:`K` holds; zero
+    def preload_weight(self) -> np.ndarray | None:
+        """The weight ``m g`` (3,) [N] in body axes whose mount preload's geometric stiffness :attr:`K` holds; None
         without :attr:`gravity_preload` (what :func:`sixdof.model.kinematics.stiffness_jax` takes)."""
         gravity = self.gravity_preload
-        return np.zeros(3) if gravity is None else self.body.mass * np.asarray(gravity, dtype=float)
+        return None if gravity is None else self.body.mass * np.asarray(gravity, dtype=float)
 
     @cached_property
     def K_geometric(self) -> np.ndarray:

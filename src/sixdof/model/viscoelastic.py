@@ -378,7 +378,8 @@ def constant_loss_model(stiffness: float, loss_factor: float, band_hz, terms: in
     if eta == 0.0:
         stiffness_k, k0 = np.zeros(terms), k
     else:
-        k0, stiffness_k = _minimax_loss_fit(eta, check, band, tau)
+        between = band[(band > check[0]) & (band < check[-1])]  # beyond the frequencies checked: free
+        k0, stiffness_k = _minimax_loss_fit(eta, check, between, tau)
         k0, stiffness_k = k * k0, k * stiffness_k
     return _with_errors(k0, stiffness_k, tau, check, np.full_like(check, k), np.full_like(check, eta))
 

@@ -233,7 +233,8 @@ def _more_damped(system, factor):
 def test_a_model_that_disagrees_fails_with_exit_status_3(tmp_path, capsys, monkeypatch):
     # The engine's time histories checked against a model with 1.5 times its mount damping: the
     # damped frequencies barely move (the decay frequency check passes), but the damping ratios and
-    # the FRF's amplitude near each peak do, far beyond their limits.
+    # the FRF's amplitude near each peak do, far beyond their limits (since issue 45 the loss factors'
+    # Maxwell branches, in both, share the damping: the FRF check then fails where the dashpots dominate).
     import sixdof.validation
 
     real_validate = sixdof.validation.validate
@@ -241,7 +242,7 @@ def test_a_model_that_disagrees_fails_with_exit_status_3(tmp_path, capsys, monke
                         lambda system, settings=None, **kw: real_validate(system, settings, model=_more_damped(system, 1.5), **kw))
     assert main(["validate", ENGINE, "--out", str(tmp_path)]) == EXIT_VALIDATION_FAILED == 3
     captured = capsys.readouterr()
-    assert "Verdict: FAIL (mode 1 decay_damping, mode 1 frf_h1, mode 2 decay_damping" in captured.out
+    assert "Verdict: FAIL (mode 1 decay_damping, mode 2 decay_damping" in captured.out
     assert captured.err.strip().splitlines()[-1] == (
         "sixdof: validation FAILED for mode(s) 1, 2, 3, 4, 5, 6: the model and the time histories disagree "
         "beyond the limits above")
@@ -251,7 +252,8 @@ def test_a_model_that_disagrees_fails_with_exit_status_3(tmp_path, capsys, monke
     verdicts = {c.key: c.verdict for c in report.checks}
     for mode in range(1, 7):
         assert verdicts[f"{mode}:decay_frequency"] == "PASS"
-        assert verdicts[f"{mode}:decay_damping"] == verdicts[f"{mode}:frf_h1"] == "FAIL"
+        assert verdicts[f"{mode}:decay_damping"] == "FAIL"
+    assert "FAIL" in {verdicts[f"{mode}:frf_h1"] for mode in range(1, 7)}
 
 
 def _row(**values):

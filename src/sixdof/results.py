@@ -324,6 +324,14 @@ class RunResults(Frozen):
     validation : sixdof.validation.ValidationReport or None
     sweep : sixdof.analysis.batch.BatchResult or None
         A design sweep's frequencies and peaks per variant (``sixdof sweep``).
+    time_system : sixdof.model.system.System or None
+        The system the time response and the statics integrate, where it is not ``system``: the mounts' loss
+        factors as causal Maxwell models (``[damping] loss_factor_model = "causal"``).
+    loss_factor_model : str
+        ``"causal"``, ``"maxwell"`` or ``"hysteretic"``: what the loss factors are in the time paths ("" without).
+    loss_factor_statics : str
+        With causal models of the loss factors: the line saying that the statics use their long-term
+        stiffness, with their worst errors.
     provenance : mapping of str to str
         ``scenario_text``, ``created_utc``, ``command_line``, package versions.
     """
@@ -331,6 +339,9 @@ class RunResults(Frozen):
     name: str = label(name="scenario_name", default="")
     description: str = label(name="scenario_description", default="")
     system: Any = part(lambda: _class("sixdof.model.system", "System"), group="model", default=None)
+    time_system: Any = part(lambda: _class("sixdof.model.system", "System"), group="time_model", default=None)
+    loss_factor_model: str = label(default="")
+    loss_factor_statics: str = label(default="")
     modes: Any = part(lambda: _class("sixdof.analysis.modal", "Modes"), group="modal", default=None)
     damping_ratios: np.ndarray | None = quantity("1", ("mode",), name="modal/damping_ratio", default=None,
                                                  description="modal damping ratio (nan for rigid-body modes)")

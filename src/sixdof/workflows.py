@@ -175,15 +175,18 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
 
     target = output.check_target(out_root, scenario.name)
     with FigureWorkers(processes=0) if workers is None else contextlib.nullcontext(workers) as drawing:
-        system = scenario.system
+        system, timed = scenario.system, scenario.time_system
         modes = system.modes
-        statics, no_statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
+        statics, no_statics = try_gravity_statics(timed, scenario.statics.gravity, scenario.statics.direction)
         zeta = damping_ratios(system.C, modes, system.branches)
         notes = sampling_warnings(scenario, modes)
         for note in notes:
             warnings.warn(note, SamplingWarning, stacklevel=2)
+        loss_notes, statics_line = loss_factor_notes(scenario, scenario.simulation is not None)
+        if statics_line and statics is not None:
+            log(statics_line)
         steady = None if scenario.excitation is None else steady_state(system, scenario.excitation)
-        out_of_range = ([no_statics] if no_statics else []) + static_range(statics, system)
+        out_of_range = ([no_statics] if no_statics else []) + loss_notes + static_range(statics, timed)
         if modes.zero_modes:
             out_of_range.append(f"the mounts leave the body unrestrained: {len(modes.zero_modes)} zero-frequency "
                                 f"mode(s), motions no mount resists, involving {', '.join(modes.free_dofs)}")
@@ -205,7 +208,8 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
                 progress=progress))
         run = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
                          damping_ratios=zeta, statics=statics, frf=frf, frf_extras=frf_extras, steady_state=steady,
-                         random=random, viscoelastic=scenario.viscoelastic, provenance=_provenance(scenario))
+                         random=random, viscoelastic=scenario.viscoelastic, provenance=_provenance(scenario),
+                         **_loss_factor_labels(scenario, statics_line if statics is not None else ""))
         drawing.submit(run)  # the modal and FRF figures are drawn while the solve runs
 
         timed = None
@@ -293,7 +297,7 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
     from sixdof.excitation import Excitation
     from sixdof.io.scenario import MEMORY_SAMPLES
 
-    system, settings, options = scenario.system, scenario.simulation, scenario.superposition
+    system, settings, options = scenario.time_system, scenario.simulation, scenario.superposition
     excitation = scenario.excitation if scenario.excitation is not None else Excitation()
     points = {p.name: p.position for p in scenario.points}
     length = body_length(system)
@@ -496,6 +500,33 @@ def _provenance(scenario) -> dict[str, str]:
     return {"scenario_text": scenario.text or ""}
 
 
+def loss_factor_notes(scenario, timed: bool = True) -> tuple[list[str], str]:
+    """What a run says of its mounts' loss factors in the time paths: warnings (a causal model that misses its
+    targets, :func:`~sixdof.model.viscoelastic.loss_fit_misses`; loss factors left out with
+    ``loss_factor_model = "hysteretic"``, when ``timed``: a time path runs) and the statics line
+    (:func:`~sixdof.model.viscoelastic.long_term_note`, "" without causal models)."""
+    from sixdof.model.viscoelastic import long_term_note, loss_fit_misses
+
+    notes = loss_fit_misses(scenario.viscoelastic)
+    lossy = [m.name for m in scenario.time_system.mounts if np.any(m.loss_factor)]
+    if lossy and timed:
+        notes.append(f'damping.loss_factor_model = "hysteretic": the time paths (direct solve, superposition, '
+                     f"validate) leave out the loss factors of mount(s) {', '.join(lossy)}, so their time response "
+                     "is not damped by them (a switch-on transient does not decay as the frequency responses say); "
+                     'the default "causal" carries them as causal Maxwell models')
+    return notes, long_term_note(scenario.viscoelastic)
+
+
+def _loss_factor_labels(scenario, statics_line: str) -> dict:
+    """The RunResults fields of a run's loss factors: the model, the time system where it differs, the statics
+    line."""
+    if not np.any(scenario.system.loss_factors) and not scenario.causal_loss_fits:
+        return {}
+    timed = scenario.time_system if scenario.time_system is not scenario.system else None
+    return {"loss_factor_model": scenario.loss_factor_model, "time_system": timed,
+            "loss_factor_statics": statics_line}
+
+
 def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_line: str | None = None,
                       workers: FigureWorkers | None = None, progress=None):
     """Validate a scenario's modal results against simulated time histories (issue 5).
@@ -519,11 +550,15 @@ def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_lin
 
     target = output.check_target(out_root, scenario.name, "_validation")
     with FigureWorkers(processes=0) if workers is None else contextlib.nullcontext(workers) as drawing:
-        system = scenario.system
+        system = scenario.time_system  # the model the simulations integrate: the loss factors' causal models
         modes = system.modes
+        for note in loss_factor_notes(scenario)[0]:
+            warnings.warn(note, RangeWarning, stacklevel=2)
         run = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
                          damping_ratios=damping_ratios(system.C, modes, system.branches),
-                         viscoelastic=scenario.viscoelastic, provenance=_provenance(scenario))
+                         viscoelastic=scenario.viscoelastic, provenance=_provenance(scenario),
+                         loss_factor_model=scenario.loss_factor_model if scenario.viscoelastic
+                         or np.any(scenario.system.loss_factors) else "")
         drawing.submit(run)  # the modal figures are drawn while the validation experiment runs
         report = validate(system, progress=progress)
         run = dataclasses.replace(run, validation=report)

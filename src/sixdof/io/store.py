@@ -653,14 +653,14 @@ def load_results(path: str | os.PathLike):
 def _mount_forces(run):
     from sixdof.analysis.response import mount_forces
 
-    return mount_forces(run.system, run.response)
+    return mount_forces(run.time_system or run.system, run.response)
 
 
 def _mount_check(run):
     from sixdof.analysis.mountcheck import mount_check
 
     forces = run.mount_forces if run.mount_forces is not None else _mount_forces(run)
-    return mount_check(run.system, forces, run.response.t, run.statics)
+    return mount_check(run.time_system or run.system, forces, run.response.t, run.statics)
 
 
 #: How each derived part of a run a file may leave out (:data:`sixdof.results.DERIVED`) is computed again

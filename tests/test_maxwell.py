@@ -263,7 +263,7 @@ def test_scenario_branches_fits_and_causal_loss_factors(tmp_path):
 def test_a_loss_factor_band_must_cover_the_operating_frequencies(tmp_path):
     loads = "".join(f'[[loads]]\nname = "{n}"\npoint = [0.1, 0.0, 0.0]\nforce = [0.0, 0.0, 50.0]\n'
                     f'signal = {{ kind = "harmonic", f_hz = {f} }}\n' for n, f in (("in", 40.0), ("out", 120.0)))
-    with pytest.raises(ScenarioError, match=r"damping\.band_hz: expected a band covering every natural and operating "
+    with pytest.raises(ScenarioError, match=r"damping\.loss_factor_band_hz: expected a band covering every natural and operating "
                        r"frequency \(10\.9-120 Hz\).*got \[5, 80\] Hz, without 120 Hz"):
         scenario(tmp_path, damping='[damping]\nloss_factor_model = "maxwell"\nloss_factor_band_hz = [5.0, 80.0]\n'
                  + loads)
@@ -284,9 +284,9 @@ def test_a_loss_factor_band_must_cover_the_operating_frequencies(tmp_path):
      r'damping\.loss_factor_band_hz: expected loss_factor_model = "causal" or "maxwell".*got loss_factor_model = '
      r'"hysteretic"'),
     ("", '[damping]\nloss_factor_band_hz = [1.0, 10.0]',
-     r"damping\.band_hz: expected a band covering every natural and operating frequency \(10\.9-49\.26 Hz\)"),
+     r"damping\.loss_factor_band_hz: expected a band covering every natural and operating frequency \(10\.9-49\.26 Hz\)"),
     ("", '[damping]\nloss_factor_model = "maxwell"\nloss_factor_band_hz = [10.0, 1.0]',
-     r"damping\.band_hz: expected a band"),
+     r"damping\.loss_factor_band_hz: expected a band"),
 ])
 def test_bad_visco_elastic_scenarios_are_refused(tmp_path, extra, damping, match):
     with pytest.raises(ScenarioError, match=match):
@@ -298,3 +298,8 @@ def test_a_maxwell_loss_model_needs_loss_factors(tmp_path):
                                                                       'loss_factor_model = "maxwell"')
     with pytest.raises(ScenarioError, match=r"damping\.loss_factor_model: expected a mount with a loss_factor"):
         parse_scenario(text, source="v.toml", base_dir=tmp_path)
+
+
+def test_a_bad_loss_factor_terms_names_its_key(tmp_path):
+    with pytest.raises(ScenarioError, match=r"damping\.loss_factor_terms: expected"):
+        scenario(tmp_path, damping='[damping]\nloss_factor_terms = -3')

@@ -554,10 +554,13 @@ def _loss_factors(system: System, excitation, damping: Table):
     if not lossy:
         raise InputError("damping.loss_factor_model", f'a mount with a loss_factor for "{model}" to model',
                          Plain("no loss factor"))
-    timed, causal = make(causal_loss_factors, "damping", system=system,
-                         band_hz=damping.value("loss_factor_band_hz", None),
-                         terms=damping.value("loss_factor_terms", None),
-                         operating_hz=operating_frequencies(excitation))
+    try:
+        timed, causal = causal_loss_factors(system, band_hz=damping.value("loss_factor_band_hz", None),
+                                            terms=damping.value("loss_factor_terms", None),
+                                            operating_hz=operating_frequencies(excitation))
+    except InputError as exc:  # the function's arguments are the scenario's loss_factor_* keys
+        key = f"loss_factor_{exc.field}" if exc.field in ("band_hz", "terms") else exc.field
+        raise InputError(f"damping.{key}", exc.expected, exc.got) from None
     return model, timed if model == "maxwell" else system, timed, causal
 
 

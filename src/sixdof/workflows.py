@@ -25,6 +25,7 @@ from sixdof.analysis.validity import (
     body_length,
     fit_band_range,
     ground_drift,
+    implausible_inputs,
     static_range,
 )
 from sixdof.errors import InputError, Plain
@@ -182,17 +183,15 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         for note in notes:
             warnings.warn(note, SamplingWarning, stacklevel=2)
         steady = None if scenario.excitation is None else steady_state(system, scenario.excitation)
-        out_of_range = ([no_statics] if no_statics else []) + static_range(statics, system)
-        if modes.zero_modes:
-            out_of_range.append(f"the mounts leave the body unrestrained: {len(modes.zero_modes)} zero-frequency "
-                                f"mode(s), motions no mount resists, involving {', '.join(modes.free_dofs)}")
+        points = {p.name: p.position for p in scenario.points}
+        out_of_range = (([no_statics] if no_statics else []) + static_range(statics, system)
+                        + implausible_inputs(system, scenario.excitation, points))
         if steady is not None:
             out_of_range += fit_band_range(scenario.viscoelastic, steady.f_hz)
         for note in out_of_range:
             notes.append(note)
             warnings.warn(note, RangeWarning, stacklevel=2)
         frf, frf_extras = _frequency_responses(scenario)
-        points = {p.name: p.position for p in scenario.points}
         random = None if scenario.random is None else random_response(system, scenario.random, points)
         if random is not None and scenario.random.time_check is not None:
             from sixdof.validation.random_time import random_time_check

@@ -287,7 +287,7 @@ def _modes(args) -> int:
     from sixdof.analysis.design import design_metrics
     from sixdof.analysis.statespace import damping_ratios
     from sixdof.analysis.statics import try_gravity_statics
-    from sixdof.analysis.validity import RangeWarning, static_range
+    from sixdof.analysis.validity import RangeWarning, implausible_inputs, static_range
     from sixdof.errors import InputError, Plain
     from sixdof.io import report
     from sixdof.io.scenario import load_scenario
@@ -296,7 +296,8 @@ def _modes(args) -> int:
     system = scenario.system
     modes = system.modes
     statics, no_statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
-    for note in static_range(statics, system):
+    points = {p.name: p.position for p in scenario.points}
+    for note in static_range(statics, system) + implausible_inputs(system, scenario.excitation, points):
         warnings.warn(note, RangeWarning, stacklevel=1)
     zeta = damping_ratios(system.C, modes, system.branches)
     if args.json:

@@ -26,6 +26,7 @@ from sixdof.analysis.validity import (
     fit_band_range,
     geometric_stiffness_note,
     ground_drift,
+    implausible_inputs,
     static_range,
 )
 from sixdof.errors import InputError, Plain
@@ -186,10 +187,9 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         if statics_line and statics is not None:
             log(statics_line)
         steady = None if scenario.excitation is None else steady_state(system, scenario.excitation)
-        out_of_range = ([no_statics] if no_statics else []) + loss_notes + static_range(statics, timed)
-        if modes.zero_modes:
-            out_of_range.append(f"the mounts leave the body unrestrained: {len(modes.zero_modes)} zero-frequency "
-                                f"mode(s), motions no mount resists, involving {', '.join(modes.free_dofs)}")
+        points = {p.name: p.position for p in scenario.points}
+        out_of_range = (([no_statics] if no_statics else []) + loss_notes + static_range(statics, timed)
+                        + implausible_inputs(system, scenario.excitation, points))
         if steady is not None:
             out_of_range += fit_band_range(scenario.viscoelastic, steady.f_hz)
         for note in out_of_range:
@@ -198,7 +198,6 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         # A choice of the model, not a range it leaves: said beside the modes, not among the warnings.
         stiffness_note = geometric_stiffness_note(system, scenario.statics.vector)
         frf, frf_extras = _frequency_responses(scenario)
-        points = {p.name: p.position for p in scenario.points}
         random = None if scenario.random is None else random_response(system, scenario.random, points)
         if random is not None and scenario.random.time_check is not None:
             from sixdof.validation.random_time import random_time_check

@@ -17,7 +17,7 @@ import uuid
 from pathlib import Path
 
 from sixdof.io.output import check_room, held_signals
-from sixdof.io.store import Results, _write, _write_dataset_attributes, build_results, publish
+from sixdof.io.store import LIBVER, Results, _write, build_results, publish
 from sixdof.results import axis_slice
 
 #: Samples per HDF5 chunk along the appended axis: large enough for fast appends and reads of whole series,
@@ -49,7 +49,7 @@ class ResultsStream:
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._parts = parts
         self._temporary = self.path.with_name(f".{self.path.name}.{uuid.uuid4().hex}.tmp")
-        self._file = h5py.File(self._temporary, "x")
+        self._file = h5py.File(self._temporary, "x", libver=LIBVER)
         self._series: dict[str, tuple[str, ...]] = {}  # path -> dims of the time series appended
         self.samples = 0
 
@@ -88,8 +88,8 @@ class ResultsStream:
                 chunks = list(shape)
                 chunks[axis] = TIME_CHUNK
                 node = self._file.create_dataset(path, shape=tuple(shape), maxshape=tuple(maxshape),
-                                                 chunks=tuple(max(c, 1) for c in chunks), dtype=dataset.data.dtype)
-                _write_dataset_attributes(node, dataset)
+                                                 chunks=tuple(max(c, 1) for c in chunks), dtype=dataset.data.dtype,
+                                                 fletcher32=True)  # its attributes: by finish, with the rest
                 self._series[path] = dataset.dims
             node = self._file[path]
             node.resize(self.samples + n, axis=axis)

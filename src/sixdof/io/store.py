@@ -40,6 +40,7 @@ import dataclasses
 import datetime as _dt
 import functools
 import os
+import re
 import shlex
 import sys
 import uuid
@@ -580,13 +581,61 @@ def save_results(results: Results, path: str | os.PathLike) -> Path:
     temporary = path.with_name(f".{path.name}.{uuid.uuid4().hex}.tmp")
     check_room(temporary, sum(d.data.nbytes for d in results.datasets.values()))
     try:
-        with held_signals(), h5py.File(temporary, "x", libver=LIBVER) as f:
-            _write(f, results)
+        with held_signals():
+            f = h5py.File(temporary, "x", libver=LIBVER)
+            try:
+                with _naming(path):
+                    _write(f, results)
+            except BaseException:
+                discard(f, temporary)
+                raise
+            f.close()
         publish(temporary, path)
     except BaseException:
         temporary.unlink(missing_ok=True)
         raise
     return path
+
+
+@contextlib.contextmanager
+def _naming(path: Path):
+    """An OSError of HDF5's (a full disk: several lines, with its time stamp, buffer address and temporary name)
+    as the system's error of writing ``path``: ``[Errno 28] No space left on device: '.../results.h5'``."""
+    try:
+        yield
+    except (OSError, RuntimeError) as exc:  # h5py raises either, the system's errno in the text or not
+        code = getattr(exc, "errno", None) or next(iter(re.findall(r"errno = (\d+)", str(exc))), None)
+        if not code or getattr(exc, "filename", None):
+            raise
+        raise OSError(int(code), os.strerror(int(code)), str(path)) from None
+
+
+def discard(f, temporary: Path, nodes: dict | None = None) -> None:
+    """Close the h5py file ``f``, written under the name ``temporary``, after its write failed, and remove it.
+
+    HDF5 writes what it holds in memory when it closes a file; after a full disk or the file-size limit
+    (``ulimit -f``) stopped a write, those writes fail again, each in a traceback, and libhdf5 may crash
+    (SIGSEGV) on the state they leave. So the file's space is given back first (it is emptied, which the
+    disk allows whatever its state) and the process's file-size limit raised to its hard limit meanwhile:
+    the last writes then succeed, into a file that is removed. ``nodes`` (h5py objects of the file kept open
+    by the writer) are let go then: their closing writes too.
+    """
+    import resource
+
+    with contextlib.suppress(Exception):
+        os.ftruncate(f.id.get_vfd_handle(), 0)
+    limits = resource.getrlimit(resource.RLIMIT_FSIZE)
+    try:
+        with contextlib.suppress(ValueError, OSError):
+            resource.setrlimit(resource.RLIMIT_FSIZE, (limits[1], limits[1]))
+        with contextlib.suppress(Exception):
+            if nodes is not None:
+                nodes.clear()
+            f.close()
+    finally:
+        with contextlib.suppress(ValueError, OSError):
+            resource.setrlimit(resource.RLIMIT_FSIZE, limits)
+        temporary.unlink(missing_ok=True)
 
 
 def publish(temporary: Path, path: Path) -> None:

@@ -483,6 +483,6 @@ def test_a_sweep_killed_while_it_writes_a_chunk_leaves_debris_the_next_run_remov
     finally:
         os.close(fd)
     small = parse_sweep_spec(SMALL_SPEC)
-    done = sweep_scenario(SCENARIO, small, tmp_path / "out", resume=True)
+    done = sweep_scenario(parse_scenario(SCENARIO.text), small, tmp_path / "out", resume=True)  # as the child read it
     assert done.count == 30
     assert sorted(p.name for p in chunks.iterdir()) == sorted(users)  # the chunks and the debris went, not theirs

@@ -114,8 +114,8 @@ def _failure(exc: Exception) -> tuple[str, int] | None:
         return f"a figure could not be drawn, nothing was written: {exc}", EXIT_FAILED
     if isinstance(exc, OSError):
         where = f" {exc.filename}" if exc.filename else ""
-        return (f"could not write{where}: {exc.strerror or exc}; results already in place are unchanged",
-                EXIT_CANNOT_WRITE)
+        reason = " ".join(str(exc.strerror or exc).split())  # one line, whatever the library's message held
+        return f"could not write{where}: {reason}; results already in place are unchanged", EXIT_CANNOT_WRITE
     return None
 
 

@@ -39,33 +39,50 @@ CHUNKS_SUFFIX = ".chunks"
 _FINGERPRINT = "sweep.json"
 #: The temporary name of a chunk file being written (:func:`sixdof.io.store.save_results`).
 _DEBRIS = re.compile(r"\.chunk-\d{5,}\.h5\.[0-9a-f]{32}\.tmp")
-#: What a chunk file holds, raised when that changes (2: the modes followed by their shapes), so that a resumed
-#: sweep refuses chunks of an earlier kind up front instead of failing to merge them at the end.
-CHUNK_FORMAT = 2
+#: What a chunk file holds, raised when that changes (2: the modes followed by their shapes; 3: peaks of the
+#: time model, the loss factors' causal Maxwell models), so that a resumed sweep refuses chunks of an earlier kind
+#: up front instead of failing to merge them at the end (or merging peaks of another model).
+CHUNK_FORMAT = 3
 
 
 class Study(NamedTuple):
     """What a sweep needs of a scenario (a :class:`~sixdof.io.scenario.Scenario` will do): the nominal
-    system, and the excitation and simulation settings of its responses (``None``: frequencies only)."""
+    system, the excitation and simulation settings of its responses (``None``: frequencies only), and the model
+    of those time responses (``None``: ``system``; a scenario's ``time_system`` carries its loss factors as
+    causal Maxwell models)."""
 
     system: Any
     excitation: Any = None
     simulation: Any = None
+    time_system: Any = None
+
+
+def _time_system(scenario):
+    """The model of a sweep's time responses and cross-checks: the scenario's ``time_system`` (the loss factors'
+    causal Maxwell models, ``[damping] loss_factor_model``), else its ``system``."""
+    timed = getattr(scenario, "time_system", None)
+    return scenario.system if timed is None else timed
 
 
 def sweep_chunk(scenario, spec, index: int, checked: tuple[int, ...] = ()):
     """Chunk ``index`` of ``spec``'s sweep of ``scenario`` (or :class:`Study`), one task: its variants'
     frequencies and peaks, and the diffrax peaks of those among ``checked`` (indices in the whole sweep), as
-    a :class:`~sixdof.analysis.batch.BatchResult` whose cross-check fields hold only those peaks."""
+    a :class:`~sixdof.analysis.batch.BatchResult` whose cross-check fields hold only those peaks.
+
+    The frequencies and tracked modes are those of the scenario's ``system`` (the mounts' stiffness ``k``, as
+    ``sixdof modes`` reports them); the peaks and their diffrax cross-check those of its ``time_system`` (each
+    loss factor as its causal Maxwell model, scaled with its mount axis's stiffness factor, as ``sixdof run``
+    simulates)."""
     from sixdof.analysis.batch import direct_peaks, run_batch
 
     system, excitation, settings = scenario.system, scenario.excitation, scenario.simulation
+    timed = _time_system(scenario)
     variants = spec.variants(system, index)
-    result = run_batch(system, variants, excitation, settings, engine=spec.engine, cross_check=0)
+    result = run_batch(system, variants, excitation, settings, time_system=timed, engine=spec.engine, cross_check=0)
     if not checked or result.peak_q is None:
         return result
     rows = spec.chunks()[index]
-    direct = direct_peaks(system, variants, [i - rows.start for i in checked], excitation, settings)
+    direct = direct_peaks(timed, variants, [i - rows.start for i in checked], excitation, settings)
     return dataclasses.replace(result, cross_check_variants=np.asarray(checked, dtype=int),
                                cross_check_peak_q=direct[:, :6], cross_check_peak_qdd=direct[:, 6:])
 
@@ -316,13 +333,15 @@ class ChunkFolder:
 
 
 def fingerprint(scenario, spec) -> dict:
-    """What a sweep's chunks depend on: the scenario's model, excitation and settings (the data of the files it
-    reads included, not its name or comments), the spec (chunks and seeds included) and sixdof's version."""
+    """What a sweep's chunks depend on: the scenario's models (frequency and time: ``loss_factor_model``), excitation
+    and settings (the data of the files it reads included, not its name or comments), the spec (chunks and seeds
+    included) and sixdof's version."""
     from sixdof import __version__
 
     # Pickles of these frozen objects are the same bytes in every process for the same content (checked by the
     # resume tests); a changed accelerogram or force-deflection file changes them.
-    model = pickle.dumps((scenario.system, scenario.excitation, scenario.simulation), protocol=5)
+    model = pickle.dumps((scenario.system, scenario.excitation, scenario.simulation, _time_system(scenario)),
+                         protocol=5)
     spec_text = json.dumps({key: value for key, value in dataclasses.asdict(spec).items() if key != "path"},
                            sort_keys=True, default=str)  # the spec's content, not where it was read from
     return {"scenario": hashlib.sha256(model).hexdigest(), "spec": hashlib.sha256(spec_text.encode()).hexdigest(),

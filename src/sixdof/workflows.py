@@ -202,9 +202,10 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         if random is not None and scenario.random.time_check is not None:
             from sixdof.validation.random_time import random_time_check
 
+            # The time model on both sides: the loss factors' causal models damp the record and its FRFs alike.
             random = dataclasses.replace(random, time_check=random_time_check(
-                system, scenario.random, points, scenario.random.time_check, simulation=scenario.simulation,
-                progress=progress))
+                scenario.time_system, scenario.random, points, scenario.random.time_check,
+                simulation=scenario.simulation, progress=progress))
         run = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
                          damping_ratios=zeta, statics=statics, frf=frf, frf_extras=frf_extras, steady_state=steady,
                          random=random, viscoelastic=scenario.viscoelastic, provenance=_provenance(scenario),

@@ -62,16 +62,16 @@ def response_row(point, direction, rotation: bool) -> np.ndarray:
 
 
 def mount_local_map(positions, axes) -> np.ndarray:
-    """Map from ``q`` to each mount's deformation along its own axes, shape (n, 3, 6).
+    """Map from ``q`` to each mount's deformation along its own axes, shape (..., n, 3, 6).
 
     Parameters
     ----------
-    positions : array_like, shape (n, 3)
-        Mount points from the CG in body axes [m].
+    positions : array_like, shape (..., n, 3)
+        Mount points from the CG in body axes [m] (leading dimensions: variants of them).
     axes : array_like, shape (n, 3, 3)
         Rows are each mount's axes in body axes.
     """
-    return np.einsum("nij,njk->nik", np.asarray(axes, dtype=float), point_map(positions))
+    return np.einsum("nij,...njk->...nik", np.asarray(axes, dtype=float), point_map(positions))
 
 
 def mount_matrix(positions, coefficients, axes) -> np.ndarray:

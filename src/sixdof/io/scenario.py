@@ -233,6 +233,9 @@ class Scenario:
         ``"hysteretic"`` (which leaves them out of the time paths).
     loss_factor_model : str
         ``"causal"``, ``"maxwell"`` or ``"hysteretic"`` (``[damping] loss_factor_model``).
+    loss_factor_band_hz, loss_factor_terms
+        ``[damping] loss_factor_band_hz`` and ``loss_factor_terms`` as given (checked), or None: what
+        :meth:`time_model` fits with.
     text : str
         The file's text (stored in results for provenance).
     path : pathlib.Path or None
@@ -256,10 +259,23 @@ class Scenario:
     viscoelastic: tuple = ()
     time_system: Any = None
     loss_factor_model: str = "causal"
+    loss_factor_band_hz: Any = None
+    loss_factor_terms: Any = None
 
     def __post_init__(self) -> None:
         if self.time_system is None:
             object.__setattr__(self, "time_system", self.system)
+
+    def time_model(self, system: System) -> System:
+        """The system the time paths integrate for ``system`` (a design or variant of this scenario's): its loss
+        factors made causal Maxwell models as :attr:`time_system`'s are (the same ``loss_factor_*`` settings,
+        checked at ``system``'s own natural frequencies and the operating frequencies); ``system`` itself when
+        it has no loss factor or with ``loss_factor_model = "hysteretic"``."""
+        if system is self.system:
+            return self.time_system
+        if self.loss_factor_model == "hysteretic" or not np.any(system.loss_factors):
+            return system
+        return _causal(system, self.excitation, self.loss_factor_band_hz, self.loss_factor_terms)[0]
 
     @property
     def causal_loss_fits(self) -> tuple:
@@ -362,6 +378,8 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
                     frf=frf, superposition=superposition, points=points, statics=statics, output=output,
                     shock_response_spectrum=spectrum, random=random, design=design, text=text,
                     viscoelastic=viscoelastic, time_system=time_system, loss_factor_model=loss_model,
+                    loss_factor_band_hz=damping.value("loss_factor_band_hz", None),
+                    loss_factor_terms=damping.value("loss_factor_terms", None),
                     path=Path(source) if source != "<string>" else None)
 
 
@@ -538,8 +556,6 @@ def _loss_factors(system: System, excitation, damping: Table):
     Maxwell models of the loss factors (:func:`~sixdof.model.viscoelastic.causal_loss_factors`, checked at the
     natural frequencies and the operating frequencies of ``excitation``): ``"causal"`` puts them in the time
     system only, ``"maxwell"`` in both, ``"hysteretic"`` nowhere (the time paths leave the loss factors out)."""
-    from sixdof.model.viscoelastic import causal_loss_factors
-
     model = choice_check(LOSS_FACTOR_MODELS)(damping.value("loss_factor_model", "causal"),
                                               "damping.loss_factor_model")
     lossy = bool(np.any(system.loss_factors))
@@ -554,14 +570,21 @@ def _loss_factors(system: System, excitation, damping: Table):
     if not lossy:
         raise InputError("damping.loss_factor_model", f'a mount with a loss_factor for "{model}" to model',
                          Plain("no loss factor"))
+    timed, causal = _causal(system, excitation, damping.value("loss_factor_band_hz", None),
+                            damping.value("loss_factor_terms", None))
+    return model, timed if model == "maxwell" else system, timed, causal
+
+
+def _causal(system: System, excitation, band_hz, terms):
+    """``system`` with its loss factors' causal Maxwell models, and the models
+    (:func:`~sixdof.model.viscoelastic.causal_loss_factors`); errors name the ``[damping] loss_factor_*`` keys."""
+    from sixdof.model.viscoelastic import causal_loss_factors
+
     try:
-        timed, causal = causal_loss_factors(system, band_hz=damping.value("loss_factor_band_hz", None),
-                                            terms=damping.value("loss_factor_terms", None),
-                                            operating_hz=operating_frequencies(excitation))
+        return causal_loss_factors(system, band_hz=band_hz, terms=terms, operating_hz=operating_frequencies(excitation))
     except InputError as exc:  # the function's arguments are the scenario's loss_factor_* keys
         key = f"loss_factor_{exc.field}" if exc.field in ("band_hz", "terms") else exc.field
         raise InputError(f"damping.{key}", exc.expected, exc.got) from None
-    return model, timed if model == "maxwell" else system, timed, causal
 
 
 def operating_frequencies(excitation) -> np.ndarray:

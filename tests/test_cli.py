@@ -70,6 +70,22 @@ def test_modes_json_keys_are_the_results_file_s_names(tmp_path, capsys):
     assert data["frequencies_hz"] == data["frequency_hz"]  # the name of earlier versions, kept
 
 
+def test_modes_json_legacy_mount_forces_keep_their_sign(capsys):
+    """``mount_forces_n`` of earlier versions was the force of each mount on the body (git f879cd7:
+    ``-k delta``): under -z gravity every bearing pushes up and the bearings together hold the weight,
+    ``sum Fz = m g``. Today's ``mount_force`` is the body's load on the mount, its opposite."""
+    from sixdof.analysis.statics import STANDARD_GRAVITY
+
+    assert main(["modes", "scenarios/bridge_beam.toml", "--json"]) == 0
+    statics = json.loads(capsys.readouterr().out)["statics"]
+    legacy, today = np.array(statics["mount_forces_n"]), np.array(statics["mount_force"])
+    assert legacy.shape == (4, 3) and np.all(legacy[:, 2] > 0)
+    np.testing.assert_allclose(legacy.sum(axis=0), [0.0, 0.0, BRIDGE_MASS * STANDARD_GRAVITY],
+                               rtol=RTOL_LINALG, atol=RTOL_LINALG * BRIDGE_MASS * STANDARD_GRAVITY)
+    np.testing.assert_array_equal(legacy, -today)
+    assert statics["support_n"] == statics["support"]  # the same sign then and now: > 0 in compression
+
+
 def test_modes_json_numbers_a_free_body_s_rigid_body_modes_as_integers(tmp_path, capsys):
     """One mount under the CG leaves three rigid-body modes (the body turns about it): numbered 1, 2, 3, as the
     file's attribute, not 1.0, 2.0, 3.0."""

@@ -551,7 +551,8 @@ def _modes_json(scenario, modes, statics, zeta, sensitivity: bool = False) -> di
             return [plain(v) for v in value]
         value = np.asarray(value)
         if value.dtype.kind == "f":
-            return np.where(np.isnan(value), None, value.astype(object)).tolist()  # NaN (rigid-body mode) -> null
+            # NaN (rigid-body mode) and inf (overdamped: no oscillating pole) -> null: JSON has neither
+            return np.where(np.isfinite(value), value.astype(object), None).tolist()
         return value.tolist()
 
     def group(name):

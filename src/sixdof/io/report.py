@@ -51,7 +51,9 @@ def modes_table(modes, damping_ratios=None, system=None) -> str:
         if damping_ratios is not None:
             zeta = damping_ratios[j]
             # At or above critical a mode does not oscillate: its f is the undamped system's, not a frequency it shows.
-            row.append("-" if not np.isfinite(zeta) else f"{100 * zeta:.2f}" + (" overdamped" if zeta >= 1 else ""))
+            # inf: no oscillating pole and no single ratio (non-proportional damping), only the word.
+            row.append("-" if np.isnan(zeta) else "overdamped" if np.isinf(zeta)
+                       else f"{100 * zeta:.2f}" + (" overdamped" if zeta >= 1 else ""))
         rows.append(row)
     return table(headers, rows)
 

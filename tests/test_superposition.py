@@ -27,6 +27,7 @@ from references import (
     windowed_pieces,
 )
 from sixdof import (
+    DOFS,
     InputError,
     Mount,
     Rayleigh,
@@ -38,11 +39,11 @@ from sixdof import (
     superpose,
 )
 from sixdof import excitation as ex
-from sixdof.analysis.compare import Agreement, column_peaks
+from sixdof.analysis.compare import QUIET_RTOL, Agreement, column_peaks
 from sixdof.analysis.superposition import QUADRATURE_RTOL, modal_solve, quadrature_size
 from sixdof.errors import readonly
 from sixdof.results import TimeHistory
-from systems import BRIDGE_MASS, BRIDGE_POSITIONS, bridge, bridge_body, four_mount
+from systems import BRIDGE_MASS, BRIDGE_POSITIONS, THREE_MOUNTS, bridge, bridge_body, four_mount
 from tolerances import (
     MODAL_DAMPING_COUPLING_CLASSICAL,
     MODAL_DAMPING_COUPLING_MIN,
@@ -588,3 +589,48 @@ def test_the_history_holds_the_engines_arrays_and_copies_anyone_elses():
     mine.flags.writeable = True
     mine[1, 1] = 7.0
     assert np.all(history.q == 1.0) and np.all(history.t == np.arange(3.0))
+
+
+def test_compare_floors_relative_motion_at_the_absolute_motion():
+    """Relative to a moving ground, no DOF's error is divided by less than 1e-6 of the largest absolute motion;
+    without ground motion (absolute = relative) the floor is the quiet threshold itself and nothing changes."""
+    t = np.linspace(0, 1, 101)
+    ref = np.stack([1e-4 * np.sin(7 * t), 2e-4 * np.cos(3 * t), 1e-3 * t, 1e-7 * t, 3e-6 * t**2,
+                    -2e-10 * np.sin(t)], axis=1)
+    other = ref + 1e-16
+    plain = compare(ref, other)
+    same = compare(ref, other, absolute=ref)
+    np.testing.assert_array_equal(same.per_dof, plain.per_dof)
+    assert same.quiet == plain.quiet == ("rz",)
+    # Relative motion identically zero, the body 2 cm away with the ground: judged against 2e-8 m, not inf.
+    absolute = np.zeros((101, 6))
+    absolute[:, 2] = 0.02
+    riding = compare(np.zeros((101, 6)), np.full((101, 6), 1e-17), absolute=absolute)
+    assert compare(np.zeros((101, 6)), np.full((101, 6), 1e-17)).worst == np.inf  # what the floor prevents
+    np.testing.assert_allclose(riding.per_dof, 1e-17 / (QUIET_RTOL * 0.02), rtol=1e-12)
+    np.testing.assert_allclose(riding.denominator, QUIET_RTOL * 0.02, rtol=1e-12)
+    assert riding.ok and riding.quiet == DOFS
+
+
+def test_a_body_riding_a_pre_displaced_ground_agrees_to_round_off():
+    """The ground held 5 cm away from the start: the body rides it at rest on its mounts (q = the ground's
+    translation, no rotation: the exact answer), the two solutions differ by round-off, and the cross-check
+    says ok with a finite figure instead of "worst inf ... OVER TOLERANCE"."""
+    from sixdof import parse_scenario
+    from sixdof.analysis.compare import relative_to_ground
+
+    lines = ['name = "ride"', "[body]", "mass = 120.0", "inertia = [4.0, 5.0, 6.0]"]
+    for name, p, k in THREE_MOUNTS:
+        lines += ["[[mounts]]", f'name = "{name}"', f"position = {p!r}", f"stiffness = {k!r}",
+                  "damping = [50.0, 50.0, 200.0]"]
+    lines += ["[ground]", 'quantity = "displacement"', "direction = [0.3, 0.2, 1.0]", "scale = 0.05",
+              'signal = { kind = "table", t = [0.0, 1.0], values = [1.0, 1.0], outside = "hold" }',
+              "[simulation]", "duration = 0.1", "sample_rate_hz = 2000.0"]
+    scenario = parse_scenario("\n".join(lines) + "\n", "ride.toml")
+    direct = simulate(scenario.system, scenario.excitation, scenario.simulation)
+    modal = superpose(scenario.system, scenario.excitation, direct.t)
+    offset = 0.05 * np.array([0.3, 0.2, 1.0]) / np.linalg.norm([0.3, 0.2, 1.0])
+    np.testing.assert_allclose(direct.q, np.broadcast_to(np.r_[offset, 0, 0, 0], direct.q.shape), rtol=0, atol=1e-15)
+    np.testing.assert_allclose(modal.q, direct.q, rtol=0, atol=1e-15)
+    agreement = compare(*relative_to_ground(direct, modal), absolute=direct.q)
+    assert agreement.ok and np.all(np.isfinite(agreement.per_dof)) and agreement.worst < 1e-6

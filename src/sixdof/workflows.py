@@ -313,7 +313,8 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
         piece = RunResults(response=window, superposition=modal, mount_forces=forces,
                            mount_check=mount_check(system, forces, window.t, statics),
                            points=points_motion(window, points) if points else {},
-                           agreement=compare(*relative_to_ground(window, modal), length=length))
+                           agreement=compare(*relative_to_ground(window, modal), length=length,
+                                             absolute=window.q if window.has_ground else None))
         if nonlinear is not None:
             piece = nonlinear.check(piece)
         stream.append(piece)
@@ -416,7 +417,8 @@ class _Nonlinear:
             agreement = piece.agreement
         elif before.any():
             direct, modal = relative_to_ground(window, piece.superposition)
-            agreement = compare(direct[before], modal[before], length=self.length)
+            agreement = compare(direct[before], modal[before], length=self.length,
+                                absolute=window.q[before] if window.has_ground else None)
         return dataclasses.replace(piece, agreement=agreement, energy=balance)
 
     def finish(self, span, energy) -> dict:

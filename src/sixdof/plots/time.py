@@ -314,12 +314,14 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
                         ax.axvline(first, color="tab:red", linestyle="-.", linewidth=1.0,
                                    label="first engagement")  # its time: in the name and the titles
         # Divided as the agreement divides it: by the DOF's own peak, or for a quiet DOF (round-off
-        # only) by the largest peak of all DOFs, rotations times the agreement's length (see compare).
+        # only) by the largest peak of all DOFs, rotations times the agreement's length, or by the floor a
+        # moving ground sets (see compare).
         denominator, against = float(peaks[i]), "peak"
         if agreement is not None and DOFS[i] in tuple(agreement.quiet):
             length = float(agreement.length)
             largest = float(np.max(peaks * np.array([1.0, 1.0, 1.0, length, length, length])))
-            denominator, against = (largest / length if i >= 3 else largest), "largest peak"
+            denominator = float(agreement.denominator[i])
+            against = "largest peak" if largest >= agreement.floor else "1e-6 of the absolute motion"
         difference = q_modal[compared, i] - q_direct[compared, i]
         relative = difference / denominator if denominator > 0 else difference
         if quiet_compared[i] or not np.any(relative):  # round-off against round-off: its size said, not drawn

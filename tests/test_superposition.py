@@ -39,7 +39,14 @@ from sixdof import (
     superpose,
 )
 from sixdof import excitation as ex
-from sixdof.analysis.compare import QUIET_RTOL, Agreement, column_peaks
+from sixdof.analysis.compare import (
+    QUIET_RTOL,
+    Agreement,
+    column_peaks,
+    compare_motion,
+    merge_agreements,
+    relative_to_ground,
+)
 from sixdof.analysis.superposition import QUADRATURE_RTOL, modal_solve, quadrature_size
 from sixdof.errors import readonly
 from sixdof.results import TimeHistory
@@ -424,10 +431,16 @@ def direct(system_name, kind):
 @pytest.mark.parametrize("system_name", DIRECT_SYSTEMS)
 @pytest.mark.parametrize("kind", list(EXCITATIONS))
 def test_agrees_with_direct_solver(system_name, kind):
+    """In displacement, velocity and acceleration: the direct solve's state and its equation of motion against
+    the superposition's exact derivatives."""
     reference = direct(system_name, kind)
     result = superpose(SYSTEMS[system_name], EXCITATIONS[kind], reference.t)
-    agreement = compare(reference, result, tolerance=RTOL_MODAL_DIRECT)
-    assert agreement.ok, str(agreement)
+    omega = float(np.max(SYSTEMS[system_name].modes.omega))
+    agreement = compare_motion(reference, result, tolerance=RTOL_MODAL_DIRECT, omega=omega)
+    assert agreement.rates and agreement.ok, str(agreement)
+    assert agreement.worst == max(max(agreement.per_dof), max(agreement.per_dof_qd), max(agreement.per_dof_qdd))
+    relative = compare(*relative_to_ground(reference, result), absolute=reference.q if reference.has_ground else None)
+    np.testing.assert_array_equal(agreement.per_dof, relative.per_dof)  # q: as compare judges it
     assert result.superposition.method == ("real" if system_name in CLASSICAL else "complex")
 
 
@@ -617,7 +630,6 @@ def test_a_body_riding_a_pre_displaced_ground_agrees_to_round_off():
     translation, no rotation: the exact answer), the two solutions differ by round-off, and the cross-check
     says ok with a finite figure instead of "worst inf ... OVER TOLERANCE"."""
     from sixdof import parse_scenario
-    from sixdof.analysis.compare import relative_to_ground
 
     lines = ['name = "ride"', "[body]", "mass = 120.0", "inertia = [4.0, 5.0, 6.0]"]
     for name, p, k in THREE_MOUNTS:
@@ -634,3 +646,33 @@ def test_a_body_riding_a_pre_displaced_ground_agrees_to_round_off():
     np.testing.assert_allclose(modal.q, direct.q, rtol=0, atol=1e-15)
     agreement = compare(*relative_to_ground(direct, modal), absolute=direct.q)
     assert agreement.ok and np.all(np.isfinite(agreement.per_dof)) and agreement.worst < 1e-6
+
+
+def test_compare_motion_judges_velocities_and_accelerations_too():
+    """Displacements that agree to 1e-9 hide accelerations 1e-5 apart (an error in a high mode is omega^2 larger
+    in qdd): compare judged q alone and said ok; compare_motion gives each quantity per DOF and its verdict over
+    all three."""
+    t = np.linspace(0.0, 1.0, 1001)
+    omega = np.array([3.0, 5.0, 7.0, 11.0, 13.0, 17.0])
+    amplitude = np.array([1e-3, 2e-3, 1e-3, 1e-4, 2e-4, 1e-4])
+    q = amplitude * np.sin(np.outer(t, omega))
+    exact = SimpleNamespace(q=q, qd=amplitude * omega * np.cos(np.outer(t, omega)), qdd=-omega**2 * q)
+    off = SimpleNamespace(q=exact.q * (1 + 1e-9), qd=exact.qd, qdd=exact.qdd.copy())
+    off.qdd[:, 2] += 1e-5 * np.abs(exact.qdd[:, 2]).max() * np.sin(300.0 * t)
+    assert compare(exact.q, off.q).ok
+    agreement = compare_motion(exact, off)
+    assert not agreement.ok and (agreement.worst_dof, agreement.worst_quantity) == ("z", "qdd")
+    np.testing.assert_allclose(agreement.per_dof, 1e-9, rtol=1e-6)
+    np.testing.assert_array_equal(agreement.per_dof_qd, 0.0)
+    assert agreement.per_dof_qdd[2] == pytest.approx(1e-5, rel=1e-3) and agreement.worst == agreement.per_dof_qdd[2]
+    assert "(z, acceleration)" in str(agreement) and "per DOF, velocity:" in str(agreement)
+    merged = merge_agreements([compare_motion(exact, off, keep=t <= 0.5), compare_motion(exact, off, keep=t > 0.5)])
+    np.testing.assert_allclose(merged.per_dof_qdd, agreement.per_dof_qdd, rtol=1e-12)
+    # At rest in both paths but for round-off, velocities and accelerations are judged against the motion the
+    # largest displacement has at omega (its floor), not called infinitely wrong.
+    still = SimpleNamespace(q=np.full((5, 6), 1e-3), qd=np.zeros((5, 6)), qdd=np.zeros((5, 6)))
+    noisy = SimpleNamespace(q=still.q, qd=np.full((5, 6), 1e-20), qdd=np.full((5, 6), 1e-18))
+    assert compare_motion(still, noisy).worst == np.inf
+    rest = compare_motion(still, noisy, omega=100.0)
+    np.testing.assert_allclose(rest.per_dof_qd, 1e-20 / (QUIET_RTOL * 1e-3 * 100.0), rtol=1e-12)
+    np.testing.assert_allclose(rest.per_dof_qdd, 1e-18 / (QUIET_RTOL * 1e-3 * 100.0**2), rtol=1e-12)

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from sixdof.analysis.compare import QUANTITIES
 from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.dofs import DOF_UNITS, DOFS, display_unit
 
@@ -715,9 +716,16 @@ def _mount_peaks_table(forces) -> str:
 
 
 def _agreement_table(agreement, superposition) -> str:
-    rows = [[d, f"{v:.2e}"] for d, v in zip(DOFS, agreement.per_dof)]
-    text = table(["DOF", "max |q_direct - q_modal| / peak |q_direct|"], rows) + (
-        f"\n\nWorst: {agreement.worst:.2e} ({agreement.worst_dof}), {'within' if agreement.ok else 'OVER'} the "
+    if agreement.rates:  # displacement, velocity and acceleration, each on its own peak
+        rows = [[d, *(f"{v:.2e}" for v in values)]
+                for d, *values in zip(DOFS, agreement.per_dof, agreement.per_dof_qd, agreement.per_dof_qdd)]
+        headers = ["DOF", "q: max |direct - modal| / peak |direct|", "q'", "q''"]
+        where = f"{agreement.worst_dof}, {QUANTITIES[agreement.worst_quantity]}"
+    else:
+        rows = [[d, f"{v:.2e}"] for d, v in zip(DOFS, agreement.per_dof)]
+        headers, where = ["DOF", "max |q_direct - q_modal| / peak |q_direct|"], agreement.worst_dof
+    text = table(headers, rows) + (
+        f"\n\nWorst: {agreement.worst:.2e} ({where}), {'within' if agreement.ok else 'OVER'} the "
         f"tolerance {agreement.tolerance:.0e}. Superposition used {superposition.method} modes: {superposition.reason}")
     if superposition.truncation is None:
         return text

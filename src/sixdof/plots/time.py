@@ -9,7 +9,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
-from sixdof.analysis.compare import Agreement, relative_to_ground
+from sixdof.analysis.compare import QUANTITIES, Agreement, relative_to_ground
 from sixdof.analysis.contact import ContactSummary
 from sixdof.analysis.mountcheck import MountCheck
 from sixdof.analysis.response import MountForces
@@ -263,7 +263,8 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
     heading = "direct solution vs modal superposition" + (", relative to the ground" if direct.has_ground else "")
     if agreement is not None:
         verdict = "within" if agreement.ok else "EXCEEDS"
-        heading += (f"\nworst relative difference {agreement.worst:.2e} in {agreement.worst_dof}"
+        where = agreement.worst_dof + (f" {QUANTITIES[agreement.worst_quantity]}" if agreement.rates else "")
+        heading += (f"\nworst relative difference {agreement.worst:.2e} in {where}"
                     f"{' before the first engagement' if cut else ''} ({verdict} tolerance {agreement.tolerance:.0e})")
     top = 1.25 if cut else 1.0  # a third line of title: what the first engagement means
     if zoom is None:

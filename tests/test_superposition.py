@@ -676,3 +676,7 @@ def test_compare_motion_judges_velocities_and_accelerations_too():
     rest = compare_motion(still, noisy, omega=100.0)
     np.testing.assert_allclose(rest.per_dof_qd, 1e-20 / (QUIET_RTOL * 1e-3 * 100.0), rtol=1e-12)
     np.testing.assert_allclose(rest.per_dof_qdd, 1e-18 / (QUIET_RTOL * 1e-3 * 100.0**2), rtol=1e-12)
+    with pytest.raises(InputError, match=r"omega: expected a positive angular frequency in rad/s, got -1"):
+        compare_motion(still, noisy, omega=-1.0)
+    with pytest.raises(InputError, match=r"modal.qd: expected shape \(5, 6\) like direct.qd, got 'shape \(4, 6\)'"):
+        compare_motion(still, SimpleNamespace(q=still.q, qd=np.zeros((4, 6)), qdd=still.qdd))

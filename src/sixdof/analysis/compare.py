@@ -51,7 +51,7 @@ class Agreement:
     error : ndarray, shape (6,)
         ``max_t |q_ref - q_other|`` of each DOF [m, rad].
     quiet : tuple of str
-        DOFs whose response is negligible, judged against the largest peak.
+        DOFs whose displacement is negligible, judged against the largest peak (or the floor).
     length : float
         Length [m] converting rotations to displacements when DOFs are compared with each other.
     absolute_peak : ndarray, shape (6,), or None
@@ -240,6 +240,8 @@ def compare_motion(direct, modal, tolerance: float = AGREEMENT_TOLERANCE, *, len
     """
     for name, value in (("tolerance", tolerance), ("length", length), ("quiet_rtol", quiet_rtol)):
         number(value, name, "a positive number", low=0.0, strict=True)
+    if omega is not None:
+        number(omega, "omega", "a positive angular frequency in rad/s", low=0.0, strict=True)
     rows = slice(None) if keep is None else np.asarray(keep, dtype=bool)
     parts = {}
     for key in QUANTITIES:
@@ -254,8 +256,6 @@ def compare_motion(direct, modal, tolerance: float = AGREEMENT_TOLERANCE, *, len
         shift = np.hstack([np.asarray(ground)[rows], np.zeros((absolute.shape[0], 3))])
         relative = absolute - shift
         parts[key] = (column_peaks(relative), column_peaks(relative - (other - shift)), column_peaks(absolute))
-    if omega is not None:
-        number(omega, "omega", "a positive angular frequency in rad/s", low=0.0, strict=True)
     return agreement_of(*parts["q"], tolerance, length=length, quiet_rtol=quiet_rtol,
                         rates={key: parts[key] for key in ("qd", "qdd")}, omega=omega)
 
@@ -292,8 +292,9 @@ def agreement_of(peak, error, absolute_peak=None, tolerance: float = AGREEMENT_T
     found.update({key: arrays(*value) for key, value in (rates or {}).items()})
     displacement = max(size(found["q"][0]), size(found["q"][2]))  # the largest displacement, relative or absolute
     fields, quiet, worst = {}, None, (-1.0, "x", "q")
-    for order, (key, (p, e, a)) in enumerate(found.items()):
-        # The floor: the absolute motion's size, and for the rates the displacement's times omega^order.
+    for key, (p, e, a) in found.items():
+        # The floor: the absolute motion's size, and for the rates the displacement's times omega (q'), omega^2 (q'').
+        order = list(QUANTITIES).index(key)
         floor = max(size(a), 0.0 if key == "q" or omega is None else displacement * float(omega) ** order)
         per_dof, flags = _relative_errors(p, e, scale, quiet_rtol, floor)
         quiet = flags if quiet is None else quiet

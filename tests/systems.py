@@ -3,7 +3,8 @@
 - :func:`bridge`: the seed paper's 83 t bridge beam on four elastomeric bearings (section 5), with the
   damping models the tests need as parameters.
 - :func:`four_mount`: a body on four identical mounts at the corners of a rectangle (doubly symmetric).
-- :func:`small_box`, :func:`skewed_box`: small bodies on three unequal mounts, every DOF coupled.
+- :func:`small_box`, :func:`skewed_box`: small bodies on three unequal mounts, every DOF coupled;
+  :func:`heavily_damped_box`: the same mounts with dashpots that leave two modes overdamped.
 - :func:`skewed_machine`: a full inertia tensor on four inclined, differently damped mounts.
 - :func:`sdof`: one vertical spring at the CG, a single-DOF oscillator in z.
 
@@ -106,6 +107,27 @@ def small_box(zeta=0.04) -> System:
     Rayleigh damping of ratio ``zeta`` at 5 and 20 Hz."""
     mounts = [Mount(name, p, k) for name, p, k in THREE_MOUNTS]
     return System(RigidBody(120.0, [4.0, 5.0, 6.0]), mounts, rayleigh=Rayleigh.from_ratio(zeta, (5.0, 20.0)))
+
+
+#: Dashpots [N s/m] on the mounts of :data:`THREE_MOUNTS` that leave two of the six modes of :func:`small_box`'s body
+#: without an oscillating pole (four complex pairs, four real eigenvalues), although the diagonal approximation
+#: phi' C phi / (2 omega) gives them 83 % and 90 %.
+HEAVY_DASHPOTS = [[12700.0, 630.0, 6200.0], [720.0, 27.0, 13.0], [210.0, 15100.0, 610.0]]
+
+
+def heavily_damped_box() -> System:
+    """:func:`small_box`'s body on :data:`THREE_MOUNTS` with :data:`HEAVY_DASHPOTS`: two modes overdamped by
+    non-proportional damping."""
+    mounts = [Mount(name, p, k, d) for (name, p, k), d in zip(THREE_MOUNTS, HEAVY_DASHPOTS)]
+    return System(RigidBody(120.0, [4.0, 5.0, 6.0]), mounts)
+
+
+def heavily_damped_box_toml() -> str:
+    """The ``[body]`` and ``[[mounts]]`` tables of a scenario file for :func:`heavily_damped_box`."""
+    lines = ["[body]", "mass = 120.0", "inertia = [4.0, 5.0, 6.0]"]
+    for (name, p, k), d in zip(THREE_MOUNTS, HEAVY_DASHPOTS):
+        lines += ["[[mounts]]", f'name = "{name}"', f"position = {p!r}", f"stiffness = {k!r}", f"damping = {d!r}"]
+    return "\n".join(lines) + "\n"
 
 
 def skewed_box() -> System:

@@ -16,7 +16,7 @@ from sixdof import DOFS, InputError
 from sixdof.cli import BLAS_THREAD_VARIABLES, EXIT_CANNOT_WRITE, EXIT_CLOSED_PIPE, _parser, main
 from sixdof.io.store import write_results
 from store_cases import run_parts
-from systems import BRIDGE_INERTIA, BRIDGE_MASS, bridge
+from systems import BRIDGE_INERTIA, BRIDGE_MASS, bridge, heavily_damped_box, heavily_damped_box_toml
 from tolerances import ATOL_QUOTED_HZ, RTOL_LINALG
 
 
@@ -68,6 +68,22 @@ def test_modes_json_keys_are_the_results_file_s_names(tmp_path, capsys):
                 assert found[name] == stored.tolist(), name
     assert data["rigid_body_modes"] == [] and data["statics"]["uplift"] == []
     assert data["frequencies_hz"] == data["frequency_hz"]  # the name of earlier versions, kept
+
+
+def test_modes_json_legacy_mount_forces_keep_their_sign(capsys):
+    """``mount_forces_n`` of earlier versions was the force of each mount on the body (git f879cd7:
+    ``-k delta``): under -z gravity every bearing pushes up and the bearings together hold the weight,
+    ``sum Fz = m g``. Today's ``mount_force`` is the body's load on the mount, its opposite."""
+    from sixdof.analysis.statics import STANDARD_GRAVITY
+
+    assert main(["modes", "scenarios/bridge_beam.toml", "--json"]) == 0
+    statics = json.loads(capsys.readouterr().out)["statics"]
+    legacy, today = np.array(statics["mount_forces_n"]), np.array(statics["mount_force"])
+    assert legacy.shape == (4, 3) and np.all(legacy[:, 2] > 0)
+    np.testing.assert_allclose(legacy.sum(axis=0), [0.0, 0.0, BRIDGE_MASS * STANDARD_GRAVITY],
+                               rtol=RTOL_LINALG, atol=RTOL_LINALG * BRIDGE_MASS * STANDARD_GRAVITY)
+    np.testing.assert_array_equal(legacy, -today)
+    assert statics["support_n"] == statics["support"]  # the same sign then and now: > 0 in compression
 
 
 def test_modes_json_numbers_a_free_body_s_rigid_body_modes_as_integers(tmp_path, capsys):
@@ -421,3 +437,40 @@ def test_plot_and_export_of_a_damaged_results_file_fail_in_one_line(tmp_path, ca
         assert len(err) == 1 and err[0].startswith("sixdof: error: results: expected an undamaged results file")
         assert str(path) in err[0]
     assert sorted(p.name for p in (tmp_path / "run").iterdir()) == ["results.h5"]
+
+
+def test_modes_and_run_mark_modes_without_an_oscillating_pole_overdamped(tmp_path, capsys):
+    """Two modes of the heavily damped box have no complex pole (tests/test_model.py checks this against the
+    state matrix's eigenvalues): the modes table, the run's and summary.md say "overdamped" there, never the
+    diagonal approximation's 83 % or 90 %, and the JSON gives null."""
+    from sixdof.analysis.statespace import damping_ratios, modal_damping_ratios
+
+    system = heavily_damped_box()
+    zeta, approx = damping_ratios(system.C, system.modes), modal_damping_ratios(system.C, system.modes)
+    overdamped = np.flatnonzero(np.isinf(zeta))
+    assert overdamped.size == 2
+    scenario = tmp_path / "heavy.toml"
+    scenario.write_text('name = "heavy"\n' + heavily_damped_box_toml()
+                        + '[[loads]]\nname = "tap"\npoint = [0.0, 0.0, 0.0]\nforce = [10.0, 10.0, 10.0]\n'
+                        'signal = { kind = "half_sine", start = 0.0, duration = 0.005 }\n'
+                        "[simulation]\nduration = 0.05\nsample_rate_hz = 2000.0\n")
+
+    def zeta_cells(text):
+        rows = [line.split("|") for line in text.splitlines() if line.startswith("| ")]
+        first = next(i for i, r in enumerate(rows) if r[1].strip() == "mode")
+        return [r[-2].strip() for r in rows[first + 1:first + 7]]
+
+    assert main(["modes", str(scenario)]) == 0
+    out = capsys.readouterr().out
+    assert main(["run", str(scenario), "--out", str(tmp_path), "--quiet"]) == 0
+    printed = capsys.readouterr().out
+    for text in (out, printed, (tmp_path / "heavy" / "summary.md").read_text()):
+        cells = zeta_cells(text)
+        assert [cells[j] for j in overdamped] == ["overdamped", "overdamped"]
+        for j in overdamped:
+            assert f"{100 * approx[j]:.2f}" not in text
+        for j in set(range(6)) - set(overdamped):
+            assert cells[j] == f"{100 * zeta[j]:.2f}"
+    assert main(["modes", str(scenario), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert [data["damping_ratio"][j] for j in overdamped] == [None, None] and data["rigid_body_modes"] == []

@@ -17,7 +17,7 @@ from sixdof import InputError, Mount, Rayleigh, RigidBody, System, gravity_stati
 from sixdof._jax import jax, jnp
 from sixdof.analysis.statespace import damping_ratios, modal_damping_ratios
 from sixdof.model.kinematics import generalized_force, mount_matrix_jax, point_map
-from systems import four_mount
+from systems import four_mount, heavily_damped_box
 from tolerances import (
     RTOL_COMPLEX_DAMPING_RATIO,
     RTOL_DAMPING_RATIO,
@@ -332,6 +332,24 @@ def test_exact_damping_ratios_of_non_proportional_damping():
     roots = np.linalg.eigvals(state_matrices(system.M, system.C, system.K)[0])
     from_roots = np.sort(-roots.real[roots.imag > 0] / np.abs(roots[roots.imag > 0]))
     assert np.sort(zeta) == pytest.approx(from_roots, rel=RTOL_COMPLEX_DAMPING_RATIO)
+
+
+def test_modes_without_an_oscillating_pole_are_overdamped_not_their_diagonal_ratio():
+    """Heavy non-proportional dashpots: the state matrix (scipy) has four complex pairs and four real eigenvalues,
+    so two of the six modes do not oscillate. They are overdamped (inf), not the 83 % and 90 % of the diagonal
+    approximation; the other four are -Re(lambda)/|lambda| of the four pairs."""
+    from scipy.linalg import eigvals
+
+    system = heavily_damped_box()
+    roots = eigvals(state_matrices(system.M, system.C, system.K)[0])
+    oscillating = roots[roots.imag > 1e-9 * np.abs(roots).max()]
+    assert oscillating.size == 4 and np.sum(np.abs(roots.imag) <= 1e-9 * np.abs(roots).max()) == 4
+    zeta = damping_ratios(system.C, system.modes)
+    approx = modal_damping_ratios(system.C, system.modes)
+    overdamped = np.isinf(zeta)
+    assert overdamped.sum() == 2 and np.all(approx[overdamped] < 1)  # the approximation would call them underdamped
+    assert np.sort(zeta[~overdamped]) == pytest.approx(np.sort(-oscillating.real / np.abs(oscillating)),
+                                                       rel=RTOL_COMPLEX_DAMPING_RATIO)
 
 
 @pytest.mark.parametrize(("mass", "inertia", "field", "got"), [

@@ -191,8 +191,10 @@ def test_truncated_superposition_reports_its_error_and_warns(tmp_path):
         outcome = run_scenario(scenario, tmp_path, progress=False)
     assert outcome.superposition.superposition.modes_kept == (0, 1, 2)
     assert outcome.superposition.superposition.truncation.worst > 1e-6
-    # Against the direct solve, the truncated superposition is off by what its truncation says.
-    assert outcome.agreement.worst == pytest.approx(outcome.superposition.superposition.truncation.worst, rel=RTOL_REPORTED_TRUNCATION)
+    # Against the direct solve, the truncated superposition's displacements are off by what its truncation says
+    # (its accelerations by more: the worst over q, q' and q'' is in q'').
+    assert outcome.agreement.worst_quantity == "qdd" and outcome.agreement.worst > max(outcome.agreement.per_dof)
+    assert max(outcome.agreement.per_dof) == pytest.approx(outcome.superposition.superposition.truncation.worst, rel=RTOL_REPORTED_TRUNCATION)
     assert "Truncated to modes 1, 2, 3" in outcome.summary_path.read_text()
 
 

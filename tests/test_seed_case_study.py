@@ -68,14 +68,38 @@ def test_stiffness_blocks_match_the_printed_values(bridge, sub, printed, misprin
 
 
 def test_k1_ry_rz_term_is_10078_not_10077(bridge):
-    # Eq. (10), row ry, column rz: -sum kx_j y_j z_j. From Tables 1-2 it is 10 078.0e3 N m, so the
-    # printed 10077 (both places it appears) is off by one in its last digit.
+    # Eq. (10), row ry, column rz: -sum kx_j y_j z_j. From Tables 1-2 as printed it is 10 078.0e3 N m, not the
+    # printed 10077 (both places it appears): the paper computed K1 with a CG height it rounded to 1.031 m in
+    # Table 2 (the next test).
     kx, y, z = K_TABLE[:, 0], R_TABLE[:, 1], R_TABLE[:, 2]
     _, K, _ = blocks(bridge, SUB1)
     assert K[1, 2] == pytest.approx(-np.sum(kx * y * z), rel=RTOL_LINALG)
     assert K[2, 1] == pytest.approx(K[1, 2], rel=RTOL_LINALG)
     assert_printed(K[1, 2], "10078", scale=1e3)
     assert abs(K[1, 2] / 1e3 - 10077) > printed_ulp("10077")
+
+
+def test_k1_as_printed_follows_from_a_cg_height_of_1_0309():
+    # Not a misprint but a rounded input: with the bearings 1.0309 m below the CG instead of Table 2's 1.031 m,
+    # every printed entry of K1 and K2 (but the rx, rx one that lost a zero) is the value rounded to its printed
+    # digits: 10077.05, -1587.59 and 63085.04 (1e3 N m, N, N m) for the three entries the height enters.
+    from sixdof import Mount, RigidBody, System
+
+    height = 1.0309
+    system = System(RigidBody(83e3, [11.105e6, 0.0491e6, 11.064e6]),
+                    [Mount(str(i + 1), (x, y, -height), k) for i, ((x, y, _), k) in enumerate(zip(R_TABLE, K_TABLE))])
+    kx, kz, x, y, z = K_TABLE[:, 0], K_TABLE[:, 2], R_TABLE[:, 0], R_TABLE[:, 1], -height
+    _, K1, _ = blocks(system, SUB1)
+    # Eq. (10) by hand: the entries the height enters, at the issue's two decimals.
+    for ours, closed_form, shown in ((K1[1, 2], -np.sum(kx * y * z), 10077.05), (K1[0, 1], np.sum(kx * z), -1587.59),
+                                     (K1[1, 1], np.sum(kx * z**2 + kz * x**2), 63085.04)):
+        assert ours == pytest.approx(closed_form, rel=RTOL_LINALG)
+        assert round(ours / 1e3, 2) == shown
+    for sub, printed, misprints in ((SUB1, K1_PRINTED, set()), (SUB2, K2_PRINTED, {(2, 2)})):
+        _, K, _ = blocks(system, sub)
+        for i, j in np.ndindex(3, 3):
+            if (i, j) not in misprints:  # rounds to the printed value: within half a unit of its last digit
+                assert abs(K[i, j] / 1e3 - float(printed[i][j])) <= printed_ulp(printed[i][j]) / 2, (i, j)
 
 
 def test_k2_rx_rx_term_lacks_a_zero_in_print(bridge):

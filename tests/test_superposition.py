@@ -27,6 +27,7 @@ from references import (
     windowed_pieces,
 )
 from sixdof import (
+    DOFS,
     InputError,
     Mount,
     Rayleigh,
@@ -38,11 +39,18 @@ from sixdof import (
     superpose,
 )
 from sixdof import excitation as ex
-from sixdof.analysis.compare import Agreement, column_peaks
+from sixdof.analysis.compare import (
+    QUIET_RTOL,
+    Agreement,
+    column_peaks,
+    compare_motion,
+    merge_agreements,
+    relative_to_ground,
+)
 from sixdof.analysis.superposition import QUADRATURE_RTOL, modal_solve, quadrature_size
 from sixdof.errors import readonly
 from sixdof.results import TimeHistory
-from systems import BRIDGE_MASS, BRIDGE_POSITIONS, bridge, bridge_body, four_mount
+from systems import BRIDGE_MASS, BRIDGE_POSITIONS, THREE_MOUNTS, bridge, bridge_body, four_mount
 from tolerances import (
     MODAL_DAMPING_COUPLING_CLASSICAL,
     MODAL_DAMPING_COUPLING_MIN,
@@ -423,10 +431,16 @@ def direct(system_name, kind):
 @pytest.mark.parametrize("system_name", DIRECT_SYSTEMS)
 @pytest.mark.parametrize("kind", list(EXCITATIONS))
 def test_agrees_with_direct_solver(system_name, kind):
+    """In displacement, velocity and acceleration: the direct solve's state and its equation of motion against
+    the superposition's exact derivatives."""
     reference = direct(system_name, kind)
     result = superpose(SYSTEMS[system_name], EXCITATIONS[kind], reference.t)
-    agreement = compare(reference, result, tolerance=RTOL_MODAL_DIRECT)
-    assert agreement.ok, str(agreement)
+    omega = float(np.max(SYSTEMS[system_name].modes.omega))
+    agreement = compare_motion(reference, result, tolerance=RTOL_MODAL_DIRECT, omega=omega)
+    assert agreement.rates and agreement.ok, str(agreement)
+    assert agreement.worst == max(max(agreement.per_dof), max(agreement.per_dof_qd), max(agreement.per_dof_qdd))
+    relative = compare(*relative_to_ground(reference, result), absolute=reference.q if reference.has_ground else None)
+    np.testing.assert_array_equal(agreement.per_dof, relative.per_dof)  # q: as compare judges it
     assert result.superposition.method == ("real" if system_name in CLASSICAL else "complex")
 
 
@@ -588,3 +602,81 @@ def test_the_history_holds_the_engines_arrays_and_copies_anyone_elses():
     mine.flags.writeable = True
     mine[1, 1] = 7.0
     assert np.all(history.q == 1.0) and np.all(history.t == np.arange(3.0))
+
+
+def test_compare_floors_relative_motion_at_the_absolute_motion():
+    """Relative to a moving ground, no DOF's error is divided by less than 1e-6 of the largest absolute motion;
+    without ground motion (absolute = relative) the floor is the quiet threshold itself and nothing changes."""
+    t = np.linspace(0, 1, 101)
+    ref = np.stack([1e-4 * np.sin(7 * t), 2e-4 * np.cos(3 * t), 1e-3 * t, 1e-7 * t, 3e-6 * t**2,
+                    -2e-10 * np.sin(t)], axis=1)
+    other = ref + 1e-16
+    plain = compare(ref, other)
+    same = compare(ref, other, absolute=ref)
+    np.testing.assert_array_equal(same.per_dof, plain.per_dof)
+    assert same.quiet == plain.quiet == ("rz",)
+    # Relative motion identically zero, the body 2 cm away with the ground: judged against 2e-8 m, not inf.
+    absolute = np.zeros((101, 6))
+    absolute[:, 2] = 0.02
+    riding = compare(np.zeros((101, 6)), np.full((101, 6), 1e-17), absolute=absolute)
+    assert compare(np.zeros((101, 6)), np.full((101, 6), 1e-17)).worst == np.inf  # what the floor prevents
+    np.testing.assert_allclose(riding.per_dof, 1e-17 / (QUIET_RTOL * 0.02), rtol=1e-12)
+    np.testing.assert_allclose(riding.denominator, QUIET_RTOL * 0.02, rtol=1e-12)
+    assert riding.ok and riding.quiet == DOFS
+
+
+def test_a_body_riding_a_pre_displaced_ground_agrees_to_round_off():
+    """The ground held 5 cm away from the start: the body rides it at rest on its mounts (q = the ground's
+    translation, no rotation: the exact answer), the two solutions differ by round-off, and the cross-check
+    says ok with a finite figure instead of "worst inf ... OVER TOLERANCE"."""
+    from sixdof import parse_scenario
+
+    lines = ['name = "ride"', "[body]", "mass = 120.0", "inertia = [4.0, 5.0, 6.0]"]
+    for name, p, k in THREE_MOUNTS:
+        lines += ["[[mounts]]", f'name = "{name}"', f"position = {p!r}", f"stiffness = {k!r}",
+                  "damping = [50.0, 50.0, 200.0]"]
+    lines += ["[ground]", 'quantity = "displacement"', "direction = [0.3, 0.2, 1.0]", "scale = 0.05",
+              'signal = { kind = "table", t = [0.0, 1.0], values = [1.0, 1.0], outside = "hold" }',
+              "[simulation]", "duration = 0.1", "sample_rate_hz = 2000.0"]
+    scenario = parse_scenario("\n".join(lines) + "\n", "ride.toml")
+    direct = simulate(scenario.system, scenario.excitation, scenario.simulation)
+    modal = superpose(scenario.system, scenario.excitation, direct.t)
+    offset = 0.05 * np.array([0.3, 0.2, 1.0]) / np.linalg.norm([0.3, 0.2, 1.0])
+    np.testing.assert_allclose(direct.q, np.broadcast_to(np.r_[offset, 0, 0, 0], direct.q.shape), rtol=0, atol=1e-15)
+    np.testing.assert_allclose(modal.q, direct.q, rtol=0, atol=1e-15)
+    agreement = compare(*relative_to_ground(direct, modal), absolute=direct.q)
+    assert agreement.ok and np.all(np.isfinite(agreement.per_dof)) and agreement.worst < 1e-6
+
+
+def test_compare_motion_judges_velocities_and_accelerations_too():
+    """Displacements that agree to 1e-9 hide accelerations 1e-5 apart (an error in a high mode is omega^2 larger
+    in qdd): compare judged q alone and said ok; compare_motion gives each quantity per DOF and its verdict over
+    all three."""
+    t = np.linspace(0.0, 1.0, 1001)
+    omega = np.array([3.0, 5.0, 7.0, 11.0, 13.0, 17.0])
+    amplitude = np.array([1e-3, 2e-3, 1e-3, 1e-4, 2e-4, 1e-4])
+    q = amplitude * np.sin(np.outer(t, omega))
+    exact = SimpleNamespace(q=q, qd=amplitude * omega * np.cos(np.outer(t, omega)), qdd=-omega**2 * q)
+    off = SimpleNamespace(q=exact.q * (1 + 1e-9), qd=exact.qd, qdd=exact.qdd.copy())
+    off.qdd[:, 2] += 1e-5 * np.abs(exact.qdd[:, 2]).max() * np.sin(300.0 * t)
+    assert compare(exact.q, off.q).ok
+    agreement = compare_motion(exact, off)
+    assert not agreement.ok and (agreement.worst_dof, agreement.worst_quantity) == ("z", "qdd")
+    np.testing.assert_allclose(agreement.per_dof, 1e-9, rtol=1e-6)
+    np.testing.assert_array_equal(agreement.per_dof_qd, 0.0)
+    assert agreement.per_dof_qdd[2] == pytest.approx(1e-5, rel=1e-3) and agreement.worst == agreement.per_dof_qdd[2]
+    assert "(z, acceleration)" in str(agreement) and "per DOF, velocity:" in str(agreement)
+    merged = merge_agreements([compare_motion(exact, off, keep=t <= 0.5), compare_motion(exact, off, keep=t > 0.5)])
+    np.testing.assert_allclose(merged.per_dof_qdd, agreement.per_dof_qdd, rtol=1e-12)
+    # At rest in both paths but for round-off, velocities and accelerations are judged against the motion the
+    # largest displacement has at omega (its floor), not called infinitely wrong.
+    still = SimpleNamespace(q=np.full((5, 6), 1e-3), qd=np.zeros((5, 6)), qdd=np.zeros((5, 6)))
+    noisy = SimpleNamespace(q=still.q, qd=np.full((5, 6), 1e-20), qdd=np.full((5, 6), 1e-18))
+    assert compare_motion(still, noisy).worst == np.inf
+    rest = compare_motion(still, noisy, omega=100.0)
+    np.testing.assert_allclose(rest.per_dof_qd, 1e-20 / (QUIET_RTOL * 1e-3 * 100.0), rtol=1e-12)
+    np.testing.assert_allclose(rest.per_dof_qdd, 1e-18 / (QUIET_RTOL * 1e-3 * 100.0**2), rtol=1e-12)
+    with pytest.raises(InputError, match=r"omega: expected a positive angular frequency in rad/s, got -1"):
+        compare_motion(still, noisy, omega=-1.0)
+    with pytest.raises(InputError, match=r"modal.qd: expected shape \(5, 6\) like direct.qd, got 'shape \(4, 6\)'"):
+        compare_motion(still, SimpleNamespace(q=still.q, qd=np.zeros((4, 6)), qdd=still.qdd))

@@ -63,6 +63,7 @@ _PUBLIC = {
     "MountLimitWarning": "analysis.mountcheck",
     "superpose": "analysis.superposition",
     "compare": "analysis.compare",
+    "compare_motion": "analysis.compare",
     "receptance": "analysis.frf",
     "point_frf": "analysis.frf",
     "force_transmissibility": "analysis.frf",

@@ -542,7 +542,8 @@ def _modes_json(scenario, modes, statics, zeta, sensitivity: bool = False) -> di
     name of its dataset or attribute there (mode numbers from 1, like the file's), NaN as null; and, for
     scripts written before those names, the keys of earlier versions (``frequencies_hz``, ``omega_rad_s``,
     ``damping_ratios``, ``zero_modes`` (indices from 0), and in ``statics`` ``mounts``, ``mount_forces_n``,
-    ``support_n``)."""
+    ``support_n``). ``mount_forces_n`` keeps the sign of those versions: the force of each mount on the body [N],
+    ``-mount_force``."""
     import numpy as np
 
     from sixdof.io.store import build_results
@@ -556,7 +557,8 @@ def _modes_json(scenario, modes, statics, zeta, sensitivity: bool = False) -> di
             return [plain(v) for v in value]
         value = np.asarray(value)
         if value.dtype.kind == "f":
-            return np.where(np.isnan(value), None, value.astype(object)).tolist()  # NaN (rigid-body mode) -> null
+            # NaN (rigid-body mode) and inf (overdamped: no oscillating pole) -> null: JSON has neither
+            return np.where(np.isfinite(value), value.astype(object), None).tolist()
         return value.tolist()
 
     def group(name):
@@ -578,7 +580,10 @@ def _modes_json(scenario, modes, statics, zeta, sensitivity: bool = False) -> di
     out.update(_design_json(scenario, sensitivity, plain))
     if statics is not None:
         fixed = group("statics")
-        out["statics"] = {**fixed, "mounts": fixed["mount"], "mount_forces_n": fixed["mount_force"],
+        # Earlier versions gave the force each mount exerts on the body (Fz > 0 under -z gravity); today's
+        # mount_force is the body's force on the mount, its opposite. The legacy key keeps its own sign.
+        legacy = plain(0.0 - np.asarray(statics.mount_forces))  # 0.0 - x: no -0.0
+        out["statics"] = {**fixed, "mounts": fixed["mount"], "mount_forces_n": legacy,
                           "support_n": fixed["support"]}
     return out
 

@@ -344,7 +344,8 @@ class RunResults(Frozen):
     loss_factor_statics: str = label(default="")
     modes: Any = part(lambda: _class("sixdof.analysis.modal", "Modes"), group="modal", default=None)
     damping_ratios: np.ndarray | None = quantity("1", ("mode",), name="modal/damping_ratio", default=None,
-                                                 description="modal damping ratio (nan for rigid-body modes)")
+                                                 description="modal damping ratio (nan for rigid-body modes, inf for "
+                                                 "overdamped modes: no oscillating pole)")
     statics: Any = part(lambda: _class("sixdof.analysis.statics", "Statics"), group="statics", default=None)
     response: TimeHistory | None = part(lambda: TimeHistory, group="time", default=None)
     mount_forces: Any = part(lambda: _class("sixdof.analysis.response", "MountForces"), group="time", default=None)

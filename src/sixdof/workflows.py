@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from sixdof.analysis.compare import QUANTITIES
 from sixdof.analysis.statespace import damping_ratios
 from sixdof.analysis.statics import try_gravity_statics
 from sixdof.analysis.validity import (
@@ -288,7 +289,7 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
     only the samples that hold each drawn series' extremes per pixel column (:func:`envelope_samples`), so its
     memory is bounded whatever its duration.
     """
-    from sixdof.analysis.compare import compare, merge_agreements, relative_to_ground
+    from sixdof.analysis.compare import compare_motion, merge_agreements
     from sixdof.analysis.direct import is_nonlinear, progress_meter, simulate_windows
     from sixdof.analysis.mountcheck import MountLimitWarning, merge_mount_checks, mount_check
     from sixdof.analysis.records import merge_stats, merge_superposition
@@ -301,6 +302,7 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
     excitation = scenario.excitation if scenario.excitation is not None else Excitation()
     points = {p.name: p.position for p in scenario.points}
     length = body_length(system)
+    omega = float(np.max(system.modes.omega))  # the velocities' and accelerations' floors (compare_motion)
     keep_all = settings.samples <= MEMORY_SAMPLES
     span = (settings.start, settings.start + settings.duration)
     meter = progress_meter(progress or None, settings)
@@ -320,7 +322,7 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
         piece = RunResults(response=window, superposition=modal, mount_forces=forces,
                            mount_check=mount_check(system, forces, window.t, statics),
                            points=points_motion(window, points) if points else {},
-                           agreement=compare(*relative_to_ground(window, modal), length=length))
+                           agreement=compare_motion(window, modal, length=length, omega=omega))
         if nonlinear is not None:
             piece = nonlinear.check(piece)
         stream.append(piece)
@@ -355,8 +357,9 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
         notes.append(drift)
         warnings.warn(drift, GroundDriftWarning, stacklevel=3)
     if not agreement.ok:
-        notes.append(f"direct and modal superposition disagree: worst DOF {agreement.worst_dof} at "
-                     f"{agreement.worst:.3g} of its peak (tolerance {agreement.tolerance:.0e})")
+        notes.append(f"direct and modal superposition disagree: worst DOF {agreement.worst_dof} "
+                     f"({QUANTITIES[agreement.worst_quantity]}) at {agreement.worst:.3g} of its peak (tolerance "
+                     f"{agreement.tolerance:.0e})")
         warnings.warn(notes[-1], AgreementWarning, stacklevel=3)
     for note in check.violations:
         notes.append(note)
@@ -397,7 +400,7 @@ class _Nonlinear:
             self.tight = simulate_windows(self.system, self.excitation, tight, **window_samples)
 
     def check(self, piece):
-        from sixdof.analysis.compare import compare, merge_agreements, relative_to_ground
+        from sixdof.analysis.compare import compare, compare_motion, merge_agreements
         from sixdof.analysis.contact import energy_balance, total_deflection
 
         window = piece.response
@@ -422,8 +425,8 @@ class _Nonlinear:
         if before.all():
             agreement = piece.agreement
         elif before.any():
-            direct, modal = relative_to_ground(window, piece.superposition)
-            agreement = compare(direct[before], modal[before], length=self.length)
+            agreement = compare_motion(window, piece.superposition, length=self.length, keep=before,
+                                       omega=float(np.max(self.system.modes.omega)))
         return dataclasses.replace(piece, agreement=agreement, energy=balance)
 
     def finish(self, span, energy) -> dict:

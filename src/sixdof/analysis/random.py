@@ -217,10 +217,12 @@ def _modal_damping(system) -> np.ndarray:
     """Each mode's damping ratio with the mounts' loss factors (half the modal loss factor) added: what the
     FRF's resonances show."""
     from sixdof.analysis.frf import hysteretic_stiffness
-    from sixdof.analysis.statespace import damping_ratios
+    from sixdof.analysis.statespace import damping_ratios, modal_damping_ratios
 
     modes = system.modes
-    viscous = np.nan_to_num(damping_ratios(system.C, modes, system.branches))
+    viscous = damping_ratios(system.C, modes, system.branches)
+    # An overdamped mode (inf) has no resonance for Miles' equation: its diagonal ratio keeps the estimate finite.
+    viscous = np.nan_to_num(np.where(np.isinf(viscous), modal_damping_ratios(system.C, modes), viscous))
     with np.errstate(divide="ignore", invalid="ignore"):
         loss = np.einsum("ir,ij,jr->r", modes.shapes, hysteretic_stiffness(system), modes.shapes) / modes.eigenvalues
     return viscous + 0.5 * np.nan_to_num(loss)

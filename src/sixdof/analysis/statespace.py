@@ -247,8 +247,10 @@ def damping_ratios(C, modes, branches=None) -> np.ndarray:
     ``zeta_r = -Re(lambda_r) / |lambda_r|`` with ``lambda_r`` the pole paired with mode r
     (:func:`damped_modes`). For classical damping this equals :func:`modal_damping_ratios`; for
     non-proportional damping (mount dashpots) it is the ratio a free decay shows, where the diagonal
-    approximation is only first-order. Modes whose damping is critical or more (real eigenvalues) and
-    rigid-body modes keep the diagonal value (``nan`` for rigid ones).
+    approximation is only first-order. A mode that no oscillating pole is paired with (its eigenvalues are
+    real: damped at or beyond critical) gets ``inf``: it is overdamped, and the diagonal value, which may
+    read well below 1, would say otherwise. Classical damping, or a mode that no damping couples to another,
+    keeps its closed form, exact there, at or above 1 for an overdamped mode. Rigid-body modes get ``nan``.
 
     Parameters
     ----------
@@ -262,15 +264,20 @@ def damping_ratios(C, modes, branches=None) -> np.ndarray:
     Returns
     -------
     ndarray, shape (6,)
-        Damping ratio of each undamped mode (dimensionless).
+        Damping ratio of each undamped mode (dimensionless); ``inf`` for a mode without an oscillating
+        pole (overdamped), ``nan`` for a rigid-body mode.
     """
     approximate = modal_damping_ratios(C, modes)
     phi = np.asarray(modes.shapes)
+    D = phi.T @ np.asarray(C, dtype=float) @ phi
     has_branches = branches is not None and branches.count > 0
-    if not has_branches and is_classical(phi.T @ np.asarray(C, dtype=float) @ phi):
+    if not has_branches and is_classical(D):
         return approximate
     poles, _ = damped_modes(C, modes, branches)
     paired = np.isfinite(poles)
-    exact = approximate.copy()
+    # An elastic mode without a pole is overdamped: its diagonal ratio is exact (>= 1) only when no damping
+    # couples it to another mode, else it has no single ratio.
+    alone = (not has_branches) & (np.max(coupling(D), axis=1) <= CLASSICAL_RTOL)
+    exact = np.where(modes.omega > 0, np.where(alone, approximate, np.inf), np.nan)
     exact[paired] = -poles[paired].real / np.abs(poles[paired])
     return exact

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from sixdof.analysis.compare import QUANTITIES
 from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.dofs import DOF_UNITS, DOFS, display_unit
 
@@ -51,7 +52,9 @@ def modes_table(modes, damping_ratios=None, system=None) -> str:
         if damping_ratios is not None:
             zeta = damping_ratios[j]
             # At or above critical a mode does not oscillate: its f is the undamped system's, not a frequency it shows.
-            row.append("-" if not np.isfinite(zeta) else f"{100 * zeta:.2f}" + (" overdamped" if zeta >= 1 else ""))
+            # inf: no oscillating pole and no single ratio (non-proportional damping), only the word.
+            row.append("-" if np.isnan(zeta) else "overdamped" if np.isinf(zeta)
+                       else f"{100 * zeta:.2f}" + (" overdamped" if zeta >= 1 else ""))
         rows.append(row)
     return table(headers, rows)
 
@@ -719,9 +722,16 @@ def _mount_peaks_table(forces) -> str:
 
 
 def _agreement_table(agreement, superposition) -> str:
-    rows = [[d, f"{v:.2e}"] for d, v in zip(DOFS, agreement.per_dof)]
-    text = table(["DOF", "max |q_direct - q_modal| / peak |q_direct|"], rows) + (
-        f"\n\nWorst: {agreement.worst:.2e} ({agreement.worst_dof}), {'within' if agreement.ok else 'OVER'} the "
+    if agreement.rates:  # displacement, velocity and acceleration, each on its own peak
+        rows = [[d, *(f"{v:.2e}" for v in values)]
+                for d, *values in zip(DOFS, agreement.per_dof, agreement.per_dof_qd, agreement.per_dof_qdd)]
+        headers = ["DOF", "q: max |direct - modal| / peak |direct|", "q'", "q''"]
+        where = f"{agreement.worst_dof}, {QUANTITIES[agreement.worst_quantity]}"
+    else:
+        rows = [[d, f"{v:.2e}"] for d, v in zip(DOFS, agreement.per_dof)]
+        headers, where = ["DOF", "max |q_direct - q_modal| / peak |q_direct|"], agreement.worst_dof
+    text = table(headers, rows) + (
+        f"\n\nWorst: {agreement.worst:.2e} ({where}), {'within' if agreement.ok else 'OVER'} the "
         f"tolerance {agreement.tolerance:.0e}. Superposition used {superposition.method} modes: {superposition.reason}")
     if superposition.truncation is None:
         return text

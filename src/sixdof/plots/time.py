@@ -9,7 +9,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
-from sixdof.analysis.compare import Agreement, relative_to_ground
+from sixdof.analysis.compare import QUANTITIES, Agreement, relative_to_ground
 from sixdof.analysis.contact import ContactSummary
 from sixdof.analysis.mountcheck import MountCheck
 from sixdof.analysis.response import MountForces
@@ -263,7 +263,8 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
     heading = "direct solution vs modal superposition" + (", relative to the ground" if direct.has_ground else "")
     if agreement is not None:
         verdict = "within" if agreement.ok else "EXCEEDS"
-        heading += (f"\nworst relative difference {agreement.worst:.2e} in {agreement.worst_dof}"
+        where = agreement.worst_dof + (f" {QUANTITIES[agreement.worst_quantity]}" if agreement.rates else "")
+        heading += (f"\nworst relative difference {agreement.worst:.2e} in {where}"
                     f"{' before the first engagement' if cut else ''} ({verdict} tolerance {agreement.tolerance:.0e})")
     top = 1.25 if cut else 1.0  # a third line of title: what the first engagement means
     if zoom is None:
@@ -314,12 +315,14 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
                         ax.axvline(first, color="tab:red", linestyle="-.", linewidth=1.0,
                                    label="first engagement")  # its time: in the name and the titles
         # Divided as the agreement divides it: by the DOF's own peak, or for a quiet DOF (round-off
-        # only) by the largest peak of all DOFs, rotations times the agreement's length (see compare).
+        # only) by the largest peak of all DOFs, rotations times the agreement's length, or by the floor a
+        # moving ground sets (see compare).
         denominator, against = float(peaks[i]), "peak"
         if agreement is not None and DOFS[i] in tuple(agreement.quiet):
             length = float(agreement.length)
             largest = float(np.max(peaks * np.array([1.0, 1.0, 1.0, length, length, length])))
-            denominator, against = (largest / length if i >= 3 else largest), "largest peak"
+            denominator = float(agreement.denominator[i])
+            against = "largest peak" if largest >= agreement.floor else "1e-6 of the absolute motion"
         difference = q_modal[compared, i] - q_direct[compared, i]
         relative = difference / denominator if denominator > 0 else difference
         if quiet_compared[i] or not np.any(relative):  # round-off against round-off: its size said, not drawn

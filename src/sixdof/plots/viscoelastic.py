@@ -15,6 +15,10 @@ from sixdof.plots.common import margins, plain_frequencies
 BEYOND_BAND = 2.0
 
 
+#: Height [in] of one legend row of :func:`plot_dynamic_stiffness`.
+LEGEND_ROW = 0.2
+
+
 def plot_dynamic_stiffness(fits: Sequence[tuple[str, MaxwellFit]], title: str | None = None) -> Figure:
     """Storage stiffness (top, log) and loss factor (bottom) against frequency: each fit's data as markers
     and its model as a line of the same colour over the data's band and a factor :data:`BEYOND_BAND` beyond
@@ -42,9 +46,10 @@ def plot_dynamic_stiffness(fits: Sequence[tuple[str, MaxwellFit]], title: str | 
     if not fits or not all(isinstance(item, tuple) and len(item) == 2 and isinstance(item[0], str)
                            and isinstance(item[1], MaxwellFit) for item in fits):
         raise InputError("fits", expected, fits)
-    fig = Figure(figsize=(9, 7.5))
+    legend_height = LEGEND_ROW * len(fits)  # below the axes: inside them it hid the stiffest curve's data
+    fig = Figure(figsize=(9, 7.5 + legend_height))
     fig.suptitle(title or "dynamic stiffness: data and generalized Maxwell fits", fontsize=12)
-    margins(fig, left=1.0, right=0.3, top=0.75, bottom=0.6, hspace=0.45, rows=2)
+    margins(fig, left=1.0, right=0.3, top=0.75, bottom=0.6 + legend_height, hspace=0.45, rows=2)
     top, bottom = fig.subplots(2, 1, sharex=True)
     for label, fit in fits:
         low, high = fit.band_hz
@@ -60,7 +65,8 @@ def plot_dynamic_stiffness(fits: Sequence[tuple[str, MaxwellFit]], title: str | 
     top.set_ylabel("storage stiffness K' [N/m]")
     top.set_title("markers: data (a loss factor's: the natural and operating frequencies checked); lines: Maxwell "
                   "fit", fontsize=10)
-    top.legend(fontsize=8, loc="upper left")
+    fig.legend(*top.get_legend_handles_labels(), fontsize=8, loc="lower left", frameon=False,
+               bbox_to_anchor=(1.0 / fig.get_figwidth(), 0.05 / fig.get_figheight()))
     bottom.set_ylabel("loss factor η = K''/K' [1]")
     bottom.set_xlabel("frequency f [Hz]")
     bottom.set_ylim(bottom=0.0)

@@ -7,7 +7,6 @@ dictionaries: each table becomes a frozen object of the library here, at the edg
 
 from __future__ import annotations
 
-import csv
 import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
@@ -30,6 +29,7 @@ from sixdof.errors import (
     optional,
     point,
 )
+from sixdof.files import csv_numbers, csv_rows
 from sixdof.frozen import Frozen, checked
 from sixdof.io.toml import Table, build, choices, make, parse, read_text, reject_unknown, unique
 from sixdof.model.nonlinear import ForceDeflection
@@ -560,32 +560,19 @@ def read_table_csv(file: Any, base_dir: Path, field: str, columns: tuple[str, st
     with ``increasing``, its first column must increase strictly (checked here, where each row's line is known)."""
     if not isinstance(file, str) or not file:
         raise InputError(field, "a CSV file name (relative to the scenario file)", file)
-    full = (base_dir / file).resolve()
     expected = f"a UTF-8 CSV file of rows of two finite numbers: {', '.join(columns)}"
-    pairs, lines, rows = [], [], 0
-    try:
-        with full.open(newline="", encoding="utf-8") as handle:
-            reader = csv.reader(handle)
-            for row in reader:
-                if not row or row[0].lstrip().startswith("#"):
-                    continue
-                rows += 1
-                try:
-                    if len(row) != 2:  # a third column is a mistake, not something to ignore
-                        raise ValueError
-                    pair = (float(row[0]), float(row[1]))
-                except ValueError:
-                    if rows > 1:  # only the first row may be a header
-                        raise InputError(field, expected, Plain(f"line {reader.line_num} of {file}: {row}")) from None
-                    continue
-                if not np.all(np.isfinite(pair)):
-                    raise InputError(field, expected, Plain(f"line {reader.line_num} of {file}: {row}"))
-                pairs.append(pair)
-                lines.append(reader.line_num)
-    except FileNotFoundError:
-        raise InputError(field, "an existing, readable CSV file", str(full)) from None
-    except (OSError, UnicodeDecodeError, csv.Error) as exc:
-        raise InputError(field, expected, Plain(f"{file}: {exc}")) from None
+    pairs, lines, first = [], [], True
+    for line, row in csv_rows(base_dir / file, field, expected, name=file):
+        try:
+            pair = csv_numbers(row, 2, line, file, field, expected)
+        except InputError:
+            if first:  # only the first row may be a header
+                first = False
+                continue
+            raise
+        first = False
+        pairs.append(pair)
+        lines.append(line)
     if len(pairs) < 2:
         raise InputError(field, f"at least 2 rows of {', '.join(columns)}", f"{len(pairs)} rows in {file}")
     first = [x for x, _ in pairs]

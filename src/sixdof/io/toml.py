@@ -55,15 +55,15 @@ def naming(source: str | Path | None) -> Iterator[None]:
 
 
 def read_text(path: str | Path, what: str) -> str:
-    """The UTF-8 text of ``path``; a missing or unreadable file is an error naming it (``what``: "scenario
-    file", "sweep specification")."""
-    path = Path(path)
+    """The UTF-8 text of ``path`` (a byte-order mark dropped); a missing or unreadable file, anything but a
+    regular file and a file beyond :data:`sixdof.files.MAX_TEXT_BYTES` are errors naming it (``what``:
+    "scenario file", "sweep specification"), before anything is read."""
+    from sixdof.files import read_text as read
+
     try:
-        return path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ScenarioError(str(path), InputError("", f"an existing {what}", str(path))) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ScenarioError(str(path), InputError("", "a readable UTF-8 text file", str(exc))) from None
+        return read(path, "", what)
+    except InputError as exc:
+        raise ScenarioError(str(path), exc) from None
 
 
 def _join(path: str, key: str) -> str:

@@ -82,7 +82,7 @@ def test_scenario_files_are_bounded_too(tmp_path, capsys):
         handle.truncate(input_files.MAX_TEXT_BYTES + 1)
     assert main(["run", str(tmp_path / "huge.toml"), "--out", str(tmp_path / "out")]) == EXIT_BAD_INPUT
     assert capsys.readouterr().err == f"sixdof: error: {tmp_path / 'huge.toml'}: expected a scenario file of at most " \
-        "16 MiB, got " f"{tmp_path / 'huge.toml'}, 16,777,217 bytes\n"
+        "4 MiB, got " f"{tmp_path / 'huge.toml'}, 4,194,305 bytes\n"
 
 
 def test_a_byte_order_mark_before_a_comment_is_read(tmp_path):
@@ -105,3 +105,72 @@ def test_a_bad_row_shows_no_more_than_its_offending_field(tmp_path, content, got
     (tmp_path / "bad.csv").write_bytes(content)
     refused(with_record(tmp_path, "bad.csv"), "ground.signal.file",
             f"a UTF-8 CSV file of rows of two finite numbers: time in s, value, got {got}")
+
+
+# ----------------------------------------------------------------------------------------------------
+# Values that overflow or underflow: refused naming the field given, not a quantity derived from it.
+# ----------------------------------------------------------------------------------------------------
+
+MACHINE = SCENARIOS / "machine_unbalance.toml"
+BOX = SCENARIOS / "electronics_box.toml"
+BOX_PSD = "psd = { f_hz = [20.0, 80.0, 350.0, 2000.0], value = [0.01, 0.04, 0.04, 0.007]"
+
+
+@pytest.mark.parametrize(("source", "old", "new", "field", "expected"), [
+    (MACHINE, "duration = 3.0", "duration = 1e308", "simulation.duration",
+     r"at most 1,000,000,000 samples .*, got 1e\+308 s at 2000 Hz, inf samples$"),
+    (MACHINE, "sample_rate_hz = 2000.0", "sample_rate_hz = 1e300", "simulation.duration",
+     r"at most 1,000,000,000 samples .*, got 3 s at 1e\+300 Hz, 3e\+300 samples$"),
+    (MACHINE, "sample_rate_hz = 2000.0", "sample_rate_hz = 5e-324", "simulation.sample_rate_hz",
+     r"a rate giving at least 2 samples over the duration of 3 s \(at least 0.333 Hz\), got 5e-324$"),
+    (MACHINE, "stiffness = [2.5e5, 2.5e5, 6.0e5]", "stiffness = [1e308, 2.5e5, 6.0e5]", "mounts[0].stiffness",
+     r"values small enough that the mount's stiffness and damping matrices .* stay finite, got \[1e\+308, "),
+    (MACHINE, "damping = [350.0, 350.0, 750.0]", "damping = [1e308, 350.0, 750.0]", "mounts[0].damping",
+     r"values small enough .* stay finite, got \[1e\+308, 350.0, 750.0\]$"),
+    (MACHINE, "position = [-0.5, -0.35, -0.45]", "position = [-1e300, -0.35, -0.45]", "mounts[0].position",
+     r"values small enough .* stay finite, got \[-1e\+300, "),
+    (MACHINE, "stiffness = [2.5e5, 2.5e5, 6.0e5]", "stiffness = [1e300, 2.5e5, 6.0e5]", "mounts[0].stiffness",
+     r"a body and mounts whose natural frequencies stay below 1e9 Hz .*, got \[1e\+300, 250000.0, 600000.0\]: "),
+    (MACHINE, "mass = 500.0", "mass = 1e-300", "body.mass", r"a body and mounts whose natural frequencies stay below 1e9 Hz .*, got mass 1e-300: "),
+    (MACHINE, "inertia = [60.4, 93.75, 86.7]", "inertia = [1e-300, 93.75, 86.7]", "body.inertia",
+     r"principal moments that a real body can have"),
+    (MACHINE, "inertia = [60.4, 93.75, 86.7]", "inertia = [1e-300, 1e-300, 1e-300]", "body.inertia",
+     r"a body and mounts whose natural frequencies stay below 1e9 Hz .*, got a principal moment 1e-300: "),
+    (MACHINE, "speed_rpm = 1480.0", "speed_rpm = 1e300", "loads[0].speed_rpm",
+     r"a positive speed in rev/min, at most 6e10, got 1e\+300$"),
+    (MACHINE, "f_hz = [1.0, 100.0]", "f_hz = [1.0, 1e300]", "frf.f_hz", r"frequencies up to 1e9 Hz, got \[1.0, 1e\+300\]$"),
+    (BOX, BOX_PSD, "psd = { f_hz = [1e-300, 1e300], value = [0.01, 0.04]", "random.psd.f_hz",
+     r"frequencies up to 1e9 Hz, got \[1e-300, 1e\+300\]$"),
+    (BOX, "start = 0.01, duration = 0.011", "start = 0.01, duration = 1e-300", "ground.signal.duration",
+     r"a positive, finite duration in s, at least 1e-9, got 1e-300$"),
+])
+def test_values_beyond_float_range_name_the_field_given(tmp_path, source, old, new, field, expected):
+    text = source.read_text()
+    assert old in text
+    (tmp_path / "case.toml").write_text(text.replace(old, new, 1))
+    refused(tmp_path / "case.toml", field, expected)
+
+
+def test_a_run_of_an_overflowing_value_is_one_line_and_exit_2(tmp_path, capsys):
+    (tmp_path / "case.toml").write_text(MACHINE.read_text().replace("duration = 3.0", "duration = 1e308"))
+    assert main(["run", str(tmp_path / "case.toml"), "--out", str(tmp_path / "out"), "--quiet"]) == EXIT_BAD_INPUT
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"sixdof: error: {tmp_path / 'case.toml'}: simulation.duration: ")
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("vary", [
+    'parameter = "stiffness"\ndistribution = "grid"\nvalues = [1.0, 1e300]',
+    'parameter = "damping"\ndistribution = "grid"\nvalues = [1.0, 1e300]',
+    'parameter = "stiffness"\ndistribution = "normal"\nmean = 1e301\nstd = 1e300',
+    'parameter = "position"\ndistribution = "normal"\nmean = 0.0\nstd = 1e300',
+])
+def test_sweep_draws_beyond_float_range_are_refused_before_computing(tmp_path, vary):
+    from sixdof.io.sweep import load_sweep_spec
+
+    (tmp_path / "spec.toml").write_text(("" if "grid" in vary else "count = 4\n") + f"[[vary]]\n{vary}\n")
+    spec = load_sweep_spec(tmp_path / "spec.toml")
+    with pytest.raises(ScenarioError, match=r"spec.toml: vary\[0\]: expected draws that keep every mount's stiffness "
+                       r"and damping matrices finite and the natural frequencies below 1e9 Hz \(narrow the "
+                       r"distribution\), got a draw of -?[0-9.]+e\+(299|30[01]) \(chunk 0\)$"):
+        spec.check(load_scenario(SCENARIOS / "bridge_beam_traffic.toml").system)

@@ -18,6 +18,7 @@ from sixdof.errors import (
     InputError,
     Plain,
     boolean,
+    check_frequencies,
     choice_check,
     direction_check,
     file_name,
@@ -119,6 +120,7 @@ def _frequency_range(value: Any, field: str) -> tuple[float, float]:
     low, high = finite_array(value, field, expected, (2,)).tolist()
     if not 0 <= low < high:
         raise InputError(field, expected, value)
+    check_frequencies(high, field, value)
     return low, high
 
 

@@ -5,6 +5,10 @@ documented exit status), never a traceback or a hang."""
 
 import os
 import re
+import signal
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -174,3 +178,52 @@ def test_sweep_draws_beyond_float_range_are_refused_before_computing(tmp_path, v
                        r"and damping matrices finite and the natural frequencies below 1e9 Hz \(narrow the "
                        r"distribution\), got a draw of -?[0-9.]+e\+(299|30[01]) \(chunk 0\)$"):
         spec.check(load_scenario(SCENARIOS / "bridge_beam_traffic.toml").system)
+
+
+# ----------------------------------------------------------------------------------------------------
+# Worker counts; signals while the command starts.
+# ----------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("command", [["sweep", str(SCENARIOS / "bridge_beam_traffic.toml"), "--spec",
+                                      str(SCENARIOS / "sweeps" / "bearing_tolerance.toml")],
+                                     ["optimize", str(SCENARIOS / "engine_inclined_mounts.toml")]])
+def test_workers_beyond_a_few_per_core_are_refused_before_anything_is_read(tmp_path, capsys, command):
+    from sixdof.tasks import WORKERS_PER_CORE
+
+    most = WORKERS_PER_CORE * (os.cpu_count() or 1)
+    assert main([*command, "--out", str(tmp_path / "out"), "--workers", "100000"]) == EXIT_BAD_INPUT
+    assert capsys.readouterr().err == (f"sixdof: error: --workers: expected at most {most:,} worker processes "
+                                       f"({WORKERS_PER_CORE} per core of this machine's {os.cpu_count()}; each runs "
+                                       "one thread), got 100000\n")
+    assert not (tmp_path / "out").exists()
+
+
+def test_workers_that_cannot_fit_in_memory_are_refused(monkeypatch):
+    from sixdof import tasks
+    from sixdof.errors import InputError
+
+    monkeypatch.setattr(tasks, "WORKER_BYTES", 2**50)  # a PiB each
+    with pytest.raises(InputError, match=r"^--workers: expected a local cluster that fits in this machine's .* GiB "
+                       r"of memory, got 1 worker processes of at least 1073741824 MiB each, about 1.05e\+06 GiB$"):
+        tasks.check_workers(1)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_a_signal_while_the_command_starts_is_one_line_and_its_status(tmp_path, signum):
+    """At each delay the signal comes while Python, NumPy, JAX or the figure workers load, or the scenario is read,
+    compiled or solved (JAX's compilation cache off: the run lasts several seconds): never a crash by a signal
+    (SIGSEGV, SIGABRT: a negative status), a traceback, or a signal lost inside a finalizer (status 0)."""
+    status, word = (130, "interrupted") if signum == signal.SIGINT else (143, "terminated (SIGTERM)")
+    for delay in (0.15, 0.3, 0.5, 0.8, 1.1, 1.5):
+        process = subprocess.Popen(
+            [sys.executable, "-m", "sixdof", "run", str(MACHINE), "--out", str(tmp_path / "out"), "--quiet"],
+            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
+            env={**os.environ, "SIXDOF_JAX_CACHE": "off"},
+            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))  # as a terminal starts it
+        time.sleep(delay)
+        os.killpg(process.pid, signum)
+        _, err = process.communicate(timeout=120)
+        assert (process.returncode, err) == (status, f"sixdof: {word}; no partial results were left\n"), delay
+        assert not (tmp_path / "out").exists()

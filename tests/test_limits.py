@@ -227,3 +227,32 @@ def test_a_signal_while_the_command_starts_is_one_line_and_its_status(tmp_path, 
         _, err = process.communicate(timeout=120)
         assert (process.returncode, err) == (status, f"sixdof: {word}; no partial results were left\n"), delay
         assert not (tmp_path / "out").exists()
+
+
+# ----------------------------------------------------------------------------------------------------
+# Counts of mounts and points: refused before any of them is built.
+# ----------------------------------------------------------------------------------------------------
+
+
+def test_too_many_mounts_or_points_are_refused_before_they_are_read(tmp_path):
+    from sixdof.io.scenario import MAX_POINTS
+    from sixdof.model.system import MAX_MOUNTS
+
+    text = MACHINE.read_text()
+    mount = '[[mounts]]\nname = "m{i}"\nposition = [0.1, 0.2, -0.4]\nstiffness = [1e5, 1e5, 2e5]\n'
+    (tmp_path / "mounts.toml").write_text(text + "".join(mount.format(i=i) for i in range(MAX_MOUNTS - 3)))
+    refused(tmp_path / "mounts.toml", "mounts", r"at most 1,000 \[\[mounts\]\] tables, got 1,001$")
+    point = '[[points]]\nname = "p{i}"\nposition = [0.1, 0.2, 0.3]\n'
+    (tmp_path / "points.toml").write_text(text + "".join(point.format(i=i) for i in range(MAX_POINTS)))
+    refused(tmp_path / "points.toml", "points", r"at most 1,000 \[\[points\]\] tables, got 1,001$")
+
+
+def test_a_system_of_too_many_mounts_is_refused_in_the_api_too():
+    from sixdof import RigidBody, System
+    from sixdof.errors import InputError
+    from sixdof.model.system import Mount
+
+    body = RigidBody(mass=500.0, inertia=[60.4, 93.75, 86.7])
+    mount = Mount(name="m", position=[0.1, 0.2, -0.4], stiffness=[1e5, 1e5, 2e5])
+    with pytest.raises(InputError, match=r"^mounts: expected at most 1,000 mounts, got 1,001 mounts$"):
+        System(body=body, mounts=[mount] * 1001)

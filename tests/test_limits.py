@@ -256,3 +256,26 @@ def test_a_system_of_too_many_mounts_is_refused_in_the_api_too():
     mount = Mount(name="m", position=[0.1, 0.2, -0.4], stiffness=[1e5, 1e5, 2e5])
     with pytest.raises(InputError, match=r"^mounts: expected at most 1,000 mounts, got 1,001 mounts$"):
         System(body=body, mounts=[mount] * 1001)
+
+
+# ----------------------------------------------------------------------------------------------------
+# What a command finds wrong in a scenario once it is read names the file as well.
+# ----------------------------------------------------------------------------------------------------
+
+
+def test_a_truncation_keeping_no_mode_is_refused_when_the_file_is_read(tmp_path):
+    (tmp_path / "case.toml").write_text(MACHINE.read_text() + "\n[superposition]\nf_max_hz = 0.5\n")
+    refused(tmp_path / "case.toml", "superposition.f_max_hz", r"at least the lowest natural frequency \(5.189 Hz\), "
+            "got 0.5$")
+
+
+def test_a_check_made_while_running_names_the_scenario_file(tmp_path, capsys):
+    text = BOX.read_text()
+    assert BOX_PSD in text
+    (tmp_path / "case.toml").write_text(text.replace(BOX_PSD, "time_check = { duration = 0.01 }\n" + BOX_PSD))
+    load_scenario(tmp_path / "case.toml")  # the record's length is judged against the modes, when the run starts
+    assert main(["run", str(tmp_path / "case.toml"), "--out", str(tmp_path / "out"), "--quiet"]) == EXIT_BAD_INPUT
+    err = capsys.readouterr().err
+    assert err.startswith(f"sixdof: error: {tmp_path / 'case.toml'}: random.time_check.duration: expected at least "
+                          "3.571 s: 8 Welch segments of ") and err.count("\n") == 1, err
+    assert not (tmp_path / "out").exists()

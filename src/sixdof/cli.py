@@ -359,15 +359,22 @@ def _parser() -> argparse.ArgumentParser:
 
 def _modes(args) -> int:
     with _loading():
-        from sixdof.analysis.design import design_metrics
-        from sixdof.analysis.statespace import damping_ratios
-        from sixdof.analysis.statics import try_gravity_statics
-        from sixdof.analysis.validity import RangeWarning, static_range
-        from sixdof.errors import InputError, Plain
-        from sixdof.io import report
         from sixdof.io.scenario import load_scenario
+        from sixdof.io.toml import naming
 
-    scenario = load_scenario(args.scenario)
+        scenario = load_scenario(args.scenario)  # its imports held with the rest: NumPy and JAX load there
+    with naming(args.scenario):  # what the analysis finds wrong in the scenario names its file too
+        return _show_modes(args, scenario)
+
+
+def _show_modes(args, scenario) -> int:
+    from sixdof.analysis.design import design_metrics
+    from sixdof.analysis.statespace import damping_ratios
+    from sixdof.analysis.statics import try_gravity_statics
+    from sixdof.analysis.validity import RangeWarning, static_range
+    from sixdof.errors import InputError, Plain
+    from sixdof.io import report
+
     system = scenario.system
     modes = system.modes
     statics, no_statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
@@ -430,12 +437,14 @@ def _run(args) -> int:
 
             from sixdof.io import report
             from sixdof.io.scenario import load_scenario
+            from sixdof.io.toml import naming
             from sixdof.workflows import run_scenario
 
             _compile_cache()
         scenario = load_scenario(args.scenario)
-        outcome = run_scenario(scenario, args.out, progress=_progress(args), command_line=" ".join(sys.argv),
-                               workers=workers)
+        with naming(args.scenario):  # what the run finds wrong in the scenario names its file too
+            outcome = run_scenario(scenario, args.out, progress=_progress(args), command_line=" ".join(sys.argv),
+                                   workers=workers)
     print(f"{_title(scenario)}\n")
     print(report.modes_table(outcome.modes, outcome.damping_ratios, scenario.system))
     print(report.damping_note(scenario.system))
@@ -483,6 +492,7 @@ def _run(args) -> int:
 def _validate(args) -> int:
     from sixdof.io.report import validation_text
     from sixdof.io.scenario import load_scenario
+    from sixdof.io.toml import naming
     from sixdof.plots.workers import FigureWorkers
     from sixdof.workflows import validate_scenario
 
@@ -490,8 +500,9 @@ def _validate(args) -> int:
         with _loading():
             _compile_cache()
         scenario = load_scenario(args.scenario)
-        report, directory = validate_scenario(scenario, args.out, command_line=" ".join(sys.argv), workers=workers,
-                                              progress=_progress(args))
+        with naming(args.scenario):
+            report, directory = validate_scenario(scenario, args.out, command_line=" ".join(sys.argv),
+                                                  workers=workers, progress=_progress(args))
     print(validation_text(report))
     print(f"\nWrote {directory}")
     if report.verdict != "PASS":
@@ -506,11 +517,13 @@ def _optimize(args) -> int:
     with _loading():
         from sixdof.design.workflow import optimize_scenario
         from sixdof.io.scenario import load_scenario
+        from sixdof.io.toml import naming
 
     _check_workers(args)
     scenario = load_scenario(args.scenario)
-    outcome = optimize_scenario(scenario, args.out, progress=_progress(args), workers=args.workers,
-                                scheduler=args.scheduler)
+    with naming(args.scenario):
+        outcome = optimize_scenario(scenario, args.out, progress=_progress(args), workers=args.workers,
+                                    scheduler=args.scheduler)
     print(f"\nWrote {outcome.directory}: {', '.join(p.name for p in outcome.files)}")
     if not outcome.met:
         print("sixdof: the targets are not all met (see above); the best compromise is written", file=sys.stderr)
@@ -552,6 +565,7 @@ def _sweep(args) -> int:
         from sixdof.io.output import check_target
         from sixdof.io.scenario import load_scenario
         from sixdof.io.sweep import load_sweep_spec
+        from sixdof.io.toml import naming
         from sixdof.sweeps import CHUNKS_SUFFIX, ChunkFolder, sweep_scenario
 
         _check_workers(args)
@@ -559,9 +573,10 @@ def _sweep(args) -> int:
     scenario = load_scenario(args.scenario)
     spec = load_sweep_spec(args.spec)
     try:
-        outcome = sweep_scenario(scenario, spec, args.out, chunk_size=args.chunk_size, workers=args.workers,
-                                 scheduler=args.scheduler, resume=args.resume, progress=_progress(args),
-                                 command_line=" ".join(sys.argv))
+        with naming(args.scenario):  # the spec's own errors name the spec's file already
+            outcome = sweep_scenario(scenario, spec, args.out, chunk_size=args.chunk_size, workers=args.workers,
+                                     scheduler=args.scheduler, resume=args.resume, progress=_progress(args),
+                                     command_line=" ".join(sys.argv))
     except (KeyboardInterrupt, Terminated, SolverError) as exc:
         chunks = check_target(args.out, scenario.name, "_sweep")
         chunks = chunks.with_name(chunks.name + CHUNKS_SUFFIX)

@@ -324,6 +324,8 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
 
         check_resonances(system, frf.grid(), "frf.f_hz")
     superposition = build(SuperpositionSettings, top.table("superposition", default={}), "superposition")
+    if superposition.n_modes is not None or superposition.f_max_hz is not None:
+        _check_truncation(system, superposition)
     points = tuple(build(Point, t, f"points[{i}]") for i, t in enumerate(point_tables))
     unique([p.name for p in points], "points")
     output = build(OutputSettings, top.table("output", default={}), "output")
@@ -563,6 +565,18 @@ def _with_file(table: dict, path: str, base_dir: Path) -> dict:
         raise InputError(field, "either a file or inline t and values, not both", file)
     signal["t"], signal["values"] = read_table_csv(file, base_dir, field, increasing=True)
     return {**table, "signal": signal}
+
+
+def _check_truncation(system: System, settings: SuperpositionSettings) -> None:
+    """A truncation (``n_modes``, ``f_max_hz``) that keeps no mode, or with Maxwell branches, refused when the file
+    is read as the superposition would refuse it after the direct solve (the same checks: its plan)."""
+    from sixdof.analysis.superposition import Plan
+
+    try:
+        Plan(system.M, system.C, system.modes, settings.method, settings.n_modes, settings.f_max_hz,
+             system.branches if system.branches.count else None)
+    except InputError as error:
+        raise error.within("superposition") from None
 
 
 def read_table_csv(file: Any, base_dir: Path, field: str, columns: tuple[str, str] = ("time in s", "value"),

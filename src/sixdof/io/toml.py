@@ -42,14 +42,15 @@ def parse(text: str, source: str, read: Callable[[dict], Any]) -> Any:
 def naming(source: str | Path | None) -> Iterator[None]:
     """An :class:`~sixdof.errors.InputError` raised in the block gets the file name ``source`` put in front
     (:class:`~sixdof.errors.ScenarioError`), as :func:`parse` does: for the checks of a file's content made
-    once it is read (a sweep spec's draws against the scenario's mounts). ``None`` (text read from no file)
-    and an error that names its file already leave the error as it is."""
+    once it is read (a sweep spec's draws against the scenario's mounts, the checks a run makes). ``None`` (text
+    read from no file), an error that names its file already and one about a command-line option (``--out``)
+    leave the error as it is."""
     try:
         yield
     except ScenarioError:
         raise
     except InputError as exc:
-        if source is None:
+        if source is None or exc.field.startswith("--"):
             raise
         raise ScenarioError(str(source), exc) from None
 

@@ -7,11 +7,13 @@ superpose) run on each variant's own System and with scipy's DOP853, per DOF rel
 peak.
 """
 
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
 import scipy.integrate
+import scipy.linalg
 
 from references import state_matrices
 from sixdof import (
@@ -33,9 +35,17 @@ from sixdof.analysis.batch import batch_frequencies, make_variants, run_batch, v
 from sixdof.analysis.modal import pair_by_similarity, repeated_groups
 from sixdof.io.report import summary_table, tracked_modes_table
 from sixdof.io.sweep import load_sweep_spec, parse_sweep_spec
+from sixdof.model.viscoelastic import LOSS_FACTOR_TARGET
 from sixdof.sweeps import Study, sweep
 from systems import BRIDGE_LOADS_TOML, bridge, bridge_toml, four_mount
-from tolerances import RTOL_BATCH_CHUNKS, RTOL_BATCH_DIRECT, RTOL_BATCH_FREQUENCY, RTOL_BATCH_MATRIX, RTOL_BATCH_SCIPY
+from tolerances import (
+    RTOL_BATCH_CHUNKS,
+    RTOL_BATCH_DIRECT,
+    RTOL_BATCH_FREQUENCY,
+    RTOL_BATCH_MATRIX,
+    RTOL_BATCH_SCIPY,
+    RTOL_MODAL_EXACT,
+)
 
 # Loads that move all six DOFs: an off-centre harmonic force and a pulse near one end.
 SCENARIO_TOML = 'name = "beam"\n' + bridge_toml("elastomer") + BRIDGE_LOADS_TOML + """[simulation]
@@ -515,3 +525,99 @@ def test_the_specs_engine_and_cross_check_reach_the_batch():
     result = sweep(SCENARIO, spec, chunk_size=CHUNK)
     assert (spec.engine, spec.cross_check) == ("diffrax", 1)
     assert result.engine == "diffrax" and len(result.cross_check_variants) == 1
+
+
+# A body on four symmetric lossy mounts, no dashpots: its bounce (z) is a mode alone, and every variant that
+# scales all mounts alike keeps it alone. Its only damping is the loss factor.
+_CORNERS = ((0.3, 0.4), (-0.3, 0.4), (-0.3, -0.4), (0.3, -0.4))
+BOUNCE_M, BOUNCE_K, BOUNCE_ETA = 200.0, 5.0e5, 0.12
+BOUNCE_TOML = (f'name = "bounce"\n[body]\nmass = {BOUNCE_M}\ninertia = [10.0, 14.0, 20.0]\n' + "".join(
+    f'[[mounts]]\nname = "m{i}"\nposition = [{x}, {y}, -0.2]\nstiffness = [2.0e5, 2.0e5, {BOUNCE_K}]\n'
+    f'loss_factor = [{BOUNCE_ETA}, {BOUNCE_ETA}, {BOUNCE_ETA}]\n' for i, (x, y) in enumerate(_CORNERS))
+    + '[initial]\nqd = [0.0, 0.0, 0.05, 0.0, 0.0, 0.0]\n[simulation]\nduration = 0.4\nsample_rate_hz = 2000.0\n')
+BOUNCE_SPEC = ('count = 4\nseed = 3\n[[vary]]\nparameter = "stiffness"\ndistribution = "uniform"\nlow = 0.8\n'
+               'high = 1.25\n')  # one factor per variant for every mount and axis: the bounce stays alone
+
+
+def bounce_by_hand(fit, factor, t):
+    """The bounce z(t) [m] of four mounts of the causal model ``fit`` (long-term spring and branches along w),
+    each scaled by ``factor``, from qd_z = 0.05 m/s: expm of the one-DOF augmented state ``[z, z', f_i]`` built
+    here from the fit's parameters."""
+    k0, k, tau = 4 * factor * fit.long_term, 4 * factor * fit.stiffness, fit.tau
+    n = k.size
+    A = np.zeros((2 + n, 2 + n))
+    A[0, 1] = 1.0
+    A[1, 0], A[1, 2:] = -k0 / BOUNCE_M, -1.0 / BOUNCE_M
+    A[2:, 1], A[2:, 2:] = k, -np.diag(1.0 / tau)
+    x0 = np.zeros(2 + n)
+    x0[1] = 0.05
+    return np.array([(scipy.linalg.expm(A * s) @ x0)[0] for s in t])
+
+
+def test_a_sweep_carries_the_causal_loss_factor_model():
+    scenario = parse_scenario(BOUNCE_TOML)
+    assert scenario.loss_factor_model == "causal" and scenario.time_system.branches.count
+    spec = parse_sweep_spec(BOUNCE_SPEC)
+    result = sweep(scenario, spec)
+    factor = result.variants.stiffness_factor[:, 0, 0]
+    assert np.all(result.variants.stiffness_factor == factor[:, None, None]) and np.ptp(factor) > 0.1
+    # The frequencies are those of the frequency model (k, as `modes` reports), not the long-term stiffness's.
+    for i in range(spec.count):
+        one = variant_system(scenario.system, result.variants, i)
+        np.testing.assert_allclose(result.frequency_hz[i], modal_analysis(one.M, one.K).frequency_hz,
+                                   rtol=RTOL_BATCH_FREQUENCY)
+    long_term = variant_system(scenario.time_system, result.variants, 0)
+    assert np.all(modal_analysis(long_term.M, long_term.K).frequency_hz < 0.99 * result.frequency_hz[0])
+    # The peaks are those of the time model, each variant's causal model the nominal's scaled: the bounce (z)
+    # against expm of the fit's one-DOF model built here, and diffrax's cross-check agrees.
+    fit = next(f for f in scenario.causal_loss_fits if f.name == "m0 w")
+    t = scenario.simulation.times
+    batch = run_batch(scenario.system, result.variants, scenario.excitation, scenario.simulation,
+                      time_system=scenario.time_system, histories=(0, 3), cross_check=0)
+    for i in (0, 3):
+        z = bounce_by_hand(fit, factor[i], t)
+        error = np.max(np.abs(batch.histories[i].q[:, 2] - z)) / np.max(np.abs(z))
+        assert error <= RTOL_MODAL_EXACT, (i, error)
+    np.testing.assert_allclose(result.peak_q, batch.peak_q, rtol=RTOL_BATCH_CHUNKS)
+    assert result.cross_check.ok and result.cross_check.worst < RTOL_BATCH_DIRECT
+    # The free decay decays as the loss factor says: over its last cycles the log decrement is pi eta within the
+    # causal model's loss-factor target; with the loss factors left out of the time paths it does not decay.
+    z = batch.histories[0].q[:, 2]
+    crests = np.flatnonzero((z[1:-1] > z[:-2]) & (z[1:-1] >= z[2:])) + 1
+    decrement = np.log(z[crests[-4:-1]] / z[crests[-3:]])
+    assert np.all(np.abs(decrement / (np.pi * BOUNCE_ETA) - 1) <= LOSS_FACTOR_TARGET), decrement
+    plain = parse_scenario(BOUNCE_TOML + '[damping]\nloss_factor_model = "hysteretic"\n')
+    undamped = run_batch(plain.system, result.variants, plain.excitation, plain.simulation, time_system=plain.time_system,
+                         histories=(0,), cross_check=0).histories[0].q[:, 2]
+    assert np.max(np.abs(undamped[-len(t) // 4:])) > 0.99 * np.max(np.abs(undamped))
+    assert np.max(np.abs(z[-len(t) // 4:])) < 0.2 * np.max(np.abs(z))
+
+
+def test_chunks_of_a_lossy_sweep_change_nothing():
+    scenario = parse_scenario(BOUNCE_TOML.replace("[initial]\n", "[[loads]]\nname = \"tap\"\npoint = [0.1, 0.2, 0.0]\n"
+                                                  "force = [50.0, 20.0, 400.0]\nsignal = { kind = \"half_sine\", "
+                                                  "start = 0.01, duration = 0.005 }\n[initial]\n"))
+    spec = parse_sweep_spec(BOUNCE_SPEC.replace("high = 1.25\n", "high = 1.25\nindependent = true\n"))
+    whole, chunked = sweep(scenario, spec, chunk_size=4), sweep(scenario, spec, chunk_size=2)
+    assert chunked.chunks == 2 and whole.chunks == 1
+    # Each chunk draws its own variants: the same variants drawn again in one chunk give the same peaks.
+    again = run_batch(scenario.system, chunked.variants, scenario.excitation, scenario.simulation,
+                      time_system=scenario.time_system, chunk_size=4, cross_check=0)
+    np.testing.assert_allclose(chunked.peak_q, again.peak_q, rtol=RTOL_BATCH_CHUNKS)
+    np.testing.assert_allclose(chunked.peak_qdd, again.peak_qdd, rtol=RTOL_BATCH_CHUNKS)
+    assert whole.cross_check.ok and chunked.cross_check.ok
+
+
+def test_a_sweep_of_measured_dynamic_stiffness_tables_runs_and_checks():
+    path = "scenarios/equipment_elastomer.toml"
+    text = Path(path).read_text(encoding="utf-8")  # its blow sooner, and 0.3 s of it
+    short = parse_scenario(text.replace("start = 1.0, duration = 0.01", "start = 0.1, duration = 0.01")
+                           .replace("duration = 2.0 ", "duration = 0.3 "), path, "scenarios")
+    assert short.system.maxwell and short.simulation.duration == 0.3  # the tables' fits, in both models
+    spec = 'count = 3\nseed = 2\ncross_check = 2\n[[vary]]\nparameter = "stiffness"\ndistribution = "uniform"\n' \
+           'low = 0.8\nhigh = 1.2\nindependent = true\n'
+    result = sweep(short, parse_sweep_spec(spec))
+    assert result.peak_q.shape == (3, 6) and np.all(result.peak_q > 0)
+    assert result.cross_check.ok and result.cross_check.worst < RTOL_BATCH_DIRECT
+    one = superpose(variant_system(short.time_system, result.variants, 1), short.excitation, short.simulation.times)
+    np.testing.assert_allclose(result.peak_q[1], np.max(np.abs(one.q), axis=0), rtol=RTOL_BATCH_CHUNKS)

@@ -404,3 +404,20 @@ def test_the_damping_ratios_say_what_they_include():
     assert "from mount dashpots + Rayleigh damping, added together" in note and "loss factors" not in note
     note = damping_note(bridge(((1e4, 1e4, 2e4),) * 4, loss_factor=(0.1, 0.1, 0.1)))
     assert "from mount dashpots;" in note and "not the mounts' loss factors" in note.replace("\n", " ")
+
+
+def test_plot_and_export_of_a_damaged_results_file_fail_in_one_line(tmp_path, capsys):
+    """200 KB of random bytes over the middle of a results file: exit 2, one line naming the file, nothing drawn
+    or exported (before checksums: plotted and exported with 2.7e306 and NaN, exit 0)."""
+    path = tmp_path / "run" / "results.h5"
+    write_results(path, **run_parts())
+    size = path.stat().st_size
+    with open(path, "r+b") as f:
+        f.seek(size // 2 - 100_000)
+        f.write(np.random.default_rng(45).bytes(200_000))
+    for command in (["plot", str(path)], ["export", str(path), "--format", "csv"]):
+        assert main(command) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and err[0].startswith("sixdof: error: results: expected an undamaged results file")
+        assert str(path) in err[0]
+    assert sorted(p.name for p in (tmp_path / "run").iterdir()) == ["results.h5"]

@@ -6,10 +6,14 @@ equal to an uninterrupted one, and the robustness study of a design likewise. Th
 is checked against the one-variant library calls (diffrax) and the unchunked batch.
 """
 
+import contextlib
 import dataclasses
+import json
 import os
 import re
 import signal
+import subprocess
+import sys
 import threading
 import time
 
@@ -418,3 +422,67 @@ def test_the_workers_of_a_local_cluster_log_nothing(capfd):
     with task_runner(workers=1) as runner:
         runner.client.run(log_a_heartbeat_failure)
     assert "heartbeat" not in capfd.readouterr().err
+
+
+KILLED_WRITING_A_CHUNK = r"""
+import os, signal, sys
+from sixdof.io import store
+from sixdof.io.scenario import parse_scenario
+from sixdof.io.sweep import parse_sweep_spec
+from sixdof.sweeps import sweep_scenario
+
+real = store._write
+
+
+def killed(f, results, written=frozenset()):
+    if results.attrs[""].get("scenario_name") == "chunk 1":  # its temporary file is open: SIGKILL now
+        os.kill(os.getpid(), signal.SIGKILL)
+    return real(f, results, written)
+
+
+store._write = killed
+if __name__ == "__main__":
+    scenario, spec, out = sys.argv[1:]
+    with open(scenario) as a, open(spec) as b:
+        sweep_scenario(parse_scenario(a.read()), parse_sweep_spec(b.read()), out, workers=2)
+"""
+
+SMALL_SPEC = ("count = 30\nseed = 3\nchunk_size = 10\ncross_check = 0\n[[vary]]\nparameter = 'stiffness'\n"
+              "distribution = 'uniform'\nlow = 0.8\nhigh = 1.2\n")
+
+
+def test_a_sweep_killed_while_it_writes_a_chunk_leaves_debris_the_next_run_removes(tmp_path):
+    """SIGKILL of ``sweep --workers 2`` in the middle of a chunk file: its ``.chunk-00001.h5.<id>.tmp`` goes with
+    the next --resume, which removes no other file; while a live sweep holds the folder, nothing is removed."""
+    import fcntl
+
+    scenario, spec, script = tmp_path / "beam.toml", tmp_path / "spec.toml", tmp_path / "killed.py"
+    scenario.write_text(SCENARIO.text)
+    spec.write_text(SMALL_SPEC)
+    script.write_text(KILLED_WRITING_A_CHUNK)
+    child = subprocess.Popen([sys.executable, str(script), str(scenario), str(spec), str(tmp_path / "out")],
+                             cwd=tmp_path, start_new_session=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    try:
+        child.communicate(timeout=300)
+        assert child.returncode == -signal.SIGKILL
+    finally:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(child.pid, signal.SIGKILL)  # the orphaned Dask workers, if they have not ended yet
+    chunks = tmp_path / "out" / f"beam_sweep{CHUNKS_SUFFIX}"
+    debris = [p.name for p in chunks.glob(".chunk-00001.h5.*.tmp")]
+    assert len(debris) == 1 and re.fullmatch(r"\.chunk-00001\.h5\.[0-9a-f]{32}\.tmp", debris[0])
+    users = [".chunk-00002.h5.mine.tmp", "notes.tmp"]  # a user's files, near the pattern: kept
+    for name in users:
+        (chunks / name).write_text("mine")
+    fd = os.open(chunks, os.O_RDONLY)
+    fcntl.flock(fd, fcntl.LOCK_SH)  # as a live sweep writing there holds it
+    try:
+        opened = sixdof.sweeps.ChunkFolder(chunks, json.loads((chunks / "sweep.json").read_text()), resume=True)
+        assert (chunks / debris[0]).exists()
+        opened.release()
+    finally:
+        os.close(fd)
+    small = parse_sweep_spec(SMALL_SPEC)
+    done = sweep_scenario(parse_scenario(SCENARIO.text), small, tmp_path / "out", resume=True)  # as the child read it
+    assert done.count == 30
+    assert sorted(p.name for p in chunks.iterdir()) == sorted(users)  # the chunks and the debris went, not theirs

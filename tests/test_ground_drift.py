@@ -247,4 +247,7 @@ def test_a_run_on_the_corrected_record_does_not_warn_and_says_what_it_changed(tm
     text = baseline_text(load_scenario(path).excitation.ground)
     summary = (tmp_path / "out" / "cabinet_earthquake" / "summary.md").read_text()
     assert text in printed.out and text in summary and "## Warnings" not in summary
+    # Gravity's geometric stiffness left out: said beside the modes, once, and printed with the statics.
+    line = "Gravity's geometric stiffness would lower mode 1 (y) by 3.7 %; [statics] geometric_stiffness = true"
+    assert summary.count(line) == 1 and line[1:] in printed.out
     assert summary.index(text) < summary.index("Relative to the ground") < summary.index("Absolute (fixed frame")

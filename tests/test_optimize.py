@@ -209,18 +209,30 @@ def test_robustness_runs_the_scattered_samples_on_the_exact_batch_engine():
     assert len(batch.cross_check_variants) == 3
 
 
-def test_robustness_of_maxwell_mounts_evaluates_the_targets_alone():
-    # The batch engine does not carry Maxwell branches: the samples' targets are evaluated (on the long-term
-    # stiffness, like the optimization), with the same draws, and no responses are claimed.
-    text = Path("scenarios/engine_inclined_mounts.toml").read_text() + '\n[damping]\nloss_factor_model = "maxwell"\n'
+@pytest.mark.parametrize("model", ["maxwell", "causal"])
+def test_robustness_responses_carry_the_loss_factors_causal_models(model):
+    """The samples' peaks integrate the mounts' loss factors as their causal Maxwell models (in the frequency system
+    with "maxwell", in the time model only with the default "causal"): each sample's peaks are those of
+    superposition on that sample's time system, its branches scaled with its mount axes' stiffness factors."""
+    from sixdof.analysis.batch import variant_system
+    from sixdof.analysis.superposition import superpose
+
+    text = Path("scenarios/engine_inclined_mounts.toml").read_text() + f'\n[damping]\nloss_factor_model = "{model}"\n'
     scenario = parse_scenario(text)
-    assert scenario.system.maxwell
-    problem = DesignProblem(scenario.system, _with(scenario.design, samples=30))
-    spread = robustness(problem, problem.initial, None, scenario.excitation, scenario.simulation)
-    assert spread.responses is None and spread.peak_percentiles is None
+    problem = DesignProblem(scenario.system, _with(scenario.design, samples=4))
+    spread = robustness(problem, problem.initial, None, scenario.excitation, scenario.simulation,
+                        time_model=scenario.time_model)
+    batch = spread.responses
+    timed = scenario.time_model(problem.system_at(problem.initial))
+    assert timed.maxwell and not np.any(timed.loss_factors)
+    for i in (0, 3):
+        response = superpose(variant_system(timed, batch.variants, i), scenario.excitation, scenario.simulation.times)
+        for found, expected in ((batch.peak_q[i], np.abs(response.q).max(0)),
+                                (batch.peak_qdd[i], np.abs(response.qdd).max(0))):
+            np.testing.assert_allclose(found, expected, rtol=1e-9, atol=1e-12 * expected.max())
     tolerance = problem.spec.tolerance
-    drawn = np.random.default_rng([problem.spec.seed, 0]).uniform(1 - tolerance, 1 + tolerance, (30, 3, 3))
-    for i in (0, 29):
+    drawn = np.random.default_rng([problem.spec.seed, 0]).uniform(1 - tolerance, 1 + tolerance, (4, 3, 3))
+    for i in (0, 3):  # the targets of the same draws
         np.testing.assert_allclose(spread.values[i], problem.values(problem.initial, drawn[i]), rtol=1e-12)
 
 
@@ -270,10 +282,12 @@ def test_optimize_writes_a_scenario_that_reproduces_the_design_and_a_labelled_fi
         optimized_peaks = f["peaks"][()]
     assert "Peak responses at the CG to the scenario's excitation (exact batch engine)" in out
     assert "Cross-check of the exact engine: diffrax solved samples" in out
-    # The optimized scenario's response, by modal superposition, gives the file's peaks.
+    # The optimized scenario's response, by modal superposition of its time model (the loss factors' causal
+    # Maxwell models), gives the file's peaks.
     from sixdof.analysis.superposition import superpose
 
-    response = superpose(optimized.system, optimized.excitation, optimized.simulation.times)
+    assert optimized.time_system.maxwell
+    response = superpose(optimized.time_system, optimized.excitation, optimized.simulation.times)
     np.testing.assert_allclose(optimized_peaks, np.concatenate([np.abs(response.q).max(0), np.abs(response.qdd).max(0)]),
                                rtol=1e-9)
     # The optimized scenario's modes give the file's target values.

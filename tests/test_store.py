@@ -3,6 +3,7 @@
 import datetime as dt
 import itertools
 import os
+import re
 import subprocess
 import sys
 from operator import attrgetter
@@ -519,3 +520,139 @@ def test_open_datatree_reads_a_file_with_a_validation(written, parts):
             assert node["extrema_t"].dims == ("extremum",) and len(node["extremum"]) == len(decay.estimate.extrema_t)
             np.testing.assert_array_equal(node["q"].sel(dof="z").values, decay.history.q[:, 2])
 
+
+
+# ----------------------------------------------------------------------------------------------------
+# Damaged files: checksums on every object, checked on reading; nothing followed before it is checked.
+# ----------------------------------------------------------------------------------------------------
+
+
+def _copy(written, tmp_path, name="damaged.h5"):
+    path = tmp_path / name
+    path.write_bytes(written.path.read_bytes())
+    return path
+
+
+def test_every_object_carries_a_checksum(written):
+    with h5py.File(written.path, "r") as f:
+        assert f.attrs[store.CHECKSUMS]
+        assert h5py.h5o.get_info(f["time/q"].id).hdr.version == 2  # object headers with checksums (HDF5 1.8+)
+        found = []
+        f.visititems(lambda name, node: found.append((name, node)))
+        for name, node in [("", f), *found]:
+            assert store.CRC in node.attrs, name
+            if isinstance(node, h5py.Dataset) and node.dtype.kind in "fiucb" and node.ndim and node.size:
+                assert node.fletcher32, name  # the data of every numeric array is checked by HDF5 itself
+        assert not f["model/body_mass"].fletcher32 and f["model/body_mass"].ndim == 0  # covered by the CRC
+
+
+def test_random_bytes_over_the_middle_of_a_file_are_refused(written, tmp_path):
+    path = _copy(written, tmp_path)
+    size = path.stat().st_size
+    with open(path, "r+b") as f:
+        f.seek(size // 2 - size // 8)
+        f.write(np.random.default_rng(45).bytes(size // 4))
+    with pytest.raises(InputError, match=r"results: expected an undamaged results file .*damaged\.h5: "):
+        load_tree(path)
+
+
+def _overwrite_chunk(path, dataset):
+    with h5py.File(path, "r") as f:
+        info = f[dataset].id.get_chunk_info(0)
+    with open(path, "r+b") as f:
+        f.seek(info.byte_offset + info.size // 2)
+        f.write(np.random.default_rng(2).bytes(64))
+
+
+def _set(path, dataset, value=None, **attrs):
+    with h5py.File(path, "r+") as f:
+        if value is not None:
+            f[dataset][...] = value
+        for key, new in attrs.items():
+            f[dataset].attrs[key] = new
+
+
+@pytest.mark.parametrize(("damage", "where", "what"), [
+    (lambda p: _overwrite_chunk(p, "time/q"), "dataset time/q", r"its data fail their checksum \(fletcher32"),
+    (lambda p: _set(p, "model/body_mass", 1.0), "dataset model/body_mass", "its checksum fails"),  # a scalar
+    (lambda p: _set(p, "model/mount", ["a", "b", "c", "d"]), "dataset model/mount", "its checksum fails"),  # text
+    (lambda p: _set(p, "time/q", units_description="furlongs"), "dataset time/q", "its checksum fails"),
+])
+def test_damage_to_data_text_or_attributes_names_the_dataset(written, tmp_path, damage, where, what):
+    path = _copy(written, tmp_path)
+    damage(path)
+    with pytest.raises(InputError, match=rf"undamaged results file .*damaged\.h5: {where}: .*{what}"):
+        load_tree(path)
+
+
+def test_a_file_without_checksums_is_read_with_one_warning(written, tmp_path):
+    path = _copy(written, tmp_path, "old.h5")
+    with h5py.File(path, "r+") as f:  # as an earlier version wrote it: no marker, no CRCs
+        del f.attrs[store.CHECKSUMS]
+        f.visititems(lambda name, node: node.attrs.__delitem__(store.CRC))
+        del f.attrs[store.CRC]
+    with pytest.warns(store.UncheckedWarning, match=r"old\.h5 was written by an earlier version of sixdof, without "
+                      r"checksums: damage to it would go unnoticed") as caught:
+        tree = load_tree(path)
+    assert len(caught) == 1
+    assert_same(written, tree)
+
+
+DANGLING = r"""
+import shutil, sys
+import h5py
+from sixdof.io.store import load_tree
+
+source, folder = sys.argv[1:]
+for case in ("scale recreated", "scale recreated as a scale", "freed header reused", "dependent recreated"):
+    path = f"{folder}/{case.replace(' ', '_')}.h5"
+    shutil.copy(source, path)
+    with h5py.File(path, "r+") as f:
+        if case == "dependent recreated":  # a new dataset with the old one's attributes: DIMENSION_LIST copied
+            node = f["modal/frequency_hz"]
+            data, attrs = node[()], dict(node.attrs)
+            del f["modal/frequency_hz"]
+            new = f.create_dataset("modal/frequency_hz", data=data)
+            for key, value in attrs.items():
+                new.attrs[key] = value
+        else:
+            data = f["modal/mode"][()]
+            del f["modal/mode"]  # the scale goes: its dependents' DIMENSION_LIST references dangle
+            if case == "freed header reused":
+                for i in range(20):
+                    f[f"modal/other_{i}"] = data * 1.5
+            f["modal/mode"] = data
+            if case == "scale recreated as a scale":
+                f["modal/mode"].make_scale("mode")
+    try:
+        load_tree(path)
+        print(f"{case}: read")
+    except ValueError as exc:
+        print(f"{case}: {exc}")
+"""
+
+
+def test_dangling_dimension_scales_are_refused_and_never_abort_hdf5(written, tmp_path):
+    """Read in a child process: an abort in libhdf5 (heap corruption, SIGABRT) shows as a negative status."""
+    done = subprocess.run([sys.executable, "-c", DANGLING, str(written.path), str(tmp_path)], capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    lines = done.stdout.splitlines()
+    assert len(lines) == 4, done.stdout
+    for line in lines[:3]:
+        assert re.search(r"results: expected an undamaged results file .*: dataset modal/\w+: axis 0: its "
+                         r"dimension scale (is not an array of the file \(a dangling reference\)|cannot be opened)",
+                         line), line
+    assert re.search(r"dependent recreated: .*dataset modal/frequency_hz: its checksum fails", lines[3]), lines[3]
+
+
+def test_empty_and_truncated_files_are_refused_in_one_line(written, tmp_path):
+    empty = tmp_path / "empty.h5"
+    empty.write_bytes(b"")
+    truncated = tmp_path / "truncated.h5"
+    truncated.write_bytes(written.path.read_bytes()[: written.path.stat().st_size // 2])
+    for path, reason in ((empty, "file signature not found"), (truncated, "truncated file")):
+        with pytest.raises(InputError, match=rf"expected an HDF5 results file written by sixdof, got .*{path.name} "
+                           rf"\(.*{reason}") as caught:
+            load_tree(path)
+        assert "\n" not in str(caught.value)

@@ -170,3 +170,35 @@ def test_ctrl_c_stops_a_long_run_at_once_and_leaves_nothing(tmp_path, monkeypatc
         signal.signal(signal.SIGINT, previous)
     assert len(solved) == 1
     assert list(tmp_path.iterdir()) == []
+
+
+FILLED = r"""
+import resource, sys
+from sixdof.io import output, store, stream
+
+for module in (output, store, stream):  # the size estimates fall short of the real file: HDF5 meets the limit
+    module.check_room = lambda path, nbytes: None
+if __name__ == "__main__":
+    resource.setrlimit(resource.RLIMIT_FSIZE, (int(sys.argv[2]), resource.RLIM_INFINITY))
+    from sixdof.cli import main
+    sys.exit(main(["run", "scenarios/bridge_beam_traffic.toml", "--out", sys.argv[1], "--quiet"]))
+"""
+
+
+def test_a_disk_that_fills_while_a_long_run_streams_ends_in_one_line_and_leaves_nothing(tmp_path):
+    """The file-size limit (``ulimit -f``) met in the middle of the streamed results.h5 (28 MB), as a full disk
+    is: HDF5's write fails in its caches; the run ends with exit 74, one line naming the file, no staging folder,
+    and the folders made for --out removed again (a real full disk, a small tmpfs, gives the same)."""
+    import subprocess
+    import sys
+
+    script = tmp_path / "filled.py"
+    script.write_text(FILLED)
+    out = tmp_path / "out" / "deeper"
+    done = subprocess.run([sys.executable, str(script), str(out), str(10_000_000)], capture_output=True, text=True,
+                          timeout=300, cwd=Path(__file__).parents[1])
+    assert done.returncode == 74, done.stderr
+    assert done.stderr.count("\n") <= 1, done.stderr
+    assert "could not write " in done.stderr and "results.h5: File too large; results already in place are " \
+        "unchanged" in done.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["filled.py"]

@@ -178,29 +178,38 @@ def test_a_nonlinear_model_s_histories_check_its_linearization(clearance):
 
 
 def _state_matrix_poles(system):
-    """Eigenvalues with Im > 0 of the first-order form [[0, I], [-M^-1 K, -M^-1 C]] (12x12), sorted
-    by frequency: the damped poles, computed without the modal transform."""
+    """Eigenvalues with Im > 0 of the first-order form [[0, I], [-M^-1 K, -M^-1 C]] (12x12), with Maxwell
+    branch forces f (f' = k_b R q' - f / tau, load -R' f) when there are some, sorted by frequency: the damped
+    poles, computed without the modal transform."""
     M, C, K = (np.asarray(a) for a in (system.M, system.C, system.K))
     A = np.block([[np.zeros((6, 6)), np.eye(6)], [-np.linalg.solve(M, K), -np.linalg.solve(M, C)]])
+    branches = system.branches
+    if branches.count:
+        R, k, tau = np.asarray(branches.rows), np.asarray(branches.stiffness), np.asarray(branches.tau)
+        A = np.block([[A, np.vstack([np.zeros((6, k.size)), -np.linalg.solve(M, R.T)])],
+                      [np.zeros((k.size, 6)), k[:, None] * R, -np.diag(1 / tau)]])
     poles = scipy.linalg.eigvals(A)
+    poles = poles[np.abs(poles.imag) > 1e-6 * np.abs(poles)]  # the branches' own relaxations are real
     return np.sort_complex(poles[poles.imag > 0] * -1j) * 1j  # by imaginary part
 
 
 @pytest.mark.slow  # ~20 s on 2 cores: two compilations, 6 decays and 6 random runs of 362 s in all
 def test_engine_scenario_passes_through_the_command(tmp_path, capsys):
     # The bundled engine: mount dashpots (non-proportional damping) and loss factors 0.1-0.12, which
-    # the time integration cannot contain. Before issue 13 its H1 disagreed by 27 to 93 sigma with a
-    # model that kept them, and the command still exited 0.
-    system = load_scenario(ENGINE).system
+    # the time integration carries as their causal Maxwell models (issue 45; before, it left them out).
+    # Before issue 13 its H1 disagreed by 27 to 93 sigma with a model that kept them, and the command
+    # still exited 0.
+    system = load_scenario(ENGINE).time_system
+    assert system.maxwell and not np.any(system.loss_factors)
     assert main(["validate", ENGINE, "--out", str(tmp_path)]) == 0
     out = capsys.readouterr().out
-    assert "hysteretic loss factors of mount(s) 'left', 'right', 'rear' left out of the model" in out
+    assert "left out of the model" not in out
     assert "Verdict: PASS (all 24 checks of 6 modes within their limits)" in out
     report = load_results(tmp_path / "engine_inclined_mounts_validation" / "results.h5").validation
     assert report.verdict == "PASS" and report.mode_verdicts == ("PASS",) * 6
     assert len(report.checks) == 24 and all(c.value <= c.limit for c in report.checks)
-    # The model side is the exact damped pole of each mode of M, C, K (the loss factors out), from
-    # the 12x12 state matrix: Im(lambda) / 2 pi and -Re(lambda) / |lambda|.
+    # The model side is the exact damped pole of each mode of M, C, K and the Maxwell branches, from
+    # the state matrix: Im(lambda) / 2 pi and -Re(lambda) / |lambda|.
     poles = _state_matrix_poles(system)
     rows = report.rows
     assert [r.f_damped_model_hz for r in rows] == pytest.approx(poles.imag / (2 * math.pi),
@@ -224,7 +233,8 @@ def _more_damped(system, factor):
 def test_a_model_that_disagrees_fails_with_exit_status_3(tmp_path, capsys, monkeypatch):
     # The engine's time histories checked against a model with 1.5 times its mount damping: the
     # damped frequencies barely move (the decay frequency check passes), but the damping ratios and
-    # the FRF's amplitude near each peak do, far beyond their limits.
+    # the FRF's amplitude near each peak do, far beyond their limits (since issue 45 the loss factors'
+    # Maxwell branches, in both, share the damping: the FRF check then fails where the dashpots dominate).
     import sixdof.validation
 
     real_validate = sixdof.validation.validate
@@ -232,7 +242,7 @@ def test_a_model_that_disagrees_fails_with_exit_status_3(tmp_path, capsys, monke
                         lambda system, settings=None, **kw: real_validate(system, settings, model=_more_damped(system, 1.5), **kw))
     assert main(["validate", ENGINE, "--out", str(tmp_path)]) == EXIT_VALIDATION_FAILED == 3
     captured = capsys.readouterr()
-    assert "Verdict: FAIL (mode 1 decay_damping, mode 1 frf_h1, mode 2 decay_damping" in captured.out
+    assert "Verdict: FAIL (mode 1 decay_damping, mode 2 decay_damping" in captured.out
     assert captured.err.strip().splitlines()[-1] == (
         "sixdof: validation FAILED for mode(s) 1, 2, 3, 4, 5, 6: the model and the time histories disagree "
         "beyond the limits above")
@@ -242,7 +252,8 @@ def test_a_model_that_disagrees_fails_with_exit_status_3(tmp_path, capsys, monke
     verdicts = {c.key: c.verdict for c in report.checks}
     for mode in range(1, 7):
         assert verdicts[f"{mode}:decay_frequency"] == "PASS"
-        assert verdicts[f"{mode}:decay_damping"] == verdicts[f"{mode}:frf_h1"] == "FAIL"
+        assert verdicts[f"{mode}:decay_damping"] == "FAIL"
+    assert "FAIL" in {verdicts[f"{mode}:frf_h1"] for mode in range(1, 7)}
 
 
 def _row(**values):

@@ -153,3 +153,7 @@ RTOL_RECORD_INTEGRAL = 1e-12
 # zero, and the same correction of the record with a polynomial drift added, relative to the record's peak
 # velocity, displacement or acceleration (measured <= 4e-14; the fit's conditioning grows with its degree).
 RTOL_BASELINE = 1e-10
+# Frequency derivatives through the statics of gravity's geometric stiffness (JAX, stiffness_jax) against
+# central differences (relative step 1e-4) of systems that each solve their own statics, relative to each
+# parameter's largest derivative: the differences' truncation and round-off (measured 2.2e-8 on skewed_machine).
+RTOL_GEOMETRIC_GRADIENT = 1e-6

@@ -151,8 +151,8 @@ def _failure(exc: Exception) -> tuple[str, int] | None:
         return f"a figure could not be drawn, nothing was written: {exc}", EXIT_FAILED
     if isinstance(exc, OSError):
         where = f" {exc.filename}" if exc.filename else ""
-        return (f"could not write{where}: {exc.strerror or exc}; results already in place are unchanged",
-                EXIT_CANNOT_WRITE)
+        reason = " ".join(str(exc.strerror or exc).split())  # one line, whatever the library's message held
+        return f"could not write{where}: {reason}; results already in place are unchanged", EXIT_CANNOT_WRITE
     return None
 
 
@@ -371,14 +371,15 @@ def _show_modes(args, scenario) -> int:
     from sixdof.analysis.design import design_metrics
     from sixdof.analysis.statespace import damping_ratios
     from sixdof.analysis.statics import try_gravity_statics
-    from sixdof.analysis.validity import RangeWarning, static_range
+    from sixdof.analysis.validity import RangeWarning, implausible_inputs, static_range
     from sixdof.errors import InputError, Plain
     from sixdof.io import report
 
     system = scenario.system
     modes = system.modes
     statics, no_statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
-    for note in static_range(statics, system):
+    points = {p.name: p.position for p in scenario.points}
+    for note in static_range(statics, system) + implausible_inputs(system, scenario.excitation, points):
         warnings.warn(note, RangeWarning, stacklevel=1)
     zeta = damping_ratios(system.C, modes, system.branches)
     if args.json:
@@ -400,7 +401,9 @@ def _show_modes(args, scenario) -> int:
 
 
 def _print_statics(scenario, statics, no_statics: str | None = None) -> None:
-    """The statics under gravity (or why there are none), and a warning for mounts in tension."""
+    """The statics under gravity (or why there are none), what gravity's geometric stiffness does to the modes
+    (:func:`~sixdof.analysis.validity.geometric_stiffness_note`), and a warning for mounts in tension."""
+    from sixdof.analysis.validity import geometric_stiffness_note
     from sixdof.io import report
 
     print(f"\nStatics under gravity ({scenario.statics.gravity} m/s^2 along {list(scenario.statics.direction)}):")
@@ -408,6 +411,9 @@ def _print_statics(scenario, statics, no_statics: str | None = None) -> None:
         print(no_statics)
         return
     print(report.statics_table(statics, scenario.system))
+    note = geometric_stiffness_note(scenario.system, scenario.statics.vector)
+    if note is not None:
+        print(note)
     if statics.uplift:
         warnings.warn(f"mounts in tension (uplift): {', '.join(statics.uplift)}", stacklevel=1)
 
@@ -672,6 +678,7 @@ def _modes_json(scenario, modes, statics, zeta, sensitivity: bool = False) -> di
     # Modes of a system with nonlinear mounts are those of its linearization about the static equilibrium.
     out["linearized_axes"] = list(laws.names)
     out["linearized_stiffness"] = [float(k) for k in laws.tangent]
+    out["geometric_stiffness"] = scenario.system.geometric_stiffness  # whether K (so the modes) holds gravity's K_G
     out["full_model_poles"] = _full_model_poles(scenario.system, modes, plain)
     out.update(_design_json(scenario, sensitivity, plain))
     if statics is not None:

@@ -53,8 +53,8 @@ def quantity(units: str | MixedUnits | Callable, dims: tuple[str, ...], *, name:
     """A dataclass field holding an array: its ``units`` (SI, ``"1"`` dimensionless, ``""`` text
     labels, :class:`~sixdof.dofs.MixedUnits` where translations and rotations mix, or a function of the
     result returning one of these), the name of each axis (``dims``), and optionally its stored ``name``,
-    a ``description``, converters to and from the stored array, and the field's validation ``check``
-    (see :mod:`sixdof.frozen`)."""
+    a ``description`` (text, or a function of the result returning it), converters to and from the stored
+    array, and the field's validation ``check`` (see :mod:`sixdof.frozen`)."""
     return _field({"kind": "quantity", "units": units, "dims": tuple(dims), "name": name,
                    "description": description, "encode": encode or _same,
                    "decode": decode or _same}, default, default_factory, check)
@@ -324,6 +324,14 @@ class RunResults(Frozen):
     validation : sixdof.validation.ValidationReport or None
     sweep : sixdof.analysis.batch.BatchResult or None
         A design sweep's frequencies and peaks per variant (``sixdof sweep``).
+    time_system : sixdof.model.system.System or None
+        The system the time response and the statics integrate, where it is not ``system``: the mounts' loss
+        factors as causal Maxwell models (``[damping] loss_factor_model = "causal"``).
+    loss_factor_model : str
+        ``"causal"``, ``"maxwell"`` or ``"hysteretic"``: what the loss factors are in the time paths ("" without).
+    loss_factor_statics : str
+        With causal models of the loss factors: the line saying that the statics use their long-term
+        stiffness, with their worst errors.
     provenance : mapping of str to str
         ``scenario_text``, ``created_utc``, ``command_line``, package versions.
     """
@@ -331,6 +339,9 @@ class RunResults(Frozen):
     name: str = label(name="scenario_name", default="")
     description: str = label(name="scenario_description", default="")
     system: Any = part(lambda: _class("sixdof.model.system", "System"), group="model", default=None)
+    time_system: Any = part(lambda: _class("sixdof.model.system", "System"), group="time_model", default=None)
+    loss_factor_model: str = label(default="")
+    loss_factor_statics: str = label(default="")
     modes: Any = part(lambda: _class("sixdof.analysis.modal", "Modes"), group="modal", default=None)
     damping_ratios: np.ndarray | None = quantity("1", ("mode",), name="modal/damping_ratio", default=None,
                                                  description="modal damping ratio (nan for rigid-body modes)")
@@ -408,7 +419,8 @@ def to_xarray(result):
         if meta["kind"] == "quantity":
             stored = meta["name"] or name
             units = meta["units"](result) if callable(meta["units"]) else meta["units"]
-            extra = {**unit_attrs(units), **({"description": meta["description"]} if meta["description"] else {})}
+            text = meta["description"](result) if callable(meta["description"]) else meta["description"]
+            extra = {**unit_attrs(units), **({"description": text} if text else {})}
             if tuple(meta["dims"]) == (stored,):
                 coords[stored] = (stored, np.asarray(value), extra)
             else:

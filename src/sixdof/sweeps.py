@@ -17,9 +17,12 @@ the scenario and the spec are those the chunks were computed from (:func:`finger
 from __future__ import annotations
 
 import dataclasses
+import fcntl
 import hashlib
 import json
+import os
 import pickle
+import re
 import time
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
@@ -34,33 +37,52 @@ from sixdof.io.toml import naming
 #: The folder of a sweep's finished chunks, beside its results folder.
 CHUNKS_SUFFIX = ".chunks"
 _FINGERPRINT = "sweep.json"
-#: What a chunk file holds, raised when that changes (2: the modes followed by their shapes), so that a resumed
-#: sweep refuses chunks of an earlier kind up front instead of failing to merge them at the end.
-CHUNK_FORMAT = 2
+#: The temporary name of a chunk file being written (:func:`sixdof.io.store.save_results`).
+_DEBRIS = re.compile(r"\.chunk-\d{5,}\.h5\.[0-9a-f]{32}\.tmp")
+#: What a chunk file holds, raised when that changes (2: the modes followed by their shapes; 3: peaks of the
+#: time model, the loss factors' causal Maxwell models), so that a resumed sweep refuses chunks of an earlier kind
+#: up front instead of failing to merge them at the end (or merging peaks of another model).
+CHUNK_FORMAT = 3
 
 
 class Study(NamedTuple):
     """What a sweep needs of a scenario (a :class:`~sixdof.io.scenario.Scenario` will do): the nominal
-    system, and the excitation and simulation settings of its responses (``None``: frequencies only)."""
+    system, the excitation and simulation settings of its responses (``None``: frequencies only), and the model
+    of those time responses (``None``: ``system``; a scenario's ``time_system`` carries its loss factors as
+    causal Maxwell models)."""
 
     system: Any
     excitation: Any = None
     simulation: Any = None
+    time_system: Any = None
+
+
+def _time_system(scenario):
+    """The model of a sweep's time responses and cross-checks: the scenario's ``time_system`` (the loss factors'
+    causal Maxwell models, ``[damping] loss_factor_model``), else its ``system``."""
+    timed = getattr(scenario, "time_system", None)
+    return scenario.system if timed is None else timed
 
 
 def sweep_chunk(scenario, spec, index: int, checked: tuple[int, ...] = ()):
     """Chunk ``index`` of ``spec``'s sweep of ``scenario`` (or :class:`Study`), one task: its variants'
     frequencies and peaks, and the diffrax peaks of those among ``checked`` (indices in the whole sweep), as
-    a :class:`~sixdof.analysis.batch.BatchResult` whose cross-check fields hold only those peaks."""
+    a :class:`~sixdof.analysis.batch.BatchResult` whose cross-check fields hold only those peaks.
+
+    The frequencies and tracked modes are those of the scenario's ``system`` (the mounts' stiffness ``k``, as
+    ``sixdof modes`` reports them); the peaks and their diffrax cross-check those of its ``time_system`` (each
+    loss factor as its causal Maxwell model, scaled with its mount axis's stiffness factor, as ``sixdof run``
+    simulates)."""
     from sixdof.analysis.batch import direct_peaks, run_batch
 
     system, excitation, settings = scenario.system, scenario.excitation, scenario.simulation
+    timed = _time_system(scenario)
     variants = spec.variants(system, index)
-    result = run_batch(system, variants, excitation, settings, engine=spec.engine, cross_check=0)
+    result = run_batch(system, variants, excitation, settings, time_system=timed, engine=spec.engine, cross_check=0)
     if not checked or result.peak_q is None:
         return result
     rows = spec.chunks()[index]
-    direct = direct_peaks(system, variants, [i - rows.start for i in checked], excitation, settings)
+    direct = direct_peaks(timed, variants, [i - rows.start for i in checked], excitation, settings)
     return dataclasses.replace(result, cross_check_variants=np.asarray(checked, dtype=int),
                                cross_check_peak_q=direct[:, :6], cross_check_peak_qdd=direct[:, 6:])
 
@@ -207,6 +229,11 @@ class ChunkFolder:
     atomically) and ``sweep.json``, the fingerprint of the scenario and spec they come from. Made when the
     first chunk is written: a sweep that fails before leaves nothing behind.
 
+    A sweep holds a shared ``flock`` on the folder while it writes there (the kernel releases it however the
+    process ends, SIGKILL included). The temporary file of a chunk being written when its sweep was killed
+    (``.chunk-00012.h5.<32 hex digits>.tmp``, :func:`sixdof.io.store.save_results`) is removed by the next sweep
+    that opens the folder, when no live sweep holds it: those names only, nothing else in the folder.
+
     Parameters
     ----------
     path : pathlib.Path
@@ -218,9 +245,13 @@ class ChunkFolder:
 
     def __init__(self, path: Path, fingerprint: dict, resume: bool) -> None:
         self.path, self.fingerprint = path, fingerprint
+        self._lock: int | None = None  # the descriptor holding the folder's shared lock
         if path.is_symlink() or (path.exists() and not path.is_dir()):
             raise InputError("--out", f"no file or link named {path.name} (a sweep keeps its chunks in a folder "
                              "there)", Plain(str(path)))
+        if path.is_dir():
+            self._remove_debris()
+            self._hold()
         found = self.finished()
         if found and not resume:
             raise InputError("--resume", f"a fresh start, or --resume to continue the interrupted sweep whose "
@@ -235,6 +266,32 @@ class ChunkFolder:
             if changed:
                 raise InputError("--resume", "the scenario and sweep spec that the chunks in "
                                  f"{path} were computed from", Plain(f"a different {', '.join(changed)}"))
+
+    def _hold(self) -> None:
+        """Take the folder's shared lock (see the class), for as long as this process lives or :meth:`remove`."""
+        if self._lock is None:
+            self._lock = os.open(self.path, os.O_RDONLY)
+            fcntl.flock(self._lock, fcntl.LOCK_SH)
+
+    def release(self) -> None:
+        """Let go of the folder's lock: this process writes no more there."""
+        if self._lock is not None:
+            os.close(self._lock)
+            self._lock = None
+
+    def _remove_debris(self) -> None:
+        """Remove the chunks' temporary files that killed sweeps left, unless a live sweep holds the folder."""
+        fd = os.open(self.path, os.O_RDONLY)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            return  # a live sweep writes there: its temporary files are its own
+        else:
+            for entry in self.path.iterdir():
+                if _DEBRIS.fullmatch(entry.name) and entry.is_file() and not entry.is_symlink():
+                    entry.unlink(missing_ok=True)
+        finally:
+            os.close(fd)  # releases the lock
 
     def file(self, index: int) -> Path:
         return self.path / f"chunk-{index:05d}.h5"
@@ -254,6 +311,7 @@ class ChunkFolder:
 
         if not (self.path / _FINGERPRINT).exists():
             self.path.mkdir(parents=True, exist_ok=True)  # with --out, made only now
+            self._hold()
             (self.path / _FINGERPRINT).write_text(json.dumps(self.fingerprint, indent=1), encoding="utf-8")
         write_results(self.file(index), RunResults(name=f"chunk {index}", sweep=result))
 
@@ -267,6 +325,7 @@ class ChunkFolder:
         for index in range(chunks):
             self.file(index).unlink(missing_ok=True)
         (self.path / _FINGERPRINT).unlink(missing_ok=True)
+        self.release()
         try:
             self.path.rmdir()
         except OSError:
@@ -274,13 +333,15 @@ class ChunkFolder:
 
 
 def fingerprint(scenario, spec) -> dict:
-    """What a sweep's chunks depend on: the scenario's model, excitation and settings (the data of the files it
-    reads included, not its name or comments), the spec (chunks and seeds included) and sixdof's version."""
+    """What a sweep's chunks depend on: the scenario's models (frequency and time: ``loss_factor_model``), excitation
+    and settings (the data of the files it reads included, not its name or comments), the spec (chunks and seeds
+    included) and sixdof's version."""
     from sixdof import __version__
 
     # Pickles of these frozen objects are the same bytes in every process for the same content (checked by the
     # resume tests); a changed accelerogram or force-deflection file changes them.
-    model = pickle.dumps((scenario.system, scenario.excitation, scenario.simulation), protocol=5)
+    model = pickle.dumps((scenario.system, scenario.excitation, scenario.simulation, _time_system(scenario)),
+                         protocol=5)
     spec_text = json.dumps({key: value for key, value in dataclasses.asdict(spec).items() if key != "path"},
                            sort_keys=True, default=str)  # the spec's content, not where it was read from
     return {"scenario": hashlib.sha256(model).hexdigest(), "spec": hashlib.sha256(spec_text.encode()).hexdigest(),
@@ -347,10 +408,13 @@ def sweep_scenario(scenario, spec, out_root: str | Path = "outputs", *, chunk_si
     folder = ChunkFolder(target.with_name(target.name + CHUNKS_SUFFIX), fingerprint(scenario, spec), resume)
     run = _Sweep(scenario, spec)
     found = folder.finished()
-    with task_runner(workers, scheduler, client) as runner:
-        for index, result in run.run(runner, skip=found, progress=progress):
-            folder.write(index, result)
-        where = _where(runner)
+    try:
+        with task_runner(workers, scheduler, client) as runner:
+            for index, result in run.run(runner, skip=found, progress=progress):
+                folder.write(index, result)
+            where = _where(runner)
+    finally:
+        folder.release()  # the chunks are written (or the sweep stopped): merged below, by this process alone
     outcome = {}
 
     def write(stage: Path) -> None:

@@ -24,7 +24,9 @@ from sixdof.analysis.validity import (
     RangeWarning,
     body_length,
     fit_band_range,
+    geometric_stiffness_note,
     ground_drift,
+    implausible_inputs,
     static_range,
 )
 from sixdof.errors import InputError, Plain
@@ -174,35 +176,40 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
 
     target = output.check_target(out_root, scenario.name)
     with FigureWorkers(processes=0) if workers is None else contextlib.nullcontext(workers) as drawing:
-        system = scenario.system
+        system, timed = scenario.system, scenario.time_system
         modes = system.modes
-        statics, no_statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
+        statics, no_statics = try_gravity_statics(timed, scenario.statics.gravity, scenario.statics.direction)
         zeta = damping_ratios(system.C, modes, system.branches)
         notes = sampling_warnings(scenario, modes)
         for note in notes:
             warnings.warn(note, SamplingWarning, stacklevel=2)
+        loss_notes, statics_line = loss_factor_notes(scenario, scenario.simulation is not None)
+        if statics_line and statics is not None:
+            log(statics_line)
         steady = None if scenario.excitation is None else steady_state(system, scenario.excitation)
-        out_of_range = ([no_statics] if no_statics else []) + static_range(statics, system)
-        if modes.zero_modes:
-            out_of_range.append(f"the mounts leave the body unrestrained: {len(modes.zero_modes)} zero-frequency "
-                                f"mode(s), motions no mount resists, involving {', '.join(modes.free_dofs)}")
+        points = {p.name: p.position for p in scenario.points}
+        out_of_range = (([no_statics] if no_statics else []) + loss_notes + static_range(statics, timed)
+                        + implausible_inputs(system, scenario.excitation, points))
         if steady is not None:
             out_of_range += fit_band_range(scenario.viscoelastic, steady.f_hz)
         for note in out_of_range:
             notes.append(note)
             warnings.warn(note, RangeWarning, stacklevel=2)
+        # A choice of the model, not a range it leaves: said beside the modes, not among the warnings.
+        stiffness_note = geometric_stiffness_note(system, scenario.statics.vector)
         frf, frf_extras = _frequency_responses(scenario)
-        points = {p.name: p.position for p in scenario.points}
         random = None if scenario.random is None else random_response(system, scenario.random, points)
         if random is not None and scenario.random.time_check is not None:
             from sixdof.validation.random_time import random_time_check
 
+            # The time model on both sides: the loss factors' causal models damp the record and its FRFs alike.
             random = dataclasses.replace(random, time_check=random_time_check(
-                system, scenario.random, points, scenario.random.time_check, simulation=scenario.simulation,
-                progress=progress))
+                scenario.time_system, scenario.random, points, scenario.random.time_check,
+                simulation=scenario.simulation, progress=progress))
         run = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
                          damping_ratios=zeta, statics=statics, frf=frf, frf_extras=frf_extras, steady_state=steady,
-                         random=random, viscoelastic=scenario.viscoelastic, provenance=_provenance(scenario))
+                         random=random, viscoelastic=scenario.viscoelastic, provenance=_provenance(scenario),
+                         **_loss_factor_labels(scenario, statics_line if statics is not None else ""))
         drawing.submit(run)  # the modal and FRF figures are drawn while the solve runs
 
         timed = None
@@ -228,7 +235,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
             text = report.summary_markdown(scenario, modes, statics, zeta, run.response, run.mount_forces,
                                             run.agreement, run.superposition, frf, figures, notes,
                                             mount_check=run.mount_check, steady=steady, points=run.points,
-                                            random=random, srs=run.srs,
+                                            random=random, srs=run.srs, stiffness_note=stiffness_note,
                                             nonlinear=None if run.contacts is None else (run.contacts, run.energy,
                                                                                          run.refined))
             (stage / "summary.md").write_text(text, encoding="utf-8")
@@ -290,7 +297,7 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
     from sixdof.excitation import Excitation
     from sixdof.io.scenario import MEMORY_SAMPLES
 
-    system, settings, options = scenario.system, scenario.simulation, scenario.superposition
+    system, settings, options = scenario.time_system, scenario.simulation, scenario.superposition
     excitation = scenario.excitation if scenario.excitation is not None else Excitation()
     points = {p.name: p.position for p in scenario.points}
     length = body_length(system)
@@ -493,6 +500,33 @@ def _provenance(scenario) -> dict[str, str]:
     return {"scenario_text": scenario.text or ""}
 
 
+def loss_factor_notes(scenario, timed: bool = True) -> tuple[list[str], str]:
+    """What a run says of its mounts' loss factors in the time paths: warnings (a causal model that misses its
+    targets, :func:`~sixdof.model.viscoelastic.loss_fit_misses`; loss factors left out with
+    ``loss_factor_model = "hysteretic"``, when ``timed``: a time path runs) and the statics line
+    (:func:`~sixdof.model.viscoelastic.long_term_note`, "" without causal models)."""
+    from sixdof.model.viscoelastic import long_term_note, loss_fit_misses
+
+    notes = loss_fit_misses(scenario.viscoelastic)
+    lossy = [m.name for m in scenario.time_system.mounts if np.any(m.loss_factor)]
+    if lossy and timed:
+        notes.append(f'damping.loss_factor_model = "hysteretic": the time paths (direct solve, superposition, '
+                     f"validate) leave out the loss factors of mount(s) {', '.join(lossy)}, so their time response "
+                     "is not damped by them (a switch-on transient does not decay as the frequency responses say); "
+                     'the default "causal" carries them as causal Maxwell models')
+    return notes, long_term_note(scenario.viscoelastic)
+
+
+def _loss_factor_labels(scenario, statics_line: str) -> dict:
+    """The RunResults fields of a run's loss factors: the model, the time system where it differs, the statics
+    line."""
+    if not np.any(scenario.system.loss_factors) and not scenario.causal_loss_fits:
+        return {}
+    timed = scenario.time_system if scenario.time_system is not scenario.system else None
+    return {"loss_factor_model": scenario.loss_factor_model, "time_system": timed,
+            "loss_factor_statics": statics_line}
+
+
 def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_line: str | None = None,
                       workers: FigureWorkers | None = None, progress=None):
     """Validate a scenario's modal results against simulated time histories (issue 5).
@@ -516,11 +550,15 @@ def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_lin
 
     target = output.check_target(out_root, scenario.name, "_validation")
     with FigureWorkers(processes=0) if workers is None else contextlib.nullcontext(workers) as drawing:
-        system = scenario.system
+        system = scenario.time_system  # the model the simulations integrate: the loss factors' causal models
         modes = system.modes
+        for note in loss_factor_notes(scenario)[0]:
+            warnings.warn(note, RangeWarning, stacklevel=2)
         run = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
                          damping_ratios=damping_ratios(system.C, modes, system.branches),
-                         viscoelastic=scenario.viscoelastic, provenance=_provenance(scenario))
+                         viscoelastic=scenario.viscoelastic, provenance=_provenance(scenario),
+                         loss_factor_model=scenario.loss_factor_model if scenario.viscoelastic
+                         or np.any(scenario.system.loss_factors) else "")
         drawing.submit(run)  # the modal figures are drawn while the validation experiment runs
         report = validate(system, progress=progress)
         run = dataclasses.replace(run, validation=report)

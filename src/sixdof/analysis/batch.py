@@ -16,12 +16,20 @@ Two engines compute the responses:
   window of output steps, shared by every variant); each variant contributes only its modal coordinates
   (method chosen per variant as in :func:`~sixdof.analysis.superposition.superpose`). The coordinates of
   a chunk of variants advance side by side, window by window, and only the peaks are kept. Loads,
-  initial states and ground motion.
+  initial states and ground motion. With Maxwell branches each variant's coordinates are the complex modes
+  of its augmented first-order system ``[eta, eta', f]``, as :func:`~sixdof.analysis.superposition.superpose`'s.
 - ``"diffrax"``: ``jax.vmap`` of one diffrax solve (:func:`sixdof.analysis.direct.solve_ode` with the
   settings of :func:`~sixdof.analysis.direct.simulate`, tolerances on the state scaled by the *nominal*
   system's :func:`~sixdof.analysis.direct.state_scale`), each variant's first-order matrix ``A``
-  (12x12) built once, in chunks of equal size. Loads and initial states; what nonlinear mounts will
-  need.
+  (``12 + nb`` square with ``nb`` Maxwell branch states, :func:`~sixdof.analysis.direct.mechanical_form`)
+  built once, in chunks of equal size. Loads and initial states; what nonlinear mounts will need.
+
+Maxwell branches (measured ``dynamic_stiffness`` tables, ``loss_factor_model = "maxwell"``, and the causal
+models of the loss factors that a scenario's ``time_system`` carries) follow each variant's mounts
+(:func:`variant_system`): a branch scales with its mount axis's stiffness factor (a fit to that axis's loss
+factor or table is linear in its stiffness; relaxation times unchanged) and moves with its mount's position
+offset. :func:`run_batch` takes the frequency model (``system``: natural frequencies, tracked modes) and the time
+model (``time_system``: the responses and the cross-check) apart, as ``sixdof run`` does.
 
 A sample of the variants (``cross_check``, drawn with a seed) is also solved by
 :func:`sixdof.analysis.direct.simulate` (diffrax); the worst agreement of its peaks with the engine's,
@@ -31,6 +39,7 @@ each variant's modes) are not batched: they raise :class:`~sixdof.errors.InputEr
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections import namedtuple
@@ -48,8 +57,8 @@ from sixdof.dofs import UNITS
 from sixdof.errors import InputError, Plain, SolverError, integer, readonly
 from sixdof.frozen import BriefRepr
 from sixdof.model.damping import damping_matrix
-from sixdof.model.kinematics import mount_matrix_jax
-from sixdof.model.system import Mount, System
+from sixdof.model.kinematics import mount_local_map, mount_matrix_jax, stiffness_jax
+from sixdof.model.system import Branches, System
 from sixdof.progress import meter
 from sixdof.results import label, part, quantity
 
@@ -190,10 +199,7 @@ class BatchResult(BriefRepr):
 
 def check_batchable(system: System) -> None:
     """Raise an :class:`InputError` naming the mounts unless the batch engines can run variants of ``system``:
-    not with Maxwell branches (the batch engines do not carry their states) or nonlinear mounts."""
-    if system.maxwell:
-        raise InputError("mounts.maxwell", "mounts without Maxwell branches (sweeps and batches of visco-elastic "
-                         "mounts are not supported yet)", Plain(f"{len(system.maxwell)} Maxwell branches"))
+    not with nonlinear mounts (Maxwell branches are carried)."""
     if system.nonlinear.count:
         raise InputError("mounts", "linear mounts (sweeps and batches of mounts with bump stops, lift-off or "
                          "force-deflection tables are not supported yet)",
@@ -262,16 +268,41 @@ def make_variants(system: System, *, stiffness_factor=None, damping_factor=None,
 
 
 def variant_system(system: System, variants: Variants, index: int) -> System:
-    """The :class:`~sixdof.model.system.System` of variant ``index`` (same body and global damping)."""
+    """The :class:`~sixdof.model.system.System` of variant ``index`` (same body and global damping).
+
+    Each mount's stiffness and dashpot are scaled along its axes and its position offset. Its Maxwell branches
+    (:attr:`System.maxwell`: measured ``dynamic_stiffness`` tables, ``loss_factor_model = "maxwell"``, or the
+    causal models of the loss factors that a scenario's ``time_system`` carries) scale with the mount's
+    stiffness factor along each axis, relaxation times unchanged: a fit to a mount axis's loss factor or table
+    is linear in its stiffness, so that of ``f k`` is ``f`` times that of ``k``. They act at the mount, so they
+    move with it.
+    """
     if not 0 <= index < variants.count:
         raise InputError("index", f"a variant index in [0, {variants.count})", index)
     mounts = [
-        Mount(m.name, m.position + variants.position_offset[index, j],
-              m.stiffness * variants.stiffness_factor[index, j],
-              m.damping * variants.damping_factor[index, j], m.axes, m.loss_factor)
+        dataclasses.replace(m, position=m.position + variants.position_offset[index, j],
+                            stiffness=m.stiffness * variants.stiffness_factor[index, j],
+                            damping=m.damping * variants.damping_factor[index, j])
         for j, m in enumerate(system.mounts)
     ]
-    return System(system.body, mounts, system.rayleigh, system.modal_damping)
+    number = {name: j for j, name in enumerate(system.mount_names)}
+    branches = [dataclasses.replace(b, stiffness=b.stiffness * variants.stiffness_factor[index, number[b.mount]])
+                for b in system.maxwell]
+    return dataclasses.replace(system, mounts=tuple(mounts), maxwell=tuple(branches))
+
+
+def variant_branches(system: System, variants: Variants) -> list[Branches] | None:
+    """Each variant's Maxwell branch states (:attr:`System.branches` of :func:`variant_system`, vectorized):
+    the rows of the moved mounts, stiffnesses times the mount axis's stiffness factor; None without branches."""
+    nominal = system.branches
+    if not nominal.count:
+        return None
+    positions = system.positions[None] + variants.position_offset  # (nv, n, 3)
+    local = mount_local_map(positions, system.axes)  # (nv, n, 3, 6)
+    rows = local[:, nominal.mount, nominal.axis]  # (nv, nb, 6)
+    stiffness = nominal.stiffness[None] * variants.stiffness_factor[:, nominal.mount, nominal.axis]
+    return [dataclasses.replace(nominal, rows=readonly(rows[v]), stiffness=readonly(stiffness[v]))
+            for v in range(variants.count)]
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -280,14 +311,15 @@ def variant_system(system: System, variants: Variants, index: int) -> System:
 
 
 @jax.jit
-def _assemble(M, positions, stiffness, damping, axes, alpha, beta, zeta):
+def _assemble(M, positions, stiffness, damping, axes, alpha, beta, zeta, weight):
     """K, C (nv, 6, 6), eigenvalues omega^2 (nv, 6) and mass-normalized mode shapes (nv, 6, 6) of every
-    variant: the model's own assembly and damping matrix, vmapped."""
+    variant: the model's own assembly and damping matrix, vmapped; K with the geometric stiffness of each
+    variant's own preload under the weight ``weight`` (3,) [N] (None: none)."""
     chol = jnp.linalg.cholesky(M)
     chol_inv = jnp.linalg.inv(chol)
 
     def one(pos, k, d):
-        K = mount_matrix_jax(pos, k, axes)
+        K = stiffness_jax(pos, k, axes, weight)
         Kt = chol_inv @ K @ chol_inv.T
         lam, V = jnp.linalg.eigh(0.5 * (Kt + Kt.T))
         lam = jnp.where(jnp.abs(lam) <= ZERO_MODE_RTOL * jnp.max(jnp.abs(lam)), 0.0, lam)
@@ -310,7 +342,7 @@ def _assembled(system: System, variants: Variants):
     out = _assemble(
         np.asarray(system.M), system.positions[None] + variants.position_offset,
         system.stiffnesses[None] * variants.stiffness_factor,
-        system.dampings[None] * variants.damping_factor, system.axes, alpha, beta, zeta,
+        system.dampings[None] * variants.damping_factor, system.axes, alpha, beta, zeta, system.preload_weight,
     )
     return tuple(np.asarray(a) for a in out)
 
@@ -373,7 +405,7 @@ def batch_frequencies(system: System, variants: Variants) -> np.ndarray:
 # ----------------------------------------------------------------------------------------------------
 
 
-def run_batch(system: System, variants: Variants, excitation=None, settings=None, *,
+def run_batch(system: System, variants: Variants, excitation=None, settings=None, *, time_system: System | None = None,
               histories=(), chunk_size: int | None = None, engine: str = "exact", cross_check: int = CROSS_CHECK,
               seed: int = 0, progress=None) -> BatchResult:
     """Natural frequencies and peak responses of many variants of ``system`` in one vectorized call.
@@ -390,6 +422,12 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     settings : sixdof.analysis.direct.SimulationSettings, optional
         The same settings as :func:`sixdof.analysis.direct.simulate` (the exact engine uses its output
         times only).
+    time_system : System, optional
+        The model of the time responses, their histories and the cross-check, with the mounts of ``system``
+        (names, positions, axes): a scenario's ``time_system``, whose mount axes with loss factors carry their
+        causal Maxwell models (long-term stiffness and branches). The frequencies and tracked modes stay those
+        of ``system``. Default ``system``. Each variant scales and moves its branches with their mounts
+        (:func:`variant_system`).
     histories : sequence of int, optional
         Indices of variants whose full :class:`~sixdof.results.TimeHistory` is wanted (computed by the
         engine's method: :func:`sixdof.analysis.superposition.superpose` or
@@ -433,6 +471,7 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     if engine not in ENGINES:
         raise InputError("engine", "one of 'exact', 'diffrax'", engine)
     cross_check = integer(cross_check, "cross_check", "a number of variants >= 0", 0)
+    timed = system if time_system is None else _same_mounts(system, time_system)
     start = time.perf_counter()
     K, C, lam, shapes = _assembled(system, variants)
     frequency = np.sqrt(lam) / (2.0 * np.pi)
@@ -443,6 +482,9 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     if isinstance(excitation.initial, ModeRelease):
         raise InputError("excitation.initial", "an InitialState in a batch (a mode release depends "
                          "on each variant's modes)", Plain("a ModeRelease"))
+    if timed is not system:  # the time model's own stiffness (long-term along the causal models' axes)
+        K, C, lam, shapes = _assembled(timed, variants)
+    branches = variant_branches(timed, variants)
     nv = variants.count
     if chunk_size is None:
         chunk_size = EXACT_CHUNK if engine == "exact" else default_chunk_size(settings.times.size)
@@ -455,20 +497,33 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
         shown.show(nv * fraction)
 
     if engine == "exact":
-        peaks = _exact_peaks(system, K, C, lam, shapes, excitation, settings, chunks, done)
+        peaks = _exact_peaks(timed, K, C, lam, shapes, branches, excitation, settings, chunks, done)
     else:
-        peaks, steps, rejected = _diffrax_peaks(system, K, C, excitation, settings, chunks, done)
+        peaks, steps, rejected = _diffrax_peaks(timed, K, C, branches, excitation, settings, chunks, done)
     shown.close()
     if not np.all(np.isfinite(peaks)):
         bad = np.flatnonzero(~np.all(np.isfinite(peaks), axis=1))
         raise SolverError(f"batch ({engine}) produced non-finite values for variant {int(bad[0])}")
-    kept = {int(i): _history(system, variants, int(i), excitation, settings, engine) for i in histories}
+    kept = {int(i): _history(timed, variants, int(i), excitation, settings, engine) for i in histories}
     checked = cross_check_sample(nv, cross_check, seed)
-    direct = direct_peaks(system, variants, checked, excitation, settings, progress)
+    direct = direct_peaks(timed, variants, checked, excitation, settings, progress)
     return BatchResult(variants=variants, **modal, peak_q=readonly(peaks[:, :6]),
                        peak_qdd=readonly(peaks[:, 6:]), num_steps=steps, num_rejected=rejected, histories=kept,
                        settings=settings, engine=engine, chunk_size=int(chunks[0].size),
                        **cross_check_fields(checked, direct, peaks[checked]), wall_time_s=time.perf_counter() - start)
+
+
+def _same_mounts(system: System, time_system: System) -> System:
+    """``time_system``, checked to have the mounts of ``system`` (the variants apply to both) and to be batchable."""
+    if not isinstance(time_system, System):
+        raise InputError("time_system", "a System", time_system)
+    same = (time_system.mount_names == system.mount_names and np.array_equal(time_system.positions, system.positions)
+            and np.array_equal(time_system.axes, system.axes) and np.array_equal(time_system.M, system.M))
+    if not same:
+        raise InputError("time_system", f"the body and mounts of system ({', '.join(system.mount_names)}, same "
+                         "positions and axes)", Plain(f"mounts {', '.join(time_system.mount_names)}"))
+    check_batchable(time_system)
+    return time_system
 
 
 def _history(system, variants, index, excitation, settings, engine):
@@ -512,22 +567,28 @@ def cross_check_fields(checked, direct, engine) -> dict:
             "cross_check_peak_qdd": readonly(direct[:, 6:]), "cross_check": agreement}
 
 
-def _exact_peaks(system, K, C, lam, shapes, excitation, settings, chunks, done) -> np.ndarray:
-    """``max |q|`` and ``max |q''|`` (nv, 12) at the output samples by the exact linear engine; ``done``
-    receives the fraction of the work done after each window of each chunk."""
+def _exact_peaks(system, K, C, lam, shapes, branches, excitation, settings, chunks, done) -> np.ndarray:
+    """``max |q|`` and ``max |q''|`` (nv, 12) at the output samples by the exact linear engine (each variant's
+    Maxwell ``branches``, None without: complex modes of its augmented first-order system, as
+    :func:`~sixdof.analysis.superposition.superpose`); ``done`` receives the fraction of the work done after
+    each window of each chunk."""
     from sixdof.analysis import superposition as sp
 
     M = np.asarray(system.M, dtype=float)
     t = settings.times
-    loads, ground, omega = sp.excitation_inputs(excitation, system.K, system.C)
+    loads, ground, omega = sp.excitation_inputs(excitation, system.K, system.C)  # each variant's ground vectors: _Stack
     q0, qd0 = excitation.initial_state(system, t[0])  # the same for every variant (no mode release)
-    plans = [sp.Plan(M, C[i], _Modes(lam[i], shapes[i])) for i in range(len(lam))]
+    f0 = excitation.initial_branch_forces(system)
+    plans = [sp.Plan(M, C[i], _Modes(lam[i], shapes[i]), branches=None if branches is None else branches[i])
+             for i in range(len(lam))]
     # One quadrature for every variant: that of the fastest.
     nodes, pieces = sp.quadrature_for(float(np.max(np.diff(t))), max(p.fastest for p in plans), omega, ground)
     r = None if ground is None else np.asarray(excitation.ground.rigid_vector, dtype=float)
     stacks = [_Stack([plans[i].coordinates(plans[i].runs[0]) for i in index],
-                     None if r is None else [np.stack([K[i] @ r, C[i] @ r]) for i in index]) for index in chunks]
-    z = [stack.initial(M, q0, qd0) for stack in stacks]
+                     None if r is None else [np.stack([K[i] @ r, C[i] @ r]) for i in index],
+                     None if r is None or branches is None else
+                     [-branches[i].stiffness * (branches[i].rows @ r) for i in index]) for index in chunks]
+    z = [stack.initial(M, q0, qd0, f0) for stack in stacks]
     peaks = np.zeros((len(lam), 12))
     breakpoints = np.asarray(excitation.breakpoints, dtype=float)
     ground_start = None
@@ -554,10 +615,13 @@ class _Stack:
     ground_vectors : list of ndarray (2, 6), or None
         Each variant's ``K r`` and ``C r``: the generalized force per unit ground displacement and
         velocity (the drive's last two columns).
+    branch_ground : list of ndarray (nb,), or None
+        Each variant's ``-k_b R r``: the direct input to its Maxwell branch states per unit ground velocity
+        (the drive's last column); None without ground motion or branches.
     """
 
-    def __init__(self, members, ground_vectors=None):
-        self.members, self.ground_vectors = members, ground_vectors
+    def __init__(self, members, ground_vectors=None, branch_ground=None):
+        self.members, self.ground_vectors, self.branch_ground = members, ground_vectors, branch_ground
         self.width = max(member.poles.size for member in members)
         self.size = self.width * len(members)
         # An inert coordinate: pole 0, no input, no output, zero initially (it stays 0).
@@ -581,19 +645,29 @@ class _Stack:
     def _vectors(self, vectors, j):
         return vectors if self.ground_vectors is None else np.vstack([vectors[:-2], self.ground_vectors[j]])
 
+    def _branch_vectors(self, vectors, j):
+        """Member j's direct input to its branch states per unit of each column (n_c, nb): its ground velocity's."""
+        if self.branch_ground is None:
+            return None
+        out = np.zeros((vectors.shape[0], self.branch_ground[j].size))
+        out[-1] = self.branch_ground[j]
+        return out
+
     def forcing(self, vectors, branch_vectors=None):
-        """(n_c, size): each variant's modal force per unit of each column, with its own ground vectors (no
-        Maxwell branches: :func:`make_variants` refuses them, so ``branch_vectors`` is None)."""
+        """(n_c, size): each variant's modal force per unit of each column, with its own ground vectors and input
+        to its Maxwell branches (``branch_vectors``, the drive's, is None: it knows no variant's branches)."""
         if self._forcing is None or not np.array_equal(self._forcing[0], vectors):  # the same on every window
-            self._forcing = (vectors, self._side_by_side([m.forcing(self._vectors(vectors, j))
+            self._forcing = (vectors, self._side_by_side([m.forcing(self._vectors(vectors, j),
+                                                                    self._branch_vectors(vectors, j))
                                                           for j, m in enumerate(self.members)]),
                              np.stack([self._vectors(vectors, j) @ (m.basis @ m.basis.T)
                                        for j, m in enumerate(self.members)]))
         return self._forcing[1]
 
-    def initial(self, M, q0, qd0):
-        """The coordinates (size,) of the state ``q0, qd0`` [m, rad; m/s, rad/s]."""
+    def initial(self, M, q0, qd0, f0=None):
+        """The coordinates (size,) of the state ``q0, qd0`` [m, rad; m/s, rad/s] and branch forces ``f0`` [N]."""
         return self._side_by_side([m.initial @ np.concatenate([m.basis.T @ (M @ q0), m.basis.T @ (M @ qd0)])
+                                   + (m.branch_inputs @ f0 if f0 is not None and np.any(f0) else 0.0)
                                    for m in self.members])
 
     def peaks(self, z, drive):
@@ -607,7 +681,8 @@ class _Stack:
 
 @partial(jax.jit, static_argnames=("solver", "max_steps"))
 def _solve_chunk(A, B, x0, sigma, signals, ts, t0, t1, jump_ts, rtol, atol, *, solver, max_steps):
-    """Peaks of |q| and |q''| at ``ts`` for a chunk of variants: A (nb, 12, 12), B (nb, 12, nc)."""
+    """Peaks of |q| and |q''| at ``ts`` for a chunk of variants: A (nv, N, N), B (nv, N, nc), ``N = 12 + nb`` with
+    ``nb`` Maxwell branch states (:func:`~sixdof.analysis.direct.mechanical_form`)."""
     import diffrax
 
     from sixdof.analysis.direct import solve_ode
@@ -616,7 +691,7 @@ def _solve_chunk(A, B, x0, sigma, signals, ts, t0, t1, jump_ts, rtol, atol, *, s
         return jnp.stack([s(t) for s in signals]) if signals else jnp.zeros(0)
 
     def one(A, B, x0):
-        # Scaled state xs = x / sigma: A and B are pre-scaled, so the field is one 12x12 product.
+        # Scaled state xs = x / sigma: A and B are pre-scaled, so the field is one N x N product.
         As = A * sigma[None, :] / sigma[:, None]
         Bs = B / sigma[:, None]
 
@@ -624,7 +699,7 @@ def _solve_chunk(A, B, x0, sigma, signals, ts, t0, t1, jump_ts, rtol, atol, *, s
             return As @ xs + Bs @ source(t)
 
         def keep(t, xs, args):
-            rate = (A @ (xs * sigma) + B @ source(t))[6:]
+            rate = (A @ (xs * sigma) + B @ source(t))[6:12]
             return jnp.concatenate([xs[:6] * sigma[:6], rate])
 
         sol = solve_ode(field, x0 / sigma, t0, t1, diffrax.SaveAt(ts=ts, fn=keep), jump_ts, rtol, atol,
@@ -641,10 +716,11 @@ def default_chunk_size(n_samples: int) -> int:
     return int(max(1, min(MAX_CHUNK, CHUNK_BYTES // (max(n_samples, 1) * 12 * 8))))
 
 
-def _diffrax_peaks(system, K, C, excitation, settings, chunks, done):
-    """``max |q|`` and ``max |q''|`` (nv, 12), steps and rejected steps (nv,) by the vmapped diffrax solve;
-    ``done`` receives the fraction of the variants done after each chunk."""
-    from sixdof.analysis.direct import jump_times, loads_of, state_scale
+def _diffrax_peaks(system, K, C, branches, excitation, settings, chunks, done):
+    """``max |q|`` and ``max |q''|`` (nv, 12), steps and rejected steps (nv,) by the vmapped diffrax solve of each
+    variant's first-order form with its Maxwell ``branches`` (None without); ``done`` receives the fraction of the
+    variants done after each chunk."""
+    from sixdof.analysis.direct import jump_times, loads_of, mechanical_form, state_scale
 
     if excitation.ground is not None:
         raise InputError("excitation.ground", "no ground motion in a diffrax batch (not supported yet; use "
@@ -653,15 +729,16 @@ def _diffrax_peaks(system, K, C, excitation, settings, chunks, done):
     M = np.asarray(system.M, dtype=float)
     Minv = np.linalg.inv(M)
     nv = K.shape[0]
-    A = np.zeros((nv, 12, 12))
-    A[:, :6, 6:] = np.eye(6)
-    A[:, 6:, :6] = -Minv[None] @ K
-    A[:, 6:, 6:] = -Minv[None] @ C
-    B = np.zeros((nv, 12, len(signals)))
-    B[:, 6:, :] = (Minv @ vectors.T)[None]
+    nb = system.branches.count
+    rows = np.stack([b.rows for b in branches]) if nb else np.zeros((nv, 0, 6))
+    k_b = np.stack([b.stiffness for b in branches]) if nb else np.zeros((nv, 0))
+    A = mechanical_form(Minv, K, C, rows, k_b, system.branches.tau)
+    B = np.zeros((nv, 12 + nb, len(signals)))
+    B[:, 6:12, :] = (Minv @ vectors.T)[None]
     q0, qd0 = excitation.initial_state(system)
-    x0 = np.broadcast_to(np.concatenate([q0, qd0]), (nv, 12))
-    sigma = state_scale(system, excitation, settings)[:12]
+    x0 = np.broadcast_to(np.concatenate([q0, qd0, excitation.initial_branch_forces(system)]), (nv, 12 + nb))
+    scale = state_scale(system, excitation, settings)
+    sigma = np.concatenate([scale[:12], scale[14:]])  # no ground in a diffrax batch: z, w and f
     t0, t1 = settings.start, settings.start + settings.duration
     padded, _ = jump_times(excitation, t0, t1)
     size = chunks[0].size

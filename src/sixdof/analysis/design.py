@@ -16,7 +16,8 @@ Definitions (Harris' Shock and Vibration Handbook, ch. 3; the mount-design liter
   ``A``, along which a force at the elastic centre moves the body in its own direction.
 
 The sensitivities are exact derivatives, by automatic differentiation (JAX) through the assembly of K
-(:func:`sixdof.model.kinematics.mount_matrix_jax`) and the symmetric eigen-solution. A frequency of a
+(:func:`sixdof.model.kinematics.stiffness_jax`, with the statics of gravity's geometric stiffness when the
+system has it) and the symmetric eigen-solution. A frequency of a
 repeated pair (or triple) has no derivative of its own: each member gets the derivative of the group's
 mean eigenvalue, which is unique, and the group is reported; the decoupling of such modes, whose shapes
 are not unique, gets no derivative (masked in the arrays, null in JSON; never a NaN).
@@ -204,7 +205,7 @@ def sensitivities(system) -> Sensitivities:
     Sensitivities
     """
     from sixdof._jax import jax, jnp
-    from sixdof.model.kinematics import mount_matrix_jax
+    from sixdof.model.kinematics import stiffness_jax
     from sixdof.model.system import System
 
     instance(system, "system", System)
@@ -212,9 +213,10 @@ def sensitivities(system) -> Sensitivities:
     M = np.asarray(system.M, dtype=float)
     L_inv = inverse_cholesky(M)
     positions, axes = np.asarray(system.positions), np.asarray(system.axes)
+    weight = system.preload_weight  # the geometric stiffness's statics are differentiated too
 
     def modal(stiffness):
-        eigenvalues, _, shares = modes_jax(M, L_inv, mount_matrix_jax(positions, stiffness, axes))
+        eigenvalues, _, shares = modes_jax(M, L_inv, stiffness_jax(positions, stiffness, axes, weight))
         return eigenvalues, 100.0 * jnp.max(shares, axis=0)
 
     stiffness = np.asarray(system.stiffnesses, dtype=float)

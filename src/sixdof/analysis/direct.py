@@ -290,6 +290,39 @@ def _ground_peaks(ground, settings: SimulationSettings) -> tuple[float, float, f
 # ----------------------------------------------------------------------------------------------------
 
 
+def mechanical_form(Minv, K, C, rows, k_b, tau) -> np.ndarray:
+    """``A`` (..., 12 + nb, 12 + nb) of ``x' = A x`` for the state ``x = [z, w, f]`` without ground motion:
+    ``z' = w``, ``M w' = -K z - C w - R' f``, ``f' = k_b R w - f / tau`` (:attr:`System.branches`).
+
+    Broadcasts over leading dimensions (a batch of variants: :func:`sixdof.analysis.batch.run_batch`).
+
+    Parameters
+    ----------
+    Minv : array_like, shape (6, 6)
+        Inverse mass matrix [1/kg, 1/(kg m^2)].
+    K, C : array_like, shape (..., 6, 6)
+        Stiffness and damping [N/m, ...; N s/m, ...].
+    rows : array_like, shape (..., nb, 6)
+        Each branch state's deformation per unit ``q`` [m/m, m/rad].
+    k_b : array_like, shape (..., nb)
+        Branch stiffnesses [N/m].
+    tau : array_like, shape (nb,)
+        Relaxation times [s].
+    """
+    K, C, rows, k_b = (np.asarray(a, dtype=float) for a in (K, C, rows, k_b))
+    tau = np.asarray(tau, dtype=float)
+    nb = tau.size
+    batch = np.broadcast_shapes(K.shape[:-2], C.shape[:-2], rows.shape[:-2], k_b.shape[:-1])
+    A = np.zeros(batch + (12 + nb, 12 + nb))
+    A[..., :6, 6:12] = np.eye(6)
+    A[..., 6:12, :6] = -Minv @ K
+    A[..., 6:12, 6:12] = -Minv @ C
+    A[..., 6:12, 12:] = -Minv @ np.swapaxes(rows, -1, -2)
+    A[..., 12:, 6:12] = k_b[..., None] * rows
+    A[..., 12:, 12:] = np.diag(-1.0 / tau)
+    return A
+
+
 def first_order_form(system: System, excitation: Excitation) -> tuple[np.ndarray, np.ndarray]:
     """``A`` (N, N) and ``B`` (N, n_loads + 1) of ``x' = A x + B u(t)`` for the state ``x = [z, w, u_g, v_g, f]``
     (``N = 14 + nb``, ``nb`` Maxwell branch states).
@@ -306,12 +339,8 @@ def first_order_form(system: System, excitation: Excitation) -> tuple[np.ndarray
     R, k_b = branches.rows, branches.stiffness
     size = 14 + branches.count
     A = np.zeros((size, size))
-    A[:6, 6:12] = np.eye(6)
-    A[6:12, :6] = -Minv @ K
-    A[6:12, 6:12] = -Minv @ C
-    A[6:12, 14:] = -Minv @ R.T
-    A[14:, 6:12] = k_b[:, None] * R
-    A[14:, 14:] = np.diag(-1.0 / branches.tau)
+    mechanical = np.r_[0:12, 14:size]  # z, w and f; u_g, v_g (12, 13) between
+    A[np.ix_(mechanical, mechanical)] = mechanical_form(Minv, K, C, R, k_b, branches.tau)
     B = np.zeros((size, n + 1))
     B[6:12, :n] = Minv @ vectors.T
     ground = excitation.ground

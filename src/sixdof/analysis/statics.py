@@ -123,7 +123,7 @@ MECHANISM_LOAD_RTOL = 1e-8
 
 
 def _linear(system: System, Q: np.ndarray) -> np.ndarray:
-    q = solve_stiffness(np.asarray(system.K), Q)
+    q = solve_stiffness(np.asarray(system.K_mounts), Q)  # from the unloaded state: no preload yet
     if q is None:
         raise InputError("mounts", "mounts that can carry the body's weight and its moment",
                          "a layout that leaves a motion gravity drives unresisted (the body would fall or tip over)")

@@ -16,6 +16,7 @@ import warnings
 import numpy as np
 
 from sixdof.analysis.compare import column_peaks
+from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.dofs import DOFS, display_unit
 
 #: Largest rotation [rad] for which eq. (1) holds: it linearizes the rotations (sin theta ~ theta,
@@ -88,6 +89,128 @@ def static_range(statics, system) -> list[str]:
         messages.append(f"the static rotation under gravity, {tilt:.3g} rad ({math.degrees(tilt):.3g} deg), is "
                         f"beyond small-angle theory (|theta| <= {SMALL_ANGLE_RAD:g} rad): the body would tip far "
                         "over on these mounts; the results are those of the linear model")
+    return messages
+
+
+#: A body's inertia is at most that of a uniform box sqrt(3) times its own (all its mass in the corners): one whose
+#: inertia is that of a box this many times larger or smaller than its ``dimensions`` has its mass, inertia or
+#: dimensions in other units (mass in t with inertia in kg m^2: 31.6 times).
+INERTIA_BOX_RATIO = 3.0
+#: Bulk densities [kg/m^3] of a body's ``dimensions`` box that a body can have: from 5 (four times air, an empty
+#: enclosure's sheet metal) to 25,000 (past osmium, 22,590); the bundled bodies lie at 320-1,070.
+DENSITY_RANGE = (5.0, 25e3)
+#: The mean density [kg/m^3] of a mounted body, for naming the likely slip of one outside :data:`DENSITY_RANGE`.
+_TYPICAL_DENSITY = 800.0
+#: A mount, point or load this many times the body's half-size away from the CG is not on the body: positions in
+#: mm where m are meant (1000 times), or a body far smaller than its mounts say.
+REACH_RATIO = 10.0
+#: A rotating unbalance loads the body with at most a few times its weight (vibrating screens and feeders, made to
+#: shake, reach 5); this many times is a speed in rev/min given as Hz (3600 times the force) or m e in g mm.
+UNBALANCE_WEIGHT_RATIO = 10.0
+#: The unit slips the magnitude checks name, as the factor by which the value given is too small (a mass in t
+#: typed where kg are meant is 1000 times too small), recognized within a factor 3 either way.
+_SLIPS = ((1e3, "tonnes"), (1e-3, "grams"))
+
+
+def _slip(factor: float, slips) -> str | None:
+    """The slip of ``slips`` (factor, name) whose factor lies within a factor 3 of ``factor``, or None."""
+    return next((name for size, name in slips if abs(math.log10(factor / size)) < math.log10(3.0)), None)
+
+
+def _vector(values) -> str:
+    return "[" + ", ".join(f"{v:.4g}" for v in values) + "]"
+
+
+def _newtons(value: float) -> str:
+    factor, unit = display_unit(value, "N")
+    return f"{value * factor:.4g} {unit}"
+
+
+def _body_magnitudes(body) -> str | None:
+    """What in a body's mass, inertia and dimensions cannot be one body's, with the likely slip; or None."""
+    if body.dimensions is None:
+        return None
+    box, dimensions = body.inertia_box, np.asarray(body.dimensions, dtype=float)
+    ratio = float(np.linalg.norm(box) / np.linalg.norm(dimensions))
+    if not 1 / INERTIA_BOX_RATIO <= ratio <= INERTIA_BOX_RATIO:
+        # The inertia's box scales as sqrt(J / m): a mass k times too small makes it sqrt(k) times too large.
+        slip = _slip(ratio**2, _SLIPS)
+        likely = (f" Is the mass in {slip}? {body.mass * ratio**2:.4g} kg would match the dimensions" if slip else
+                  " Check the units of mass [kg], inertia [kg m^2] and dimensions [m]")
+        return (f"body: the inertia {_vector(np.diag(body.inertia))} kg m^2 with the mass {body.mass:.4g} kg is that "
+                f"of a uniform {' x '.join(f'{v:.3g}' for v in box)} m box, {ratio:.3g} times the body's dimensions "
+                f"{_vector(dimensions)} m (no spread of its mass makes it more than {math.sqrt(3):.2f} times).{likely}")
+    density = body.mass / float(np.prod(dimensions))
+    low, high = DENSITY_RANGE
+    if not low <= density <= high:
+        slip = _slip(_TYPICAL_DENSITY / density, _SLIPS)
+        likely = (f" Is the mass in {slip}?" if slip else
+                  " Check the units of mass [kg] and dimensions [m] (in mm they make a box 10^9 times larger)")
+        return (f"body: the mass {body.mass:.4g} kg in its {' x '.join(f'{v:.4g}' for v in dimensions)} m box is a "
+                f"mean density of {density:.3g} kg/m^3, outside the {low:g}-{high:g} kg/m^3 a body can have.{likely}")
+    return None
+
+
+def implausible_inputs(system, excitation=None, points=None) -> list[str]:
+    """What in a model's magnitudes looks like a slip of units, with the numbers and the likely slip: a mass
+    that does not match the body's inertia and dimensions (given in t, or g), positions far off the body (in mm),
+    a rotating unbalance that would shake the body with many times its weight (a speed in rev/min given as Hz),
+    and a mount set that leaves a motion unresisted (a mechanism). The N/mm check of the stiffnesses is
+    :func:`static_range`'s. One message each; none: [].
+
+    Parameters
+    ----------
+    system : sixdof.model.system.System
+    excitation : sixdof.excitation.Excitation, optional
+        Its loads' points and unbalances are checked.
+    points : mapping of str to array_like, optional
+        Named body points [m] from the CG (the scenario's ``[[points]]``).
+    """
+    body = system.body
+    body_message = _body_magnitudes(body)
+    messages = [body_message] if body_message else []
+    if body.dimensions is not None:
+        half, size = float(np.linalg.norm(body.dimensions) / 2), "its dimensions"
+    else:
+        half, size = float(np.linalg.norm(body.inertia_box) / 2), "the uniform box of its mass and inertia"
+    loads = () if excitation is None else excitation.loads
+    located = [(f"mounts[{j}] ({name})", p) for j, (name, p) in enumerate(zip(system.mount_names, system.positions))]
+    located += [(f"points ({name})", p) for name, p in (points or {}).items()]
+    located += [(f"loads[{i}] ({load.name})", load.point) for i, load in enumerate(loads)]
+    far = [(what, np.asarray(p, dtype=float)) for what, p in located
+           if half > 0 and np.linalg.norm(p) > REACH_RATIO * half]
+    if far:
+        what, p = max(far, key=lambda item: np.linalg.norm(item[1]))
+        reach = float(np.linalg.norm(p))
+        likely = (f" Are the positions in mm? In m this one would be {_vector(p / 1e3)}"
+                  if _slip(reach / half, ((1e3, "mm"),)) else " Check that positions are in m from the CG")
+        messages.append(f"{len(far)} position(s) lie more than {REACH_RATIO:g} times the body's half-size "
+                        f"({half:.4g} m, from {size}) from the CG, farthest {what} at {_vector(p)} m, "
+                        f"{reach:.4g} m away ({reach / half:.3g} times).{likely}")
+    reach = float(np.linalg.norm(system.positions, axis=1).max())
+    if body.dimensions is None and not far and half > REACH_RATIO * reach:
+        # Mounts hold the body where it is: all of them deep inside its inertia's box is a mass too small for it.
+        body_message = (f"body: the mounts all lie within {reach:.4g} m of the CG, {half / reach:.3g} times less than "
+                        f"the half-size of the uniform box of the mass {body.mass:.4g} kg and inertia "
+                        f"{_vector(np.diag(body.inertia))} kg m^2 ({half:.4g} m). Is the mass in tonnes with the "
+                        "inertia in kg m^2? (Give the body's dimensions to have it checked against them)")
+        messages.append(body_message)
+    weight = body.mass * STANDARD_GRAVITY
+    for i, load in enumerate(loads):
+        # A mass in other units already said so: the weight the force is measured against is wrong with it.
+        if body_message or load.kind != "unbalance" or load.force_amplitude <= UNBALANCE_WEIGHT_RATIO * weight:
+            continue
+        f, force = load.frequency_hz, load.force_amplitude
+        likely = (f" Is {f:g} a speed in rev/min? That is {f / 60:.4g} Hz and {_newtons(force / 3600)} (give it as "
+                  "speed_rpm)" if load.f_hz is not None else
+                  " Is the unbalance in g mm? m e is in kg m (1 g mm = 1e-6 kg m)")
+        messages.append(f"loads[{i}] ({load.name}): the unbalance force m e Omega^2 is {_newtons(force)} at {f:.4g} "
+                        f"Hz, {force / weight:.3g} times the body's weight ({_newtons(weight)}); a machine's "
+                        f"unbalance shakes it with at most a few times its weight.{likely}")
+    modes = system.modes
+    if modes.zero_modes:
+        messages.append(f"the mounts leave the body unrestrained (a mechanism): {len(modes.zero_modes)} "
+                        f"zero-frequency mode(s), motions no mount resists, involving {', '.join(modes.free_dofs)}")
     return messages
 
 
@@ -170,5 +293,65 @@ def ground_drift(ground, t, displacement) -> str | None:
             f"relative to the ground. {advice}")
 
 
-__all__ = ["GROUND_DRIFT_SHARE", "SMALL_ANGLE_RAD", "GroundDriftWarning", "RangeWarning", "body_length",
-           "fit_band_range", "ground_drift", "static_range", "warn_idle", "warn_large_rotations"]
+#: A natural frequency that gravity's geometric stiffness moves by more than this share is worth a line when K
+#: leaves it out (:func:`geometric_stiffness_note`).
+GEOMETRIC_SHIFT = 0.01
+
+
+def geometric_stiffness_shifts(system, gravity) -> np.ndarray | None:
+    """How much gravity's geometric stiffness (:attr:`sixdof.model.system.System.K_geometric`) moves each natural
+    frequency: ``f_with / f_without - 1`` (6,) per mode in ascending order (NaN for a zero-frequency mode), under
+    ``gravity`` (3,) [m/s^2, body axes] unless ``system`` already holds its own. The modes without it are those of
+    :attr:`~sixdof.model.system.System.K_mounts`. None when the mounts cannot carry the weight (no preload).
+
+    Raises
+    ------
+    InputError
+        (field ``K``) When ``K + K_G`` is not positive semi-definite: the body would tip over.
+    """
+    import dataclasses
+
+    from sixdof.analysis.modal import modal_analysis
+    from sixdof.errors import InputError
+
+    preloaded = system if system.geometric_stiffness else dataclasses.replace(system, gravity_preload=gravity)
+    try:
+        K = preloaded.K
+    except InputError:
+        return None
+    with_, without = (modal_analysis(system.M, k).frequency_hz for k in (K, system.K_mounts))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(without > 0, with_ / np.where(without > 0, without, 1.0) - 1.0, np.nan)
+
+
+def geometric_stiffness_note(system, gravity) -> str | None:
+    """One line on gravity's geometric stiffness: with it in K, that it is and the largest shift of a mode it
+    makes; without it, only when it would move a mode by more than :data:`GEOMETRIC_SHIFT`, which mode and how
+    much (:func:`geometric_stiffness_shifts`). None otherwise."""
+    from sixdof.errors import InputError
+
+    try:
+        shifts = geometric_stiffness_shifts(system, gravity)
+    except InputError as exc:  # K + K_G not positive semi-definite: the preload tips the body over
+        if exc.field != "K":
+            raise
+        return ("gravity's geometric stiffness would leave K + K_G with a negative eigenvalue: the body would tip "
+                "over on these mounts (mounts below the CG too soft in rocking for the weight they carry)")
+    if shifts is None or not np.any(np.isfinite(shifts)):
+        return None
+    j = int(np.nanargmax(np.abs(shifts)))
+    shift = float(shifts[j])
+    mode = f"mode {j + 1} ({system.modes.dominant_dof[j]})"
+    if system.geometric_stiffness:
+        return (f"K includes gravity's geometric stiffness ([statics] geometric_stiffness = true): it moves "
+                f"{mode} most, by {100 * shift:+.2g} %")
+    if abs(shift) <= GEOMETRIC_SHIFT:
+        return None
+    return (f"gravity's geometric stiffness would {'lower' if shift < 0 else 'raise'} {mode} by "
+            f"{100 * abs(shift):.2g} %; [statics] geometric_stiffness = true includes it")
+
+
+__all__ = ["DENSITY_RANGE", "GEOMETRIC_SHIFT", "GROUND_DRIFT_SHARE", "INERTIA_BOX_RATIO", "REACH_RATIO",
+           "SMALL_ANGLE_RAD", "UNBALANCE_WEIGHT_RATIO", "GroundDriftWarning", "RangeWarning", "body_length",
+           "fit_band_range", "geometric_stiffness_note", "geometric_stiffness_shifts", "ground_drift",
+           "implausible_inputs", "static_range", "warn_idle", "warn_large_rotations"]

@@ -173,7 +173,7 @@ class Robustness:
     responses : sixdof.analysis.batch.BatchResult or None
         The samples (their stiffness factors, in order) run by the batch engine: natural frequencies always,
         with a simulation the peak ``|q|`` and ``|q''|`` per DOF and the diffrax cross-check of a few
-        samples. ``None`` for mounts with Maxwell branches, which the batch engine does not carry.
+        samples.
     """
 
     met: np.ndarray
@@ -224,7 +224,8 @@ def scatter_spec(spec) -> SweepSpec:
     return SweepSpec(count=spec.samples, seed=spec.seed, vary=scatter, chunk_size=ROBUSTNESS_CHUNK, engine="exact")
 
 
-def robustness(problem: DesignProblem, x, runner=None, excitation=None, settings=None, progress=None) -> Robustness:
+def robustness(problem: DesignProblem, x, runner=None, excitation=None, settings=None, progress=None,
+               time_model=None) -> Robustness:
     """How often each target of design ``x`` holds when every mount-axis stiffness scatters
     (:func:`scatter_spec`), and how its responses spread.
 
@@ -244,6 +245,10 @@ def robustness(problem: DesignProblem, x, runner=None, excitation=None, settings
         frequencies and targets only.
     progress : optional
         Show the chunks done (:func:`sixdof.progress.meter`).
+    time_model : callable, optional
+        The system the responses integrate for the design's (a scenario's
+        :meth:`~sixdof.io.scenario.Scenario.time_model`: its loss factors as causal Maxwell models); default
+        the design's own.
 
     Returns
     -------
@@ -256,12 +261,9 @@ def robustness(problem: DesignProblem, x, runner=None, excitation=None, settings
     x = np.asarray(x, dtype=float)
     system = problem.system_at(x)
     spec = scatter_spec(problem.spec)
-    if system.maxwell:  # the batch engine does not carry Maxwell branches: the targets alone
-        responses = None
-        scale = spec.factors(system)[0]
-    else:
-        responses = sweep_on(runner or InProcess(), Study(system, excitation, settings), spec, progress)
-        scale = responses.variants.stiffness_factor
+    timed = None if time_model is None else time_model(system)
+    responses = sweep_on(runner or InProcess(), Study(system, excitation, settings, timed), spec, progress)
+    scale = responses.variants.stiffness_factor
     values = np.asarray(jax.jit(jax.vmap(lambda s: problem.values(jnp.asarray(x), s)))(jnp.asarray(scale)))
     met = np.asarray(jax.vmap(problem.violations)(jnp.asarray(values))) == 0
     return Robustness(met=readonly(met, bool),

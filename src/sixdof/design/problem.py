@@ -137,6 +137,7 @@ class DesignProblem:
         self._L_inv = inverse_cholesky(self.M)
         weight = system.body.mass * gravity * np.asarray(direction, dtype=float) / np.linalg.norm(direction)
         self._gravity = np.concatenate([weight, np.zeros(3)])  # at the CG
+        self._preload = system.preload_weight  # gravity's geometric stiffness (None: left out)
         self.ratio_constraints = _ratio_constraints(spec, self.names, self.variables,
                                                     np.asarray(system.stiffnesses, dtype=float))
         self._tra_frame = None
@@ -193,10 +194,10 @@ class DesignProblem:
     def values(self, x, stiffness_scale=None):
         """The value of every target at design ``x`` (see the module's list), shape (n_targets,)."""
         from sixdof._jax import jnp
-        from sixdof.model.kinematics import mount_matrix_jax, point_map_jax
+        from sixdof.model.kinematics import mount_matrix_jax, point_map_jax, stiffness_jax
 
         positions, stiffness, axes = self.mounts(x, stiffness_scale)
-        K = mount_matrix_jax(positions, stiffness, axes)
+        K = stiffness_jax(positions, stiffness, axes, self._preload)  # each design with its own preload
         eigenvalues, shapes, body = modes_jax(self.M, self._L_inv, K)
         frequency = jnp.sqrt(jnp.maximum(eigenvalues, 0.0)) / (2 * jnp.pi)
         tra = None
@@ -215,7 +216,7 @@ class DesignProblem:
                 else:
                     found.append(100.0 * jnp.min(jnp.where(elastic, jnp.max(shares, axis=0), 1.0)))
             elif target.kind == "static_deflection":
-                q = jnp.linalg.solve(K, self._gravity)
+                q = jnp.linalg.solve(mount_matrix_jax(positions, stiffness, axes), self._gravity)
                 deflection = jnp.einsum("mij,j->mi", point_map_jax(positions), q)
                 found.append(jnp.sqrt(jnp.max(jnp.sum(deflection**2, axis=1)) + 1e-300))
             else:  # tra_angle

@@ -123,7 +123,7 @@ def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: b
         as_written = DesignProblem(system, scenario.design, scenario.statics.gravity, scenario.statics.direction)
         result = _evaluated(result, as_written)
         spread = robustness(as_written, as_written.initial, runner, scenario.excitation, scenario.simulation,
-                            progress)
+                            progress, time_model=scenario.time_model)
     peaks = None if spread.peak_percentiles is None else tuple(
         _peaks(s, scenario) for s in (scenario.system, system))
     text = optimized_toml(scenario, system)
@@ -196,7 +196,7 @@ def _peaks(system, scenario) -> np.ndarray:
     from sixdof.analysis.batch import make_variants, run_batch
 
     found = run_batch(system, make_variants(system, count=1), scenario.excitation, scenario.simulation,
-                      cross_check=0)
+                      time_system=scenario.time_model(system), cross_check=0)
     return np.concatenate([found.peak_q[0], found.peak_qdd[0]])
 
 
@@ -303,7 +303,7 @@ def _write_h5(path: Path, problem: DesignProblem, result: DesignResult, spread: 
              "robustness": {"tolerance": spread.tolerance, "samples": len(spread.values),
                             "samples_all_met": spread.all_met,
                             "seed": problem.spec.seed,
-                            "engine": "none (Maxwell branches)" if spread.responses is None else "exact batch"}}
+                            "engine": "exact batch"}}
     if spread.responses is not None and spread.responses.cross_check is not None:
         check = spread.responses.cross_check
         attrs["robustness"].update(cross_check_worst=check.worst, cross_check_tolerance=check.tolerance,

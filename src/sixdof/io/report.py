@@ -72,8 +72,8 @@ def damping_note(system) -> str:
         text += ("; f is each undamped mode of the long-term (static) stiffness, f full model the frequency "
                  "|lambda|/2pi of its pole in the full visco-elastic model (complex modes with the Maxwell branches)")
     if np.any(system.loss_factors):
-        text += ("; not the mounts' loss factors, which act in the frequency domain only (FRFs, steady state), "
-                 "not in the time response")
+        text += ("; not the mounts' loss factors, which the FRFs and the steady state take exactly, k (1 + i eta), "
+                 "and the time response as their causal Maxwell models (damping.loss_factor_model)")
     if system.nonlinear.count:
         text += ("; modes, damping ratios and FRFs are those of the linearization about the static equilibrium "
                  "(each nonlinear mount axis at its slope there), exact only while no stop engages and no mount "
@@ -121,26 +121,25 @@ def nonlinear_text(contacts, energy, refined, agreement, stats) -> str:
 def viscoelastic_table(fits) -> str:
     """Each Maxwell fit: what it models, its data, its long-term stiffness, branches and worst errors; and a
     note naming the fits that miss what they model by more than a measured table's fit may."""
-    from sixdof.model.viscoelastic import FIT_LOSS_ANGLE_ERROR_DEG, FIT_MODULUS_ERROR
+    from sixdof.model.viscoelastic import FIT_LOSS_ANGLE_ERROR_DEG, FIT_MODULUS_ERROR, loss_fit_misses
 
     headers = ["mount axis", "fitted to", "band [Hz]", "long-term k0 [N/m]", "branches", "max |K*| error [%]",
-               "max loss angle error [deg]"]
+               "max loss angle error [deg]", "max loss factor error [%]"]
     rows = [[fit.name, fit.source, f"{fit.f_hz[0]:.3g}-{fit.f_hz[-1]:.3g}", f"{fit.long_term:.4g}",
              str(int(np.count_nonzero(fit.stiffness))), f"{100 * fit.modulus_error:.2f}",
-             f"{fit.loss_angle_error_deg:.2f}"] for fit in fits]
-    loose = [fit for fit in fits
-             if fit.modulus_error > FIT_MODULUS_ERROR or fit.loss_angle_error_deg > FIT_LOSS_ANGLE_ERROR_DEG]
-    if not loose:
+             f"{fit.loss_angle_error_deg:.2f}", f"{100 * fit.loss_factor_error:.2f}"] for fit in fits]
+    loose = [fit for fit in fits if not fit.source.startswith("loss factor ")
+             and (fit.modulus_error > FIT_MODULUS_ERROR or fit.loss_angle_error_deg > FIT_LOSS_ANGLE_ERROR_DEG)]
+    notes = [] if not loose else [
+        f"Note: {', '.join(fit.name for fit in loose)} miss what they model by up to "
+        f"{100 * max(fit.modulus_error for fit in loose):.3g} % in |K*| and "
+        f"{max(fit.loss_angle_error_deg for fit in loose):.3g} deg in loss angle (beyond the "
+        f"{100 * FIT_MODULUS_ERROR:g} % and {FIT_LOSS_ANGLE_ERROR_DEG:g} deg a measured table's fit must meet): "
+        "the time run, the FRFs and validate model these mounts as fitted, that far from their table."]
+    notes += [f"Note: {miss[0].upper()}{miss[1:]}." for miss in loss_fit_misses(fits)]
+    if not notes:
         return table(headers, rows)
-    note = (f"Note: {', '.join(fit.name for fit in loose)} miss what they model by up to "
-            f"{100 * max(fit.modulus_error for fit in loose):.3g} % in |K*| and "
-            f"{max(fit.loss_angle_error_deg for fit in loose):.3g} deg in loss angle (beyond the "
-            f"{100 * FIT_MODULUS_ERROR:g} % and {FIT_LOSS_ANGLE_ERROR_DEG:g} deg a measured table's fit must meet): "
-            "the time run, the FRFs and validate model these mounts as fitted, that far from their table or the "
-            "stiffness and loss factor given. A loss factor that stays constant over a band is not causal "
-            "(Kramers-Kronig): no number of branches removes that misfit; a narrower band (loss_factor_band_hz) "
-            "lowers it.")
-    return table(headers, rows) + "\n\n" + _wrapped(note)  # a blank line: Markdown would read it as a row
+    return table(headers, rows) + "".join("\n\n" + _wrapped(note) for note in notes)  # a blank line: not a row
 
 
 def ke_table(modes) -> str:
@@ -477,19 +476,26 @@ def validation_text(report) -> str:
 
 def summary_markdown(scenario, modes, statics, damping_ratios, response, forces, agreement,
                      superposition, frf, figures, notes, mount_check=None, steady=None, points=None,
-                     random=None, srs=None, nonlinear=None) -> str:
-    """The run summary as Markdown text (see :func:`sixdof.workflows.run_scenario`)."""
+                     random=None, srs=None, nonlinear=None, stiffness_note=None) -> str:
+    """The run summary as Markdown text (see :func:`sixdof.workflows.run_scenario`); ``stiffness_note``: the
+    line on gravity's geometric stiffness (:func:`sixdof.analysis.validity.geometric_stiffness_note`), or None."""
     parts = [f"# {scenario.name}", "", scenario.description, ""]
     if notes:
         parts += ["## Warnings", "", *(f"- {n}" for n in notes), ""]
     parts += ["## Natural frequencies", "", modes_table(modes, damping_ratios, scenario.system), "",
               damping_note(scenario.system), ""]
+    if stiffness_note is not None:
+        parts += [stiffness_note[0].upper() + stiffness_note[1:] + ".", ""]
     if scenario.viscoelastic:
         parts += ["## Visco-elastic mounts", "", viscoelastic_table(scenario.viscoelastic), ""]
     parts += ["## Kinetic energy distribution [%]", "", ke_table(modes), ""]
     parts += [subsystems_text(modes).replace("\n  ", "\n- ").replace(":\n", ":\n\n", 1), ""]
     if statics is not None:
-        parts += ["## Statics under gravity", "", statics_table(statics, scenario.system), ""]
+        from sixdof.model.viscoelastic import long_term_note
+
+        line = long_term_note(scenario.viscoelastic)
+        parts += ["## Statics under gravity", "", statics_table(statics, scenario.system), ""] + ([line, ""] if line
+                                                                                                  else [])
     if steady is not None:
         parts += ["## Steady state", "", steady_state_text(steady), ""]
     if random is not None:

@@ -35,6 +35,7 @@ from sixdof.frozen import Frozen, checked
 from sixdof.io.toml import Table, build, choices, make, parse, read_text, reject_unknown, unique
 from sixdof.model.nonlinear import ForceDeflection
 from sixdof.model.system import MAX_MOUNTS, Maxwell, Mount, Rayleigh, RigidBody, System
+from sixdof.model.viscoelastic import with_fits
 from sixdof.results import DERIVED
 
 #: The most body points of a scenario: 1,000 took 52 s for the bundled compressor's 3 s run at 2 kHz on a busy
@@ -74,10 +75,19 @@ class Point(Frozen):
 
 @dataclass(frozen=True)
 class StaticsSettings(Frozen):
-    """Gravity for the static deflection: ``gravity`` [m/s^2] along ``direction`` (body axes)."""
+    """Gravity for the static deflection: ``gravity`` [m/s^2] along ``direction`` (body axes); with
+    ``geometric_stiffness``, the geometric stiffness of the mounts' preload under it is part of K
+    (:attr:`sixdof.model.system.System.K_geometric`)."""
 
     gravity: float = checked(number_check("a positive acceleration in m/s^2", low=0.0, strict=True), default=9.80665)
     direction: tuple[float, float, float] = checked(_checked_vector, default=(0.0, 0.0, -1.0))
+    geometric_stiffness: bool = checked(boolean, default=False)
+
+    @property
+    def vector(self) -> np.ndarray:
+        """Gravity in body axes (3,) [m/s^2]."""
+        direction = np.asarray(self.direction, dtype=float)
+        return self.gravity * direction / np.linalg.norm(direction)
 
 
 @dataclass(frozen=True)
@@ -219,8 +229,19 @@ class Scenario:
     design : sixdof.design.spec.DesignSpec
         The ``[design]`` table: torque axis, targets and variables (empty when absent).
     viscoelastic : tuple of sixdof.model.viscoelastic.MaxwellFit
-        The Maxwell models fitted to the mounts' measured dynamic stiffness and, with
-        ``loss_factor_model = "maxwell"``, to their loss factors (already in ``system``).
+        The Maxwell models fitted to the mounts' measured dynamic stiffness (already in ``system``) and,
+        unless ``loss_factor_model = "hysteretic"``, the causal models of their loss factors (in
+        ``time_system``, and in ``system`` too with ``"maxwell"``).
+    time_system : sixdof.model.system.System
+        The system the time paths integrate (the direct solve and its superposition, the statics, `validate`):
+        ``system`` with each loss factor replaced by its causal Maxwell model (``loss_factor_model``
+        ``"causal"``, the default, or ``"maxwell"``); ``system`` itself without loss factors or with
+        ``"hysteretic"`` (which leaves them out of the time paths).
+    loss_factor_model : str
+        ``"causal"``, ``"maxwell"`` or ``"hysteretic"`` (``[damping] loss_factor_model``).
+    loss_factor_band_hz, loss_factor_terms
+        ``[damping] loss_factor_band_hz`` and ``loss_factor_terms`` as given (checked), or None: what
+        :meth:`time_model` fits with.
     text : str
         The file's text (stored in results for provenance).
     path : pathlib.Path or None
@@ -242,6 +263,31 @@ class Scenario:
     text: str
     path: Path | None
     viscoelastic: tuple = ()
+    time_system: Any = None
+    loss_factor_model: str = "causal"
+    loss_factor_band_hz: Any = None
+    loss_factor_terms: Any = None
+
+    def __post_init__(self) -> None:
+        if self.time_system is None:
+            object.__setattr__(self, "time_system", self.system)
+
+    def time_model(self, system: System) -> System:
+        """The system the time paths integrate for ``system`` (a design or variant of this scenario's): its loss
+        factors made causal Maxwell models as :attr:`time_system`'s are (the same ``loss_factor_*`` settings,
+        checked at ``system``'s own natural frequencies and the operating frequencies); ``system`` itself when
+        it has no loss factor or with ``loss_factor_model = "hysteretic"``."""
+        if system is self.system:
+            return self.time_system
+        if self.loss_factor_model == "hysteretic" or not np.any(system.loss_factors):
+            return system
+        return _causal(system, self.excitation, self.loss_factor_band_hz, self.loss_factor_terms)[0]
+
+    @property
+    def causal_loss_fits(self) -> tuple:
+        """The causal Maxwell models of the mounts' loss factors that ``time_system`` carries (none with
+        ``loss_factor_model = "hysteretic"``)."""
+        return tuple(fit for fit in self.viscoelastic if fit.source.startswith("loss factor "))
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -292,12 +338,15 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     rayleigh, modal = _damping(damping)
     system = make(System, "", body=body, mounts=mounts, rayleigh=rayleigh, modal_damping=modal, maxwell=branches,
                   force_deflection=tables)
-    system, viscoelastic = _viscoelastic(system, fits, damping)
+    system = make(with_fits, "mounts", system=system, fits=fits) if fits else system
     statics = build(StaticsSettings, top.table("statics", default={}), "statics")
     if system.nonlinear.count:  # linearized about its static equilibrium, which the nonlinear statics find
         from sixdof.analysis.statics import at_equilibrium, gravity_statics
 
         system = at_equilibrium(system, gravity_statics(system, statics.gravity, statics.direction))
+    if statics.geometric_stiffness:  # before any computation: mounts that cannot carry the weight have no preload
+        system = dataclasses.replace(system, gravity_preload=statics.vector)
+        system.K  # noqa: B018 (raises InputError naming statics.geometric_stiffness)
 
     loads = tuple(_load(t, f"loads[{i}]", base_dir) for i, t in enumerate(top.tables("loads")))
     ground, initial = top.table("ground", default=None), top.table("initial", default=None)
@@ -311,6 +360,8 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
             release = "mode" in initial or "amplitude" in initial
             initial = build(ModeRelease if release else InitialState, initial, "initial")
         excitation = make(Excitation, "", loads=loads, ground=ground, initial=initial)
+    loss_model, system, time_system, causal = _loss_factors(system, excitation, damping)
+    viscoelastic = tuple(fit for _, _, fit in fits) + causal
     simulation = top.table("simulation", default=None)
     if simulation is not None:
         from sixdof.analysis.direct import SimulationSettings
@@ -318,7 +369,7 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
         simulation = build(SimulationSettings, simulation, "simulation")
     frf = top.table("frf", default=None)
     frf = None if frf is None else _frf(frf)
-    _check_memory(system, excitation, simulation, frf)
+    _check_memory(time_system, excitation, simulation, frf)
     if frf is not None:  # before any computation: a grid point on an undamped resonance has no response
         from sixdof.analysis.frf import check_resonances
 
@@ -339,7 +390,9 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     return Scenario(name=name, description=description, system=system, excitation=excitation, simulation=simulation,
                     frf=frf, superposition=superposition, points=points, statics=statics, output=output,
                     shock_response_spectrum=spectrum, random=random, design=design, text=text,
-                    viscoelastic=viscoelastic,
+                    viscoelastic=viscoelastic, time_system=time_system, loss_factor_model=loss_model,
+                    loss_factor_band_hz=damping.value("loss_factor_band_hz", None),
+                    loss_factor_terms=damping.value("loss_factor_terms", None),
                     path=Path(source) if source != "<string>" else None)
 
 
@@ -506,27 +559,58 @@ def _fit(mount: Mount, raw: Any, field: str, base_dir: Path):
     return mount.name, axis, dataclasses.replace(fit, name=f"{mount.name} {axis}", source=file)
 
 
-def _viscoelastic(system: System, fits: list, damping: Table):
-    """The system with its mounts' fits applied and, with ``loss_factor_model = "maxwell"``, its loss factors
-    replaced by causal Maxwell models; and every fit (:class:`~sixdof.model.viscoelastic.MaxwellFit`)."""
-    from sixdof.model.viscoelastic import causal_loss_factors, with_fits
+#: The values of ``[damping] loss_factor_model``: what the mounts' loss factors are in the time paths and in the
+#: frequency paths.
+LOSS_FACTOR_MODELS = ("causal", "maxwell", "hysteretic")
 
-    system = make(with_fits, "mounts", system=system, fits=fits) if fits else system
-    model = choice_check(("hysteretic", "maxwell"))(damping.value("loss_factor_model", "hysteretic"),
-                                                    "damping.loss_factor_model")
-    if model == "hysteretic":
+
+def _loss_factors(system: System, excitation, damping: Table):
+    """``loss_factor_model``, the system of the frequency paths, the system of the time paths and the causal
+    Maxwell models of the loss factors (:func:`~sixdof.model.viscoelastic.causal_loss_factors`, checked at the
+    natural frequencies and the operating frequencies of ``excitation``): ``"causal"`` puts them in the time
+    system only, ``"maxwell"`` in both, ``"hysteretic"`` nowhere (the time paths leave the loss factors out)."""
+    model = choice_check(LOSS_FACTOR_MODELS)(damping.value("loss_factor_model", "causal"),
+                                              "damping.loss_factor_model")
+    lossy = bool(np.any(system.loss_factors))
+    if model == "hysteretic" or (not lossy and "loss_factor_model" not in damping.raw):
         for key in ("loss_factor_band_hz", "loss_factor_terms"):
             if key in damping.raw:
-                raise InputError(f"damping.{key}", 'loss_factor_model = "maxwell" (it sets the Maxwell model of '
-                                 "the loss factors)", Plain('loss_factor_model = "hysteretic"'))
-        return system, tuple(fit for _, _, fit in fits)
-    if not np.any(system.loss_factors):
-        raise InputError("damping.loss_factor_model", 'a mount with a loss_factor for "maxwell" to replace',
+                raise InputError(f"damping.{key}", 'loss_factor_model = "causal" or "maxwell" (it sets the Maxwell '
+                                 "model of the loss factors) and a mount with a loss_factor",
+                                 Plain(f'loss_factor_model = "{model}"' if lossy or model == "hysteretic"
+                                       else "no loss factor"))
+        return model, system, system, ()
+    if not lossy:
+        raise InputError("damping.loss_factor_model", f'a mount with a loss_factor for "{model}" to model',
                          Plain("no loss factor"))
-    system, causal = make(causal_loss_factors, "damping", system=system,
-                          band_hz=damping.value("loss_factor_band_hz", None),
-                          terms=damping.value("loss_factor_terms", None))
-    return system, tuple(fit for _, _, fit in fits) + causal
+    timed, causal = _causal(system, excitation, damping.value("loss_factor_band_hz", None),
+                            damping.value("loss_factor_terms", None))
+    return model, timed if model == "maxwell" else system, timed, causal
+
+
+def _causal(system: System, excitation, band_hz, terms):
+    """``system`` with its loss factors' causal Maxwell models, and the models
+    (:func:`~sixdof.model.viscoelastic.causal_loss_factors`); errors name the ``[damping] loss_factor_*`` keys."""
+    from sixdof.model.viscoelastic import causal_loss_factors
+
+    try:
+        return causal_loss_factors(system, band_hz=band_hz, terms=terms, operating_hz=operating_frequencies(excitation))
+    except InputError as exc:  # the function's arguments are the scenario's loss_factor_* keys
+        key = f"loss_factor_{exc.field}" if exc.field in ("band_hz", "terms") else exc.field
+        raise InputError(f"damping.{key}", exc.expected, exc.got) from None
+
+
+def operating_frequencies(excitation) -> np.ndarray:
+    """The frequencies [Hz] of the harmonic signals of ``excitation`` (unbalance, harmonic loads and ground
+    motion), sorted; none without an excitation."""
+    from sixdof.excitation import Harmonic
+
+    if excitation is None:
+        return np.zeros(0)
+    found = [signal.f_hz for _, signal in excitation.components() if isinstance(signal, Harmonic)]
+    if excitation.ground is not None and isinstance(getattr(excitation.ground, "signal", None), Harmonic):
+        found.append(excitation.ground.signal.f_hz)
+    return np.unique(np.asarray(found, dtype=float))
 
 
 def _damping(damping: Table) -> tuple[Rayleigh | None, Any]:

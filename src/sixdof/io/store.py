@@ -18,7 +18,13 @@ Layout conventions:
   the same group or a parent group: ``/time/t``, ``/time/dof``, ``/modal/mode``...);
 - complex arrays are HDF5 compound ``(r, i)`` (h5py's convention), read back as complex by h5py and
   h5netcdf (checked with 1.8, and tested); older netCDF readers see a compound type;
-- the root holds the provenance: scenario text, package versions, creation time, command line.
+- the root holds the provenance: scenario text, package versions, creation time, command line;
+- damage is detected on reading (:func:`load_tree`): the file is written in HDF5 1.10's format
+  (:data:`LIBVER`), whose object headers, B-trees and heaps carry checksums; every non-empty numeric array is
+  chunked with the ``fletcher32`` filter; and each object's ``sixdof_crc32`` attribute is the CRC-32 of its
+  attributes and, where no filter covers them, of its data (text labels, scalars). The root's
+  ``sixdof_checksums`` attribute says so; a file without it (an earlier version's) is read with a
+  :class:`UncheckedWarning`.
 
 Why h5py and not xarray's DataTree through h5netcdf: the file must keep dimension scales shared between
 groups, complex arrays, the fixed dataset names and an atomic write-then-rename; h5py keeps each under
@@ -34,9 +40,12 @@ import dataclasses
 import datetime as _dt
 import functools
 import os
+import re
 import shlex
 import sys
 import uuid
+import warnings
+import zlib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from importlib import metadata
@@ -63,9 +72,24 @@ UNITS_LABEL = ""
 #: Packages whose versions are recorded in every file.
 PROVENANCE_PACKAGES: tuple[str, ...] = ("sixdof", "numpy", "scipy", "jax", "jaxlib", "diffrax", "equinox", "h5py")
 
+#: HDF5 format versions the writer may use (h5py's ``libver`` bounds): 1.10's, whose metadata carry checksums.
+#: HDF5 1.10 (2016) or later reads the files.
+LIBVER = ("v110", "v110")
+#: Root attribute of a file whose objects carry checksums (see the module); its value says which.
+CHECKSUMS = "sixdof_checksums"
+_CHECKSUMS_TEXT = "fletcher32 on numeric arrays; sixdof_crc32: CRC-32 of each object's attributes and other data"
+#: Attribute of every object (the root, each group and dataset): see :func:`_crc`.
+CRC = "sixdof_crc32"
+
+# HDF5's own attributes (dimension scales, netCDF), outside the CRC: they hold object references.
+_HDF5_ATTRS = frozenset({"CLASS", "NAME", "DIMENSION_LIST", "REFERENCE_LIST", "_Netcdf4Dimid",
+                         "_Netcdf4Coordinates", "_NCProperties"})
 # HDF5 / netCDF bookkeeping attributes that are not user attributes.
-_RESERVED_ATTRS = frozenset({"units", "units_description", "CLASS", "NAME", "DIMENSION_LIST", "REFERENCE_LIST",
-                             "_Netcdf4Dimid", "_Netcdf4Coordinates", "_NCProperties"})
+_RESERVED_ATTRS = frozenset({"units", "units_description", CHECKSUMS, CRC, *_HDF5_ATTRS})
+
+
+class UncheckedWarning(UserWarning):
+    """A results file without checksums (written by an earlier version) was read: damage would go unnoticed."""
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -265,7 +289,8 @@ class _Encoder:
             for dim, length in zip(dims, data.shape):
                 self.scale(group, dim, length)
         units = meta["units"](obj) if callable(meta["units"]) else meta["units"]
-        self.add(path, data, units, dims, description=meta["description"] or None)
+        description = meta["description"](obj) if callable(meta["description"]) else meta["description"]
+        self.add(path, data, units, dims, description=description or None)
 
     def encode(self, obj, group: str, prefix: str = "") -> None:
         """Every described field of ``obj``, and the derived quantities it stores, into ``group``."""
@@ -557,13 +582,61 @@ def save_results(results: Results, path: str | os.PathLike) -> Path:
     temporary = path.with_name(f".{path.name}.{uuid.uuid4().hex}.tmp")
     check_room(temporary, sum(d.data.nbytes for d in results.datasets.values()))
     try:
-        with held_signals(), h5py.File(temporary, "x") as f:
-            _write(f, results)
+        with held_signals():
+            f = h5py.File(temporary, "x", libver=LIBVER)
+            try:
+                with _naming(path):
+                    _write(f, results)
+            except BaseException:
+                discard(f, temporary)
+                raise
+            f.close()
         publish(temporary, path)
     except BaseException:
         temporary.unlink(missing_ok=True)
         raise
     return path
+
+
+@contextlib.contextmanager
+def _naming(path: Path):
+    """An OSError of HDF5's (a full disk: several lines, with its time stamp, buffer address and temporary name)
+    as the system's error of writing ``path``: ``[Errno 28] No space left on device: '.../results.h5'``."""
+    try:
+        yield
+    except (OSError, RuntimeError) as exc:  # h5py raises either, the system's errno in the text or not
+        code = getattr(exc, "errno", None) or next(iter(re.findall(r"errno = (\d+)", str(exc))), None)
+        if not code or getattr(exc, "filename", None):
+            raise
+        raise OSError(int(code), os.strerror(int(code)), str(path)) from None
+
+
+def discard(f, temporary: Path, nodes: dict | None = None) -> None:
+    """Close the h5py file ``f``, written under the name ``temporary``, after its write failed, and remove it.
+
+    HDF5 writes what it holds in memory when it closes a file; after a full disk or the file-size limit
+    (``ulimit -f``) stopped a write, those writes fail again, each in a traceback, and libhdf5 may crash
+    (SIGSEGV) on the state they leave. So the file's space is given back first (it is emptied, which the
+    disk allows whatever its state) and the process's file-size limit raised to its hard limit meanwhile:
+    the last writes then succeed, into a file that is removed. ``nodes`` (h5py objects of the file kept open
+    by the writer) are let go then: their closing writes too.
+    """
+    import resource
+
+    with contextlib.suppress(Exception):
+        os.ftruncate(f.id.get_vfd_handle(), 0)
+    limits = resource.getrlimit(resource.RLIMIT_FSIZE)
+    try:
+        with contextlib.suppress(ValueError, OSError):
+            resource.setrlimit(resource.RLIMIT_FSIZE, (limits[1], limits[1]))
+        with contextlib.suppress(Exception):
+            if nodes is not None:
+                nodes.clear()
+            f.close()
+    finally:
+        with contextlib.suppress(ValueError, OSError):
+            resource.setrlimit(resource.RLIMIT_FSIZE, limits)
+        temporary.unlink(missing_ok=True)
 
 
 def publish(temporary: Path, path: Path) -> None:
@@ -582,12 +655,22 @@ def publish(temporary: Path, path: Path) -> None:
 
 def _write(f, results: Results, written=frozenset()) -> None:
     """Write the tree into the open file ``f``: attributes, datasets (those in ``written`` are in ``f`` already,
-    as a streamed run's time series are), dimension scales."""
+    as a streamed run's time series are, without their attributes), dimension scales, checksums."""
+    crcs = {}  # each object's CRC, from what is written (reading it back would double the time of a write)
     for group, attrs in results.attrs.items():
+        attrs = {**attrs, CHECKSUMS: _CHECKSUMS_TEXT} if not group else attrs
         _write_attributes(f.require_group(group) if group else f, attrs)
+        crcs[group] = _crc(attrs)
     nodes = {}  # each dataset opened once: h5py's f[path] reads its type, shape and layout again each time
     for path, dataset in results.datasets.items():
-        nodes[path] = f[path] if path in written else _write_dataset(f, path, dataset)
+        if path in written:
+            nodes[path] = f[path]
+            _write_dataset_attributes(nodes[path], dataset)
+        else:
+            nodes[path] = _write_dataset(f, path, dataset)
+        # The filter checks the data of numeric arrays; the CRC that of the others (see _crc).
+        data = None if nodes[path].fletcher32 else dataset.data
+        crcs[path] = _crc({**unit_attrs(dataset.units), **dataset.attrs}, data)
         if _is_scale(path, dataset):
             nodes[path].make_scale(dataset.dims[0])
     # Attach once every scale is made: h5py refuses to attach a dataset that is not yet a scale.
@@ -595,6 +678,8 @@ def _write(f, results: Results, written=frozenset()) -> None:
         if not _is_scale(path, dataset):
             for axis, dim in enumerate(dataset.dims):
                 nodes[path].dims[axis].attach_scale(nodes[_scale_path(results.datasets, path, dim)])
+    for path, crc in crcs.items():
+        (nodes[path] if path in nodes else f[path] if path else f).attrs[CRC] = crc
 
 
 def _write_dataset(f, path: str, dataset: Dataset):
@@ -603,10 +688,53 @@ def _write_dataset(f, path: str, dataset: Dataset):
     data = dataset.data
     if data.dtype.kind == "U":
         node = f.create_dataset(path, data=data.astype(object), dtype=h5py.string_dtype())
+    elif data.size and data.ndim:  # the filter needs chunks, which a scalar or an empty array cannot have
+        node = f.create_dataset(path, data=data, chunks=_chunks(data), fletcher32=True)
     else:
         node = f.create_dataset(path, data=data)
     _write_dataset_attributes(node, dataset)
     return node
+
+
+#: Largest HDF5 chunk of an array written whole [bytes]: the fletcher32 checksum is per chunk.
+CHUNK_BYTES = 1 << 20
+
+
+def _chunks(data: np.ndarray) -> tuple[int, ...]:
+    """Chunks of ``data``: whole but for its longest axis, cut to :data:`CHUNK_BYTES` (h5py's own guess cuts every
+    axis, 2501 x 1 samples of a (4, 20001, 3) array: three times slower to write)."""
+    shape = list(data.shape)
+    axis = int(np.argmax(shape))
+    pieces = -(-data.nbytes // CHUNK_BYTES)
+    shape[axis] = -(-shape[axis] // pieces)  # chunks of equal length: the last one is not mostly padding
+    return tuple(shape)
+
+
+def _crc(attrs: Mapping[str, Any], data=None) -> int:
+    """CRC-32 of an object's attributes (HDF5's own aside) and, for a dataset without the ``fletcher32`` filter
+    (text, scalars, empty arrays), of its ``data``: HDF5 checks none of these (text lives in its global heap,
+    outside the checksummed metadata; a scalar's bytes are raw data). The same value from what is written and
+    from what h5py reads back (:func:`_bytes`)."""
+    crc = 0
+    for key in sorted(attrs):
+        if key not in _HDF5_ATTRS and key != CRC:
+            crc = zlib.crc32(_bytes(attrs[key]), zlib.crc32(key.encode(), crc))
+    return crc if data is None else zlib.crc32(_bytes(data), crc)
+
+
+def _bytes(value) -> bytes:
+    """The bytes of a value as written (str, tuple of str, number, array) or as h5py reads it back (bytes, NumPy
+    scalars, arrays of bytes or str): text as UTF-8, numbers with their type, arrays with their shape."""
+    if isinstance(value, str):
+        return value.encode("utf-8", "surrogatepass")
+    if isinstance(value, bytes):
+        return value
+    if isinstance(value, tuple):  # text, as attributes hold it (an empty one would become a float array)
+        return b"\0".join(_bytes(v) for v in value) + f"{(len(value),)}".encode()
+    array = np.asarray(value)
+    if array.dtype.kind in "OSU":
+        return b"\0".join(_bytes(v) for v in array.ravel().tolist()) + f"{array.shape}".encode()
+    return array.tobytes() + f"{array.dtype.str}{array.shape}".encode()
 
 
 def _write_dataset_attributes(node, dataset: Dataset) -> None:
@@ -652,14 +780,14 @@ def load_results(path: str | os.PathLike):
 def _mount_forces(run):
     from sixdof.analysis.response import mount_forces
 
-    return mount_forces(run.system, run.response)
+    return mount_forces(run.time_system or run.system, run.response)
 
 
 def _mount_check(run):
     from sixdof.analysis.mountcheck import mount_check
 
     forces = run.mount_forces if run.mount_forces is not None else _mount_forces(run)
-    return mount_check(run.system, forces, run.response.t, run.statics)
+    return mount_check(run.time_system or run.system, forces, run.response.t, run.statics)
 
 
 #: How each derived part of a run a file may leave out (:data:`sixdof.results.DERIVED`) is computed again
@@ -689,7 +817,15 @@ def load_tree(path: str | os.PathLike) -> Results:
     Raises
     ------
     sixdof.errors.InputError
-        If the file is missing or is not a sixdof results file.
+        If the file is missing, is not a sixdof results file, or is damaged: a checksum that fails (see the
+        module), an object HDF5 cannot read, a dimension scale that is not in the file. Nothing HDF5 reads is
+        followed before it is checked (dimension-scale references are resolved by this reader, not by HDF5's
+        own dimension-scale code).
+
+    Warns
+    -----
+    UncheckedWarning
+        The file has no checksums (written by an earlier version): damage to it would go unnoticed.
     """
     import h5py
 
@@ -699,32 +835,140 @@ def load_tree(path: str | os.PathLike) -> Results:
     try:
         f = h5py.File(path, "r")
     except OSError as exc:
-        raise InputError("results", "an HDF5 results file written by sixdof", Plain(f"{path} ({exc})")) from None
+        raise InputError("results", "an HDF5 results file written by sixdof",
+                         Plain(f"{path} ({_one_line(exc)})")) from None
     with f:
-        if f.attrs.get("format") != FORMAT:
-            raise InputError("results", f"an HDF5 file with format = {FORMAT!r}", Plain(f"{path} without it"))
-        datasets: dict[str, Dataset] = {}
-        attrs: dict[str, dict[str, Any]] = {"": _read_attributes(f.attrs)}
+        where = ["its root"]  # the object being read, for the message
+        try:
+            if f.attrs.get("format") != FORMAT:
+                raise InputError("results", f"an HDF5 file with format = {FORMAT!r}", Plain(f"{path} without it"))
+            return _read_tree(f, path, where)
+        except InputError as exc:
+            if exc.field == "results":
+                raise
+            raise _damaged(path, where[0], str(exc)) from None
+        except (_Damage, OSError, RuntimeError, KeyError, ValueError, TypeError, NotImplementedError) as exc:
+            what = _one_line(exc)  # h5py's errors, or what _read_tree found
+            if "filter returned failure" in what:  # the fletcher32 filter is the only one the writer uses
+                what = f"its data fail their checksum (fletcher32; HDF5 says: {what})"
+            raise _damaged(path, where[0], what) from None
 
-        def visit(name: str, node) -> None:
-            if isinstance(node, h5py.Group):
-                attrs[name] = _read_attributes(node.attrs)
-                return
-            text = node.dtype.kind == "O" or h5py.check_string_dtype(node.dtype) is not None
-            data = np.array(node.asstr()[()], dtype=str) if text else node[()]
-            scales = [name] if node.is_scale else [dim[0].name for dim in node.dims]
-            dims = tuple(scale.rsplit("/", 1)[-1] for scale in scales)
-            attributes = _read_attributes(node.attrs)
-            if "units_description" in node.attrs:
-                units = MixedUnits.from_attrs({**attributes, "units_description": str(node.attrs["units_description"])},
-                                              dims)
-                attributes = {k: v for k, v in attributes.items() if k not in {f"{d}_units" for d in dims}}
-            else:
-                units = str(node.attrs.get("units", UNITS_LABEL))
-            datasets[name] = Dataset(data, units, dims, attributes)
 
-        f.visititems(visit)
+class _Damage(Exception):
+    """What :func:`_read_tree` found wrong with a file's object (HDF5 read it without an error)."""
+
+
+def _damaged(path: Path, where: str, what: str) -> InputError:
+    return InputError("results", "an undamaged results file (re-run the scenario to write it again)",
+                      Plain(f"{path}: {where}: {what}"))
+
+
+def _one_line(exc: BaseException) -> str:
+    return " ".join(str(exc).split()) or type(exc).__name__
+
+
+def _read_tree(f, path: Path, where: list[str]) -> Results:
+    """The tree of the open file ``f`` (see :func:`load_tree`); ``where[0]`` names the object being read."""
+    import h5py
+
+    root = dict(f.attrs)
+    checked = CHECKSUMS in root
+    _check_crc(root, checked)
+    if not checked:
+        warnings.warn(f"{path} was written by an earlier version of sixdof, without checksums: damage to it would "
+                      "go unnoticed (re-run the scenario to write it with them)", UncheckedWarning, stacklevel=3)
+    names: list[str] = []
+    where[0] = "its groups and links"
+    f.visit(names.append)
+    nodes = {}
+    for name in names:
+        where[0] = f"object {name}"
+        nodes[name] = f[name]
+    # Each object's address: a dimension-scale reference is followed only to one of these.
+    by_address = {h5py.h5o.get_info(node.id).addr: name for name, node in nodes.items()}
+    datasets: dict[str, Dataset] = {}
+    attrs: dict[str, dict[str, Any]] = {"": _read_attributes(root)}
+    for name, node in nodes.items():
+        own = dict(node.attrs)  # each attribute read once: h5py reads it again at each access
+        if isinstance(node, h5py.Group):
+            where[0] = f"group {name}"
+            _check_crc(own, checked)
+            attrs[name] = _read_attributes(own)
+            continue
+        where[0] = f"dataset {name}"
+        if not isinstance(node, h5py.Dataset):
+            raise _Damage(f"expected a group or a dataset, found {type(node).__name__}")
+        raw = node[()]
+        _check_crc(own, checked, None if node.fletcher32 else raw)
+        text = node.dtype.kind == "O" or h5py.check_string_dtype(node.dtype) is not None
+        data = np.array([v.decode() if isinstance(v, bytes) else str(v) for v in np.ravel(raw).tolist()],
+                        dtype=str).reshape(np.shape(raw)) if text else raw
+        dims = _dims(f, node, own, name, by_address)
+        attributes = _read_attributes(own)
+        if "units_description" in own:
+            units = MixedUnits.from_attrs({**attributes, "units_description": str(own["units_description"])}, dims)
+            attributes = {k: v for k, v in attributes.items() if k not in {f"{d}_units" for d in dims}}
+        else:
+            units = str(own.get("units", UNITS_LABEL))
+        datasets[name] = Dataset(data, units, dims, attributes)
+    where[0] = "its dimension scales"
     return Results(datasets, attrs, path)
+
+
+def _check_crc(attrs: Mapping[str, Any], checked: bool, data=None) -> None:
+    """Raise unless the :data:`CRC` among an object's ``attrs`` (all of them, as read) holds for them and ``data``
+    (see :func:`_crc`), or the file has no checksums (``checked`` false)."""
+    if not checked:
+        return
+    if CRC not in attrs:
+        raise _Damage(f"its checksum ({CRC}) is missing")
+    stored = int(attrs[CRC])
+    found = _crc(attrs, data)
+    if stored != found:
+        raise _Damage(f"its checksum fails (CRC-32 {found:#010x}, stored {stored:#010x}): its attributes or data "
+                      "changed since it was written")
+
+
+def _dims(f, node, own: Mapping[str, Any], name: str, by_address: Mapping[int, str]) -> tuple[str, ...]:
+    """The axis names of the dataset ``node`` (whose attributes are ``own``): its own name if it is a dimension
+    scale, else the names of the
+    scales its ``DIMENSION_LIST`` references, each checked (one per axis, an object of this file that is a 1-D
+    dimension scale of the axis' length) before it is opened. HDF5's dimension-scale functions are not used:
+    given references that dangle they fail, or corrupt its heap (SIGABRT)."""
+    import h5py
+
+    if _text(own.get("CLASS")) == "DIMENSION_SCALE":
+        return (name.rsplit("/", 1)[-1],)
+    if node.ndim == 0:
+        return ()
+    listed = own.get("DIMENSION_LIST")
+    if not isinstance(listed, np.ndarray) or listed.shape != (node.ndim,):
+        got = "none" if listed is None else f"shape {np.shape(listed)}"
+        raise _Damage(f"expected a dimension scale for each of its {node.ndim} axes (DIMENSION_LIST), found {got}")
+    dims = []
+    for axis, refs in enumerate(listed.tolist()):
+        refs = np.ravel(refs).tolist()
+        if len(refs) != 1 or not isinstance(refs[0], h5py.Reference) or not refs[0]:
+            raise _Damage(f"axis {axis}: expected one dimension-scale reference, found {len(refs)}")
+        try:
+            target = f[refs[0]]
+        except (OSError, RuntimeError, KeyError, ValueError, TypeError) as exc:
+            raise _Damage(f"axis {axis}: its dimension scale cannot be opened ({_one_line(exc)})") from None
+        scale = by_address.get(h5py.h5o.get_info(target.id).addr) if isinstance(target, h5py.Dataset) else None
+        if scale is None:
+            raise _Damage(f"axis {axis}: its dimension scale is not an array of the file (a dangling reference)")
+        if _text(target.attrs.get("CLASS")) != "DIMENSION_SCALE" or target.shape != (node.shape[axis],):
+            raise _Damage(f"axis {axis}: expected a dimension scale of length {node.shape[axis]}, found {scale} of "
+                          f"shape {target.shape}")
+        dims.append(scale.rsplit("/", 1)[-1])
+    return tuple(dims)
+
+
+def _text(value) -> str | None:
+    """An attribute read as text (HDF5's fixed-length strings come as bytes), ``None`` when it is not text."""
+    if isinstance(value, (bytes, np.bytes_)):
+        return bytes(value).decode(errors="replace")
+    return value if isinstance(value, str) else None
 
 
 def _read_attributes(attrs) -> dict[str, Any]:

@@ -17,7 +17,7 @@ import uuid
 from pathlib import Path
 
 from sixdof.io.output import check_room, held_signals
-from sixdof.io.store import Results, _write, _write_dataset_attributes, build_results, publish
+from sixdof.io.store import LIBVER, Results, _naming, _write, build_results, discard, publish
 from sixdof.results import axis_slice
 
 #: Samples per HDF5 chunk along the appended axis: large enough for fast appends and reads of whole series,
@@ -49,8 +49,9 @@ class ResultsStream:
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._parts = parts
         self._temporary = self.path.with_name(f".{self.path.name}.{uuid.uuid4().hex}.tmp")
-        self._file = h5py.File(self._temporary, "x")
+        self._file = h5py.File(self._temporary, "x", libver=LIBVER)
         self._series: dict[str, tuple[str, ...]] = {}  # path -> dims of the time series appended
+        self._nodes: dict = {}  # path -> the h5py dataset of each series, open until the file closes
         self.samples = 0
 
     def __enter__(self) -> ResultsStream:
@@ -70,7 +71,7 @@ class ResultsStream:
         if len(lengths) != 1:
             raise ValueError(f"part {self.samples} has series of lengths {sorted(lengths)} along {self.axis}")
         check_room(self._temporary, sum(d.data.nbytes for d in series.values()))
-        with held_signals():
+        with held_signals(), _naming(self.path):
             self._append(series, lengths.pop())
 
     def _append(self, series, n) -> None:
@@ -88,14 +89,18 @@ class ResultsStream:
                 chunks = list(shape)
                 chunks[axis] = TIME_CHUNK
                 node = self._file.create_dataset(path, shape=tuple(shape), maxshape=tuple(maxshape),
-                                                 chunks=tuple(max(c, 1) for c in chunks), dtype=dataset.data.dtype)
-                _write_dataset_attributes(node, dataset)
+                                                 chunks=tuple(max(c, 1) for c in chunks), dtype=dataset.data.dtype,
+                                                 fletcher32=True)  # its attributes: by finish, with the rest
                 self._series[path] = dataset.dims
-            node = self._file[path]
+                self._nodes[path] = node
+            node = self._nodes[path]
             node.resize(self.samples + n, axis=axis)
             index = [slice(None)] * dataset.data.ndim
             index[axis] = slice(self.samples, self.samples + n)
             node[tuple(index)] = data
+        # Written out now, where a full disk raises: HDF5 would write its caches when it closes the datasets,
+        # where h5py can only print the failure, and go on.
+        self._file.flush()
         self.samples += n
 
     def finish(self, run, **attrs) -> Path:
@@ -111,18 +116,15 @@ class ResultsStream:
         extra = {**self._parts.get("extra_attrs", {}), **attrs}
         tree = build_results(run, **{**self._parts, "extra_attrs": extra})
         datasets = {path: d for path, d in tree.datasets.items() if path in self._series or self.axis not in d.dims}
-        with held_signals():
+        with held_signals(), _naming(self.path):
             _write(self._file, Results(datasets, tree.attrs), written=self._series)
             self._file.close()
         publish(self._temporary, self.path)
         return self.path
 
     def abort(self) -> None:
-        """Close and remove the unfinished file."""
-        try:
-            self._file.close()
-        finally:
-            self._temporary.unlink(missing_ok=True)
+        """Close and remove the unfinished file (after a failed write too: :func:`sixdof.io.store.discard`)."""
+        discard(self._file, self._temporary, self._nodes)
 
 
 __all__ = ["ResultsStream", "TIME_CHUNK"]

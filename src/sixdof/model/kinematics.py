@@ -62,16 +62,16 @@ def response_row(point, direction, rotation: bool) -> np.ndarray:
 
 
 def mount_local_map(positions, axes) -> np.ndarray:
-    """Map from ``q`` to each mount's deformation along its own axes, shape (n, 3, 6).
+    """Map from ``q`` to each mount's deformation along its own axes, shape (..., n, 3, 6).
 
     Parameters
     ----------
-    positions : array_like, shape (n, 3)
-        Mount points from the CG in body axes [m].
+    positions : array_like, shape (..., n, 3)
+        Mount points from the CG in body axes [m] (leading dimensions: variants of them).
     axes : array_like, shape (n, 3, 3)
         Rows are each mount's axes in body axes.
     """
-    return np.einsum("nij,njk->nik", np.asarray(axes, dtype=float), point_map(positions))
+    return np.einsum("nij,...njk->...nik", np.asarray(axes, dtype=float), point_map(positions))
 
 
 def mount_matrix(positions, coefficients, axes) -> np.ndarray:
@@ -117,3 +117,92 @@ def mount_matrix_jax(positions, coefficients, axes):
 
     local = jnp.einsum("nij,njk->nik", jnp.asarray(axes, dtype=float), point_map_jax(positions))  # (n, 3, 6)
     return jnp.einsum("nia,ni,nib->ab", local, jnp.asarray(coefficients, dtype=float), local)
+
+
+def geometric_stiffness(positions, forces) -> np.ndarray:
+    """Gravity's geometric stiffness: the stiffness (6, 6) [N m/rad] of static forces on the body whose points of
+    application turn with it.
+
+    A force ``F`` held fixed in space at the body point ``r`` has the moment ``(R r) x F`` about the CG once the
+    body turns by ``theta`` (``R r = r + theta x r``): its change, ``(theta x r) x F = -[(F . r) I - r F'] theta``,
+    is a stiffness on the rotations
+
+        K_G = sum_j [(F_j . r_j) I - r_j F_j']
+
+    for mounts as zero-length springs (their force follows their deflection, not their direction) and gravity as
+    a dead load at the CG (no moment about it, however the body turns). At static equilibrium ``sum_j r_j x F_j
+    = 0``, which makes ``sum_j r_j F_j'`` (so ``K_G``) symmetric; the symmetric part is returned. Mounts below the
+    CG carrying the weight upward give ``(F . r) < 0``: they lower the rocking stiffness (``-W h`` for mounts a
+    height ``h`` below the CG), mounts above it raise it (a pendulum).
+
+    Parameters
+    ----------
+    positions : array_like, shape (n, 3)
+        Points of application from the CG in body axes [m].
+    forces : array_like, shape (n, 3)
+        Static force on the body at each point, body axes [N] (the mounts' preload under gravity:
+        minus :attr:`sixdof.analysis.statics.Statics.mount_forces`).
+
+    Returns
+    -------
+    ndarray, shape (6, 6)
+        Zero but for the rotation block.
+    """
+    r, f = np.asarray(positions, dtype=float), np.asarray(forces, dtype=float)
+    block = np.einsum("ni,ni->", f, r) * np.eye(3) - np.einsum("ni,nj->ij", r, f)
+    out = np.zeros((6, 6))
+    out[3:, 3:] = 0.5 * (block + block.T)
+    return out
+
+
+def geometric_stiffness_jax(positions, forces):
+    """:func:`geometric_stiffness` in ``jax.numpy``, shape (6, 6)."""
+    from sixdof._jax import jnp
+
+    r, f = jnp.asarray(positions, dtype=float), jnp.asarray(forces, dtype=float)
+    block = jnp.einsum("ni,ni->", f, r) * jnp.eye(3) - jnp.einsum("ni,nj->ij", r, f)
+    return jnp.zeros((6, 6)).at[3:, 3:].set(0.5 * (block + block.T))
+
+
+#: Eigenvalues of the stiffness scaled to unit diagonal below this fraction of the largest are a mechanism in the
+#: JAX statics of :func:`stiffness_jax` (the NumPy statics' ``MECHANISM_RTOL``).
+_MECHANISM_RTOL = 1e-12
+
+
+def stiffness_jax(positions, stiffnesses, axes, weight):
+    """The stiffness matrix (6, 6) of linear mounts with gravity's geometric stiffness of their preload, in JAX:
+    the one assembly of K that the batches, sweeps, sensitivities and the design optimizer trace (``jit``,
+    ``vmap``, ``grad`` through the statics).
+
+    The statics ``K_m q = [W, 0]`` (weight at the CG, ``K_m`` the mounts' :func:`mount_matrix_jax`) give each
+    mount's force on the body ``-A' diag(k) A T q``, and those :func:`geometric_stiffness_jax`. The solve is the
+    pseudo-inverse of ``K_m`` scaled to unit diagonal: a motion no mount resists (and gravity does not drive)
+    gets no deflection, as in :func:`sixdof.analysis.statics.solve_stiffness`.
+
+    Parameters
+    ----------
+    positions, stiffnesses, axes
+        As :func:`mount_matrix_jax` (``stiffnesses`` [N/m]).
+    weight : array_like, shape (3,), or None
+        The body's weight ``m g`` in body axes [N]; None: the mounts' stiffness alone (no preload, and no statics
+        traced: the batches' hot path without the option).
+
+    Returns
+    -------
+    jax.Array, shape (6, 6)
+        ``K_m + K_G`` [N/m, N, N m/rad].
+    """
+    from sixdof._jax import jnp
+
+    local = jnp.einsum("nij,njk->nik", jnp.asarray(axes, dtype=float), point_map_jax(positions))  # (n, 3, 6)
+    k = jnp.asarray(stiffnesses, dtype=float)
+    K = jnp.einsum("nia,ni,nib->ab", local, k, local)
+    if weight is None:
+        return K
+    diagonal = jnp.diagonal(K)
+    scale = jnp.where(diagonal > 0, 1.0 / jnp.sqrt(jnp.where(diagonal > 0, diagonal, 1.0)), 1.0)
+    load = jnp.concatenate([jnp.asarray(weight, dtype=float), jnp.zeros(3)])
+    q = scale * (jnp.linalg.pinv(scale[:, None] * K * scale[None, :], rtol=_MECHANISM_RTOL, hermitian=True)
+                 @ (scale * load))
+    forces = -jnp.einsum("nji,nj->ni", jnp.asarray(axes, dtype=float), k * (local @ q))
+    return K + geometric_stiffness_jax(positions, forces)

@@ -38,7 +38,7 @@ from sixdof.errors import (
 )
 from sixdof.frozen import Frozen, checked
 from sixdof.model.damping import damping_matrix
-from sixdof.model.kinematics import mount_local_map, mount_matrix
+from sixdof.model.kinematics import geometric_stiffness, mount_local_map, mount_matrix
 from sixdof.model.nonlinear import ForceDeflection, ForceLaws, force_laws
 from sixdof.model.viscoelastic import relaxation
 from sixdof.results import label, part, quantity, sequence, stacked
@@ -110,6 +110,14 @@ def _orthonormal(value, field: str) -> np.ndarray:
     if not np.allclose(axes @ axes.T, np.eye(3), rtol=0.0, atol=_ORTHONORMAL_TOL):
         raise InputError(field, expected + "; normalize the rows", value)
     return axes
+
+
+def _gravity(value, field: str) -> np.ndarray:
+    expected = "a gravity vector [gx, gy, gz] in m/s^2 in body axes, not zero"
+    gravity = vector3(value, field, expected)
+    if not np.any(gravity):
+        raise InputError(field, expected, value)
+    return gravity
 
 
 def _modal_ratios(value, field: str):
@@ -400,6 +408,9 @@ class System(Frozen):
         The static equilibrium ``q`` [m, rad] from the unloaded state: where the mounts' total deflection is
         static plus dynamic (the motion is measured from it) and about which nonlinear mounts are linearized
         (:func:`sixdof.analysis.statics.at_equilibrium` sets it). Default zero: unloaded.
+    gravity_preload : array_like, shape (3,), optional
+        Gravity [m/s^2] in body axes whose preload of the mounts adds its geometric stiffness to :attr:`K`
+        (:attr:`K_geometric`, ``[statics] geometric_stiffness = true``). Default ``None``: K is the mounts' alone.
     """
 
     body: RigidBody = part(lambda: RigidBody, prefix="body_")
@@ -419,12 +430,22 @@ class System(Frozen):
                                        description="static equilibrium from the unloaded state about which "
                                        "nonlinear mounts are linearized (zero for linear mounts: their statics "
                                        "under gravity are /statics)")
+    gravity_preload: np.ndarray | None = quantity(
+        "m/s^2", ("axis",), default=None,
+        check=optional(lambda value, field: _gravity(value, field)),
+        description="gravity whose preload of the mounts adds its geometric stiffness K_geometric to K")
 
     #: Stored beside the fields (not read back: the system recomputes them).
     derived = {
         "M": quantity(UNITS["M"], ("load", "dof")),
         "C": quantity(UNITS["C"], ("load", "dof")),
-        "K": quantity(UNITS["K"], ("load", "dof")),
+        "K": quantity(UNITS["K"], ("load", "dof"), description=lambda system: (
+            "stiffness: the mounts' and gravity's geometric stiffness K_geometric" if system.geometric_stiffness
+            else "stiffness of the mounts alone (gravity's geometric stiffness left out)")),
+        "K_geometric": quantity(UNITS["K"], ("load", "dof"), description="gravity's geometric stiffness of the mount "
+                                "preload, sum_j (F_j . r_j) I - r_j F_j' on the rotations (in K only when "
+                                "geometric_stiffness)"),
+        "geometric_stiffness": label(),
         "C_mounts": quantity(UNITS["C"], ("load", "dof"),
                              description="damping of the mounts' dashpots alone"),
     }
@@ -494,7 +515,7 @@ class System(Frozen):
         must keep both within floating point (a mass of 5e-324 kg or 1.8e308 kg does not)."""
         inertias = np.concatenate([[self.body.mass], np.linalg.eigvalsh(self.body.inertia)])
         with np.errstate(over="ignore", divide="ignore"):
-            too_light = not np.isfinite(np.abs(self.K).max() / inertias.min())
+            too_light = not np.isfinite(np.abs(self.K_mounts).max() / inertias.min())
             too_heavy = not np.isfinite(inertias.max() ** 2)
         if too_light or too_heavy:
             k = int(np.argmin(inertias) if too_light else np.argmax(inertias))
@@ -570,7 +591,10 @@ class System(Frozen):
 
         mounts = [dataclasses.replace(m, stiffness=k, bump_clearance=np.full(3, np.inf), bump_stiffness=np.zeros(3),
                                       tension=True) for m, k in zip(self.mounts, self.stiffnesses)]
-        return dataclasses.replace(self, mounts=mounts, force_deflection=(), equilibrium=np.zeros(6))
+        linear = dataclasses.replace(self, mounts=mounts, force_deflection=(), equilibrium=np.zeros(6))
+        # The preload is the nonlinear mounts' at their equilibrium, not the linear statics' of their slopes.
+        linear._derive(K_geometric=self.K_geometric)
+        return linear
 
     @cached_property
     def M(self) -> np.ndarray:
@@ -578,9 +602,54 @@ class System(Frozen):
         return readonly(mass_matrix(self.body.mass, self.body.inertia))
 
     @cached_property
-    def K(self) -> np.ndarray:
-        """Stiffness matrix (6, 6) [N/m, N, N m/rad]."""
+    def K_mounts(self) -> np.ndarray:
+        """The mounts' stiffness matrix (6, 6) [N/m, N, N m/rad]: what the statics solve with."""
         return readonly(mount_matrix(self.positions, self.stiffnesses, self.axes))
+
+    @property
+    def geometric_stiffness(self) -> bool:
+        """Whether :attr:`K` holds gravity's geometric stiffness (:attr:`gravity_preload` given)."""
+        return self.gravity_preload is not None
+
+    @property
+    def preload_weight(self) -> np.ndarray | None:
+        """The weight ``m g`` (3,) [N] in body axes whose mount preload's geometric stiffness :attr:`K` holds; None
+        without :attr:`gravity_preload` (what :func:`sixdof.model.kinematics.stiffness_jax` takes)."""
+        gravity = self.gravity_preload
+        return None if gravity is None else self.body.mass * np.asarray(gravity, dtype=float)
+
+    @cached_property
+    def K_geometric(self) -> np.ndarray:
+        """Gravity's geometric stiffness (6, 6) [N m/rad] of the mounts' static preload under
+        :attr:`gravity_preload` (:func:`sixdof.model.kinematics.geometric_stiffness`, with the forces of
+        :func:`sixdof.analysis.statics.gravity_statics`: nonlinear mounts at their static equilibrium); zero
+        without it.
+
+        Raises
+        ------
+        InputError
+            If the mounts cannot carry the weight (no static equilibrium, so no preload).
+        """
+        if self.gravity_preload is None:
+            return readonly(np.zeros((6, 6)))
+        # Analysis, not model (as the modes): the statics that the preload is, imported where it is needed.
+        from sixdof.analysis.statics import gravity_statics
+
+        g = float(np.linalg.norm(self.gravity_preload))
+        try:
+            statics = gravity_statics(self, g, self.gravity_preload)
+        except InputError as exc:
+            if exc.field != "mounts":
+                raise
+            raise InputError("statics.geometric_stiffness", "false, or mounts that carry the body's weight (the "
+                             "geometric stiffness is that of their static preload)", exc.got) from None
+        return readonly(geometric_stiffness(self.positions, -statics.mount_forces))
+
+    @cached_property
+    def K(self) -> np.ndarray:
+        """Stiffness matrix (6, 6) [N/m, N, N m/rad]: :attr:`K_mounts`, plus :attr:`K_geometric` when
+        :attr:`geometric_stiffness`."""
+        return readonly(self.K_mounts + self.K_geometric) if self.geometric_stiffness else self.K_mounts
 
     @cached_property
     def C_mounts(self) -> np.ndarray:

@@ -41,6 +41,22 @@ POINTS_PER_DECADE = 20
 #: and the report says which fits are not (a constant loss factor made causal over a wide band cannot be).
 FIT_MODULUS_ERROR = 0.05
 FIT_LOSS_ANGLE_ERROR_DEG = 1.0
+#: What the causal model of a constant loss factor must reproduce of ``k (1 + i eta)`` at each frequency it is
+#: checked at (every elastic natural frequency and operating frequency of a scenario): ``|K*|`` within 5 %, the
+#: loss factor within 10 % of itself (``|eta_fit - eta| <= 0.1 eta``).
+LOSS_MODULUS_TARGET = 0.05
+LOSS_FACTOR_TARGET = 0.10
+#: Relaxation frequencies per decade that :func:`constant_loss_model` chooses its branches among, from the
+#: bottom of its band to :data:`RELAXATION_REACH` above its top: branches relaxing above the band hold the loss
+#: factor up at its top (within it they alone would let it fall there); none relaxes below the band, where it
+#: would take the static load over from the long-term stiffness.
+CAUSAL_TERMS_PER_DECADE = 4
+RELAXATION_REACH = 3.0
+#: The band of :func:`causal_loss_factors` reaches this factor below and above the frequencies checked.
+BAND_MARGIN = 2.0
+#: Between the checked frequencies (over the rest of the band) :func:`constant_loss_model` allows this many
+#: times the errors it reaches at them.
+BAND_SLACK = 3.0
 
 
 def relaxation(f_hz, tau) -> np.ndarray:
@@ -102,6 +118,9 @@ class MaxwellFit(Result):
         Worst relative error of the fit's ``|K|`` over the data points [-].
     loss_angle_error_deg : float
         Worst error of the fit's loss angle ``atan(eta)`` over the data points [deg].
+    loss_factor_error : float
+        Worst relative error of the fit's loss factor over the data points with a loss factor,
+        ``max |eta_fit - eta| / eta`` [-] (0 when no point has one).
     """
 
     long_term: float = quantity("N/m", (), decode=float, description="long-term (static) stiffness k0 of the fit")
@@ -113,6 +132,8 @@ class MaxwellFit(Result):
     modulus_error: float = quantity("1", (), decode=float, description="worst relative error of |K*| over the data")
     loss_angle_error_deg: float = quantity("deg", (), decode=float,
                                            description="worst error of the loss angle over the data")
+    loss_factor_error: float = quantity("1", (), decode=float, default=0.0,
+                                        description="worst relative error of the loss factor over the data")
     name: str = label(default="")
     source: str = label(default="")
 
@@ -252,27 +273,47 @@ def fit_maxwell(f_hz, storage, loss_factor, terms: int | None = None, *, field: 
     solution, _ = scipy.optimize.nnls(np.vstack([columns.real, columns.imag]),
                                       np.concatenate([(k_data * weight).real, (k_data * weight).imag]) / scale)
     k0, stiffness = scale * solution[0], readonly(scale * solution[1:])
+    return _with_errors(float(k0), stiffness, tau, f_hz, storage, loss_factor)
+
+
+def _with_errors(k0: float, stiffness, tau, f_hz, storage, loss_factor) -> MaxwellFit:
+    """The :class:`MaxwellFit` of a model and its data, with its worst errors over them."""
     k_fit = maxwell_stiffness(f_hz, k0, stiffness, tau)
+    k_data = storage * (1 + 1j * loss_factor)
+    eta_fit, lossy = k_fit.imag / k_fit.real, loss_factor > 0
     return MaxwellFit(
-        long_term=float(k0), stiffness=stiffness, tau=readonly(tau), f_hz=f_hz, storage=storage,
-        loss_factor=loss_factor,
-        modulus_error=float(np.max(np.abs(np.abs(k_fit) - np.abs(k_data)) * weight)),
-        loss_angle_error_deg=float(np.degrees(np.max(np.abs(np.arctan(k_fit.imag / k_fit.real)
-                                                             - np.arctan(loss_factor))))),
+        long_term=float(k0), stiffness=readonly(stiffness), tau=readonly(tau), f_hz=readonly(f_hz),
+        storage=readonly(storage), loss_factor=readonly(loss_factor),
+        modulus_error=float(np.max(np.abs(np.abs(k_fit) / np.abs(k_data) - 1))),
+        loss_angle_error_deg=float(np.degrees(np.max(np.abs(np.arctan(eta_fit) - np.arctan(loss_factor))))),
+        loss_factor_error=float(np.max(np.abs(eta_fit[lossy] / loss_factor[lossy] - 1), initial=0.0)),
     )
 
 
-def constant_loss_model(stiffness: float, loss_factor: float, band_hz, terms: int | None = None) -> MaxwellFit:
-    """The causal generalized Maxwell model nearest a constant complex stiffness ``k (1 + i eta)`` over a band.
+def constant_loss_model(stiffness: float, loss_factor: float, band_hz, terms: int | None = None,
+                        check_hz=None) -> MaxwellFit:
+    """The causal generalized Maxwell model nearest a constant complex stiffness ``k (1 + i eta)`` at the
+    frequencies that matter.
 
     A frequency-independent complex stiffness (hysteretic, or structural, damping) is a common description
     of an elastomer mount, but it is not causal: by the Kramers-Kronig relations a loss angle
     ``delta = atan(eta)`` that is the same at every frequency requires ``|K|`` to rise like
     ``w^(2 delta / pi)`` (the fractional-derivative spring ``K ~ (i w)^(2 delta / pi)``, whose phase is
     ``delta`` everywhere), about ``10^(2 delta / pi)`` per decade (+16 % for ``eta = 0.1``). No causal model,
-    this one included, can keep both ``|K|`` and the loss angle constant; the fit shares the misfit between
-    them, and the :class:`MaxwellFit` reports both worst errors (``modulus_error``,
-    ``loss_angle_error_deg``): they grow with ``eta`` and with the band's width.
+    this one included, can keep both ``|K|`` and the loss factor constant over a wide band: over the span
+    ``f_max / f_min`` of the frequencies checked, ``|K|`` must change by about ``(f_max / f_min)^(2 eta / pi)``.
+
+    The model is the minimax fit at the frequencies checked: the smallest ``s`` for which
+    ``|Re K / k - 1|`` (hence ``|K*|``) is within ``s`` :data:`LOSS_MODULUS_TARGET` and ``Im K / Re K`` within
+    ``s`` :data:`LOSS_FACTOR_TARGET` of ``eta`` relative, at every frequency checked and within
+    :data:`BAND_SLACK` times that over the band (sampled at :data:`POINTS_PER_DECADE` points per decade),
+    found by bisection on ``s`` of linear programs (:func:`scipy.optimize.linprog`) in the stiffnesses
+    ``k0, k_i >= 0`` (passive), the branches' relaxation frequencies log-spaced over and beyond the band. Among the
+    models at that ``s`` it takes the one of least instantaneous stiffness ``k0 + sum k_i``. Both
+    constraints are linear: the loss factor's is ``(1 - s t) eta Re K <= Im K <= (1 + s t) eta Re K``, the
+    modulus's bounds ``Re K`` so that ``|K| = Re K sqrt(1 + eta_fit^2)`` stays within its target. The
+    :class:`MaxwellFit`'s data are the frequencies checked, its errors the exact worst ones there
+    (``modulus_error``, ``loss_factor_error``, ``loss_angle_error_deg``).
 
     Parameters
     ----------
@@ -281,10 +322,14 @@ def constant_loss_model(stiffness: float, loss_factor: float, band_hz, terms: in
     loss_factor : float
         Loss factor ``eta`` [-], >= 0.
     band_hz : array_like, shape (2,)
-        Band ``[low, high]`` [Hz], ``0 < low < high``, sampled at 20 log-spaced points per decade
-        (:data:`POINTS_PER_DECADE`), ends included.
+        Band ``[low, high]`` [Hz], ``0 < low < high``, over which the relaxation frequencies lie.
     terms : int, optional
-        Number of Maxwell branches (see :func:`fit_maxwell`, which does the fit).
+        Relaxation frequencies to choose the branches among, log-spaced from the bottom of the band to
+        :data:`RELAXATION_REACH` above its top, ends included (the fit keeps those it needs, a few). Default
+        :data:`CAUSAL_TERMS_PER_DECADE` per decade plus one.
+    check_hz : array_like, optional
+        The frequencies [Hz] within the band where the targets must hold (a scenario's natural and operating
+        frequencies); default: the band's samples, :data:`POINTS_PER_DECADE` per decade, ends included.
 
     Returns
     -------
@@ -293,13 +338,68 @@ def constant_loss_model(stiffness: float, loss_factor: float, band_hz, terms: in
     Raises
     ------
     sixdof.errors.InputError
-        Naming the argument that is out of range.
+        Naming the argument that is out of range (a frequency checked outside the band included).
     """
     k = number(stiffness, "stiffness", "a storage stiffness in N/m > 0", low=0.0, strict=True)
     eta = number(loss_factor, "loss_factor", "a loss factor >= 0", low=0.0)
     low, high = frequency_band(band_hz, "band_hz")
-    f_hz = np.geomspace(low, high, 1 + max(1, round(POINTS_PER_DECADE * math.log10(high / low))))
-    return fit_maxwell(f_hz, np.full_like(f_hz, k), np.full_like(f_hz, eta), terms, field="constant_loss_model")
+    band = np.geomspace(low, high, 1 + max(1, round(POINTS_PER_DECADE * math.log10(high / low))))
+    if check_hz is None:
+        check = band
+    else:
+        check = np.unique(finite_array(check_hz, "check_hz", "a 1-D array of finite frequencies in Hz", (-1,)))
+        inside = (check >= low * (1 - 1e-12)) & (check <= high * (1 + 1e-12))
+        if not check.size or not inside.all():
+            raise InputError("check_hz", f"frequencies within the band {low:g}-{high:g} Hz",
+                             Plain(", ".join(f"{f:.4g}" for f in check[~inside]) + " Hz" if check.size else "none"))
+    reach = (low, high * RELAXATION_REACH)  # none below: they would take the static load over from k0
+    if terms is None:
+        terms = 1 + math.ceil(CAUSAL_TERMS_PER_DECADE * math.log10(reach[1] / reach[0]))
+    terms = integer(terms, "terms", "a positive number of Maxwell branches", 1)
+    tau = 1 / (2 * np.pi * (np.geomspace(*reach, terms) if terms > 1 else np.array([math.sqrt(low * high)])))
+    if eta == 0.0:
+        stiffness_k, k0 = np.zeros(terms), k
+    else:
+        between = band[(band > check[0]) & (band < check[-1])]  # beyond the frequencies checked: free
+        k0, stiffness_k = _minimax_loss_fit(eta, check, between, tau)
+        k0, stiffness_k = k * k0, k * stiffness_k
+    return _with_errors(k0, stiffness_k, tau, check, np.full_like(check, k), np.full_like(check, eta))
+
+
+def _minimax_loss_fit(eta: float, check: np.ndarray, band: np.ndarray, tau: np.ndarray) -> tuple[float, np.ndarray]:
+    """``k0 / k`` and ``k_i / k`` of :func:`constant_loss_model` (see there)."""
+    import scipy.optimize  # here: building a model imports this module, not the fit's optimizer
+
+    modulus = math.sqrt(1 + eta ** 2)
+
+    def rows(f_hz, s):
+        columns = np.column_stack([np.ones(f_hz.size), relaxation(f_hz[:, None], tau)])
+        re, im = columns.real, columns.imag
+        high, low = (1 + LOSS_FACTOR_TARGET * s) * eta, max(1 - LOSS_FACTOR_TARGET * s, 0.0) * eta
+        a = np.vstack([im - high * re, low * re - im, re * math.sqrt(1 + high ** 2), -re * math.sqrt(1 + low ** 2)])
+        b = np.concatenate([np.zeros(2 * f_hz.size), np.full(f_hz.size, (1 + LOSS_MODULUS_TARGET * s) * modulus),
+                            np.full(f_hz.size, -(1 - LOSS_MODULUS_TARGET * s) * modulus)])
+        return a, b
+
+    def solve(s, cost):
+        (a1, b1), (a2, b2) = rows(check, s), rows(band, BAND_SLACK * s)
+        return scipy.optimize.linprog(cost, A_ub=np.vstack([a1, a2]), b_ub=np.concatenate([b1, b2]),
+                                      bounds=(0, None), method="highs")
+
+    feasible = np.zeros(tau.size + 1)
+    low, high = 0.0, 1 / LOSS_FACTOR_TARGET  # from there on a plain spring k0 = k meets the loss factor's bounds
+    while solve(high, feasible).status != 0:  # and, but for eta > 1.7, the modulus's
+        low, high = high, 2 * high
+    for _ in range(24):  # s to 1e-6
+        middle = (low + high) / 2
+        if solve(middle, feasible).status == 0:
+            high = middle
+        else:
+            low = middle
+    found = solve(high * (1 + 1e-6) + 1e-9, np.ones(tau.size + 1))
+    if found.status != 0:  # cannot happen: ``high`` was feasible
+        raise RuntimeError(f"constant_loss_model: the linear program failed at s = {high:g}: {found.message}")
+    return float(found.x[0]), found.x[1:]
 
 
 AXES = "uvw"
@@ -334,41 +434,109 @@ def with_fits(system, fits):
     return dataclasses.replace(system, mounts=tuple(mounts.values()), maxwell=tuple(branches))
 
 
-def loss_band(system) -> tuple[float, float]:
-    """The default band [Hz] of :func:`causal_loss_factors`: from half the lowest to twice the highest natural
-    frequency of the elastic modes, where the mounts' damping shapes the response."""
-    f = np.asarray(system.modes.frequency_hz)
-    f = f[f > 0]
-    return float(f.min() / 2), float(f.max() * 2)
+def checked_frequencies(system, operating_hz=()) -> np.ndarray:
+    """The frequencies [Hz] at which :func:`causal_loss_factors` checks its models: every elastic natural
+    frequency of ``system`` (its mounts' stiffness as given, undamped) and every operating frequency, sorted."""
+    f = np.asarray(system.modes.frequency_hz, dtype=float)
+    f = np.concatenate([f[f > 0], np.asarray(operating_hz, dtype=float).ravel()])
+    return np.unique(f[f > 0])
 
 
-def causal_loss_factors(system, band_hz=None, terms: int | None = None):
+def loss_band(system, operating_hz=()) -> tuple[float, float]:
+    """The default band [Hz] of :func:`causal_loss_factors`: from :data:`BAND_MARGIN` below the lowest to
+    :data:`BAND_MARGIN` above the highest frequency checked (:func:`checked_frequencies`)."""
+    f = checked_frequencies(system, operating_hz)
+    if not f.size:
+        raise InputError("system", "an elastic mode or an operating frequency for the loss factors' Maxwell models",
+                         Plain("none: every mode has zero frequency"))
+    return float(f.min() / BAND_MARGIN), float(f.max() * BAND_MARGIN)
+
+
+def causal_loss_factors(system, band_hz=None, terms: int | None = None, operating_hz=()):
     """``system`` with every mount axis's loss factor replaced by the causal Maxwell model nearest its
-    complex stiffness ``k (1 + i eta)`` over ``band_hz`` (:func:`constant_loss_model`), so that the time
-    response and the frequency responses model the same mount.
+    complex stiffness ``k (1 + i eta)`` at every elastic natural frequency and operating frequency
+    (:func:`constant_loss_model`, checked at :func:`checked_frequencies`), which a time solve can carry.
 
     Parameters
     ----------
     system : sixdof.model.system.System
     band_hz : array_like, shape (2,), optional
-        ``[low, high]`` [Hz]; default :func:`loss_band`.
+        ``[low, high]`` [Hz], covering every frequency checked; default :func:`loss_band`.
     terms : int, optional
-        Maxwell branches per axis (default: see :func:`fit_maxwell`).
+        Relaxation frequencies per axis to choose the branches among (default: see :func:`constant_loss_model`).
+    operating_hz : array_like, optional
+        The operating frequencies [Hz] of the excitation (harmonic loads, unbalance).
 
     Returns
     -------
     system : sixdof.model.system.System
-        Without loss factors, with the branches (:func:`with_fits`).
+        Without loss factors, with the branches (:func:`with_fits`); each axis's long-term stiffness replaces
+        its stiffness (the statics see it).
     fits : tuple of MaxwellFit
-        One per mount axis with a loss factor, named ``"<mount> <axis>"``.
+        One per mount axis with a loss factor, named ``"<mount> <axis>"``, its data the frequencies checked.
+
+    Raises
+    ------
+    sixdof.errors.InputError
+        ``band_hz`` when it leaves out a frequency checked.
     """
-    band = loss_band(system) if band_hz is None else frequency_band(band_hz, "band_hz")
-    fits = []
+    check = checked_frequencies(system, operating_hz)
+    band = loss_band(system, operating_hz) if band_hz is None else frequency_band(band_hz, "band_hz")
+    outside = check[(check < band[0]) | (check > band[1])]
+    if outside.size:
+        raise InputError("band_hz", f"a band covering every natural and operating frequency ({check[0]:.4g}-"
+                         f"{check[-1]:.4g} Hz), where the loss factors' models are checked",
+                         Plain(f"[{band[0]:g}, {band[1]:g}] Hz, without {', '.join(f'{f:.4g}' for f in outside)} Hz"))
+    fits, models = [], {}
     for mount in system.mounts:
         for a in np.flatnonzero(mount.loss_factor > 0):
-            fit = constant_loss_model(mount.stiffness[a], mount.loss_factor[a], band, terms)
+            key = (float(mount.stiffness[a]), float(mount.loss_factor[a]))
+            if key not in models:  # mount axes alike share one fit
+                models[key] = constant_loss_model(*key, band, terms, check_hz=check)
             fits.append((mount.name, AXES[a], dataclasses.replace(
-                fit, name=f"{mount.name} {AXES[a]}", source=f"loss factor {mount.loss_factor[a]:g}")))
+                models[key], name=f"{mount.name} {AXES[a]}", source=f"loss factor {mount.loss_factor[a]:g}")))
     plain = dataclasses.replace(system, mounts=tuple(dataclasses.replace(m, loss_factor=np.zeros(3))
                                                      for m in system.mounts))
     return with_fits(plain, fits), tuple(fit for _, _, fit in fits)
+
+
+def loss_fit_misses(fits) -> list[str]:
+    """One message per causal model of a loss factor (``source`` ``"loss factor ..."``) that misses
+    :data:`LOSS_MODULUS_TARGET` in ``|K*|`` or :data:`LOSS_FACTOR_TARGET` in loss factor at a frequency it is
+    checked at, naming its mount axes, its worst errors and where; none: []."""
+    groups: dict[int, list] = {}
+    for fit in fits:
+        if fit.source.startswith("loss factor ") and (fit.modulus_error > LOSS_MODULUS_TARGET
+                                                      or fit.loss_factor_error > LOSS_FACTOR_TARGET):
+            groups.setdefault(id(fit.stiffness), []).append(fit)
+    messages = []
+    for members in groups.values():
+        fit = members[0]
+        k = fit.dynamic_stiffness(fit.f_hz)
+        modulus = np.abs(np.abs(k) / np.abs(fit.storage * (1 + 1j * fit.loss_factor)) - 1)
+        eta = np.abs(k.imag / k.real / fit.loss_factor - 1)
+        messages.append(
+            f"the causal Maxwell model of {fit.source} ({', '.join(m.name for m in members)}) that the time paths "
+            f"use misses k (1 + i eta) by up to {100 * fit.modulus_error:.3g} % in |K*| (at "
+            f"{fit.f_hz[np.argmax(modulus)]:.4g} Hz) and {100 * fit.loss_factor_error:.3g} % in loss factor (at "
+            f"{fit.f_hz[np.argmax(eta)]:.4g} Hz) over the natural and operating frequencies "
+            f"{fit.f_hz[0]:.4g}-{fit.f_hz[-1]:.4g} Hz (targets {100 * LOSS_MODULUS_TARGET:g} % and "
+            f"{100 * LOSS_FACTOR_TARGET:g} %): a constant loss factor is not causal, and over this spread of "
+            "frequencies no causal model holds it; the time response's damping and stiffness differ from the "
+            "frequency responses' there")
+    return messages
+
+
+def long_term_note(fits) -> str:
+    """The line a run prints and records when its statics use the long-term stiffness of the causal Maxwell
+    models of the loss factors (``fits`` :class:`MaxwellFit`, those with ``source`` ``"loss factor ..."``), with
+    their worst errors at the frequencies checked; "" without such models."""
+    causal = [fit for fit in fits if fit.source.startswith("loss factor ")]
+    if not causal:
+        return ""
+    ratios = {fit.source: fit.long_term / fit.storage[0] for fit in causal}
+    return ("statics: with the long-term (zero-frequency) stiffness of the causal Maxwell models of the loss factors, "
+            + ", ".join(f"{ratio:.3g} k for {source}" for source, ratio in ratios.items())
+            + f" (the time paths' model; worst errors at the natural and operating frequencies "
+            f"{100 * max(f.modulus_error for f in causal):.3g} % in |K*|, "
+            f"{100 * max(f.loss_factor_error for f in causal):.3g} % in loss factor)")

@@ -51,13 +51,15 @@ def plot_dynamic_stiffness(fits: Sequence[tuple[str, MaxwellFit]], title: str | 
         f = np.geomspace(low / BEYOND_BAND, high * BEYOND_BAND, 400)
         k = fit.dynamic_stiffness(f)
         line, = top.loglog(f, k.real, linewidth=1.4,
-                           label=f"{label}: {np.count_nonzero(fit.stiffness)} branches, |K| within "
-                                 f"{100 * fit.modulus_error:.2g} %, loss angle within {fit.loss_angle_error_deg:.2g}°")
+                           label=f"{label}: {np.count_nonzero(fit.stiffness)} branches; worst errors "
+                                 f"{100 * fit.modulus_error:.2g} % in |K*|, {100 * fit.loss_factor_error:.2g} % in "
+                                 "loss factor")
         bottom.semilogx(f, k.imag / k.real, color=line.get_color(), linewidth=1.4)
         top.plot(fit.f_hz, fit.storage, "o", color=line.get_color(), markersize=4, markerfacecolor="none")
         bottom.plot(fit.f_hz, fit.loss_factor, "o", color=line.get_color(), markersize=4, markerfacecolor="none")
     top.set_ylabel("storage stiffness K' [N/m]")
-    top.set_title("markers: data; lines: Maxwell fit (errors: worst over the data)", fontsize=10)
+    top.set_title("markers: data (a loss factor's: the natural and operating frequencies checked); lines: Maxwell "
+                  "fit", fontsize=10)
     top.legend(fontsize=8, loc="upper left")
     bottom.set_ylabel("loss factor η = K''/K' [1]")
     bottom.set_xlabel("frequency f [Hz]")

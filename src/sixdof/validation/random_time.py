@@ -13,8 +13,9 @@ period of the band's top frequency (inverse FFTs) make a cubic Hermite table sig
 the top of the band and far closer below. The body starts at rest; the first ``settle_s`` (the slowest
 mode's transient down to 1e-3) are integrated and discarded.
 
-**What is compared** (the model a time solve integrates: the mounts' loss factors, which have no causal
-time form, are left out of both sides and the result says so):
+**What is compared** (the model a time solve integrates, on both sides: a run passes its ``time_system``, whose
+loss factors are their causal Maxwell models, so the FRF side is that model's too; loss factors still in the
+system given have no causal time form, are left out of both sides and the result says so):
 
 - the mean square of every excited response over the record: the CG's absolute displacement (less the
   ramp of a ground that starts at rest) and acceleration per DOF, each ``[[points]]`` point's acceleration
@@ -213,9 +214,12 @@ def _least_damped(system, band) -> tuple[float, float]:
     zeta = _modal_damping(system)
     inside = (f_n >= band[0]) & (f_n <= band[1]) & (f_n > 0)
     bandwidth = float(np.min(2 * zeta[inside] * f_n[inside])) if np.any(inside) else band[0]
-    M, C, K = (np.asarray(a) for a in (system.M, system.C, system.K))
-    state = np.block([[np.zeros((6, 6)), np.eye(6)], [-np.linalg.solve(M, K), -np.linalg.solve(M, C)]])
-    decay = float(np.min(-np.linalg.eigvals(state).real))  # every pole's, overdamped ones included
+    from sixdof.analysis.direct import mechanical_form
+
+    branches = system.branches
+    state = mechanical_form(np.linalg.inv(np.asarray(system.M)), system.K, system.C, branches.rows, branches.stiffness,
+                            branches.tau)
+    decay = float(np.min(-np.linalg.eigvals(state).real))  # every pole's, overdamped ones and branches' included
     return bandwidth, decay
 
 
@@ -444,6 +448,8 @@ def random_time_check(system, random, points=None, settings: TimeCheckSettings |
     Parameters
     ----------
     system : sixdof.model.system.System
+        The model integrated and whose FRFs are compared: a scenario's ``time_system`` (loss factors as their
+        causal Maxwell models, so the check carries their damping on both sides).
     random : sixdof.analysis.random.RandomInput
     points : mapping of str to array_like, optional
         Named body points [m] whose accelerations are compared.

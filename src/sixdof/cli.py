@@ -35,6 +35,8 @@ EXIT_INTERRUPTED = 130  # 128 + SIGINT, as a shell reports a process killed by i
 EXIT_CLOSED_PIPE = 141  # 128 + SIGPIPE: as a shell reports a command killed by writing to a closed pipe (`yes | head`)
 EXIT_TERMINATED = 143  # 128 + SIGTERM
 
+#: Delay before an interruption swallowed by a finalizer is raised again [s] (:func:`_cleanup_errors`).
+REDELIVERY_S = 0.02
 #: What OpenBLAS reads for its thread count, in this order: a user who set any of them chose (:func:`_one_blas_thread`).
 BLAS_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")
 
@@ -50,16 +52,35 @@ def main(argv: list[str] | None = None) -> int:
     as the exit handlers registered from then on have run and its output is flushed
     (:func:`_skip_teardown`); those a program registered before do not run.
     """
-    args = _parser().parse_args(argv)
     status = [EXIT_FAILED]  # what the process ends with if the command raises
-    if argv is None:
-        _skip_teardown(status)
-        collect_less()  # the command's process is sixdof's: a program calling main() keeps its settings
-        keep_freed_memory()
-        if args.command in (_run, _validate, _plot):
-            _one_blas_thread()
+    try:
+        if argv is None and threading.current_thread() is threading.main_thread():
+            # First: from here on a SIGTERM is one line and 143, not a silent death by the signal.
+            signal.signal(signal.SIGTERM, _terminate)
+        args = _parser().parse_args(argv)
+        if argv is None:
+            _skip_teardown(status)
+            collect_less()  # the command's process is sixdof's: a program calling main() keeps its settings
+            keep_freed_memory()
+            if args.command in (_run, _validate, _plot):
+                _one_blas_thread()
+    except KeyboardInterrupt:  # while the command starts, before it has done anything
+        status[0] = _stopped("interrupted; no partial results were left", EXIT_INTERRUPTED)
+        return status[0]
+    except Terminated:
+        status[0] = _stopped("terminated (SIGTERM); no partial results were left", EXIT_TERMINATED)
+        return status[0]
     status[0] = _command(args)
     return status[0]
+
+
+def _stopped(message: str, status: int) -> int:
+    print(f"sixdof: {message}", file=sys.stderr)
+    return status
+
+
+def _terminate(signum, frame):
+    raise Terminated
 
 
 def _command(args) -> int:
@@ -78,6 +99,11 @@ def _command(args) -> int:
     except Exception as exc:
         if isinstance(exc, BrokenPipeError) and _closed_pipes():
             return EXIT_CLOSED_PIPE  # whoever read the output stopped reading: nothing failed, nothing to say
+        cause = _interruption(exc)  # one a library wrapped (Python 3.11's __set_name__ in a RuntimeError)
+        if isinstance(cause, KeyboardInterrupt):
+            return _fail(args, f"interrupted; {_left(cause)}", EXIT_INTERRUPTED)
+        if isinstance(cause, Terminated):
+            return _fail(args, f"terminated (SIGTERM); {_left(cause)}", EXIT_TERMINATED)
         failure = _failure(exc)
         if failure is None:
             raise  # not a user's error: its traceback is what to report
@@ -86,6 +112,17 @@ def _command(args) -> int:
         return _fail(args, f"interrupted; {_left(exc)}", EXIT_INTERRUPTED)
     except Terminated as exc:
         return _fail(args, f"terminated (SIGTERM); {_left(exc)}", EXIT_TERMINATED)
+
+
+def _interruption(exc: BaseException) -> BaseException | None:
+    """The KeyboardInterrupt or :class:`Terminated` that ``exc`` was raised from or while handling, if any."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, (KeyboardInterrupt, Terminated)):
+            return exc
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return None
 
 
 def _left(interruption: BaseException) -> str:
@@ -172,10 +209,7 @@ def _signals():
         yield
         return
 
-    def terminate(signum, frame):
-        raise Terminated
-
-    previous = {signal.SIGTERM: signal.signal(signal.SIGTERM, terminate),
+    previous = {signal.SIGTERM: signal.signal(signal.SIGTERM, _terminate),
                 signal.SIGXFSZ: signal.signal(signal.SIGXFSZ, signal.SIG_IGN)}
     try:
         yield
@@ -185,12 +219,49 @@ def _signals():
 
 
 @contextmanager
+def _loading():
+    """SIGINT and SIGTERM held back while a command imports NumPy, JAX and the modules built on them, and acted on
+    once the imports are done (within a second): an interruption raised inside an extension module's start
+    (XLA's) crashed the process (SIGSEGV, SIGABRT) or left a half-made module that cannot be imported again
+    ("cannot load module more than once per process"). As :func:`sixdof.io.output.held_signals`, which cannot be
+    imported before NumPy."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    received: list[int] = []
+    previous = {s: signal.signal(s, lambda signum, frame: received.append(signum))
+                for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+        if received:
+            signal.raise_signal(received[0])
+
+
+@contextmanager
 def _cleanup_errors(debug: bool):
     """Errors raised while objects are destroyed (h5py closing a file the disk refused, after the write
-    already failed) repeat the failure in tracebacks: printed only with ``--debug``."""
-    previous = sys.unraisablehook
-    if not debug:
-        sys.unraisablehook = lambda unraisable: None
+    already failed) repeat the failure in tracebacks: printed only with ``--debug``. An interruption raised
+    there is not lost: its signal comes again."""
+    previous, alarm = sys.unraisablehook, []
+    interruptions = {KeyboardInterrupt: signal.SIGINT, Terminated: signal.SIGTERM}
+
+    def hook(unraisable) -> None:
+        lost = interruptions.get(unraisable.exc_type)
+        if lost is not None and threading.current_thread() is threading.main_thread():
+            # A signal whose handler ran inside a finalizer or a garbage-collector callback (JAX's
+            # _xla_gc_callback, while JAX imports): its exception cannot leave there and would be lost, the
+            # run going on to the end. The signal is sent again by a timer once this hook has returned (not
+            # by a thread: starting one waits, and the signal would come back into the hook), to whatever
+            # handles it then (held back while a file is written).
+            alarm.append(signal.signal(signal.SIGALRM, lambda signum, frame: os.kill(os.getpid(), lost)))
+            signal.setitimer(signal.ITIMER_REAL, REDELIVERY_S)
+        elif debug:
+            previous(unraisable)
+
+    sys.unraisablehook = hook
     try:
         yield
     except BaseException:
@@ -202,6 +273,9 @@ def _cleanup_errors(debug: bool):
         raise
     finally:
         sys.unraisablehook = previous
+        if alarm:
+            signal.setitimer(signal.ITIMER_REAL, 0)
+            signal.signal(signal.SIGALRM, alarm[0])
 
 
 def _fail(args, message: str, status: int) -> int:
@@ -284,15 +358,23 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _modes(args) -> int:
+    with _loading():
+        from sixdof.io.scenario import load_scenario
+        from sixdof.io.toml import naming
+
+        scenario = load_scenario(args.scenario)  # its imports held with the rest: NumPy and JAX load there
+    with naming(args.scenario):  # what the analysis finds wrong in the scenario names its file too
+        return _show_modes(args, scenario)
+
+
+def _show_modes(args, scenario) -> int:
     from sixdof.analysis.design import design_metrics
     from sixdof.analysis.statespace import damping_ratios
     from sixdof.analysis.statics import try_gravity_statics
     from sixdof.analysis.validity import RangeWarning, implausible_inputs, static_range
     from sixdof.errors import InputError, Plain
     from sixdof.io import report
-    from sixdof.io.scenario import load_scenario
 
-    scenario = load_scenario(args.scenario)
     system = scenario.system
     modes = system.modes
     statics, no_statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
@@ -356,16 +438,19 @@ def _run(args) -> int:
 
     # Started first: the figure workers import matplotlib while this process loads the scenario and solves.
     with FigureWorkers() as workers:
-        import numpy as np
+        with _loading():
+            import numpy as np
 
-        from sixdof.io import report
-        from sixdof.io.scenario import load_scenario
-        from sixdof.workflows import run_scenario
+            from sixdof.io import report
+            from sixdof.io.scenario import load_scenario
+            from sixdof.io.toml import naming
+            from sixdof.workflows import run_scenario
 
-        _compile_cache()
+            _compile_cache()
         scenario = load_scenario(args.scenario)
-        outcome = run_scenario(scenario, args.out, progress=_progress(args), command_line=" ".join(sys.argv),
-                               workers=workers)
+        with naming(args.scenario):  # what the run finds wrong in the scenario names its file too
+            outcome = run_scenario(scenario, args.out, progress=_progress(args), command_line=" ".join(sys.argv),
+                                   workers=workers)
     print(f"{_title(scenario)}\n")
     print(report.modes_table(outcome.modes, outcome.damping_ratios, scenario.system))
     print(report.damping_note(scenario.system))
@@ -413,14 +498,17 @@ def _run(args) -> int:
 def _validate(args) -> int:
     from sixdof.io.report import validation_text
     from sixdof.io.scenario import load_scenario
+    from sixdof.io.toml import naming
     from sixdof.plots.workers import FigureWorkers
     from sixdof.workflows import validate_scenario
 
     with FigureWorkers() as workers:  # started first: they import matplotlib while this process computes
-        _compile_cache()
+        with _loading():
+            _compile_cache()
         scenario = load_scenario(args.scenario)
-        report, directory = validate_scenario(scenario, args.out, command_line=" ".join(sys.argv), workers=workers,
-                                              progress=_progress(args))
+        with naming(args.scenario):
+            report, directory = validate_scenario(scenario, args.out, command_line=" ".join(sys.argv),
+                                                  workers=workers, progress=_progress(args))
     print(validation_text(report))
     print(f"\nWrote {directory}")
     if report.verdict != "PASS":
@@ -432,12 +520,16 @@ def _validate(args) -> int:
 
 
 def _optimize(args) -> int:
-    from sixdof.design.workflow import optimize_scenario
-    from sixdof.io.scenario import load_scenario
+    with _loading():
+        from sixdof.design.workflow import optimize_scenario
+        from sixdof.io.scenario import load_scenario
+        from sixdof.io.toml import naming
 
+    _check_workers(args)
     scenario = load_scenario(args.scenario)
-    outcome = optimize_scenario(scenario, args.out, progress=_progress(args), workers=args.workers,
-                                scheduler=args.scheduler)
+    with naming(args.scenario):
+        outcome = optimize_scenario(scenario, args.out, progress=_progress(args), workers=args.workers,
+                                    scheduler=args.scheduler)
     print(f"\nWrote {outcome.directory}: {', '.join(p.name for p in outcome.files)}")
     if not outcome.met:
         print("sixdof: the targets are not all met (see above); the best compromise is written", file=sys.stderr)
@@ -455,6 +547,15 @@ def _where_arguments(parser, what: str) -> None:
                        help=f"compute the {what} on an existing Dask cluster (tcp://host:8786)")
 
 
+def _check_workers(args) -> None:
+    """``--workers`` checked before anything is read (:func:`sixdof.tasks.check_workers`)."""
+    if args.workers is not None:
+        from sixdof.errors import integer
+        from sixdof.tasks import check_workers
+
+        check_workers(integer(args.workers, "--workers", "a number of worker processes >= 1", 1))
+
+
 def _export(args) -> int:
     from sixdof.io.exchange import export
 
@@ -464,20 +565,24 @@ def _export(args) -> int:
 
 
 def _sweep(args) -> int:
-    from sixdof.errors import SolverError
-    from sixdof.io import report
-    from sixdof.io.output import check_target
-    from sixdof.io.scenario import load_scenario
-    from sixdof.io.sweep import load_sweep_spec
-    from sixdof.sweeps import CHUNKS_SUFFIX, ChunkFolder, sweep_scenario
+    with _loading():
+        from sixdof.errors import SolverError
+        from sixdof.io import report
+        from sixdof.io.output import check_target
+        from sixdof.io.scenario import load_scenario
+        from sixdof.io.sweep import load_sweep_spec
+        from sixdof.io.toml import naming
+        from sixdof.sweeps import CHUNKS_SUFFIX, ChunkFolder, sweep_scenario
 
-    _compile_cache()
+        _check_workers(args)
+        _compile_cache()
     scenario = load_scenario(args.scenario)
     spec = load_sweep_spec(args.spec)
     try:
-        outcome = sweep_scenario(scenario, spec, args.out, chunk_size=args.chunk_size, workers=args.workers,
-                                 scheduler=args.scheduler, resume=args.resume, progress=_progress(args),
-                                 command_line=" ".join(sys.argv))
+        with naming(args.scenario):  # the spec's own errors name the spec's file already
+            outcome = sweep_scenario(scenario, spec, args.out, chunk_size=args.chunk_size, workers=args.workers,
+                                     scheduler=args.scheduler, resume=args.resume, progress=_progress(args),
+                                     command_line=" ".join(sys.argv))
     except (KeyboardInterrupt, Terminated, SolverError) as exc:
         chunks = check_target(args.out, scenario.name, "_sweep")
         chunks = chunks.with_name(chunks.name + CHUNKS_SUFFIX)

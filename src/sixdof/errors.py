@@ -66,13 +66,32 @@ def finite_array(value: object, field: str, expected: str, shape: tuple[int, ...
     return array
 
 
+#: The highest frequency accepted [Hz] (signals, bands, FRF and PSD grids, rotation speeds): far above any
+#: rigid-body mode, and low enough that (2 pi f)^2 times a mass, a stiffness or a PSD stays within float64.
+MAX_FREQUENCY_HZ = 1e9
+#: The shortest pulse, ramp or sweep accepted [s]: 1 / :data:`MAX_FREQUENCY_HZ`.
+MIN_DURATION_S = 1e-9
+
+
 def frequency_band(value: object, field: str, expected: str = "a band [low, high] in Hz with 0 < low < high"
                    ) -> tuple[float, float]:
-    """``value`` as a frequency band ``(low, high)`` [Hz] with ``0 < low < high``, both finite."""
+    """``value`` as a frequency band ``(low, high)`` [Hz] with ``0 < low < high <=`` :data:`MAX_FREQUENCY_HZ`."""
     low, high = finite_array(value, field, expected, (2,)).tolist()
     if not 0 < low < high:
         raise InputError(field, expected, value)
+    check_frequencies(high, field, value)
     return low, high
+
+
+def short(x: float) -> str:
+    """``x`` as ``:g`` writes it, without the exponent's sign and zeros: ``1e9``, ``6e10``, ``1e-9``."""
+    return re.sub(r"e([+-])0*(\d)", lambda m: f"e{'-' if m[1] == '-' else ''}{m[2]}", f"{x:g}")
+
+
+def check_frequencies(highest: float, field: str, got: object) -> None:
+    """Refuse frequencies beyond :data:`MAX_FREQUENCY_HZ` (``highest`` [Hz], ``got`` as given)."""
+    if highest > MAX_FREQUENCY_HZ:
+        raise InputError(field, f"frequencies up to {short(MAX_FREQUENCY_HZ)} Hz", got)
 
 
 def real_array(value: object, field: str, expected: str, max_ndim: int) -> np.ndarray:
@@ -126,9 +145,9 @@ def readonly(value: Any, dtype: Any = float) -> np.ndarray:
 
 
 def number(value: Any, field: str, expected: str, *, low: float | None = None, strict: bool = False,
-           allow_inf: bool = False) -> float:
+           allow_inf: bool = False, high: float | None = None) -> float:
     """``value`` as a float: a real number (not a bool, not a string), not NaN, finite unless
-    ``allow_inf``, and ``>= low`` (``> low`` when ``strict``).
+    ``allow_inf``, ``>= low`` (``> low`` when ``strict``) and ``<= high``.
 
     Raises
     ------
@@ -141,6 +160,8 @@ def number(value: Any, field: str, expected: str, *, low: float | None = None, s
     if math.isnan(x) or (math.isinf(x) and not allow_inf):
         raise InputError(field, expected, value)
     if low is not None and (x < low or (strict and x == low)):
+        raise InputError(field, expected, value)
+    if high is not None and x > high:
         raise InputError(field, expected, value)
     return x
 

@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from sixdof.errors import InputError, Plain, SolverError, integer
+from sixdof.errors import InputError, Plain, SolverError, integer, memory_check
 
 #: Recomputations of a chunk whose task raised (a worker that dies costs no retry: the scheduler moves its
 #: chunks to another worker, up to Dask's ``distributed.scheduler.allowed-failures`` deaths per chunk).
@@ -52,6 +52,12 @@ WORKER_ENV = {
     "XLA_FLAGS": "--xla_cpu_multi_thread_eigen=false intra_op_parallelism_threads=1",
 }
 BACKENDS = ("in-process", "dask-local", "dask")
+#: The most local worker processes per CPU core (``--workers``): each runs one thread, so beyond a few per core
+#: they only take turns on the cores while each holds its own memory.
+WORKERS_PER_CORE = 4
+#: The least memory a local worker process holds [bytes]: 262 MiB measured once it has imported JAX, Dask
+#: and the batch engine, before its first chunk.
+WORKER_BYTES = 262 * 2**20
 
 
 #: The most variants a sweep or a robustness study may ask for (:func:`check_count`): 10^7 take 6 min of the
@@ -86,6 +92,23 @@ def check_count(count: int, field: str, what: str = "variants", limit: int = MAX
         raise InputError(field, f"at most {limit:,} {what}",
                          Plain(f"{count:,} (at least {duration_text(count * seconds_each)} of computing at "
                                f"{duration_text(seconds_each)} each)"))
+
+
+def check_workers(workers: int) -> None:
+    """Refuse up front a local cluster of more than :data:`WORKERS_PER_CORE` worker processes per CPU core, or
+    one whose processes (:data:`WORKER_BYTES` each) cannot fit in this machine's memory.
+
+    Raises
+    ------
+    InputError
+        Naming ``--workers``, with this machine's cores or memory.
+    """
+    cores = os.cpu_count() or 1
+    if workers > WORKERS_PER_CORE * cores:
+        raise InputError("--workers", f"at most {WORKERS_PER_CORE * cores:,} worker processes ({WORKERS_PER_CORE} per "
+                         f"core of this machine's {cores}; each runs one thread)", workers)
+    memory_check("--workers", workers * WORKER_BYTES, "a local cluster", f"{workers:,} worker processes of at least "
+                 f"{WORKER_BYTES / 2**20:.0f} MiB each")
 
 
 def partition(count: int, size: int) -> list[range]:
@@ -279,6 +302,7 @@ def task_runner(workers: int | None = None, scheduler: str | None = None, client
         return
     if workers is not None:
         workers = integer(workers, "--workers", "a number of worker processes >= 1", 1)
+        check_workers(workers)
         _import_distributed("--workers", workers)
     else:
         if not isinstance(scheduler, str) or not scheduler.strip():

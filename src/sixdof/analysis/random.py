@@ -23,7 +23,17 @@ import numpy as np
 
 from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.dofs import DOFS, MixedUnits, dof_units, mixed_units
-from sixdof.errors import InputError, Plain, choice_check, finite_array, instance, optional, point_check, readonly
+from sixdof.errors import (
+    InputError,
+    Plain,
+    check_frequencies,
+    choice_check,
+    finite_array,
+    instance,
+    optional,
+    point_check,
+    readonly,
+)
 from sixdof.frozen import Frozen, checked
 from sixdof.results import Result, label, part, quantity
 
@@ -39,6 +49,7 @@ def _breakpoints(value, field: str) -> np.ndarray:
     f = finite_array(value, field, expected, (-1,))
     if f.size < 2 or np.any(f <= 0) or np.any(np.diff(f) <= 0):
         raise InputError(field, expected, value)
+    check_frequencies(f[-1], field, value)
     return f
 
 

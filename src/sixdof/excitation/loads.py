@@ -16,6 +16,7 @@ from typing import ClassVar
 import numpy as np
 
 from sixdof.errors import (
+    MAX_FREQUENCY_HZ,
     InputError,
     Plain,
     array_check,
@@ -27,6 +28,7 @@ from sixdof.errors import (
     optional,
     point_check,
     readonly,
+    short,
     tuple_check,
     vector3_check,
 )
@@ -113,10 +115,12 @@ class Unbalance(Frozen):
     name: str = checked(label_check)
     point: np.ndarray = checked(point_check)
     unbalance: float = checked(number_check("a positive m e in kg m", low=0.0, strict=True))
-    f_hz: float | None = checked(optional(number_check("a positive rotation frequency in Hz", low=0.0, strict=True)),
-                                 default=None)
-    speed_rpm: float | None = checked(optional(number_check("a positive speed in rev/min", low=0.0, strict=True)),
-                                      default=None)
+    f_hz: float | None = checked(optional(number_check(f"a positive rotation frequency in Hz, at most "
+                                                       f"{short(MAX_FREQUENCY_HZ)}", low=0.0, strict=True,
+                                                       high=MAX_FREQUENCY_HZ)), default=None)
+    speed_rpm: float | None = checked(optional(number_check(f"a positive speed in rev/min, at most "
+                                                            f"{short(60 * MAX_FREQUENCY_HZ)}", low=0.0, strict=True,
+                                                            high=60 * MAX_FREQUENCY_HZ)), default=None)
     axis: np.ndarray = checked(direction_check("a non-zero 3-vector (spin axis, body axes)"),
                                default_factory=lambda: np.array([0.0, 0.0, 1.0]))
     phase_deg: float = checked(number_check("a finite phase in degrees"), default=0.0)

@@ -29,6 +29,8 @@ import numpy as np
 
 from sixdof._jax import jax, jnp
 from sixdof.errors import (
+    MAX_FREQUENCY_HZ,
+    MIN_DURATION_S,
     InputError,
     Plain,
     choice_check,
@@ -40,6 +42,7 @@ from sixdof.errors import (
     number_check,
     optional,
     readonly,
+    short,
 )
 from sixdof.frozen import Frozen, checked
 from sixdof.io.toml import build, choices
@@ -136,9 +139,11 @@ class Signal(Frozen):
 
 # Field checks shared by the signal kinds.
 _TIME = number_check("a finite time in s")
-_DURATION = number_check("a positive, finite duration in s", low=0.0, strict=True)
-_LASTING = number_check("a positive duration in s", low=0.0, strict=True, allow_inf=True)
-_FREQUENCY = number_check("a positive frequency in Hz", low=0.0, strict=True)
+_DURATION = number_check(f"a positive, finite duration in s, at least {short(MIN_DURATION_S)}", low=MIN_DURATION_S)
+_LASTING = number_check(f"a positive duration in s, at least {short(MIN_DURATION_S)}", low=MIN_DURATION_S,
+                        allow_inf=True)
+_FREQUENCY = number_check(f"a positive frequency in Hz, at most {short(MAX_FREQUENCY_HZ)}", low=0.0, strict=True,
+                          high=MAX_FREQUENCY_HZ)
 
 
 @dataclass(frozen=True, eq=False)

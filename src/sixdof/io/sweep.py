@@ -16,7 +16,17 @@ import numpy as np
 
 from sixdof.analysis.batch import CROSS_CHECK, ENGINES, Variants, check_batchable, make_variants
 from sixdof.dofs import AXES, MOUNT_AXES
-from sixdof.errors import InputError, Plain, boolean, integer, integer_check, number_check, optional
+from sixdof.errors import (
+    MAX_FREQUENCY_HZ,
+    InputError,
+    Plain,
+    boolean,
+    integer,
+    integer_check,
+    number_check,
+    optional,
+    short,
+)
 from sixdof.frozen import Frozen, checked
 from sixdof.io.toml import Table, build, is_number, naming, parse, read_text
 from sixdof.model.system import System
@@ -232,6 +242,7 @@ class SweepSpec:
             if v.parameter == "damping" and np.any(sub < 0):
                 raise InputError(field, "damping factors >= 0 (narrow the distribution)",
                                  Plain(f"a draw of {sub.min():.6g} (chunk {chunk})"))
+            _check_range(system, k, d, x, field, block, chunk)
         return k, d, x
 
     def check(self, system: System) -> None:
@@ -242,6 +253,25 @@ class SweepSpec:
         with naming(self.path):
             for chunk in range(len(self.chunks())):
                 self.variants(system, chunk)
+
+
+def _check_range(system: System, k: np.ndarray, d: np.ndarray, x: np.ndarray, field: str, block: np.ndarray,
+                 chunk: int) -> None:
+    """Refuse variants whose mount matrices leave float64 or whose natural frequencies pass
+    :data:`~sixdof.errors.MAX_FREQUENCY_HZ`, as :class:`~sixdof.model.system.System` refuses a given design: each
+    mount's largest coefficient times its lever arm squared, over the body's least mass or moment of inertia
+    (an upper bound of the variant's stiffness over mass, within the mount count)."""
+    least = min(system.body.mass, float(np.linalg.eigvalsh(system.body.inertia).min()))
+    with np.errstate(over="ignore", invalid="ignore"):
+        coefficient = np.maximum(system.given_stiffnesses * k, system.dampings * d).max(axis=2)
+        lever = (1.0 + np.abs(system.positions + x).max(axis=2)) ** 2
+        ratio = coefficient * lever / least
+        bad = ~(ratio <= (2 * np.pi * MAX_FREQUENCY_HZ) ** 2)  # NaN and inf too
+    if np.any(bad):
+        drawn = block.ravel()[np.argmax(np.abs(block.ravel()))]
+        raise InputError(field, f"draws that keep every mount's stiffness and damping matrices finite and the natural "
+                         f"frequencies below {short(MAX_FREQUENCY_HZ)} Hz (narrow the distribution)",
+                         Plain(f"a draw of {drawn:.6g} (chunk {chunk})"))
 
 
 def parse_sweep_spec(text: str, source: str = "<string>") -> SweepSpec:

@@ -42,28 +42,29 @@ def parse(text: str, source: str, read: Callable[[dict], Any]) -> Any:
 def naming(source: str | Path | None) -> Iterator[None]:
     """An :class:`~sixdof.errors.InputError` raised in the block gets the file name ``source`` put in front
     (:class:`~sixdof.errors.ScenarioError`), as :func:`parse` does: for the checks of a file's content made
-    once it is read (a sweep spec's draws against the scenario's mounts). ``None`` (text read from no file)
-    and an error that names its file already leave the error as it is."""
+    once it is read (a sweep spec's draws against the scenario's mounts, the checks a run makes). ``None`` (text
+    read from no file), an error that names its file already and one about a command-line option (``--out``)
+    leave the error as it is."""
     try:
         yield
     except ScenarioError:
         raise
     except InputError as exc:
-        if source is None:
+        if source is None or exc.field.startswith("--"):
             raise
         raise ScenarioError(str(source), exc) from None
 
 
 def read_text(path: str | Path, what: str) -> str:
-    """The UTF-8 text of ``path``; a missing or unreadable file is an error naming it (``what``: "scenario
-    file", "sweep specification")."""
-    path = Path(path)
+    """The UTF-8 text of ``path`` (a byte-order mark dropped); a missing or unreadable file, anything but a
+    regular file and a file beyond :data:`sixdof.files.MAX_TEXT_BYTES` are errors naming it (``what``:
+    "scenario file", "sweep specification"), before anything is read."""
+    from sixdof.files import read_text as read
+
     try:
-        return path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ScenarioError(str(path), InputError("", f"an existing {what}", str(path))) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ScenarioError(str(path), InputError("", "a readable UTF-8 text file", str(exc))) from None
+        return read(path, "", what)
+    except InputError as exc:
+        raise ScenarioError(str(path), exc) from None
 
 
 def _join(path: str, key: str) -> str:

@@ -18,7 +18,6 @@ a model to them, :func:`constant_loss_model` builds the causal model nearest a c
 
 from __future__ import annotations
 
-import csv
 import dataclasses
 import math
 from dataclasses import dataclass
@@ -27,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from sixdof.errors import InputError, Plain, finite_array, frequency_band, integer, number, readonly
+from sixdof.files import csv_numbers, csv_rows
 from sixdof.results import Result, label, quantity
 
 #: What a dynamic stiffness table holds, for error messages.
@@ -174,28 +174,10 @@ def read_dynamic_stiffness(path, field: str = "dynamic_stiffness.file") -> tuple
     """
     path = Path(path)
     rows, lines = [], []
-    try:
-        with path.open(newline="", encoding="utf-8") as handle:
-            reader = csv.reader(handle)
-            header = True
-            for row in reader:
-                if not row or row[0].lstrip().startswith("#"):
-                    continue
-                if header:
-                    header = False
-                    continue
-                try:
-                    values = [float(cell) for cell in row]
-                except ValueError:
-                    values = []
-                if len(values) != 3 or not all(map(math.isfinite, values)):
-                    raise InputError(field, TABLE, Plain(f"line {reader.line_num} of {path}: {row}"))
-                rows.append(values)
-                lines.append(reader.line_num)
-    except FileNotFoundError:
-        raise InputError(field, "an existing, readable CSV file", str(path)) from None
-    except (OSError, UnicodeDecodeError, csv.Error) as exc:
-        raise InputError(field, TABLE, Plain(f"{path}: {exc}")) from None
+    for k, (line, row) in enumerate(csv_rows(path, field, TABLE)):
+        if k:  # the first row is the header
+            rows.append(csv_numbers(row, 3, line, str(path), field, TABLE))
+            lines.append(line)
     if len(rows) < 2:
         received = "a single point" if rows else "no data rows"
         raise InputError(field, f"{TABLE}, at least 2 rows", Plain(f"{received} in {path}"))

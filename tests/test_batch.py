@@ -621,3 +621,14 @@ def test_a_sweep_of_measured_dynamic_stiffness_tables_runs_and_checks():
     assert result.cross_check.ok and result.cross_check.worst < RTOL_BATCH_DIRECT
     one = superpose(variant_system(short.time_system, result.variants, 1), short.excitation, short.simulation.times)
     np.testing.assert_allclose(result.peak_q[1], np.max(np.abs(one.q), axis=0), rtol=RTOL_BATCH_CHUNKS)
+
+
+def test_a_vary_table_repeated_is_refused_and_an_overlapping_one_composes():
+    """Two tables varying the same parameter of the same mounts and axes would compound their draws (a copy
+    that slipped in); mounts listed in another order are the same selection. Overlapping in part composes."""
+    stiffness = '[[vary]]\nparameter = "stiffness"\ndistribution = "uniform"\nlow = 0.85\nhigh = 1.15\n'
+    with pytest.raises(InputError, match=r"vary\[2\]: expected a parameter, mounts and axes that no earlier "
+                                         r"\[\[vary\]\] varies .*got stiffness of 1, 2, axes w, as vary\[0\] already"):
+        parse_sweep_spec(SPEC + stiffness.replace("low", 'mounts = ["2", "1"]\naxes = ["w"]\nlow'))
+    spec = parse_sweep_spec(SPEC + stiffness)  # every mount's stiffness beside mounts 1 and 2's along w
+    assert [v.parameter for v in spec.vary] == ["stiffness", "damping", "stiffness"]

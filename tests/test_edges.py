@@ -269,7 +269,7 @@ IDLE = {
     "step at the end": (Load("last", LOAD_POINT, force=LOAD_FORCE, signal=Step(start=0.4)),
                         "loads[1] (last): its step signal is zero outside [0.4, inf) s"),
     "all-zero table": (Load("nil", LOAD_POINT, force=LOAD_FORCE, signal=Table(t=[0.0, 0.1], values=[0.0, 0.0])),
-                       "loads[1] (nil): its table signal is zero outside [inf, inf) s"),
+                       "loads[1] (nil): its table signal is zero throughout"),
     "table ended": (Load("done", LOAD_POINT, force=LOAD_FORCE, signal=Table(t=[-2.0, -1.0, 0.0], values=[1.0, 2.0, 0.0])),
                     "loads[1] (done): its table signal is zero outside [-2, 0) s"),
     "unbalance after the end": (Unbalance("rotor", LOAD_POINT, unbalance=0.1, f_hz=20.0, start=1.0),

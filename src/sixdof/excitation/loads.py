@@ -405,7 +405,8 @@ class Excitation(Frozen):
         for label, signals in sources:
             if all(s.support[1] <= t0 or s.support[0] >= t1 for s in signals):
                 first, end = signals[0].support
-                found.append(f"{label}: its {signals[0].kind} signal is zero outside [{first:.6g}, {end:.6g}) s")
+                found.append(f"{label}: its {signals[0].kind} signal is zero throughout" if not first < end else
+                             f"{label}: its {signals[0].kind} signal is zero outside [{first:.6g}, {end:.6g}) s")
         return tuple(found)
 
     def initial_state(self, system, t0: float = 0.0) -> tuple[np.ndarray, np.ndarray]:

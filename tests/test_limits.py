@@ -212,11 +212,11 @@ def test_workers_that_cannot_fit_in_memory_are_refused(monkeypatch):
 @pytest.mark.slow
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
 def test_a_signal_while_the_command_starts_is_one_line_and_its_status(tmp_path, signum):
-    """At each delay the signal comes while Python, NumPy, JAX or the figure workers load, or the scenario is read,
-    compiled or solved (JAX's compilation cache off: the run lasts several seconds): never a crash by a signal
+    """At each delay the signal comes while the command's modules (sixdof._entry handles it from its first line),
+    NumPy, JAX or the figure workers load, or the scenario is read, compiled or solved (JAX's compilation cache off: the run lasts several seconds): never a crash by a signal
     (SIGSEGV, SIGABRT: a negative status), a traceback, or a signal lost inside a finalizer (status 0)."""
     status, word = (130, "interrupted") if signum == signal.SIGINT else (143, "terminated (SIGTERM)")
-    for delay in (0.15, 0.3, 0.5, 0.8, 1.1, 1.5):
+    for delay in (0.06, 0.15, 0.3, 0.5, 0.8, 1.1, 1.5):  # from 0.06 s: the command's modules loading
         process = subprocess.Popen(
             [sys.executable, "-m", "sixdof", "run", str(MACHINE), "--out", str(tmp_path / "out"), "--quiet"],
             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
@@ -279,3 +279,11 @@ def test_a_check_made_while_running_names_the_scenario_file(tmp_path, capsys):
     assert err.startswith(f"sixdof: error: {tmp_path / 'case.toml'}: random.time_check.duration: expected at least "
                           "3.571 s: 8 Welch segments of ") and err.count("\n") == 1, err
     assert not (tmp_path / "out").exists()
+
+
+def test_importing_sixdof_leaves_the_signal_handlers_alone():
+    """The command's early handlers (sixdof._entry) are the command's: a program importing the library keeps its."""
+    code = ("import signal, sys; before = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}; "
+            "import sixdof, sixdof.cli; "
+            "assert {s: signal.getsignal(s) for s in before} == before; assert 'sixdof._entry' not in sys.modules")
+    subprocess.run([sys.executable, "-c", code], check=True)

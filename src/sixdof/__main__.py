@@ -2,6 +2,6 @@
 
 import sys
 
-from sixdof.cli import main
+from sixdof._entry import main
 
 sys.exit(main())

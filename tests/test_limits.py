@@ -209,6 +209,13 @@ def test_workers_that_cannot_fit_in_memory_are_refused(monkeypatch):
         tasks.check_workers(1)
 
 
+#: Start a Python command with SIGINT's default action, as a terminal starts it (a CI job started in the background
+#: may ignore SIGINT, which Python then leaves ignored), by exec: a preexec_fn would fork this process, JAX's
+#: threads in it.
+AS_A_TERMINAL = ("import os, signal, sys; signal.signal(signal.SIGINT, signal.SIG_DFL); "
+                 "os.execv(sys.executable, [sys.executable, *sys.argv[1:]])")
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
 def test_a_signal_while_the_command_starts_is_one_line_and_its_status(tmp_path, signum):
@@ -218,10 +225,10 @@ def test_a_signal_while_the_command_starts_is_one_line_and_its_status(tmp_path, 
     status, word = (130, "interrupted") if signum == signal.SIGINT else (143, "terminated (SIGTERM)")
     for delay in (0.06, 0.15, 0.3, 0.5, 0.8, 1.1, 1.5):  # from 0.06 s: the command's modules loading
         process = subprocess.Popen(
-            [sys.executable, "-m", "sixdof", "run", str(MACHINE), "--out", str(tmp_path / "out"), "--quiet"],
+            [sys.executable, "-c", AS_A_TERMINAL, "-m", "sixdof", "run", str(MACHINE), "--out", str(tmp_path / "out"),
+             "--quiet"],
             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
-            env={**os.environ, "SIXDOF_JAX_CACHE": "off"},
-            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))  # as a terminal starts it
+            env={**os.environ, "SIXDOF_JAX_CACHE": "off"})
         time.sleep(delay)
         os.killpg(process.pid, signum)
         _, err = process.communicate(timeout=120)

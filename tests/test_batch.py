@@ -632,3 +632,39 @@ def test_a_vary_table_repeated_is_refused_and_an_overlapping_one_composes():
         parse_sweep_spec(SPEC + stiffness.replace("low", 'mounts = ["2", "1"]\naxes = ["w"]\nlow'))
     spec = parse_sweep_spec(SPEC + stiffness)  # every mount's stiffness beside mounts 1 and 2's along w
     assert [v.parameter for v in spec.vary] == ["stiffness", "damping", "stiffness"]
+
+
+@pytest.mark.parametrize("low, high, warned", [(0.2, 0.3, True), (0.97, 1.03, False)])
+def test_a_sweep_says_where_its_variants_leave_the_causal_models_checked_range(tmp_path, capsys, low, high, warned):
+    """The variants share the nominal's causal models of the loss factors, checked at the nominal's natural and
+    operating frequencies: mounts at 0.2-0.3 of their stiffness put modes near 3.3 Hz, below the 7.2 Hz checked,
+    where the model (its complex stiffness evaluated here from its branches) misses k (1 + i eta) beyond the
+    targets; one line per loss factor. A +-3 % scatter stays quiet."""
+    import h5py
+
+    from sixdof.cli import main
+    from sixdof.io.scenario import load_scenario
+    from sixdof.model.viscoelastic import LOSS_FACTOR_TARGET, LOSS_MODULUS_TARGET
+
+    spec = tmp_path / "spec.toml"
+    spec.write_text(f'count = 4\nseed = 3\ncross_check = 0\n[[vary]]\nparameter = "stiffness"\n'
+                    f'distribution = "uniform"\nlow = {low}\nhigh = {high}\n')
+    assert main(["sweep", "scenarios/engine_inclined_mounts.toml", "--spec", str(spec), "--out", str(tmp_path),
+                 "--quiet"]) == 0
+    lines = [line for line in capsys.readouterr().err.splitlines() if "variants' natural frequencies" in line]
+    if not warned:
+        assert lines == []
+        return
+    with h5py.File(tmp_path / "engine_inclined_mounts_sweep" / "sweep.h5") as f:
+        lowest = float(np.min(f["sweep/frequency_hz"][()]))
+    fits = {fit.source: fit for fit in load_scenario("scenarios/engine_inclined_mounts.toml").causal_loss_fits}
+    assert len(lines) == len(fits) == 2
+    for source, fit in fits.items():
+        w = 2j * np.pi * lowest
+        k = fit.long_term + np.sum(fit.stiffness * w * fit.tau / (1 + w * fit.tau))
+        eta = fit.loss_factor[0]
+        modulus, loss = abs(abs(k) / (fit.storage[0] * np.hypot(1, eta)) - 1), abs(k.imag / k.real / eta - 1)
+        assert modulus > LOSS_MODULUS_TARGET or loss > LOSS_FACTOR_TARGET
+        (line,) = [line for line in lines if f"model of {source} (" in line]
+        assert f"by {100 * modulus:.3g} % in |K*| and {100 * loss:.3g} % in loss factor at {lowest:.4g} Hz" in line
+    assert "## Warnings" in (tmp_path / "engine_inclined_mounts_sweep" / "summary.md").read_text()

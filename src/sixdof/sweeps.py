@@ -24,6 +24,7 @@ import os
 import pickle
 import re
 import time
+import warnings
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -31,6 +32,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from sixdof.analysis.validity import RangeWarning, variants_fit_range
 from sixdof.errors import InputError, Plain, SolverError, integer
 from sixdof.io.toml import naming
 
@@ -430,17 +432,33 @@ def sweep_scenario(scenario, spec, out_root: str | Path = "outputs", *, chunk_si
             outcome["table"] = (summary_table(f["sweep/frequency_hz"], f.get("sweep/peak_q"), moving_ground(scenario))
                                 + "\n\n" + tracked_modes_table(scenario.system.modes, f["sweep/tracked_frequency_hz"],
                                                                  f["sweep/tracked_mac"]))
+            outcome["notes"] = _fit_reach(scenario, f["sweep/frequency_hz"])
         outcome["result"] = merged
         about = f"{scenario.description}\n\n" if scenario.description else ""
         check = cross_check_text(merged)
+        notes = "".join(f"- {note}\n" for note in outcome["notes"])
         (stage / "summary.md").write_text(f"# {scenario.name}: sweep of {spec.count} variants\n\n{about}"
-                                          f"{outcome['table']}\n" + (f"\n{check}\n" if check else ""),
+                                          + (f"## Warnings\n\n{notes}\n" if notes else "")
+                                          + f"{outcome['table']}\n" + (f"\n{check}\n" if check else ""),
                                           encoding="utf-8")
 
     output.write_folder(target, write)
     folder.remove(len(run.chunks))
+    for note in outcome["notes"]:
+        warnings.warn(note, RangeWarning, stacklevel=2)
     return SweepOutcome(directory=target, result=outcome["result"], count=spec.count, resumed=len(found),
                         table=outcome["table"])
+
+
+def _fit_reach(scenario, frequency_hz) -> list[str]:
+    """What the variants' natural frequencies (``frequency_hz``, (variant, mode) [Hz], read a column at a time) reach
+    that the scenario's Maxwell fits do not vouch for (:func:`~sixdof.analysis.validity.variants_fit_range`)."""
+    fits = getattr(scenario, "viscoelastic", ())
+    if not fits:
+        return []
+    columns = [np.asarray(frequency_hz[:, j]) for j in range(frequency_hz.shape[1])]
+    elastic = np.concatenate([c[c > 0] for c in columns])
+    return variants_fit_range(fits, [float(elastic.min()), float(elastic.max())]) if elastic.size else []
 
 
 __all__ = ["ChunkFolder", "SweepOutcome", "fingerprint", "sweep", "sweep_chunk", "sweep_scenario"]

@@ -92,6 +92,42 @@ def static_range(statics, system) -> list[str]:
     return messages
 
 
+def variants_fit_range(fits, f_hz) -> list[str]:
+    """What a sweep's variants' natural frequencies ``f_hz`` [Hz] (their lowest and highest, say) reach that the
+    scenario's Maxwell fits do not vouch for: the variants share the nominal's fits, scaled with their stiffness.
+    A measured table's fit beyond its table's band (:func:`fit_band_range`); a loss factor's causal model at a
+    frequency beyond those it was checked at where it misses ``k (1 + i eta)`` by more than its targets
+    (:data:`~sixdof.model.viscoelastic.LOSS_MODULUS_TARGET` in ``|K*|``,
+    :data:`~sixdof.model.viscoelastic.LOSS_FACTOR_TARGET` in loss factor). One message each; none: []."""
+    from sixdof.model.viscoelastic import LOSS_FACTOR_TARGET, LOSS_MODULUS_TARGET, maxwell_stiffness
+
+    advice = ("the variants share the nominal's models, scaled with their stiffness; a variant of interest run as a "
+              "scenario of its own has models checked at its own frequencies")
+    causal = [fit for fit in fits if fit.source.startswith("loss factor ")]
+    messages = fit_band_range([fit for fit in fits if fit not in causal], f_hz,
+                              "the variants' natural frequencies reach", advice)
+    missing: dict[tuple, list[str]] = {}  # the same miss (a loss factor's models alike but for k): one message
+    for fit in causal:
+        outside = np.array([f for f in np.atleast_1d(f_hz) if not fit.f_hz[0] <= f <= fit.f_hz[-1]], dtype=float)
+        if not outside.size:
+            continue
+        k = maxwell_stiffness(outside, fit.long_term, fit.stiffness, fit.tau)
+        eta = fit.loss_factor[0]
+        modulus = np.abs(np.abs(k) / (fit.storage[0] * math.hypot(1.0, eta)) - 1)
+        loss = np.abs(k.imag / k.real / eta - 1)
+        missed = (modulus > LOSS_MODULUS_TARGET) | (loss > LOSS_FACTOR_TARGET)
+        if np.any(missed):
+            at = "; ".join(f"{100 * m:.3g} % in |K*| and {100 * e:.3g} % in loss factor at {f:.4g} Hz"
+                           for f, m, e in zip(outside[missed], modulus[missed], loss[missed]))
+            missing.setdefault((fit.source, f"{fit.f_hz[0]:.4g}-{fit.f_hz[-1]:.4g}", at), []).append(fit.name)
+    for (source, band, at), names in missing.items():
+        messages.append(f"the variants' natural frequencies reach beyond the {band} Hz where the causal Maxwell "
+                        f"model of {source} ({', '.join(names)}) was checked; its time responses there miss "
+                        f"k (1 + i eta) by {at} (targets {100 * LOSS_MODULUS_TARGET:g} % and "
+                        f"{100 * LOSS_FACTOR_TARGET:g} %): {advice}")
+    return messages
+
+
 #: A body's inertia is at most that of a uniform box sqrt(3) times its own (all its mass in the corners): one whose
 #: inertia is that of a box this many times larger or smaller than its ``dimensions`` has its mass, inertia or
 #: dimensions in other units (mass in t with inertia in kg m^2: 31.6 times).
@@ -214,10 +250,16 @@ def implausible_inputs(system, excitation=None, points=None) -> list[str]:
     return messages
 
 
-def fit_band_range(fits, f_hz) -> list[str]:
+#: What :func:`fit_band_range` advises by default.
+_FIT_ADVICE = ("a band (loss_factor_band_hz) or a table (dynamic_stiffness) reaching it models the mount there as "
+               "given")
+
+
+def fit_band_range(fits, f_hz, what: str = "steady state at", advice: str = _FIT_ADVICE) -> list[str]:
     """What lies outside the band of a Maxwell fit (:class:`~sixdof.model.viscoelastic.MaxwellFit`) among the
-    operating frequencies ``f_hz`` [Hz] of the steady state: there the mount is the fit's extrapolation, which
-    neither its table nor its loss factor vouches for. One message per band and source; none: []."""
+    frequencies ``f_hz`` [Hz] (``what`` says which: by default the steady state's operating frequencies): there the
+    mount is the fit's extrapolation, which neither its table nor its loss factor vouches for. One message per
+    band and source, ending with ``advice``; none: []."""
     from sixdof.model.viscoelastic import maxwell_stiffness
 
     groups: dict[tuple, list] = {}
@@ -232,11 +274,10 @@ def fit_band_range(fits, f_hz) -> list[str]:
         k = maxwell_stiffness(np.array(outside), first.long_term, first.stiffness, first.tau)
         at = "; ".join(f"K' {kf.real / 1e3:.4g} kN/m and loss factor {kf.imag / kf.real:.3g} at {f:.4g} Hz"
                        for f, kf in zip(outside, k))
-        messages.append(f"steady state at {', '.join(f'{f:.4g}' for f in outside)} Hz, outside the "
+        messages.append(f"{what} {', '.join(f'{f:.4g}' for f in outside)} Hz, outside the "
                         f"{low:.3g}-{high:.3g} Hz band of the Maxwell fit of {', '.join(m.name for m in members)} "
                         f"(fitted to {source}): there the mount is the fit's extrapolation ({first.name}: {at}); "
-                        "a band (loss_factor_band_hz) or a table (dynamic_stiffness) reaching it models the mount "
-                        "there as given")
+                        + advice)
     return messages
 
 
@@ -354,4 +395,4 @@ def geometric_stiffness_note(system, gravity) -> str | None:
 __all__ = ["DENSITY_RANGE", "GEOMETRIC_SHIFT", "GROUND_DRIFT_SHARE", "INERTIA_BOX_RATIO", "REACH_RATIO",
            "SMALL_ANGLE_RAD", "UNBALANCE_WEIGHT_RATIO", "GroundDriftWarning", "RangeWarning", "body_length",
            "fit_band_range", "geometric_stiffness_note", "geometric_stiffness_shifts", "ground_drift",
-           "implausible_inputs", "static_range", "warn_idle", "warn_large_rotations"]
+           "implausible_inputs", "static_range", "variants_fit_range", "warn_idle", "warn_large_rotations"]

@@ -532,3 +532,18 @@ def test_default_tolerances_hold_for_a_tone_far_above_the_modes():
     run = simulate(scenario.system, scenario.excitation, scenario.simulation)
     exact = superpose(scenario.system, scenario.excitation, scenario.simulation.times)
     assert_each_dof((run.q, exact.q), (run.qd, exact.qd), (run.qdd, exact.qdd))
+
+
+def test_scaled_tolerances_stop_at_the_floor():
+    """A run of many cycles divides the tolerances down to MIN_TOLERANCE, not below (float64 round-off)."""
+    from sixdof.analysis.direct import CYCLES_PER_TOLERANCE, MIN_TOLERANCE, cycle_scaled
+    from sixdof.model.system import Mount, RigidBody, System
+
+    system = System(RigidBody(1.0, [1.0, 1.0, 1.0]),
+                    [Mount(f"m{i}", p, [(2 * np.pi * 600) ** 2 / 4] * 3) for i, p in
+                     enumerate([[0.5, 0.5, -0.5], [-0.5, 0.5, -0.5], [-0.5, -0.5, -0.5], [0.5, -0.5, -0.5]])])
+    f_max = float(np.max(system.modes.frequency_hz))
+    short = SimulationSettings(duration=100 * CYCLES_PER_TOLERANCE / f_max, sample_rate_hz=3 * f_max)
+    assert cycle_scaled(system, short).rtol == pytest.approx(1e-9 / 100)
+    long = SimulationSettings(duration=1e5 * CYCLES_PER_TOLERANCE / f_max, sample_rate_hz=3 * f_max)
+    assert cycle_scaled(system, long).rtol == MIN_TOLERANCE == cycle_scaled(system, long).atol

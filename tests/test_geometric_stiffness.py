@@ -232,3 +232,39 @@ def test_the_readme_gives_the_formula_and_the_key():
     readme = (Path(__file__).resolve().parents[1] / "README.md").read_text(encoding="utf-8")
     assert "K_G = sum_j [(F_j . r_j) I - r_j F_j^T]" in readme
     assert "geometric_stiffness = true" in readme
+
+
+def test_a_tall_body_with_the_option_on_is_refused_naming_it():
+    """Loaded with [statics] geometric_stiffness = true, a body the preload would tip over is one line naming the
+    setting (the modes' own message named only K)."""
+    from sixdof import parse_scenario
+    from sixdof.errors import ScenarioError
+
+    mounts = "".join(f'[[mounts]]\nname = "m{i}"\nposition = [{x}, {y}, -0.5]\nstiffness = [100.0, 100.0, 250.0]\n'
+                     for i, (x, y) in enumerate([(-0.4, -0.4), (0.4, -0.4), (0.4, 0.4), (-0.4, 0.4)]))
+    text = f'name = "tall"\n[body]\nmass = 100.0\ninertia = [5.0, 5.0, 5.0]\n{mounts}[statics]\ngeometric_stiffness = true\n'
+    with pytest.raises(ScenarioError, match=r"^tall.toml: statics.geometric_stiffness: expected false, or mounts "
+                       r"whose rocking stiffness carries the weight .* got K \+ K_G with a negative eigenvalue: the "
+                       r"body would tip over on these mounts$"):
+        parse_scenario(text, "tall.toml")
+
+
+def test_mounts_that_cannot_carry_the_weight_get_no_geometric_note():
+    """No static equilibrium (one mount off the CG: gravity tips the body): no preload, so no line, never an error
+    naming a setting the user did not turn on."""
+    from sixdof import Mount
+
+    system = System(RigidBody(10.0, [1.0, 1.0, 1.0]), [Mount("a", [0.3, 0.0, -0.2], [1e4, 1e4, 1e4])])
+    assert geometric_stiffness_shifts(system, DOWN) is None
+    assert geometric_stiffness_note(system, DOWN) is None
+
+
+def test_a_linearized_copy_keeps_the_nonlinear_preload_in_its_K():
+    """K of the linearized system is its mounts' K plus the nonlinear equilibrium's K_G, exactly."""
+    from sixdof import parse_scenario
+
+    text = (SCENARIOS / "bridge_beam_uplift.toml").read_text() + "\n[statics]\ngeometric_stiffness = true\n"
+    system = parse_scenario(text).system
+    linear = system.linearized()
+    np.testing.assert_array_equal(linear.K_geometric, system.K_geometric)
+    np.testing.assert_array_equal(linear.K, linear.K_mounts + system.K_geometric)

@@ -114,3 +114,10 @@ def test_modes_and_run_warn_of_a_slip(tmp_path, capsys):
         assert main(command) == 0
         lines = [line for line in capsys.readouterr().err.splitlines() if "rev/min" in line]
         assert len(lines) == 1 and lines[0].startswith("WARNING: loads[0] (rotor): the unbalance force")
+
+
+def test_one_mount_at_the_cg_is_a_mechanism_not_a_division_by_zero():
+    text = MACHINE.split('[[mounts]]\nname = "front_right"')[0] + MACHINE[MACHINE.index("[[loads]]"):]
+    text = text.replace(CORNERS[0], "[0.0, 0.0, 0.0]").replace("dimensions = [1.2, 0.8, 0.9]", "")
+    (message,) = messages(text)
+    assert message.startswith("the mounts leave the body unrestrained (a mechanism)")

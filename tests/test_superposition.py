@@ -680,3 +680,12 @@ def test_compare_motion_judges_velocities_and_accelerations_too():
         compare_motion(still, noisy, omega=-1.0)
     with pytest.raises(InputError, match=r"modal.qd: expected shape \(5, 6\) like direct.qd, got 'shape \(4, 6\)'"):
         compare_motion(still, SimpleNamespace(q=still.q, qd=np.zeros((4, 6)), qdd=still.qdd))
+
+
+def test_an_agreement_with_a_nan_is_not_ok():
+    """A NaN in the differences (a solve gone wrong) is the worst value, never passed over as smaller."""
+    from sixdof.analysis.compare import agreement_of
+
+    error = np.array([1e-9, np.nan, 0.0, 0.0, 0.0, 0.0])
+    found = agreement_of(np.ones(6), error)
+    assert not found.ok and np.isnan(found.worst) and found.worst_dof == "y"

@@ -298,8 +298,10 @@ def agreement_of(peak, error, absolute_peak=None, tolerance: float = AGREEMENT_T
         floor = max(size(a), 0.0 if key == "q" or omega is None else displacement * float(omega) ** order)
         per_dof, flags = _relative_errors(p, e, scale, quiet_rtol, floor)
         quiet = flags if quiet is None else quiet
-        index = int(np.argmax(per_dof))
-        if per_dof[index] > worst[0]:  # the first quantity on a tie: q before its rates
+        index = int(np.argmax(per_dof))  # a NaN is the largest (argmax returns the first one)
+        if np.isnan(worst[0]):
+            pass
+        elif np.isnan(per_dof[index]) or per_dof[index] > worst[0]:  # the first quantity on a tie: q before its rates
             worst = (float(per_dof[index]), DOFS[index], key)
         suffix = "" if key == "q" else f"_{key}"
         fields.update({f"per_dof{suffix}": readonly(per_dof), f"peak{suffix}": readonly(p),

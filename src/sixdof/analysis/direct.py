@@ -707,15 +707,22 @@ def loads_of(excitation: Excitation, settings: SimulationSettings) -> tuple[np.n
 CYCLES_PER_TOLERANCE = 500.0
 
 
+#: The least tolerance :func:`cycle_scaled` divides down to (one given smaller is kept as given).
+MIN_TOLERANCE = 1e-12
+
+
 def cycle_scaled(system: System, settings: SimulationSettings) -> SimulationSettings:
     """``settings`` with ``rtol`` and ``atol`` divided by the run's cycles of its highest natural frequency over
-    :data:`CYCLES_PER_TOLERANCE`, when there are more (unchanged otherwise): what the solver steps with, and what
-    its statistics record."""
+    :data:`CYCLES_PER_TOLERANCE`, when there are more (unchanged otherwise), down to :data:`MIN_TOLERANCE`: what
+    the solver steps with, and what its statistics record."""
     cycles = float(np.max(system.modes.frequency_hz, initial=0.0)) * settings.duration
     if cycles <= CYCLES_PER_TOLERANCE:
         return settings
     factor = CYCLES_PER_TOLERANCE / cycles
-    return dataclasses.replace(settings, rtol=settings.rtol * factor, atol=settings.atol * factor)
+    # Not below MIN_TOLERANCE: a step's round-off (float64, ~1e-16 of the state) is the floor no step size passes,
+    # and the solver would run out of steps for it (a 2000 s run with a 600 Hz mode asked for 4e-13).
+    return dataclasses.replace(settings, rtol=max(settings.rtol * factor, min(settings.rtol, MIN_TOLERANCE)),
+                               atol=max(settings.atol * factor, min(settings.atol, MIN_TOLERANCE)))
 
 
 def _arguments(system: System, excitation: Excitation | None, settings: SimulationSettings) -> Excitation:

@@ -224,7 +224,7 @@ def implausible_inputs(system, excitation=None, points=None) -> list[str]:
                         f"({half:.4g} m, from {size}) from the CG, farthest {what} at {_vector(p)} m, "
                         f"{reach:.4g} m away ({reach / half:.3g} times).{likely}")
     reach = float(np.linalg.norm(system.positions, axis=1).max())
-    if body.dimensions is None and not far and half > REACH_RATIO * reach:
+    if body.dimensions is None and not far and 0 < REACH_RATIO * reach < half:  # all at the CG: a mechanism, said
         # Mounts hold the body where it is: all of them deep inside its inertia's box is a mass too small for it.
         body_message = (f"body: the mounts all lie within {reach:.4g} m of the CG, {half / reach:.3g} times less than "
                         f"the half-size of the uniform box of the mass {body.mass:.4g} kg and inertia "
@@ -355,10 +355,12 @@ def geometric_stiffness_shifts(system, gravity) -> np.ndarray | None:
     from sixdof.analysis.modal import modal_analysis
     from sixdof.errors import InputError
 
-    preloaded = system if system.geometric_stiffness else dataclasses.replace(system, gravity_preload=gravity)
-    try:
+    try:  # building the preloaded system computes its statics: mounts that cannot carry the weight have none
+        preloaded = system if system.geometric_stiffness else dataclasses.replace(system, gravity_preload=gravity)
         K = preloaded.K
-    except InputError:
+    except InputError as exc:
+        if exc.field == "K":
+            raise
         return None
     with_, without = (modal_analysis(system.M, k).frequency_hz for k in (K, system.K_mounts))
     with np.errstate(divide="ignore", invalid="ignore"):

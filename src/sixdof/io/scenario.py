@@ -346,7 +346,15 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
         system = at_equilibrium(system, gravity_statics(system, statics.gravity, statics.direction))
     if statics.geometric_stiffness:  # before any computation: mounts that cannot carry the weight have no preload
         system = dataclasses.replace(system, gravity_preload=statics.vector)
-        system.K  # noqa: B018 (raises InputError naming statics.geometric_stiffness)
+        try:
+            system.modes  # noqa: B018 (K raises InputError naming statics.geometric_stiffness; the modes, field K)
+        except InputError as exc:
+            if exc.field != "K":
+                raise
+            raise InputError("statics.geometric_stiffness", "false, or mounts whose rocking stiffness carries the "
+                             "weight above them (K + K_G positive semi-definite)",
+                             Plain("K + K_G with a negative eigenvalue: the body would tip over on these mounts")
+                             ) from None
 
     loads = tuple(_load(t, f"loads[{i}]", base_dir) for i, t in enumerate(top.tables("loads")))
     ground, initial = top.table("ground", default=None), top.table("initial", default=None)

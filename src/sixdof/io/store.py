@@ -587,10 +587,10 @@ def save_results(results: Results, path: str | os.PathLike) -> Path:
             try:
                 with _naming(path):
                     _write(f, results)
+                    f.close()  # HDF5 writes its caches here: a full disk may fail it too
             except BaseException:
                 discard(f, temporary)
                 raise
-            f.close()
         publish(temporary, path)
     except BaseException:
         temporary.unlink(missing_ok=True)

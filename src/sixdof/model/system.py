@@ -592,8 +592,10 @@ class System(Frozen):
         mounts = [dataclasses.replace(m, stiffness=k, bump_clearance=np.full(3, np.inf), bump_stiffness=np.zeros(3),
                                       tension=True) for m, k in zip(self.mounts, self.stiffnesses)]
         linear = dataclasses.replace(self, mounts=mounts, force_deflection=(), equilibrium=np.zeros(6))
-        # The preload is the nonlinear mounts' at their equilibrium, not the linear statics' of their slopes.
-        linear._derive(K_geometric=self.K_geometric)
+        # The preload is the nonlinear mounts' at their equilibrium, not the linear statics' of their slopes; K too
+        # (the checks of the copy's construction cached it with the latter).
+        K = readonly(linear.K_mounts + self.K_geometric) if self.geometric_stiffness else linear.K_mounts
+        linear._derive(K_geometric=self.K_geometric, K=K)
         return linear
 
     @cached_property

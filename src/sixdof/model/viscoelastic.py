@@ -376,8 +376,16 @@ def _minimax_loss_fit(eta: float, check: np.ndarray, band: np.ndarray, tau: np.n
         columns = np.column_stack([np.ones(f_hz.size), relaxation(f_hz[:, None], tau)])
         re, im = columns.real, columns.imag
         high, low = (1 + LOSS_FACTOR_TARGET * s) * eta, max(1 - LOSS_FACTOR_TARGET * s, 0.0) * eta
-        a = np.vstack([im - high * re, low * re - im, re * math.sqrt(1 + high ** 2), -re * math.sqrt(1 + low ** 2)])
-        b = np.concatenate([np.zeros(2 * f_hz.size), np.full(f_hz.size, (1 + LOSS_MODULUS_TARGET * s) * modulus),
+        # K within the sector of loss angles [atan(low), atan(high)] and |K| / k within (1 -+ M s) |1 + i eta|: the
+        # sector's two edges, and for |K| its projection on the sector's bisector, at least the inner radius (the
+        # tangent there) and at most the outer radius's chord (cos of the half-width): linear, and within a factor
+        # cos(half-width) (1 - 1e-3 for eta = 1) of the exact annular sector.
+        first, last = math.atan(low), math.atan(high)
+        middle, chord = (first + last) / 2, math.cos((last - first) / 2)
+        projection = re * math.cos(middle) + im * math.sin(middle)
+        a = np.vstack([im - high * re, low * re - im, projection, -projection])
+        outer = chord * (1 + LOSS_MODULUS_TARGET * s) * modulus
+        b = np.concatenate([np.zeros(2 * f_hz.size), np.full(f_hz.size, outer),
                             np.full(f_hz.size, -(1 - LOSS_MODULUS_TARGET * s) * modulus)])
         return a, b
 
@@ -387,8 +395,8 @@ def _minimax_loss_fit(eta: float, check: np.ndarray, band: np.ndarray, tau: np.n
                                       bounds=(0, None), method="highs")
 
     feasible = np.zeros(tau.size + 1)
-    low, high = 0.0, 1 / LOSS_FACTOR_TARGET  # from there on a plain spring k0 = k meets the loss factor's bounds
-    while solve(high, feasible).status != 0:  # and, but for eta > 1.7, the modulus's
+    low, high = 0.0, 1 / LOSS_FACTOR_TARGET  # from there on the loss factor's lower bound is 0: a plain spring
+    while solve(high, feasible).status != 0:  # meets it, and the modulus's bounds once s is large enough
         low, high = high, 2 * high
     for _ in range(24):  # s to 1e-6
         middle = (low + high) / 2

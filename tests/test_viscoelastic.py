@@ -217,3 +217,20 @@ def test_a_high_loss_factor_keeps_its_damping_in_the_causal_model():
     k = fit.long_term + np.sum(fit.stiffness * w * fit.tau / (1 + w * fit.tau), axis=1)
     assert np.all(k.imag / k.real > 0.6)
     assert fit.loss_factor_error == pytest.approx(np.max(np.abs(k.imag / k.real - 1)), rel=1e-9)
+
+
+def test_mount_axes_of_one_loss_factor_share_one_fit_scaled_by_their_stiffness():
+    """The causal model of k (1 + i eta) is k times that of 1 + i eta: axes of one loss factor and any stiffness
+    get one fit, scaled, with the same relative errors; a lone fit of each axis gives the same model."""
+    from sixdof.model.system import Mount, RigidBody, System
+    from sixdof.model.viscoelastic import causal_loss_factors, checked_frequencies, loss_band
+
+    mounts = [Mount(n, p, k, loss_factor=[0.1, 0.1, 0.1]) for n, p, k in
+              (("a", [0.4, 0.3, -0.2], [2e5, 3e5, 8e5]), ("b", [-0.5, 0.35, -0.25], [1e5, 1e5, 6e5]),
+               ("c", [0.1, -0.45, -0.3], [3e5, 2e5, 9e5]))]
+    system = System(RigidBody(50.0, [3.0, 4.0, 5.0]), mounts)
+    _, fits = causal_loss_factors(system)
+    assert len(fits) == 9 and len({(f.modulus_error, f.loss_factor_error) for f in fits}) == 1
+    lone = constant_loss_model(6e5, 0.1, loss_band(system), check_hz=checked_frequencies(system))
+    (b_w,) = [f for f in fits if f.name == "b w"]
+    np.testing.assert_allclose(b_w.dynamic_stiffness(lone.f_hz), lone.dynamic_stiffness(lone.f_hz), rtol=1e-6)

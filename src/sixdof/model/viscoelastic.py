@@ -498,11 +498,13 @@ def causal_loss_factors(system, band_hz=None, terms: int | None = None, operatin
     fits, models = [], {}
     for mount in system.mounts:
         for a in np.flatnonzero(mount.loss_factor > 0):
-            key = (float(mount.stiffness[a]), float(mount.loss_factor[a]))
-            if key not in models:  # mount axes alike share one fit
-                models[key] = constant_loss_model(*key, band, terms, check_hz=check)
+            k, eta = float(mount.stiffness[a]), float(mount.loss_factor[a])
+            if eta not in models:  # the model is k times that of k = 1: one fit per loss factor
+                models[eta] = constant_loss_model(1.0, eta, band, terms, check_hz=check)
+            unit = models[eta]
             fits.append((mount.name, AXES[a], dataclasses.replace(
-                models[key], name=f"{mount.name} {AXES[a]}", source=f"loss factor {mount.loss_factor[a]:g}")))
+                unit, long_term=k * unit.long_term, stiffness=readonly(k * unit.stiffness),
+                storage=readonly(k * unit.storage), name=f"{mount.name} {AXES[a]}", source=f"loss factor {eta:g}")))
     plain = dataclasses.replace(system, mounts=tuple(dataclasses.replace(m, loss_factor=np.zeros(3))
                                                      for m in system.mounts))
     return with_fits(plain, fits), tuple(fit for _, _, fit in fits)
@@ -516,7 +518,8 @@ def loss_fit_misses(fits) -> list[str]:
     for fit in fits:
         if fit.source.startswith("loss factor ") and (fit.modulus_error > LOSS_MODULUS_TARGET
                                                       or fit.loss_factor_error > LOSS_FACTOR_TARGET):
-            groups.setdefault(id(fit.stiffness), []).append(fit)
+            # One model per loss factor, scaled by each axis's k: the same relative misfit, one message.
+            groups.setdefault((fit.source, fit.modulus_error, fit.loss_factor_error), []).append(fit)
     messages = []
     for members in groups.values():
         fit = members[0]

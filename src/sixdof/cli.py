@@ -25,6 +25,7 @@ from functools import partial
 
 from sixdof._gc import collect_less
 from sixdof._malloc import keep_freed_memory
+from sixdof.interrupts import held_signals
 
 EXIT_FAILED = 1
 EXIT_BAD_INPUT = 2
@@ -219,28 +220,6 @@ def _signals():
 
 
 @contextmanager
-def _loading():
-    """SIGINT and SIGTERM held back while a command imports NumPy, JAX and the modules built on them, and acted on
-    once the imports are done (within a second): an interruption raised inside an extension module's start
-    (XLA's) crashed the process (SIGSEGV, SIGABRT) or left a half-made module that cannot be imported again
-    ("cannot load module more than once per process"). As :func:`sixdof.io.output.held_signals`, which cannot be
-    imported before NumPy."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    received: list[int] = []
-    previous = {s: signal.signal(s, lambda signum, frame: received.append(signum))
-                for s in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        yield
-    finally:
-        for s, handler in previous.items():
-            signal.signal(s, handler)
-        if received:
-            signal.raise_signal(received[0])
-
-
-@contextmanager
 def _cleanup_errors(debug: bool):
     """Errors raised while objects are destroyed (h5py closing a file the disk refused, after the write
     already failed) repeat the failure in tracebacks: printed only with ``--debug``. An interruption raised
@@ -358,7 +337,7 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _modes(args) -> int:
-    with _loading():
+    with held_signals():
         from sixdof.io.scenario import load_scenario
         from sixdof.io.toml import naming
 
@@ -438,7 +417,7 @@ def _run(args) -> int:
 
     # Started first: the figure workers import matplotlib while this process loads the scenario and solves.
     with FigureWorkers() as workers:
-        with _loading():
+        with held_signals():
             import numpy as np
 
             from sixdof.io import report
@@ -503,7 +482,7 @@ def _validate(args) -> int:
     from sixdof.workflows import validate_scenario
 
     with FigureWorkers() as workers:  # started first: they import matplotlib while this process computes
-        with _loading():
+        with held_signals():
             _compile_cache()
         scenario = load_scenario(args.scenario)
         with naming(args.scenario):
@@ -520,7 +499,7 @@ def _validate(args) -> int:
 
 
 def _optimize(args) -> int:
-    with _loading():
+    with held_signals():
         from sixdof.design.workflow import optimize_scenario
         from sixdof.io.scenario import load_scenario
         from sixdof.io.toml import naming
@@ -565,7 +544,7 @@ def _export(args) -> int:
 
 
 def _sweep(args) -> int:
-    with _loading():
+    with held_signals():
         from sixdof.errors import SolverError
         from sixdof.io import report
         from sixdof.io.output import check_target

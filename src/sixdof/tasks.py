@@ -38,6 +38,7 @@ from typing import Any
 import numpy as np
 
 from sixdof.errors import InputError, Plain, SolverError, integer, memory_check
+from sixdof.interrupts import held_signals
 
 #: Recomputations of a chunk whose task raised (a worker that dies costs no retry: the scheduler moves its
 #: chunks to another worker, up to Dask's ``distributed.scheduler.allowed-failures`` deaths per chunk).
@@ -240,8 +241,6 @@ def _sigint_blocked():
         yield
         return
     import multiprocessing.resource_tracker
-
-    from sixdof.io.output import held_signals
 
     # The thread that starts multiprocessing's resource tracker unblocks SIGINT when it has (the cluster's event
     # loop would, on its first queue): started here first, it is left alone.

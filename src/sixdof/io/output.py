@@ -10,7 +10,8 @@ is complete:
 * The swap (previous folder renamed aside, new one renamed into place, the user's files moved across,
   previous one removed) runs under an exclusive ``flock`` on ``<out>`` itself: two runs into the same
   target publish one after the other. SIGINT and SIGTERM are held back while a file is written (by its
-  writer: :func:`held_signals`) and while the folder is swapped, and acted on once that is done (after a
+  writer: :func:`~sixdof.interrupts.held_signals`) and while the folder is swapped, and acted on once that is
+  done (after a
   swap, their exception carries ``written``: the results are complete and in place); while a run computes
   they act at once, and while a failed or stopped run removes its staging folder they are held and dropped.
   A SIGKILL in the middle of a swap leaves the previous folder as ``.<name>.old-<id>``; the next run
@@ -40,7 +41,6 @@ import os
 import resource
 import shutil
 import signal
-import threading
 import uuid
 import warnings
 from collections.abc import Callable, Iterable, Iterator
@@ -48,6 +48,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from sixdof.errors import InputError, Plain, file_name
+from sixdof.interrupts import held_signals
 
 #: The list of files sixdof wrote into a results folder (one name per line).
 MANIFEST = ".sixdof-files"
@@ -55,7 +56,6 @@ MANIFEST = ".sixdof-files"
 _RESULTS_FILES = frozenset({"results.h5", "sweep.h5"})
 #: Files that earlier versions wrote without a manifest (``*.png`` figures are judged by the new run).
 _UNLISTED = _RESULTS_FILES | {"summary.md", "validation.md"}
-_HELD_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
 
 class KeptFilesWarning(UserWarning):
@@ -144,7 +144,8 @@ def write_folder(target: Path, write: Callable[[Path], None], carry: Iterable[st
     stage, stage_lock, made = _stage_in(root, target.name)
     try:
         # Not held while ``write`` computes (a long run must stop on Ctrl-C at once): the writers hold
-        # signals around their own file writes (:func:`held_signals`), and an interruption anywhere ends here.
+        # signals around their own file writes (:func:`~sixdof.interrupts.held_signals`), and an interruption
+        # anywhere ends here.
         write(stage)
         with held_signals(deliver=False) as received, _locked(root):
             _check_replaceable(target)  # something else may have been put there meanwhile
@@ -243,32 +244,6 @@ def check_room(path: Path, nbytes: int) -> None:
     if limit != resource.RLIM_INFINITY and nbytes > limit:
         raise OSError(errno.EFBIG, f"File too large (needs at least {nbytes:,} bytes, the file-size limit is "
                       f"{limit:,})", str(path))
-
-
-@contextmanager
-def held_signals(deliver: bool = True) -> Iterator[list[int]]:
-    """Hold SIGINT and SIGTERM back during the block, then deliver the first one received.
-
-    A KeyboardInterrupt raised inside h5py's or matplotlib's C code can be swallowed there ("Exception
-    ignored in ..."), and the write would then go on as if nothing happened; held back, it is raised
-    where the caller can still clean up. Outside the main thread (where Python cannot handle signals)
-    the block runs as it is.
-
-    The block gets the list of the signals received; with ``deliver=False`` they are left to the caller
-    (to act on once the results are in place, or not at all while a failure is being handled).
-    """
-    received: list[int] = []
-    if threading.current_thread() is not threading.main_thread():
-        yield received
-        return
-    previous = {s: signal.signal(s, lambda signum, frame: received.append(signum)) for s in _HELD_SIGNALS}
-    try:
-        yield received
-    finally:
-        for s, handler in previous.items():
-            signal.signal(s, handler)
-        if received and deliver:
-            signal.raise_signal(received[0])
 
 
 @contextmanager

@@ -58,7 +58,8 @@ import numpy as np
 from sixdof.dofs import DOFS, MixedUnits, unit_attrs
 from sixdof.errors import InputError, Plain, readonly
 from sixdof.frozen import Frozen
-from sixdof.io.output import check_room, held_signals
+from sixdof.interrupts import held_signals
+from sixdof.io.output import check_room
 from sixdof.results import DERIVED, FIXED_SCALES, RunResults, descriptions
 
 #: Identifies the file layout; bump FORMAT_VERSION when a fixed name changes meaning.

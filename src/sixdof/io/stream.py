@@ -16,7 +16,8 @@ import os
 import uuid
 from pathlib import Path
 
-from sixdof.io.output import check_room, held_signals
+from sixdof.interrupts import held_signals
+from sixdof.io.output import check_room
 from sixdof.io.store import LIBVER, Results, _naming, _write, build_results, discard, publish
 from sixdof.results import axis_slice
 

@@ -20,6 +20,7 @@ from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from sixdof.interrupts import held_signals
 from sixdof.plots import FIGURES, render
 
 if TYPE_CHECKING:
@@ -102,8 +103,6 @@ class FigureWorkers:
         for name in [name for name, *_ in FIGURES if name in self._jobs]:
             job = self._jobs[name]
             if self._pool is None:
-                from sixdof.io.output import held_signals  # not at import: the workers start before numpy loads
-
                 with held_signals():  # matplotlib's C code can swallow a KeyboardInterrupt
                     png = render(job, name, self.dpi)
             else:

@@ -339,7 +339,7 @@ def _parser() -> argparse.ArgumentParser:
 def _modes(args) -> int:
     with held_signals():
         from sixdof.io.scenario import load_scenario
-        from sixdof.io.toml import naming
+        from sixdof.schema import naming
 
         scenario = load_scenario(args.scenario)  # its imports held with the rest: NumPy and JAX load there
     with naming(args.scenario):  # what the analysis finds wrong in the scenario names its file too
@@ -422,7 +422,7 @@ def _run(args) -> int:
 
             from sixdof.io import report
             from sixdof.io.scenario import load_scenario
-            from sixdof.io.toml import naming
+            from sixdof.schema import naming
             from sixdof.workflows import run_scenario
 
             _compile_cache()
@@ -477,8 +477,8 @@ def _run(args) -> int:
 def _validate(args) -> int:
     from sixdof.io.report import validation_text
     from sixdof.io.scenario import load_scenario
-    from sixdof.io.toml import naming
     from sixdof.plots.workers import FigureWorkers
+    from sixdof.schema import naming
     from sixdof.workflows import validate_scenario
 
     with FigureWorkers() as workers:  # started first: they import matplotlib while this process computes
@@ -502,7 +502,7 @@ def _optimize(args) -> int:
     with held_signals():
         from sixdof.design.workflow import optimize_scenario
         from sixdof.io.scenario import load_scenario
-        from sixdof.io.toml import naming
+        from sixdof.schema import naming
 
     _check_workers(args)
     scenario = load_scenario(args.scenario)
@@ -550,7 +550,7 @@ def _sweep(args) -> int:
         from sixdof.io.output import check_target
         from sixdof.io.scenario import load_scenario
         from sixdof.io.sweep import load_sweep_spec
-        from sixdof.io.toml import naming
+        from sixdof.schema import naming
         from sixdof.sweeps import CHUNKS_SUFFIX, ChunkFolder, sweep_scenario
 
         _check_workers(args)

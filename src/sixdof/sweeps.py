@@ -34,7 +34,7 @@ import numpy as np
 
 from sixdof.analysis.validity import RangeWarning, variants_fit_range
 from sixdof.errors import InputError, Plain, SolverError, integer
-from sixdof.io.toml import naming
+from sixdof.schema import naming
 
 #: The folder of a sweep's finished chunks, beside its results folder.
 CHUNKS_SUFFIX = ".chunks"

@@ -15,7 +15,7 @@ from sixdof.design.optimize import DesignResult, Robustness, optimize, robustnes
 from sixdof.design.problem import DesignProblem
 from sixdof.errors import readonly
 from sixdof.io import output
-from sixdof.io.toml import naming
+from sixdof.schema import naming
 
 
 @dataclass(frozen=True, eq=False)

@@ -45,7 +45,7 @@ from sixdof.errors import (
     short,
 )
 from sixdof.frozen import Frozen, checked
-from sixdof.io.toml import build, choices
+from sixdof.schema import build, choices
 
 
 class Signal(Frozen):

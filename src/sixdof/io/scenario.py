@@ -32,11 +32,11 @@ from sixdof.errors import (
 )
 from sixdof.files import csv_numbers, csv_rows
 from sixdof.frozen import Frozen, checked
-from sixdof.io.toml import Table, build, choices, make, parse, read_text, reject_unknown, unique
 from sixdof.model.nonlinear import ForceDeflection
 from sixdof.model.system import MAX_MOUNTS, Maxwell, Mount, Rayleigh, RigidBody, System
 from sixdof.model.viscoelastic import with_fits
 from sixdof.results import DERIVED
+from sixdof.schema import Table, build, choices, make, parse, read_text, reject_unknown, unique
 
 #: The most body points of a scenario: 1,000 took 52 s for the bundled compressor's 3 s run at 2 kHz on a busy
 #: machine; each adds 216 bytes a sample to a run's results file.

@@ -1,6 +1,6 @@
 """Sweep specifications (``sixdof sweep --spec``): which mount parameters vary, and how, as TOML.
 
-Read with the one TOML reader (:mod:`sixdof.io.toml`): unknown keys are rejected with the closest valid
+Read with the one TOML reader (:mod:`sixdof.schema`): unknown keys are rejected with the closest valid
 key suggested, every error names the file and the field.
 """
 
@@ -28,8 +28,8 @@ from sixdof.errors import (
     short,
 )
 from sixdof.frozen import Frozen, checked
-from sixdof.io.toml import Table, build, is_number, naming, parse, read_text
 from sixdof.model.system import System
+from sixdof.schema import Table, build, is_number, naming, parse, read_text
 from sixdof.tasks import check_count, chunk_rng, partition
 
 PARAMETERS = ("stiffness", "damping", "position")

@@ -94,7 +94,7 @@ class TimeCheckSettings(Frozen):
 
 def time_check_settings(value, field: str = "time_check") -> TimeCheckSettings | None:
     """``value`` of the scenario key: ``true`` (defaults), ``false`` (None: no check) or a table."""
-    from sixdof.io.toml import build
+    from sixdof.schema import build
 
     if isinstance(value, dict):
         return build(TimeCheckSettings, value, field)

@@ -116,7 +116,7 @@ def numerics():  # the run's stages, wrapped once the scenario is loaded (import
     import jax.monitoring  # already imported by the scenario's model
     from sixdof.io.stream import ResultsStream
     for name in ("_frequency_responses", "_time_response"):
-        timed(importlib.import_module("sixdof.workflows"), name)
+        timed(importlib.import_module("sixdof.workflows.run"), name)
     for name in ("append", "finish"):
         timed(ResultsStream, name)
     jax.monitoring.register_event_time_span_listener(jax_stage)
@@ -158,7 +158,7 @@ print("FIGURES " + json.dumps(costs))
 IMPORTS = r"""
 import json, time
 costs = []
-for name in ["sixdof.cli", "sixdof.plots.workers", "numpy", "sixdof.io.scenario", "sixdof.workflows", "sixdof._jax",
+for name in ["sixdof.cli", "sixdof.plots.workers", "numpy", "sixdof.io.scenario", "sixdof.workflows.run", "sixdof._jax",
              "sixdof.excitation", "sixdof.analysis.direct", "sixdof.analysis.frf", "h5py", "sixdof.io.stream",
              "sixdof.analysis.superposition", "sixdof.analysis.mountcheck"]:
     start = time.perf_counter()

@@ -15,7 +15,7 @@ from sixdof.excitation.baseline import BASELINE_DEGREE, integrate_record, polyno
 from sixdof.io.report import baseline_text, peaks_text, points_table
 from sixdof.io.scenario import load_scenario, parse_scenario, read_table_csv
 from sixdof.results import TimeHistory
-from sixdof.workflows import run_scenario
+from sixdof.workflows.run import run_scenario
 from tolerances import RTOL_BASELINE, RTOL_RECORD_INTEGRAL
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"

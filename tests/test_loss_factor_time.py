@@ -138,7 +138,7 @@ def late_over_steady(response, steady, t_late=5.0):
 
 def test_the_fan_s_switch_on_transient_decays_to_the_exact_steady_state(tmp_path):
     from sixdof.analysis.validity import RangeWarning
-    from sixdof.workflows import run_scenario
+    from sixdof.workflows.run import run_scenario
 
     sc = fan(tmp_path)
     lines = []

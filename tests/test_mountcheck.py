@@ -26,7 +26,7 @@ from sixdof.cli import main
 from sixdof.errors import ScenarioError
 from sixdof.io.store import load_results, load_tree
 from sixdof.results import time_slice
-from sixdof.workflows import run_scenario
+from sixdof.workflows.run import run_scenario
 from systems import four_mount
 from tolerances import RTOL_DIRECT_EXACT, RTOL_STATICS
 

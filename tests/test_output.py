@@ -13,10 +13,10 @@ import pytest
 
 from processes import assert_group_ends
 from sixdof import InputError, load_results, parse_scenario, run_scenario
-from sixdof import workflows as run_module
 from sixdof.cli import EXIT_BAD_INPUT, EXIT_CANNOT_WRITE, EXIT_CLOSED_PIPE, EXIT_INTERRUPTED, EXIT_TERMINATED, main
 from sixdof.errors import ScenarioError
 from sixdof.io import output
+from sixdof.workflows import run as run_module
 
 HERE = Path(__file__).parent
 # Modal results, statics and FRFs only: a run takes about a second, so real processes stay cheap.

@@ -5,10 +5,10 @@ import numpy as np
 import pytest
 
 from sixdof import InputError, modal_analysis, parse_scenario, run_scenario
-from sixdof import workflows as run_module
 from sixdof.cli import main
 from sixdof.io.store import load_tree
-from sixdof.workflows import sampling_warnings
+from sixdof.workflows import run as run_module
+from sixdof.workflows.run import sampling_warnings
 from tolerances import RTOL_FRF_CLOSED_FORM, RTOL_REPORTED_TRUNCATION, RTOL_STATICS
 
 SCENARIO = """
@@ -183,7 +183,7 @@ def test_cli_bad_input_writes_nothing(tmp_path, capsys):
 
 
 def test_truncated_superposition_reports_its_error_and_warns(tmp_path):
-    from sixdof.workflows import AgreementWarning
+    from sixdof.workflows.run import AgreementWarning
 
     text = SCENARIO + "\n[superposition]\nn_modes = 3\n"
     scenario = parse_scenario(text.replace("duration = 0.6", "duration = 0.2"), "trunc.toml")

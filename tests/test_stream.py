@@ -96,9 +96,9 @@ def test_window_envelopes_hold_every_bin_extreme_of_the_whole_run():
 
 
 def test_a_long_run_streams_its_windows_and_keeps_only_what_its_figures_draw(tmp_path, monkeypatch):
-    from sixdof import workflows
     from sixdof.io import scenario as scenario_module
-    from sixdof.workflows import run_scenario
+    from sixdof.workflows import run as workflows
+    from sixdof.workflows.run import run_scenario
 
     text = (SCENARIOS / "bridge_beam_traffic.toml").read_text()
     scenario = parse_scenario(text.replace("duration = 20.0", "duration = 1.5"), "traffic.toml")
@@ -127,7 +127,7 @@ def test_a_long_run_streams_its_windows_and_keeps_only_what_its_figures_draw(tmp
 
 
 def test_a_run_whose_file_cannot_fit_on_the_disk_is_refused_before_it_starts(tmp_path):
-    from sixdof.workflows import run_scenario
+    from sixdof.workflows.run import run_scenario
 
     text = (SCENARIOS / "bridge_beam_traffic.toml").read_text()
     # 9e8 samples (within the 1e9 a run may have), a file of about 1.1 TB: more than the disk holds.
@@ -142,10 +142,10 @@ def test_ctrl_c_stops_a_long_run_at_once_and_leaves_nothing(tmp_path, monkeypatc
     it is in, not after the whole run, and leaves no partial output."""
     import signal
 
-    from sixdof import workflows
     from sixdof.analysis import direct
     from sixdof.io import scenario as scenario_module
-    from sixdof.workflows import run_scenario
+    from sixdof.workflows import run as workflows
+    from sixdof.workflows.run import run_scenario
 
     text = (SCENARIOS / "bridge_beam_traffic.toml").read_text()
     scenario = parse_scenario(text.replace("duration = 20.0", "duration = 1.5"), "traffic.toml")

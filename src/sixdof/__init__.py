@@ -72,7 +72,7 @@ _PUBLIC = {
     "design_metrics": "analysis.design",
     "sensitivities": "analysis.design",
     # End to end and files.
-    "run_scenario": "workflows",
+    "run_scenario": "workflows.run",
     "optimize_scenario": "design.workflow",
     "load_results": "io.store",
     "write_results": "io.store",

@@ -4,7 +4,7 @@ record whose integrated displacement drifts (:func:`ground_drift`).
 
 Both time paths (:func:`sixdof.analysis.direct.simulate`, :func:`sixdof.analysis.superposition.superpose`)
 call the first two, so a notebook user of either one is told; the results are computed all the same. The drift
-is judged by a run (:func:`sixdof.workflows.run_scenario`) over its whole span, once: not by the inner solves of
+is judged by a run (:func:`sixdof.workflows.run.run_scenario`) over its whole span, once: not by the inner solves of
 the checks that synthesize records of their own (a random record's displacement wanders by nature).
 """
 

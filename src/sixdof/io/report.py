@@ -480,7 +480,7 @@ def validation_text(report) -> str:
 def summary_markdown(scenario, modes, statics, damping_ratios, response, forces, agreement,
                      superposition, frf, figures, notes, mount_check=None, steady=None, points=None,
                      random=None, srs=None, nonlinear=None, stiffness_note=None) -> str:
-    """The run summary as Markdown text (see :func:`sixdof.workflows.run_scenario`); ``stiffness_note``: the
+    """The run summary as Markdown text (see :func:`sixdof.workflows.run.run_scenario`); ``stiffness_note``: the
     line on gravity's geometric stiffness (:func:`sixdof.analysis.validity.geometric_stiffness_note`), or None."""
     parts = [f"# {scenario.name}", "", scenario.description, ""]
     if notes:

@@ -453,7 +453,7 @@ def _design(raw: dict, system: System):
 #: array of sines.
 RUN_BYTES_PER_SAMPLE = 4000
 #: A run holds at most this many output samples in memory: a longer one proceeds in windows written to its
-#: file as they are done, keeping only what its figures draw (:mod:`sixdof.workflows`).
+#: file as they are done, keeping only what its figures draw (:mod:`sixdof.workflows.run`).
 MEMORY_SAMPLES = 1 << 16
 #: Complex values kept per frequency and per (load DOF, response) pair, counting the modal cross-check's copy.
 FRF_COPIES = 4

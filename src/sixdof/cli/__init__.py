@@ -423,7 +423,7 @@ def _run(args) -> int:
             from sixdof.io import report
             from sixdof.io.scenario import load_scenario
             from sixdof.schema import naming
-            from sixdof.workflows import run_scenario
+            from sixdof.workflows.run import run_scenario
 
             _compile_cache()
         scenario = load_scenario(args.scenario)
@@ -479,7 +479,7 @@ def _validate(args) -> int:
     from sixdof.io.scenario import load_scenario
     from sixdof.plots.workers import FigureWorkers
     from sixdof.schema import naming
-    from sixdof.workflows import validate_scenario
+    from sixdof.workflows.run import validate_scenario
 
     with FigureWorkers() as workers:  # started first: they import matplotlib while this process computes
         with held_signals():
@@ -613,7 +613,7 @@ def _plot(args) -> int:
     from sixdof.plots.workers import FigureWorkers
 
     with FigureWorkers() as workers:  # started first: they import matplotlib while the file is read
-        from sixdof.workflows import redraw
+        from sixdof.workflows.run import redraw
 
         figures = redraw(args.results, args.out, workers=workers)
     for figure in figures:

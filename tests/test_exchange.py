@@ -21,9 +21,9 @@ RTOL_TIME_AXIS = 1e-14
 
 @pytest.fixture(scope="module")
 def results(tmp_path_factory):
-    outcome = run_scenario(parse_scenario(SCENARIO.replace("duration = 0.6", "duration = 0.2")),
+    results, folder = run_scenario(parse_scenario(SCENARIO.replace("duration = 0.6", "duration = 0.2")),
                            tmp_path_factory.mktemp("run"), progress=False)
-    return outcome.results_path
+    return folder / "results.h5"
 
 
 #: The small run shaken by its base instead of struck: a 1 g half-sine acceleration of the ground, inclined in y-z.
@@ -43,8 +43,8 @@ GROUND_CHANNELS = (("time/ground_displacement", 8, "d"), ("time/ground_velocity"
 def shaken(tmp_path_factory):
     text = (SCENARIO.split("[[loads]]")[0] + GROUND + "[simulation]"
             + SCENARIO.split("[simulation]")[1].replace("duration = 0.6", "duration = 0.2"))
-    outcome = run_scenario(parse_scenario(text), tmp_path_factory.mktemp("shaken"), progress=False)
-    return outcome.results_path
+    results, folder = run_scenario(parse_scenario(text), tmp_path_factory.mktemp("shaken"), progress=False)
+    return folder / "results.h5"
 
 
 def test_uff58_carries_every_history_and_receptance_with_its_dof_and_units(results, tmp_path, capsys):
@@ -166,8 +166,8 @@ def test_each_format_replaces_its_own_files_and_keeps_the_other_s(results, tmp_p
     assert (folder / ".sixdof-files").read_text().split() == ["small.uff", "small_frf.csv", "small_time.csv"]
     frf_only = SCENARIO.split("[simulation]")[0] + "[frf]" + SCENARIO.split("[frf]")[1].replace("points = 50",
                                                                                                  "points = 30")
-    frf_only = run_scenario(parse_scenario(frf_only), tmp_path / "frf_only", progress=False)
-    assert main(["export", str(frf_only.results_path), "--format", "csv", "--out", str(tmp_path)]) == 0
+    frf_only, frf_folder = run_scenario(parse_scenario(frf_only), tmp_path / "frf_only", progress=False)
+    assert main(["export", str(frf_folder / "results.h5"), "--format", "csv", "--out", str(tmp_path)]) == 0
     assert sorted(os.listdir(folder)) == [".sixdof-files", "notes.txt", "small.uff", "small_frf.csv"]
     assert (folder / "small.uff").read_bytes() == uff and (folder / "notes.txt").read_text() == "mine"
     with (folder / "small_frf.csv").open() as stream:

@@ -20,6 +20,7 @@ from sixdof.io.store import load_results, write_results
 from sixdof.model.kinematics import mount_matrix
 from sixdof.model.system import Mount
 from sixdof.results import RunResults
+from sixdof.workflows.prepare import prepare
 from systems import four_mount, skewed_machine
 from tolerances import RTOL_FREQUENCY, RTOL_FRF_CLOSED_FORM, RTOL_GEOMETRIC_GRADIENT, RTOL_LINALG
 
@@ -200,16 +201,16 @@ stiffness = [2e5, 3e5, 8e5]
 
 def test_the_scenario_key_and_its_errors():
     assert not parse_scenario(SCENARIO).system.geometric_stiffness
-    on = parse_scenario(SCENARIO + "[statics]\ngravity = 9.81\ngeometric_stiffness = true\n").system
+    on = prepare(parse_scenario(SCENARIO + "[statics]\ngravity = 9.81\ngeometric_stiffness = true\n")).system
     np.testing.assert_allclose(np.diag(on.K_geometric)[3:], [-500 * 9.81 * 0.3] * 2 + [0.0], rtol=RTOL_LINALG)
     with pytest.raises(ScenarioError, match=r"statics\.geometric_stiffness: expected true or false, got 1"):
         parse_scenario(SCENARIO + "[statics]\ngeometric_stiffness = 1\n")
     with pytest.raises(ScenarioError, match=r"statics\.geometric_stifness: expected one of the keys .*; did you mean 'geometric_stiffness'\?"):
         parse_scenario(SCENARIO + "[statics]\ngeometric_stifness = true\n")
-    # Mounts that cannot carry the weight have no preload: said on loading, naming the key.
+    # Mounts that cannot carry the weight have no preload: said when the run prepares the model, naming the key.
     free = SCENARIO.replace("[2e5, 3e5, 8e5]", "[2e5, 3e5, 0.0]")
     with pytest.raises(ScenarioError, match=r"statics\.geometric_stiffness: expected false, or mounts that carry"):
-        parse_scenario(free + "[statics]\ngeometric_stiffness = true\n")
+        prepare(parse_scenario(free + "[statics]\ngeometric_stiffness = true\n"))
     with pytest.raises(ValueError, match=r"gravity_preload: expected a gravity vector"):
         System(RigidBody(1.0, [1.0, 1.0, 1.0]), [Mount("a", [0, 0, 0], [1.0, 1.0, 1.0])], gravity_preload=[0, 0, 0])
 
@@ -235,9 +236,9 @@ def test_the_readme_gives_the_formula_and_the_key():
 
 
 def test_a_tall_body_with_the_option_on_is_refused_naming_it():
-    """Loaded with [statics] geometric_stiffness = true, a body the preload would tip over is one line naming the
+    """Prepared with [statics] geometric_stiffness = true, a body the preload would tip over is one line naming the
     setting (the modes' own message named only K)."""
-    from sixdof import parse_scenario
+    from sixdof import parse_scenario, prepare
     from sixdof.errors import ScenarioError
 
     mounts = "".join(f'[[mounts]]\nname = "m{i}"\nposition = [{x}, {y}, -0.5]\nstiffness = [100.0, 100.0, 250.0]\n'
@@ -246,7 +247,7 @@ def test_a_tall_body_with_the_option_on_is_refused_naming_it():
     with pytest.raises(ScenarioError, match=r"^tall.toml: statics.geometric_stiffness: expected false, or mounts "
                        r"whose rocking stiffness carries the weight .* got K \+ K_G with a negative eigenvalue: the "
                        r"body would tip over on these mounts$"):
-        parse_scenario(text, "tall.toml")
+        prepare(parse_scenario(text, "tall.toml"))
 
 
 def test_mounts_that_cannot_carry_the_weight_get_no_geometric_note():
@@ -261,10 +262,10 @@ def test_mounts_that_cannot_carry_the_weight_get_no_geometric_note():
 
 def test_a_linearized_copy_keeps_the_nonlinear_preload_in_its_K():
     """K of the linearized system is its mounts' K plus the nonlinear equilibrium's K_G, exactly."""
-    from sixdof import parse_scenario
+    from sixdof import parse_scenario, prepare
 
     text = (SCENARIOS / "bridge_beam_uplift.toml").read_text() + "\n[statics]\ngeometric_stiffness = true\n"
-    system = parse_scenario(text).system
+    system = prepare(parse_scenario(text)).system
     linear = system.linearized()
     np.testing.assert_array_equal(linear.K_geometric, system.K_geometric)
     np.testing.assert_array_equal(linear.K, linear.K_mounts + system.K_geometric)

@@ -220,17 +220,17 @@ def test_peaks_relative_to_a_moving_ground_come_first():
 def test_a_run_on_a_drifting_record_warns_and_puts_relative_motion_first(tmp_path):
     scenario = _scenario(tmp_path, offset=0.001, duration=20.0)
     with pytest.warns(GroundDriftWarning, match=r"ends at .* mm at t = 20 s, 100 % of its peak"):
-        outcome = run_scenario(scenario, tmp_path / "out", progress=False)
-    summary = outcome.summary_path.read_text()
+        results, folder = run_scenario(scenario, tmp_path / "out", progress=False)
+    summary = (folder / "summary.md").read_text()
     assert "## Warnings" in summary and "set [ground] baseline" in summary.lower()
-    response = outcome.response
+    response = results.response
     assert summary.index("Relative to the ground") < summary.index("Absolute (fixed frame")
-    table = points_table(outcome.points, True, ground=response)
+    table = points_table(results.points, True, ground=response)
     assert table in summary
     lines = table.splitlines()
     headers = [c.strip() for c in lines[1].split("|")[3:9]]
     cells = [c.strip() for c in next(line for line in lines if line.startswith("| top_corner")).split("|")[3:9]]
-    motion = outcome.points["top_corner"]
+    motion = results.points["top_corner"]
     relative = np.max(np.abs(motion.displacement - response.ground_displacement), axis=0)
     absolute = np.max(np.abs(motion.displacement), axis=0)
     factor, unit = display_unit(np.concatenate([relative, absolute]), "m")

@@ -14,6 +14,7 @@ from sixdof.model.viscoelastic import (
     constant_loss_model,
     loss_fit_misses,
 )
+from sixdof.workflows.prepare import prepare
 
 RPM = 1480.0  # the fan's operating speed: 24.7 Hz, above its mounts' 5-13 Hz modes
 
@@ -49,8 +50,8 @@ def mounts(eta: float) -> str:
 
 
 def fan(tmp_path, eta=0.1, damping=""):
-    return parse_scenario(FAN.format(mounts=mounts(eta), rpm=RPM, damping=damping), source="fan.toml",
-                          base_dir=tmp_path)
+    return prepare(parse_scenario(FAN.format(mounts=mounts(eta), rpm=RPM, damping=damping), source="fan.toml",
+                                  base_dir=tmp_path))
 
 
 def closed_form(fit, f_hz):
@@ -142,27 +143,27 @@ def test_the_fan_s_switch_on_transient_decays_to_the_exact_steady_state(tmp_path
 
     sc = fan(tmp_path)
     lines = []
-    outcome = run_scenario(sc, tmp_path / "out", progress=False, log=lines.append)
-    steady = outcome.steady_state  # k (1 + i eta) exactly
-    ratio = late_over_steady(outcome.response, steady)
+    results, folder = run_scenario(sc, tmp_path / "out", progress=False, log=lines.append)
+    steady = results.steady_state  # k (1 + i eta) exactly
+    ratio = late_over_steady(results.response, steady)
     assert np.all(np.abs(ratio - 1) < 0.03), ratio  # the direct solve, 5-6 s after switch-on
-    assert np.all(np.abs(late_over_steady(outcome.superposition, steady) - 1) < 0.03)
-    assert outcome.agreement.ok
+    assert np.all(np.abs(late_over_steady(results.superposition, steady) - 1) < 0.03)
+    assert results.agreement.ok
     # Statics with the long-term stiffness, said once, in the summary and in results.h5.
     weight = np.array([0.0, 0.0, -450.0 * 9.80665, 0.0, 0.0, 0.0])
-    np.testing.assert_allclose(outcome.statics.q, np.linalg.solve(np.asarray(sc.time_system.K), weight),
+    np.testing.assert_allclose(results.statics.q, np.linalg.solve(np.asarray(sc.time_system.K), weight),
                                rtol=1e-9, atol=1e-15)
     said = [line for line in lines if line.startswith("statics: with the long-term")]
     assert len(said) == 1 and "worst errors at the natural and operating frequencies" in said[0]
-    assert said[0] in outcome.summary_path.read_text()
+    assert said[0] in (folder / "summary.md").read_text()
     from sixdof.io.store import load_results
 
-    stored = load_results(outcome.results_path)
+    stored = load_results(folder / "results.h5")
     assert stored.loss_factor_model == "causal" and stored.loss_factor_statics == said[0]
     assert stored.time_system is not None and len(stored.time_system.maxwell) == len(sc.time_system.maxwell)
 
     hysteretic = fan(tmp_path, damping='[damping]\nloss_factor_model = "hysteretic"')
     with pytest.warns(RangeWarning, match=r'loss_factor_model = "hysteretic": the time paths .* leave out the loss '
                                           r"factors of mount\(s\)"):
-        before = run_scenario(hysteretic, tmp_path / "before", progress=False, log=lambda *a: None)
+        before, _ = run_scenario(hysteretic, tmp_path / "before", progress=False, log=lambda *a: None)
     assert np.max(late_over_steady(before.response, before.steady_state)) > 1.3  # never decays

@@ -150,31 +150,31 @@ def test_limits_turn_into_one_warning_per_mount(tmp_path):
     # m0: tension not allowed, and w beyond 1 mm: the deflection from the unloaded mount is
     # z - mg / 4k = F / 4k (1 - cos wn t) - mg / 4k, at most 3 mg / 4k = 1.19 mm at t = PERIOD / 2
     with pytest.warns(MountLimitWarning) as caught:
-        outcome = run_scenario(scenario, tmp_path, progress=False)
+        results, folder = run_scenario(scenario, tmp_path, progress=False)
     messages = [str(w.message) for w in caught]
     assert len(messages) == 1
-    t = outcome.response.t
+    t = results.response.t
     deflection = WEIGHT / (2 * K_W) * (1 - np.cos(2 * np.pi * t / PERIOD)) - WEIGHT / (4 * K_W)
     first_over = t[np.argmax(deflection > 1e-3)]
     assert messages[0] == (
         f"mount 'm0': deflection along w {3 * WEIGHT / (4 * K_W) * 1e3:.4g} mm at t = 0.02 s, beyond its "
         f"max_deflection 1 mm (first at t = {first_over:.4g} s); in tension (allow_tension = false): "
         f"{0.75 * WEIGHT / 1e3:.4g} kN at t = 0.02 s (first at t = 0.007 s)")
-    assert outcome.mount_check.violations == tuple(messages)
-    assert messages[0] in outcome.warnings
-    summary = outcome.summary_path.read_text()
+    assert results.mount_check.violations == tuple(messages)
+    assert messages[0] in results.notes
+    summary = (folder / "summary.md").read_text()
     assert "### Mount checks" in summary and "> 0 compression, < 0 tension (uplift)" in summary
     assert f"TENSION {0.75 * WEIGHT / 1e3:.4g} kN, from t = 0.007 s" in summary
     assert f"- {messages[0]}" in summary  # in the summary's warnings
     # the file: new names beside the old ones, read back as the same object
-    tree = load_tree(outcome.results_path)
-    assert np.array_equal(tree.array("time/mount_check/compression"), outcome.mount_check.compression)
+    tree = load_tree(folder / "results.h5")
+    assert np.array_equal(tree.array("time/mount_check/compression"), results.mount_check.compression)
     assert tree.datasets["time/mount_check/compression"].units == "N"
     assert tree.array("model/mount_max_deflection")[0] == pytest.approx([0.01, 0.01, 0.001])
     assert list(tree.array("model/mount_allow_tension")) == [0, 1, 1, 1]
-    loaded = load_results(outcome.results_path)
-    assert np.array_equal(loaded.mount_check.min_compression, outcome.mount_check.min_compression)
-    assert loaded.mount_check.violations == outcome.mount_check.violations
+    loaded = load_results(folder / "results.h5")
+    assert np.array_equal(loaded.mount_check.min_compression, results.mount_check.min_compression)
+    assert loaded.mount_check.violations == results.mount_check.violations
     assert [m.allow_tension for m in loaded.system.mounts] == [False, True, True, True]
 
 

@@ -68,9 +68,9 @@ def scenario_file(tmp_path):
 @pytest.fixture
 def previous(scenario_file, tmp_path):
     """A finished run in ``tmp_path/out/pump``, with a file of the user's in it: {name: bytes}."""
-    outcome = run_scenario(parse_scenario(SCENARIO, "pump.toml"), tmp_path / "out", progress=False)
-    (outcome.directory / "notes.txt").write_text("mine")
-    return snapshot(outcome.directory)
+    results, folder = run_scenario(parse_scenario(SCENARIO, "pump.toml"), tmp_path / "out", progress=False)
+    (folder / "notes.txt").write_text("mine")
+    return snapshot(folder)
 
 
 def snapshot(folder: Path) -> dict[str, bytes]:

@@ -7,6 +7,7 @@ import pytest
 from sixdof import InputError, modal_analysis, parse_scenario, run_scenario
 from sixdof.cli import main
 from sixdof.io.store import load_tree
+from sixdof.plots import figure_names
 from sixdof.workflows import run as run_module
 from sixdof.workflows.run import sampling_warnings
 from tolerances import RTOL_FRF_CLOSED_FORM, RTOL_REPORTED_TRUNCATION, RTOL_STATICS
@@ -90,18 +91,19 @@ def outcome(scenario, tmp_path_factory):
 
 
 def test_run_writes_results_figures_and_summary(outcome):
-    assert sorted(p.name for p in outcome.directory.iterdir()) == sorted(
-        [".sixdof-files", "results.h5", "summary.md", *(f.name for f in outcome.figures)]
+    computed, folder = outcome
+    assert sorted(p.name for p in folder.iterdir()) == sorted(
+        [".sixdof-files", "results.h5", "summary.md", *figure_names(computed)]
     )
-    listed = (outcome.directory / ".sixdof-files").read_text().splitlines()
-    assert listed == sorted(["results.h5", "summary.md", *(f.name for f in outcome.figures)])
-    assert not [p for p in outcome.directory.parent.iterdir() if p.name.startswith(".")]
-    results = load_tree(outcome.results_path)
+    listed = (folder / ".sixdof-files").read_text().splitlines()
+    assert listed == sorted(["results.h5", "summary.md", *figure_names(computed)])
+    assert not [p for p in folder.parent.iterdir() if p.name.startswith(".")]
+    results = load_tree(folder / "results.h5")
     q = results.array("time/q")
     assert q.shape == (601, 6)
     assert results.array("time/superposition/q").shape == (601, 6)
-    assert results.attrs["time/superposition"]["agreement_worst"] == pytest.approx(outcome.agreement.worst)
-    assert outcome.agreement.ok
+    assert results.attrs["time/superposition"]["agreement_worst"] == pytest.approx(computed.agreement.worst)
+    assert computed.agreement.ok
     assert results.array("statics/support").sum() == pytest.approx(300 * 9.80665, rel=RTOL_STATICS)
     assert results.array("frf/receptance").shape == (50, 6, 6)
     # The requested point FRF is the receptance seen through the point maps, times i w (mobility).
@@ -111,7 +113,7 @@ def test_run_writes_results_figures_and_summary(outcome):
     expected = 1j * w * np.einsum("i,fij,j->f", T[2], H, T[2])
     np.testing.assert_allclose(results.array("frf/point/drive/values"), expected, rtol=RTOL_FRF_CLOSED_FORM)
     assert "frf/force_transmissibility/to_floor/total" in results.datasets
-    summary = outcome.summary_path.read_text()
+    summary = (folder / "summary.md").read_text()
     for text in ["## Natural frequencies", "## Kinetic energy distribution", "Peak mount forces",
                  "Direct solve vs modal superposition", "![mode_shapes](mode_shapes.png)"]:
         assert text in summary
@@ -130,17 +132,18 @@ def test_unwritable_output_is_an_error_before_any_computing(scenario, tmp_path, 
 
 @pytest.mark.parametrize("error", [KeyboardInterrupt, OSError])
 def test_interrupted_run_keeps_the_previous_results_and_leaves_no_partial_output(outcome, scenario, monkeypatch, error):
-    before = {p.name: p.read_bytes() for p in outcome.directory.iterdir()}
+    folder = outcome[1]
+    before = {p.name: p.read_bytes() for p in folder.iterdir()}
 
     def interrupted(*args, **kwargs):
         raise error("disk full" if error is OSError else None)
 
     monkeypatch.setattr("sixdof.plots.workers.FigureWorkers.save", interrupted)
     with pytest.raises(error):
-        run_scenario(scenario, outcome.directory.parent, progress=False)
-    after = {p.name: p.read_bytes() for p in outcome.directory.iterdir()}
+        run_scenario(scenario, folder.parent, progress=False)
+    after = {p.name: p.read_bytes() for p in folder.iterdir()}
     assert after == before
-    assert not [p for p in outcome.directory.parent.iterdir() if p.name.startswith(".")]
+    assert not [p for p in folder.parent.iterdir() if p.name.startswith(".")]
 
 
 def test_sample_rate_too_low_is_warned_with_the_numbers(scenario):
@@ -188,14 +191,14 @@ def test_truncated_superposition_reports_its_error_and_warns(tmp_path):
     text = SCENARIO + "\n[superposition]\nn_modes = 3\n"
     scenario = parse_scenario(text.replace("duration = 0.6", "duration = 0.2"), "trunc.toml")
     with pytest.warns(AgreementWarning, match=r"direct and modal superposition disagree: worst DOF"):
-        outcome = run_scenario(scenario, tmp_path, progress=False)
-    assert outcome.superposition.superposition.modes_kept == (0, 1, 2)
-    assert outcome.superposition.superposition.truncation.worst > 1e-6
+        results, folder = run_scenario(scenario, tmp_path, progress=False)
+    assert results.superposition.superposition.modes_kept == (0, 1, 2)
+    assert results.superposition.superposition.truncation.worst > 1e-6
     # Against the direct solve, the truncated superposition's displacements are off by what its truncation says
     # (its accelerations by more: the worst over q, q' and q'' is in q'').
-    assert outcome.agreement.worst_quantity == "qdd" and outcome.agreement.worst > max(outcome.agreement.per_dof)
-    assert max(outcome.agreement.per_dof) == pytest.approx(outcome.superposition.superposition.truncation.worst, rel=RTOL_REPORTED_TRUNCATION)
-    assert "Truncated to modes 1, 2, 3" in outcome.summary_path.read_text()
+    assert results.agreement.worst_quantity == "qdd" and results.agreement.worst > max(results.agreement.per_dof)
+    assert max(results.agreement.per_dof) == pytest.approx(results.superposition.superposition.truncation.worst, rel=RTOL_REPORTED_TRUNCATION)
+    assert "Truncated to modes 1, 2, 3" in (folder / "summary.md").read_text()
 
 
 def test_output_table_leaves_derived_quantities_out_and_reading_derives_them_again(outcome, tmp_path):
@@ -203,23 +206,25 @@ def test_output_table_leaves_derived_quantities_out_and_reading_derives_them_aga
 
     from sixdof import load_results
 
+    folder = outcome[1]
+
     lean = parse_scenario(SCENARIO.replace("[simulation]", '[output]\nderived = ["mount_check"]\n\n[simulation]'))
     assert lean.output.omitted == ("mount_forces",) and parse_scenario(SCENARIO).output.derived == (
         "mount_forces", "mount_check")
-    written = run_scenario(lean, tmp_path, progress=False)
-    tree = load_tree(written.results_path)
+    written, written_folder = run_scenario(lean, tmp_path, progress=False)
+    tree = load_tree(written_folder / "results.h5")
     assert "time/mount_force" not in tree.datasets and "time/mount_force_elastic" not in tree.datasets
     assert "time/mount_check/compression" in tree.datasets and tree.attrs[""]["derived_omitted"] == ("mount_forces",)
-    assert written.results_path.stat().st_size < 0.75 * outcome.results_path.stat().st_size
+    assert (written_folder / "results.h5").stat().st_size < 0.75 * (folder / "results.h5").stat().st_size
     # Read back, the file gives the same mount forces as the run that stored them: derived again, bit for bit.
-    full, back = load_results(outcome.results_path), load_results(written.results_path)
+    full, back = load_results(folder / "results.h5"), load_results(written_folder / "results.h5")
     for field in dataclasses.fields(full.mount_forces):
         np.testing.assert_array_equal(getattr(back.mount_forces, field.name), getattr(full.mount_forces, field.name))
     # Nothing derived left out: the mount check too is derived on reading, equal to the stored one.
-    none = run_scenario(parse_scenario(SCENARIO.replace("[simulation]", "[output]\nderived = []\n\n[simulation]")),
+    none, none_folder = run_scenario(parse_scenario(SCENARIO.replace("[simulation]", "[output]\nderived = []\n\n[simulation]")),
                         tmp_path / "none", progress=False)
-    back = load_results(none.results_path)
-    assert "time/mount_check" not in load_tree(none.results_path).attrs
+    back = load_results(none_folder / "results.h5")
+    assert "time/mount_check" not in load_tree(none_folder / "results.h5").attrs
     for field in dataclasses.fields(full.mount_check):
         a, b = getattr(back.mount_check, field.name), getattr(full.mount_check, field.name)
         if isinstance(b, np.ndarray):

@@ -72,7 +72,11 @@ _PUBLIC = {
     "design_metrics": "analysis.design",
     "sensitivities": "analysis.design",
     # End to end and files.
+    "run": "workflows.run",
+    "save": "workflows.run",
     "run_scenario": "workflows.run",
+    "prepare": "workflows.prepare",
+    "ResultsStream": "io.stream",
     "optimize_scenario": "design.workflow",
     "load_results": "io.store",
     "write_results": "io.store",

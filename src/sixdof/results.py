@@ -334,6 +334,12 @@ class RunResults(Frozen):
         stiffness, with their worst errors.
     provenance : mapping of str to str
         ``scenario_text``, ``created_utc``, ``command_line``, package versions.
+    notes : tuple of str
+        The warnings a run raised (sampling, ranges, agreement, mount limits), which its summary lists (not stored).
+    stiffness_note : str or None
+        The line on gravity's geometric stiffness the summary shows beside the modes (not stored).
+    scenario : sixdof.io.scenario.Scenario or None
+        The scenario a run computed (not stored: the file keeps its text in ``provenance``).
     """
 
     name: str = label(name="scenario_name", default="")
@@ -374,6 +380,9 @@ class RunResults(Frozen):
                                    key=lambda fit: fit.name, default=())
     sweep: Any = part(lambda: _class("sixdof.analysis.batch", "BatchResult"), group="sweep", default=None)
     provenance: Any = field(default_factory=dict)
+    notes: tuple[str, ...] = ()
+    stiffness_note: str | None = None
+    scenario: Any = field(default=None, repr=False)
 
     def __check__(self) -> None:
         if (self.mount_forces is not None or self.mount_check is not None or self.points) and self.response is None:

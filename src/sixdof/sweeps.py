@@ -202,7 +202,9 @@ def sweep(scenario, spec, *, chunk_size: int | None = None, workers: int | None 
         Bad spec draws, a ``chunk_size`` below 1 (``--chunk-size``) or a bad place to run: before any computing.
     """
     from sixdof.tasks import task_runner
+    from sixdof.workflows.prepare import prepare
 
+    scenario = prepare(scenario)
     spec = _with_chunk_size(spec, chunk_size)
     _check(scenario, spec)
     with task_runner(workers, scheduler, client) as runner:
@@ -403,7 +405,9 @@ def sweep_scenario(scenario, spec, out_root: str | Path = "outputs", *, chunk_si
     from sixdof.io.stream import ResultsStream
     from sixdof.results import RunResults
     from sixdof.tasks import task_runner
+    from sixdof.workflows.prepare import prepare
 
+    scenario = prepare(scenario)
     spec = _with_chunk_size(spec, chunk_size)
     _check(scenario, spec)
     target = output.check_target(out_root, scenario.name, "_sweep")

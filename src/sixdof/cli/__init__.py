@@ -338,63 +338,35 @@ def _parser() -> argparse.ArgumentParser:
 
 def _modes(args) -> int:
     with held_signals():
-        from sixdof.io.scenario import load_scenario
+        from sixdof.io import console
         from sixdof.schema import naming
+        from sixdof.workflows.modes import modal_run, modes_json
 
-        scenario = load_scenario(args.scenario)  # its imports held with the rest: NumPy and JAX load there
+    if args.sensitivity and not args.json:  # before anything is computed
+        raise _input_error("--sensitivity", "--json as well (the derivatives are arrays)", "--sensitivity alone")
     with naming(args.scenario):  # what the analysis finds wrong in the scenario names its file too
-        return _show_modes(args, scenario)
-
-
-def _show_modes(args, scenario) -> int:
-    from sixdof.analysis.design import design_metrics
-    from sixdof.analysis.statespace import damping_ratios
-    from sixdof.analysis.statics import try_gravity_statics
-    from sixdof.analysis.validity import RangeWarning, implausible_inputs, static_range
-    from sixdof.errors import InputError, Plain
-    from sixdof.io import report
-
-    system = scenario.system
-    modes = system.modes
-    statics, no_statics = try_gravity_statics(system, scenario.statics.gravity, scenario.statics.direction)
-    points = {p.name: p.position for p in scenario.points}
-    for note in static_range(statics, system) + implausible_inputs(system, scenario.excitation, points):
-        warnings.warn(note, RangeWarning, stacklevel=1)
-    zeta = damping_ratios(system.C, modes, system.branches)
+        run = modal_run(args.scenario, sensitivity=args.sensitivity)
     if args.json:
-        print(json.dumps(_modes_json(scenario, modes, statics, zeta, sensitivity=args.sensitivity)))
+        print(json.dumps(modes_json(run)))
         return 0
-    if args.sensitivity:
-        raise InputError("--sensitivity", "--json as well (the derivatives are arrays)", Plain("--sensitivity alone"))
-    print(f"{_title(scenario)}\n")
-    print(report.modes_table(modes, zeta if system.C.any() or system.maxwell else None, system))
-    print(report.damping_note(system))
-    print("\nKinetic energy distribution [%] (share of each mode's kinetic energy in each DOF):")
-    print(report.ke_table(modes))
-    print()
-    print(report.subsystems_text(modes))
-    print()
-    print(report.design_text(design_metrics(system, scenario.design.torque_axis)))
-    _print_statics(scenario, statics, no_statics)
+    print(console.modes_text(run))
+    _print_statics(run.results, run.no_statics)
     return 0
 
 
-def _print_statics(scenario, statics, no_statics: str | None = None) -> None:
-    """The statics under gravity (or why there are none), what gravity's geometric stiffness does to the modes
-    (:func:`~sixdof.analysis.validity.geometric_stiffness_note`), and a warning for mounts in tension."""
-    from sixdof.analysis.validity import geometric_stiffness_note
-    from sixdof.io import report
+def _print_statics(results, no_statics: str | None = None) -> None:
+    """The statics under gravity (:func:`sixdof.io.console.statics_text`), and a warning for mounts in tension."""
+    from sixdof.io import console
 
-    print(f"\nStatics under gravity ({scenario.statics.gravity} m/s^2 along {list(scenario.statics.direction)}):")
-    if statics is None:
-        print(no_statics)
-        return
-    print(report.statics_table(statics, scenario.system))
-    note = geometric_stiffness_note(scenario.system, scenario.statics.vector)
-    if note is not None:
-        print(note)
-    if statics.uplift:
-        warnings.warn(f"mounts in tension (uplift): {', '.join(statics.uplift)}", stacklevel=1)
+    print(console.statics_text(results, no_statics))
+    if results.statics is not None and results.statics.uplift:
+        warnings.warn(f"mounts in tension (uplift): {', '.join(results.statics.uplift)}", stacklevel=1)
+
+
+def _input_error(field: str, expected: str, got: str) -> Exception:
+    from sixdof.errors import InputError, Plain
+
+    return InputError(field, expected, Plain(got))
 
 
 def _one_blas_thread() -> None:
@@ -418,59 +390,17 @@ def _run(args) -> int:
     # Started first: the figure workers import matplotlib while this process loads the scenario and solves.
     with FigureWorkers() as workers:
         with held_signals():
-            import numpy as np
-
-            from sixdof.io import report
-            from sixdof.io.scenario import load_scenario
+            from sixdof.io import console
+            from sixdof.plots import figure_names
             from sixdof.schema import naming
             from sixdof.workflows.run import run_scenario
 
             _compile_cache()
-        scenario = load_scenario(args.scenario)
         with naming(args.scenario):  # what the run finds wrong in the scenario names its file too
-            outcome = run_scenario(scenario, args.out, progress=_progress(args), command_line=" ".join(sys.argv),
-                                   workers=workers)
-    print(f"{_title(scenario)}\n")
-    print(report.modes_table(outcome.modes, outcome.damping_ratios, scenario.system))
-    print(report.damping_note(scenario.system))
-    if scenario.viscoelastic:
-        print(f"\nVisco-elastic mounts (Maxwell fits):\n{report.viscoelastic_table(scenario.viscoelastic)}")
-    if outcome.statics is not None:
-        _print_statics(scenario, outcome.statics)
-    if outcome.steady_state is not None:
-        print(f"\n{report.steady_state_text(outcome.steady_state)}")
-    if outcome.random is not None:
-        print(f"\nRandom vibration:\n{report.random_text(outcome.random)}")
-    if outcome.srs is not None:
-        print(f"\n{report.srs_text(outcome.srs)}")
-    if outcome.agreement is not None:
-        info = outcome.superposition.superposition
-        until = " until the first nonlinear mount engaged" if outcome.contacts is not None else ""
-        print(f"\nDirect solve vs modal superposition ({info.method} modes){until}: {outcome.agreement}")
-        truncation = info.truncation
-        if truncation is not None:
-            kept = ", ".join(str(j + 1) for j in info.modes_kept)
-            print(f"Truncated to modes {kept}; against all modes: {truncation}")
-        ground = scenario.excitation.ground if scenario.excitation is not None else None
-        if ground is not None and ground.baseline != "none":
-            print(report.baseline_text(ground))
-        stats = outcome.response.stats
-        print(f"Solver {stats.solver}: {stats.num_accepted} steps, {stats.num_rejected} rejected, "
-              f"{stats.wall_time_s:.2f} s")
-        if outcome.contacts is not None:
-            checks = report.nonlinear_text(outcome.contacts, outcome.energy, outcome.refined, outcome.agreement, stats)
-            print(f"\nNonlinear mounts:\n{checks}")
-        limits = np.stack([m.max_deflection for m in scenario.system.mounts])
-        print(f"\nMount checks:\n{report.mount_check_text(outcome.mount_check, limits)}")
-        if outcome.points:
-            steady = outcome.steady_state is not None
-            points = report.points_table(outcome.points, report.moving_ground(scenario), steady,
-                                         ground=outcome.response)
-            print(f"\nBody points: {points}")
-    if outcome.frf is not None:
-        print(f"FRF direct vs modal: {outcome.frf.max_relative_difference:.1e} (worst relative difference)")
-    print(f"\nWrote {outcome.directory}: {outcome.results_path.name}, {len(outcome.figures)} figures, "
-          f"{outcome.summary_path.name}")
+            results, directory = run_scenario(args.scenario, args.out, progress=_progress(args),
+                                              command_line=" ".join(sys.argv), workers=workers)
+    print(console.run_text(results))
+    print(f"\nWrote {directory}: results.h5, {len(figure_names(results))} figures, summary.md")
     return 0
 
 
@@ -479,7 +409,7 @@ def _validate(args) -> int:
     from sixdof.io.scenario import load_scenario
     from sixdof.plots.workers import FigureWorkers
     from sixdof.schema import naming
-    from sixdof.workflows.run import validate_scenario
+    from sixdof.workflows.validate import validate_scenario
 
     with FigureWorkers() as workers:  # started first: they import matplotlib while this process computes
         with held_signals():
@@ -613,105 +543,9 @@ def _plot(args) -> int:
     from sixdof.plots.workers import FigureWorkers
 
     with FigureWorkers() as workers:  # started first: they import matplotlib while the file is read
-        from sixdof.workflows.run import redraw
+        from sixdof.workflows.redraw import redraw
 
         figures = redraw(args.results, args.out, workers=workers)
     for figure in figures:
         print(figure)
     return 0
-
-
-def _modes_json(scenario, modes, statics, zeta, sensitivity: bool = False) -> dict:
-    """The modal and statics groups of the results file (:func:`sixdof.io.store.build_results`), each key the
-    name of its dataset or attribute there (mode numbers from 1, like the file's), NaN as null; and, for
-    scripts written before those names, the keys of earlier versions (``frequencies_hz``, ``omega_rad_s``,
-    ``damping_ratios``, ``zero_modes`` (indices from 0), and in ``statics`` ``mounts``, ``mount_forces_n``,
-    ``support_n``). ``mount_forces_n`` keeps the sign of those versions: the force of each mount on the body [N],
-    ``-mount_force``."""
-    import numpy as np
-
-    from sixdof.io.store import build_results
-    from sixdof.results import RunResults
-
-    tree = build_results(RunResults(name=scenario.name, system=scenario.system, modes=modes, statics=statics,
-                                    damping_ratios=zeta))
-
-    def plain(value):
-        if isinstance(value, (tuple, list)):
-            return [plain(v) for v in value]
-        value = np.asarray(value)
-        if value.dtype.kind == "f":
-            # NaN (rigid-body mode) and inf (overdamped: no oscillating pole) -> null: JSON has neither
-            return np.where(np.isfinite(value), value.astype(object), None).tolist()
-        return value.tolist()
-
-    def group(name):
-        found = {path.split("/", 1)[1]: plain(d.data) for path, d in tree.datasets.items()
-                 if path.startswith(f"{name}/") and "/" not in path[len(name) + 1:]}
-        return {**found, **{key: plain(value) for key, value in tree.attrs.get(name, {}).items()}}
-
-    modal = group("modal")
-    modal["subsystems"] = [list(g) for g in modes.subsystems]  # stored comma-joined: HDF5 has no ragged lists
-    out = {"name": scenario.name, "dofs": modal["dof"], **modal,
-           "frequencies_hz": modal["frequency_hz"], "omega_rad_s": modal["omega"],
-           "damping_ratios": modal["damping_ratio"], "zero_modes": list(modes.zero_modes), "statics": None}
-    laws = scenario.system.nonlinear
-    # Modes of a system with nonlinear mounts are those of its linearization about the static equilibrium.
-    out["linearized_axes"] = list(laws.names)
-    out["linearized_stiffness"] = [float(k) for k in laws.tangent]
-    out["geometric_stiffness"] = scenario.system.geometric_stiffness  # whether K (so the modes) holds gravity's K_G
-    out["full_model_poles"] = _full_model_poles(scenario.system, modes, plain)
-    out.update(_design_json(scenario, sensitivity, plain))
-    if statics is not None:
-        fixed = group("statics")
-        # Earlier versions gave the force each mount exerts on the body (Fz > 0 under -z gravity); today's
-        # mount_force is the body's force on the mount, its opposite. The legacy key keeps its own sign.
-        legacy = plain(0.0 - np.asarray(statics.mount_forces))  # 0.0 - x: no -0.0
-        out["statics"] = {**fixed, "mounts": fixed["mount"], "mount_forces_n": legacy,
-                          "support_n": fixed["support"]}
-    return out
-
-
-def _full_model_poles(system, modes, plain) -> dict | None:
-    """With Maxwell branches, the pole of each mode in the full visco-elastic model (the augmented state space,
-    :func:`sixdof.analysis.statespace.damped_modes`), as the modes table's "f full model" column shows it:
-    ``frequency_hz`` |lambda| / 2 pi, ``damped_frequency_hz`` Im(lambda) / 2 pi and ``damping_ratio``
-    -Re(lambda) / |lambda|, per mode (null: a rigid-body or overdamped mode); None without branches."""
-    import numpy as np
-
-    from sixdof.analysis.statespace import damped_modes
-
-    if not system.branches.count:
-        return None
-    poles, _ = damped_modes(system.C, modes, system.branches)
-    size = np.abs(poles)
-    return {"frequency_hz": plain(size / (2 * np.pi)), "damped_frequency_hz": plain(poles.imag / (2 * np.pi)),
-            "damping_ratio": plain(-poles.real / size)}
-
-
-def _design_json(scenario, sensitivity: bool, plain) -> dict:
-    """The design metrics (:func:`sixdof.analysis.design.design_metrics`), modes numbered from 1, absent
-    values null; with ``sensitivity``, the derivatives (mode, mount, axis) per mount-axis stiffness [N/m]."""
-    import numpy as np
-
-    from sixdof.analysis.design import design_metrics, sensitivities
-
-    metrics = design_metrics(scenario.system, scenario.design.torque_axis)
-    optional = {name: None if getattr(metrics, name) is None else plain(getattr(metrics, name))
-                for name in ("torque_axis", "torque_roll_axis", "roll_mode_tra_angle_deg", "decoupling_tra_percent",
-                             "elastic_center")}
-    out = {"decoupling_percent": plain(metrics.decoupling_percent), **optional,
-           "roll_mode": None if metrics.roll_mode is None else metrics.roll_mode + 1,
-           "elastic_axes": plain(metrics.elastic_axes), "principal_stiffness": plain(metrics.principal_stiffness)}
-    if sensitivity:
-        from sixdof.io.report import without_round_off
-
-        found = sensitivities(scenario.system)
-
-        def shown(values):  # masked: no derivative -> null; round-off of the mode's largest (1e-36 for 0) -> 0
-            return plain(np.where(values.mask, np.nan, without_round_off(values.data, axis=(1, 2))))
-
-        out.update(frequency_sensitivity=shown(found.frequency), decoupling_sensitivity=shown(found.decoupling),
-                   repeated_modes=[[j + 1 for j in group] for group in found.repeated_modes],
-                   sensitivity_axes=["mode", "mount", "mount_axis"])
-    return out

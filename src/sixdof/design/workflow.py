@@ -109,7 +109,9 @@ def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: b
     from sixdof.plots.design import plot_design_decoupling, plot_design_frequencies
     from sixdof.progress import meter
     from sixdof.tasks import task_runner
+    from sixdof.workflows.prepare import prepare
 
+    scenario = prepare(scenario)
     with naming(scenario.path):  # refusals of the scenario's mounts and [design], named like the file's own
         problem = DesignProblem(scenario.system, scenario.design, scenario.statics.gravity,
                                 scenario.statics.direction)

@@ -477,11 +477,16 @@ def validation_text(report) -> str:
 # ----------------------------------------------------------------------------------------------------
 
 
-def summary_markdown(scenario, modes, statics, damping_ratios, response, forces, agreement,
-                     superposition, frf, figures, notes, mount_check=None, steady=None, points=None,
-                     random=None, srs=None, nonlinear=None, stiffness_note=None) -> str:
-    """The run summary as Markdown text (see :func:`sixdof.workflows.run.run_scenario`); ``stiffness_note``: the
-    line on gravity's geometric stiffness (:func:`sixdof.analysis.validity.geometric_stiffness_note`), or None."""
+def summary_markdown(results, figures=()) -> str:
+    """The run summary as Markdown text: a run's :class:`~sixdof.results.RunResults` (as
+    :func:`sixdof.workflows.run.run` returns them: with their scenario, notes and geometric-stiffness line) and
+    the names of its ``figures``."""
+    scenario, notes, stiffness_note = results.scenario, results.notes, results.stiffness_note
+    modes, statics, damping_ratios, response = results.modes, results.statics, results.damping_ratios, results.response
+    forces, agreement, superposition, frf = results.mount_forces, results.agreement, results.superposition, results.frf
+    mount_check, steady, points = results.mount_check, results.steady_state, results.points
+    random, srs = results.random, results.srs
+    nonlinear = None if results.contacts is None else (results.contacts, results.energy, results.refined)
     parts = [f"# {scenario.name}", "", scenario.description, ""]
     if notes:
         parts += ["## Warnings", "", *(f"- {n}" for n in notes), ""]

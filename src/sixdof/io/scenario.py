@@ -34,7 +34,6 @@ from sixdof.files import csv_numbers, csv_rows
 from sixdof.frozen import Frozen, checked
 from sixdof.model.nonlinear import ForceDeflection
 from sixdof.model.system import MAX_MOUNTS, Maxwell, Mount, Rayleigh, RigidBody, System
-from sixdof.model.viscoelastic import with_fits
 from sixdof.results import DERIVED
 from sixdof.schema import Table, build, choices, make, parse, read_text, reject_unknown, unique
 
@@ -205,6 +204,66 @@ class OutputSettings(Frozen):
         return tuple(name for name in DERIVED if name not in self.derived)
 
 
+class NotPrepared(ValueError):
+    """A scenario's prepared model read before :func:`sixdof.workflows.prepare.prepare` made it."""
+
+
+@dataclass(frozen=True, eq=False)
+class MeasuredStiffness:
+    """A ``dynamic_stiffness`` table of a mount, read and checked (the fit is made by
+    :func:`sixdof.workflows.prepare.prepare`).
+
+    Attributes
+    ----------
+    mount, axis : str
+    field : str
+        Its place in the file (``mounts[0].dynamic_stiffness``), for the errors of its fit.
+    f_hz, storage, loss : ndarray
+        The data [Hz, N/m, N/m] (:func:`~sixdof.model.viscoelastic.read_dynamic_stiffness`).
+    terms : int or None
+    max_modulus_error, max_loss_angle_error_deg : float
+        The worst fit accepted [1, deg].
+    file : str
+        As the scenario names it.
+    """
+
+    mount: str
+    axis: str
+    field: str
+    f_hz: np.ndarray
+    storage: np.ndarray
+    loss: np.ndarray
+    terms: Any
+    max_modulus_error: float
+    max_loss_angle_error_deg: float
+    file: str
+
+
+@dataclass(frozen=True, eq=False)
+class PreparedModel:
+    """The systems a scenario's computations use, made by :func:`sixdof.workflows.prepare.prepare`.
+
+    Attributes
+    ----------
+    system : sixdof.model.system.System
+        The frequency paths' and the modes': measured dynamic stiffness as Maxwell models, nonlinear mounts at
+        their static equilibrium, gravity's preload where ``[statics] geometric_stiffness``.
+    time_system : sixdof.model.system.System
+        The system the time paths integrate (the direct solve and its superposition, the statics, `validate`):
+        ``system`` with each loss factor replaced by its causal Maxwell model (``loss_factor_model``
+        ``"causal"``, the default, or ``"maxwell"``); ``system`` itself without loss factors or with
+        ``"hysteretic"`` (which leaves them out of the time paths).
+    viscoelastic : tuple of sixdof.model.viscoelastic.MaxwellFit
+        The Maxwell models fitted to the mounts' measured dynamic stiffness (in ``system``) and, unless
+        ``loss_factor_model = "hysteretic"``, the causal models of their loss factors (in ``time_system``, and in
+        ``system`` too with ``"maxwell"``).
+    """
+
+    system: System
+    time_system: System
+    viscoelastic: tuple = ()
+
+
 @dataclass(frozen=True, eq=False)
 class Scenario:
     """A validated scenario: one system, the excitations acting together, and what to compute.
@@ -228,15 +287,17 @@ class Scenario:
         The ``[random]`` table: a base-acceleration or force PSD.
     design : sixdof.design.spec.DesignSpec
         The ``[design]`` table: torque axis, targets and variables (empty when absent).
-    viscoelastic : tuple of sixdof.model.viscoelastic.MaxwellFit
-        The Maxwell models fitted to the mounts' measured dynamic stiffness (already in ``system``) and,
-        unless ``loss_factor_model = "hysteretic"``, the causal models of their loss factors (in
-        ``time_system``, and in ``system`` too with ``"maxwell"``).
-    time_system : sixdof.model.system.System
-        The system the time paths integrate (the direct solve and its superposition, the statics, `validate`):
-        ``system`` with each loss factor replaced by its causal Maxwell model (``loss_factor_model``
-        ``"causal"``, the default, or ``"maxwell"``); ``system`` itself without loss factors or with
-        ``"hysteretic"`` (which leaves them out of the time paths).
+    measured : tuple of MeasuredStiffness
+        The mounts' measured dynamic stiffness tables, read and checked: fitted by
+        :func:`sixdof.workflows.prepare.prepare`, which puts their Maxwell models in ``system``.
+    model : PreparedModel or None
+        What :func:`~sixdof.workflows.prepare.prepare` made of ``given_system`` (``None`` until then).
+    given_system : sixdof.model.system.System
+        The model as the file gives it: no fits, no static equilibrium, no preload.
+    system, time_system, viscoelastic
+        The prepared model's (:class:`PreparedModel`): reading them from a scenario that is only loaded, whose
+        model needs preparing (fits, a nonlinear equilibrium, gravity's preload, causal loss factors), raises
+        :class:`NotPrepared`; without such needs, ``system`` and ``time_system`` are ``given_system``.
     loss_factor_model : str
         ``"causal"``, ``"maxwell"`` or ``"hysteretic"`` (``[damping] loss_factor_model``).
     loss_factor_band_hz, loss_factor_terms
@@ -249,7 +310,7 @@ class Scenario:
 
     name: str
     description: str
-    system: System
+    given_system: System
     excitation: Any
     simulation: Any
     frf: FrfSettings | None
@@ -262,15 +323,45 @@ class Scenario:
     design: Any
     text: str
     path: Path | None
-    viscoelastic: tuple = ()
-    time_system: Any = None
+    measured: tuple = ()
     loss_factor_model: str = "causal"
     loss_factor_band_hz: Any = None
     loss_factor_terms: Any = None
+    model: Any = None
 
-    def __post_init__(self) -> None:
-        if self.time_system is None:
-            object.__setattr__(self, "time_system", self.system)
+    @property
+    def needs_preparing(self) -> tuple[str, ...]:
+        """What :func:`~sixdof.workflows.prepare.prepare` changes of ``given_system`` (empty: nothing)."""
+        given = self.given_system
+        needs = [("measured dynamic stiffness to fit", bool(self.measured)),
+                 ("the static equilibrium of nonlinear mounts", bool(given.nonlinear.count)),
+                 ("gravity's geometric stiffness", self.statics.geometric_stiffness),
+                 ("causal models of the loss factors",
+                  self.loss_factor_model != "hysteretic" and bool(np.any(given.loss_factors)))]
+        return tuple(what for what, needed in needs if needed)
+
+    def _prepared(self, name: str):
+        if self.model is not None:
+            return getattr(self.model, name)
+        if self.needs_preparing:
+            raise NotPrepared(f"Scenario.{name} of {self.name!r}: its model needs preparing first "
+                              f"({', '.join(self.needs_preparing)}); call sixdof.prepare(scenario), or sixdof.run")
+        return () if name == "viscoelastic" else self.given_system
+
+    @property
+    def system(self) -> System:
+        """The system of the frequency paths and the modes (:class:`PreparedModel`)."""
+        return self._prepared("system")
+
+    @property
+    def time_system(self) -> System:
+        """The system the time paths integrate (:class:`PreparedModel`)."""
+        return self._prepared("time_system")
+
+    @property
+    def viscoelastic(self) -> tuple:
+        """The Maxwell models fitted to measured data and loss factors (:class:`PreparedModel`)."""
+        return self._prepared("viscoelastic")
 
     def time_model(self, system: System) -> System:
         """The system the time paths integrate for ``system`` (a design or variant of this scenario's): its loss
@@ -281,7 +372,7 @@ class Scenario:
             return self.time_system
         if self.loss_factor_model == "hysteretic" or not np.any(system.loss_factors):
             return system
-        return _causal(system, self.excitation, self.loss_factor_band_hz, self.loss_factor_terms)[0]
+        return causal_model(system, self.excitation, self.loss_factor_band_hz, self.loss_factor_terms)[0]
 
     @property
     def causal_loss_fits(self) -> tuple:
@@ -338,23 +429,7 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     rayleigh, modal = _damping(damping)
     system = make(System, "", body=body, mounts=mounts, rayleigh=rayleigh, modal_damping=modal, maxwell=branches,
                   force_deflection=tables)
-    system = make(with_fits, "mounts", system=system, fits=fits) if fits else system
     statics = build(StaticsSettings, top.table("statics", default={}), "statics")
-    if system.nonlinear.count:  # linearized about its static equilibrium, which the nonlinear statics find
-        from sixdof.analysis.statics import at_equilibrium, gravity_statics
-
-        system = at_equilibrium(system, gravity_statics(system, statics.gravity, statics.direction))
-    if statics.geometric_stiffness:  # before any computation: mounts that cannot carry the weight have no preload
-        system = dataclasses.replace(system, gravity_preload=statics.vector)
-        try:
-            system.modes  # noqa: B018 (K raises InputError naming statics.geometric_stiffness; the modes, field K)
-        except InputError as exc:
-            if exc.field != "K":
-                raise
-            raise InputError("statics.geometric_stiffness", "false, or mounts whose rocking stiffness carries the "
-                             "weight above them (K + K_G positive semi-definite)",
-                             Plain("K + K_G with a negative eigenvalue: the body would tip over on these mounts")
-                             ) from None
 
     loads = tuple(_load(t, f"loads[{i}]", base_dir) for i, t in enumerate(top.tables("loads")))
     ground, initial = top.table("ground", default=None), top.table("initial", default=None)
@@ -368,8 +443,7 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
             release = "mode" in initial or "amplitude" in initial
             initial = build(ModeRelease if release else InitialState, initial, "initial")
         excitation = make(Excitation, "", loads=loads, ground=ground, initial=initial)
-    loss_model, system, time_system, causal = _loss_factors(system, excitation, damping)
-    viscoelastic = tuple(fit for _, _, fit in fits) + causal
+    loss_model = _loss_factor_model(system, damping)
     simulation = top.table("simulation", default=None)
     if simulation is not None:
         from sixdof.analysis.direct import SimulationSettings
@@ -377,14 +451,8 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
         simulation = build(SimulationSettings, simulation, "simulation")
     frf = top.table("frf", default=None)
     frf = None if frf is None else _frf(frf)
-    _check_memory(time_system, excitation, simulation, frf)
-    if frf is not None:  # before any computation: a grid point on an undamped resonance has no response
-        from sixdof.analysis.frf import check_resonances
-
-        check_resonances(system, frf.grid(), "frf.f_hz")
+    _check_memory(system, excitation, simulation, frf)
     superposition = build(SuperpositionSettings, top.table("superposition", default={}), "superposition")
-    if superposition.n_modes is not None or superposition.f_max_hz is not None:
-        _check_truncation(system, superposition)
     points = tuple(build(Point, t, f"points[{i}]") for i, t in enumerate(point_tables))
     unique([p.name for p in points], "points")
     output = build(OutputSettings, top.table("output", default={}), "output")
@@ -395,10 +463,10 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     spectrum = top.table("shock_response_spectrum", default=None)
     if spectrum is not None:
         spectrum = _spectrum(spectrum, simulation)
-    return Scenario(name=name, description=description, system=system, excitation=excitation, simulation=simulation,
-                    frf=frf, superposition=superposition, points=points, statics=statics, output=output,
-                    shock_response_spectrum=spectrum, random=random, design=design, text=text,
-                    viscoelastic=viscoelastic, time_system=time_system, loss_factor_model=loss_model,
+    return Scenario(name=name, description=description, given_system=system, excitation=excitation,
+                    simulation=simulation, frf=frf, superposition=superposition, points=points, statics=statics,
+                    output=output, shock_response_spectrum=spectrum, random=random, design=design, text=text,
+                    measured=tuple(fits), loss_factor_model=loss_model,
                     loss_factor_band_hz=damping.value("loss_factor_band_hz", None),
                     loss_factor_terms=damping.value("loss_factor_terms", None),
                     path=Path(source) if source != "<string>" else None)
@@ -521,7 +589,7 @@ def _mount(raw: Any, path: str, base_dir: Path) -> tuple[Mount, list[Maxwell], l
     for j, data in enumerate([measured] if isinstance(measured, dict) else measured):
         field = f"{path}.dynamic_stiffness" + (f"[{j}]" if isinstance(measured, list) else "")
         fits.append(_fit(mount, data, field, base_dir))
-    axes = [axis for _, axis, _ in fits]
+    axes = [fit.axis for fit in fits]
     if len(set(axes)) < len(axes):
         raise InputError(f"{path}.dynamic_stiffness", "one table per axis", Plain(f"axes {', '.join(axes)}"))
     tables = []
@@ -535,16 +603,16 @@ def _mount(raw: Any, path: str, base_dir: Path) -> tuple[Mount, list[Maxwell], l
     axes = [t.axis for t in tables]
     if len(set(axes)) < len(axes):
         raise InputError(f"{path}.force_deflection", "one table per axis", Plain(f"axes {', '.join(axes)}"))
-    if set(axes) & {axis for _, axis, _ in fits}:
+    if set(axes) & {fit.axis for fit in fits}:
         raise InputError(f"{path}.force_deflection", "axes without a dynamic_stiffness fit (each replaces the "
                          "axis's stiffness)", Plain(f"axes {', '.join(sorted(set(axes)))}"))
     return mount, branches, fits, tables
 
 
-def _fit(mount: Mount, raw: Any, field: str, base_dir: Path):
-    """One ``dynamic_stiffness`` table: the measured data of ``file`` fitted along ``axis``."""
+def _fit(mount: Mount, raw: Any, field: str, base_dir: Path) -> MeasuredStiffness:
+    """One ``dynamic_stiffness`` table: the measured data of ``file`` along ``axis``, read and checked."""
     from sixdof.model import viscoelastic
-    from sixdof.model.viscoelastic import AXES, fit_maxwell, read_dynamic_stiffness
+    from sixdof.model.viscoelastic import AXES, read_dynamic_stiffness
 
     table = Table(raw, field, ("file", "axis", "terms", "max_modulus_error", "max_loss_angle_error_deg"))
     axis = choice_check(tuple(AXES))(table.value("axis"), f"{field}.axis")
@@ -553,18 +621,13 @@ def _fit(mount: Mount, raw: Any, field: str, base_dir: Path):
                          axis)
     file = table.string("file")
     f_hz, storage, loss = read_dynamic_stiffness((base_dir / file).resolve(), f"{field}.file")
-    fit = fit_maxwell(f_hz, storage, loss, table.value("terms", None), field=field)
     limits = [number_check(expected, low=0.0, strict=True)(table.value(key, default), f"{field}.{key}")
               for key, default, expected in (
                   ("max_modulus_error", viscoelastic.FIT_MODULUS_ERROR, "a relative error > 0"),
                   ("max_loss_angle_error_deg", viscoelastic.FIT_LOSS_ANGLE_ERROR_DEG, "an angle in deg > 0"))]
-    if fit.modulus_error > limits[0] or fit.loss_angle_error_deg > limits[1]:
-        raise InputError(field, f"a Maxwell fit within {100 * limits[0]:g} % in |K*| and {limits[1]:g} deg in loss "
-                         "angle over the data (raise terms, or the limits max_modulus_error and "
-                         "max_loss_angle_error_deg)",
-                         Plain(f"{100 * fit.modulus_error:.3g} % and {fit.loss_angle_error_deg:.3g} deg with "
-                               f"{fit.stiffness.size} terms over {fit.f_hz[0]:g}-{fit.f_hz[-1]:g} Hz of {file}"))
-    return mount.name, axis, dataclasses.replace(fit, name=f"{mount.name} {axis}", source=file)
+    return MeasuredStiffness(mount=mount.name, axis=axis, field=field, f_hz=f_hz, storage=storage, loss=loss,
+                             terms=table.value("terms", None), max_modulus_error=limits[0],
+                             max_loss_angle_error_deg=limits[1], file=file)
 
 
 #: The values of ``[damping] loss_factor_model``: what the mounts' loss factors are in the time paths and in the
@@ -572,11 +635,11 @@ def _fit(mount: Mount, raw: Any, field: str, base_dir: Path):
 LOSS_FACTOR_MODELS = ("causal", "maxwell", "hysteretic")
 
 
-def _loss_factors(system: System, excitation, damping: Table):
-    """``loss_factor_model``, the system of the frequency paths, the system of the time paths and the causal
-    Maxwell models of the loss factors (:func:`~sixdof.model.viscoelastic.causal_loss_factors`, checked at the
-    natural frequencies and the operating frequencies of ``excitation``): ``"causal"`` puts them in the time
-    system only, ``"maxwell"`` in both, ``"hysteretic"`` nowhere (the time paths leave the loss factors out)."""
+def _loss_factor_model(system: System, damping: Table) -> str:
+    """``loss_factor_model``, checked against the mounts' loss factors and the ``loss_factor_*`` keys given: what
+    the loss factors are in the time paths and in the frequency paths (:func:`sixdof.workflows.prepare.prepare`
+    makes their causal Maxwell models): ``"causal"`` in the time system only, ``"maxwell"`` in both,
+    ``"hysteretic"`` nowhere (the time paths leave the loss factors out)."""
     model = choice_check(LOSS_FACTOR_MODELS)(damping.value("loss_factor_model", "causal"),
                                               "damping.loss_factor_model")
     lossy = bool(np.any(system.loss_factors))
@@ -587,18 +650,17 @@ def _loss_factors(system: System, excitation, damping: Table):
                                  "model of the loss factors) and a mount with a loss_factor",
                                  Plain(f'loss_factor_model = "{model}"' if lossy or model == "hysteretic"
                                        else "no loss factor"))
-        return model, system, system, ()
+        return model
     if not lossy:
         raise InputError("damping.loss_factor_model", f'a mount with a loss_factor for "{model}" to model',
                          Plain("no loss factor"))
-    timed, causal = _causal(system, excitation, damping.value("loss_factor_band_hz", None),
-                            damping.value("loss_factor_terms", None))
-    return model, timed if model == "maxwell" else system, timed, causal
+    return model
 
 
-def _causal(system: System, excitation, band_hz, terms):
+def causal_model(system: System, excitation, band_hz, terms):
     """``system`` with its loss factors' causal Maxwell models, and the models
-    (:func:`~sixdof.model.viscoelastic.causal_loss_factors`); errors name the ``[damping] loss_factor_*`` keys."""
+    (:func:`~sixdof.model.viscoelastic.causal_loss_factors`, checked at the natural frequencies and the
+    operating frequencies of ``excitation``); errors name the ``[damping] loss_factor_*`` keys."""
     from sixdof.model.viscoelastic import causal_loss_factors
 
     try:
@@ -657,18 +719,6 @@ def _with_file(table: dict, path: str, base_dir: Path) -> dict:
         raise InputError(field, "either a file or inline t and values, not both", file)
     signal["t"], signal["values"] = read_table_csv(file, base_dir, field, increasing=True)
     return {**table, "signal": signal}
-
-
-def _check_truncation(system: System, settings: SuperpositionSettings) -> None:
-    """A truncation (``n_modes``, ``f_max_hz``) that keeps no mode, or with Maxwell branches, refused when the file
-    is read as the superposition would refuse it after the direct solve (the same checks: its plan)."""
-    from sixdof.analysis.superposition import Plan
-
-    try:
-        Plan(system.M, system.C, system.modes, settings.method, settings.n_modes, settings.f_max_hz,
-             system.branches if system.branches.count else None)
-    except InputError as error:
-        raise error.within("superposition") from None
 
 
 def read_table_csv(file: Any, base_dir: Path, field: str, columns: tuple[str, str] = ("time in s", "value"),

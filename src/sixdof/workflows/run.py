@@ -8,18 +8,28 @@ deleted that sixdof did not write.
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
+import os
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
 
 import numpy as np
 
-from sixdof.analysis.compare import QUANTITIES
+from sixdof.analysis.compare import QUANTITIES, compare, compare_motion, merge_agreements
+from sixdof.analysis.contact import contact_summary, energy_balance, merge_events, total_deflection, with_extremes
+from sixdof.analysis.direct import is_nonlinear, progress_meter, simulate_windows
+from sixdof.analysis.frf import cross_check, force_transmissibility, ground_transmissibility, point_frf
+from sixdof.analysis.mountcheck import MountLimitWarning, merge_mount_checks, mount_check
+from sixdof.analysis.random import random_response
+from sixdof.analysis.records import merge_stats, merge_superposition
+from sixdof.analysis.response import mount_forces, points_motion
+from sixdof.analysis.srs import shock_spectra
 from sixdof.analysis.statespace import damping_ratios
 from sixdof.analysis.statics import try_gravity_statics
+from sixdof.analysis.steady import steady_state
+from sixdof.analysis.superposition import superpose
 from sixdof.analysis.validity import (
     GroundDriftWarning,
     RangeWarning,
@@ -31,9 +41,15 @@ from sixdof.analysis.validity import (
     static_range,
 )
 from sixdof.errors import InputError, Plain
-from sixdof.io import output
-from sixdof.plots.workers import FigureWorkers
+from sixdof.excitation import Excitation
+from sixdof.io import output, report, store
+from sixdof.io.scenario import MEMORY_SAMPLES, Scenario, load_scenario
+from sixdof.io.stream import ResultsStream
+from sixdof.model.viscoelastic import long_term_note, loss_fit_misses
 from sixdof.results import Event, RunResults, envelope_samples, time_concat, time_slice
+from sixdof.validation.random_time import random_time_check
+from sixdof.workflows.drawing import drawer
+from sixdof.workflows.prepare import prepare
 
 #: Time bins in which a long run keeps each drawn series' extremes: at least one per pixel column of the
 #: widest figure with time axes (13 in at 120 dpi).
@@ -53,59 +69,6 @@ class SamplingWarning(UserWarning):
 
 class AgreementWarning(UserWarning):
     """The direct solve and modal superposition disagree by more than the tolerance."""
-
-
-@dataclass(frozen=True, eq=False)
-class RunOutcome:
-    """What :func:`run_scenario` computed and where it wrote it.
-
-    Attributes
-    ----------
-    directory : pathlib.Path
-        ``<out>/<scenario name>``.
-    results_path : pathlib.Path
-        The HDF5 results file.
-    figures : tuple of pathlib.Path
-    summary_path : pathlib.Path
-    modes, statics, damping_ratios, response, superposition, agreement, frf :
-        The computed objects (``None`` for parts the scenario does not ask for).
-    warnings : tuple of str
-        Warnings raised during the run (sampling, agreement, mount limits), also shown in the summary.
-    mount_check : sixdof.analysis.mountcheck.MountCheck or None
-        Total mount loads and deflections, tension and limits (runs with a simulation).
-    steady_state : sixdof.analysis.steady.SteadyState or None
-        Amplitudes and isolation at the operating frequencies (harmonic loads without end).
-    points : dict of str to sixdof.analysis.response.PointMotion
-        The motion of the scenario's ``[[points]]`` (what the figures and the summary show of a long run).
-    random : sixdof.analysis.random.RandomResponse or None
-        The response to the scenario's ``[random]`` PSD.
-    srs : sixdof.analysis.srs.ShockSpectra or None
-        The shock response spectra of the scenario's ``[shock_response_spectrum]``.
-    contacts, energy, refined :
-        Runs with nonlinear mounts: when and where they engaged, the energy balance and the agreement with a
-        second solve at tighter tolerances (:mod:`sixdof.analysis.contact`).
-    """
-
-    directory: Path
-    results_path: Path
-    figures: tuple[Path, ...]
-    summary_path: Path
-    modes: object
-    statics: object
-    damping_ratios: np.ndarray
-    response: object
-    superposition: object
-    agreement: object
-    frf: object
-    warnings: tuple[str, ...]
-    mount_check: object = None
-    steady_state: object = None
-    points: dict = field(default_factory=dict)
-    random: object = None
-    srs: object = None
-    contacts: object = None
-    energy: object = None
-    refined: object = None
 
 
 def sampling_warnings(scenario, modes) -> list[str]:
@@ -145,128 +108,193 @@ def excitation_frequencies(excitation) -> list[tuple[str, float]]:
     return found
 
 
-def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool = True,
-                 log=print, command_line: str | None = None, workers: FigureWorkers | None = None) -> RunOutcome:
-    """Run everything a scenario asks for and write results, figures and summary.
+def run(scenario: Scenario | str | Path, *, sink=None, progress: bool = False, log=None, drawing=None) -> RunResults:
+    """Compute everything a scenario asks for, writing nothing: modes, statics, damping, steady state, FRFs,
+    random response, and with a ``[simulation]`` the time response with its cross-check, mount checks, point
+    motions and shock response spectra.
 
     Parameters
     ----------
-    scenario : sixdof.io.scenario.Scenario
-    out_root : str or pathlib.Path
-        Results go to ``out_root/<scenario.name>/``, replaced as a whole when the run succeeds (files
-        there that sixdof did not write are kept: :mod:`sixdof.io.output`).
+    scenario : sixdof.io.scenario.Scenario or str or pathlib.Path
+        Loaded (and prepared: :func:`sixdof.workflows.prepare.prepare`) if a path.
+    sink : optional
+        Where a long run's windows go as they are computed (a :class:`sixdof.io.stream.ResultsStream`:
+        ``append(window results)``, then ``finish(results)``): the results then hold every sample only in the
+        sink, and in memory only those the figures draw. Without one, a run of more than
+        :data:`~sixdof.io.scenario.MEMORY_SAMPLES` output samples is refused before computing.
     progress : bool
         Show the solver's progress (long runs).
-    log : callable
-        Receives the text printed along the way (tables, agreement, warnings).
-    command_line : str, optional
-        Stored as provenance.
-    workers : sixdof.plots.workers.FigureWorkers, optional
-        Worker processes to draw the figures in while the run computes (the command line starts them
-        before it loads the scenario); default: drawn in this process.
+    log : callable, optional
+        Receives the lines a run prints along the way (the statics of causal loss-factor models).
+    drawing : optional
+        Receives the results as they grow (``drawing.submit(results)``: the modal and FRF figures can be drawn
+        while the solve runs; see :func:`save`).
 
     Returns
     -------
-    RunOutcome
+    sixdof.results.RunResults
+        With ``notes`` (the warnings raised, also in the summary) and ``scenario`` set.
+
+    Raises
+    ------
+    sixdof.errors.InputError
+        A run too long to hold in memory without a ``sink``.
     """
-    from sixdof.analysis.random import random_response
-    from sixdof.analysis.srs import shock_spectra
-    from sixdof.analysis.steady import steady_state
-    from sixdof.io import report, store
-    from sixdof.io.stream import ResultsStream
-
-    target = output.check_target(out_root, scenario.name)
-    with FigureWorkers(processes=0) if workers is None else contextlib.nullcontext(workers) as drawing:
-        system, timed = scenario.system, scenario.time_system
-        modes = system.modes
-        statics, no_statics = try_gravity_statics(timed, scenario.statics.gravity, scenario.statics.direction)
-        zeta = damping_ratios(system.C, modes, system.branches)
-        notes = sampling_warnings(scenario, modes)
-        for note in notes:
-            warnings.warn(note, SamplingWarning, stacklevel=2)
-        loss_notes, statics_line = loss_factor_notes(scenario, scenario.simulation is not None)
-        if statics_line and statics is not None:
-            log(statics_line)
-        steady = None if scenario.excitation is None else steady_state(system, scenario.excitation)
-        points = {p.name: p.position for p in scenario.points}
-        out_of_range = (([no_statics] if no_statics else []) + loss_notes + static_range(statics, timed)
-                        + implausible_inputs(system, scenario.excitation, points))
-        if steady is not None:
-            out_of_range += fit_band_range(scenario.viscoelastic, steady.f_hz)
-        for note in out_of_range:
-            notes.append(note)
-            warnings.warn(note, RangeWarning, stacklevel=2)
-        # A choice of the model, not a range it leaves: said beside the modes, not among the warnings.
-        stiffness_note = geometric_stiffness_note(system, scenario.statics.vector)
-        frf, frf_extras = _frequency_responses(scenario)
-        random = None if scenario.random is None else random_response(system, scenario.random, points)
-        if random is not None and scenario.random.time_check is not None:
-            from sixdof.validation.random_time import random_time_check
-
-            # The time model on both sides: the loss factors' causal models damp the record and its FRFs alike.
-            random = dataclasses.replace(random, time_check=random_time_check(
-                scenario.time_system, scenario.random, points, scenario.random.time_check,
-                simulation=scenario.simulation, progress=progress))
-        run = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
+    scenario = prepare(scenario)
+    log = log or _silent
+    simulation = scenario.simulation
+    if simulation is not None and sink is None and simulation.samples > MEMORY_SAMPLES:
+        raise InputError("sink", f"a sink for a run of more than {MEMORY_SAMPLES:,} output samples, which is not "
+                         "held in memory (sixdof.run(scenario, sink=sixdof.ResultsStream(path)), or "
+                         "sixdof.run_scenario, which streams into its results folder)",
+                         Plain(f"{simulation.samples:,} samples and no sink"))
+    system, timed = scenario.system, scenario.time_system
+    modes = system.modes
+    statics, no_statics = try_gravity_statics(timed, scenario.statics.gravity, scenario.statics.direction)
+    zeta = damping_ratios(system.C, modes, system.branches)
+    notes = sampling_warnings(scenario, modes)
+    for note in notes:
+        warnings.warn(note, SamplingWarning, stacklevel=2)
+    loss_notes, statics_line = loss_factor_notes(scenario, simulation is not None)
+    if statics_line and statics is not None:
+        log(statics_line)
+    steady = None if scenario.excitation is None else steady_state(system, scenario.excitation)
+    points = {p.name: p.position for p in scenario.points}
+    out_of_range = (([no_statics] if no_statics else []) + loss_notes + static_range(statics, timed)
+                    + implausible_inputs(system, scenario.excitation, points))
+    if steady is not None:
+        out_of_range += fit_band_range(scenario.viscoelastic, steady.f_hz)
+    for note in out_of_range:
+        notes.append(note)
+        warnings.warn(note, RangeWarning, stacklevel=2)
+    # A choice of the model, not a range it leaves: said beside the modes, not among the warnings.
+    stiffness_note = geometric_stiffness_note(system, scenario.statics.vector)
+    frf, frf_extras = _frequency_responses(scenario)
+    random = None if scenario.random is None else random_response(system, scenario.random, points)
+    if random is not None and scenario.random.time_check is not None:
+        # The time model on both sides: the loss factors' causal models damp the record and its FRFs alike.
+        random = dataclasses.replace(random, time_check=random_time_check(
+            scenario.time_system, scenario.random, points, scenario.random.time_check,
+            simulation=simulation, progress=progress))
+    results = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
                          damping_ratios=zeta, statics=statics, frf=frf, frf_extras=frf_extras, steady_state=steady,
-                         random=random, viscoelastic=scenario.viscoelastic, provenance=_provenance(scenario),
+                         random=random, viscoelastic=scenario.viscoelastic, provenance=provenance(scenario),
+                         scenario=scenario, stiffness_note=stiffness_note,
                          **_loss_factor_labels(scenario, statics_line if statics is not None else ""))
-        drawing.submit(run)  # the modal and FRF figures are drawn while the solve runs
+    if drawing is not None:
+        drawing.submit(results)  # the modal and FRF figures are drawn while the solve runs
+    if simulation is not None:
+        timed = _time_response(scenario, statics, _InMemory() if sink is None else sink, progress)
+        results = dataclasses.replace(results, **timed.drawn)
+        if scenario.shock_response_spectrum is not None:  # every sample is kept (checked on loading)
+            ground = scenario.excitation.ground if scenario.excitation is not None else None
+            results = dataclasses.replace(results, srs=shock_spectra(
+                results.response, results.points, scenario.shock_response_spectrum,
+                None if ground is None else ground.direction))
+        notes.extend(timed.notes)
+        if drawing is not None:
+            drawing.submit(results)
+        if sink is not None:
+            sink.finish(results)
+    return dataclasses.replace(results, notes=tuple(notes))
 
-        timed = None
 
-        def write(stage: Path) -> None:
-            nonlocal run, timed
-            if scenario.simulation is None:
-                store.write_results(stage / "results.h5", run, command_line=command_line)
-            else:
-                with ResultsStream(stage / "results.h5", command_line=command_line,
-                                   omit=scenario.output.omitted) as stream:
-                    timed = _time_response(scenario, statics, stream, progress)
-                    run = dataclasses.replace(run, **timed.drawn)
-                    if scenario.shock_response_spectrum is not None:  # every sample is kept (checked on loading)
-                        ground = scenario.excitation.ground if scenario.excitation is not None else None
-                        run = dataclasses.replace(run, srs=shock_spectra(
-                            run.response, run.points, scenario.shock_response_spectrum,
-                            None if ground is None else ground.direction))
-                    drawing.submit(run)
-                    stream.finish(run)
-                notes.extend(timed.notes)
-            figures.extend(drawing.save(stage))
-            text = report.summary_markdown(scenario, modes, statics, zeta, run.response, run.mount_forces,
-                                            run.agreement, run.superposition, frf, figures, notes,
-                                            mount_check=run.mount_check, steady=steady, points=run.points,
-                                            random=random, srs=run.srs, stiffness_note=stiffness_note,
-                                            nonlinear=None if run.contacts is None else (run.contacts, run.energy,
-                                                                                         run.refined))
-            (stage / "summary.md").write_text(text, encoding="utf-8")
+def save(results: RunResults, out_root: str | Path = "outputs", *, sink=None, drawing=None,
+         command_line: str | None = None) -> Path:
+    """Write a run's results (:func:`run`) into ``out_root/<name>/``: ``results.h5``, every figure and
+    ``summary.md``, all or nothing (:mod:`sixdof.io.output`: a staged folder swapped into place; files there
+    that sixdof did not write are kept).
 
-        figures = []
+    Parameters
+    ----------
+    results : sixdof.results.RunResults
+        As :func:`run` returns them.
+    out_root : str or pathlib.Path
+    sink : sixdof.io.stream.ResultsStream, optional
+        The sink the run streamed into: its finished file becomes ``results.h5`` (moved, on the same
+        filesystem), instead of one written from ``results`` (which hold only what the figures draw).
+    drawing : optional
+        What draws the figures (``submit(results)``, ``save(folder) -> list of paths``); default
+        :class:`sixdof.plots.workers.FigureWorkers` in this process.
+    command_line : str, optional
+        Stored as provenance.
+
+    Returns
+    -------
+    pathlib.Path
+        The folder written.
+    """
+    target = output.check_target(out_root, results.name)
+    with drawer(drawing) as drawing:
+        return output.write_folder(target, lambda stage: _save_into(stage, results, sink, drawing, command_line))
+
+
+def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool = True, log=print,
+                 command_line: str | None = None, workers=None) -> tuple[RunResults, Path]:
+    """:func:`run`, then :func:`save` into ``out_root/<name>/``: what ``sixdof run`` does. The folder is checked
+    first (before any computing) and a run with a ``[simulation]`` streams every window into its staged
+    ``results.h5`` as it goes (:class:`~sixdof.io.stream.ResultsStream`), so memory stays bounded however long
+    it runs.
+
+    Parameters
+    ----------
+    scenario : sixdof.io.scenario.Scenario or str or pathlib.Path
+    out_root : str or pathlib.Path
+    progress, log :
+        As :func:`run`'s (``log`` defaults to ``print``).
+    command_line : str, optional
+        Stored as provenance.
+    workers : optional
+        What draws the figures (:func:`save`'s ``drawing``; the command line passes worker processes started
+        before it loaded the scenario, which draw the modal figures while the solve runs).
+
+    Returns
+    -------
+    tuple of (sixdof.results.RunResults, pathlib.Path)
+        The results and the folder written.
+    """
+    if not isinstance(scenario, Scenario):
+        scenario = load_scenario(scenario)
+    target = output.check_target(out_root, scenario.name)
+    scenario = prepare(scenario)
+    computed = []
+
+    def write(stage: Path) -> None:
+        if scenario.simulation is None:
+            computed.append(run(scenario, progress=progress, log=log, drawing=drawing))
+            _save_into(stage, computed[0], None, drawing, command_line)
+            return
+        with ResultsStream(stage / "results.h5", command_line=command_line, omit=scenario.output.omitted) as sink:
+            computed.append(run(scenario, sink=sink, progress=progress, log=log, drawing=drawing))
+        _save_into(stage, computed[0], sink, drawing, command_line)
+
+    with drawer(workers) as drawing:
         if scenario.simulation is not None:
             output.check_room(target, file_bytes(scenario))
         output.write_folder(target, write)
-    return RunOutcome(
-        directory=target,
-        results_path=target / "results.h5",
-        figures=tuple(target / p.name for p in figures),
-        summary_path=target / "summary.md",
-        modes=modes,
-        statics=statics,
-        damping_ratios=zeta,
-        response=run.response,
-        superposition=run.superposition,
-        agreement=run.agreement,
-        frf=frf,
-        warnings=tuple(notes),
-        mount_check=run.mount_check,
-        steady_state=steady,
-        points=run.points,
-        random=random,
-        srs=run.srs,
-        contacts=run.contacts,
-        energy=run.energy,
-        refined=run.refined,
-    )
+    return computed[0], target
+
+
+def _save_into(stage: Path, results: RunResults, sink, drawing, command_line: str | None) -> None:
+    """``results.h5`` (the sink's, or written from ``results``), the figures and ``summary.md`` into ``stage``."""
+    if sink is None:
+        store.write_results(stage / "results.h5", results, command_line=command_line)
+    elif Path(sink.path) != stage / "results.h5":
+        os.replace(sink.path, stage / "results.h5")
+    drawing.submit(results)
+    figures = drawing.save(stage)
+    (stage / "summary.md").write_text(report.summary_markdown(results, figures), encoding="utf-8")
+
+
+def _silent(*_) -> None:
+    """The log of a run that prints nothing."""
+
+
+class _InMemory:
+    """The sink of a run held in memory: its windows are kept whole by the run itself."""
+
+    def append(self, piece) -> None:
+        pass
 
 
 @dataclass(frozen=True, eq=False)
@@ -289,14 +317,6 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
     only the samples that hold each drawn series' extremes per pixel column (:func:`envelope_samples`), so its
     memory is bounded whatever its duration.
     """
-    from sixdof.analysis.compare import compare_motion, merge_agreements
-    from sixdof.analysis.direct import is_nonlinear, progress_meter, simulate_windows
-    from sixdof.analysis.mountcheck import MountLimitWarning, merge_mount_checks, mount_check
-    from sixdof.analysis.records import merge_stats, merge_superposition
-    from sixdof.analysis.response import mount_forces, points_motion
-    from sixdof.analysis.superposition import superpose
-    from sixdof.excitation import Excitation
-    from sixdof.io.scenario import MEMORY_SAMPLES
 
     system, settings, options = scenario.time_system, scenario.simulation, scenario.superposition
     excitation = scenario.excitation if scenario.excitation is not None else Excitation()
@@ -391,7 +411,6 @@ class _Nonlinear:
         self.low, self.high = np.full(laws.count, np.inf), np.full(laws.count, -np.inf)
 
     def start(self, window_samples: dict) -> None:
-        from sixdof.analysis.direct import simulate_windows
 
         tight = dataclasses.replace(self.settings, rtol=self.settings.rtol / REFINEMENT,
                                     atol=self.settings.atol / REFINEMENT)
@@ -400,8 +419,6 @@ class _Nonlinear:
             self.tight = simulate_windows(self.system, self.excitation, tight, **window_samples)
 
     def check(self, piece):
-        from sixdof.analysis.compare import compare, compare_motion, merge_agreements
-        from sixdof.analysis.contact import energy_balance, total_deflection
 
         window = piece.response
         with warnings.catch_warnings():
@@ -432,7 +449,6 @@ class _Nonlinear:
     def finish(self, span, energy) -> dict:
         """The run's events, contact summary, refined agreement and energy balance (``energy``: the kept samples'
         balance, whose extremes become the run's)."""
-        from sixdof.analysis.contact import contact_summary, merge_events, with_extremes
 
         events = merge_events(self.events)
         summary = contact_summary(self.system, events, np.array(span), self.low, self.high)
@@ -482,7 +498,6 @@ def _frequency_responses(scenario) -> tuple[object, dict[str, object]]:
     (``None`` and ``{}`` without an ``[frf]`` table)."""
     if scenario.frf is None:
         return None, {}
-    from sixdof.analysis.frf import cross_check, force_transmissibility, ground_transmissibility, point_frf
 
     system, f_hz = scenario.system, scenario.frf.grid()
     receptance = cross_check(system, f_hz)
@@ -497,7 +512,7 @@ def _frequency_responses(scenario) -> tuple[object, dict[str, object]]:
     return receptance, extras
 
 
-def _provenance(scenario) -> dict[str, str]:
+def provenance(scenario) -> dict[str, str]:
     """What a run records about where it came from (the file adds the command line, creation time and
     versions)."""
     return {"scenario_text": scenario.text or ""}
@@ -508,7 +523,6 @@ def loss_factor_notes(scenario, timed: bool = True) -> tuple[list[str], str]:
     targets, :func:`~sixdof.model.viscoelastic.loss_fit_misses`; loss factors left out with
     ``loss_factor_model = "hysteretic"``, when ``timed``: a time path runs) and the statics line
     (:func:`~sixdof.model.viscoelastic.long_term_note`, "" without causal models)."""
-    from sixdof.model.viscoelastic import long_term_note, loss_fit_misses
 
     notes = loss_fit_misses(scenario.viscoelastic)
     lossy = [m.name for m in scenario.time_system.mounts if np.any(m.loss_factor)]
@@ -528,89 +542,3 @@ def _loss_factor_labels(scenario, statics_line: str) -> dict:
     timed = scenario.time_system if scenario.time_system is not scenario.system else None
     return {"loss_factor_model": scenario.loss_factor_model, "time_system": timed,
             "loss_factor_statics": statics_line}
-
-
-def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_line: str | None = None,
-                      workers: FigureWorkers | None = None, progress=None):
-    """Validate a scenario's modal results against simulated time histories (issue 5).
-
-    Runs :func:`sixdof.validation.validate` (free decays released from each mode shape, random-force
-    runs with H1 estimates) and writes ``results.h5``, figures and ``validation.md`` to
-    ``out_root/<name>_validation/``, all or nothing, whatever the report's verdict (PASS or FAIL).
-
-    The figures are drawn by ``workers`` (:class:`sixdof.plots.workers.FigureWorkers`), the modal ones
-    while the validation runs; default: in this process. ``progress`` shows the validation's simulations
-    (:func:`sixdof.progress.meter`).
-
-    Returns
-    -------
-    tuple of (sixdof.validation.ValidationReport, pathlib.Path)
-        The report and the folder written.
-    """
-    from sixdof.io import store
-    from sixdof.io.report import validation_text
-    from sixdof.validation import validate
-
-    target = output.check_target(out_root, scenario.name, "_validation")
-    with FigureWorkers(processes=0) if workers is None else contextlib.nullcontext(workers) as drawing:
-        system = scenario.time_system  # the model the simulations integrate: the loss factors' causal models
-        modes = system.modes
-        for note in loss_factor_notes(scenario)[0]:
-            warnings.warn(note, RangeWarning, stacklevel=2)
-        run = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
-                         damping_ratios=damping_ratios(system.C, modes, system.branches),
-                         viscoelastic=scenario.viscoelastic, provenance=_provenance(scenario),
-                         loss_factor_model=scenario.loss_factor_model if scenario.viscoelastic
-                         or np.any(scenario.system.loss_factors) else "")
-        drawing.submit(run)  # the modal figures are drawn while the validation experiment runs
-        report = validate(system, progress=progress)
-        run = dataclasses.replace(run, validation=report)
-        drawing.submit(run)
-
-        def write(stage: Path) -> None:
-            store.write_results(stage / "results.h5", run, command_line=command_line)
-            figures = drawing.save(stage)
-            links = "\n".join(f"![{p.stem}]({p.name})" for p in figures)
-            text = (f"# {scenario.name}: modal results against time histories\n\n{validation_text(report)}\n\n"
-                    f"{links}\n")
-            (stage / "validation.md").write_text(text, encoding="utf-8")
-
-        return report, output.write_folder(target, write)
-
-
-def redraw(results: str | Path, directory: str | Path | None = None, *,
-           workers: FigureWorkers | None = None) -> list[Path]:
-    """Draw every figure of a results file again (``sixdof plot``) and put them into ``directory``
-    (default: beside the file), each replacing its namesake and all of them at once
-    (:func:`sixdof.io.output.replace_files`). A namesake that sixdof did not write is never replaced: it is
-    refused before anything is drawn.
-
-    The figures are drawn by ``workers`` (:class:`sixdof.plots.workers.FigureWorkers`; the command line
-    starts them before it reads the file); default: in this process.
-
-    Returns
-    -------
-    list of pathlib.Path
-        The figures written.
-
-    Raises
-    ------
-    InputError
-        A ``directory`` where files cannot be written or holding a file sixdof did not write under a figure's
-        name (``--out``), or a results file with nothing to draw.
-    """
-    from sixdof.io.store import load_results
-    from sixdof.plots import figure_names
-
-    if directory:  # checked as run checks its --out: before reading or drawing anything
-        output.check_output_root(directory)
-    run = load_results(results)
-    if not figure_names(run):
-        what = "a sweep's results (`sixdof sweep`): no figures" if run.sweep is not None else "nothing to draw"
-        raise InputError("results", "a results file with something to draw (the results.h5 of `sixdof run` or "
-                         "`sixdof validate`)", Plain(f"{results}: {what}"))
-    directory = Path(directory) if directory else Path(results).parent
-    output.check_files(directory, figure_names(run))
-    with FigureWorkers(processes=0) if workers is None else contextlib.nullcontext(workers) as drawing:
-        drawing.submit(run)
-        return output.replace_files(directory, drawing.save)

@@ -1,0 +1,90 @@
+"""What the commands print: plain text of typed results, built from the tables of :mod:`sixdof.io.report`."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from sixdof.io import report
+
+
+def title(results) -> str:
+    """The first line a command prints of its scenario: its name and description (the name alone without one)."""
+    return f"{results.name}: {results.description}" if results.description else results.name
+
+
+def modes_text(run) -> str:
+    """``sixdof modes``: the modes table, damping, kinetic energy, subsystems and design metrics of a
+    :class:`~sixdof.workflows.modes.ModalRun` (the statics follow: :func:`statics_text`)."""
+    results = run.results
+    system, modes, zeta = results.system, results.modes, results.damping_ratios
+    return "\n".join([
+        f"{title(results)}\n",
+        report.modes_table(modes, zeta if system.C.any() or system.maxwell else None, system),
+        report.damping_note(system),
+        "\nKinetic energy distribution [%] (share of each mode's kinetic energy in each DOF):",
+        report.ke_table(modes), "", report.subsystems_text(modes), "", report.design_text(run.metrics)])
+
+
+def statics_text(results, no_statics: str | None = None) -> str:
+    """The statics under gravity (or why there are none) and what gravity's geometric stiffness does to the
+    modes (the results' ``stiffness_note``)."""
+    settings = results.scenario.statics
+    head = f"\nStatics under gravity ({settings.gravity} m/s^2 along {list(settings.direction)}):"
+    if results.statics is None:
+        return f"{head}\n{no_statics}"
+    lines = [head, report.statics_table(results.statics, results.system)]
+    if results.stiffness_note is not None:
+        lines.append(results.stiffness_note)
+    return "\n".join(lines)
+
+
+def run_text(results) -> str:
+    """``sixdof run``: what a run (:func:`sixdof.workflows.run.run`) found, after its title: modes, visco-elastic
+    fits, statics, steady state, random vibration, shock spectra, the cross-check, mount checks, body points
+    and the FRF cross-check."""
+    scenario, system = results.scenario, results.system
+    lines = [f"{title(results)}\n", report.modes_table(results.modes, results.damping_ratios, system),
+             report.damping_note(system)]
+    if scenario.viscoelastic:
+        lines.append(f"\nVisco-elastic mounts (Maxwell fits):\n{report.viscoelastic_table(scenario.viscoelastic)}")
+    if results.statics is not None:
+        lines.append(statics_text(results))
+    if results.steady_state is not None:
+        lines.append(f"\n{report.steady_state_text(results.steady_state)}")
+    if results.random is not None:
+        lines.append(f"\nRandom vibration:\n{report.random_text(results.random)}")
+    if results.srs is not None:
+        lines.append(f"\n{report.srs_text(results.srs)}")
+    if results.agreement is not None:
+        lines += _time_text(results)
+    if results.frf is not None:
+        lines.append(f"FRF direct vs modal: {results.frf.max_relative_difference:.1e} (worst relative difference)")
+    return "\n".join(lines)
+
+
+def _time_text(results) -> list[str]:
+    """The time response's lines of :func:`run_text`."""
+    scenario = results.scenario
+    info = results.superposition.superposition
+    until = " until the first nonlinear mount engaged" if results.contacts is not None else ""
+    lines = [f"\nDirect solve vs modal superposition ({info.method} modes){until}: {results.agreement}"]
+    truncation = info.truncation
+    if truncation is not None:
+        kept = ", ".join(str(j + 1) for j in info.modes_kept)
+        lines.append(f"Truncated to modes {kept}; against all modes: {truncation}")
+    ground = scenario.excitation.ground if scenario.excitation is not None else None
+    if ground is not None and ground.baseline != "none":
+        lines.append(report.baseline_text(ground))
+    stats = results.response.stats
+    lines.append(f"Solver {stats.solver}: {stats.num_accepted} steps, {stats.num_rejected} rejected, "
+                 f"{stats.wall_time_s:.2f} s")
+    if results.contacts is not None:
+        checks = report.nonlinear_text(results.contacts, results.energy, results.refined, results.agreement, stats)
+        lines.append(f"\nNonlinear mounts:\n{checks}")
+    limits = np.stack([m.max_deflection for m in results.system.mounts])
+    lines.append(f"\nMount checks:\n{report.mount_check_text(results.mount_check, limits)}")
+    if results.points:
+        steady = results.steady_state is not None
+        points = report.points_table(results.points, report.moving_ground(scenario), steady, ground=results.response)
+        lines.append(f"\nBody points: {points}")
+    return lines

@@ -52,12 +52,13 @@ import numpy as np
 
 from sixdof._jax import jax, jnp
 from sixdof.analysis.compare import Agreement, compare
-from sixdof.analysis.modal import ZERO_MODE_RTOL, pair_by_similarity, repeated_groups
+from sixdof.analysis.modal import pair_by_similarity, repeated_groups
 from sixdof.dofs import UNITS
 from sixdof.errors import InputError, Plain, SolverError, integer, readonly
 from sixdof.frozen import BriefRepr
 from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import mount_local_map, mount_matrix_jax, stiffness_jax
+from sixdof.model.modes import ZERO_MODE_RTOL
 from sixdof.model.system import Branches, System
 from sixdof.progress import meter
 from sixdof.results import label, part, quantity

@@ -352,8 +352,8 @@ def geometric_stiffness_shifts(system, gravity) -> np.ndarray | None:
     """
     import dataclasses
 
-    from sixdof.analysis.modal import modal_analysis
     from sixdof.errors import InputError
+    from sixdof.model.modes import modal_analysis
 
     try:  # building the preloaded system computes its statics: mounts that cannot carry the weight have none
         preloaded = system if system.geometric_stiffness else dataclasses.replace(system, gravity_preload=gravity)

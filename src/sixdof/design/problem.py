@@ -19,10 +19,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from sixdof.analysis.design import modes_jax, torque_roll_axis, tra_frame
-from sixdof.analysis.modal import inverse_cholesky
 from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.dofs import AXES, DOFS, MOUNT_AXES
 from sixdof.errors import InputError, Plain
+from sixdof.model.modes import inverse_cholesky
 
 #: Relative margin inside each target's bounds that the optimizer aims for.
 MARGIN = 0.01

@@ -39,6 +39,7 @@ from sixdof.errors import (
 from sixdof.frozen import Frozen, checked
 from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import geometric_stiffness, mount_local_map, mount_matrix
+from sixdof.model.modes import Modes, modal_analysis
 from sixdof.model.nonlinear import ForceDeflection, ForceLaws, force_laws
 from sixdof.model.viscoelastic import relaxation
 from sixdof.results import label, part, quantity, sequence, stacked
@@ -668,9 +669,7 @@ class System(Frozen):
         return readonly(damping_matrix(self.M, self.K, self.C_mounts, alpha, beta, zeta, modes.shapes, modes.omega))
 
     @cached_property
-    def modes(self):
-        """The undamped modes of (M, K), computed once: :class:`sixdof.analysis.modal.Modes`."""
-        # Analysis, not model: imported where the model first needs it (modal damping, mode releases).
-        from sixdof.analysis.modal import modal_analysis
-
+    def modes(self) -> Modes:
+        """The undamped modes of (M, K), computed once (:func:`sixdof.model.modes.modal_analysis`): what the modal
+        damping of :attr:`C` and the mode releases are of."""
         return modal_analysis(self.M, self.K)

@@ -12,6 +12,7 @@ never imports JAX. The vectorized batches and gradients use the JAX twin of the 
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -41,7 +42,6 @@ from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import geometric_stiffness, mount_local_map, mount_matrix
 from sixdof.model.modes import Modes, modal_analysis
 from sixdof.model.nonlinear import ForceDeflection, ForceLaws, force_laws
-from sixdof.model.viscoelastic import relaxation
 from sixdof.results import label, part, quantity, sequence, stacked
 
 # Relative tolerances for "physically possible" checks on user input.
@@ -266,6 +266,13 @@ class Mount(Frozen):
         if np.any(missing):
             raise InputError("bump_stiffness", "a stiffness > 0 in N/m on every axis with a clearance",
                              self.bump_stiffness.tolist())
+
+
+def relaxation(f_hz, tau) -> np.ndarray:
+    """``(i w tau) / (1 + i w tau)``, ``w = 2 pi f``: a Maxwell branch's dynamic stiffness per unit stiffness, complex,
+    ``f_hz`` [Hz] and ``tau`` [s] broadcast together."""
+    s_tau = 2j * np.pi * np.asarray(f_hz, dtype=float) * np.asarray(tau, dtype=float)
+    return s_tau / (1 + s_tau)
 
 
 @dataclass(frozen=True, eq=False)
@@ -588,8 +595,6 @@ class System(Frozen):
         table): what the modes and FRFs describe, for the analyses that need a linear model of it."""
         if not self.nonlinear.count:
             return self
-        import dataclasses
-
         mounts = [dataclasses.replace(m, stiffness=k, bump_clearance=np.full(3, np.inf), bump_stiffness=np.zeros(3),
                                       tension=True) for m, k in zip(self.mounts, self.stiffnesses)]
         linear = dataclasses.replace(self, mounts=mounts, force_deflection=(), equilibrium=np.zeros(6))

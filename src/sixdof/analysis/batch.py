@@ -53,6 +53,7 @@ import numpy as np
 from sixdof._jax import jax, jnp
 from sixdof.analysis.compare import Agreement, compare
 from sixdof.analysis.modal import pair_by_similarity, repeated_groups
+from sixdof.analysis.statics import replace_with_preload
 from sixdof.dofs import UNITS
 from sixdof.errors import InputError, Plain, SolverError, integer, readonly
 from sixdof.frozen import BriefRepr
@@ -289,7 +290,7 @@ def variant_system(system: System, variants: Variants, index: int) -> System:
     number = {name: j for j, name in enumerate(system.mount_names)}
     branches = [dataclasses.replace(b, stiffness=b.stiffness * variants.stiffness_factor[index, number[b.mount]])
                 for b in system.maxwell]
-    return dataclasses.replace(system, mounts=tuple(mounts), maxwell=tuple(branches))
+    return replace_with_preload(system, mounts=tuple(mounts), maxwell=tuple(branches))  # its own statics
 
 
 def variant_branches(system: System, variants: Variants) -> list[Branches] | None:

@@ -345,7 +345,9 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
 
         system = at_equilibrium(system, gravity_statics(system, statics.gravity, statics.direction))
     if statics.geometric_stiffness:  # before any computation: mounts that cannot carry the weight have no preload
-        system = dataclasses.replace(system, gravity_preload=statics.vector)
+        from sixdof.analysis.statics import with_gravity_preload
+
+        system = with_gravity_preload(system, statics.vector)
         try:
             system.modes  # noqa: B018 (K raises InputError naming statics.geometric_stiffness; the modes, field K)
         except InputError as exc:
@@ -593,6 +595,10 @@ def _loss_factors(system: System, excitation, damping: Table):
                          Plain("no loss factor"))
     timed, causal = _causal(system, excitation, damping.value("loss_factor_band_hz", None),
                             damping.value("loss_factor_terms", None))
+    if system.geometric_stiffness:  # the preload of the long-term stiffnesses that replaced the mounts' own
+        from sixdof.analysis.statics import with_gravity_preload
+
+        timed = with_gravity_preload(timed, system.gravity_preload)
     return model, timed if model == "maxwell" else system, timed, causal
 
 

@@ -421,6 +421,8 @@ def with_fits(system, fits):
     Returns
     -------
     sixdof.model.system.System
+        With the gravity preload ``system`` was given, if any (the statics of the new stiffnesses are
+        :func:`sixdof.analysis.statics.with_gravity_preload`'s).
     """
     mounts = {m.name: m for m in system.mounts}
     branches = list(system.maxwell)
@@ -471,7 +473,7 @@ def causal_loss_factors(system, band_hz=None, terms: int | None = None, operatin
     -------
     system : sixdof.model.system.System
         Without loss factors, with the branches (:func:`with_fits`); each axis's long-term stiffness replaces
-        its stiffness (the statics see it).
+        its stiffness (the statics see it; a gravity preload stays as given, see :func:`with_fits`).
     fits : tuple of MaxwellFit
         One per mount axis with a loss factor, named ``"<mount> <axis>"``, its data the frequencies checked.
 

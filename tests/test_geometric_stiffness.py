@@ -12,6 +12,7 @@ import pytest
 from sixdof import RigidBody, System, gravity_statics, modal_analysis, receptance
 from sixdof.analysis.batch import batch_frequencies, make_variants, variant_matrices, variant_system
 from sixdof.analysis.design import sensitivities
+from sixdof.analysis.statics import replace_with_preload, with_gravity_preload
 from sixdof.analysis.validity import geometric_stiffness_note, geometric_stiffness_shifts
 from sixdof.cli import main
 from sixdof.errors import ScenarioError
@@ -30,7 +31,7 @@ SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 
 
 def preloaded(system: System, gravity=DOWN) -> System:
-    return dataclasses.replace(system, gravity_preload=gravity)
+    return with_gravity_preload(system, gravity)
 
 
 def by_hand(system: System, gravity=DOWN) -> np.ndarray:
@@ -128,7 +129,7 @@ def test_frequency_gradients_flow_through_each_designs_statics():
             k = np.array(system.stiffnesses)
             k[index] += sign * h
             mounts = [dataclasses.replace(mt, stiffness=k[j]) for j, mt in enumerate(system.mounts)]
-            variant = dataclasses.replace(system, mounts=mounts)  # its own statics
+            variant = replace_with_preload(system, mounts=mounts)  # its own statics
             found.append((variant.modes.frequency_hz, modal_analysis(variant.M, variant.K_mounts + K_G).frequency_hz))
         full[(slice(None), *index)] = (found[0][0] - found[1][0]) / (2 * h)
         frozen[(slice(None), *index)] = (found[0][1] - found[1][1]) / (2 * h)
@@ -269,3 +270,19 @@ def test_a_linearized_copy_keeps_the_nonlinear_preload_in_its_K():
     linear = system.linearized()
     np.testing.assert_array_equal(linear.K_geometric, system.K_geometric)
     np.testing.assert_array_equal(linear.K, linear.K_mounts + system.K_geometric)
+
+
+def test_a_copy_with_moved_mounts_is_refused_until_its_preload_is_solved_again():
+    """The model is given its preload (it solves no statics): a copy with moved mounts keeps a preload that no longer
+    balances the weight's moment, and is refused; replace_with_preload solves the copy's own."""
+    system = preloaded(four_mount())
+    moved = [dataclasses.replace(m, position=m.position + [0.05, 0.0, 0.0]) for m in system.mounts[:2]]
+    mounts = (*moved, *system.mounts[2:])
+    with pytest.raises(ValueError, match=r"mount_preload: expected the static loads of these mounts under "
+                       r"gravity_preload, .* got loads off balance by .* N and .* N m"):
+        dataclasses.replace(system, mounts=mounts)
+    np.testing.assert_allclose(replace_with_preload(system, mounts=mounts).mount_preload,
+                               preloaded(dataclasses.replace(four_mount(), mounts=mounts)).mount_preload, rtol=0,
+                               atol=RTOL_LINALG * 500.0 * G)
+    with pytest.raises(ValueError, match=r"mount_preload: expected a value with gravity_preload"):
+        dataclasses.replace(system, mount_preload=None)

@@ -13,10 +13,10 @@ from matplotlib.figure import Figure
 
 import sixdof
 from sixdof import plots
-from sixdof.analysis.modal import modal_analysis
 from sixdof.analysis.response import MountForces
 from sixdof.dofs import DOFS
 from sixdof.errors import InputError
+from sixdof.model.modes import modal_analysis
 from sixdof.model.system import System
 from sixdof.plots.workers import FigureError, FigureWorkers
 from sixdof.results import RunResults, TimeHistory
@@ -446,7 +446,7 @@ def test_wrong_or_missing_data_is_named(parts, modal_only):
         plots.plot_time_histories(dataclasses.replace(parts["response"], Q=None), key="Q")
     with pytest.raises(InputError, match=r"key: expected one of q, qd, qdd, Q, got 'q_relative'"):
         plots.plot_time_histories(parts["response"], key="q_relative")
-    with pytest.raises(InputError, match=r"modes: expected a sixdof.analysis.modal.Modes"):
+    with pytest.raises(InputError, match=r"modes: expected a sixdof.model.modes.Modes"):
         plots.plot_ke_distribution({"modal": None})
     with pytest.raises(InputError, match=r"frf: expected a sixdof.analysis.frf.FRF or FRFCrossCheck"):
         plots.plot_bode(parts["frf"].direct.H)

@@ -47,8 +47,8 @@ _PUBLIC = {
     "Sweep": "excitation",
     "Table": "excitation",
     # Analyses and their results.
-    "Modes": "analysis.modal",
-    "modal_analysis": "analysis.modal",
+    "Modes": "model.modes",
+    "modal_analysis": "model.modes",
     "Statics": "analysis.statics",
     "gravity_statics": "analysis.statics",
     "SimulationSettings": "analysis.direct",

@@ -288,7 +288,7 @@ class RunResults(Frozen):
     name, description : str
         The scenario's.
     system : sixdof.model.system.System or None
-    modes : sixdof.analysis.modal.Modes or None
+    modes : sixdof.model.modes.Modes or None
     damping_ratios : ndarray, shape (6,), or None
         Damping ratio of each mode (``nan`` for rigid-body modes).
     statics : sixdof.analysis.statics.Statics or None
@@ -348,7 +348,7 @@ class RunResults(Frozen):
     time_system: Any = part(lambda: _class("sixdof.model.system", "System"), group="time_model", default=None)
     loss_factor_model: str = label(default="")
     loss_factor_statics: str = label(default="")
-    modes: Any = part(lambda: _class("sixdof.analysis.modal", "Modes"), group="modal", default=None)
+    modes: Any = part(lambda: _class("sixdof.model.modes", "Modes"), group="modal", default=None)
     damping_ratios: np.ndarray | None = quantity("1", ("mode",), name="modal/damping_ratio", default=None,
                                                  description="modal damping ratio (nan for rigid-body modes, inf for "
                                                  "overdamped modes: no oscillating pole)")

@@ -52,12 +52,14 @@ import numpy as np
 
 from sixdof._jax import jax, jnp
 from sixdof.analysis.compare import Agreement, compare
-from sixdof.analysis.modal import ZERO_MODE_RTOL, pair_by_similarity, repeated_groups
+from sixdof.analysis.modal import pair_by_similarity, repeated_groups
+from sixdof.analysis.statics import replace_with_preload
 from sixdof.dofs import UNITS
 from sixdof.errors import InputError, Plain, SolverError, integer, readonly
 from sixdof.frozen import BriefRepr
 from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import mount_local_map, mount_matrix_jax, stiffness_jax
+from sixdof.model.modes import ZERO_MODE_RTOL
 from sixdof.model.system import Branches, System
 from sixdof.progress import meter
 from sixdof.results import label, part, quantity
@@ -288,7 +290,7 @@ def variant_system(system: System, variants: Variants, index: int) -> System:
     number = {name: j for j, name in enumerate(system.mount_names)}
     branches = [dataclasses.replace(b, stiffness=b.stiffness * variants.stiffness_factor[index, number[b.mount]])
                 for b in system.maxwell]
-    return dataclasses.replace(system, mounts=tuple(mounts), maxwell=tuple(branches))
+    return replace_with_preload(system, mounts=tuple(mounts), maxwell=tuple(branches))  # its own statics
 
 
 def variant_branches(system: System, variants: Variants) -> list[Branches] | None:

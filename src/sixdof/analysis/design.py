@@ -29,8 +29,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sixdof.analysis.modal import inverse_cholesky, repeated_groups
+from sixdof.analysis.modal import repeated_groups
 from sixdof.errors import InputError, instance, readonly
+from sixdof.model.modes import inverse_cholesky
 
 #: The elastic centre exists when the symmetric part of ``-A^-1 B`` is at most this fraction of the mount
 #: set's length scale ``sqrt(trace(C) / trace(A))`` (``C`` the rotational stiffness block).

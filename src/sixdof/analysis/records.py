@@ -112,7 +112,7 @@ class SuperpositionInfo:
         Largest damping coupling ``|D_ij| / sqrt(D_ii D_jj)`` between distinct real modes (0 for
         classical damping, up to 1).
     modes_kept : tuple of int
-        Indices (ascending frequency order of :func:`sixdof.analysis.modal.modal_analysis`) of the modes used.
+        Indices (ascending frequency order of :func:`sixdof.model.modes.modal_analysis`) of the modes used.
     frequency_hz : ndarray, shape (len(modes_kept),)
         Undamped natural frequencies of the kept modes [Hz].
     eigenvalues : ndarray of complex, shape (2 len(modes_kept),)

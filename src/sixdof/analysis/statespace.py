@@ -46,7 +46,7 @@ def modal_basis(modes, C) -> tuple[np.ndarray, np.ndarray]:
 
     Parameters
     ----------
-    modes : sixdof.analysis.modal.Modes
+    modes : sixdof.model.modes.Modes
         The undamped modes.
     C : array_like, shape (6, 6)
         Viscous damping [N s/m, ...].
@@ -200,7 +200,7 @@ def damped_modes(C, modes, branches=None) -> tuple[np.ndarray, np.ndarray]:
     ----------
     C : array_like, shape (6, 6)
         Viscous damping [N s/m ...].
-    modes : sixdof.analysis.modal.Modes
+    modes : sixdof.model.modes.Modes
         The undamped modes.
     branches : sixdof.model.system.Branches, optional
         Maxwell branches (``System.branches``): the poles are then those of the full visco-elastic model
@@ -256,7 +256,7 @@ def damping_ratios(C, modes, branches=None) -> np.ndarray:
     ----------
     C : array_like, shape (6, 6)
         Viscous damping [N s/m ...].
-    modes : sixdof.analysis.modal.Modes
+    modes : sixdof.model.modes.Modes
         The undamped modes.
     branches : sixdof.model.system.Branches, optional
         Maxwell branches: the ratios of the full visco-elastic model's poles (:func:`damped_modes`).

@@ -2,18 +2,16 @@
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from sixdof.dofs import UNITS
 from sixdof.errors import InputError, Plain, instance, number
 from sixdof.model.kinematics import mount_local_map, mount_matrix
+from sixdof.model.system import System
 from sixdof.results import Result, label, quantity
-
-if TYPE_CHECKING:
-    from sixdof.model.system import System
 
 STANDARD_GRAVITY = 9.80665  # m/s^2
 
@@ -94,8 +92,6 @@ def gravity_statics(system: System, g: float = STANDARD_GRAVITY, direction=(0.0,
         If ``system`` is not a System, ``g`` or ``direction`` is invalid, or the mounts cannot carry the
         weight (the body is free to move along gravity).
     """
-    from sixdof.model.system import System
-
     instance(system, "system", System)
     g = number(g, "statics.gravity", "a positive acceleration in m/s^2", low=0.0, strict=True)
     d = np.asarray(direction, dtype=float)
@@ -111,6 +107,51 @@ def gravity_statics(system: System, g: float = STANDARD_GRAVITY, direction=(0.0,
     uplift_tol = 1e-9 * system.body.mass * g
     uplift = tuple(n for n, s in zip(system.mount_names, support) if s < -uplift_tol)
     return Statics(gravity, q, forces, local, support, uplift)
+
+
+def with_gravity_preload(system: System, gravity) -> System:
+    """``system`` carrying its mounts' static preload under ``gravity``, whose geometric stiffness its K then holds
+    (:attr:`~sixdof.model.system.System.K_geometric`, ``[statics] geometric_stiffness = true``).
+
+    The preload is solved for this system (:func:`gravity_statics`: nonlinear mounts at their static equilibrium)
+    and given to it as :attr:`~sixdof.model.system.System.mount_preload`: call it again for a copy with other
+    mounts, which keeps the preload it was given.
+
+    Parameters
+    ----------
+    system : sixdof.model.system.System
+    gravity : array_like, shape (3,), or None
+        Gravity [m/s^2] in body axes; None: ``system`` without a preload.
+
+    Returns
+    -------
+    sixdof.model.system.System
+
+    Raises
+    ------
+    InputError
+        ``statics.geometric_stiffness`` when the mounts cannot carry the weight (no static equilibrium, so no
+        preload).
+    """
+    if gravity is None:
+        return dataclasses.replace(system, gravity_preload=None, mount_preload=None)
+    g = float(np.linalg.norm(np.asarray(gravity, dtype=float)))
+    try:
+        statics = gravity_statics(system, g, gravity)
+    except InputError as exc:
+        if exc.field != "mounts":
+            raise
+        raise InputError("statics.geometric_stiffness", "false, or mounts that carry the body's weight (the "
+                         "geometric stiffness is that of their static preload)", exc.got) from None
+    return dataclasses.replace(system, gravity_preload=gravity, mount_preload=statics.mount_forces)
+
+
+def replace_with_preload(system: System, **changes) -> System:
+    """``dataclasses.replace(system, **changes)`` with the gravity preload ``system`` carries (if any) solved again
+    for the copy (:func:`with_gravity_preload`): a copy with other mounts, whose statics are its own."""
+    gravity = system.gravity_preload
+    plain = dataclasses.replace(system, gravity_preload=None, mount_preload=None, **changes)
+    return plain if gravity is None else with_gravity_preload(plain, gravity)
 
 
 #: An eigenvalue of the stiffness scaled to unit diagonal below this fraction of the largest is a zero stiffness
@@ -215,8 +256,6 @@ def at_equilibrium(system: System, statics: Statics) -> System:
     InputError
         If a mount that cannot carry tension (``tension = False``) has lifted off at rest.
     """
-    import dataclasses
-
     system = dataclasses.replace(system, equilibrium=statics.q)
     laws = system.nonlinear
     for e in range(laws.count):

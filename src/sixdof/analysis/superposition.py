@@ -40,7 +40,6 @@ import numpy as np
 
 from sixdof._jax import jax
 from sixdof.analysis.compare import compare
-from sixdof.analysis.modal import modal_analysis
 from sixdof.analysis.records import SuperpositionInfo, SuperpositionState
 from sixdof.analysis.statespace import CLASSICAL_RTOL, complex_modes, modal_basis
 from sixdof.analysis.statespace import coupling as coupling_of
@@ -57,6 +56,7 @@ from sixdof.errors import (
     readonly,
 )
 from sixdof.excitation import Excitation
+from sixdof.model.modes import modal_analysis
 from sixdof.model.system import System
 from sixdof.results import TimeHistory
 

@@ -350,13 +350,13 @@ def geometric_stiffness_shifts(system, gravity) -> np.ndarray | None:
     InputError
         (field ``K``) When ``K + K_G`` is not positive semi-definite: the body would tip over.
     """
-    import dataclasses
 
-    from sixdof.analysis.modal import modal_analysis
+    from sixdof.analysis.statics import with_gravity_preload
     from sixdof.errors import InputError
+    from sixdof.model.modes import modal_analysis
 
-    try:  # building the preloaded system computes its statics: mounts that cannot carry the weight have none
-        preloaded = system if system.geometric_stiffness else dataclasses.replace(system, gravity_preload=gravity)
+    try:  # the preload's statics: mounts that cannot carry the weight have none
+        preloaded = system if system.geometric_stiffness else with_gravity_preload(system, gravity)
         K = preloaded.K
     except InputError as exc:
         if exc.field == "K":

@@ -19,10 +19,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from sixdof.analysis.design import modes_jax, torque_roll_axis, tra_frame
-from sixdof.analysis.modal import inverse_cholesky
-from sixdof.analysis.statics import STANDARD_GRAVITY
+from sixdof.analysis.statics import STANDARD_GRAVITY, replace_with_preload
 from sixdof.dofs import AXES, DOFS, MOUNT_AXES
 from sixdof.errors import InputError, Plain
+from sixdof.model.modes import inverse_cholesky
 
 #: Relative margin inside each target's bounds that the optimizer aims for.
 MARGIN = 0.01
@@ -185,11 +185,11 @@ class DesignProblem:
         return positions, stiffness, axes
 
     def system_at(self, x):
-        """The :class:`~sixdof.model.system.System` with the mounts of design ``x``."""
+        """The :class:`~sixdof.model.system.System` with the mounts of design ``x`` (and its own preload)."""
         positions, stiffness, axes = (np.asarray(a) for a in self.mounts(np.asarray(x, dtype=float)))
         mounts = [dataclasses.replace(m, position=positions[i], stiffness=stiffness[i], axes=axes[i])
                   for i, m in enumerate(self.system.mounts)]
-        return dataclasses.replace(self.system, mounts=mounts)
+        return replace_with_preload(self.system, mounts=mounts)
 
     def values(self, x, stiffness_scale=None):
         """The value of every target at design ``x`` (see the module's list), shape (n_targets,)."""

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from sixdof.analysis.statics import replace_with_preload
 from sixdof.design.optimize import DesignResult, Robustness, optimize, robustness
 from sixdof.design.problem import DesignProblem
 from sixdof.errors import readonly
@@ -173,7 +174,7 @@ def written_design(given, optimized):
     """``optimized`` (a :class:`~sixdof.model.system.System`) with each mount stiffness the optimization changed
     rounded to :data:`STIFFNESS_DIGITS` significant figures, each position it changed to
     :data:`POSITION_RESOLUTION` and axes it turned to :data:`AXES_DECIMALS`; what ``given`` had stays as it
-    was."""
+    was, with its own preload."""
     mounts = []
     for before, after in zip(given.mounts, optimized.mounts):
         stiffness = [k if k == k0 else float(f"{k:.{STIFFNESS_DIGITS}g}")
@@ -182,7 +183,7 @@ def written_design(given, optimized):
                     for p, p0 in zip(after.position.tolist(), before.position.tolist())]
         axes = after.axes if np.array_equal(after.axes, before.axes) else np.round(after.axes, AXES_DECIMALS) + 0.0
         mounts.append(dataclasses.replace(after, stiffness=stiffness, position=position, axes=axes))
-    return dataclasses.replace(optimized, mounts=mounts)
+    return replace_with_preload(optimized, mounts=mounts)
 
 
 def _evaluated(result: DesignResult, problem: DesignProblem) -> DesignResult:

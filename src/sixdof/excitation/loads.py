@@ -310,7 +310,7 @@ class ModeRelease(Frozen):
     """Free vibration: release from rest in one undamped mode shape.
 
     ``q(0) = amplitude phi / phi[d]`` with ``phi`` the mode's shape and ``d`` its dominant DOF (the
-    DOF holding the largest share of the mode's kinetic energy, :attr:`sixdof.analysis.modal.Modes.dominant_dof`),
+    DOF holding the largest share of the mode's kinetic energy, :attr:`sixdof.model.modes.Modes.dominant_dof`),
     so ``amplitude`` is the initial displacement of that DOF; ``q'(0) = 0``. ``q(0)`` is measured from
     the static equilibrium (:meth:`Excitation.equilibrium`).
 

@@ -12,6 +12,7 @@ never imports JAX. The vectorized batches and gradients use the JAX twin of the 
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -39,8 +40,8 @@ from sixdof.errors import (
 from sixdof.frozen import Frozen, checked
 from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import geometric_stiffness, mount_local_map, mount_matrix
+from sixdof.model.modes import Modes, modal_analysis
 from sixdof.model.nonlinear import ForceDeflection, ForceLaws, force_laws
-from sixdof.model.viscoelastic import relaxation
 from sixdof.results import label, part, quantity, sequence, stacked
 
 # Relative tolerances for "physically possible" checks on user input.
@@ -267,6 +268,13 @@ class Mount(Frozen):
                              self.bump_stiffness.tolist())
 
 
+def relaxation(f_hz, tau) -> np.ndarray:
+    """``(i w tau) / (1 + i w tau)``, ``w = 2 pi f``: a Maxwell branch's dynamic stiffness per unit stiffness, complex,
+    ``f_hz`` [Hz] and ``tau`` [s] broadcast together."""
+    s_tau = 2j * np.pi * np.asarray(f_hz, dtype=float) * np.asarray(tau, dtype=float)
+    return s_tau / (1 + s_tau)
+
+
 @dataclass(frozen=True, eq=False)
 class Maxwell(Frozen):
     """A Maxwell branch of a mount: along each of the mount's own axes, a spring in series with a dashpot.
@@ -379,6 +387,11 @@ def _stacked(name: str, doc: str) -> cached_property:
     return cached_property(stack)
 
 
+#: A given mount preload balances the weight when its residual force and moment about the CG are within this fraction
+#: of the loads summed (their magnitudes; times their levers for the moment): the statics leave round-off there,
+#: a preload solved for mounts elsewhere or another body percents.
+PRELOAD_BALANCE_RTOL = 1e-6
+
 #: The most mounts of a system: 1,000 took 1.1 s to read from a scenario file and over 2 min for the bundled
 #: compressor's 3 s run at 2 kHz on a busy machine; each adds 176 bytes a sample to a run's results file.
 MAX_MOUNTS = 1000
@@ -410,7 +423,14 @@ class System(Frozen):
         (:func:`sixdof.analysis.statics.at_equilibrium` sets it). Default zero: unloaded.
     gravity_preload : array_like, shape (3,), optional
         Gravity [m/s^2] in body axes whose preload of the mounts adds its geometric stiffness to :attr:`K`
-        (:attr:`K_geometric`, ``[statics] geometric_stiffness = true``). Default ``None``: K is the mounts' alone.
+        (:attr:`K_geometric`, ``[statics] geometric_stiffness = true``), given with ``mount_preload``. Default
+        ``None``: K is the mounts' alone.
+    mount_preload : array_like, shape (n_mounts, 3), optional
+        The static load on each mount under ``gravity_preload`` [N], body axes: the force of the body on it
+        (:attr:`sixdof.analysis.statics.Statics.mount_forces`). The model does not solve its statics:
+        :func:`sixdof.analysis.statics.with_gravity_preload` gives both fields, and
+        :func:`~sixdof.analysis.statics.replace_with_preload` solves them again for a copy with other mounts
+        (``dataclasses.replace`` keeps the preload it was given). Default ``None``.
     """
 
     body: RigidBody = part(lambda: RigidBody, prefix="body_")
@@ -434,6 +454,12 @@ class System(Frozen):
         "m/s^2", ("axis",), default=None,
         check=optional(lambda value, field: _gravity(value, field)),
         description="gravity whose preload of the mounts adds its geometric stiffness K_geometric to K")
+    mount_preload: np.ndarray | None = quantity(
+        "N", ("mount", "axis"), default=None,
+        check=optional(lambda value, field: finite_array(value, field, "the static load of each mount, shape "
+                                                         "(n_mounts, 3) in N, body axes", (-1, 3))),
+        description="static load on each mount under gravity_preload (force of the body on it), body axes: the "
+        "preload whose geometric stiffness K_geometric is")
 
     #: Stored beside the fields (not read back: the system recomputes them).
     derived = {
@@ -480,6 +506,7 @@ class System(Frozen):
             raise InputError("mounts", "unique mount names", f"{', '.join(duplicated)} repeated")
         self._check_maxwell(names)
         self._check_tables(names)
+        self._check_preload()
         self._check_modal_range()
         if self.rayleigh is not None and not isinstance(self.rayleigh, Rayleigh):
             raise InputError("damping.rayleigh", "a Rayleigh", self.rayleigh)
@@ -508,6 +535,32 @@ class System(Frozen):
         duplicated = sorted({n for n in names if names.count(n) > 1})
         if duplicated:
             raise InputError("force_deflection", "one table per mount axis", f"{', '.join(duplicated)} repeated")
+
+    def _check_preload(self) -> None:
+        """``mount_preload`` is given with ``gravity_preload``, one load per mount, and balances the weight and its
+        zero moment about the CG: a copy with moved mounts or another body, whose preload was not solved again,
+        is refused (a check, not the statics: :func:`sixdof.analysis.statics.with_gravity_preload` solves them)."""
+        if (self.gravity_preload is None) != (self.mount_preload is None):
+            given, missing = (("gravity_preload", "mount_preload") if self.mount_preload is None
+                              else ("mount_preload", "gravity_preload"))
+            raise InputError(missing, f"a value with {given} (sixdof.analysis.statics.with_gravity_preload gives "
+                             "both)", None)
+        if self.mount_preload is None:
+            return
+        forces = self.mount_preload
+        if forces.shape != (len(self.mounts), 3):
+            raise InputError("mount_preload", f"the static load of each of the {len(self.mounts)} mounts, shape "
+                             f"({len(self.mounts)}, 3) in N", Plain(f"an array of shape {forces.shape}"))
+        weight = self.body.mass * self.gravity_preload
+        force_off = np.linalg.norm(forces.sum(axis=0) - weight)
+        moment_off = np.linalg.norm(np.cross(self.positions, forces).sum(axis=0))
+        force_scale = np.linalg.norm(weight) + np.linalg.norm(forces, axis=1).sum()
+        moment_scale = (np.linalg.norm(self.positions, axis=1) * np.linalg.norm(forces, axis=1)).sum()
+        if force_off > PRELOAD_BALANCE_RTOL * force_scale or moment_off > PRELOAD_BALANCE_RTOL * moment_scale:
+            raise InputError("mount_preload", "the static loads of these mounts under gravity_preload, which balance "
+                             "the weight and its moment about the CG (sixdof.analysis.statics.replace_with_preload "
+                             "solves them for a copy with other mounts)",
+                             Plain(f"loads off balance by {force_off:.4g} N and {moment_off:.4g} N m"))
 
     def _check_modal_range(self) -> None:
         """The modal analysis normalizes the shapes by the mass (``phi' M phi = 1``, effective masses go as
@@ -587,16 +640,11 @@ class System(Frozen):
         table): what the modes and FRFs describe, for the analyses that need a linear model of it."""
         if not self.nonlinear.count:
             return self
-        import dataclasses
-
         mounts = [dataclasses.replace(m, stiffness=k, bump_clearance=np.full(3, np.inf), bump_stiffness=np.zeros(3),
                                       tension=True) for m, k in zip(self.mounts, self.stiffnesses)]
-        linear = dataclasses.replace(self, mounts=mounts, force_deflection=(), equilibrium=np.zeros(6))
-        # The preload is the nonlinear mounts' at their equilibrium, not the linear statics' of their slopes; K too
-        # (the checks of the copy's construction cached it with the latter).
-        K = readonly(linear.K_mounts + self.K_geometric) if self.geometric_stiffness else linear.K_mounts
-        linear._derive(K_geometric=self.K_geometric, K=K)
-        return linear
+        # The copy keeps the preload it is given: the nonlinear mounts' at their equilibrium, not the linear statics'
+        # of their slopes.
+        return dataclasses.replace(self, mounts=mounts, force_deflection=(), equilibrium=np.zeros(6))
 
     @cached_property
     def M(self) -> np.ndarray:
@@ -610,8 +658,9 @@ class System(Frozen):
 
     @property
     def geometric_stiffness(self) -> bool:
-        """Whether :attr:`K` holds gravity's geometric stiffness (:attr:`gravity_preload` given)."""
-        return self.gravity_preload is not None
+        """Whether :attr:`K` holds gravity's geometric stiffness (:attr:`gravity_preload` and :attr:`mount_preload`
+        given)."""
+        return self.mount_preload is not None
 
     @property
     def preload_weight(self) -> np.ndarray | None:
@@ -622,30 +671,12 @@ class System(Frozen):
 
     @cached_property
     def K_geometric(self) -> np.ndarray:
-        """Gravity's geometric stiffness (6, 6) [N m/rad] of the mounts' static preload under
-        :attr:`gravity_preload` (:func:`sixdof.model.kinematics.geometric_stiffness`, with the forces of
-        :func:`sixdof.analysis.statics.gravity_statics`: nonlinear mounts at their static equilibrium); zero
-        without it.
-
-        Raises
-        ------
-        InputError
-            If the mounts cannot carry the weight (no static equilibrium, so no preload).
-        """
-        if self.gravity_preload is None:
+        """Gravity's geometric stiffness (6, 6) [N m/rad] of the mounts' static preload :attr:`mount_preload`
+        (:func:`sixdof.model.kinematics.geometric_stiffness` of the forces of the mounts on the body); zero
+        without it."""
+        if self.mount_preload is None:
             return readonly(np.zeros((6, 6)))
-        # Analysis, not model (as the modes): the statics that the preload is, imported where it is needed.
-        from sixdof.analysis.statics import gravity_statics
-
-        g = float(np.linalg.norm(self.gravity_preload))
-        try:
-            statics = gravity_statics(self, g, self.gravity_preload)
-        except InputError as exc:
-            if exc.field != "mounts":
-                raise
-            raise InputError("statics.geometric_stiffness", "false, or mounts that carry the body's weight (the "
-                             "geometric stiffness is that of their static preload)", exc.got) from None
-        return readonly(geometric_stiffness(self.positions, -statics.mount_forces))
+        return readonly(geometric_stiffness(self.positions, -self.mount_preload))
 
     @cached_property
     def K(self) -> np.ndarray:
@@ -668,9 +699,7 @@ class System(Frozen):
         return readonly(damping_matrix(self.M, self.K, self.C_mounts, alpha, beta, zeta, modes.shapes, modes.omega))
 
     @cached_property
-    def modes(self):
-        """The undamped modes of (M, K), computed once: :class:`sixdof.analysis.modal.Modes`."""
-        # Analysis, not model: imported where the model first needs it (modal damping, mode releases).
-        from sixdof.analysis.modal import modal_analysis
-
+    def modes(self) -> Modes:
+        """The undamped modes of (M, K), computed once (:func:`sixdof.model.modes.modal_analysis`): what the modal
+        damping of :attr:`C` and the mode releases are of."""
         return modal_analysis(self.M, self.K)

@@ -27,6 +27,7 @@ import numpy as np
 
 from sixdof.errors import InputError, Plain, finite_array, frequency_band, integer, number, readonly
 from sixdof.files import csv_numbers, csv_rows
+from sixdof.model.system import Maxwell, relaxation
 from sixdof.results import Result, label, quantity
 
 #: What a dynamic stiffness table holds, for error messages.
@@ -57,13 +58,6 @@ BAND_MARGIN = 2.0
 #: Between the checked frequencies (over the rest of the band) :func:`constant_loss_model` allows this many
 #: times the errors it reaches at them.
 BAND_SLACK = 3.0
-
-
-def relaxation(f_hz, tau) -> np.ndarray:
-    """``(i w tau) / (1 + i w tau)``, ``w = 2 pi f``: a Maxwell branch's dynamic stiffness per unit stiffness, complex,
-    ``f_hz`` [Hz] and ``tau`` [s] broadcast together."""
-    s_tau = 2j * np.pi * np.asarray(f_hz, dtype=float) * np.asarray(tau, dtype=float)
-    return s_tau / (1 + s_tau)
 
 
 def maxwell_stiffness(f_hz, long_term: float, stiffness, tau) -> np.ndarray:
@@ -427,9 +421,9 @@ def with_fits(system, fits):
     Returns
     -------
     sixdof.model.system.System
+        With the gravity preload ``system`` was given, if any (the statics of the new stiffnesses are
+        :func:`sixdof.analysis.statics.with_gravity_preload`'s).
     """
-    from sixdof.model.system import Maxwell
-
     mounts = {m.name: m for m in system.mounts}
     branches = list(system.maxwell)
     for mount, axis, fit in fits:
@@ -479,7 +473,7 @@ def causal_loss_factors(system, band_hz=None, terms: int | None = None, operatin
     -------
     system : sixdof.model.system.System
         Without loss factors, with the branches (:func:`with_fits`); each axis's long-term stiffness replaces
-        its stiffness (the statics see it).
+        its stiffness (the statics see it; a gravity preload stays as given, see :func:`with_fits`).
     fits : tuple of MaxwellFit
         One per mount axis with a loss factor, named ``"<mount> <axis>"``, its data the frequencies checked.
 

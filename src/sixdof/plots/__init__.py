@@ -8,7 +8,7 @@ bode_plot(response)``)::
 
     fig = plot_bode(receptance(system, f_hz), modes=system.modes)
 
-Each function takes the objects it draws (:class:`~sixdof.analysis.modal.Modes`,
+Each function takes the objects it draws (:class:`~sixdof.model.modes.Modes`,
 :class:`~sixdof.results.TimeHistory`, :class:`~sixdof.analysis.frf.FRF`,
 :class:`~sixdof.validation.ValidationReport`...) and returns its figure so that tests and users can
 inspect or restyle it; :func:`save_all` draws every figure a :class:`~sixdof.results.RunResults`

@@ -19,8 +19,8 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.ticker import FuncFormatter, NullFormatter, NullLocator
 
-from sixdof.analysis.modal import Modes
 from sixdof.errors import InputError
+from sixdof.model.modes import Modes
 
 #: Resolution of the PNG files [dots per inch].
 DPI = 120
@@ -164,8 +164,8 @@ def require(value, field: str, kind: type | tuple[type, ...], expected: str):
 
 
 def natural_frequencies(modes) -> np.ndarray | None:
-    """``modes.frequency_hz`` [Hz] of a :class:`~sixdof.analysis.modal.Modes`, or ``None``."""
-    require(modes, "modes", (Modes, type(None)), "a sixdof.analysis.modal.Modes (or None)")
+    """``modes.frequency_hz`` [Hz] of a :class:`~sixdof.model.modes.Modes`, or ``None``."""
+    require(modes, "modes", (Modes, type(None)), "a sixdof.model.modes.Modes (or None)")
     return None if modes is None else modes.frequency_hz
 
 

@@ -20,7 +20,7 @@ def plot_design_frequencies(before, after, targets, *, name: str = "") -> Figure
 
     Parameters
     ----------
-    before, after : sixdof.analysis.modal.Modes
+    before, after : sixdof.model.modes.Modes
     targets : sequence of sixdof.design.spec.Target
     name : str
         Name of the run, put before the title.

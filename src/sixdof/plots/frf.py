@@ -10,9 +10,9 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from sixdof.analysis.frf import FRF, ForceTransmissibility, FRFCrossCheck, GroundTransmissibility, PointFRF
-from sixdof.analysis.modal import Modes
 from sixdof.dofs import DOFS, LOADS
 from sixdof.errors import InputError, Plain
+from sixdof.model.modes import Modes
 from sixdof.plots.common import (
     COMPONENT_COLORS,
     margins,
@@ -70,7 +70,7 @@ def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, 
     frf : sixdof.analysis.frf.FRF or sixdof.analysis.frf.FRFCrossCheck
         Frequencies ``f_hz`` [Hz] and receptance ``H`` (nf, 6, 6) [m/N, m/(N m), rad/N, rad/(N m)],
         as :func:`sixdof.receptance` returns; of a cross-check, its ``direct`` receptance.
-    modes : sixdof.analysis.modal.Modes, optional
+    modes : sixdof.model.modes.Modes, optional
         Natural frequencies [Hz] to mark.
     ax : array of matplotlib.axes.Axes, shape (2, 2), optional
         Draw into these axes: magnitude above phase, translations left and rotations right (as
@@ -163,7 +163,7 @@ def plot_point_frfs(extras: Mapping[str, PointFRF | ForceTransmissibility | Grou
         Named items on the same frequencies [Hz] (from :func:`sixdof.point_frf`,
         :func:`sixdof.force_transmissibility`, :func:`sixdof.ground_transmissibility`), in the
         order drawn; magnitudes in their own units (m/N, N/N, m/m...).
-    modes : sixdof.analysis.modal.Modes, optional
+    modes : sixdof.model.modes.Modes, optional
         Natural frequencies [Hz] to mark.
     name : str
         Name of the run, put before the title.

@@ -6,8 +6,8 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
-from sixdof.analysis.modal import Modes
 from sixdof.dofs import DOFS
+from sixdof.model.modes import Modes
 from sixdof.model.system import System
 from sixdof.plots.common import distinct_digits, margins, panel_grid, require, title
 
@@ -26,7 +26,7 @@ FLAT_SIDE = 0.1
 #: apart on a 40 m beam, 0.03), are drawn at one place: they get one label ("1, 2"), one would hide the other.
 SAME_PLACE = 0.06
 
-_MODES = "a sixdof.analysis.modal.Modes"
+_MODES = "a sixdof.model.modes.Modes"
 
 
 def body_box(system: System | None) -> np.ndarray:
@@ -129,7 +129,7 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, name: str = 
 
     Parameters
     ----------
-    modes : sixdof.analysis.modal.Modes
+    modes : sixdof.model.modes.Modes
         Natural frequencies [Hz], mass-normalized shapes (6, n_modes), dominant DOFs and
         kinetic-energy shares.
     system : sixdof.model.system.System, optional
@@ -237,7 +237,7 @@ def plot_ke_distribution(modes: Modes, ax=None, *, name: str = "") -> Figure:
 
     Parameters
     ----------
-    modes : sixdof.analysis.modal.Modes
+    modes : sixdof.model.modes.Modes
         Kinetic-energy shares (6, n_modes) [1] and natural frequencies [Hz].
     ax : matplotlib.axes.Axes, optional
         Draw into these axes (the colour bar is taken from them); default: a new figure.

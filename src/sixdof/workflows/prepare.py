@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from sixdof.analysis.frf import check_resonances
-from sixdof.analysis.statics import at_equilibrium, gravity_statics
+from sixdof.analysis.statics import at_equilibrium, gravity_statics, with_gravity_preload
 from sixdof.analysis.superposition import Plan
 from sixdof.errors import InputError, Plain
 from sixdof.io.scenario import PreparedModel, Scenario, causal_model, load_scenario
@@ -58,6 +58,8 @@ def _model(scenario: Scenario) -> PreparedModel:
     if lossy:
         time_system, causal = causal_model(system, scenario.excitation, scenario.loss_factor_band_hz,
                                            scenario.loss_factor_terms)
+        if system.geometric_stiffness:  # the preload of the long-term stiffnesses that replaced the mounts' own
+            time_system = with_gravity_preload(time_system, system.gravity_preload)
     if scenario.loss_factor_model == "maxwell":
         system = time_system
     if scenario.frf is not None:  # before any computation: a grid point on an undamped resonance has no response
@@ -84,7 +86,7 @@ def _fitted(measured):
 
 def _preloaded(system, vector):
     """``system`` carrying gravity's preload, checked for a stiffness that still carries the weight."""
-    system = dataclasses.replace(system, gravity_preload=vector)
+    system = with_gravity_preload(system, vector)
     try:
         system.modes  # noqa: B018 (K raises InputError naming statics.geometric_stiffness; the modes, field K)
     except InputError as exc:

@@ -55,12 +55,28 @@ from typing import Any
 
 import numpy as np
 
+# The result classes a results file holds register themselves (sixdof.results.result_type) when their modules are
+# imported: each that loads no heavy library on import is imported here (the others: see _HEAVY).
+import sixdof.analysis.compare  # noqa: F401
+import sixdof.analysis.contact  # noqa: F401
+import sixdof.analysis.frf  # noqa: F401
+import sixdof.analysis.modal  # noqa: F401
+import sixdof.analysis.random  # noqa: F401
+import sixdof.analysis.records  # noqa: F401
+import sixdof.analysis.srs  # noqa: F401
+import sixdof.analysis.statics  # noqa: F401
+import sixdof.analysis.steady  # noqa: F401
+import sixdof.model.system  # noqa: F401
+import sixdof.model.viscoelastic  # noqa: F401
+import sixdof.validation.random_time  # noqa: F401
+from sixdof.analysis.mountcheck import mount_check
+from sixdof.analysis.response import mount_forces
 from sixdof.dofs import DOFS, MixedUnits, unit_attrs
 from sixdof.errors import InputError, Plain, readonly
 from sixdof.frozen import Frozen
 from sixdof.interrupts import held_signals
 from sixdof.io.output import check_room
-from sixdof.results import DERIVED, FIXED_SCALES, RunResults, descriptions
+from sixdof.results import DERIVED, FIXED_SCALES, RunResults, descriptions, result_class
 
 #: Identifies the file layout; bump FORMAT_VERSION when a fixed name changes meaning.
 FORMAT = "sixdof-results"
@@ -331,7 +347,7 @@ class _Encoder:
         self.add(_join(group, dim), scale, UNITS_LABEL if text else UNITS_ONE, (dim,))
         if text:
             self.labels[dim] = scale
-        for name, field_meta in descriptions(meta["cls"]()):
+        for name, field_meta in descriptions(_registered(meta["cls"])):
             if name != key:
                 value = np.stack([field_meta["encode"](getattr(o, name)) for o in objects])
                 self.quantity(objects[0], name, value, field_meta, group, meta["prefix"], (dim,))
@@ -367,7 +383,7 @@ class _Decoder:
                     value = self.stacked(meta, sub)
                 elif sub in self.attrs:
                     flat = "" if meta["prefix"] is None else prefix + meta["prefix"]
-                    value = self.decode(meta["cls"](), sub, flat, required=False)
+                    value = self.decode(_registered(meta["cls"]), sub, flat, required=False)
                 else:
                     value = None
                 if value is not None:
@@ -376,10 +392,10 @@ class _Decoder:
             elif kind == "sequence":  # its subgroups, in natural order of their names
                 parent = _join(group, meta["group"])
                 subgroups = sorted((g for g in self.attrs if g.rpartition("/")[0] == parent), key=_natural)
-                kwargs[name] = tuple(self.decode(meta["cls"](), sub) for sub in subgroups)
+                kwargs[name] = tuple(self.decode(_registered(meta["cls"]), sub) for sub in subgroups)
             elif kind == "parts":
-                classes, parent = meta["classes"](), _join(group, meta["group"])
-                kwargs[name] = {sub.rpartition("/")[2]: self.decode(classes[attrs["kind"]], sub)
+                parent = _join(group, meta["group"])
+                kwargs[name] = {sub.rpartition("/")[2]: self.decode(self.kind(attrs["kind"], meta["classes"], sub), sub)
                                 for sub, attrs in self.attrs.items()
                                 if sub.rpartition("/")[0].rpartition("/")[0] == parent and "kind" in attrs}
         if not own and not required:
@@ -390,12 +406,19 @@ class _Decoder:
             raise InputError(group or "results", f"a complete {cls.__name__} (format version {FORMAT_VERSION})",
                              Plain(str(exc))) from None
 
+    @staticmethod
+    def kind(kind: str, classes: tuple[str, ...], group: str) -> type:
+        """The class of the part stored in ``group`` (its ``kind`` attribute), one of ``classes``."""
+        if kind not in classes:
+            raise InputError(f"{group}.kind", " or ".join(classes), kind)
+        return _registered(kind)
+
     def stacked(self, meta: dict, group: str):
         """What :meth:`_Encoder.stacked` wrote in ``group``, or ``None`` when nothing."""
         scale = self.datasets.get(_join(group, meta["dim"]))
         if scale is None:
             return None
-        key, cls, names = meta["key"], meta["cls"](), scale.data.tolist()
+        key, cls, names = meta["key"], _registered(meta["cls"]), scale.data.tolist()
         columns = {} if key is None else {key: (names, lambda label: label)}  # (values, decode) of each field
         for name, field_meta in descriptions(cls):
             found = self.datasets.get(_join(group, meta["prefix"] + (field_meta["name"] or name)))
@@ -403,6 +426,35 @@ class _Decoder:
                 columns[name] = (found.data, field_meta["decode"])
         items = [cls(**{k: decode(data[i]) for k, (data, decode) in columns.items()}) for i in range(len(names))]
         return dict(zip(names, items)) if key is None else tuple(items)
+
+
+def _registered(ref):
+    """The result class a field names (:func:`sixdof.results.result_class`), the heavy modules imported first,
+    one after the other until it is found, when it is one of theirs."""
+    for register in (lambda: None, *_HEAVY):
+        register()
+        try:
+            return result_class(ref)
+        except LookupError:
+            pass
+    return result_class(ref)  # not even there: its error
+
+
+def _validation() -> None:
+    """Register the validation's ValidationReport (its module loads SciPy)."""
+    import sixdof.validation.experiment  # noqa: F401
+
+
+def _batch() -> None:
+    """Register the batch engine's BatchResult (a sweep's) and the direct solve's SimulationSettings (their
+    modules load JAX)."""
+    import sixdof.analysis.batch  # noqa: F401
+    import sixdof.analysis.direct  # noqa: F401
+
+
+#: The heavy modules' registrations, the lighter first: a validation's file is read without JAX (nor a run's
+#: file with SciPy: ``sixdof plot`` of a run never loads JAX, tested).
+_HEAVY = (_validation, _batch)
 
 
 def build_results(run=None, *, command_line: str | None = None, created_utc: str | None = None,
@@ -779,14 +831,10 @@ def load_results(path: str | os.PathLike):
 
 
 def _mount_forces(run):
-    from sixdof.analysis.response import mount_forces
-
     return mount_forces(run.time_system or run.system, run.response)
 
 
 def _mount_check(run):
-    from sixdof.analysis.mountcheck import mount_check
-
     forces = run.mount_forces if run.mount_forces is not None else _mount_forces(run)
     return mount_check(run.time_system or run.system, forces, run.response.t, run.statics)
 

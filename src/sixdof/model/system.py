@@ -41,7 +41,7 @@ from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import geometric_stiffness, mount_local_map, mount_matrix
 from sixdof.model.nonlinear import ForceDeflection, ForceLaws, force_laws
 from sixdof.model.viscoelastic import relaxation
-from sixdof.results import label, part, quantity, sequence, stacked
+from sixdof.results import label, part, quantity, result_type, sequence, stacked
 
 # Relative tolerances for "physically possible" checks on user input.
 _ORTHONORMAL_TOL = 1e-6
@@ -384,6 +384,7 @@ def _stacked(name: str, doc: str) -> cached_property:
 MAX_MOUNTS = 1000
 
 
+@result_type
 @dataclass(frozen=True, eq=False)
 class System(Frozen):
     """A rigid body on mounts, with optional global damping models.

@@ -426,12 +426,12 @@ def test_the_workers_of_a_local_cluster_log_nothing(capfd):
 
 KILLED_WRITING_A_CHUNK = r"""
 import os, signal, sys
-from sixdof.io import store
+from sixdof.io.store import writer
 from sixdof.io.scenario import parse_scenario
 from sixdof.io.sweep import parse_sweep_spec
 from sixdof.sweeps import sweep_scenario
 
-real = store._write
+real = writer._write
 
 
 def killed(f, results, written=frozenset()):
@@ -440,7 +440,7 @@ def killed(f, results, written=frozenset()):
     return real(f, results, written)
 
 
-store._write = killed
+writer._write = killed
 if __name__ == "__main__":
     scenario, spec, out = sys.argv[1:]
     with open(scenario) as a, open(spec) as b:

@@ -17,6 +17,7 @@ from sixdof.cli import main
 from sixdof.design.optimize import optimize, robustness
 from sixdof.design.problem import DesignProblem
 from sixdof.dofs import DOFS
+from sixdof.io.store import build_results, load_results, load_tree
 
 # A body on a V pair of mounts at (+-A, 0, -H), each tilted by THETA0 in the x-z plane towards the other,
 # and a soft vertical mount under the front keeping it upright.
@@ -325,6 +326,20 @@ bounds = [0.5, 2.0]
     with h5py.File(tmp_path / "v_pair_design" / "design.h5") as f:
         np.testing.assert_allclose(f["x"][()], 0.5)
         assert not f["met"][()].any()
+        stored = {path: f[path][()] for path in ("x", "history/values", "robustness/values")}
+    # The results store reads it back as the optimization's typed record, the same arrays with their units.
+    record = load_results(tmp_path / "v_pair_design" / "design.h5")
+    for path, value in stored.items():
+        np.testing.assert_array_equal(getattr(record, path.replace("/", "_")), value)
+    assert record.name == "v_pair" and not record.all_met and record.robustness.samples == 1000
+    assert record.variable_units == ("1",) * len(record.variable) and record.target_units == ("Hz",)
+    tree = load_tree(tmp_path / "v_pair_design" / "design.h5")
+    assert tree.attrs[""]["format"] == "sixdof-design" and tree["history/values"].units.attrs()["target_units"] == ("Hz",)
+    again = build_results(record)  # the record read back writes the same datasets again
+    assert set(again.datasets) == set(tree.datasets)
+    for path, dataset in tree.datasets.items():
+        np.testing.assert_array_equal(again[path].data, dataset.data)
+        assert again[path].units == dataset.units and dict(again[path].attrs) == dict(dataset.attrs)
 
 
 @pytest.mark.parametrize(("design", "message"), [

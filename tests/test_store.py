@@ -16,7 +16,7 @@ import sixdof
 from sixdof import DOFS, InputError, modal_analysis, write_results
 from sixdof.dofs import LOADS, UNITS
 from sixdof.io import store
-from sixdof.io.store import Dataset, Results, build_results, load_tree, save_results
+from sixdof.io.store import Dataset, Results, build_results, load_tree, save_results, writer
 from store_cases import SCENARIO_TEXT, run_parts
 from systems import bridge
 
@@ -342,7 +342,7 @@ def test_open_datatree_gives_every_group_with_its_inherited_coordinates(parts, t
 
 
 def _failing_after(n, exception):
-    real, calls = store._write_dataset, itertools.count(1)
+    real, calls = writer._write_dataset, itertools.count(1)
 
     def failing(f, path, dataset):
         if next(calls) > n:
@@ -354,7 +354,7 @@ def _failing_after(n, exception):
 
 @pytest.mark.parametrize("exception", [RuntimeError("disk on fire"), KeyboardInterrupt()])
 def test_failed_write_leaves_no_file_and_no_temporary(written, tmp_path, monkeypatch, exception):
-    monkeypatch.setattr(store, "_write_dataset", _failing_after(5, exception))
+    monkeypatch.setattr(writer, "_write_dataset", _failing_after(5, exception))
     target = tmp_path / "results.h5"
     with pytest.raises(type(exception)):
         save_results(written, target)
@@ -365,7 +365,7 @@ def test_failed_write_does_not_clobber_an_existing_file(written, tmp_path, monke
     target = tmp_path / "results.h5"
     save_results(written, target)
     before = target.read_bytes()
-    monkeypatch.setattr(store, "_write_dataset", _failing_after(10, KeyboardInterrupt()))
+    monkeypatch.setattr(writer, "_write_dataset", _failing_after(10, KeyboardInterrupt()))
     with pytest.raises(KeyboardInterrupt):
         save_results(written, target)
     assert target.read_bytes() == before
@@ -656,3 +656,18 @@ def test_empty_and_truncated_files_are_refused_in_one_line(written, tmp_path):
                            rf"\(.*{reason}") as caught:
             load_tree(path)
         assert "\n" not in str(caught.value)
+
+
+def test_result_classes_are_found_by_their_registered_names():
+    from sixdof.model.modes import Modes
+    from sixdof.results import result_class, result_type
+
+    assert result_class("Modes") is Modes and result_class(Modes) is Modes
+    with pytest.raises(LookupError, match="no result type 'Nothing' is registered"):
+        result_class("Nothing")
+
+    class Modes:  # another class of a registered name would make the files' kinds ambiguous
+        pass
+
+    with pytest.raises(TypeError, match="result type 'Modes': registered already by sixdof.analysis.modal"):
+        result_type(Modes)

@@ -18,7 +18,6 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable, Mapping
 from dataclasses import MISSING, dataclass, field
-from importlib import import_module
 from typing import Any
 
 import numpy as np
@@ -32,9 +31,33 @@ from sixdof.frozen import BriefRepr, Frozen
 # ----------------------------------------------------------------------------------------------------
 
 
-def _class(module: str, name: str) -> type:
-    """The class ``name`` of ``module``, imported on first use (result classes live in their layers)."""
-    return getattr(import_module(module), name)
+#: The registered result classes, by name (see :func:`result_type`).
+_RESULT_TYPES: dict[str, type] = {}
+
+
+def result_type(cls: type) -> type:
+    """Register the result class ``cls`` under its name (a class decorator), so that fields of results in this
+    and lower layers can name it (:func:`part` ``("Modes")``) without importing its layer, and the store can
+    read it back. The name is also the ``kind`` attribute of :func:`parts` in the file: it must stay stable."""
+    known = _RESULT_TYPES.setdefault(cls.__name__, cls)
+    if known is not cls:
+        raise TypeError(f"result type {cls.__name__!r}: registered already by {known.__module__}, "
+                        f"not also by {cls.__module__}")
+    return cls
+
+
+def result_class(ref: type | str | Callable[[], type]) -> type:
+    """The class a field names: a class, the name of a registered one (:func:`result_type`), or a function
+    returning a class (a class defined later in its module)."""
+    if isinstance(ref, type):
+        return ref
+    if isinstance(ref, str):
+        try:
+            return _RESULT_TYPES[ref]
+        except KeyError:
+            raise LookupError(f"no result type {ref!r} is registered: the module defining it is not imported "
+                              "(sixdof.io.store imports every one a results file holds)") from None
+    return ref()
 
 
 def _same(value: Any) -> Any:
@@ -68,34 +91,36 @@ def label(*, name: str | None = None, default: Any = MISSING, encode: Callable |
                   MISSING, check)
 
 
-def part(cls: Callable[[], type], *, group: str | None = None, prefix: str | None = None,
+def part(cls: type | str | Callable[[], type], *, group: str | None = None, prefix: str | None = None,
          default: Any = MISSING, check: Callable | None = None) -> Any:
-    """A dataclass field holding a nested result of the class ``cls()`` (a callable, so that classes
-    defined later or elsewhere can be named), stored in the subgroup ``group`` or, with ``prefix``,
+    """A dataclass field holding a nested result of the class ``cls`` (see :func:`result_class`: a class of a
+    higher layer is named by its registered name), stored in the subgroup ``group`` or, with ``prefix``,
     flattened into attributes of the same group named ``prefix + field``."""
     return _field({"kind": "part", "cls": cls, "group": group, "prefix": prefix}, default, MISSING, check)
 
 
-def parts(classes: Callable[[], dict[str, type]], *, group: str, default_factory: Any = MISSING,
+def parts(classes: tuple[str, ...], *, group: str, default_factory: Any = MISSING,
           default: Any = MISSING) -> Any:
     """A dataclass field holding named nested results (a mapping name -> result), each in the
-    subgroup ``group/<its class's group>/<name>``; ``classes()`` maps each stored ``kind`` attribute (the
-    class name) to its class."""
+    subgroup ``group/<its class's group>/<name>`` with its class's name as the ``kind`` attribute;
+    ``classes`` are the names of the registered classes (:func:`result_type`) it may hold."""
     return _field({"kind": "parts", "classes": classes, "group": group}, default, default_factory)
 
 
-def stacked(cls: Callable[[], type], *, dim: str, prefix: str = "", key: str | None = None, group: str | None = None,
-            default: Any = MISSING, default_factory: Any = MISSING, check: Callable | None = None) -> Any:
-    """A dataclass field holding several results of one class ``cls()`` (a mapping name -> result,
-    or a tuple of results named by their attribute ``key``), stored as one array per field with a
+def stacked(cls: type | str | Callable[[], type], *, dim: str, prefix: str = "", key: str | None = None,
+            group: str | None = None, default: Any = MISSING, default_factory: Any = MISSING,
+            check: Callable | None = None) -> Any:
+    """A dataclass field holding several results of one class ``cls`` (see :func:`part`): a mapping name ->
+    result, or a tuple of results named by their attribute ``key``, stored as one array per field with a
     leading axis ``dim`` whose labels are the names, under ``prefix + field`` (in the subgroup
     ``group`` when given)."""
     return _field({"kind": "stacked", "cls": cls, "dim": dim, "prefix": prefix, "key": key, "group": group}, default,
                   default_factory, check)
 
 
-def sequence(cls: Callable[[], type], *, group: str, key: Callable[[Any], str], default: Any = MISSING) -> Any:
-    """A dataclass field holding a tuple of results of one class ``cls()``, each in the subgroup
+def sequence(cls: type | str | Callable[[], type], *, group: str, key: Callable[[Any], str],
+             default: Any = MISSING) -> Any:
+    """A dataclass field holding a tuple of results of one class ``cls`` (see :func:`part`), each in the subgroup
     ``group/<key(result)>``, read back in the natural order of those names."""
     return _field({"kind": "sequence", "cls": cls, "group": group, "key": key}, default, MISSING)
 
@@ -124,6 +149,7 @@ class Result(BriefRepr):
         return to_xarray(self)
 
 
+@result_type
 @dataclass(frozen=True, eq=False)
 class TimeHistory(Frozen, Result):
     """Motion of the body's centre of gravity at a set of times.
@@ -180,11 +206,9 @@ class TimeHistory(Frozen, Result):
     energy_dissipated: np.ndarray | None = quantity("J", ("t",), default=None,
                                                     description="energy dissipated by the dashpots, damping models "
                                                     "and Maxwell branches since the start (runs with nonlinear mounts)")
-    stats: Any = part(lambda: _class("sixdof.analysis.records", "SolverStats"), prefix="solver_", default=None)
-    superposition: Any = part(lambda: _class("sixdof.analysis.records", "SuperpositionInfo"), prefix="",
-                              default=None)
-    contacts: Any = part(lambda: _class("sixdof.analysis.contact", "ContactEvents"), group="contact_events",
-                         default=None)
+    stats: Any = part("SolverStats", prefix="solver_", default=None)
+    superposition: Any = part("SuperpositionInfo", prefix="", default=None)
+    contacts: Any = part("ContactEvents", group="contact_events", default=None)
 
     #: Stored beside the fields when the ground moves (read back through the properties).
     derived = {f"{key}_relative": _motion(order, "motion of the centre of gravity relative to the ground")
@@ -249,6 +273,7 @@ DERIVED: tuple[str, ...] = ("mount_forces", "mount_check")
 EVENT_KINDS = ("shock", "switch-on")
 
 
+@result_type
 @dataclass(frozen=True, eq=False)
 class Event(Frozen, Result):
     """A moment of the excitation worth a closer look than the whole record gives: a shock pulse, or a
@@ -275,6 +300,7 @@ class Event(Frozen, Result):
             raise InputError("duration", "a finite start and a duration >= 0 [s]", (self.start, self.duration))
 
 
+@result_type
 @dataclass(frozen=True, eq=False)
 class RunResults(Frozen):
     """Everything one run computed, as the library's typed objects: what ``results.h5`` holds.
@@ -344,41 +370,34 @@ class RunResults(Frozen):
 
     name: str = label(name="scenario_name", default="")
     description: str = label(name="scenario_description", default="")
-    system: Any = part(lambda: _class("sixdof.model.system", "System"), group="model", default=None)
-    time_system: Any = part(lambda: _class("sixdof.model.system", "System"), group="time_model", default=None)
+    system: Any = part("System", group="model", default=None)
+    time_system: Any = part("System", group="time_model", default=None)
     loss_factor_model: str = label(default="")
     loss_factor_statics: str = label(default="")
-    modes: Any = part(lambda: _class("sixdof.model.modes", "Modes"), group="modal", default=None)
+    modes: Any = part("Modes", group="modal", default=None)
     damping_ratios: np.ndarray | None = quantity("1", ("mode",), name="modal/damping_ratio", default=None,
                                                  description="modal damping ratio (nan for rigid-body modes, inf for "
                                                  "overdamped modes: no oscillating pole)")
-    statics: Any = part(lambda: _class("sixdof.analysis.statics", "Statics"), group="statics", default=None)
-    response: TimeHistory | None = part(lambda: TimeHistory, group="time", default=None)
-    mount_forces: Any = part(lambda: _class("sixdof.analysis.response", "MountForces"), group="time", default=None)
-    mount_check: Any = part(lambda: _class("sixdof.analysis.mountcheck", "MountCheck"), group="time/mount_check",
-                            default=None)
-    points: Any = stacked(lambda: _class("sixdof.analysis.response", "PointMotion"), dim="point", prefix="point_",
-                          group="time", default_factory=dict)
-    events: Any = stacked(lambda: Event, dim="event", prefix="event_", group="time", default_factory=dict)
-    superposition: TimeHistory | None = part(lambda: TimeHistory, group="time/superposition", default=None)
-    agreement: Any = part(lambda: _class("sixdof.analysis.compare", "Agreement"), group="time/superposition",
-                          prefix="agreement_", default=None)
-    contacts: Any = part(lambda: _class("sixdof.analysis.contact", "ContactSummary"), group="time/contacts",
-                         default=None)
-    energy: Any = part(lambda: _class("sixdof.analysis.contact", "EnergyBalance"), group="time/energy", default=None)
-    refined: Any = part(lambda: _class("sixdof.analysis.compare", "Agreement"), group="time/refined",
-                        prefix="agreement_", default=None)
-    frf: Any = part(lambda: _class("sixdof.analysis.frf", "FRFCrossCheck"), group="frf", default=None)
-    frf_extras: Any = parts(lambda: {name: _class("sixdof.analysis.frf", name) for name in (
-        "PointFRF", "ForceTransmissibility", "GroundTransmissibility")}, group="frf", default_factory=dict)
-    steady_state: Any = part(lambda: _class("sixdof.analysis.steady", "SteadyState"), group="steady_state",
-                             default=None)
-    random: Any = part(lambda: _class("sixdof.analysis.random", "RandomResponse"), group="random", default=None)
-    srs: Any = part(lambda: _class("sixdof.analysis.srs", "ShockSpectra"), group="srs", default=None)
-    validation: Any = part(lambda: _class("sixdof.validation", "ValidationReport"), group="validation", default=None)
-    viscoelastic: tuple = sequence(lambda: _class("sixdof.model.viscoelastic", "MaxwellFit"), group="viscoelastic",
-                                   key=lambda fit: fit.name, default=())
-    sweep: Any = part(lambda: _class("sixdof.analysis.batch", "BatchResult"), group="sweep", default=None)
+    statics: Any = part("Statics", group="statics", default=None)
+    response: TimeHistory | None = part(TimeHistory, group="time", default=None)
+    mount_forces: Any = part("MountForces", group="time", default=None)
+    mount_check: Any = part("MountCheck", group="time/mount_check", default=None)
+    points: Any = stacked("PointMotion", dim="point", prefix="point_", group="time", default_factory=dict)
+    events: Any = stacked(Event, dim="event", prefix="event_", group="time", default_factory=dict)
+    superposition: TimeHistory | None = part(TimeHistory, group="time/superposition", default=None)
+    agreement: Any = part("Agreement", group="time/superposition", prefix="agreement_", default=None)
+    contacts: Any = part("ContactSummary", group="time/contacts", default=None)
+    energy: Any = part("EnergyBalance", group="time/energy", default=None)
+    refined: Any = part("Agreement", group="time/refined", prefix="agreement_", default=None)
+    frf: Any = part("FRFCrossCheck", group="frf", default=None)
+    frf_extras: Any = parts(("PointFRF", "ForceTransmissibility", "GroundTransmissibility"), group="frf",
+                            default_factory=dict)
+    steady_state: Any = part("SteadyState", group="steady_state", default=None)
+    random: Any = part("RandomResponse", group="random", default=None)
+    srs: Any = part("ShockSpectra", group="srs", default=None)
+    validation: Any = part("ValidationReport", group="validation", default=None)
+    viscoelastic: tuple = sequence("MaxwellFit", group="viscoelastic", key=lambda fit: fit.name, default=())
+    sweep: Any = part("BatchResult", group="sweep", default=None)
     provenance: Any = field(default_factory=dict)
     notes: tuple[str, ...] = ()
     stiffness_note: str | None = None

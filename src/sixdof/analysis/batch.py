@@ -62,7 +62,7 @@ from sixdof.model.kinematics import mount_local_map, mount_matrix_jax, stiffness
 from sixdof.model.modes import ZERO_MODE_RTOL
 from sixdof.model.system import Branches, System
 from sixdof.progress import meter
-from sixdof.results import label, part, quantity
+from sixdof.results import label, part, quantity, result_type
 
 ENGINES = ("exact", "diffrax")
 #: Memory allowed for the samples kept per chunk of variants of the diffrax engine [bytes] (``q`` and
@@ -114,6 +114,7 @@ class Variants:
         return int(self.stiffness_factor.shape[0])
 
 
+@result_type
 @dataclass(frozen=True, eq=False)
 class BatchResult(BriefRepr):
     """Result of :func:`run_batch`.

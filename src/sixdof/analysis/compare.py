@@ -8,7 +8,7 @@ import numpy as np
 
 from sixdof.dofs import DOFS
 from sixdof.errors import InputError, number, readonly
-from sixdof.results import label
+from sixdof.results import label, result_type
 
 #: Default tolerance of :func:`compare`.
 AGREEMENT_TOLERANCE = 1e-6
@@ -26,6 +26,7 @@ def column_peaks(values) -> np.ndarray:
     return np.abs(np.asarray(values, dtype=float).T, order="C").max(axis=1, initial=0.0)
 
 
+@result_type
 @dataclass(frozen=True, eq=False)
 class Agreement:
     """Agreement of two time histories of ``q``, DOF by DOF (result of :func:`compare`), and with

@@ -14,12 +14,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from sixdof.errors import readonly
-from sixdof.results import Result, label, quantity
+from sixdof.results import Result, label, quantity, result_type
 
 #: Largest acceptable energy balance residual, relative to the largest energy of the run.
 ENERGY_TOLERANCE = 1e-6
 
 
+@result_type
 @dataclass(frozen=True, eq=False)
 class ContactEvents(Result):
     """Every change of region of a nonlinear mount axis during a run, as the solver located it.
@@ -63,6 +64,7 @@ def merge_events(parts) -> ContactEvents:
                             for name in ("t", "law", "region_from", "region_to")})
 
 
+@result_type
 @dataclass(frozen=True, eq=False)
 class ContactSummary(Result):
     """When and where each nonlinear mount axis engaged over a run.
@@ -156,6 +158,7 @@ def total_deflection(system, response) -> np.ndarray:
     return laws.static_deflection + response.q_relative @ laws.rows.T
 
 
+@result_type
 @dataclass(frozen=True, eq=False)
 class EnergyBalance(Result):
     """The energy balance of a run: ``W = (T + V + D) - (T + V + D)(t0)``, to within the integration error.

@@ -71,7 +71,7 @@ from sixdof.excitation import Excitation
 from sixdof.frozen import Frozen
 from sixdof.model.system import System
 from sixdof.progress import Meter, meter
-from sixdof.results import TimeHistory, label, time_concat
+from sixdof.results import TimeHistory, label, result_type, time_concat
 
 #: The solvers (diffrax's methods of these names). Explicit Runge-Kutta methods suit the problem (it is not
 #: stiff: 0.6 to 38 Hz for the bridge beam); the implicit ones are there for comparison.
@@ -131,6 +131,7 @@ MAX_SAMPLES = 10**9
 SECONDS_PER_SAMPLE = 15e-6
 
 
+@result_type
 @dataclass(frozen=True)
 class SimulationSettings(Frozen):
     """How to run a direct simulation (the scenario's ``[simulation]`` table).

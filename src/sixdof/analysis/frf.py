@@ -130,6 +130,7 @@ class FRF(schema.Result):
         return np.array([[_ratio_unit(dof + suffix, load) for load in FORCE_UNITS] for dof in DOF_UNITS])
 
 
+@schema.result_type
 @dataclass(frozen=True, eq=False)
 class FRFCrossCheck(schema.Result):
     """Direct and modal receptances of one system and their agreement (from :func:`cross_check`).
@@ -159,6 +160,7 @@ class FRFCrossCheck(schema.Result):
         return self.modal.basis
 
 
+@schema.result_type
 @dataclass(frozen=True, eq=False)
 class PointFRF(schema.Result):
     """Response at one point and direction per unit load at another (from :func:`point_frf`).
@@ -216,6 +218,7 @@ class PointFRF(schema.Result):
         return np.degrees(np.angle(self.values))
 
 
+@schema.result_type
 @dataclass(frozen=True, eq=False)
 class ForceTransmissibility(schema.Result):
     """Forces the mounts pass to the foundation per unit applied load (from
@@ -285,6 +288,7 @@ class ForceTransmissibility(schema.Result):
         return self.total_force @ self.load_direction
 
 
+@schema.result_type
 @dataclass(frozen=True, eq=False)
 class GroundTransmissibility(schema.Result):
     """Body motion per unit rigid translation of the ground under every mount (from

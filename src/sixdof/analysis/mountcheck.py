@@ -23,7 +23,7 @@ import numpy as np
 from sixdof.dofs import MOUNT_AXES, display_unit
 from sixdof.errors import readonly
 from sixdof.model.kinematics import mount_local_map
-from sixdof.results import Result, label, quantity
+from sixdof.results import Result, label, quantity, result_type
 
 if TYPE_CHECKING:
     from sixdof.analysis.response import MountForces
@@ -41,6 +41,7 @@ class MountLimitWarning(UserWarning):
     """A mount went beyond its ``max_deflection``, or into tension with ``allow_tension = false``."""
 
 
+@result_type
 @dataclass(frozen=True, eq=False)
 class MountCheck(Result):
     """Total (static + dynamic) loads and deflections of the mounts over a run, and their limits.

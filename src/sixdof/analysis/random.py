@@ -35,7 +35,7 @@ from sixdof.errors import (
     readonly,
 )
 from sixdof.frozen import Frozen, checked
-from sixdof.results import Result, label, part, quantity
+from sixdof.results import Result, label, part, quantity, result_type
 
 #: PSD units accepted, and their factor to SI ((m/s^2)^2/Hz or N^2/Hz).
 PSD_UNITS = {"g^2/Hz": STANDARD_GRAVITY**2, "(m/s^2)^2/Hz": 1.0, "N^2/Hz": 1.0}
@@ -150,6 +150,7 @@ def _psd_units(order: int) -> MixedUnits:
     return MixedUnits((("dof", squared),), mixed_units(squared[0], squared[3]))
 
 
+@result_type
 @dataclass(frozen=True, eq=False)
 class RandomResponse(Result):
     """Result of :func:`random_response` (stored in ``/random``).
@@ -194,7 +195,7 @@ class RandomResponse(Result):
     dominant_dof: tuple[str, ...] = label()
     input_kind: str = label()
     input_rms: float = label(decode=float)
-    time_check: object = part(lambda: _time_check_module().RandomTimeCheck, group="time_check", default=None)
+    time_check: object = part("RandomTimeCheck", group="time_check", default=None)
 
     @property
     def input_unit(self) -> str:

@@ -14,9 +14,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from sixdof.analysis.compare import Agreement, merge_agreements
-from sixdof.results import label, part, quantity
+from sixdof.results import label, part, quantity, result_type
 
 
+@result_type
 @dataclass(frozen=True)
 class SolverStats:
     """Statistics of one solve (stored with the results); of a window, or of a run's windows together.
@@ -93,6 +94,7 @@ class SuperpositionState:
     ground: tuple = (0.0, 0.0)
 
 
+@result_type
 @dataclass(frozen=True, eq=False)
 class SuperpositionInfo:
     """How a modal-superposition history was computed (:attr:`sixdof.results.TimeHistory.superposition`).

@@ -19,12 +19,13 @@ import numpy as np
 from sixdof.dofs import UNITS
 from sixdof.errors import instance, point, readonly
 from sixdof.model.kinematics import point_map
-from sixdof.results import Result, TimeHistory, quantity
+from sixdof.results import Result, TimeHistory, quantity, result_type
 
 if TYPE_CHECKING:
     from sixdof.model.system import System
 
 
+@result_type
 @dataclass(frozen=True, eq=False)
 class PointMotion(Result):
     """Motion of one body point. Arrays of shape (n, 3) in body axes.
@@ -97,6 +98,7 @@ def global_damping(system: System) -> np.ndarray:
 _ON = "exerted by each mount on the foundation, body axes (dynamic part about static equilibrium)"
 
 
+@result_type
 @dataclass(frozen=True, eq=False)
 class MountForces(Result):
     """Forces carried by the mounts over time (dynamic part).

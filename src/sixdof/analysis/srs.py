@@ -23,7 +23,7 @@ import numpy as np
 
 from sixdof.errors import InputError, frequency_band, integer_check, number_check, readonly
 from sixdof.frozen import Frozen, checked
-from sixdof.results import Result, label, quantity
+from sixdof.results import Result, label, quantity, result_type
 
 #: Steps per period of an oscillator at which :func:`srs` seeks its peak: one between two steps reads at most
 #: ``1 - cos(pi / 40)`` = 0.31 % low.
@@ -42,6 +42,7 @@ class SRSSettings(Frozen):
         return np.geomspace(*self.f_hz, self.points)
 
 
+@result_type
 @dataclass(frozen=True, eq=False)
 class ShockSpectra(Result):
     """Result of :func:`shock_spectra` (stored in ``/srs``).

@@ -11,11 +11,12 @@ from sixdof.dofs import UNITS
 from sixdof.errors import InputError, Plain, instance, number
 from sixdof.model.kinematics import mount_local_map, mount_matrix
 from sixdof.model.system import System
-from sixdof.results import Result, label, quantity
+from sixdof.results import Result, label, quantity, result_type
 
 STANDARD_GRAVITY = 9.80665  # m/s^2
 
 
+@result_type
 @dataclass(frozen=True, eq=False)
 class Statics(Result):
     """Result of :func:`gravity_statics`.

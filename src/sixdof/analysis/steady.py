@@ -30,6 +30,7 @@ SAME_FREQUENCY_RTOL = 1e-12
 CANCELLED_RTOL = 1e-12
 
 
+@schema.result_type
 @dataclass(frozen=True, eq=False)
 class SteadyState(schema.Result):
     """Steady-state amplitudes at each operating frequency (:func:`steady_state`).

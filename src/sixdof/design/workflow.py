@@ -212,103 +212,13 @@ def _decoupling(system, torque_axis, coordinates: str) -> np.ndarray:
     return shares[mode_of_each_dof(system.modes)]
 
 
-#: Units of each kind of variable and target (pint-parseable).
-_VARIABLE_UNITS = {"stiffness": "1", "position": "m", "angle": "degree"}
-_TARGET_UNITS = {"frequency": "Hz", "decoupling": "percent", "static_deflection": "m", "tra_angle": "degree"}
-
-
 def _write_h5(path: Path, problem: DesignProblem, result: DesignResult, spread: Robustness, scenario,
               peaks=None) -> None:
     """``design.h5``: the optimization's history, variables, targets and robustness (labelled axes): the
     samples' stiffness factors, target values and, from the batch engine, frequencies, peak responses and
-    cross-check; with ``peaks`` (given, optimized design), their peak responses and the samples' percentiles."""
-    from sixdof._jax import jax
-    from sixdof.design.optimize import PEAK_RESPONSES
-    from sixdof.dofs import DOFS, MOUNT_AXES, UNITS, MixedUnits
-    from sixdof.io.store import Dataset, Results, save_results
+    cross-check; with ``peaks`` (given, optimized design), their peak responses and the samples' percentiles.
+    Written by the results store (:class:`sixdof.design.record.DesignRecord`), read back by ``load_results``."""
+    from sixdof.design.record import design_record
+    from sixdof.io.store import write_results
 
-    names = np.array([v.name for v in problem.variables])
-    labels = np.array([t.label for t in problem.targets])
-    n_var = len(names)
-    per_variable = MixedUnits((("variable", tuple(_VARIABLE_UNITS[v.parameter] for v in problem.variables)),),
-                              "stiffness factors 1, position offsets m, angles degree")
-    per_target = MixedUnits((("target", tuple(_TARGET_UNITS[t.kind] for t in problem.targets)),),
-                            "frequency Hz, decoupling percent, static deflection m, TRA angle degree")
-    history = result.history
-    datasets = {
-        "variable": Dataset(names, "", ("variable",)),
-        "target": Dataset(labels, "", ("target",)),
-        "iteration": Dataset(np.arange(len(history)), "1", ("iteration",)),
-        "start": Dataset(np.arange(len(result.starts)), "1", ("start",)),
-        "sample": Dataset(np.arange(len(spread.values)), "1", ("sample",)),
-        "percentile": Dataset(np.array([5.0, 50.0, 95.0]), "percent", ("percentile",)),
-        "history/start_index": Dataset(history[:, 0].astype(int), "1", ("iteration",)),
-        "history/objective": Dataset(history[:, 1], "1", ("iteration",),
-                                     {"description": "sum of squared relative violations (optimizer's margin)"
-                                      + ("" if problem.spec.objective == "nominal" else ", averaged over the "
-                                         f"{problem.spec.robust_samples} samples of the robust objective")}),
-        "history/x": Dataset(history[:, 2:2 + n_var], per_variable, ("iteration", "variable")),
-        "history/values": Dataset(history[:, 2 + n_var:], per_target, ("iteration", "target")),
-        "history/violations": Dataset(np.asarray(jax.vmap(problem.violations)(history[:, 2 + n_var:])), "1",
-                                      ("iteration", "target"), {"description": "the constraints: shortfall "
-                                                                "relative to each target's bound, 0 where met"}),
-        "starts": Dataset(result.starts, per_variable, ("start", "variable")),
-        "x_initial": Dataset(result.x_initial, per_variable, ("variable",)),
-        "x": Dataset(result.x, per_variable, ("variable",)),
-        "lower_bound": Dataset(problem.bounds[:, 0], per_variable, ("variable",)),
-        "upper_bound": Dataset(problem.bounds[:, 1], per_variable, ("variable",)),
-        "values_initial": Dataset(result.values_initial, per_target, ("target",)),
-        "values": Dataset(result.values, per_target, ("target",)),
-        "violations_initial": Dataset(result.violations_initial, "1", ("target",)),
-        "violations": Dataset(result.violations, "1", ("target",),
-                              {"description": "shortfall relative to each target's bound; 0: met"}),
-        "met": Dataset(result.met, "1", ("target",)),
-        "robustness/probability": Dataset(spread.probability, "1", ("target",)),
-        "robustness/percentiles": Dataset(spread.percentiles, per_target, ("target", "percentile")),
-        "robustness/values": Dataset(spread.values, per_target, ("sample", "target")),
-    }
-    if peaks is not None:
-        units = MixedUnits((("response", tuple(unit for _, unit in PEAK_RESPONSES)),),
-                           "peak |q| m, rad (x ... rz), then peak |q''| m/s^2, rad/s^2")
-        datasets.update({
-            "response": Dataset(np.array([name for name, _ in PEAK_RESPONSES]), "", ("response",)),
-            "peaks_initial": Dataset(peaks[0], units, ("response",), {"description": "given design"}),
-            "peaks": Dataset(peaks[1], units, ("response",), {"description": "optimized design"}),
-            "robustness/peak_percentiles": Dataset(spread.peak_percentiles, units, ("response", "percentile")),
-        })
-    if spread.responses is not None:  # the samples by the batch engine
-        batch = spread.responses
-        datasets.update({"dof": Dataset(np.array(DOFS), "", ("dof",)),
-                         "mode": Dataset(np.arange(1, 7), "1", ("mode",)),
-                         "mount": Dataset(np.array(problem.names), "", ("mount",)),
-                         "mount_axis": Dataset(np.array(MOUNT_AXES), "", ("mount_axis",)),
-                         "robustness/stiffness_factor": Dataset(batch.variants.stiffness_factor, "1",
-                                                                ("sample", "mount", "mount_axis")),
-                         "robustness/frequency_hz": Dataset(batch.frequency_hz, "Hz", ("sample", "mode"))})
-        if batch.peak_q is not None:
-            datasets.update({
-                "robustness/peak_q": Dataset(batch.peak_q, UNITS["q"], ("sample", "dof")),
-                "robustness/peak_qdd": Dataset(batch.peak_qdd, UNITS["qdd"], ("sample", "dof")),
-            })
-        if batch.cross_check is not None:
-            datasets.update({
-                "robustness/checked_sample": Dataset(batch.cross_check_variants, "1", ("checked_sample",)),
-                "robustness/cross_check_peak_q": Dataset(batch.cross_check_peak_q, UNITS["q"],
-                                                         ("checked_sample", "dof")),
-                "robustness/cross_check_peak_qdd": Dataset(batch.cross_check_peak_qdd, UNITS["qdd"],
-                                                           ("checked_sample", "dof")),
-                "robustness/cross_check_per_dof": Dataset(batch.cross_check.per_dof, "1", ("dof",),
-                                                          {"description": batch.cross_check.definition}),
-            })
-    attrs = {"": {"format": "sixdof-design", "scenario_name": scenario.name, "scenario_text": scenario.text,
-                  "all_met": bool(np.all(result.met)), "objective": problem.spec.objective,
-                  "robust_samples": problem.spec.robust_samples if problem.spec.objective == "robust" else 0},
-             "robustness": {"tolerance": spread.tolerance, "samples": len(spread.values),
-                            "samples_all_met": spread.all_met,
-                            "seed": problem.spec.seed,
-                            "engine": "exact batch"}}
-    if spread.responses is not None and spread.responses.cross_check is not None:
-        check = spread.responses.cross_check
-        attrs["robustness"].update(cross_check_worst=check.worst, cross_check_tolerance=check.tolerance,
-                                   cross_check_ok=bool(check.ok))
-    save_results(Results(datasets, attrs), path)
+    write_results(path, design_record(problem, result, spread, scenario, peaks))

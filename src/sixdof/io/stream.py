@@ -18,7 +18,9 @@ from pathlib import Path
 
 from sixdof.interrupts import held_signals
 from sixdof.io.output import check_room
-from sixdof.io.store import LIBVER, Results, _naming, _write, build_results, discard, publish
+from sixdof.io.store.codec import build_results
+from sixdof.io.store.tree import Results
+from sixdof.io.store.writer import LIBVER, _naming, _write, discard, publish
 from sixdof.results import axis_slice
 
 #: Samples per HDF5 chunk along the appended axis: large enough for fast appends and reads of whole series,

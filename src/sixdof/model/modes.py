@@ -13,7 +13,7 @@ import numpy as np
 
 from sixdof.dofs import DOFS, UNITS
 from sixdof.errors import InputError, Plain, readonly, real_array
-from sixdof.results import Result, label, quantity
+from sixdof.results import Result, label, quantity, result_type
 
 #: A mode is rigid (zero frequency) when its eigenvalue is below this fraction of the largest.
 ZERO_MODE_RTOL = 1e-10
@@ -24,6 +24,7 @@ COUPLING_RTOL = 1e-9
 SYMMETRY_RTOL = 1e-10
 
 
+@result_type
 @dataclass(frozen=True, eq=False)
 class Modes(Result):
     """Result of :func:`modal_analysis`.

@@ -42,7 +42,7 @@ from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import geometric_stiffness, mount_local_map, mount_matrix
 from sixdof.model.modes import Modes, modal_analysis
 from sixdof.model.nonlinear import ForceDeflection, ForceLaws, force_laws
-from sixdof.results import label, part, quantity, sequence, stacked
+from sixdof.results import label, part, quantity, result_type, sequence, stacked
 
 # Relative tolerances for "physically possible" checks on user input.
 _ORTHONORMAL_TOL = 1e-6
@@ -397,6 +397,7 @@ PRELOAD_BALANCE_RTOL = 1e-6
 MAX_MOUNTS = 1000
 
 
+@result_type
 @dataclass(frozen=True, eq=False)
 class System(Frozen):
     """A rigid body on mounts, with optional global damping models.

@@ -28,7 +28,7 @@ import numpy as np
 from sixdof.errors import InputError, Plain, finite_array, frequency_band, integer, number, readonly
 from sixdof.files import csv_numbers, csv_rows
 from sixdof.model.system import Maxwell, relaxation
-from sixdof.results import Result, label, quantity
+from sixdof.results import Result, label, quantity, result_type
 
 #: What a dynamic stiffness table holds, for error messages.
 TABLE = ("a UTF-8 CSV file of a header row, then rows of three numbers: frequency in Hz, storage stiffness K' "
@@ -90,6 +90,7 @@ def maxwell_stiffness(f_hz, long_term: float, stiffness, tau) -> np.ndarray:
     return long_term + (stiffness * relaxation(np.asarray(f_hz, dtype=float)[..., None], tau)).sum(axis=-1)
 
 
+@result_type
 @dataclass(frozen=True, eq=False)
 class MaxwellFit(Result):
     """A generalized Maxwell model fitted to dynamic stiffness data, and how far it is from them.

@@ -47,7 +47,7 @@ from sixdof.errors import InputError, SolverError, point, readonly
 from sixdof.frozen import BriefRepr
 from sixdof.model.kinematics import unit_load
 from sixdof.progress import meter
-from sixdof.results import TimeHistory, label, part, quantity, sequence, stacked
+from sixdof.results import TimeHistory, label, part, quantity, result_type, sequence, stacked
 from sixdof.validation.estimation import (
     DecayEstimate,
     EstimatedFRF,
@@ -344,6 +344,7 @@ class RandomRun:
                                               description="the model on a fine grid across the band (figures)")
 
 
+@result_type
 @dataclass(frozen=True, eq=False)
 class ValidationReport(BriefRepr):
     """Result of :func:`validate`: one row per elastic mode, and the runs behind them.

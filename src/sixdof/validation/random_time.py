@@ -46,7 +46,7 @@ import numpy as np
 from sixdof.dofs import DOFS, MixedUnits, dof_units
 from sixdof.errors import InputError, Plain, boolean, integer_check, memory_check, number_check, optional, readonly
 from sixdof.frozen import Frozen, checked
-from sixdof.results import Result, label, quantity
+from sixdof.results import Result, label, quantity, result_type
 
 #: Knots of the synthesized record per period of the PSD's top frequency (cubic Hermite: a sine
 #: sampled 8 times per period keeps its amplitude within 1e-3).
@@ -106,6 +106,7 @@ def time_check_settings(value, field: str = "time_check") -> TimeCheckSettings |
         raise InputError(field, "true, false or a table { duration = s, seed = integer }", value) from None
 
 
+@result_type
 @dataclass(frozen=True, eq=False)
 class RandomTimeCheck(Result):
     """Result of :func:`random_time_check` (stored in ``/random_time_check``).

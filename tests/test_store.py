@@ -669,5 +669,5 @@ def test_result_classes_are_found_by_their_registered_names():
     class Modes:  # another class of a registered name would make the files' kinds ambiguous
         pass
 
-    with pytest.raises(TypeError, match="result type 'Modes': registered already by sixdof.analysis.modal"):
+    with pytest.raises(TypeError, match="result type 'Modes': registered already by sixdof.model.modes"):
         result_type(Modes)

@@ -631,7 +631,7 @@ def random_text(random) -> str:
 
 
 def random_check_text(check) -> str:
-    """The random response against a time history (:class:`~sixdof.validation.random_time.RandomTimeCheck`):
+    """The random response against a time history (:class:`~sixdof.analysis.random.RandomTimeCheck`):
     the record, the verdict and the RMS values side by side."""
     worst = check.worst
     head = (f"Checked against a time history: a {check.duration_s:.4g} s Gaussian record with the PSD (seed "

@@ -98,7 +98,7 @@ def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: b
     log : callable
         Receives the terminal's tables.
     workers, scheduler, client : optional
-        Where the robustness study's chunks run (:func:`sixdof.tasks.task_runner`): default this process.
+        Where the robustness study's chunks run (:func:`sixdof.workflows.tasks.task_runner`): default this process.
 
     Returns
     -------
@@ -108,7 +108,7 @@ def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: b
     from sixdof.plots import png
     from sixdof.plots.design import plot_design_decoupling, plot_design_frequencies
     from sixdof.progress import meter
-    from sixdof.tasks import task_runner
+    from sixdof.workflows.tasks import task_runner
 
     with naming(scenario.path):  # refusals of the scenario's mounts and [design], named like the file's own
         problem = DesignProblem(scenario.system, scenario.design, scenario.statics.gravity,
@@ -220,8 +220,7 @@ def _write_h5(path: Path, problem: DesignProblem, result: DesignResult, spread: 
     samples' stiffness factors, target values and, from the batch engine, frequencies, peak responses and
     cross-check; with ``peaks`` (given, optimized design), their peak responses and the samples' percentiles."""
     from sixdof._jax import jax
-    from sixdof.design.optimize import PEAK_RESPONSES
-    from sixdof.dofs import DOFS, MOUNT_AXES, UNITS, MixedUnits
+    from sixdof.dofs import DOFS, MOUNT_AXES, PEAK_RESPONSES, UNITS, MixedUnits
     from sixdof.io.store import Dataset, Results, save_results
 
     names = np.array([v.name for v in problem.variables])

@@ -209,11 +209,12 @@ def test_a_chunk_size_below_one_is_refused_before_computing(size, tmp_path, monk
     """``--chunk-size`` is checked as the spec's ``chunk_size`` is (0 was read as "not given", -5 failed once
     computed)."""
     from sixdof import sweeps
+    from sixdof.analysis.sweep import ChunkedSweep
     from sixdof.io.scenario import load_scenario
     from sixdof.io.sweep import load_sweep_spec
 
     scenario, spec = sweep_files(tmp_path)
-    monkeypatch.setattr(sweeps._Sweep, "run", lambda *args, **kwargs: pytest.fail("computed anyway"))
+    monkeypatch.setattr(ChunkedSweep, "run", lambda *args, **kwargs: pytest.fail("computed anyway"))
     out = tmp_path / "out"
     assert main(["sweep", str(scenario), "--spec", str(spec), "--out", str(out), "--chunk-size", size]) == 2
     assert capsys.readouterr().err == f"sixdof: error: --chunk-size: expected a positive integer, got {size}\n"

@@ -9,7 +9,7 @@ import json
 import numpy as np
 import pytest
 
-from sixdof import InputError, Mount, RigidBody, System, parse_scenario
+from sixdof import InputError, Mount, RigidBody, System, parse_scenario, prepare
 from sixdof.analysis.design import design_metrics, elastic_center, sensitivities
 from sixdof.cli import main
 from sixdof.io.report import SHOWN_AS_ZERO_RTOL
@@ -168,7 +168,7 @@ def test_modes_json_prints_a_sensitivity_zero_by_symmetry_as_zero(capsys):
     rx; z: z, rx, ry): the derivatives of its frequency and decoupling by that axis' stiffness are exactly 0, not
     the 1e-36 that automatic differentiation leaves; every other derivative is printed as it is."""
     scenario = "scenarios/equipment_elastomer.toml"
-    system = load_scenario(scenario).system
+    system = prepare(load_scenario(scenario)).system
     assert all(np.array_equal(axes, np.eye(3)) for axes in system.axes)  # u, v, w: the body's x, y, z
     assert main(["modes", scenario, "--json", "--sensitivity"]) == 0
     out = json.loads(capsys.readouterr().out)

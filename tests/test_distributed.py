@@ -1,4 +1,5 @@
-"""Sweeps in chunks, in this process and on a local two-worker Dask cluster (sixdof.sweeps, sixdof.tasks).
+"""Sweeps in chunks, in this process and on a local two-worker Dask cluster (sixdof.sweeps, sixdof.analysis.sweep,
+sixdof.chunks, sixdof.workflows.tasks).
 
 What must hold whatever runs the chunks: the same variants and bit-identical results (each chunk draws
 with its own seed), every variant once in sweep.h5 even when a worker is killed mid-chunk, a resumed sweep
@@ -21,14 +22,16 @@ import h5py
 import numpy as np
 import pytest
 
+import sixdof.analysis.sweep
 import sixdof.sweeps
 from processes import assert_group_ends, living_in_group
 from sixdof import InputError, parse_scenario, simulate
 from sixdof.analysis.batch import run_batch, variant_system
+from sixdof.chunks import chunk_rng, partition
 from sixdof.io.scenario import load_scenario
 from sixdof.io.sweep import load_sweep_spec, parse_sweep_spec
 from sixdof.sweeps import CHUNKS_SUFFIX, sweep, sweep_scenario
-from sixdof.tasks import chunk_rng, partition, task_runner
+from sixdof.workflows.tasks import task_runner
 from systems import BRIDGE_LOADS_TOML, bridge_toml
 from tolerances import RTOL_BATCH_DIRECT
 
@@ -160,7 +163,7 @@ def test_workers_run_single_threaded_with_the_compilation_cache(tmp_path, monkey
         for flags, blas, cache, trim in found.values():
             assert "--xla_cpu_multi_thread_eigen=false" in flags and blas == "1"
             assert cache == str(tmp_path / "cache")
-            assert trim is None  # glibc's adaptive mmap threshold (see sixdof.tasks)
+            assert trim is None  # glibc's adaptive mmap threshold (see sixdof.workflows.tasks)
         assert sum(runner.client.nthreads().values()) == 2
         # The workers fill the shared cache: the assembly's compiled code, and the cross-check's diffrax solve
         # exported (another worker, or the next sweep's, loads it without tracing).
@@ -228,7 +231,7 @@ def test_a_killed_worker_costs_only_its_chunk(tmp_path):
 def test_an_interrupted_sweep_resumes_from_its_chunks(tmp_path, monkeypatch, cluster):
     reference = sweep_scenario(SCENARIO, SPEC, tmp_path / "reference")
     computed = []
-    original = sixdof.sweeps.sweep_chunk
+    original = sixdof.analysis.sweep.sweep_chunk
 
     def interrupted(scenario, spec, index, checked=()):
         if index == 3:
@@ -236,13 +239,13 @@ def test_an_interrupted_sweep_resumes_from_its_chunks(tmp_path, monkeypatch, clu
         computed.append(index)
         return original(scenario, spec, index, checked)
 
-    monkeypatch.setattr(sixdof.sweeps, "sweep_chunk", interrupted)
+    monkeypatch.setattr(sixdof.analysis.sweep, "sweep_chunk", interrupted)
     with pytest.raises(KeyboardInterrupt):
         sweep_scenario(SCENARIO, SPEC, tmp_path / "out")
     chunks = tmp_path / "out" / ("beam_sweep" + CHUNKS_SUFFIX)
     assert sorted(p.name for p in chunks.glob("chunk-*.h5")) == ["chunk-00000.h5", "chunk-00001.h5", "chunk-00002.h5"]
     assert not (tmp_path / "out" / "beam_sweep").exists()  # no sweep.h5 of an unfinished sweep
-    monkeypatch.setattr(sixdof.sweeps, "sweep_chunk", original)
+    monkeypatch.setattr(sixdof.analysis.sweep, "sweep_chunk", original)
     # Without --resume: one error, nothing computed, nothing removed.
     with pytest.raises(InputError, match=r"--resume: expected a fresh start, or --resume to continue the "
                                          r"interrupted sweep whose 3 finished chunks are in .*beam_sweep\.chunks"):
@@ -263,9 +266,10 @@ def test_an_interrupted_sweep_resumes_from_its_chunks(tmp_path, monkeypatch, clu
 
 def test_robustness_chunks_on_two_workers(cluster):
     from sixdof._jax import jax
+    from sixdof.chunks import InProcess
     from sixdof.design.optimize import ROBUSTNESS_CHUNK, robustness
     from sixdof.design.problem import DesignProblem
-    from sixdof.tasks import InProcess, OnDask
+    from sixdof.workflows.tasks import OnDask
 
     scenario = load_scenario("scenarios/engine_inclined_mounts.toml")
     spec = dataclasses.replace(scenario.design, samples=ROBUSTNESS_CHUNK + 300)
@@ -288,7 +292,7 @@ def test_where_the_chunks_run_is_checked_before_computing(tmp_path, monkeypatch)
     with pytest.raises(InputError, match=r"--scheduler: expected one place to run the chunks \(not with "
                                          r"--workers\), got both given"):
         sweep(SCENARIO, SPEC, workers=2, scheduler="tcp://127.0.0.1:1")
-    monkeypatch.setattr("sixdof.tasks.CONNECT_TIMEOUT_S", 1)
+    monkeypatch.setattr("sixdof.workflows.tasks.CONNECT_TIMEOUT_S", 1)
     with pytest.raises(InputError, match=r"--scheduler: expected the address of a running Dask scheduler, got "
                                          r"tcp://127\.0\.0\.1:9 \("):
         sweep_scenario(SCENARIO, SPEC, tmp_path, scheduler="tcp://127.0.0.1:9")
@@ -302,20 +306,20 @@ def test_the_command_line_says_where_the_chunks_of_an_interrupted_sweep_are(tmp_
     scenario.write_text(SCENARIO.text)
     spec.write_text("count = 60\nseed = 1\nchunk_size = 20\ncross_check = 0\n[[vary]]\nparameter = 'stiffness'\n"
                     "distribution = 'uniform'\nlow = 0.8\nhigh = 1.2\n")
-    original = sixdof.sweeps.sweep_chunk
+    original = sixdof.analysis.sweep.sweep_chunk
 
     def interrupted(scenario, spec, index, checked=()):
         if index == 2:
             raise KeyboardInterrupt
         return original(scenario, spec, index, checked)
 
-    monkeypatch.setattr(sixdof.sweeps, "sweep_chunk", interrupted)
+    monkeypatch.setattr(sixdof.analysis.sweep, "sweep_chunk", interrupted)
     command = ["sweep", str(scenario), "--spec", str(spec), "--out", str(tmp_path / "out"), "--quiet"]
     assert main(command) == 130
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and re.fullmatch(r"sixdof: interrupted; the 2 chunks finished are kept in .*beam_sweep\.chunks: "
                                           r"the same command with --resume computes only the others", err[0]), err
-    monkeypatch.setattr(sixdof.sweeps, "sweep_chunk", original)
+    monkeypatch.setattr(sixdof.analysis.sweep, "sweep_chunk", original)
     assert main(command) == 2  # not without --resume
     assert "--resume: expected a fresh start, or --resume" in capsys.readouterr().err
     assert main([*command, "--resume"]) == 0

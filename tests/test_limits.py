@@ -189,7 +189,7 @@ def test_sweep_draws_beyond_float_range_are_refused_before_computing(tmp_path, v
                                       str(SCENARIOS / "sweeps" / "bearing_tolerance.toml")],
                                      ["optimize", str(SCENARIOS / "engine_inclined_mounts.toml")]])
 def test_workers_beyond_a_few_per_core_are_refused_before_anything_is_read(tmp_path, capsys, command):
-    from sixdof.tasks import WORKERS_PER_CORE
+    from sixdof.workflows.tasks import WORKERS_PER_CORE
 
     most = WORKERS_PER_CORE * (os.cpu_count() or 1)
     assert main([*command, "--out", str(tmp_path / "out"), "--workers", "100000"]) == EXIT_BAD_INPUT
@@ -200,8 +200,8 @@ def test_workers_beyond_a_few_per_core_are_refused_before_anything_is_read(tmp_p
 
 
 def test_workers_that_cannot_fit_in_memory_are_refused(monkeypatch):
-    from sixdof import tasks
     from sixdof.errors import InputError
+    from sixdof.workflows import tasks
 
     monkeypatch.setattr(tasks, "WORKER_BYTES", 2**50)  # a PiB each
     with pytest.raises(InputError, match=r"^--workers: expected a local cluster that fits in this machine's .* GiB "

@@ -361,7 +361,7 @@ def test_bad_design_input_is_one_clear_error(design, message):
 
 def test_optimize_without_targets_is_refused_before_computing(tmp_path, capsys, monkeypatch):
     """Named with the scenario's file, as its other errors are, before a Dask cluster is started."""
-    monkeypatch.setattr("sixdof.tasks.task_runner", lambda *args, **kwargs: pytest.fail("workers started"))
+    monkeypatch.setattr("sixdof.workflows.tasks.task_runner", lambda *args, **kwargs: pytest.fail("workers started"))
     path = tmp_path / "v.toml"
     path.write_text(_v_pair(THETA0, ""))
     assert main(["optimize", str(path), "--out", str(tmp_path), "--workers", "2"]) == 2

@@ -11,12 +11,12 @@ import pytest
 
 from sixdof import InputError
 from sixdof.analysis import random as random_module
-from sixdof.analysis.random import PSD, RandomInput
+from sixdof.analysis.random import PSD, RandomInput, TimeCheckSettings
 from sixdof.excitation.signals import Table
+from sixdof.validation import random_time
 from sixdof.validation.random_time import (
     FAIL,
     PASS,
-    TimeCheckSettings,
     Welch,
     fine_grid,
     octave_bands,
@@ -149,8 +149,8 @@ def test_a_model_three_percent_too_stiff_fails_the_check(monkeypatch):
     random, settings = _force_on_the_box(duration=60.0)
     stiffer = dataclasses.replace(system, mounts=tuple(dataclasses.replace(m, stiffness=1.03 * np.asarray(m.stiffness))
                                                        for m in system.mounts))
-    real = random_module.transfers
-    monkeypatch.setattr(random_module, "transfers", lambda _system, *args, **kwargs: real(stiffer, *args, **kwargs))
+    real = random_time.transfers
+    monkeypatch.setattr(random_time, "transfers", lambda _system, *args, **kwargs: real(stiffer, *args, **kwargs))
     check = random_time_check(system, random, {}, settings)
     assert check.verdict == FAIL
     assert np.max(np.abs(check.z)) > check.z_limit

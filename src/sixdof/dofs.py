@@ -41,6 +41,12 @@ def dof_units(order: int = 0) -> tuple[str, ...]:
     return tuple(u + suffix for u in DOF_UNITS)
 
 
+#: The peak responses of a batch of variants (``peak_q`` then ``peak_qdd`` of
+#: :class:`~sixdof.analysis.batch.BatchResult`), in order, with their SI units: ``|q|`` then ``|q''|`` per DOF.
+PEAK_RESPONSES: tuple[tuple[str, str], ...] = (*((f"|{d}|", u) for d, u in zip(DOFS, dof_units(0))),
+                                               *((f"|{d}''|", u) for d, u in zip(DOFS, dof_units(2))))
+
+
 def _split(translation: str, rotation: str) -> tuple[str, ...]:
     """One unit per DOF or load label: ``translation`` for the first three, ``rotation`` for the last."""
     return (translation,) * 3 + (rotation,) * 3

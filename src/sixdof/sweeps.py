@@ -1,10 +1,10 @@
 """A sweep of a scenario's mount variants, chunk by chunk: in this process or on Dask, on disk as it goes.
 
-The sweep's variants are cut into chunks of equal size (:meth:`sixdof.io.sweep.SweepSpec.chunks`); each
-chunk is one task (:func:`sweep_chunk`): it draws its variants with its own seed, computes them with the
-batch engine (:func:`sixdof.analysis.batch.run_batch`) and solves those of the cross-check sample that
-fall in it by diffrax. Where the tasks run is :func:`sixdof.tasks.task_runner`'s business; the results
-are the same wherever they ran.
+The sweep's variants are cut into chunks of equal size (:meth:`sixdof.analysis.sweep.SweepSpec.chunks`); each
+chunk is one task (:func:`sixdof.analysis.sweep.sweep_chunk`): it draws its variants with its own seed, computes
+them with the batch engine (:func:`sixdof.analysis.batch.run_batch`) and solves those of the cross-check sample
+that fall in it by diffrax. Where the tasks run is :func:`sixdof.workflows.tasks.task_runner`'s business; the
+results are the same wherever they ran.
 
 :func:`sweep` returns the whole sweep in memory. :func:`sweep_scenario` writes it: each finished chunk
 goes to its own file in ``<out>/<name>_sweep.chunks/`` (:class:`ChunkFolder`) as it arrives, so the client
@@ -23,18 +23,17 @@ import json
 import os
 import pickle
 import re
-import time
 import warnings
-from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, NamedTuple
 
 import numpy as np
 
+from sixdof.analysis.sweep import ChunkedSweep, sweep_on, time_system_of, where_ran
 from sixdof.analysis.validity import RangeWarning, variants_fit_range
-from sixdof.errors import InputError, Plain, SolverError, integer
+from sixdof.errors import InputError, Plain, integer
 from sixdof.schema import naming
+from sixdof.workflows.tasks import task_runner
 
 #: The folder of a sweep's finished chunks, beside its results folder.
 CHUNKS_SUFFIX = ".chunks"
@@ -45,120 +44,6 @@ _DEBRIS = re.compile(r"\.chunk-\d{5,}\.h5\.[0-9a-f]{32}\.tmp")
 #: time model, the loss factors' causal Maxwell models), so that a resumed sweep refuses chunks of an earlier kind
 #: up front instead of failing to merge them at the end (or merging peaks of another model).
 CHUNK_FORMAT = 3
-
-
-class Study(NamedTuple):
-    """What a sweep needs of a scenario (a :class:`~sixdof.io.scenario.Scenario` will do): the nominal
-    system, the excitation and simulation settings of its responses (``None``: frequencies only), and the model
-    of those time responses (``None``: ``system``; a scenario's ``time_system`` carries its loss factors as
-    causal Maxwell models)."""
-
-    system: Any
-    excitation: Any = None
-    simulation: Any = None
-    time_system: Any = None
-
-
-def _time_system(scenario):
-    """The model of a sweep's time responses and cross-checks: the scenario's ``time_system`` (the loss factors'
-    causal Maxwell models, ``[damping] loss_factor_model``), else its ``system``."""
-    timed = getattr(scenario, "time_system", None)
-    return scenario.system if timed is None else timed
-
-
-def sweep_chunk(scenario, spec, index: int, checked: tuple[int, ...] = ()):
-    """Chunk ``index`` of ``spec``'s sweep of ``scenario`` (or :class:`Study`), one task: its variants'
-    frequencies and peaks, and the diffrax peaks of those among ``checked`` (indices in the whole sweep), as
-    a :class:`~sixdof.analysis.batch.BatchResult` whose cross-check fields hold only those peaks.
-
-    The frequencies and tracked modes are those of the scenario's ``system`` (the mounts' stiffness ``k``, as
-    ``sixdof modes`` reports them); the peaks and their diffrax cross-check those of its ``time_system`` (each
-    loss factor as its causal Maxwell model, scaled with its mount axis's stiffness factor, as ``sixdof run``
-    simulates)."""
-    from sixdof.analysis.batch import direct_peaks, run_batch
-
-    system, excitation, settings = scenario.system, scenario.excitation, scenario.simulation
-    timed = _time_system(scenario)
-    variants = spec.variants(system, index)
-    result = run_batch(system, variants, excitation, settings, time_system=timed, engine=spec.engine, cross_check=0)
-    if not checked or result.peak_q is None:
-        return result
-    rows = spec.chunks()[index]
-    direct = direct_peaks(timed, variants, [i - rows.start for i in checked], excitation, settings)
-    return dataclasses.replace(result, cross_check_variants=np.asarray(checked, dtype=int),
-                               cross_check_peak_q=direct[:, :6], cross_check_peak_qdd=direct[:, 6:])
-
-
-class _Sweep:
-    """What every chunk shares and how they merge: the partition, the cross-check sample, the merged parts."""
-
-    def __init__(self, scenario, spec) -> None:
-        from sixdof.analysis.batch import cross_check_sample
-
-        self.scenario, self.spec = scenario, spec
-        self.chunks = spec.chunks()
-        simulated = scenario.excitation is not None and scenario.simulation is not None
-        self.checked = cross_check_sample(spec.count, spec.cross_check if simulated else 0, spec.seed)
-        self.start = time.perf_counter()
-
-    def jobs(self, skip=frozenset()) -> Iterator[tuple[int, tuple]]:
-        """``(index, arguments of sweep_chunk)`` of every chunk not in ``skip``."""
-        for index, rows in enumerate(self.chunks):
-            if index not in skip:
-                checked = tuple(int(i) for i in self.checked if i in rows)
-                yield index, (self.scenario, self.spec, index, checked)
-
-    def run(self, runner, skip=frozenset(), progress=None) -> Iterator[tuple[int, object]]:
-        """Each chunk not in ``skip`` computed by ``runner`` (:func:`sixdof.tasks.task_runner`), as it finishes,
-        with a meter over the chunks showing variants per second."""
-        from sixdof.progress import meter
-
-        where = "" if runner.backend == "in-process" else f" on {runner.workers} Dask workers"
-        shown = meter(progress, len(self.chunks), "chunks", "sweep" + where)
-        shown.show(len(skip))
-        done, variants, began = len(skip), 0, time.perf_counter()
-        rate = ""
-        for finished in runner.run(sweep_chunk, self.jobs(skip)):
-            done += 1
-            variants += len(self.chunks[finished.index])
-            rate = f"{variants / (time.perf_counter() - began):.4g} variants/s"
-            shown.show(done, rate)
-            yield finished.index, finished.result
-        shown.close(rate)
-
-    def merged(self, results: Iterable, where: dict, sink=None):
-        """The sweep's :class:`~sixdof.analysis.batch.BatchResult` from its chunks' results in order, cut to no
-        variants, with the cross-check and the provenance ``where`` (:func:`_where`); ``sink`` receives each
-        chunk (to keep or write it)."""
-        from sixdof.analysis.batch import cross_check_fields
-        from sixdof.results import axis_slice
-
-        first, direct, engine, width, count = None, [], [], 0, 0
-        for index, result in enumerate(results):
-            rows = self.chunks[index]
-            if result.count != len(rows):  # never seen: the check that no variant is lost or doubled
-                raise SolverError(f"chunk {index} holds {result.count} variants, not {len(rows)}")
-            if first is None:
-                first = axis_slice(result, slice(0, 0), "variant")
-            width = max(width, result.chunk_size)
-            count += result.count
-            if result.cross_check_variants is not None:
-                local = result.cross_check_variants - rows.start
-                direct.append(np.hstack([result.cross_check_peak_q, result.cross_check_peak_qdd]))
-                engine.append(np.hstack([result.peak_q[local], result.peak_qdd[local]]))
-            if sink is not None:
-                sink(result)
-        if count != self.spec.count:
-            raise SolverError(f"the chunks hold {count} variants, not {self.spec.count}")
-        checks = {} if not direct else cross_check_fields(self.checked, np.vstack(direct), np.vstack(engine))
-        fields = ("cross_check_variants", "cross_check_peak_q", "cross_check_peak_qdd", "cross_check")
-        return dataclasses.replace(first, **{name: checks.get(name) for name in fields}, chunk_size=width,
-                                   wall_time_s=time.perf_counter() - self.start, chunks=len(self.chunks), **where)
-
-
-def _where(runner) -> dict:
-    """Where the chunks ran: the backend and its worker processes now."""
-    return {"backend": runner.backend, "workers": runner.workers}
 
 
 def _check(scenario, spec) -> None:
@@ -183,11 +68,11 @@ def sweep(scenario, spec, *, chunk_size: int | None = None, workers: int | None 
     Parameters
     ----------
     scenario : sixdof.io.scenario.Scenario
-    spec : sixdof.io.sweep.SweepSpec
+    spec : sixdof.analysis.sweep.SweepSpec
     chunk_size : int, optional
         Variants per chunk, at least 1 (default: the spec's); with the seed it fixes the variants drawn.
     workers, scheduler, client : optional
-        Where the chunks run (:func:`sixdof.tasks.task_runner`): default this process.
+        Where the chunks run (:func:`sixdof.workflows.tasks.task_runner`): default this process.
     progress : None, bool, "text" or "tqdm", optional
         Show the chunks done (:func:`sixdof.progress.meter`).
 
@@ -201,7 +86,6 @@ def sweep(scenario, spec, *, chunk_size: int | None = None, workers: int | None 
     InputError
         Bad spec draws, a ``chunk_size`` below 1 (``--chunk-size``) or a bad place to run: before any computing.
     """
-    from sixdof.tasks import task_runner
     from sixdof.workflows.prepare import prepare
 
     scenario = prepare(scenario)
@@ -209,18 +93,6 @@ def sweep(scenario, spec, *, chunk_size: int | None = None, workers: int | None 
     _check(scenario, spec)
     with task_runner(workers, scheduler, client) as runner:
         return sweep_on(runner, scenario, spec, progress)
-
-
-def sweep_on(runner, scenario, spec, progress=None):
-    """:func:`sweep` on an open ``runner`` (:func:`sixdof.tasks.task_runner`), ``spec`` already checked."""
-    from sixdof.results import axis_concat
-
-    run = _Sweep(scenario, spec)
-    found = dict(run.run(runner, progress=progress))
-    kept = []
-    merged = run.merged((found.pop(i) for i in range(len(run.chunks))), _where(runner), kept.append)
-    # The merged result has no variants but every other field of the sweep: the chunks' variants join it.
-    return axis_concat([merged, *kept], "variant")
 
 
 # ----------------------------------------------------------------------------------------------------
@@ -344,7 +216,7 @@ def fingerprint(scenario, spec) -> dict:
 
     # Pickles of these frozen objects are the same bytes in every process for the same content (checked by the
     # resume tests); a changed accelerogram or force-deflection file changes them.
-    model = pickle.dumps((scenario.system, scenario.excitation, scenario.simulation, _time_system(scenario)),
+    model = pickle.dumps((scenario.system, scenario.excitation, scenario.simulation, time_system_of(scenario)),
                          protocol=5)
     spec_text = json.dumps({key: value for key, value in dataclasses.asdict(spec).items() if key != "path"},
                            sort_keys=True, default=str)  # the spec's content, not where it was read from
@@ -404,7 +276,6 @@ def sweep_scenario(scenario, spec, out_root: str | Path = "outputs", *, chunk_si
     from sixdof.io.report import cross_check_text, moving_ground, summary_table, tracked_modes_table
     from sixdof.io.stream import ResultsStream
     from sixdof.results import RunResults
-    from sixdof.tasks import task_runner
     from sixdof.workflows.prepare import prepare
 
     scenario = prepare(scenario)
@@ -412,13 +283,13 @@ def sweep_scenario(scenario, spec, out_root: str | Path = "outputs", *, chunk_si
     _check(scenario, spec)
     target = output.check_target(out_root, scenario.name, "_sweep")
     folder = ChunkFolder(target.with_name(target.name + CHUNKS_SUFFIX), fingerprint(scenario, spec), resume)
-    run = _Sweep(scenario, spec)
+    run = ChunkedSweep(scenario, spec)
     found = folder.finished()
     try:
         with task_runner(workers, scheduler, client) as runner:
             for index, result in run.run(runner, skip=found, progress=progress):
                 folder.write(index, result)
-            where = _where(runner)
+            where = where_ran(runner)
     finally:
         folder.release()  # the chunks are written (or the sweep stopped): merged below, by this process alone
     outcome = {}
@@ -465,4 +336,4 @@ def _fit_reach(scenario, frequency_hz) -> list[str]:
     return variants_fit_range(fits, [float(elastic.min()), float(elastic.max())]) if elastic.size else []
 
 
-__all__ = ["ChunkFolder", "SweepOutcome", "fingerprint", "sweep", "sweep_chunk", "sweep_scenario"]
+__all__ = ["ChunkFolder", "SweepOutcome", "fingerprint", "sweep", "sweep_scenario"]

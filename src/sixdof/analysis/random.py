@@ -21,21 +21,35 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from sixdof.analysis.frf import (
+    hysteretic_stiffness,
+    mount_impedances,
+    parse_direction,
+    receptance,
+    support_stiffness,
+)
+from sixdof.analysis.statespace import damping_ratios, modal_damping_ratios
 from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.dofs import DOFS, MixedUnits, dof_units, mixed_units
 from sixdof.errors import (
     InputError,
     Plain,
+    boolean,
     check_frequencies,
     choice_check,
     finite_array,
     instance,
+    integer_check,
+    number_check,
     optional,
     point_check,
     readonly,
 )
 from sixdof.frozen import Frozen, checked
+from sixdof.model.kinematics import mount_local_map, point_map, unit_load
+from sixdof.model.system import System
 from sixdof.results import Result, label, part, quantity, result_type
+from sixdof.schema import build
 
 #: PSD units accepted, and their factor to SI ((m/s^2)^2/Hz or N^2/Hz).
 PSD_UNITS = {"g^2/Hz": STANDARD_GRAVITY**2, "(m/s^2)^2/Hz": 1.0, "N^2/Hz": 1.0}
@@ -96,6 +110,127 @@ class PSD(Frozen):
         return float(np.sqrt(np.sum(s[:-1] * f[:-1] * span * relative)))
 
 
+# ----------------------------------------------------------------------------------------------------
+# The time check: its settings (the ``time_check`` key of ``[random]``) and its result, which the random
+# response holds; :mod:`sixdof.validation.random_time` computes it.
+# ----------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class TimeCheckSettings(Frozen):
+    """The ``[random]`` table's ``time_check``: ``false`` to skip it, or ``{ duration, seed }``.
+
+    Parameters
+    ----------
+    duration : float, optional
+        Analysed record [s] (after the settling time), at least ``MIN_AVERAGES`` Welch segments of
+        ``BINS_PER_BANDWIDTH`` bins per half-power bandwidth of the sharpest resonance in band. Default:
+        ``AVERAGES`` such segments, at most ``MAX_DEFAULT_S`` (but never below the least); the constants of
+        :mod:`sixdof.validation.random_time`.
+    seed : int, optional
+        Seed of the record (``numpy.random.default_rng``). Default 0.
+    """
+
+    duration: float | None = checked(optional(number_check("a positive, finite duration in s", low=0.0,
+                                                           strict=True)), default=None)
+    seed: int = checked(integer_check("an integer >= 0", 0), default=0)
+
+
+def time_check_settings(value, field: str = "time_check") -> TimeCheckSettings | None:
+    """``value`` of the scenario key: ``true`` (defaults), ``false`` (None: no check) or a table."""
+    if isinstance(value, dict):
+        return build(TimeCheckSettings, value, field)
+    if isinstance(value, TimeCheckSettings):
+        return value
+    try:
+        return TimeCheckSettings() if boolean(value, field) else None
+    except InputError:
+        raise InputError(field, "true, false or a table { duration = s, seed = integer }", value) from None
+
+
+@result_type
+@dataclass(frozen=True, eq=False)
+class RandomTimeCheck(Result):
+    """Result of :func:`~sixdof.validation.random_time.random_time_check` (stored in ``/random_time_check``).
+
+    Attributes
+    ----------
+    judged : tuple of str
+        What each value is: ``rms:<quantity>`` for a record's mean square, ``band:<quantity>@<fc>Hz`` for an
+        octave band of a Welch PSD; quantities ``q:<dof>``, ``qdd:<dof>``, ``point:<name>:<axis>``
+        (acceleration), ``mount_force:<name>:<u|v|w>``.
+    frequency_rms, time_rms : ndarray, shape (judged,)
+        The RMS from the FRFs and from the record, in each value's unit (``units``).
+    sigma : ndarray, shape (judged,)
+        The relative standard error of the record's mean square.
+    z : ndarray, shape (judged,)
+        The ratio of the record's mean square to the FRFs' as a standard normal value
+        (:func:`~sixdof.validation.random_time.z_score`; about ``(ratio - 1) / sigma`` while sigma is small).
+    f_hz : ndarray, shape (nf,)
+        Welch bins [Hz].
+    band_hz : (float, float)
+        The input PSD's band [Hz].
+    qdd_welch, qdd_expected : ndarray, shape (nf, 6)
+        Welch PSD of the CG's acceleration from the record, and its expected value from the FRFs.
+    point_welch, point_expected : ndarray, shape (n_points, nf, 3)
+        The same for each point's acceleration [(m/s^2)^2/Hz].
+    z_limit : float
+        Largest ``|z|`` that passes (see :mod:`sixdof.validation.random_time`).
+    verdict : str
+        ``PASS`` when every ``|z| <= z_limit``.
+    """
+
+    judged: tuple[str, ...] = quantity("", ("judged",), name="judged", decode=lambda a: tuple(str(n) for n in a))
+    judged_units: tuple[str, ...] = label()
+    frequency_rms: np.ndarray = quantity(lambda r: _judged_units(r.judged_units), ("judged",),
+                                         description="RMS from the FRF-derived PSD")
+    time_rms: np.ndarray = quantity(lambda r: _judged_units(r.judged_units), ("judged",),
+                                    description="RMS of the time record")
+    sigma: np.ndarray = quantity("1", ("judged",), description="relative standard error of the record's mean square")
+    z: np.ndarray = quantity("1", ("judged",), description="time/frequency mean square as a standard normal "
+                             "value (Wilson-Hilferty)")
+    f_hz: np.ndarray = quantity("Hz", ("welch_f_hz",), name="welch_f_hz")
+    qdd_welch: np.ndarray = quantity(lambda r: _check_psd_units(), ("welch_f_hz", "dof"))
+    qdd_expected: np.ndarray = quantity(lambda r: _check_psd_units(), ("welch_f_hz", "dof"))
+    point_welch: np.ndarray = quantity("(m/s^2)^2/Hz", ("point", "welch_f_hz", "axis"))
+    point_expected: np.ndarray = quantity("(m/s^2)^2/Hz", ("point", "welch_f_hz", "axis"))
+    points: tuple[str, ...] = quantity("", ("point",), name="point", decode=lambda a: tuple(str(n) for n in a))
+    z_limit: float = label(decode=float)
+    verdict: str = label()
+    seed: int = label(decode=int)
+    duration_s: float = label(decode=float)
+    settle_s: float = label(decode=float)
+    segment_s: float = label(decode=float)
+    averages: int = label(decode=int)
+    degrees_of_freedom: float = label(decode=float)
+    sample_rate_hz: float = label(decode=float)
+    knot_rate_hz: float = label(decode=float)
+    solver_steps: int = label(decode=int)
+    wall_time_s: float = label(decode=float)
+    notes: tuple[str, ...] = label(default=())
+    band_hz: tuple[float, float] | None = label(default=None, encode=lambda band: np.asarray(band, dtype=float),
+                                                decode=lambda band: (float(band[0]), float(band[1])))
+
+    @property
+    def worst(self) -> int:
+        """Index of the value with the largest ``|z|``."""
+        return int(np.argmax(np.abs(self.z)))
+
+
+def _judged_units(units) -> MixedUnits:
+    return MixedUnits((("judged", tuple(units)),), "m, rad, m/s^2, rad/s^2 or N: each judged value's unit")
+
+
+def _check_psd_units() -> MixedUnits:
+    squared = tuple(f"({u})^2/Hz" for u in dof_units(2))
+    return MixedUnits((("dof", squared),), "(m/s^2)^2/Hz or (rad/s^2)^2/Hz")
+
+
+# ----------------------------------------------------------------------------------------------------
+# The random response.
+# ----------------------------------------------------------------------------------------------------
+
+
 @dataclass(frozen=True)
 class RandomInput(Frozen):
     """The ``[random]`` table: ``input`` (``"ground_acceleration"`` or ``"force"``), its ``direction`` (an axis
@@ -106,11 +241,9 @@ class RandomInput(Frozen):
     direction: object = "z"
     psd: PSD | None = None
     point: np.ndarray | None = checked(optional(point_check), default=None)
-    time_check: object = checked(lambda value, field: _time_check_settings(value, field), default=True)
+    time_check: object = checked(time_check_settings, default=True)
 
     def __check__(self) -> None:
-        from sixdof.analysis.frf import parse_direction
-
         direction, _ = parse_direction(self.direction, "direction", rotations=False)
         self._derive(direction=tuple(float(v) for v in direction))
         if not isinstance(self.psd, PSD):
@@ -125,17 +258,6 @@ class RandomInput(Frozen):
         if not unit_ok:
             raise InputError("psd.unit", "N^2/Hz for a force" if force else "g^2/Hz or (m/s^2)^2/Hz for an "
                              "acceleration", self.psd.unit)
-
-
-def _time_check_module():
-    from sixdof.validation import random_time
-
-    return random_time
-
-
-def _time_check_settings(value, field: str):
-    """The ``time_check`` key (:func:`sixdof.validation.random_time.time_check_settings`)."""
-    return _time_check_module().time_check_settings(value, field)
 
 
 def _per_mode(dominant: tuple[str, ...]) -> MixedUnits:
@@ -174,7 +296,7 @@ class RandomResponse(Result):
         [m/s^2 or rad/s^2]; nan for rigid-body modes.
     input_rms : float
         The input's RMS [m/s^2 or N].
-    time_check : sixdof.validation.random_time.RandomTimeCheck or None
+    time_check : RandomTimeCheck or None
         The same answer checked against a time history (the run adds it; stored in ``/random/time_check``).
     """
 
@@ -228,9 +350,6 @@ def frequency_grid(system, psd: PSD) -> np.ndarray:
 def _modal_damping(system) -> np.ndarray:
     """Each mode's damping ratio with the mounts' loss factors (half the modal loss factor) added: what the
     FRF's resonances show."""
-    from sixdof.analysis.frf import hysteretic_stiffness
-    from sixdof.analysis.statespace import damping_ratios, modal_damping_ratios
-
     modes = system.modes
     viscous = damping_ratios(system.C, modes, system.branches)
     # An overdamped mode (inf) has no resonance for Miles' equation: its diagonal ratio keeps the estimate finite.
@@ -261,9 +380,6 @@ def transfers(system, random: RandomInput, f_hz, points=None) -> Transfers:
     """The FRFs from ``random``'s input to every response :func:`random_response` reports, at ``f_hz`` [Hz]
     (> 0), with the mounts' loss factors (:func:`sixdof.validation.experiment.integrated_model` removes them
     for a comparison with a time solve)."""
-    from sixdof.analysis.frf import mount_impedances, receptance, support_stiffness
-    from sixdof.model.kinematics import mount_local_map, point_map, unit_load
-
     f = np.asarray(f_hz, dtype=float)
     omega = 2 * np.pi * f
     H = receptance(system, f).H
@@ -307,8 +423,6 @@ def random_response(system, random: RandomInput, points=None) -> RandomResponse:
     """
     from scipy.integrate import simpson
 
-    from sixdof.model.kinematics import unit_load
-    from sixdof.model.system import System
 
     instance(system, "system", System)
     instance(random, "random", RandomInput)

@@ -447,7 +447,7 @@ def _optimize(args) -> int:
 
 
 def _where_arguments(parser, what: str) -> None:
-    """``--workers`` and ``--scheduler``: where a study's chunks run (:func:`sixdof.tasks.task_runner`)."""
+    """``--workers`` and ``--scheduler``: where a study's chunks run (:func:`sixdof.workflows.tasks.task_runner`)."""
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--workers", type=int, default=None, metavar="N",
                        help=f"compute the {what} on a local Dask cluster of N worker processes (default: in this "
@@ -457,10 +457,10 @@ def _where_arguments(parser, what: str) -> None:
 
 
 def _check_workers(args) -> None:
-    """``--workers`` checked before anything is read (:func:`sixdof.tasks.check_workers`)."""
+    """``--workers`` checked before anything is read (:func:`sixdof.workflows.tasks.check_workers`)."""
     if args.workers is not None:
         from sixdof.errors import integer
-        from sixdof.tasks import check_workers
+        from sixdof.workflows.tasks import check_workers
 
         check_workers(integer(args.workers, "--workers", "a number of worker processes >= 1", 1))
 

@@ -20,18 +20,14 @@ checked by diffrax), with the targets of each sample evaluated exactly (the same
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
+from sixdof.analysis.batch import BatchResult
+from sixdof.analysis.sweep import Study, SweepSpec, Vary, sweep_on
+from sixdof.chunks import InProcess
 from sixdof.design.problem import MARGIN, RATIO_MARGIN, DesignProblem
-from sixdof.dofs import DOFS, dof_units
 from sixdof.errors import readonly
-
-if TYPE_CHECKING:
-    from sixdof.analysis.batch import BatchResult
-    from sixdof.io.sweep import SweepSpec
-
 
 #: How far a stiffness-ratio constraint, in units of the mount's compression stiffness, may be broken by an
 #: SLSQP iterate's round-off and still count as kept (its bound has the relative margin RATIO_MARGIN, 1e-3).
@@ -194,7 +190,7 @@ class Robustness:
 
     @property
     def peak_percentiles(self) -> np.ndarray | None:
-        """5th, 50th, 95th percentile of each of the :data:`PEAK_RESPONSES`, shape (12, 3), or None without
+        """5th, 50th, 95th percentile of each of the :data:`~sixdof.dofs.PEAK_RESPONSES`, shape (12, 3), or None without
         peak responses."""
         if self.responses is None or self.responses.peak_q is None:
             return None
@@ -202,22 +198,15 @@ class Robustness:
         return readonly(np.percentile(peaks, [5, 50, 95], axis=0).T)
 
 
-#: The peak responses of :attr:`Robustness.peak_percentiles`, in order, with their SI units: ``|q|`` then ``|q''|``
-#: per DOF.
-PEAK_RESPONSES: tuple[tuple[str, str], ...] = (*((f"|{d}|", u) for d, u in zip(DOFS, dof_units(0))),
-                                               *((f"|{d}''|", u) for d, u in zip(DOFS, dof_units(2))))
-
-#: Samples per chunk of the robustness study (one task each, with its own seed: :mod:`sixdof.tasks`).
+#: Samples per chunk of the robustness study (one task each, with its own seed: :mod:`sixdof.chunks`).
 ROBUSTNESS_CHUNK = 1000
 
 
 def scatter_spec(spec) -> SweepSpec:
     """The robustness study of a :class:`~sixdof.design.spec.DesignSpec` as a sweep
-    (:class:`~sixdof.io.sweep.SweepSpec`): ``spec.samples`` variants, every mount-axis stiffness scaled by
+    (:class:`~sixdof.analysis.sweep.SweepSpec`): ``spec.samples`` variants, every mount-axis stiffness scaled by
     an independent factor uniform in ``1 +- spec.tolerance`` (none at zero tolerance), seed ``spec.seed``,
     in chunks of :data:`ROBUSTNESS_CHUNK` on the exact engine."""
-    from sixdof.io.sweep import SweepSpec, Vary
-
     scatter = () if spec.tolerance == 0 else (
         Vary(parameter="stiffness", distribution="uniform", independent=True, low=1 - spec.tolerance,
              high=1 + spec.tolerance),)
@@ -229,7 +218,7 @@ def robustness(problem: DesignProblem, x, runner=None, excitation=None, settings
     """How often each target of design ``x`` holds when every mount-axis stiffness scatters
     (:func:`scatter_spec`), and how its responses spread.
 
-    The samples are a sweep of the design's system (:func:`sixdof.sweeps.sweep_on`): the exact batch engine
+    The samples are a sweep of the design's system (:func:`sixdof.analysis.sweep.sweep_on`): the exact batch engine
     gives each sample's frequencies and, with ``excitation`` and ``settings``, its peak responses, a few
     of them checked by diffrax; the targets of each sample are evaluated exactly at its stiffness factors
     by the problem's own function (``jax.vmap``-ed).
@@ -239,7 +228,7 @@ def robustness(problem: DesignProblem, x, runner=None, excitation=None, settings
     problem : DesignProblem
     x : array_like, shape (n_variables,)
     runner : optional
-        Where the chunks run (:func:`sixdof.tasks.task_runner`; default this process).
+        Where the chunks run (:func:`sixdof.workflows.tasks.task_runner`; default this process).
     excitation, settings : optional
         The scenario's excitation and :class:`~sixdof.analysis.direct.SimulationSettings`; without them,
         frequencies and targets only.
@@ -255,8 +244,6 @@ def robustness(problem: DesignProblem, x, runner=None, excitation=None, settings
     Robustness
     """
     from sixdof._jax import jax, jnp
-    from sixdof.sweeps import Study, sweep_on
-    from sixdof.tasks import InProcess
 
     x = np.asarray(x, dtype=float)
     system = problem.system_at(x)

@@ -20,8 +20,10 @@ import numpy as np
 
 from sixdof.analysis.design import modes_jax, torque_roll_axis, tra_frame
 from sixdof.analysis.statics import STANDARD_GRAVITY, replace_with_preload
+from sixdof.chunks import chunk_rng
 from sixdof.dofs import AXES, DOFS, MOUNT_AXES
 from sixdof.errors import InputError, Plain
+from sixdof.model.kinematics import mount_matrix_jax, point_map_jax, stiffness_jax
 from sixdof.model.modes import inverse_cholesky
 
 #: Relative margin inside each target's bounds that the optimizer aims for.
@@ -194,7 +196,6 @@ class DesignProblem:
     def values(self, x, stiffness_scale=None):
         """The value of every target at design ``x`` (see the module's list), shape (n_targets,)."""
         from sixdof._jax import jnp
-        from sixdof.model.kinematics import mount_matrix_jax, point_map_jax, stiffness_jax
 
         positions, stiffness, axes = self.mounts(x, stiffness_scale)
         K = stiffness_jax(positions, stiffness, axes, self._preload)  # each design with its own preload
@@ -265,10 +266,8 @@ class DesignProblem:
     @property
     def robust_scatter(self) -> np.ndarray:
         """The stiffness factors (robust_samples, n_mounts, 3) of the robust objective: independent, uniform in
-        ``1 +- spec.tolerance``, drawn from :func:`sixdof.tasks.chunk_rng` ``(spec.seed, ROBUST_STREAM)`` (a
+        ``1 +- spec.tolerance``, drawn from :func:`sixdof.chunks.chunk_rng` ``(spec.seed, ROBUST_STREAM)`` (a
         stream of their own, apart from the robustness study's chunks)."""
-        from sixdof.tasks import chunk_rng
-
         spec = self.spec
         return chunk_rng(spec.seed, ROBUST_STREAM).uniform(
             1 - spec.tolerance, 1 + spec.tolerance, (spec.robust_samples, len(self.names), 3))

@@ -14,8 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from sixdof.design.optimize import PEAK_RESPONSES
-from sixdof.dofs import DOFS, MOUNT_AXES, UNITS, MixedUnits
+from sixdof.dofs import DOFS, MOUNT_AXES, PEAK_RESPONSES, UNITS, MixedUnits
 from sixdof.frozen import Frozen
 from sixdof.results import Result, label, part, quantity, result_type
 

@@ -33,6 +33,7 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
+from sixdof.chunks import check_count
 from sixdof.dofs import AXES, DOFS, MOUNT_AXES
 from sixdof.errors import (
     InputError,
@@ -46,7 +47,6 @@ from sixdof.errors import (
     optional,
 )
 from sixdof.frozen import Frozen, checked
-from sixdof.tasks import check_count
 
 TARGET_KINDS = ("frequency", "decoupling", "static_deflection", "tra_angle")
 PARAMETERS = ("stiffness", "position", "angle")
@@ -201,7 +201,7 @@ class DesignSpec(Frozen):
     squares averaged over ``robust_samples`` designs scattered like the robustness study's (a fixed
     sample, so the objective stays smooth: see :class:`~sixdof.design.problem.DesignProblem`);
     ``stiffness_ratio``: the :class:`StiffnessRatio` constraints. Sizes beyond :data:`MAX_STARTS`,
-    :data:`~sixdof.tasks.MAX_VARIANTS` samples and :data:`MAX_ROBUST_SAMPLES` are refused with the least time
+    :data:`~sixdof.chunks.MAX_VARIANTS` samples and :data:`MAX_ROBUST_SAMPLES` are refused with the least time
     they would take, and so are frequency targets of one DOF whose windows do not overlap."""
 
     torque_axis: tuple[float, float, float] | None = None

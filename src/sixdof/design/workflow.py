@@ -99,7 +99,7 @@ def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: b
     log : callable
         Receives the terminal's tables.
     workers, scheduler, client : optional
-        Where the robustness study's chunks run (:func:`sixdof.tasks.task_runner`): default this process.
+        Where the robustness study's chunks run (:func:`sixdof.workflows.tasks.task_runner`): default this process.
 
     Returns
     -------
@@ -109,8 +109,8 @@ def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: b
     from sixdof.plots import png
     from sixdof.plots.design import plot_design_decoupling, plot_design_frequencies
     from sixdof.progress import meter
-    from sixdof.tasks import task_runner
     from sixdof.workflows.prepare import prepare
+    from sixdof.workflows.tasks import task_runner
 
     scenario = prepare(scenario)
     with naming(scenario.path):  # refusals of the scenario's mounts and [design], named like the file's own

@@ -11,7 +11,7 @@ import numpy as np
 
 from sixdof.analysis.compare import QUANTITIES
 from sixdof.analysis.statics import STANDARD_GRAVITY
-from sixdof.dofs import DOF_UNITS, DOFS, display_unit
+from sixdof.dofs import DOF_UNITS, DOFS, PEAK_RESPONSES, display_unit
 
 
 def table(headers: Sequence[str], rows: Sequence[Sequence[object]], align: str | None = None) -> str:
@@ -262,8 +262,6 @@ def _ratio_table(problem, system) -> str:
 def _design_peaks(spread, peaks, ground_moves: bool) -> str:
     """The scenario's peak responses at the CG: the given and optimized designs, and their spread over the
     robustness samples (exact batch engine), with the diffrax cross-check's agreement."""
-    from sixdof.design.optimize import PEAK_RESPONSES
-
     tolerance = f"+-{100 * spread.tolerance:g} %"
     given, optimized = peaks
     rows = []
@@ -636,7 +634,7 @@ def random_text(random) -> str:
 
 
 def random_check_text(check) -> str:
-    """The random response against a time history (:class:`~sixdof.validation.random_time.RandomTimeCheck`):
+    """The random response against a time history (:class:`~sixdof.analysis.random.RandomTimeCheck`):
     the record, the verdict and the RMS values side by side."""
     worst = check.worst
     head = (f"Checked against a time history: a {check.duration_s:.4g} s Gaussian record with the PSD (seed "

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from sixdof.analysis.random import RandomResponse
+from sixdof.analysis.random import RandomResponse, RandomTimeCheck
 from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.dofs import AXES, DOFS
 from sixdof.plots.common import margins, merge_identical, plain_frequencies, plain_log_ticks, require, title
@@ -79,7 +79,7 @@ def plot_random_check(check, *, name: str = "") -> Figure:
 
     Parameters
     ----------
-    check : sixdof.validation.random_time.RandomTimeCheck
+    check : sixdof.analysis.random.RandomTimeCheck
     name : str
         Name of the run, put before the title.
 
@@ -89,9 +89,7 @@ def plot_random_check(check, *, name: str = "") -> Figure:
     """
     from scipy.stats import chi2
 
-    from sixdof.validation.random_time import RandomTimeCheck
-
-    require(check, "check", RandomTimeCheck, "a sixdof.validation.random_time.RandomTimeCheck")
+    require(check, "check", RandomTimeCheck, "a sixdof.analysis.random.RandomTimeCheck")
     rms = {n.removeprefix("rms:"): j for j, n in enumerate(check.judged) if n.startswith("rms:")}
     curves = [(check.qdd_welch[:, i], f"CG {dof}", (f"qdd:{dof}", check.qdd_expected[:, i], i < 3))
               for i, dof in enumerate(DOFS) if f"qdd:{dof}" in rms]

@@ -2,7 +2,8 @@
 random-force experiment (:mod:`.experiment`), and the random response's check (:mod:`.random_time`).
 
 Names load on first use: :mod:`.estimation` imports scipy.signal (about 0.7 s), which a run that validates
-nothing must not pay for (``sixdof.validation.random_time`` is imported by every scenario with ``[random]``).
+nothing must not pay for (``sixdof.validation.random_time`` is imported by every run whose ``[random]`` has
+a time check).
 """
 
 from sixdof._lazy import lazy_names

@@ -1,5 +1,8 @@
 """The random response checked against a time history (issue 19, point 2).
 
+The check's settings and result (:class:`~sixdof.analysis.random.TimeCheckSettings`,
+:class:`~sixdof.analysis.random.RandomTimeCheck`) live with the random response that holds them.
+
 :func:`sixdof.analysis.random.random_response` answers from the FRFs. :func:`random_time_check` answers
 again, independently: it synthesizes a seeded Gaussian record with the input PSD, integrates the body's
 response with the direct solve (:func:`sixdof.analysis.direct.simulate`, diffrax), and compares the
@@ -30,23 +33,28 @@ system given have no causal time form, are left out of both sides and the result
 
 Each is a ``z`` value: the ratio of the record's mean square to the FRFs' as a standard normal value (a
 mean square scatters as chi-square; :func:`z_score`). Verdict: every ``|z|`` within
-:attr:`RandomTimeCheck.z_limit`, the bound that the largest of the N values judged passes with
-probability ``1 -`` :data:`FALSE_ALARM` for a correct model (Sidak: independent values; the values are
-positively correlated, which makes it conservative). Quantities or bands holding less than
+:attr:`~sixdof.analysis.random.RandomTimeCheck.z_limit`, the bound that the largest of the N values judged
+passes with probability ``1 -`` :data:`FALSE_ALARM` for a correct model (Sidak: independent values; the values
+are positively correlated, which makes it conservative). Quantities or bands holding less than
 :data:`EXCITED_SHARE` of the largest of their kind are not excited (symmetry zeros) and not judged.
 """
 
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 
 import numpy as np
 
-from sixdof.dofs import DOFS, MixedUnits, dof_units
-from sixdof.errors import InputError, Plain, boolean, integer_check, memory_check, number_check, optional, readonly
-from sixdof.frozen import Frozen, checked
-from sixdof.results import Result, label, quantity, result_type
+from sixdof.analysis.direct import SOLVE_BYTES_PER_SAMPLE, SimulationSettings, mechanical_form, simulate
+from sixdof.analysis.random import RandomTimeCheck, TimeCheckSettings, _modal_damping, transfers
+from sixdof.analysis.response import mount_forces, point_motion
+from sixdof.dofs import DOFS, dof_units
+from sixdof.errors import InputError, Plain, memory_check, readonly
+from sixdof.excitation.loads import Excitation, GroundMotion, Load
+from sixdof.excitation.signals import Table
+from sixdof.validation.experiment import integrated_model
 
 #: Knots of the synthesized record per period of the PSD's top frequency (cubic Hermite: a sine
 #: sampled 8 times per period keeps its amplitude within 1e-3).
@@ -73,117 +81,6 @@ WINDOW_HALF_BINS = 16
 PASS, FAIL = "PASS", "FAIL"
 
 
-@dataclass(frozen=True)
-class TimeCheckSettings(Frozen):
-    """The ``[random]`` table's ``time_check``: ``false`` to skip it, or ``{ duration, seed }``.
-
-    Parameters
-    ----------
-    duration : float, optional
-        Analysed record [s] (after the settling time), at least :data:`MIN_AVERAGES` Welch segments of
-        :data:`BINS_PER_BANDWIDTH` bins per half-power bandwidth of the sharpest resonance in band.
-        Default: :data:`AVERAGES` such segments, at most :data:`MAX_DEFAULT_S` (but never below the least).
-    seed : int, optional
-        Seed of the record (``numpy.random.default_rng``). Default 0.
-    """
-
-    duration: float | None = checked(optional(number_check("a positive, finite duration in s", low=0.0,
-                                                           strict=True)), default=None)
-    seed: int = checked(integer_check("an integer >= 0", 0), default=0)
-
-
-def time_check_settings(value, field: str = "time_check") -> TimeCheckSettings | None:
-    """``value`` of the scenario key: ``true`` (defaults), ``false`` (None: no check) or a table."""
-    from sixdof.schema import build
-
-    if isinstance(value, dict):
-        return build(TimeCheckSettings, value, field)
-    if isinstance(value, TimeCheckSettings):
-        return value
-    try:
-        return TimeCheckSettings() if boolean(value, field) else None
-    except InputError:
-        raise InputError(field, "true, false or a table { duration = s, seed = integer }", value) from None
-
-
-@result_type
-@dataclass(frozen=True, eq=False)
-class RandomTimeCheck(Result):
-    """Result of :func:`random_time_check` (stored in ``/random_time_check``).
-
-    Attributes
-    ----------
-    judged : tuple of str
-        What each value is: ``rms:<quantity>`` for a record's mean square, ``band:<quantity>@<fc>Hz`` for an
-        octave band of a Welch PSD; quantities ``q:<dof>``, ``qdd:<dof>``, ``point:<name>:<axis>``
-        (acceleration), ``mount_force:<name>:<u|v|w>``.
-    frequency_rms, time_rms : ndarray, shape (judged,)
-        The RMS from the FRFs and from the record, in each value's unit (``units``).
-    sigma : ndarray, shape (judged,)
-        The relative standard error of the record's mean square.
-    z : ndarray, shape (judged,)
-        The ratio of the record's mean square to the FRFs' as a standard normal value (:func:`z_score`;
-        about ``(ratio - 1) / sigma`` while sigma is small).
-    f_hz : ndarray, shape (nf,)
-        Welch bins [Hz].
-    band_hz : (float, float)
-        The input PSD's band [Hz].
-    qdd_welch, qdd_expected : ndarray, shape (nf, 6)
-        Welch PSD of the CG's acceleration from the record, and its expected value from the FRFs.
-    point_welch, point_expected : ndarray, shape (n_points, nf, 3)
-        The same for each point's acceleration [(m/s^2)^2/Hz].
-    z_limit : float
-        Largest ``|z|`` that passes (see the module).
-    verdict : str
-        ``PASS`` when every ``|z| <= z_limit``.
-    """
-
-    judged: tuple[str, ...] = quantity("", ("judged",), name="judged", decode=lambda a: tuple(str(n) for n in a))
-    judged_units: tuple[str, ...] = label()
-    frequency_rms: np.ndarray = quantity(lambda r: _judged_units(r.judged_units), ("judged",),
-                                         description="RMS from the FRF-derived PSD")
-    time_rms: np.ndarray = quantity(lambda r: _judged_units(r.judged_units), ("judged",),
-                                    description="RMS of the time record")
-    sigma: np.ndarray = quantity("1", ("judged",), description="relative standard error of the record's mean square")
-    z: np.ndarray = quantity("1", ("judged",), description="time/frequency mean square as a standard normal "
-                             "value (Wilson-Hilferty)")
-    f_hz: np.ndarray = quantity("Hz", ("welch_f_hz",), name="welch_f_hz")
-    qdd_welch: np.ndarray = quantity(lambda r: _psd_units(), ("welch_f_hz", "dof"))
-    qdd_expected: np.ndarray = quantity(lambda r: _psd_units(), ("welch_f_hz", "dof"))
-    point_welch: np.ndarray = quantity("(m/s^2)^2/Hz", ("point", "welch_f_hz", "axis"))
-    point_expected: np.ndarray = quantity("(m/s^2)^2/Hz", ("point", "welch_f_hz", "axis"))
-    points: tuple[str, ...] = quantity("", ("point",), name="point", decode=lambda a: tuple(str(n) for n in a))
-    z_limit: float = label(decode=float)
-    verdict: str = label()
-    seed: int = label(decode=int)
-    duration_s: float = label(decode=float)
-    settle_s: float = label(decode=float)
-    segment_s: float = label(decode=float)
-    averages: int = label(decode=int)
-    degrees_of_freedom: float = label(decode=float)
-    sample_rate_hz: float = label(decode=float)
-    knot_rate_hz: float = label(decode=float)
-    solver_steps: int = label(decode=int)
-    wall_time_s: float = label(decode=float)
-    notes: tuple[str, ...] = label(default=())
-    band_hz: tuple[float, float] | None = label(default=None, encode=lambda band: np.asarray(band, dtype=float),
-                                                decode=lambda band: (float(band[0]), float(band[1])))
-
-    @property
-    def worst(self) -> int:
-        """Index of the value with the largest ``|z|``."""
-        return int(np.argmax(np.abs(self.z)))
-
-
-def _judged_units(units) -> MixedUnits:
-    return MixedUnits((("judged", tuple(units)),), "m, rad, m/s^2, rad/s^2 or N: each judged value's unit")
-
-
-def _psd_units() -> MixedUnits:
-    squared = tuple(f"({u})^2/Hz" for u in dof_units(2))
-    return MixedUnits((("dof", squared),), "(m/s^2)^2/Hz or (rad/s^2)^2/Hz")
-
-
 # ----------------------------------------------------------------------------------------------------
 # The record.
 # ----------------------------------------------------------------------------------------------------
@@ -192,8 +89,6 @@ def _psd_units() -> MixedUnits:
 def synthesize(psd, duration: float, seed: int):
     """A Gaussian record with PSD ``psd`` lasting ``duration`` [s] (see the module), as a cubic Hermite
     :class:`~sixdof.excitation.signals.Table` of the input in SI (m/s^2 or N), zero from ``duration`` on."""
-    from sixdof.excitation.signals import Table
-
     rate = KNOTS_PER_PERIOD * float(psd.f_hz[-1])
     n = int(math.ceil(duration * rate))
     period = n / rate
@@ -209,14 +104,10 @@ def synthesize(psd, duration: float, seed: int):
 
 def _least_damped(system, band) -> tuple[float, float]:
     """``(half-power bandwidth [Hz] of the least damped elastic mode in band, slowest decay rate [1/s])``."""
-    from sixdof.analysis.random import _modal_damping
-
     f_n = system.modes.frequency_hz
     zeta = _modal_damping(system)
     inside = (f_n >= band[0]) & (f_n <= band[1]) & (f_n > 0)
     bandwidth = float(np.min(2 * zeta[inside] * f_n[inside])) if np.any(inside) else band[0]
-    from sixdof.analysis.direct import mechanical_form
-
     branches = system.branches
     state = mechanical_form(np.linalg.inv(np.asarray(system.M)), system.K, system.C, branches.rows, branches.stiffness,
                             branches.tau)
@@ -394,9 +285,7 @@ def octave_bands(f_hz: np.ndarray, low: float, high: float) -> list[tuple[float,
 
 def _series(system, random, points, response, keep) -> dict[str, tuple[np.ndarray, str]]:
     """Every response of the record's samples ``keep``, as ``name -> (samples, unit)`` (see
-    :attr:`RandomTimeCheck.judged`)."""
-    from sixdof.analysis.response import mount_forces, point_motion
-
+    :attr:`~sixdof.analysis.random.RandomTimeCheck.judged`)."""
     t = response.t[keep]
     q = response.q[keep]
     if random.input != "force":  # the ground starts at rest: its velocity carries a constant, its position a ramp
@@ -420,8 +309,6 @@ def _series(system, random, points, response, keep) -> dict[str, tuple[np.ndarra
 
 def _transfer_psds(system, random, points, f) -> dict[str, np.ndarray]:
     """The FRF-derived PSD of every series of :func:`_series`, at ``f`` [Hz]."""
-    from sixdof.analysis.random import transfers
-
     frf = transfers(system, random, f, points)
     s = random.psd(f)
     psd = {}
@@ -471,12 +358,6 @@ def random_time_check(system, random, points=None, settings: TimeCheckSettings |
     InputError
         For a system with unrestrained DOFs (its random response is not stationary).
     """
-    import time
-
-    from sixdof.analysis.direct import SOLVE_BYTES_PER_SAMPLE, SimulationSettings, simulate
-    from sixdof.excitation.loads import Excitation, GroundMotion, Load
-    from sixdof.validation.experiment import integrated_model
-
     settings = settings or TimeCheckSettings()
     points = dict(points or {})
     if system.modes.zero_modes:

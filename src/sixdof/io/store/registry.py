@@ -23,7 +23,6 @@ import sixdof.analysis.steady  # noqa: F401
 import sixdof.model.modes  # noqa: F401
 import sixdof.model.system  # noqa: F401
 import sixdof.model.viscoelastic  # noqa: F401
-import sixdof.validation.random_time  # noqa: F401
 from sixdof.results import result_class
 
 

@@ -1,13 +1,8 @@
-"""Independent chunks of a study run as tasks: in this process, or on Dask distributed.
-
-A study of many variants (a sweep, the robustness samples of a design) is cut into chunks of equal size
-(:func:`partition`). Chunk ``i`` draws its random numbers from ``numpy.random.default_rng([seed, i])``
-(:func:`chunk_rng`), so a result depends on the seed and the partition only, never on where the chunks
-ran, how many workers ran them or in which order they finished.
+"""Where the chunks of a study run (:mod:`sixdof.chunks`): in this process, or on Dask distributed.
 
 :func:`task_runner` gives the place they run, as a context manager:
 
-- in this process (the default): chunk after chunk;
+- in this process (the default): chunk after chunk (:class:`sixdof.chunks.InProcess`);
 - ``workers=N``: a local Dask cluster of N worker processes, one thread each, started and closed here;
 - ``scheduler="tcp://host:8786"``: an existing Dask cluster (its workers must have sixdof installed);
 - ``client=``: an existing :class:`distributed.Client`.
@@ -32,11 +27,9 @@ import signal
 import threading
 import time
 from collections.abc import Callable, Iterable, Iterator
-from dataclasses import dataclass
 from typing import Any
 
-import numpy as np
-
+from sixdof.chunks import Finished, InProcess
 from sixdof.errors import InputError, Plain, SolverError, integer, memory_check
 from sixdof.interrupts import held_signals
 
@@ -52,47 +45,12 @@ WORKER_ENV = {
     "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
     "XLA_FLAGS": "--xla_cpu_multi_thread_eigen=false intra_op_parallelism_threads=1",
 }
-BACKENDS = ("in-process", "dask-local", "dask")
 #: The most local worker processes per CPU core (``--workers``): each runs one thread, so beyond a few per core
 #: they only take turns on the cores while each holds its own memory.
 WORKERS_PER_CORE = 4
 #: The least memory a local worker process holds [bytes]: 262 MiB measured once it has imported JAX, Dask
 #: and the batch engine, before its first chunk.
 WORKER_BYTES = 262 * 2**20
-
-
-#: The most variants a sweep or a robustness study may ask for (:func:`check_count`): 10^7 take 6 min of the
-#: exact engine for frequencies alone and about 10 h with the bundled bridge's 20,001-sample simulation
-#: (3.5 ms a variant), in 10^4 chunk files; more is a typo or a job for several runs.
-MAX_VARIANTS = 10**7
-#: The least one variant costs the exact batch engine [s]: its natural frequencies alone (no simulation);
-#: measured 34-54 us on the bundled engine_inclined_mounts scenario in chunks of 1000 (2 shared cores).
-SECONDS_PER_VARIANT = 30e-6
-
-
-def duration_text(seconds: float) -> str:
-    """``seconds`` in the unit that reads best: "50 µs", "40 s", "3.2 h", "12 days", "3.2e+04 years"."""
-    for unit, size in (("years", 365.25 * 86400), ("days", 86400), ("h", 3600), ("min", 60), ("s", 1.0),
-                       ("ms", 1e-3)):
-        if seconds >= 2 * size or unit in ("s", "ms") and seconds >= size:
-            return f"{seconds / size:.3g} {unit}"
-    return f"{seconds * 1e6:.3g} µs"
-
-
-def check_count(count: int, field: str, what: str = "variants", limit: int = MAX_VARIANTS,
-                seconds_each: float = SECONDS_PER_VARIANT) -> None:
-    """Refuse up front a study of more than ``limit`` ``what``, with the time they would take at
-    ``seconds_each`` [s] each (default: a sweep's variants on the exact engine, :data:`SECONDS_PER_VARIANT`).
-
-    Raises
-    ------
-    InputError
-        ``field: expected at most <limit> <what>, got <count> (at least <time> at <seconds_each> each)``.
-    """
-    if count > limit:
-        raise InputError(field, f"at most {limit:,} {what}",
-                         Plain(f"{count:,} (at least {duration_text(count * seconds_each)} of computing at "
-                               f"{duration_text(seconds_each)} each)"))
 
 
 def check_workers(workers: int) -> None:
@@ -110,38 +68,6 @@ def check_workers(workers: int) -> None:
                          f"core of this machine's {cores}; each runs one thread)", workers)
     memory_check("--workers", workers * WORKER_BYTES, "a local cluster", f"{workers:,} worker processes of at least "
                  f"{WORKER_BYTES / 2**20:.0f} MiB each")
-
-
-def partition(count: int, size: int) -> list[range]:
-    """``range(count)`` cut into ``ceil(count / size)`` chunks whose sizes differ by one at most."""
-    chunks = -(-count // size)
-    bounds = [i * count // chunks for i in range(chunks + 1)]
-    return [range(low, high) for low, high in zip(bounds[:-1], bounds[1:])]
-
-
-def chunk_rng(seed: int, index: int) -> np.random.Generator:
-    """The random numbers of chunk ``index`` of a study seeded with ``seed``."""
-    return np.random.default_rng([seed, index])
-
-
-@dataclass(frozen=True)
-class Finished:
-    """A chunk's result, as it arrives."""
-
-    index: int
-    result: Any
-
-
-class InProcess:
-    """Chunks computed one after the other in this process."""
-
-    backend = "in-process"
-    workers = 1
-
-    def run(self, task: Callable, jobs: Iterable[tuple[int, tuple]]) -> Iterator[Finished]:
-        """``task(*args)`` for each ``(index, args)`` of ``jobs``, yielded as each finishes."""
-        for index, args in jobs:
-            yield Finished(index, task(*args))
 
 
 class OnDask:
@@ -345,5 +271,4 @@ def _passed_env() -> dict[str, str]:
     return {k: v for k, v in os.environ.items() if k in ("SIXDOF_JAX_CACHE", "XDG_CACHE_HOME", "EQX_ON_ERROR")}
 
 
-__all__ = ["BACKENDS", "Finished", "InProcess", "OnDask", "RETRIES", "WorkerSetup", "chunk_rng", "partition",
-           "task_runner"]
+__all__ = ["OnDask", "RETRIES", "WorkerSetup", "check_workers", "task_runner"]

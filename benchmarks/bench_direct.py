@@ -75,9 +75,10 @@ def variant(system, excitation, settings, *, window_samples=None, unrolled=True,
     from sixdof._jax import jnp
     from sixdof.analysis import direct
     from sixdof.analysis import unrolled as unrolled_module
+    from sixdof.analysis.direct import cache, solve, windows
 
     window_samples = window_samples or direct.WINDOW_SAMPLES
-    solve_ode, solver = direct.solve_ode, unrolled_module.solver
+    solve_ode, solver = solve.solve_ode, unrolled_module.solver
 
     def patched_solve_ode(field, x0, t0, t1, saveat, jump_ts, *args, **kwargs):
         if not dense:  # save only the end, then spread it over the samples: the outputs' cost stays
@@ -88,26 +89,26 @@ def variant(system, excitation, settings, *, window_samples=None, unrolled=True,
             return eqx.tree_at(lambda s: s.ys, sol, jnp.broadcast_to(sol.ys, (ts.size, x0.size)) + 0 * ts[:, None])
         return solve_ode(field, x0, t0, t1, saveat, jump_ts if clip else jump_ts[:0], *args, **kwargs)
 
-    direct.solve_ode = patched_solve_ode
+    solve.solve_ode = patched_solve_ode
     if not unrolled:
         unrolled_module.solver = lambda name: getattr(diffrax, name)()
-    direct._COMPILED.clear()
+    cache._COMPILED.clear()
     try:
         start = time.perf_counter()
-        run, xs0 = direct._prepare(system, excitation, settings, direct.window_length(settings.samples, window_samples))
+        run, xs0 = windows._prepare(system, excitation, settings, direct.window_length(settings.samples, window_samples))
 
         def go():
-            xs, region, windows = xs0, run.region, []
+            xs, region, histories = xs0, run.region, []
             for ts, end in direct.window_spans(settings, run.window):
-                history, xs, region = direct._window(run, xs, region, ts, end, settings)
-                windows.append(history)
-            return windows
+                history, xs, region = windows._window(run, xs, region, ts, end, settings)
+                histories.append(history)
+            return histories
 
         go()  # traced and compiled at its first call
         first_s = time.perf_counter() - start
     finally:
-        direct.solve_ode, unrolled_module.solver = solve_ode, solver
-        direct._COMPILED.clear()
+        solve.solve_ode, unrolled_module.solver = solve_ode, solver
+        cache._COMPILED.clear()
     return go, first_s
 
 

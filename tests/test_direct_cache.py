@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from sixdof._jax import jax
-from sixdof.analysis import direct
+from sixdof.analysis.direct import cache
 
 pytest.importorskip("flatbuffers", reason="jax.export writes with flatbuffers (a sixdof dependency)")
 
@@ -76,26 +76,26 @@ def test_damaged_or_foreign_entries_are_refused(tmp_path):
         path.write_bytes(header + b"\n" + body)
 
     write("k", payload)
-    np.testing.assert_array_equal(direct._load_exported(path, "k", specs)(np.ones(3)), [2.0, 2.0, 2.0])
-    assert direct._load_exported(path, "another structure", specs) is None
-    assert direct._load_exported(path, "k", [jax.ShapeDtypeStruct((4,), np.float64)]) is None
+    np.testing.assert_array_equal(cache._load_exported(path, "k", specs)(np.ones(3)), [2.0, 2.0, 2.0])
+    assert cache._load_exported(path, "another structure", specs) is None
+    assert cache._load_exported(path, "k", [jax.ShapeDtypeStruct((4,), np.float64)]) is None
     write("k", payload[:-7] + bytes(7), hashlib.sha256(payload).hexdigest())  # damaged after writing
-    assert direct._load_exported(path, "k", specs) is None
+    assert cache._load_exported(path, "k", specs) is None
     write("k", b"not an export")
-    assert direct._load_exported(path, "k", specs) is None
+    assert cache._load_exported(path, "k", specs) is None
     path.write_bytes(b"\x00garbage")
-    assert direct._load_exported(path, "k", specs) is None
-    assert direct._load_exported(tmp_path / "absent.jaxexport", "k", specs) is None
+    assert cache._load_exported(path, "k", specs) is None
+    assert cache._load_exported(tmp_path / "absent.jaxexport", "k", specs) is None
 
 
 def test_solves_are_exported_only_beside_the_compilation_cache(monkeypatch, tmp_path):
     monkeypatch.setenv("EQX_ON_ERROR", "nan")
-    assert jax.config.jax_compilation_cache_dir is None and direct._export_dir() is None  # tests leave it off
+    assert jax.config.jax_compilation_cache_dir is None and cache._export_dir() is None  # tests leave it off
     jax.config.update("jax_compilation_cache_dir", str(tmp_path))  # nothing is compiled before it is reset
     try:
-        assert direct._export_dir() == tmp_path / "sixdof_solves"
+        assert cache._export_dir() == tmp_path / "sixdof_solves"
         monkeypatch.delenv("EQX_ON_ERROR")  # equinox's checks are then host callbacks, which cannot be exported
-        assert direct._export_dir() is None
+        assert cache._export_dir() is None
     finally:
         jax.config.update("jax_compilation_cache_dir", None)
 

@@ -5,7 +5,6 @@ from __future__ import annotations
 import math
 import os
 import re
-import weakref
 from typing import Any
 
 import numpy as np
@@ -120,25 +119,29 @@ def _real_numbers(value: object, depth: int) -> bool:
     return False
 
 
-#: Arrays given up by the computation that made them (:func:`handed_over`), by id while they live.
-_HANDED_OVER: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
+class Owned:
+    """An array given up by the computation that made it, for a result to hold as it is.
 
+    ``readonly(Owned(array))`` is ``array`` itself, marked read-only, not a copy: for an array that nothing else
+    references (no view of it survives), which its maker passes straight to a result's constructor (the exact
+    engine's q, q', q'': three copies of ~1 MB spared a call). The caller states the ownership; nothing records it.
+    """
 
-def handed_over(array: np.ndarray) -> np.ndarray:
-    """``array``, made by the caller and referenced by nothing else (no view of it survives), marked read-only:
-    :func:`readonly` then holds it in a result without a copy (the exact engine's q, q', q'': three copies of
-    ~1 MB spared a call)."""
-    array.flags.writeable = False
-    _HANDED_OVER[id(array)] = array
-    return array
+    __slots__ = ("array",)
+
+    def __init__(self, array: np.ndarray) -> None:
+        self.array = array
 
 
 def readonly(value: Any, dtype: Any = float) -> np.ndarray:
     """A read-only copy of ``value`` as an array of ``dtype`` (``None``: keep the dtype): what every
-    result object holds, so that no caller can change a result in place. An array given up with
-    :func:`handed_over` is held as it is."""
-    if _HANDED_OVER.get(id(value)) is value and (dtype is None or value.dtype == dtype):
-        return value
+    result object holds, so that no caller can change a result in place. An array given up as
+    :class:`Owned` is held as it is when it has that dtype."""
+    if isinstance(value, Owned):
+        if dtype is None or value.array.dtype == dtype:
+            value.array.flags.writeable = False
+            return value.array
+        value = value.array
     array = np.array(value, dtype=dtype)
     array.flags.writeable = False
     return array

@@ -165,7 +165,8 @@ class TimeHistory(Frozen, Result):
         Times [s].
     q, qd, qdd : ndarray, shape (n, 6)
         Displacement [m, rad], velocity [m/s, rad/s], acceleration [m/s^2, rad/s^2], DOFs
-        ``x, y, z, rx, ry, rz``.
+        ``x, y, z, rx, ry, rz``. Each is copied, unless given as :class:`~sixdof.errors.Owned` by the
+        computation that made it (then held as it is).
     ground_displacement, ground_velocity, ground_acceleration : ndarray, shape (n, 3), or None
         Rigid translation of the foundation in body axes [m, m/s, m/s^2].
     Q : ndarray, shape (n, 6), or None

@@ -1,6 +1,6 @@
 """A sweep of 100,000 bridge variants in chunks, in this process and on local Dask clusters (issue 20).
 
-Each configuration runs `sixdof sweep` through its Python entry (sixdof.sweeps.sweep_scenario, files and all:
+Each configuration runs `sixdof sweep` through its Python entry (sixdof.workflows.sweep.sweep_scenario, files and all:
 chunk files as they finish, the merge into sweep.h5, the cross-check of 3 variants by diffrax) in a fresh
 process, the client, which reports its wall time and its peak resident memory (VmHWM; the Dask workers are
 other processes, their memory is not counted). The spec is the bundled bearing_tolerance.toml (every bearing
@@ -50,16 +50,16 @@ def one(count: int, workers: int, out: str) -> None:
 
     from sixdof.io.scenario import load_scenario
     from sixdof.io.sweep import load_sweep_spec
-    from sixdof.sweeps import sweep_scenario
+    from sixdof.workflows.sweep import sweep_scenario
 
     start = time.perf_counter()
     scenario = load_scenario(common.SCENARIO)
     spec = dataclasses.replace(load_sweep_spec(SPEC), count=count)
-    outcome = sweep_scenario(scenario, spec, out, workers=workers or None)
+    result, _ = sweep_scenario(scenario, spec, out, workers=workers or None)
     wall = time.perf_counter() - start
-    print(json.dumps({"wall_s": wall, "client_peak_mb": _high_water_mb(), "chunks": outcome.result.chunks,
-                      "backend": outcome.result.backend, "workers": outcome.result.workers,
-                      "cross_check_worst": outcome.result.cross_check.worst}))
+    print(json.dumps({"wall_s": wall, "client_peak_mb": _high_water_mb(), "chunks": result.chunks,
+                      "backend": result.backend, "workers": result.workers,
+                      "cross_check_worst": result.cross_check.worst}))
 
 
 def measure(label: str, count: int, workers: int, env: dict, cache: str) -> dict:

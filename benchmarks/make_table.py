@@ -206,7 +206,7 @@ def main():
                     f"{r['speedup_vs_one_thread']:.2f}x | {r['client_peak_mb']:.0f} MB |")
 
         lines += ["## Sweeps in chunks of 1000 variants, in this process and on local Dask clusters (bench_sweep.py)",
-                  "", "`sixdof.sweeps.sweep_scenario` end to end (chunk files, merge into sweep.h5, cross-check of 3 "
+                  "", "`sixdof.workflows.sweep.sweep_scenario` end to end (chunk files, merge into sweep.h5, cross-check of 3 "
                   "variants by diffrax) on the bridge traffic scenario, bearing_tolerance.toml's spec with its "
                   "count raised; each configuration a fresh client process (in-process ones compile in the client, ~3 s; "
                   "Dask workers load from the persistent cache after the first Dask configuration). Client peak: "

@@ -37,7 +37,7 @@ from sixdof.analysis.sweep import Study
 from sixdof.io.report import summary_table, tracked_modes_table
 from sixdof.io.sweep import load_sweep_spec, parse_sweep_spec
 from sixdof.model.viscoelastic import LOSS_FACTOR_TARGET
-from sixdof.sweeps import sweep
+from sixdof.workflows.sweep import sweep
 from systems import BRIDGE_LOADS_TOML, bridge, bridge_toml, four_mount
 from tolerances import (
     RTOL_BATCH_CHUNKS,
@@ -352,12 +352,14 @@ def test_sweep_command_prints_the_cross_check(tmp_path, capsys):
 
 def test_a_sweep_under_a_moving_ground_says_its_peaks_are_absolute(tmp_path):
     from sixdof.io.scenario import load_scenario
-    from sixdof.sweeps import sweep_scenario
+    from sixdof.workflows.prepare import prepare
+    from sixdof.workflows.sweep import sweep_scenario, sweep_tables
 
     spec = tmp_path / "spec.toml"
     spec.write_text('count = 3\nseed = 1\n[[vary]]\nparameter = "stiffness"\ndistribution = "uniform"\n'
                     'low = 0.9\nhigh = 1.1\n')
-    table = sweep_scenario(load_scenario("scenarios/bridge_beam_ground.toml"), load_sweep_spec(spec), tmp_path).table
+    scenario = load_scenario("scenarios/bridge_beam_ground.toml")
+    table = sweep_tables(sweep_scenario(scenario, load_sweep_spec(spec), tmp_path)[1] / "sweep.h5", prepare(scenario))
     assert all(f"| peak {dof} (absolute) [" in table for dof in ("x", "y", "z", "rx", "ry", "rz"))
     assert ("| peak rz (absolute) [" in table.split("The ground moves: the peaks are of the body's absolute motion, "
                                                  "the ground's drift included, not of the mounts' deflection.")[0])

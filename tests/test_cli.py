@@ -208,10 +208,10 @@ def test_sweep_writes_distributions(tmp_path, capsys):
 def test_a_chunk_size_below_one_is_refused_before_computing(size, tmp_path, monkeypatch, capsys):
     """``--chunk-size`` is checked as the spec's ``chunk_size`` is (0 was read as "not given", -5 failed once
     computed)."""
-    from sixdof import sweeps
     from sixdof.analysis.sweep import ChunkedSweep
     from sixdof.io.scenario import load_scenario
     from sixdof.io.sweep import load_sweep_spec
+    from sixdof.workflows import sweep as sweeps
 
     scenario, spec = sweep_files(tmp_path)
     monkeypatch.setattr(ChunkedSweep, "run", lambda *args, **kwargs: pytest.fail("computed anyway"))

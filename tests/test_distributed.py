@@ -1,4 +1,4 @@
-"""Sweeps in chunks, in this process and on a local two-worker Dask cluster (sixdof.sweeps, sixdof.analysis.sweep,
+"""Sweeps in chunks, in this process and on a local two-worker Dask cluster (sixdof.workflows.sweep, sixdof.analysis.sweep,
 sixdof.chunks, sixdof.workflows.tasks).
 
 What must hold whatever runs the chunks: the same variants and bit-identical results (each chunk draws
@@ -23,14 +23,15 @@ import numpy as np
 import pytest
 
 import sixdof.analysis.sweep
-import sixdof.sweeps
+import sixdof.workflows.sweep
 from processes import assert_group_ends, living_in_group
 from sixdof import InputError, parse_scenario, simulate
 from sixdof.analysis.batch import run_batch, variant_system
 from sixdof.chunks import chunk_rng, partition
 from sixdof.io.scenario import load_scenario
 from sixdof.io.sweep import load_sweep_spec, parse_sweep_spec
-from sixdof.sweeps import CHUNKS_SUFFIX, sweep, sweep_scenario
+from sixdof.workflows.prepare import prepare
+from sixdof.workflows.sweep import CHUNKS_SUFFIX, sweep, sweep_scenario, sweep_tables
 from sixdof.workflows.tasks import task_runner
 from systems import BRIDGE_LOADS_TOML, bridge_toml
 from tolerances import RTOL_BATCH_DIRECT
@@ -172,16 +173,16 @@ def test_workers_run_single_threaded_with_the_compilation_cache(tmp_path, monkey
 
 
 def test_files_equal_in_process_and_on_two_workers(tmp_path, cluster):
-    a = sweep_scenario(SCENARIO, SPEC, tmp_path / "a")
-    b = sweep_scenario(SCENARIO, SPEC, tmp_path / "b", client=cluster, progress="text")
-    attrs_a, attrs_b = _same_file(a.directory / "sweep.h5", b.directory / "sweep.h5")
+    a, a_folder = sweep_scenario(SCENARIO, SPEC, tmp_path / "a")
+    _, b_folder = sweep_scenario(SCENARIO, SPEC, tmp_path / "b", client=cluster, progress="text")
+    attrs_a, attrs_b = _same_file(a_folder / "sweep.h5", b_folder / "sweep.h5")
     assert (attrs_a["backend"], attrs_b["backend"], attrs_b["workers"], attrs_b["chunks"]) == (
         "in-process", "dask", 2, 5)
     assert attrs_a["count"] == attrs_b["count"] == 120
-    with h5py.File(a.directory / "sweep.h5", "r") as f:
+    with h5py.File(a_folder / "sweep.h5", "r") as f:
         np.testing.assert_array_equal(f["sweep/variant"][()], np.arange(120))  # every variant once, in order
     assert not (tmp_path / "a" / ("beam_sweep" + CHUNKS_SUFFIX)).exists()  # the chunks are merged and gone
-    assert "120 variants" in a.table and a.resumed == 0
+    assert "120 variants" in sweep_tables(a_folder / "sweep.h5", prepare(SCENARIO)) and a.resumed == 0
 
 
 def test_progress_over_chunks_shows_variants_per_second(tmp_path, capsys):
@@ -194,7 +195,7 @@ def test_a_killed_worker_costs_only_its_chunk(tmp_path):
     """SIGKILL of a worker mid-sweep while it holds chunks: they run again, nothing is lost or doubled."""
     long = dataclasses.replace(SCENARIO, simulation=dataclasses.replace(SCENARIO.simulation, duration=40.0))
     spec = dataclasses.replace(SPEC, count=400, chunk_size=50)  # chunks of ~0.2 s each
-    reference = sweep_scenario(long, spec, tmp_path / "reference")
+    _, reference = sweep_scenario(long, spec, tmp_path / "reference")
     chunks = tmp_path / "killed" / ("beam_sweep" + CHUNKS_SUFFIX)
     killed = []
 
@@ -215,7 +216,7 @@ def test_a_killed_worker_costs_only_its_chunk(tmp_path):
         killer = threading.Thread(target=kill_a_busy_worker_mid_sweep)
         killer.start()
         try:
-            survived = sweep_scenario(long, spec, tmp_path / "killed", client=client)
+            _, survived = sweep_scenario(long, spec, tmp_path / "killed", client=client)
         finally:
             killer.join()
         assert killed, "no worker was holding a chunk to be killed"
@@ -224,12 +225,12 @@ def test_a_killed_worker_costs_only_its_chunk(tmp_path):
             # Entries (who, key, from, to, ...): the scheduler's transitions of the chunk's task.
             moves = [entry[3] for entry in client.story(key) if entry[1] == key]
             assert moves.count("processing") >= 2, (key, moves)
-    _same_file(reference.directory / "sweep.h5", survived.directory / "sweep.h5")
-    assert survived.count == 400 and not chunks.exists()
+    attrs = _same_file(reference / "sweep.h5", survived / "sweep.h5")[1]
+    assert attrs["count"] == 400 and not chunks.exists()
 
 
 def test_an_interrupted_sweep_resumes_from_its_chunks(tmp_path, monkeypatch, cluster):
-    reference = sweep_scenario(SCENARIO, SPEC, tmp_path / "reference")
+    _, reference = sweep_scenario(SCENARIO, SPEC, tmp_path / "reference")
     computed = []
     original = sixdof.analysis.sweep.sweep_chunk
 
@@ -258,9 +259,9 @@ def test_an_interrupted_sweep_resumes_from_its_chunks(tmp_path, monkeypatch, clu
     with pytest.raises(InputError, match=r"got a different scenario"):
         sweep_scenario(louder, SPEC, tmp_path / "out", resume=True)
     # Resumed on the two workers: only chunks 3 and 4 are computed, and the file is the uninterrupted one's.
-    resumed = sweep_scenario(SCENARIO, SPEC, tmp_path / "out", resume=True, client=cluster)
-    assert resumed.resumed == 3 and resumed.result.chunks == 5
-    _same_file(reference.directory / "sweep.h5", resumed.directory / "sweep.h5")
+    resumed, folder = sweep_scenario(SCENARIO, SPEC, tmp_path / "out", resume=True, client=cluster)
+    assert resumed.resumed == 3 and resumed.chunks == 5
+    _same_file(reference / "sweep.h5", folder / "sweep.h5")
     assert not chunks.exists()
 
 
@@ -348,10 +349,10 @@ def test_a_sweep_s_fingerprint_is_the_same_in_another_process():
     import subprocess
     import sys
 
-    from sixdof.sweeps import fingerprint
+    from sixdof.workflows.sweep import fingerprint
 
     code = ("import json; from sixdof.io.scenario import load_scenario; from sixdof.io.sweep import load_sweep_spec; "
-            "from sixdof.sweeps import fingerprint; print(json.dumps(fingerprint(load_scenario("
+            "from sixdof.workflows.sweep import fingerprint; print(json.dumps(fingerprint(load_scenario("
             "'scenarios/cabinet_earthquake.toml'), load_sweep_spec('scenarios/sweeps/bearing_tolerance.toml'))))")
     there = json.loads(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
                        .stdout.strip().splitlines()[-1])
@@ -433,7 +434,7 @@ import os, signal, sys
 from sixdof.io.store import writer
 from sixdof.io.scenario import parse_scenario
 from sixdof.io.sweep import parse_sweep_spec
-from sixdof.sweeps import sweep_scenario
+from sixdof.workflows.sweep import sweep_scenario
 
 real = writer._write
 
@@ -481,12 +482,12 @@ def test_a_sweep_killed_while_it_writes_a_chunk_leaves_debris_the_next_run_remov
     fd = os.open(chunks, os.O_RDONLY)
     fcntl.flock(fd, fcntl.LOCK_SH)  # as a live sweep writing there holds it
     try:
-        opened = sixdof.sweeps.ChunkFolder(chunks, json.loads((chunks / "sweep.json").read_text()), resume=True)
+        opened = sixdof.workflows.sweep.ChunkFolder(chunks, json.loads((chunks / "sweep.json").read_text()), resume=True)
         assert (chunks / debris[0]).exists()
         opened.release()
     finally:
         os.close(fd)
     small = parse_sweep_spec(SMALL_SPEC)
-    done = sweep_scenario(parse_scenario(SCENARIO.text), small, tmp_path / "out", resume=True)  # as the child read it
-    assert done.count == 30
+    _, done = sweep_scenario(parse_scenario(SCENARIO.text), small, tmp_path / "out", resume=True)  # as the child read it
+    assert _file(done / "sweep.h5")[1]["sweep"]["count"] == 30
     assert sorted(p.name for p in chunks.iterdir()) == sorted(users)  # the chunks and the debris went, not theirs

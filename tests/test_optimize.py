@@ -361,7 +361,7 @@ def test_bad_design_input_is_one_clear_error(design, message):
 
 def test_optimize_without_targets_is_refused_before_computing(tmp_path, capsys, monkeypatch):
     """Named with the scenario's file, as its other errors are, before a Dask cluster is started."""
-    monkeypatch.setattr("sixdof.workflows.tasks.task_runner", lambda *args, **kwargs: pytest.fail("workers started"))
+    monkeypatch.setattr("sixdof.workflows.optimize.task_runner", lambda *args, **kwargs: pytest.fail("workers started"))
     path = tmp_path / "v.toml"
     path.write_text(_v_pair(THETA0, ""))
     assert main(["optimize", str(path), "--out", str(tmp_path), "--workers", "2"]) == 2
@@ -499,7 +499,7 @@ def test_a_design_not_met_says_so_and_how_many_samples_meet_it():
 
 
 def test_the_design_is_written_with_the_digits_that_matter():
-    from sixdof.design.workflow import written_design
+    from sixdof.workflows.optimize import written_design
 
     given = parse_scenario(BOX.format(objective="")).system
     c, s = math.cos(math.radians(16.51)), math.sin(math.radians(16.51))

@@ -77,7 +77,7 @@ _PUBLIC = {
     "run_scenario": "workflows.run",
     "prepare": "workflows.prepare",
     "ResultsStream": "io.stream",
-    "optimize_scenario": "design.workflow",
+    "optimize_scenario": "workflows.optimize",
     "load_results": "io.store",
     "write_results": "io.store",
 }

@@ -6,7 +6,7 @@ The sweep's variants are cut into chunks of equal size (:meth:`SweepSpec.chunks`
 with the batch engine (:func:`sixdof.analysis.batch.run_batch`) and solves those of the cross-check sample that
 fall in it by diffrax. Where the tasks run is the runner's business (:class:`sixdof.chunks.InProcess`, or
 :func:`sixdof.workflows.tasks.task_runner` on Dask); the results are the same wherever they ran. A spec file is
-read by :mod:`sixdof.io.sweep`; :mod:`sixdof.sweeps` writes a sweep to disk as it goes.
+read by :mod:`sixdof.io.sweep`; :mod:`sixdof.workflows.sweep` writes a sweep to disk as it goes.
 """
 
 from __future__ import annotations

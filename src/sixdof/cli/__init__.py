@@ -157,11 +157,6 @@ def _failure(exc: Exception) -> tuple[str, int] | None:
     return None
 
 
-def _title(scenario) -> str:
-    """The first line a command prints of its scenario: its name and description (the name alone without one)."""
-    return f"{scenario.name}: {scenario.description}" if scenario.description else scenario.name
-
-
 def _closed_pipes() -> bool:
     """Whether stdout or stderr is a pipe that nobody reads any more (``sixdof run ... | head -3``). Each such
     stream is pointed at /dev/null, so that what is left to write (the last flush) goes nowhere quietly, as
@@ -430,17 +425,17 @@ def _validate(args) -> int:
 
 def _optimize(args) -> int:
     with held_signals():
-        from sixdof.design.workflow import optimize_scenario
         from sixdof.io.scenario import load_scenario
         from sixdof.schema import naming
+        from sixdof.workflows.optimize import DESIGN_FILES, optimize_scenario
 
     _check_workers(args)
     scenario = load_scenario(args.scenario)
     with naming(args.scenario):
-        outcome = optimize_scenario(scenario, args.out, progress=_progress(args), workers=args.workers,
-                                    scheduler=args.scheduler)
-    print(f"\nWrote {outcome.directory}: {', '.join(p.name for p in outcome.files)}")
-    if not outcome.met:
+        design, directory = optimize_scenario(scenario, args.out, progress=_progress(args), workers=args.workers,
+                                              scheduler=args.scheduler)
+    print(f"\nWrote {directory}: {', '.join(DESIGN_FILES)}")
+    if not design.met:
         print("sixdof: the targets are not all met (see above); the best compromise is written", file=sys.stderr)
         return EXIT_TARGETS_NOT_MET
     return 0
@@ -476,25 +471,31 @@ def _export(args) -> int:
 def _sweep(args) -> int:
     with held_signals():
         from sixdof.errors import SolverError
-        from sixdof.io import report
+        from sixdof.io import console, report
         from sixdof.io.output import check_target
         from sixdof.io.scenario import load_scenario
         from sixdof.io.sweep import load_sweep_spec
         from sixdof.schema import naming
-        from sixdof.sweeps import CHUNKS_SUFFIX, ChunkFolder, sweep_scenario
+        from sixdof.workflows.prepare import prepare
+        from sixdof.workflows.sweep import CHUNKS_SUFFIX, ChunkFolder, sweep_scenario, sweep_tables
 
         _check_workers(args)
         _compile_cache()
     scenario = load_scenario(args.scenario)
     spec = load_sweep_spec(args.spec)
+
+    def chunk_folder():
+        target = check_target(args.out, scenario.name, "_sweep")
+        return target.with_name(target.name + CHUNKS_SUFFIX)
+
     try:
         with naming(args.scenario):  # the spec's own errors name the spec's file already
-            outcome = sweep_scenario(scenario, spec, args.out, chunk_size=args.chunk_size, workers=args.workers,
-                                     scheduler=args.scheduler, resume=args.resume, progress=_progress(args),
-                                     command_line=" ".join(sys.argv))
+            scenario = prepare(scenario)
+            result, directory = sweep_scenario(scenario, spec, args.out, chunk_size=args.chunk_size,
+                                               workers=args.workers, scheduler=args.scheduler, resume=args.resume,
+                                               progress=_progress(args), command_line=" ".join(sys.argv))
     except (KeyboardInterrupt, Terminated, SolverError) as exc:
-        chunks = check_target(args.out, scenario.name, "_sweep")
-        chunks = chunks.with_name(chunks.name + CHUNKS_SUFFIX)
+        chunks = chunk_folder()
         kept = len(ChunkFolder.finished_in(chunks))
         if not kept:
             raise
@@ -505,13 +506,12 @@ def _sweep(args) -> int:
         if isinstance(exc, Terminated):
             return _fail(args, f"terminated (SIGTERM); {note}", EXIT_TERMINATED)
         return _fail(args, f"interrupted; {note}", EXIT_INTERRUPTED)
-    result = outcome.result
-    print(f"{_title(scenario)}\n")
-    print(outcome.table)
+    print(f"{console.title(scenario)}\n")
+    print(sweep_tables(directory / "sweep.h5", scenario))
     if result.cross_check is not None:
         print(f"\n{report.cross_check_text(result)}")
-    resumed = f", {outcome.resumed} of them resumed" if outcome.resumed else ""
-    print(f"\nWrote {outcome.directory / 'sweep.h5'} and summary.md ({outcome.count} variants, {result.engine} engine, "
+    resumed = f", {result.resumed} of them resumed" if result.resumed else ""
+    print(f"\nWrote {directory / 'sweep.h5'} and summary.md ({spec.count} variants, {result.engine} engine, "
           f"{result.chunks} chunk{'s' if result.chunks != 1 else ''}{resumed}, {result.backend} with "
           f"{result.workers} worker{'s' if result.workers != 1 else ''}, {result.wall_time_s:.2f} s)")
     return 0

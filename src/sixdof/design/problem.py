@@ -30,7 +30,7 @@ from sixdof.model.modes import inverse_cholesky
 MARGIN = 0.01
 #: Relative margin inside each stiffness ratio's bounds that the optimizer keeps to: wider than the change of
 #: a ratio by the written design's rounding (2 x 5e-5 at 4 significant figures,
-#: :data:`sixdof.design.workflow.STIFFNESS_DIGITS`), so the design as written keeps within the bounds too.
+#: :data:`sixdof.workflows.optimize.STIFFNESS_DIGITS`), so the design as written keeps within the bounds too.
 RATIO_MARGIN = 1e-3
 #: The random stream of the robust objective's samples (:attr:`DesignProblem.robust_scatter`): the robustness
 #: study's chunk ``i`` draws from ``[seed, i]``, so this one is out of their reach.

@@ -81,6 +81,8 @@ class BatchResult(BriefRepr):
     chunks : int
         Chunks of the sweep (:func:`sixdof.chunks.partition`; each drew its variants with its own seed):
         1 for a batch.
+    resumed : int
+        Chunks of a resumed sweep found finished and not computed again (not stored).
     """
 
     variants: Variants = part(lambda: Variants, prefix="")
@@ -113,6 +115,7 @@ class BatchResult(BriefRepr):
     workers: int = label(default=1)
     chunks: int = label(default=1)
     histories: dict = field(default_factory=dict)
+    resumed: int = 0
 
     derived = {"count": label()}
 

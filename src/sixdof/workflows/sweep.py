@@ -24,15 +24,21 @@ import os
 import pickle
 import re
 import warnings
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from sixdof.analysis.sweep import ChunkedSweep, sweep_on, time_system_of, where_ran
+from sixdof import __version__
+from sixdof.analysis.sweep import ChunkedSweep, Study, sweep_on, time_system_of, where_ran
 from sixdof.analysis.validity import RangeWarning, variants_fit_range
 from sixdof.errors import InputError, Plain, integer
+from sixdof.io import output
+from sixdof.io.report import cross_check_text, moving_ground, summary_table, tracked_modes_table
+from sixdof.io.store import load_results, write_results
+from sixdof.io.stream import ResultsStream
+from sixdof.results import RunResults, axis_slice
 from sixdof.schema import naming
+from sixdof.workflows.prepare import prepare
 from sixdof.workflows.tasks import task_runner
 
 #: The folder of a sweep's finished chunks, beside its results folder.
@@ -86,9 +92,7 @@ def sweep(scenario, spec, *, chunk_size: int | None = None, workers: int | None 
     InputError
         Bad spec draws, a ``chunk_size`` below 1 (``--chunk-size``) or a bad place to run: before any computing.
     """
-    from sixdof.workflows.prepare import prepare
-
-    scenario = prepare(scenario)
+    scenario = scenario if isinstance(scenario, Study) else prepare(scenario)  # a Study is a model already
     spec = _with_chunk_size(spec, chunk_size)
     _check(scenario, spec)
     with task_runner(workers, scheduler, client) as runner:
@@ -182,9 +186,6 @@ class ChunkFolder:
         return {int(p.stem.split("-")[1]) for p in path.glob("chunk-*.h5")} if path.is_dir() else set()
 
     def write(self, index: int, result) -> None:
-        from sixdof.io.store import write_results
-        from sixdof.results import RunResults
-
         if not (self.path / _FINGERPRINT).exists():
             self.path.mkdir(parents=True, exist_ok=True)  # with --out, made only now
             self._hold()
@@ -192,8 +193,6 @@ class ChunkFolder:
         write_results(self.file(index), RunResults(name=f"chunk {index}", sweep=result))
 
     def read(self, index: int):
-        from sixdof.io.store import load_results
-
         return load_results(self.file(index)).sweep
 
     def remove(self, chunks: int) -> None:
@@ -212,8 +211,6 @@ def fingerprint(scenario, spec) -> dict:
     """What a sweep's chunks depend on: the scenario's models (frequency and time: ``loss_factor_model``), excitation
     and settings (the data of the files it reads included, not its name or comments), the spec (chunks and seeds
     included) and sixdof's version."""
-    from sixdof import __version__
-
     # Pickles of these frozen objects are the same bytes in every process for the same content (checked by the
     # resume tests); a changed accelerogram or force-deflection file changes them.
     model = pickle.dumps((scenario.system, scenario.excitation, scenario.simulation, time_system_of(scenario)),
@@ -224,35 +221,11 @@ def fingerprint(scenario, spec) -> dict:
             "sixdof version": __version__, "chunk format": CHUNK_FORMAT}
 
 
-@dataclass(frozen=True)
-class SweepOutcome:
-    """What :func:`sweep_scenario` wrote and found.
-
-    Attributes
-    ----------
-    directory : pathlib.Path
-        ``<out>/<name>_sweep/`` (``sweep.h5``).
-    result : sixdof.analysis.batch.BatchResult
-        The merged result cut to no variants: its cross-check and provenance (the variants are in the file).
-    count : int
-        Variants.
-    resumed : int
-        Chunks found finished (``resume=True``) and not computed again.
-    table : str
-        Percentiles of the frequencies and peaks (:func:`sixdof.io.report.summary_table`).
-    """
-
-    directory: Path
-    result: object
-    count: int
-    resumed: int
-    table: str
-
-
 def sweep_scenario(scenario, spec, out_root: str | Path = "outputs", *, chunk_size: int | None = None,
                    workers: int | None = None, scheduler: str | None = None, client=None, resume: bool = False,
-                   progress=None, command_line: str | None = None) -> SweepOutcome:
-    """Run a sweep and write ``<out_root>/<name>_sweep/sweep.h5`` (see the module).
+                   progress=None, command_line: str | None = None):
+    """Run a sweep chunk by chunk into its chunk folder (kept until the sweep is whole: ``resume``), then merge it
+    into ``<out_root>/<name>_sweep/``: ``sweep.h5`` and ``summary.md`` (see the module).
 
     Parameters
     ----------
@@ -264,20 +237,18 @@ def sweep_scenario(scenario, spec, out_root: str | Path = "outputs", *, chunk_si
     command_line : str, optional
         Stored in the file's provenance.
 
+    Returns
+    -------
+    tuple of (sixdof.analysis.batch.BatchResult, pathlib.Path)
+        The merged result cut to no variants (its cross-check and provenance: the variants are in the file) and
+        the folder written.
+
     Raises
     ------
     InputError
         Bad spec draws or ``chunk_size`` (``--chunk-size``), an unusable ``out_root``, chunks of an interrupted
         sweep without ``resume`` or of another scenario or spec with it: all before any computing.
     """
-    import h5py
-
-    from sixdof.io import output
-    from sixdof.io.report import cross_check_text, moving_ground, summary_table, tracked_modes_table
-    from sixdof.io.stream import ResultsStream
-    from sixdof.results import RunResults
-    from sixdof.workflows.prepare import prepare
-
     scenario = prepare(scenario)
     spec = _with_chunk_size(spec, chunk_size)
     _check(scenario, spec)
@@ -292,37 +263,78 @@ def sweep_scenario(scenario, spec, out_root: str | Path = "outputs", *, chunk_si
             where = where_ran(runner)
     finally:
         folder.release()  # the chunks are written (or the sweep stopped): merged below, by this process alone
-    outcome = {}
+    merged = []
 
-    def write(stage: Path) -> None:
-        parts = {"command_line": command_line} if command_line is not None else {}
-        path = stage / "sweep.h5"
-        with ResultsStream(path, axis="variant", **parts) as stream:
-            merged = run.merged((folder.read(i) for i in range(len(run.chunks))), where,
-                                lambda chunk: stream.append(RunResults(name=scenario.name, sweep=chunk)))
-            stream.finish(RunResults(name=scenario.name, description=scenario.description, system=scenario.system,
-                                     sweep=merged, provenance={"scenario_text": scenario.text}),
-                          sweep={"count": spec.count})
-        with h5py.File(path, "r") as f:  # one column at a time: the client never holds every variant
-            outcome["table"] = (summary_table(f["sweep/frequency_hz"], f.get("sweep/peak_q"), moving_ground(scenario))
-                                + "\n\n" + tracked_modes_table(scenario.system.modes, f["sweep/tracked_frequency_hz"],
-                                                                 f["sweep/tracked_mac"]))
-            outcome["notes"] = _fit_reach(scenario, f["sweep/frequency_hz"])
-        outcome["result"] = merged
-        about = f"{scenario.description}\n\n" if scenario.description else ""
-        check = cross_check_text(merged)
-        notes = "".join(f"- {note}\n" for note in outcome["notes"])
-        (stage / "summary.md").write_text(f"# {scenario.name}: sweep of {spec.count} variants\n\n{about}"
-                                          + (f"## Warnings\n\n{notes}\n" if notes else "")
-                                          + f"{outcome['table']}\n" + (f"\n{check}\n" if check else ""),
-                                          encoding="utf-8")
+    def merge(sink):
+        merged.append(dataclasses.replace(run.merged((folder.read(i) for i in range(len(run.chunks))), where, sink),
+                                          resumed=len(found)))
+        return merged[0]
 
-    output.write_folder(target, write)
+    notes = []
+    output.write_folder(target, lambda stage: notes.extend(_save_into(stage, scenario, spec.count, merge,
+                                                                      command_line)))
     folder.remove(len(run.chunks))
-    for note in outcome["notes"]:
-        warnings.warn(note, RangeWarning, stacklevel=2)
-    return SweepOutcome(directory=target, result=outcome["result"], count=spec.count, resumed=len(found),
-                        table=outcome["table"])
+    _warn(notes)
+    return merged[0], target
+
+
+def save_sweep(result, scenario, out_root: str | Path = "outputs", *, command_line: str | None = None) -> Path:
+    """Write a sweep computed in memory (:func:`sweep`) into ``<out_root>/<name>_sweep/``: ``sweep.h5`` and
+    ``summary.md``, as :func:`sweep_scenario` writes them. Returns the folder."""
+    scenario = prepare(scenario)
+    target = output.check_target(out_root, scenario.name, "_sweep")
+
+    def merge(sink):
+        sink(result)
+        return axis_slice(result, slice(0, 0), "variant")
+
+    notes = []
+    output.write_folder(target, lambda stage: notes.extend(_save_into(stage, scenario, result.count, merge,
+                                                                      command_line)))
+    _warn(notes)
+    return target
+
+
+def sweep_tables(path: str | Path, scenario) -> str:
+    """The percentiles of a sweep file's frequencies and peaks and its tracked modes
+    (:func:`sixdof.io.report.summary_table`, :func:`~sixdof.io.report.tracked_modes_table`), read a column at a
+    time: the client never holds every variant."""
+    import h5py
+
+    with h5py.File(path, "r") as f:
+        return (summary_table(f["sweep/frequency_hz"], f.get("sweep/peak_q"), moving_ground(scenario))
+                + "\n\n" + tracked_modes_table(scenario.system.modes, f["sweep/tracked_frequency_hz"],
+                                                 f["sweep/tracked_mac"]))
+
+
+def _warn(notes: list[str]) -> None:
+    """The warnings of a sweep written: what its variants reach that the Maxwell fits do not vouch for."""
+    for note in notes:
+        warnings.warn(note, RangeWarning, stacklevel=3)
+
+
+def _save_into(stage: Path, scenario, count: int, merge, command_line: str | None) -> list[str]:
+    """``sweep.h5`` (its variants streamed by ``merge(sink)``, which returns the merged result cut to no variants)
+    and ``summary.md`` into ``stage``; returns the warnings of variants the Maxwell fits do not vouch for."""
+    parts = {"command_line": command_line} if command_line is not None else {}
+    path = stage / "sweep.h5"
+    with ResultsStream(path, axis="variant", **parts) as stream:
+        merged = merge(lambda chunk: stream.append(RunResults(name=scenario.name, sweep=chunk)))
+        stream.finish(RunResults(name=scenario.name, description=scenario.description, system=scenario.system,
+                                 sweep=merged, provenance={"scenario_text": scenario.text}),
+                      sweep={"count": count})
+    import h5py
+
+    table = sweep_tables(path, scenario)
+    with h5py.File(path, "r") as f:
+        notes = _fit_reach(scenario, f["sweep/frequency_hz"])
+    about = f"{scenario.description}\n\n" if scenario.description else ""
+    check = cross_check_text(merged)
+    listed = "".join(f"- {note}\n" for note in notes)
+    (stage / "summary.md").write_text(f"# {scenario.name}: sweep of {count} variants\n\n{about}"
+                                      + (f"## Warnings\n\n{listed}\n" if listed else "")
+                                      + f"{table}\n" + (f"\n{check}\n" if check else ""), encoding="utf-8")
+    return notes
 
 
 def _fit_reach(scenario, frequency_hz) -> list[str]:
@@ -336,4 +348,4 @@ def _fit_reach(scenario, frequency_hz) -> list[str]:
     return variants_fit_range(fits, [float(elastic.min()), float(elastic.max())]) if elastic.size else []
 
 
-__all__ = ["ChunkFolder", "SweepOutcome", "fingerprint", "sweep", "sweep_scenario"]
+__all__ = ["ChunkFolder", "fingerprint", "save_sweep", "sweep", "sweep_scenario", "sweep_tables"]

@@ -1,7 +1,7 @@
-"""``sixdof optimize`` end to end: optimize a scenario's mount design, study its robustness, and write
-``<out>/<name>_design/``: ``optimized.toml`` (the scenario with the optimized mounts, which ``sixdof run``
-accepts as it is), ``design.h5`` (history, variables, targets, robustness), ``summary.md`` and figures.
-All or nothing, as every run (:mod:`sixdof.io.output`)."""
+"""``sixdof optimize``: a scenario's mount design optimized and its robustness studied (:func:`design_run`,
+without files), then written into ``<out>/<name>_design/`` (:func:`save_design`): ``optimized.toml`` (the
+scenario with the optimized mounts, which ``sixdof run`` accepts as it is), ``design.h5`` (history, variables,
+targets, robustness), ``summary.md`` and figures. All or nothing, as every run (:mod:`sixdof.io.output`)."""
 
 from __future__ import annotations
 
@@ -11,41 +11,60 @@ from pathlib import Path
 
 import numpy as np
 
+from sixdof.analysis.batch import make_variants, run_batch
+from sixdof.analysis.design import design_metrics, mode_of_each_dof
 from sixdof.analysis.statics import replace_with_preload
 from sixdof.design.optimize import DesignResult, Robustness, optimize, robustness
 from sixdof.design.problem import DesignProblem
+from sixdof.design.record import design_record
 from sixdof.errors import readonly
-from sixdof.io import output
+from sixdof.io import output, report
+from sixdof.io.store import write_results
+from sixdof.plots import png
+from sixdof.plots.design import plot_design_decoupling, plot_design_frequencies
+from sixdof.progress import meter
 from sixdof.schema import naming
+from sixdof.workflows.prepare import prepare
+from sixdof.workflows.tasks import task_runner
 
 
 @dataclass(frozen=True, eq=False)
-class DesignOutcome:
-    """What :func:`optimize_scenario` found and where it wrote it.
+class DesignRun:
+    """What :func:`design_run` computed.
 
     Attributes
     ----------
-    directory : pathlib.Path
-        ``<out>/<name>_design``.
+    scenario : sixdof.io.scenario.Scenario
+        Prepared.
     problem : DesignProblem
+        The targets and variables on the given design.
     result : DesignResult
+        The optimization, evaluated on the design as written.
     robustness : Robustness
     system : sixdof.model.system.System
-        The optimized system.
-    files : tuple of pathlib.Path
+        The optimized system, as written (:func:`written_design`).
+    peaks : tuple of ndarray or None
+        Peak responses of the given and the optimized design (with a ``[simulation]``).
+    tables : str
+        The report's tables (:func:`sixdof.io.report.design_tables`).
     """
 
-    directory: Path
+    scenario: object
     problem: DesignProblem
     result: DesignResult
     robustness: Robustness
     system: object
-    files: tuple[Path, ...]
+    peaks: object
+    tables: str
 
     @property
     def met(self) -> bool:
         """Whether the optimized design meets every target."""
         return bool(np.all(self.result.met))
+
+
+#: The files a design's folder holds, figures last.
+DESIGN_FILES = ("optimized.toml", "design.h5", "summary.md", "frequencies.png", "decoupling.png")
 
 
 def optimized_toml(scenario, system) -> str:
@@ -85,56 +104,83 @@ def _absolute_files(node, base: Path) -> None:
             _absolute_files(value, base)
 
 
-def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool = True, log=print,
-                      workers: int | None = None, scheduler: str | None = None, client=None) -> DesignOutcome:
-    """Optimize ``scenario``'s mounts for its ``[design]`` targets and write ``<out_root>/<name>_design/``.
+def design_run(scenario, *, progress: bool = True, log=print, runner=None) -> DesignRun:
+    """Optimize ``scenario``'s mounts for its ``[design]`` targets and study the design's robustness, writing
+    nothing.
 
     Parameters
     ----------
-    scenario : sixdof.io.scenario.Scenario
+    scenario : sixdof.io.scenario.Scenario or str or pathlib.Path
         With ``[[design.target]]`` and ``[[design.vary]]`` entries.
-    out_root : str or pathlib.Path
     progress : bool
         Show the starts done.
     log : callable
         Receives the terminal's tables.
-    workers, scheduler, client : optional
+    runner : optional
         Where the robustness study's chunks run (:func:`sixdof.workflows.tasks.task_runner`): default this process.
 
     Returns
     -------
-    DesignOutcome
+    DesignRun
     """
-    from sixdof.io import report
-    from sixdof.plots import png
-    from sixdof.plots.design import plot_design_decoupling, plot_design_frequencies
-    from sixdof.progress import meter
-    from sixdof.workflows.prepare import prepare
-    from sixdof.workflows.tasks import task_runner
-
     scenario = prepare(scenario)
-    with naming(scenario.path):  # refusals of the scenario's mounts and [design], named like the file's own
-        problem = DesignProblem(scenario.system, scenario.design, scenario.statics.gravity,
-                                scenario.statics.direction)
-    target = output.check_target(out_root, scenario.name, "_design")
-    with task_runner(workers, scheduler, client) as runner:  # a bad address fails before the optimization
-        shown = meter(progress, scenario.design.starts, "starts", "optimize")
-        result = optimize(problem, progress=shown)
-        shown.close()
-        # What is reported, studied and written is the design as written, with the digits that matter.
-        system = written_design(scenario.system, problem.system_at(result.x))
-        as_written = DesignProblem(system, scenario.design, scenario.statics.gravity, scenario.statics.direction)
-        result = _evaluated(result, as_written)
-        spread = robustness(as_written, as_written.initial, runner, scenario.excitation, scenario.simulation,
-                            progress, time_model=scenario.time_model)
+    problem = _problem(scenario)
+    shown = meter(progress, scenario.design.starts, "starts", "optimize")
+    result = optimize(problem, progress=shown)
+    shown.close()
+    # What is reported, studied and written is the design as written, with the digits that matter.
+    system = written_design(scenario.system, problem.system_at(result.x))
+    as_written = DesignProblem(system, scenario.design, scenario.statics.gravity, scenario.statics.direction)
+    result = _evaluated(result, as_written)
+    spread = robustness(as_written, as_written.initial, runner, scenario.excitation, scenario.simulation,
+                        progress, time_model=scenario.time_model)
     peaks = None if spread.peak_percentiles is None else tuple(
         _peaks(s, scenario) for s in (scenario.system, system))
-    text = optimized_toml(scenario, system)
+    tables = report.design_tables(problem, result, spread, peaks, report.moving_ground(scenario), system)
+    log(tables)
+    return DesignRun(scenario=scenario, problem=problem, result=result, robustness=spread, system=system,
+                     peaks=peaks, tables=tables)
+
+
+def save_design(run: DesignRun, out_root: str | Path = "outputs") -> Path:
+    """Write a design (:func:`design_run`) into ``<out_root>/<name>_design/`` (:data:`DESIGN_FILES`), all or
+    nothing. Returns the folder."""
+    target = output.check_target(out_root, run.scenario.name, "_design")
+    return output.write_folder(target, lambda stage: _save_into(stage, run))
+
+
+def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool = True, log=print,
+                      workers: int | None = None, scheduler: str | None = None,
+                      client=None) -> tuple[DesignRun, Path]:
+    """:func:`design_run`, then :func:`save_design`: what ``sixdof optimize`` does, the folder and the place to run
+    (``workers``, ``scheduler``, ``client``: :func:`sixdof.workflows.tasks.task_runner`) checked before the
+    optimization.
+
+    Returns
+    -------
+    tuple of (DesignRun, pathlib.Path)
+        The design and the folder written.
+    """
+    scenario = prepare(scenario)
+    _problem(scenario)  # its refusals before a cluster is started
+    target = output.check_target(out_root, scenario.name, "_design")
+    with task_runner(workers, scheduler, client) as runner:  # a bad address fails before the optimization
+        run = design_run(scenario, progress=progress, log=log, runner=runner)
+    return run, output.write_folder(target, lambda stage: _save_into(stage, run))
+
+
+def _problem(scenario) -> DesignProblem:
+    """The design problem of the given design; refusals of the scenario's mounts and ``[design]`` named like the
+    file's own errors."""
+    with naming(scenario.path):
+        return DesignProblem(scenario.system, scenario.design, scenario.statics.gravity, scenario.statics.direction)
+
+
+def _save_into(stage: Path, run: DesignRun) -> None:
+    scenario, problem, system = run.scenario, run.problem, run.system
     decoupling = next((t for t in problem.targets if t.kind == "decoupling"), None)
     coordinates = "body" if decoupling is None else decoupling.coordinates
     before, after = (_decoupling(s, scenario.design.torque_axis, coordinates) for s in (scenario.system, system))
-    tables = report.design_tables(problem, result, spread, peaks, report.moving_ground(scenario), system)
-    log(tables)
     figures = {
         "frequencies.png": plot_design_frequencies(scenario.system.modes, system.modes, problem.targets,
                                                    name=scenario.name),
@@ -143,20 +189,13 @@ def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: b
             minimum=None if decoupling is None else decoupling.min_percent,
             covered=None if decoupling is None or decoupling.dof is None else [decoupling.dof]),
     }
-
-    def write(stage: Path) -> None:
-        (stage / "optimized.toml").write_text(text, encoding="utf-8")
-        _write_h5(stage / "design.h5", problem, result, spread, scenario, peaks)
-        for file_name, fig in figures.items():
-            (stage / file_name).write_bytes(png(fig))
-        heading = f"# {scenario.name}: mount design\n\n"
-        images = "".join(f"![{n[:-4]}]({n})\n\n" for n in figures)
-        (stage / "summary.md").write_text(heading + tables + "\n\n" + images, encoding="utf-8")
-
-    output.write_folder(target, write)
-    files = tuple(target / n for n in ("optimized.toml", "design.h5", "summary.md", *figures))
-    return DesignOutcome(directory=target, problem=problem, result=result, robustness=spread, system=system,
-                         files=files)
+    (stage / "optimized.toml").write_text(optimized_toml(scenario, system), encoding="utf-8")
+    write_results(stage / "design.h5", design_record(problem, run.result, run.robustness, scenario, run.peaks))
+    for file_name, fig in figures.items():
+        (stage / file_name).write_bytes(png(fig))
+    heading = f"# {scenario.name}: mount design\n\n"
+    images = "".join(f"![{n[:-4]}]({n})\n\n" for n in figures)
+    (stage / "summary.md").write_text(heading + run.tables + "\n\n" + images, encoding="utf-8")
 
 
 #: Significant figures of an optimized stiffness [N/m] as written and reported: 4 change it by at most 5e-5 of
@@ -196,8 +235,6 @@ def _evaluated(result: DesignResult, problem: DesignProblem) -> DesignResult:
 def _peaks(system, scenario) -> np.ndarray:
     """Peak ``|q|`` and ``|q''|`` (12,) of ``system`` under the scenario's loads, by the exact batch engine
     that computes the robustness samples."""
-    from sixdof.analysis.batch import make_variants, run_batch
-
     found = run_batch(system, make_variants(system, count=1), scenario.excitation, scenario.simulation,
                       time_system=scenario.time_model(system), cross_check=0)
     return np.concatenate([found.peak_q[0], found.peak_qdd[0]])
@@ -205,20 +242,6 @@ def _peaks(system, scenario) -> np.ndarray:
 
 def _decoupling(system, torque_axis, coordinates: str) -> np.ndarray:
     """Decoupling [%] of the mode each DOF dominates, in DOF order."""
-    from sixdof.analysis.design import design_metrics, mode_of_each_dof
-
     metrics = design_metrics(system, torque_axis)
     shares = metrics.decoupling_percent if coordinates == "body" else metrics.decoupling_tra_percent
     return shares[mode_of_each_dof(system.modes)]
-
-
-def _write_h5(path: Path, problem: DesignProblem, result: DesignResult, spread: Robustness, scenario,
-              peaks=None) -> None:
-    """``design.h5``: the optimization's history, variables, targets and robustness (labelled axes): the
-    samples' stiffness factors, target values and, from the batch engine, frequencies, peak responses and
-    cross-check; with ``peaks`` (given, optimized design), their peak responses and the samples' percentiles.
-    Written by the results store (:class:`sixdof.design.record.DesignRecord`), read back by ``load_results``."""
-    from sixdof.design.record import design_record
-    from sixdof.io.store import write_results
-
-    write_results(path, design_record(problem, result, spread, scenario, peaks))

@@ -146,6 +146,7 @@ def test_exact_batch_equals_superpose_per_variant_and_chunking_changes_nothing(b
                 assert np.all(np.abs(getattr(result, peak)[i] - expected) <= RTOL_BATCH_CHUNKS * expected), (i, name)
 
 
+@pytest.mark.slow  # ~26 CPU s: a batch and scipy's DOP853 at tight tolerances
 def test_exact_batch_peaks_equal_scipy_dop853(beam, variants):
     # An independent integration of one variant's state-space system (scipy, tight tolerances, stepping
     # onto the pulse's edges), sampled at the output times.
@@ -557,6 +558,7 @@ def bounce_by_hand(fit, factor, t):
     return np.array([(scipy.linalg.expm(A * s) @ x0)[0] for s in t])
 
 
+@pytest.mark.slow  # ~12 CPU s
 def test_a_sweep_carries_the_causal_loss_factor_model():
     scenario = parse_scenario(BOUNCE_TOML)
     assert scenario.loss_factor_model == "causal" and scenario.time_system.branches.count

@@ -12,6 +12,7 @@ when x - x_e is back to y0 = c - x_e, after 2 phi / w2, phi = atan2(v_c / w2, y0
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from sixdof.analysis.direct import SimulationSettings, simulate
 from sixdof.excitation import Excitation, InitialState
@@ -27,6 +28,7 @@ def _system() -> System:
     return System(body=body, mounts=[mount])
 
 
+@pytest.mark.slow  # ~14 CPU s
 def test_sub_millisecond_contacts_in_a_20_s_run_are_each_located():
     w1, w2 = np.sqrt(4 * K / MASS), np.sqrt(4 * (K + K_STOP) / MASS)
     amplitude = 1.0006 * CLEARANCE

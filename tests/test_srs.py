@@ -99,6 +99,7 @@ def test_bad_spectrum_tables_are_one_clear_error(change, message):
         parse_scenario(text.replace(*change))
 
 
+@pytest.mark.slow  # ~17 CPU s
 def test_the_electronics_box_prints_stores_and_draws_its_spectra(tmp_path, capsys):
     from sixdof import load_results
     from sixdof.cli import main

@@ -95,6 +95,7 @@ def test_window_envelopes_hold_every_bin_extreme_of_the_whole_run():
     assert len(envelope_samples(t, np.zeros((t.size, 1)), 0.0, 10.0, bins)) <= bins + 2  # flat: one per bin
 
 
+@pytest.mark.slow  # ~16 CPU s
 def test_a_long_run_streams_its_windows_and_keeps_only_what_its_figures_draw(tmp_path, monkeypatch):
     from sixdof.workflows import run as workflows
     from sixdof.workflows.run import run_scenario
@@ -184,6 +185,7 @@ if __name__ == "__main__":
 """
 
 
+@pytest.mark.slow  # ~12 CPU s
 def test_a_disk_that_fills_while_a_long_run_streams_ends_in_one_line_and_leaves_nothing(tmp_path):
     """The file-size limit (``ulimit -f``) met in the middle of the streamed results.h5 (28 MB), as a full disk
     is: HDF5's write fails in its caches; the run ends with exit 74, one line naming the file, no staging folder,

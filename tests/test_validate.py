@@ -154,6 +154,7 @@ def test_validation_of_a_small_system():
         np.testing.assert_allclose(between, np.abs(run.model[bins, 0]), rtol=1e-3)
 
 
+@pytest.mark.slow  # ~39 and ~15 CPU s: the nonlinear solve's compilation, then its runs
 @pytest.mark.parametrize("clearance", [0.4e-3, 1.0])
 def test_a_nonlinear_model_s_histories_check_its_linearization(clearance):
     """Bump stops on the small box's vertical axes: the modal results are the linearization's, the histories the

@@ -37,6 +37,7 @@ from sixdof.analysis.sweep import Study
 from sixdof.io.report import summary_table, tracked_modes_table
 from sixdof.io.sweep import load_sweep_spec, parse_sweep_spec
 from sixdof.model.viscoelastic import LOSS_FACTOR_TARGET
+from sixdof.workflows.prepare import prepare
 from sixdof.workflows.sweep import sweep
 from systems import BRIDGE_LOADS_TOML, bridge, bridge_toml, four_mount
 from tolerances import (
@@ -560,7 +561,7 @@ def bounce_by_hand(fit, factor, t):
 
 @pytest.mark.slow  # ~12 CPU s
 def test_a_sweep_carries_the_causal_loss_factor_model():
-    scenario = parse_scenario(BOUNCE_TOML)
+    scenario = prepare(parse_scenario(BOUNCE_TOML))
     assert scenario.loss_factor_model == "causal" and scenario.time_system.branches.count
     spec = parse_sweep_spec(BOUNCE_SPEC)
     result = sweep(scenario, spec)
@@ -599,9 +600,9 @@ def test_a_sweep_carries_the_causal_loss_factor_model():
 
 
 def test_chunks_of_a_lossy_sweep_change_nothing():
-    scenario = parse_scenario(BOUNCE_TOML.replace("[initial]\n", "[[loads]]\nname = \"tap\"\npoint = [0.1, 0.2, 0.0]\n"
-                                                  "force = [50.0, 20.0, 400.0]\nsignal = { kind = \"half_sine\", "
-                                                  "start = 0.01, duration = 0.005 }\n[initial]\n"))
+    scenario = prepare(parse_scenario(BOUNCE_TOML.replace(
+        "[initial]\n", "[[loads]]\nname = \"tap\"\npoint = [0.1, 0.2, 0.0]\nforce = [50.0, 20.0, 400.0]\nsignal = "
+        "{ kind = \"half_sine\", start = 0.01, duration = 0.005 }\n[initial]\n")))
     spec = parse_sweep_spec(BOUNCE_SPEC.replace("high = 1.25\n", "high = 1.25\nindependent = true\n"))
     whole, chunked = sweep(scenario, spec, chunk_size=4), sweep(scenario, spec, chunk_size=2)
     assert chunked.chunks == 2 and whole.chunks == 1
@@ -616,8 +617,8 @@ def test_chunks_of_a_lossy_sweep_change_nothing():
 def test_a_sweep_of_measured_dynamic_stiffness_tables_runs_and_checks():
     path = "scenarios/equipment_elastomer.toml"
     text = Path(path).read_text(encoding="utf-8")  # its blow sooner, and 0.3 s of it
-    short = parse_scenario(text.replace("start = 1.0, duration = 0.01", "start = 0.1, duration = 0.01")
-                           .replace("duration = 2.0 ", "duration = 0.3 "), path, "scenarios")
+    short = prepare(parse_scenario(text.replace("start = 1.0, duration = 0.01", "start = 0.1, duration = 0.01")
+                                   .replace("duration = 2.0 ", "duration = 0.3 "), path, "scenarios"))
     assert short.system.maxwell and short.simulation.duration == 0.3  # the tables' fits, in both models
     spec = 'count = 3\nseed = 2\ncross_check = 2\n[[vary]]\nparameter = "stiffness"\ndistribution = "uniform"\n' \
            'low = 0.8\nhigh = 1.2\nindependent = true\n'
@@ -648,7 +649,6 @@ def test_a_sweep_says_where_its_variants_leave_the_causal_models_checked_range(t
     import h5py
 
     from sixdof.cli import main
-    from sixdof.io.scenario import load_scenario
     from sixdof.model.viscoelastic import LOSS_FACTOR_TARGET, LOSS_MODULUS_TARGET
 
     spec = tmp_path / "spec.toml"
@@ -662,7 +662,7 @@ def test_a_sweep_says_where_its_variants_leave_the_causal_models_checked_range(t
         return
     with h5py.File(tmp_path / "engine_inclined_mounts_sweep" / "sweep.h5") as f:
         lowest = float(np.min(f["sweep/frequency_hz"][()]))
-    fits = {fit.source: fit for fit in load_scenario("scenarios/engine_inclined_mounts.toml").causal_loss_fits}
+    fits = {fit.source: fit for fit in prepare("scenarios/engine_inclined_mounts.toml").causal_loss_fits}
     assert len(lines) == len(fits) == 2
     for source, fit in fits.items():
         w = 2j * np.pi * lowest

@@ -18,7 +18,7 @@ def _while_loading(signum, frame):
 def main() -> int:
     """Run the ``sixdof`` command (:func:`sixdof.cli.main`) with signals handled while it loads."""
     previous = {signum: signal.signal(signum, _while_loading) for signum in _WORDS}
-    from sixdof.cli import main as command
+    from sixdof.cli import main as command  # noqa: PLC0415 (the command's modules load after its signal handlers)
 
     for signum, handler in previous.items():  # the command installs its own as its first step
         signal.signal(signum, handler)

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 #: The six generalized coordinates, in array order: translations of the centre of gravity along the
 #: body axes, then small rotations about the central axes.
 DOFS: tuple[str, ...] = ("x", "y", "z", "rx", "ry", "rz")
@@ -146,8 +148,6 @@ DISPLAY_UNITS: dict[str, tuple[tuple[float, str, float], ...]] = {
 def display_unit(values, unit: str) -> tuple[float, str]:
     """Factor and label that show ``values`` (in SI ``unit``) with a readable peak: the one display-unit
     scaler of the tables and figures. Units without a display choice are shown as they are."""
-    import numpy as np
-
     choices = DISPLAY_UNITS.get(unit)
     if choices is None:
         return 1.0, unit

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from sixdof.errors import InputError, Plain, ScenarioError
+from sixdof.files import read_text as read
 
 _MISSING = object()
 
@@ -59,8 +60,6 @@ def read_text(path: str | Path, what: str) -> str:
     """The UTF-8 text of ``path`` (a byte-order mark dropped); a missing or unreadable file, anything but a
     regular file and a file beyond :data:`sixdof.files.MAX_TEXT_BYTES` are errors naming it (``what``:
     "scenario file", "sweep specification"), before anything is read."""
-    from sixdof.files import read_text as read
-
     try:
         return read(path, "", what)
     except InputError as exc:

@@ -9,6 +9,7 @@ the kinetic, stored and dissipated energy, to within the integration error.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -199,8 +200,6 @@ class EnergyBalance(Result):
 def with_extremes(balance: EnergyBalance, peak: float, scale: float) -> EnergyBalance:
     """``balance`` judged on the largest residual ``peak`` [J] and the largest energy ``scale`` [J] (a run's, over
     its windows, when ``balance`` holds only some of its samples)."""
-    import dataclasses
-
     return dataclasses.replace(balance, peak_residual=peak, energy_scale=scale, worst=peak / scale,
                                ok=peak <= balance.tolerance * scale)
 

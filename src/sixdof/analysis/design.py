@@ -31,7 +31,9 @@ import numpy as np
 
 from sixdof.analysis.modal import repeated_groups
 from sixdof.errors import InputError, instance, readonly
+from sixdof.model.kinematics import stiffness_jax
 from sixdof.model.modes import inverse_cholesky
+from sixdof.model.system import System
 
 #: The elastic centre exists when the symmetric part of ``-A^-1 B`` is at most this fraction of the mount
 #: set's length scale ``sqrt(trace(C) / trace(A))`` (``C`` the rotational stiffness block).
@@ -91,8 +93,6 @@ def design_metrics(system, torque_axis=None) -> DesignMetrics:
     -------
     DesignMetrics
     """
-    from sixdof.model.system import System
-
     instance(system, "system", System)
     M, K, modes = system.M, system.K, system.modes
     shares = modes.ke_distribution
@@ -206,8 +206,6 @@ def sensitivities(system) -> Sensitivities:
     Sensitivities
     """
     from sixdof._jax import jax, jnp
-    from sixdof.model.kinematics import stiffness_jax
-    from sixdof.model.system import System
 
     instance(system, "system", System)
 

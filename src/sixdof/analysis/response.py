@@ -19,6 +19,7 @@ import numpy as np
 from sixdof.dofs import UNITS
 from sixdof.errors import instance, point, readonly
 from sixdof.model.kinematics import point_map
+from sixdof.model.system import System
 from sixdof.results import Result, TimeHistory, quantity, result_type
 
 if TYPE_CHECKING:
@@ -159,8 +160,6 @@ def mount_forces(system: System, response: TimeHistory) -> MountForces:
     -------
     MountForces
     """
-    from sixdof.model.system import System
-
     instance(system, "system", System)
     instance(response, "response", TimeHistory)
     z, zd = response.q_relative, response.qd_relative

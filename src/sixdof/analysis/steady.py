@@ -21,8 +21,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from sixdof import results as schema
+from sixdof.analysis.frf import check_resonances, foundation_forces, receptance
 from sixdof.dofs import UNITS
 from sixdof.errors import InputError, instance, readonly
+from sixdof.model.system import System
 
 #: Operating frequencies closer than this (relative) are one frequency: their components add up.
 SAME_FREQUENCY_RTOL = 1e-12
@@ -89,7 +91,7 @@ def operating_phasors(excitation) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     (nf, 6) [N, N m] (the components whose signal is a harmonic without end, added up per frequency), and
     the sum of the components' force magnitudes per frequency (nf,) [N]: the scale against which a sum of
     forces that cancel is zero."""
-    from sixdof.excitation import Harmonic
+    from sixdof.excitation import Harmonic  # noqa: PLC0415 (excitation loads JAX, which a steady state never needs)
 
     found = []
     for vector, signal in excitation.components():
@@ -120,9 +122,7 @@ def steady_state(system, excitation) -> SteadyState | None:
     InputError
         For a ``system`` that is not a System or an ``excitation`` that is not an Excitation.
     """
-    from sixdof.analysis.frf import check_resonances, foundation_forces, receptance
-    from sixdof.excitation import Excitation
-    from sixdof.model.system import System
+    from sixdof.excitation import Excitation  # noqa: PLC0415 (excitation loads JAX, which a steady state never needs)
 
     instance(system, "system", System)
     instance(excitation, "excitation", Excitation)

@@ -16,8 +16,11 @@ import warnings
 import numpy as np
 
 from sixdof.analysis.compare import column_peaks
-from sixdof.analysis.statics import STANDARD_GRAVITY
+from sixdof.analysis.statics import STANDARD_GRAVITY, with_gravity_preload
 from sixdof.dofs import DOFS, display_unit
+from sixdof.errors import InputError
+from sixdof.model.modes import modal_analysis
+from sixdof.model.viscoelastic import LOSS_FACTOR_TARGET, LOSS_MODULUS_TARGET, maxwell_stiffness
 
 #: Largest rotation [rad] for which eq. (1) holds: it linearizes the rotations (sin theta ~ theta,
 #: cos theta ~ 1), whose error grows as theta^2 / 2, 0.5 % at 0.1 rad (5.7 deg).
@@ -99,8 +102,6 @@ def variants_fit_range(fits, f_hz) -> list[str]:
     frequency beyond those it was checked at where it misses ``k (1 + i eta)`` by more than its targets
     (:data:`~sixdof.model.viscoelastic.LOSS_MODULUS_TARGET` in ``|K*|``,
     :data:`~sixdof.model.viscoelastic.LOSS_FACTOR_TARGET` in loss factor). One message each; none: []."""
-    from sixdof.model.viscoelastic import LOSS_FACTOR_TARGET, LOSS_MODULUS_TARGET, maxwell_stiffness
-
     advice = ("the variants share the nominal's models, scaled with their stiffness; a variant of interest run as a "
               "scenario of its own has models checked at its own frequencies")
     causal = [fit for fit in fits if fit.source.startswith("loss factor ")]
@@ -260,8 +261,6 @@ def fit_band_range(fits, f_hz, what: str = "steady state at", advice: str = _FIT
     frequencies ``f_hz`` [Hz] (``what`` says which: by default the steady state's operating frequencies): there the
     mount is the fit's extrapolation, which neither its table nor its loss factor vouches for. One message per
     band and source, ending with ``advice``; none: []."""
-    from sixdof.model.viscoelastic import maxwell_stiffness
-
     groups: dict[tuple, list] = {}
     for fit in fits:
         groups.setdefault((fit.f_hz[0], fit.f_hz[-1], fit.source), []).append(fit)
@@ -351,10 +350,6 @@ def geometric_stiffness_shifts(system, gravity) -> np.ndarray | None:
         (field ``K``) When ``K + K_G`` is not positive semi-definite: the body would tip over.
     """
 
-    from sixdof.analysis.statics import with_gravity_preload
-    from sixdof.errors import InputError
-    from sixdof.model.modes import modal_analysis
-
     try:  # the preload's statics: mounts that cannot carry the weight have none
         preloaded = system if system.geometric_stiffness else with_gravity_preload(system, gravity)
         K = preloaded.K
@@ -371,8 +366,6 @@ def geometric_stiffness_note(system, gravity) -> str | None:
     """One line on gravity's geometric stiffness: with it in K, that it is and the largest shift of a mode it
     makes; without it, only when it would move a mode by more than :data:`GEOMETRIC_SHIFT`, which mode and how
     much (:func:`geometric_stiffness_shifts`). None otherwise."""
-    from sixdof.errors import InputError
-
     try:
         shifts = geometric_stiffness_shifts(system, gravity)
     except InputError as exc:  # K + K_G not positive semi-definite: the preload tips the body over

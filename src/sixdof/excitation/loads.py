@@ -15,6 +15,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from sixdof.dofs import DOFS
 from sixdof.errors import (
     MAX_FREQUENCY_HZ,
     InputError,
@@ -333,8 +334,6 @@ class ModeRelease(Frozen):
 
     def state(self, system) -> tuple[np.ndarray, np.ndarray]:
         """``(q0, qd0)`` for ``system`` (6,) each [m, rad; m/s, rad/s]."""
-        from sixdof.dofs import DOFS
-
         modes = system.modes
         j = self.mode - 1
         d = DOFS.index(modes.dominant_dof[j])

@@ -29,6 +29,8 @@ import numpy as np
 
 from sixdof.dofs import DOF_UNITS, DOFS, FORCE_UNITS, LOADS
 from sixdof.errors import InputError, Plain
+from sixdof.io import output
+from sixdof.io.store import load_results
 
 FORMATS = ("uff58", "csv")
 #: The files each format writes (at most), named after the run.
@@ -210,9 +212,6 @@ def export(results: str | Path, out_root: str | Path | None = None, fmt: str = "
     list of pathlib.Path
         The files written.
     """
-    from sixdof.io import output
-    from sixdof.io.store import load_results
-
     if fmt not in FORMATS:
         raise InputError("--format", " or ".join(FORMATS), fmt)
     results = Path(results)

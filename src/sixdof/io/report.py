@@ -10,8 +10,12 @@ from pathlib import Path
 import numpy as np
 
 from sixdof.analysis.compare import QUANTITIES
+from sixdof.analysis.modal import repeated_groups
+from sixdof.analysis.statespace import damped_modes
 from sixdof.analysis.statics import STANDARD_GRAVITY
+from sixdof.analysis.validity import body_length
 from sixdof.dofs import DOF_UNITS, DOFS, PEAK_RESPONSES, display_unit
+from sixdof.model.viscoelastic import FIT_LOSS_ANGLE_ERROR_DEG, FIT_MODULUS_ERROR, long_term_note, loss_fit_misses
 
 
 def table(headers: Sequence[str], rows: Sequence[Sequence[object]], align: str | None = None) -> str:
@@ -38,8 +42,6 @@ def modes_table(modes, damping_ratios=None, system=None) -> str:
     headers = ["mode", "f [Hz]", "omega [rad/s]", "dominant DOF", "KE in dominant [%]"]
     poles = None
     if system is not None and system.branches.count:
-        from sixdof.analysis.statespace import damped_modes
-
         poles, _ = damped_modes(system.C, modes, system.branches)
         headers.append("f full model [Hz]")
     if damping_ratios is not None:
@@ -124,8 +126,6 @@ def nonlinear_text(contacts, energy, refined, agreement, stats) -> str:
 def viscoelastic_table(fits) -> str:
     """Each Maxwell fit: what it models, its data, its long-term stiffness, branches and worst errors; and a
     note naming the fits that miss what they model by more than a measured table's fit may."""
-    from sixdof.model.viscoelastic import FIT_LOSS_ANGLE_ERROR_DEG, FIT_MODULUS_ERROR, loss_fit_misses
-
     headers = ["mount axis", "fitted to", "band [Hz]", "long-term k0 [N/m]", "branches", "max |K*| error [%]",
                "max loss angle error [deg]", "max loss factor error [%]"]
     rows = [[fit.name, fit.source, f"{fit.f_hz[0]:.3g}-{fit.f_hz[-1]:.3g}", f"{fit.long_term:.4g}",
@@ -281,8 +281,6 @@ def _design_peaks(spread, peaks, ground_moves: bool) -> str:
 def statics_table(statics, system) -> str:
     """Static deflection of the CG and the force in each mount under gravity; a deflection at round-off of the
     largest (rotations times the body's length) is 0 (a layout symmetric about a DOF leaves ~1e-19 rad there)."""
-    from sixdof.analysis.validity import body_length
-
     length = body_length(system)
     q = without_round_off(statics.q, scale=np.array([1.0, 1.0, 1.0, length, length, length]))
     rows = []
@@ -403,8 +401,6 @@ def tracked_modes_table(modes, tracked_hz, mac) -> str:
     """Percentiles (5, 50, 95 %) of each nominal mode's frequency over a batch of variants, followed by its shape
     (``tracked_hz`` and ``mac``, (nv, 6): :func:`sixdof.analysis.batch.track_modes`), with the lowest MAC of the
     pairing; read one column at a time, as :func:`summary_table`. ``modes``: the nominal system's."""
-    from sixdof.analysis.modal import repeated_groups
-
     labels = [f"{j + 1} ({dof})" for j, dof in enumerate(modes.dominant_dof)]
     for group in repeated_groups(modes.eigenvalues):  # no shape of its own: one of the group, in ascending order
         for j in group:
@@ -441,7 +437,7 @@ def cross_check_text(result, solved: str = "variants") -> str:
 def validation_text(report) -> str:
     """The validation of a :class:`sixdof.validation.ValidationReport`: its table with each mode's
     verdict, each check against its limit, the thresholds, the notes and the overall verdict."""
-    from sixdof.validation import experiment
+    from sixdof.validation import experiment  # noqa: PLC0415 (it loads scipy.signal)
 
     headers, rows = report.table()
     cells = [[fmt.format(v) for (_, _, fmt), v in zip(experiment.COLUMNS, row)] for row in rows]
@@ -497,8 +493,6 @@ def summary_markdown(results, figures=()) -> str:
     parts += ["## Kinetic energy distribution [%]", "", ke_table(modes), ""]
     parts += [subsystems_text(modes).replace("\n  ", "\n- ").replace(":\n", ":\n\n", 1), ""]
     if statics is not None:
-        from sixdof.model.viscoelastic import long_term_note
-
         line = long_term_note(scenario.viscoelastic)
         parts += ["## Statics under gravity", "", statics_table(statics, scenario.system), ""] + ([line, ""] if line
                                                                                                   else [])

@@ -14,6 +14,10 @@ from typing import Any
 
 import numpy as np
 
+from sixdof.analysis.frf import parse_direction
+from sixdof.analysis.random import PSD, RandomInput
+from sixdof.analysis.srs import SRSSettings
+from sixdof.design.spec import DesignSpec, StiffnessRatio, Target, Vary, check_mounts
 from sixdof.errors import (
     InputError,
     Plain,
@@ -32,8 +36,10 @@ from sixdof.errors import (
 )
 from sixdof.files import csv_numbers, csv_rows
 from sixdof.frozen import Frozen, checked
+from sixdof.model import viscoelastic
 from sixdof.model.nonlinear import ForceDeflection
 from sixdof.model.system import MAX_MOUNTS, Maxwell, Mount, Rayleigh, RigidBody, System
+from sixdof.model.viscoelastic import AXES, causal_loss_factors, read_dynamic_stiffness
 from sixdof.results import DERIVED
 from sixdof.schema import Table, build, choices, make, parse, read_text, reject_unknown, unique
 
@@ -43,8 +49,6 @@ MAX_POINTS = 1000
 
 
 def _checked_direction(value: Any, field: str, rotations: bool = True):
-    from sixdof.analysis.frf import parse_direction
-
     parse_direction(value, field, rotations)  # raises InputError naming the field
     return tuple(value) if isinstance(value, list) else value
 
@@ -435,7 +439,7 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     ground, initial = top.table("ground", default=None), top.table("initial", default=None)
     excitation = None
     if loads or ground is not None or initial is not None:
-        from sixdof.excitation import Excitation, GroundMotion, InitialState, ModeRelease
+        from sixdof.excitation import Excitation, GroundMotion, InitialState, ModeRelease  # noqa: PLC0415 (excitation and the solver's settings load JAX)
 
         if ground is not None:
             ground = build(GroundMotion, _with_file(ground, "ground", base_dir), "ground")
@@ -446,7 +450,7 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     loss_model = _loss_factor_model(system, damping)
     simulation = top.table("simulation", default=None)
     if simulation is not None:
-        from sixdof.analysis.direct import SimulationSettings
+        from sixdof.analysis.direct import SimulationSettings  # noqa: PLC0415 (excitation and the solver's settings load JAX)
 
         simulation = build(SimulationSettings, simulation, "simulation")
     frf = top.table("frf", default=None)
@@ -473,8 +477,6 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
 
 
 def _spectrum(raw: dict, simulation):
-    from sixdof.analysis.srs import SRSSettings
-
     spectrum = build(SRSSettings, raw, "shock_response_spectrum")
     if simulation is None:
         raise InputError("shock_response_spectrum", "a [simulation] whose record it is computed from",
@@ -490,8 +492,6 @@ def _spectrum(raw: dict, simulation):
 
 
 def _random(raw: dict):
-    from sixdof.analysis.random import PSD, RandomInput
-
     table = Table(raw, "random", ("input", "direction", "point", "psd", "time_check"))
     psd = build(PSD, table.table("psd"), "random.psd")
     return make(RandomInput, "random", input=table.value("input"), direction=table.value("direction", "z"),
@@ -502,8 +502,6 @@ _DESIGN_SETTINGS = ("tolerance", "samples", "seed", "starts", "objective", "robu
 
 
 def _design(raw: dict, system: System):
-    from sixdof.design.spec import DesignSpec, StiffnessRatio, Target, Vary, check_mounts
-
     table = Table(raw, "design", ("torque_axis", "target", "vary", "stiffness_ratio", *_DESIGN_SETTINGS))
     axis = table.value("torque_axis", None)
     targets = tuple(build(Target, t, f"design.target[{i}]") for i, t in enumerate(table.tables("target")))
@@ -611,9 +609,6 @@ def _mount(raw: Any, path: str, base_dir: Path) -> tuple[Mount, list[Maxwell], l
 
 def _fit(mount: Mount, raw: Any, field: str, base_dir: Path) -> MeasuredStiffness:
     """One ``dynamic_stiffness`` table: the measured data of ``file`` along ``axis``, read and checked."""
-    from sixdof.model import viscoelastic
-    from sixdof.model.viscoelastic import AXES, read_dynamic_stiffness
-
     table = Table(raw, field, ("file", "axis", "terms", "max_modulus_error", "max_loss_angle_error_deg"))
     axis = choice_check(tuple(AXES))(table.value("axis"), f"{field}.axis")
     if mount.loss_factor[AXES.index(axis)] > 0:
@@ -661,8 +656,6 @@ def causal_model(system: System, excitation, band_hz, terms):
     """``system`` with its loss factors' causal Maxwell models, and the models
     (:func:`~sixdof.model.viscoelastic.causal_loss_factors`, checked at the natural frequencies and the
     operating frequencies of ``excitation``); errors name the ``[damping] loss_factor_*`` keys."""
-    from sixdof.model.viscoelastic import causal_loss_factors
-
     try:
         return causal_loss_factors(system, band_hz=band_hz, terms=terms, operating_hz=operating_frequencies(excitation))
     except InputError as exc:  # the function's arguments are the scenario's loss_factor_* keys
@@ -673,7 +666,7 @@ def causal_model(system: System, excitation, band_hz, terms):
 def operating_frequencies(excitation) -> np.ndarray:
     """The frequencies [Hz] of the harmonic signals of ``excitation`` (unbalance, harmonic loads and ground
     motion), sorted; none without an excitation."""
-    from sixdof.excitation import Harmonic
+    from sixdof.excitation import Harmonic  # noqa: PLC0415 (excitation and the solver's settings load JAX)
 
     if excitation is None:
         return np.zeros(0)
@@ -698,7 +691,7 @@ def _damping(damping: Table) -> tuple[Rayleigh | None, Any]:
 
 
 def _load(table: dict, path: str, base_dir: Path):
-    from sixdof.excitation import LOAD_KINDS
+    from sixdof.excitation import LOAD_KINDS  # noqa: PLC0415 (excitation and the solver's settings load JAX)
 
     table = dict(table)
     kind = table.pop("kind", "force")

@@ -33,7 +33,13 @@ import sys
 from collections.abc import Callable, Mapping
 from pathlib import Path
 
+import numpy as np
+
 from sixdof._lazy import lazy_names
+from sixdof.analysis.frf import ForceTransmissibility, GroundTransmissibility, PointFRF
+from sixdof.analysis.mountcheck import carries_shear
+from sixdof.errors import InputError
+from sixdof.results import RunResults
 
 #: Public name -> module of this package that defines it, imported when the name is first used.
 _PUBLIC = {
@@ -76,8 +82,6 @@ _plots = sys.modules[__name__]
 
 
 def _carries_shear(check) -> bool:
-    from sixdof.analysis.mountcheck import carries_shear
-
     return carries_shear(check)
 
 
@@ -93,8 +97,6 @@ def _linear_name(run) -> str:
 
 def _file_order(extras: Mapping[str, object]) -> dict[str, object]:
     """``extras`` in the results file's order (by kind, then name): a live and a loaded run draw alike."""
-    from sixdof.analysis.frf import ForceTransmissibility, GroundTransmissibility, PointFRF
-
     kinds = (ForceTransmissibility, GroundTransmissibility, PointFRF)
 
     def key(item):
@@ -151,9 +153,6 @@ FIXED_TITLES = {"axes.titley": 1.0}
 def figure_names(run) -> list[str]:
     """File names of the figures a :class:`~sixdof.results.RunResults` allows, in the order of
     :data:`FIGURES`."""
-    from sixdof.errors import InputError
-    from sixdof.results import RunResults
-
     if not isinstance(run, RunResults):
         raise InputError("run", "a sixdof.results.RunResults", run)
     return [name for name, _, drawable, _ in FIGURES if drawable(run)]
@@ -176,10 +175,9 @@ def render(run, file_name: str, dpi: int | None = None) -> bytes:
 def png(figure, dpi: int | None = None) -> bytes:
     """A figure as PNG bytes, the way :func:`render` draws it: the pixels ``figure.savefig`` draws, written
     by :func:`~sixdof.plots.common.png_bytes`."""
-    import numpy as np
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
-    from sixdof.plots.common import freeze_unlabelled_ticks, png_bytes
+    from sixdof.plots.common import freeze_unlabelled_ticks, png_bytes  # noqa: PLC0415 (matplotlib, which sixdof.plots loads on first drawing)
 
     freeze_unlabelled_ticks(figure)
     dpi = dpi or _plots.DPI

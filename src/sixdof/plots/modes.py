@@ -143,7 +143,7 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, name: str = 
     matplotlib.figure.Figure
     """
     require(modes, "modes", Modes, _MODES)
-    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: PLC0415 (3-D axes, only for the mode shapes)
 
     freqs = modes.frequency_hz
     digits = distinct_digits(freqs, 4)

@@ -87,7 +87,7 @@ def plot_random_check(check, *, name: str = "") -> Figure:
     -------
     matplotlib.figure.Figure
     """
-    from scipy.stats import chi2
+    from scipy.stats import chi2  # noqa: PLC0415 (scipy.stats, only for the time check's band)
 
     require(check, "check", RandomTimeCheck, "a sixdof.analysis.random.RandomTimeCheck")
     rms = {n.removeprefix("rms:"): j for j, n in enumerate(check.judged) if n.startswith("rms:")}

@@ -10,6 +10,7 @@ from matplotlib.figure import Figure
 
 from sixdof.errors import InputError, Plain
 from sixdof.plots.common import margins, panel_grid, plot_long, require, title
+from sixdof.validation import ValidationReport
 
 if TYPE_CHECKING:  # sixdof.validation loads scipy.signal (about a second): imported where drawn
     from sixdof.validation import ValidationReport
@@ -17,8 +18,6 @@ if TYPE_CHECKING:  # sixdof.validation loads scipy.signal (about a second): impo
 
 def _by_mode(report: ValidationReport, field: str, expected: str) -> tuple[list, dict]:
     """The report's ``field`` sorted by mode, and the validation table's row (ModeCheck) of each mode."""
-    from sixdof.validation import ValidationReport
-
     require(report, "report", ValidationReport, "a sixdof.validation.ValidationReport")
     items = sorted(getattr(report, field), key=lambda item: item.mode)
     if not items:

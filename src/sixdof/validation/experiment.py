@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -46,6 +47,7 @@ from sixdof.dofs import DOFS
 from sixdof.errors import InputError, SolverError, point, readonly
 from sixdof.frozen import BriefRepr
 from sixdof.model.kinematics import unit_load
+from sixdof.model.system import System
 from sixdof.progress import meter
 from sixdof.results import TimeHistory, label, part, quantity, result_type, sequence, stacked
 from sixdof.validation.estimation import (
@@ -427,11 +429,8 @@ def validate(system: System, settings: ValidationSettings | None = None, *,
     SolverError
         From the time integration.
     """
-    import time
-
-    from sixdof.analysis.direct import SimulationSettings, simulate
-    from sixdof.excitation import Excitation, InitialState, Load, Table
-    from sixdof.model.system import System
+    from sixdof.analysis.direct import SimulationSettings, simulate  # noqa: PLC0415 (the direct solve and the excitation load JAX)
+    from sixdof.excitation import Excitation, InitialState, Load, Table  # noqa: PLC0415 (the direct solve and the excitation load JAX)
 
     settings = ValidationSettings() if settings is None else settings
     if not isinstance(settings, ValidationSettings):

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import contextlib
 import logging
+import multiprocessing.resource_tracker
 import os
 import signal
 import threading
@@ -166,7 +167,6 @@ def _sigint_blocked():
     if not hasattr(signal, "pthread_sigmask") or threading.current_thread() is not threading.main_thread():
         yield
         return
-    import multiprocessing.resource_tracker
 
     # The thread that starts multiprocessing's resource tracker unblocks SIGINT when it has (the cluster's event
     # loop would, on its first queue): started here first, it is left alone.

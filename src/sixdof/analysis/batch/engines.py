@@ -145,7 +145,7 @@ class _Stack:
 def _solve_chunk(A, B, x0, sigma, signals, ts, t0, t1, jump_ts, rtol, atol, *, solver, max_steps):
     """Peaks of |q| and |q''| at ``ts`` for a chunk of variants: A (nv, N, N), B (nv, N, nc), ``N = 12 + nb`` with
     ``nb`` Maxwell branch states (:func:`~sixdof.analysis.direct.mechanical_form`)."""
-    import diffrax
+    import diffrax  # noqa: PLC0415 (diffrax, which the exact engine never loads)
 
     def source(t):
         return jnp.stack([s(t) for s in signals]) if signals else jnp.zeros(0)

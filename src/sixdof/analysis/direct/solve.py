@@ -35,10 +35,10 @@ def solve_ode(field, x0, t0, t1, saveat, jump_ts, rtol, atol, *, solver: str, ma
     state, stepping onto every time of ``jump_ts`` (:func:`jump_times`), ``max_steps`` at most; with
     ``throw=False``, the caller turns a failed result code into a :class:`~sixdof.errors.SolverError`.
     """
-    import diffrax
+    import diffrax  # noqa: PLC0415 (diffrax, which a cached solve never loads)
 
     # Not at the top: it imports diffrax (~0.65 s), which a solve loaded from the export cache never needs.
-    from sixdof.analysis import unrolled
+    from sixdof.analysis import unrolled  # noqa: PLC0415 (diffrax, which a cached solve never loads)
 
     controller = diffrax.PIDController(rtol=rtol, atol=atol, dtmax=dtmax)
     # No breakpoints (``jump_ts`` of length 0, a static shape): no clipping traced. Clipping makes every step
@@ -57,7 +57,7 @@ def solve_ode(field, x0, t0, t1, saveat, jump_ts, rtol, atol, *, solver: str, ma
 
 def _solve_window(p, xs0, ts, t0, t1, jump_ts, rtol, atol, *, solver: str, code: int, max_steps: int):
     """One window from ``t0`` to ``t1``, saved at ``ts`` (traced): scaled end state, states and outputs at ``ts``."""
-    import diffrax
+    import diffrax  # noqa: PLC0415 (diffrax, which a cached solve never loads)
 
     A, B, sigma = p["A"], p["B"], p["sigma"]
     # On the scaled state xs = x / sigma the field is one product [A_s | B_s] [xs; u(t)] (A and B scaled
@@ -92,7 +92,7 @@ def _solve_segment(p, xs0, ts, t0, t1, jump_ts, rtol, atol, region, *, solver: s
     Returns what :func:`_solve_window` does, with the work and dissipation at ``ts``, the time the segment
     ended, whether an event ended it and which boundary (ne, 2: below, above).
     """
-    import diffrax
+    import diffrax  # noqa: PLC0415 (diffrax, which a cached solve never loads)
 
     A, B, sigma = p["A"], p["B"], p["sigma"]
     laws = p["laws"]
@@ -190,7 +190,7 @@ def _event_bisection():
     end (just before the breakpoint) and the next one's start (just after). That next step is then past the event
     at both ends, its value there is not small, and the root is its start.
     """
-    import optimistix as optx
+    import optimistix as optx  # noqa: PLC0415 (diffrax, which a cached solve never loads)
 
     class EventBisection(optx.Bisection):
         def terminate(self, fn, y, args, options, state, tags):
@@ -201,7 +201,7 @@ def _event_bisection():
 
 def _failure(result) -> str:
     """diffrax's message for a result code returned by :func:`_solve_window`."""
-    import diffrax
+    import diffrax  # noqa: PLC0415 (diffrax, which a cached solve never loads)
 
     item = jax.tree.unflatten(jax.tree.structure(diffrax.RESULTS.successful), [np.asarray(result)])
     return diffrax.RESULTS[item]

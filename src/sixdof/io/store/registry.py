@@ -40,14 +40,14 @@ def registered(ref: type | str | Callable[[], type]) -> type:
 
 def _validation() -> None:
     """Register the validation's ValidationReport (its module loads SciPy)."""
-    import sixdof.validation.experiment  # noqa: F401
+    import sixdof.validation.experiment  # noqa: F401, PLC0415 (it loads JAX or SciPy: only for a file that names its classes)
 
 
 def _batch() -> None:
     """Register the batch engine's BatchResult (a sweep's) and the direct solve's SimulationSettings (their
     modules load JAX)."""
-    import sixdof.analysis.batch  # noqa: F401
-    import sixdof.analysis.direct  # noqa: F401
+    import sixdof.analysis.batch  # noqa: F401, PLC0415 (it loads JAX or SciPy: only for a file that names its classes)
+    import sixdof.analysis.direct  # noqa: F401, PLC0415 (it loads JAX or SciPy: only for a file that names its classes)
 
 
 #: The heavy modules' registrations, the lighter first: a validation's file is read without JAX.

@@ -6,6 +6,7 @@ from __future__ import annotations
 import contextlib
 import os
 import re
+import resource
 import uuid
 from collections.abc import Mapping
 from pathlib import Path
@@ -83,8 +84,6 @@ def discard(f, temporary: Path, nodes: dict | None = None) -> None:
     the last writes then succeed, into a file that is removed. ``nodes`` (h5py objects of the file kept open
     by the writer) are let go then: their closing writes too.
     """
-    import resource
-
     with contextlib.suppress(Exception):
         os.ftruncate(f.id.get_vfd_handle(), 0)
     limits = resource.getrlimit(resource.RLIMIT_FSIZE)

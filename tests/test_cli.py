@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 from sixdof import DOFS, InputError
-from sixdof.cli import BLAS_THREAD_VARIABLES, EXIT_CANNOT_WRITE, EXIT_CLOSED_PIPE, _parser, main
+from sixdof.cli import EXIT_CANNOT_WRITE, EXIT_CLOSED_PIPE, _parser, main
+from sixdof.cli._process import BLAS_THREAD_VARIABLES
 from sixdof.io.store import write_results
 from store_cases import run_parts
 from systems import BRIDGE_INERTIA, BRIDGE_MASS, bridge, heavily_damped_box, heavily_damped_box_toml
@@ -291,7 +292,7 @@ def test_a_broken_pipe_that_is_not_the_output_s_is_a_failed_write():
 
 def test_only_the_command_s_own_process_collects_garbage_less_often():
     """The ``sixdof`` command collects every COLLECT_EVERY allocations; a program calling main() keeps its settings."""
-    from sixdof._gc import COLLECT_EVERY
+    from sixdof.cli._process import COLLECT_EVERY
 
     code = ("import gc, sys\nfrom sixdof.cli import main\nbefore = gc.get_threshold()\n"
             "main(['modes', 'scenarios/bridge_beam.toml', '--json'])\nlibrary = gc.get_threshold()\n"
@@ -310,9 +311,9 @@ def test_the_command_s_own_process_keeps_the_memory_it_frees(user_setting):
     """As the ``sixdof`` command, arrays of a few MB allocated and freed again come back without page faults
     (glibc's defaults hand them back to the system and fault them in anew every time); a program calling main()
     and a user who set glibc's own variables keep their allocator as it was."""
-    from sixdof._malloc import VARIABLES
+    from sixdof.cli._process import MALLOC_VARIABLES
 
-    env = {k: v for k, v in os.environ.items() if k not in (*VARIABLES, "GLIBC_TUNABLES")}
+    env = {k: v for k, v in os.environ.items() if k not in (*MALLOC_VARIABLES, "GLIBC_TUNABLES")}
     if user_setting is not None:
         env[user_setting] = "glibc.malloc.trim_threshold=131072" if user_setting == "GLIBC_TUNABLES" else "131072"
     churn = ("import resource, numpy as np\n"

@@ -11,7 +11,6 @@ left whole: a results folder is replaced completely or not at all (:mod:`sixdof.
 from __future__ import annotations
 
 import argparse
-import atexit
 import json
 import os
 import select
@@ -20,11 +19,10 @@ import sys
 import threading
 import traceback
 import warnings
-from contextlib import contextmanager, suppress
+from contextlib import contextmanager
 from functools import partial
 
-from sixdof._gc import collect_less
-from sixdof._malloc import keep_freed_memory
+from sixdof.cli import _process
 from sixdof.interrupts import held_signals
 
 EXIT_FAILED = 1
@@ -38,8 +36,6 @@ EXIT_TERMINATED = 143  # 128 + SIGTERM
 
 #: Delay before an interruption swallowed by a finalizer is raised again [s] (:func:`_cleanup_errors`).
 REDELIVERY_S = 0.02
-#: What OpenBLAS reads for its thread count, in this order: a user who set any of them chose (:func:`_one_blas_thread`).
-BLAS_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")
 
 
 class Terminated(BaseException):
@@ -51,7 +47,8 @@ def main(argv: list[str] | None = None) -> int:
 
     Called without ``argv`` (as the ``sixdof`` command, reading ``sys.argv``), the process ends as soon
     as the exit handlers registered from then on have run and its output is flushed
-    (:func:`_skip_teardown`); those a program registered before do not run.
+    (:func:`sixdof.cli._process.skip_teardown`); those a program registered before do not run. Only then is
+    the process tuned (:mod:`sixdof.cli._process`): a program calling ``main(argv)`` keeps its settings.
     """
     status = [EXIT_FAILED]  # what the process ends with if the command raises
     try:
@@ -60,11 +57,12 @@ def main(argv: list[str] | None = None) -> int:
             signal.signal(signal.SIGTERM, _terminate)
         args = _parser().parse_args(argv)
         if argv is None:
-            _skip_teardown(status)
-            collect_less()  # the command's process is sixdof's: a program calling main() keeps its settings
-            keep_freed_memory()
+            _process.skip_teardown(status)
+            _process.collect_less()  # the command's process is sixdof's: a program calling main() keeps its settings
+            _process.keep_freed_memory()
+            _process.xla_defaults()  # before JAX loads
             if args.command in (_run, _validate, _plot):
-                _one_blas_thread()
+                _process.one_blas_thread()
     except KeyboardInterrupt:  # while the command starts, before it has done anything
         status[0] = _stopped("interrupted; no partial results were left", EXIT_INTERRUPTED)
         return status[0]
@@ -141,8 +139,8 @@ def _failure(exc: Exception) -> tuple[str, int] | None:
     loads NumPy (0.07-0.13 s), which the figure workers that ``run``, ``validate`` and ``plot`` start first
     need not wait for.
     """
+    from sixdof.cli.figures import FigureError
     from sixdof.errors import InputError, SolverError
-    from sixdof.plots.workers import FigureError
 
     if isinstance(exc, InputError):
         return f"error: {exc}", EXIT_BAD_INPUT
@@ -184,22 +182,6 @@ def _closed_pipes() -> bool:
             closed = True
     return closed
 
-
-def _skip_teardown(status: list[int]) -> None:
-    """End the process without the interpreter's teardown of every module once the command is done.
-
-    Registered before the command imports anything, so that it runs after every exit handler registered
-    since (JAX's, multiprocessing's...): what is left is freeing the modules of JAX, diffrax and
-    matplotlib one by one, 0.5-0.9 s of a run, for a process whose files are all written and closed.
-    ``status`` holds the exit status (the command's, or 1 when it raised: its traceback is printed by then).
-    """
-    def end() -> None:
-        for stream in (sys.stdout, sys.stderr):
-            with suppress(OSError, ValueError):  # a closed pipe or stream: nothing left to say there
-                stream.flush()
-        os._exit(status[0])
-
-    atexit.register(end)
 
 
 @contextmanager
@@ -397,23 +379,9 @@ def _print_statics(scenario, statics, no_statics: str | None = None) -> None:
         warnings.warn(f"mounts in tension (uplift): {', '.join(statics.uplift)}", stacklevel=1)
 
 
-def _one_blas_thread() -> None:
-    """One BLAS thread per process, unless the user chose otherwise: for the commands that draw figures in
-    worker processes while they compute (``run``, ``validate``, ``plot``), run as the ``sixdof`` command.
-
-    The workers already keep every core busy, and this process' BLAS work is chains of small matrix
-    products (the exact engine, the checks) that gain nothing from more threads. OpenBLAS's threads spin
-    while they wait for the next product, taking cores from the figures: 0.3-0.4 core-seconds of the bridge
-    run, and 25 of the 44 core-seconds of its 2000 s version, which took 30 s either way. Set before NumPy
-    loads (it reads the variable then) and before the figure server starts (it inherits it). OpenBLAS takes
-    ``OMP_NUM_THREADS`` when its own variable is unset: a user's setting of either is kept.
-    """
-    if not any(name in os.environ for name in BLAS_THREAD_VARIABLES):
-        os.environ["OPENBLAS_NUM_THREADS"] = "1"
-
 
 def _run(args) -> int:
-    from sixdof.plots.workers import FigureWorkers
+    from sixdof.cli.figures import FigureWorkers
 
     # Started first: the figure workers import matplotlib while this process loads the scenario and solves.
     with FigureWorkers() as workers:
@@ -475,9 +443,9 @@ def _run(args) -> int:
 
 
 def _validate(args) -> int:
+    from sixdof.cli.figures import FigureWorkers
     from sixdof.io.report import validation_text
     from sixdof.io.scenario import load_scenario
-    from sixdof.plots.workers import FigureWorkers
     from sixdof.schema import naming
     from sixdof.workflows.run import validate_scenario
 
@@ -610,7 +578,7 @@ def _examples(args) -> int:
 
 
 def _plot(args) -> int:
-    from sixdof.plots.workers import FigureWorkers
+    from sixdof.cli.figures import FigureWorkers
 
     with FigureWorkers() as workers:  # started first: they import matplotlib while the file is read
         from sixdof.workflows.run import redraw

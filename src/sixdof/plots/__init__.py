@@ -13,14 +13,14 @@ Each function takes the objects it draws (:class:`~sixdof.analysis.modal.Modes`,
 :class:`~sixdof.validation.ValidationReport`...) and returns its figure so that tests and users can
 inspect or restyle it; :func:`save_all` draws every figure a :class:`~sixdof.results.RunResults`
 allows (a live run, or a stored one from :func:`sixdof.io.store.load_results`) and writes each as PNG,
-and :func:`render` draws one of them to PNG bytes (what the worker processes of
-:class:`~sixdof.plots.workers.FigureWorkers` do for the command line).
+and :func:`render` draws one of them to PNG bytes (what the command line's figure workers do,
+:mod:`sixdof.cli.figures`); :mod:`~sixdof.plots.drawer` draws a run's figures as the workflows submit them.
 
 Figures are built as :class:`matplotlib.figure.Figure` objects without pyplot: no backend, no display
 and no global figure list are involved (they render with Agg when saved, work headless, and show in
 Jupyter), and nothing needs closing. Importing this package loads no matplotlib: each name is imported
 from its module on first use, so that a process can decide which figures a run allows (:data:`FIGURES`)
-and leave the drawing to worker processes (:class:`sixdof.plots.workers.FigureWorkers`).
+and leave the drawing to worker processes (:mod:`sixdof.cli.figures`).
 
 Modules: :mod:`~sixdof.plots.common` (display units, envelope decimation, margins, panel grid,
 titles), :mod:`~sixdof.plots.modes`, :mod:`~sixdof.plots.time`, :mod:`~sixdof.plots.frf`,

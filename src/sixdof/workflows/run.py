@@ -32,7 +32,7 @@ from sixdof.analysis.validity import (
 )
 from sixdof.errors import InputError, Plain
 from sixdof.io import output
-from sixdof.plots.workers import FigureWorkers
+from sixdof.plots.drawer import FigureDrawer, InProcessDrawer
 from sixdof.results import Event, RunResults, envelope_samples, time_concat, time_slice
 
 #: Time bins in which a long run keeps each drawn series' extremes: at least one per pixel column of the
@@ -146,7 +146,7 @@ def excitation_frequencies(excitation) -> list[tuple[str, float]]:
 
 
 def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool = True,
-                 log=print, command_line: str | None = None, workers: FigureWorkers | None = None) -> RunOutcome:
+                 log=print, command_line: str | None = None, workers: FigureDrawer | None = None) -> RunOutcome:
     """Run everything a scenario asks for and write results, figures and summary.
 
     Parameters
@@ -161,9 +161,9 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
         Receives the text printed along the way (tables, agreement, warnings).
     command_line : str, optional
         Stored as provenance.
-    workers : sixdof.plots.workers.FigureWorkers, optional
-        Worker processes to draw the figures in while the run computes (the command line starts them
-        before it loads the scenario); default: drawn in this process.
+    workers : sixdof.plots.drawer.FigureDrawer, optional
+        What draws the figures, submitted as the run's parts appear (the command line's draws them in worker
+        processes while the run computes); default: drawn in this process when they are saved.
 
     Returns
     -------
@@ -176,7 +176,7 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
     from sixdof.io.stream import ResultsStream
 
     target = output.check_target(out_root, scenario.name)
-    with FigureWorkers(processes=0) if workers is None else contextlib.nullcontext(workers) as drawing:
+    with InProcessDrawer() if workers is None else contextlib.nullcontext(workers) as drawing:
         system, timed = scenario.system, scenario.time_system
         modes = system.modes
         statics, no_statics = try_gravity_statics(timed, scenario.statics.gravity, scenario.statics.direction)
@@ -531,14 +531,14 @@ def _loss_factor_labels(scenario, statics_line: str) -> dict:
 
 
 def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_line: str | None = None,
-                      workers: FigureWorkers | None = None, progress=None):
+                      workers: FigureDrawer | None = None, progress=None):
     """Validate a scenario's modal results against simulated time histories (issue 5).
 
     Runs :func:`sixdof.validation.validate` (free decays released from each mode shape, random-force
     runs with H1 estimates) and writes ``results.h5``, figures and ``validation.md`` to
     ``out_root/<name>_validation/``, all or nothing, whatever the report's verdict (PASS or FAIL).
 
-    The figures are drawn by ``workers`` (:class:`sixdof.plots.workers.FigureWorkers`), the modal ones
+    The figures are drawn by ``workers`` (a :class:`sixdof.plots.drawer.FigureDrawer`), the modal ones
     while the validation runs; default: in this process. ``progress`` shows the validation's simulations
     (:func:`sixdof.progress.meter`).
 
@@ -552,7 +552,7 @@ def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_lin
     from sixdof.validation import validate
 
     target = output.check_target(out_root, scenario.name, "_validation")
-    with FigureWorkers(processes=0) if workers is None else contextlib.nullcontext(workers) as drawing:
+    with InProcessDrawer() if workers is None else contextlib.nullcontext(workers) as drawing:
         system = scenario.time_system  # the model the simulations integrate: the loss factors' causal models
         modes = system.modes
         for note in loss_factor_notes(scenario)[0]:
@@ -579,13 +579,13 @@ def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_lin
 
 
 def redraw(results: str | Path, directory: str | Path | None = None, *,
-           workers: FigureWorkers | None = None) -> list[Path]:
+           workers: FigureDrawer | None = None) -> list[Path]:
     """Draw every figure of a results file again (``sixdof plot``) and put them into ``directory``
     (default: beside the file), each replacing its namesake and all of them at once
     (:func:`sixdof.io.output.replace_files`). A namesake that sixdof did not write is never replaced: it is
     refused before anything is drawn.
 
-    The figures are drawn by ``workers`` (:class:`sixdof.plots.workers.FigureWorkers`; the command line
+    The figures are drawn by ``workers`` (a :class:`sixdof.plots.drawer.FigureDrawer`; the command line
     starts them before it reads the file); default: in this process.
 
     Returns
@@ -611,6 +611,6 @@ def redraw(results: str | Path, directory: str | Path | None = None, *,
                          "`sixdof validate`)", Plain(f"{results}: {what}"))
     directory = Path(directory) if directory else Path(results).parent
     output.check_files(directory, figure_names(run))
-    with FigureWorkers(processes=0) if workers is None else contextlib.nullcontext(workers) as drawing:
+    with InProcessDrawer() if workers is None else contextlib.nullcontext(workers) as drawing:
         drawing.submit(run)
         return output.replace_files(directory, drawing.save)

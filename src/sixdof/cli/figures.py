@@ -1,5 +1,6 @@
-"""Figures drawn in worker processes while a run computes (the command line's ``run``, ``validate`` and
-``plot``).
+"""Figures drawn in worker processes while a run computes (the ``sixdof`` command's ``run``, ``validate`` and
+``plot``): a :class:`~sixdof.plots.drawer.FigureDrawer` for the workflows, private to the command (a program
+calling the library draws in its own process, :class:`~sixdof.plots.drawer.InProcessDrawer`).
 
 Importing this module loads neither matplotlib nor NumPy: the command line starts the workers before
 anything else.
@@ -20,7 +21,6 @@ from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from sixdof.interrupts import held_signals
 from sixdof.plots import FIGURES, render
 
 if TYPE_CHECKING:
@@ -28,7 +28,7 @@ if TYPE_CHECKING:
 
 #: Imported once by the worker server before it forks the workers: every plot module, and a small
 #: drawing that loads the rest (Agg, the fonts, mathtext's parser, 3-D axes): each worker starts warm.
-_PRELOAD = ["sixdof.plots._warm"]
+_PRELOAD = ["sixdof.cli._warm"]
 #: Handed out first when several figures are submitted at once: the slowest of each batch (measured),
 #: so that the workers finish together.
 _SLOWEST_FIRST = ("superposition.png", "bode.png", "point_frfs.png", "mode_shapes.png")
@@ -62,18 +62,14 @@ class FigureWorkers:
     ----------
     processes : int, optional
         Number of workers; default: the CPUs this process may use (at least 2: the main process
-        mostly waits once the solve is done). 0: no workers, :meth:`save` draws in this process (what
-        the library's workflows do unless given workers).
+        mostly waits once the solve is done).
     dpi : int, optional
         Resolution of the PNG files [dots per inch]; default :data:`sixdof.plots.DPI`.
     """
 
     def __init__(self, processes: int | None = None, dpi: int | None = None) -> None:
         self.dpi = dpi
-        self._jobs: dict[str, Future | RunResults] = {}  # a figure's PNG to come, or the run to draw it from
-        self._pool = self._handover = None
-        if processes == 0:
-            return
+        self._jobs: dict[str, Future] = {}  # each figure's PNG to come
         from multiprocessing import forkserver
 
         context = multiprocessing.get_context("forkserver")
@@ -88,9 +84,6 @@ class FigureWorkers:
     def submit(self, run: RunResults) -> None:
         """Start drawing every figure ``run`` allows that was not submitted before."""
         new = [(name, reads) for name, reads, drawable, _ in FIGURES if name not in self._jobs and drawable(run)]
-        if self._pool is None:
-            self._jobs.update((name, run) for name, _ in new)
-            return
         new.sort(key=lambda job: _SLOWEST_FIRST.index(job[0]) if job[0] in _SLOWEST_FIRST else len(_SLOWEST_FIRST))
         fields = _Drawn(run)
         for name, reads in new:
@@ -101,15 +94,10 @@ class FigureWorkers:
         :data:`sixdof.plots.FIGURES`."""
         written = []
         for name in [name for name, *_ in FIGURES if name in self._jobs]:
-            job = self._jobs[name]
-            if self._pool is None:
-                with held_signals():  # matplotlib's C code can swallow a KeyboardInterrupt
-                    png = render(job, name, self.dpi)
-            else:
-                try:
-                    png = job.result().result()
-                except BrokenProcessPool as exc:
-                    raise FigureError(f"{name}: a figure worker ended abruptly ({exc})") from exc
+            try:
+                png = self._jobs[name].result().result()
+            except BrokenProcessPool as exc:
+                raise FigureError(f"{name}: a figure worker ended abruptly ({exc})") from exc
             path = directory / name
             path.write_bytes(png)
             written.append(path)
@@ -117,8 +105,6 @@ class FigureWorkers:
 
     def close(self, cancel: bool = False) -> None:
         """Let the workers go; with ``cancel``, stop them where they are."""
-        if self._pool is None:
-            return
         self._handover.shutdown(wait=not cancel, cancel_futures=cancel)
         if cancel:
             # ProcessPoolExecutor can only wait for running jobs: end the workers instead (SIGTERM).

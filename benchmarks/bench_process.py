@@ -13,10 +13,8 @@ The settings and the runs they are for:
 
 - ``pool``: the figures drawn in worker processes while the run computes (off: in the command's process at the
   end, :class:`sixdof.plots.drawer.InProcessDrawer`): the bridge run cold and repeated, the traffic run;
-- ``nice``: the figure server and workers at a lower priority: the bridge run cold and repeated;
 - ``gc``: fewer garbage collections in the command's process and the figure server's, and what the server loaded
   frozen out of them: the bridge and traffic runs repeated;
-- ``xla``: XLA:CPU without its fusion emitters: the traffic run cold (compilation), the long run (execution);
 - ``blas``: OpenBLAS on one thread: the traffic run, the long run;
 - ``malloc``: glibc's allocator keeping the memory it frees: the long run;
 - ``teardown``: the process ending without the interpreter's teardown: the bridge run repeated;
@@ -25,7 +23,7 @@ The settings and the runs they are for:
 Cold runs have sixdof's caches empty (a fresh ``XDG_CACHE_HOME`` each); repeated runs share caches filled by one
 run of each side first. The long run is the traffic scenario lengthened to ``--long-duration`` seconds (the
 2000 s run of ``bench_cli.py`` scaled down: its time is mostly per sample). Run:
-``python benchmarks/bench_process.py [--pairs 5] [--only pool,gc] [--runs 'bridge cold,long'] [--long-duration 200]``; writes
+``python benchmarks/bench_process.py [--pairs 5] [--only pool,gc] [--runs 'bridge cold,long'] [--long-duration 100]``; writes
 ``results/process.json`` (``process-<settings>.json`` with ``--only``) and prints the table ``history.md`` holds.
 """
 
@@ -53,10 +51,8 @@ RUNS = {
     "pool": ("bridge repeated", "bridge cold", "traffic repeated"),
     "gc": ("bridge repeated", "traffic repeated"),
     "malloc": ("long",),
-    "xla": ("traffic cold", "long"),
     "teardown": ("bridge repeated",),
     "blas": ("long", "traffic repeated"),
-    "nice": ("bridge cold", "bridge repeated"),
     "cache": ("bridge repeated",),
 }
 
@@ -70,8 +66,6 @@ if "malloc" in off:
     _process.keep_freed_memory = nothing
 if "gc" in off:
     _process.collect_less = nothing
-if "xla" in off:
-    _process.xla_defaults = nothing
 if "blas" in off:
     _process.one_blas_thread = nothing
 if "teardown" in off:
@@ -95,8 +89,6 @@ from sixdof.cli import _process
 off = os.environ["SIXDOF_BENCH_OFF"].split(",")
 if "gc" in off:
     _process.collect_less = gc.freeze = lambda: None
-if "nice" in off:
-    _process.lower_priority = lambda: None
 import sixdof.cli._warm
 open(os.environ["SIXDOF_BENCH_SERVED"], "a").close()  # the server imports what a failed preload would skip
 """
@@ -208,7 +200,7 @@ def main() -> None:
     parser.add_argument("--only", default=",".join(RUNS), help=f"settings to measure, comma-separated ({', '.join(RUNS)})")
     parser.add_argument("--runs", default="", help="measure only these runs, comma-separated (bridge cold, bridge "
                         "repeated, traffic cold, traffic repeated, long; default: every run of each setting)")
-    parser.add_argument("--long-duration", type=float, default=200.0, help="the long run's duration [s] (default 200)")
+    parser.add_argument("--long-duration", type=float, default=100.0, help="the long run's duration [s] (default 100)")
     args = parser.parse_args()
     chosen = [name for name in args.only.split(",") if name]
     unknown = sorted(set(chosen) - set(RUNS))

@@ -7,7 +7,7 @@ import platform
 import subprocess
 import sys
 
-from sixdof.cli._process import MALLOC_VARIABLES, XLA_DEFAULTS, with_xla_defaults
+from sixdof.cli._process import MALLOC_VARIABLES
 
 #: Allocates six arrays of 3.2 MB at a time and frees them, 13 times; the page faults of the last 10 rounds.
 CHURN = """
@@ -48,31 +48,3 @@ def test_a_program_calling_the_library_keeps_its_process_settings():
     assert unchanged and not cli_loaded
     if platform.libc_ver()[0] == "glibc":
         assert faults > CHURN_PAGES // 2
-
-
-def test_xla_defaults_are_added_to_the_users_flags_never_over_them():
-    assert with_xla_defaults("") == "--xla_cpu_use_fusion_emitters=false"
-    kept = "--xla_cpu_multi_thread_eigen=false intra_op_parallelism_threads=1"
-    assert with_xla_defaults(kept) == kept + " --xla_cpu_use_fusion_emitters=false"
-    assert with_xla_defaults("--xla_cpu_use_fusion_emitters=true") == "--xla_cpu_use_fusion_emitters=true"
-
-
-def test_only_the_command_s_own_process_sets_xla_flags_before_jax_loads():
-    """As the ``sixdof`` command, XLA_FLAGS holds the defaults when the command starts, before JAX is imported
-    (its CPU backend reads them once); a program calling main() keeps its environment."""
-    env = {k: v for k, v in os.environ.items() if k != "XLA_FLAGS"}
-
-    def seen(call: str):
-        code = ("import os, sys\nimport sixdof.cli\nfrom sixdof.cli import main\nseen = []\nmodes = sixdof.cli._modes\n"
-                "def watched(args):\n"
-                "    seen.append(('jax' in sys.modules, os.environ.get('XLA_FLAGS')))\n"
-                "    return modes(args)\n"
-                f"sixdof.cli._modes = watched\n{call}\nprint(repr(seen), file=sys.stderr)\n")
-        result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
-        assert result.returncode == 0, result.stderr
-        return ast.literal_eval(result.stderr.strip().splitlines()[-1])
-
-    assert seen("main(['modes', 'scenarios/bridge_beam.toml', '--json'])") == [(False, None)]
-    command = seen("sys.argv = ['sixdof', 'modes', 'scenarios/bridge_beam.toml', '--json']\nmain()")
-    assert command == [(False, with_xla_defaults(""))]
-    assert all(f"--{name}={value}" in command[0][1] for name, value in XLA_DEFAULTS.items())

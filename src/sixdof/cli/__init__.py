@@ -60,7 +60,6 @@ def main(argv: list[str] | None = None) -> int:
             _process.skip_teardown(status)
             _process.collect_less()  # the command's process is sixdof's: a program calling main() keeps its settings
             _process.keep_freed_memory()
-            _process.xla_defaults()  # before JAX loads
             if args.command in (_run, _validate, _plot):
                 _process.one_blas_thread()
     except KeyboardInterrupt:  # while the command starts, before it has done anything

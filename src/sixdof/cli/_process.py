@@ -17,12 +17,6 @@ from contextlib import suppress
 #: What OpenBLAS reads for its thread count, in this order: a user who set any of them chose (:func:`one_blas_thread`).
 BLAS_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")
 
-#: XLA:CPU settings the command compiles with, where ``XLA_FLAGS`` does not set them already. XLA's newer CPU
-#: fusion emitters take longer to compile sixdof's diffrax solve (measured on the bridge: trace and compile
-#: 2.20 s without them against 2.65 s with them) and gain it back only over long runs (its execution,
-#: 60 against 55 ms); the exact engine's throughput is the same either way.
-XLA_DEFAULTS = {"xla_cpu_use_fusion_emitters": "false"}
-
 #: ``mallopt`` parameters (glibc's ``malloc.h``).
 M_TRIM_THRESHOLD, M_MMAP_THRESHOLD = -1, -3
 #: Free memory kept at the top of the heap [bytes].
@@ -36,21 +30,6 @@ MALLOC_VARIABLES = ("MALLOC_TRIM_THRESHOLD_", "MALLOC_MMAP_THRESHOLD_", "MALLOC_
 #: Allocations between two collections of the youngest objects (Python's default: 700). Garbage still goes
 #: at the next collection: the 2000 s bridge run's peak memory is the same either way (640-693 MB).
 COLLECT_EVERY = 50_000
-
-#: How much lower the figure workers run than the command's process (``os.nice``).
-FIGURES_NICE = 5
-
-
-def with_xla_defaults(flags: str) -> str:
-    """``flags`` (the ``XLA_FLAGS`` value) with each of :data:`XLA_DEFAULTS` it does not set appended."""
-    given = {item.lstrip("-").split("=", 1)[0] for item in flags.split()}
-    added = [f"--{name}={value}" for name, value in XLA_DEFAULTS.items() if name not in given]
-    return " ".join([flags.strip(), *added]).strip()
-
-
-def xla_defaults() -> None:
-    """Add :data:`XLA_DEFAULTS` to ``XLA_FLAGS``, which JAX's CPU backend reads when it starts: before JAX loads."""
-    os.environ["XLA_FLAGS"] = with_xla_defaults(os.environ.get("XLA_FLAGS", ""))
 
 
 def one_blas_thread() -> None:
@@ -96,13 +75,6 @@ def collect_less() -> None:
     of the ~300 collections of a run searches those objects and finds almost nothing to free.
     """
     gc.set_threshold(COLLECT_EVERY, *gc.get_threshold()[1:])
-
-
-def lower_priority() -> None:
-    """Run at :data:`FIGURES_NICE` below the command (the figure server, and the workers it forks): the
-    command's process, whose solve the time figures wait for, keeps a core to itself while they import
-    matplotlib and draw the modal and FRF figures."""
-    os.nice(FIGURES_NICE)
 
 
 def skip_teardown(status: list[int]) -> None:

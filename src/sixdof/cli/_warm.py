@@ -9,8 +9,9 @@ caller reading that output through a pipe would wait for it).
 
 Garbage is collected less often, as in the command's process (:func:`sixdof.cli._process.collect_less`), and
 what the server loaded is left out of every collection (:func:`gc.freeze`): the workers inherit both, and their
-memory pages stay shared with the server's instead of being copied when a collection touches them. The server
-and the workers run at a lower priority than the command (:func:`sixdof.cli._process.lower_priority`).
+memory pages stay shared with the server's instead of being copied when a collection touches them. They run
+at the command's priority: at nice +5 they lost their share of a busy machine's cores to other programs, and the
+run waited for its figures (``benchmarks/history.md``).
 """
 
 import atexit
@@ -20,7 +21,6 @@ import os
 from sixdof.cli import _process
 
 _process.collect_less()  # before the imports below, which allocate most of what the server holds
-_process.lower_priority()
 
 from matplotlib.figure import Figure  # noqa: E402
 

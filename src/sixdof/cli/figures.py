@@ -43,8 +43,7 @@ class FigureWorkers:
     """The figures of a run, drawn to PNG in worker processes while the run computes.
 
     The workers are forked from a server process that imports matplotlib and the plotting code once
-    (:mod:`multiprocessing`'s "forkserver"; both run at a lower priority than this process, whose solve
-    the time figures wait for), started when this object is made: the command line makes
+    (:mod:`multiprocessing`'s "forkserver"), started when this object is made: the command line makes
     it before it loads anything else, so that the imports overlap the scenario's parsing and solve. A
     fresh server, not a fork of this process, which may hold JAX's threads (forking them is unsafe).
     As with any such server, a script that starts workers must guard its main code with

@@ -126,7 +126,7 @@ def scenario():  # imported once the workers are started, as the command does
     timed(importlib.import_module("sixdof.io.scenario"), "load_scenario", after=numerics)
 
 if __name__ == "__main__":
-    from sixdof.plots.workers import FigureWorkers
+    from sixdof.cli.figures import FigureWorkers
     timed(FigureWorkers, "__init__", after=scenario)
     for name in ("submit", "save", "close"):
         timed(FigureWorkers, name)
@@ -158,7 +158,7 @@ print("FIGURES " + json.dumps(costs))
 IMPORTS = r"""
 import json, time
 costs = []
-for name in ["sixdof.cli", "sixdof.plots.workers", "numpy", "sixdof.io.scenario", "sixdof.workflows.run", "sixdof._jax",
+for name in ["sixdof.cli", "sixdof.cli.figures", "numpy", "sixdof.io.scenario", "sixdof.workflows.run", "sixdof._jax",
              "sixdof.excitation", "sixdof.analysis.direct", "sixdof.analysis.frf", "h5py", "sixdof.io.stream",
              "sixdof.analysis.superposition", "sixdof.analysis.mountcheck"]:
     start = time.perf_counter()

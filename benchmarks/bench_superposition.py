@@ -13,7 +13,7 @@ compilation):
 
 Both are timed twice in this process: first with glibc's allocator as a program calling sixdof has it (the
 target's figure; each call's page faults are counted: fresh memory from the system costs ~2 us a page on this
-project's VM), then as the ``sixdof`` command sets it, keeping the memory it frees (:mod:`sixdof._malloc`).
+project's VM), then as the ``sixdof`` command sets it, keeping the memory it frees (:func:`sixdof.cli._process.keep_freed_memory`).
 
 Accuracy: the worst per-DOF error of q against common.exact (each DOF relative to its own peak), and
 of q' and q'' against the blocked discretization. Where the ratio misses its target, the profile of the
@@ -36,7 +36,7 @@ import numpy as np
 import scipy.linalg
 
 import common
-from sixdof._malloc import keep_freed_memory
+from sixdof.cli._process import keep_freed_memory
 
 TARGET_RATIO = 3.0  # the engine within 3x of the exact discretization's time
 TARGET_ERROR = 1e-9  # each DOF within 1e-9 of its own peak
@@ -110,7 +110,7 @@ def main(argv):
         return [(min(x), float(np.median(x)), f / repeat) for x, f in zip(times, faults)]
 
     # First with glibc's allocator as a program calling sixdof has it; then as the sixdof command sets it,
-    # keeping the memory it frees (sixdof._malloc), both computations again in this process.
+    # keeping the memory it frees (sixdof.cli._process), both computations again in this process.
     (engine_s, engine_median, engine_faults), (reference_s, reference_median, reference_faults) = timed_alternately()
     kept = keep_freed_memory()
     timed_alternately()  # the heap grows to what both keep

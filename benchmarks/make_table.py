@@ -106,7 +106,7 @@ def main():
                       f"{sp['exact_faults']:.0f} (glibc's allocator returns freed memory to the system)."]),
                   *([] if not sp.get("kept") else [
                       f"With the allocator keeping the memory it frees, as the sixdof command sets it "
-                      f"(`sixdof/_malloc.py`): {sp['kept']['engine_s'] * 1e3:.1f} ms (median "
+                      f"(`sixdof/cli/_process.py`): {sp['kept']['engine_s'] * 1e3:.1f} ms (median "
                       f"{sp['kept']['engine_median_s'] * 1e3:.1f}) against {sp['kept']['exact_s'] * 1e3:.1f} ms "
                       f"(median {sp['kept']['exact_median_s'] * 1e3:.1f}): {sp['kept']['ratio']:.2f}x."]),
                   f"Machine: {sp['machine']}", ""]

@@ -15,8 +15,8 @@ import time
 from pathlib import Path
 
 from sixdof import cli
+from sixdof.cli.figures import FigureWorkers
 from sixdof.io import output, store
-from sixdof.plots.workers import FigureWorkers
 
 PAUSE_S = 1.5
 

@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 from sixdof import DOFS, InputError
-from sixdof.cli import BLAS_THREAD_VARIABLES, EXIT_CANNOT_WRITE, EXIT_CLOSED_PIPE, _parser, main
+from sixdof.cli import EXIT_CANNOT_WRITE, EXIT_CLOSED_PIPE, _parser, main
+from sixdof.cli._process import BLAS_THREAD_VARIABLES
 from sixdof.io.store import write_results
 from store_cases import run_parts
 from systems import BRIDGE_INERTIA, BRIDGE_MASS, bridge, heavily_damped_box, heavily_damped_box_toml
@@ -283,8 +284,10 @@ def test_a_reader_that_went_away_ends_the_command_quietly(command, tmp_path):
 
 def test_a_broken_pipe_that_is_not_the_output_s_is_a_failed_write():
     """A BrokenPipeError with stdout and stderr still read (a socket's, say) is reported as any failed write."""
-    code = ("import sys\nfrom sixdof import cli\ndef broken(args):\n    raise BrokenPipeError(32, 'Broken pipe')\n"
-            "cli._modes = broken\nsys.argv = ['sixdof', 'modes', 'scenarios/bridge_beam.toml']\nsys.exit(cli.main())\n")
+    code = ("import sys\nfrom sixdof import cli\nfrom sixdof.cli.commands import modes\n"
+            "def broken(args, workers=None):\n    raise BrokenPipeError(32, 'Broken pipe')\n"
+            "modes.main = broken\nsys.argv = ['sixdof', 'modes', 'scenarios/bridge_beam.toml']\n"
+            "sys.exit(cli.main())\n")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert result.returncode == EXIT_CANNOT_WRITE
     assert result.stderr == "sixdof: could not write: Broken pipe; results already in place are unchanged\n"
@@ -292,7 +295,7 @@ def test_a_broken_pipe_that_is_not_the_output_s_is_a_failed_write():
 
 def test_only_the_command_s_own_process_collects_garbage_less_often():
     """The ``sixdof`` command collects every COLLECT_EVERY allocations; a program calling main() keeps its settings."""
-    from sixdof._gc import COLLECT_EVERY
+    from sixdof.cli._process import COLLECT_EVERY
 
     code = ("import gc, sys\nfrom sixdof.cli import main\nbefore = gc.get_threshold()\n"
             "main(['modes', 'scenarios/bridge_beam.toml', '--json'])\nlibrary = gc.get_threshold()\n"
@@ -311,9 +314,9 @@ def test_the_command_s_own_process_keeps_the_memory_it_frees(user_setting):
     """As the ``sixdof`` command, arrays of a few MB allocated and freed again come back without page faults
     (glibc's defaults hand them back to the system and fault them in anew every time); a program calling main()
     and a user who set glibc's own variables keep their allocator as it was."""
-    from sixdof._malloc import VARIABLES
+    from sixdof.cli._process import MALLOC_VARIABLES
 
-    env = {k: v for k, v in os.environ.items() if k not in (*VARIABLES, "GLIBC_TUNABLES")}
+    env = {k: v for k, v in os.environ.items() if k not in (*MALLOC_VARIABLES, "GLIBC_TUNABLES")}
     if user_setting is not None:
         env[user_setting] = "glibc.malloc.trim_threshold=131072" if user_setting == "GLIBC_TUNABLES" else "131072"
     churn = ("import resource, numpy as np\n"

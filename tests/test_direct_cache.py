@@ -99,14 +99,3 @@ def test_solves_are_exported_only_beside_the_compilation_cache(monkeypatch, tmp_
         assert cache._export_dir() is None
     finally:
         jax.config.update("jax_compilation_cache_dir", None)
-
-
-def test_xla_defaults_are_added_to_the_users_flags_never_over_them():
-    from sixdof._jax import XLA_DEFAULTS, _with_xla_defaults
-
-    assert _with_xla_defaults("") == "--xla_cpu_use_fusion_emitters=false"
-    kept = "--xla_cpu_multi_thread_eigen=false intra_op_parallelism_threads=1"
-    assert _with_xla_defaults(kept) == kept + " --xla_cpu_use_fusion_emitters=false"
-    assert _with_xla_defaults("--xla_cpu_use_fusion_emitters=true") == "--xla_cpu_use_fusion_emitters=true"
-    # This process imported sixdof before JAX's CPU backend started: the defaults are in force.
-    assert all(f"--{name}={value}" in os.environ["XLA_FLAGS"] for name, value in XLA_DEFAULTS.items())

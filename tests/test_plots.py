@@ -14,11 +14,11 @@ from matplotlib.figure import Figure
 import sixdof
 from sixdof import plots
 from sixdof.analysis.response import MountForces
+from sixdof.cli.figures import FigureError, FigureWorkers
 from sixdof.dofs import DOFS
 from sixdof.errors import InputError
 from sixdof.model.modes import modal_analysis
 from sixdof.model.system import System
-from sixdof.plots.workers import FigureError, FigureWorkers
 from sixdof.results import RunResults, TimeHistory
 from store_cases import run_parts
 from systems import bridge, four_mount

@@ -138,7 +138,7 @@ def test_interrupted_run_keeps_the_previous_results_and_leaves_no_partial_output
     def interrupted(*args, **kwargs):
         raise error("disk full" if error is OSError else None)
 
-    monkeypatch.setattr("sixdof.plots.workers.FigureWorkers.save", interrupted)
+    monkeypatch.setattr("sixdof.plots.drawer.InProcessDrawer.save", interrupted)
     with pytest.raises(error):
         run_scenario(scenario, folder.parent, progress=False)
     after = {p.name: p.read_bytes() for p in folder.iterdir()}

@@ -1,31 +1,15 @@
 """Import JAX with 64-bit floats enabled, and the optional persistent compilation cache.
 
 Every module that uses JAX imports it from here, so that float64 is switched on before any array is
-made: without it JAX silently computes in float32 and still reports success.
+made: without it JAX silently computes in float32 and still reports success. JAX's other settings, and
+``XLA_FLAGS``, are left as the program set them (the ``sixdof`` command sets its own: :mod:`sixdof.cli._process`).
 """
 
 import os
 import sys
 from pathlib import Path
 
-#: XLA:CPU settings sixdof compiles with, where ``XLA_FLAGS`` does not set them already. XLA's newer CPU
-#: fusion emitters take longer to compile sixdof's diffrax solve (measured on the bridge: trace and compile
-#: 2.20 s without them against 2.65 s with them) and gain it back only over long runs (its execution,
-#: 60 against 55 ms); the exact engine's throughput is the same either way. The flags are read when
-#: JAX's CPU backend starts, so they take effect only if it has not started before sixdof was imported.
-XLA_DEFAULTS = {"xla_cpu_use_fusion_emitters": "false"}
-
-
-def _with_xla_defaults(flags: str) -> str:
-    """``flags`` (the ``XLA_FLAGS`` value) with each of :data:`XLA_DEFAULTS` it does not set appended."""
-    given = {item.lstrip("-").split("=", 1)[0] for item in flags.split()}
-    added = [f"--{name}={value}" for name, value in XLA_DEFAULTS.items() if name not in given]
-    return " ".join([flags.strip(), *added]).strip()
-
-
-os.environ["XLA_FLAGS"] = _with_xla_defaults(os.environ.get("XLA_FLAGS", ""))
-
-import jax  # noqa: E402
+import jax
 
 jax.config.update("jax_enable_x64", True)
 

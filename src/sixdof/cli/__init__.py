@@ -11,39 +11,43 @@ left whole: a results folder is replaced completely or not at all (:mod:`sixdof.
 from __future__ import annotations
 
 import argparse
-import atexit
-import json
+import contextlib
+import gc
+import importlib
 import os
 import select
 import signal
 import sys
 import threading
-import traceback
 import warnings
-from contextlib import contextmanager, suppress
+from contextlib import contextmanager
 from functools import partial
 
-from sixdof._gc import collect_less
-from sixdof._malloc import keep_freed_memory
+from sixdof import __version__
+from sixdof.cli import _process
+from sixdof.cli._status import (
+    EXIT_BAD_INPUT,
+    EXIT_CANNOT_WRITE,
+    EXIT_CLOSED_PIPE,
+    EXIT_FAILED,
+    EXIT_INTERRUPTED,
+    EXIT_TARGETS_NOT_MET,
+    EXIT_TERMINATED,
+    EXIT_VALIDATION_FAILED,
+    Terminated,
+    fail,
+)
+from sixdof.cli.figures import FigureWorkers
 from sixdof.interrupts import held_signals
 
-EXIT_FAILED = 1
-EXIT_BAD_INPUT = 2
-EXIT_VALIDATION_FAILED = 3
-EXIT_TARGETS_NOT_MET = 3  # optimize: the best compromise is written, as validate writes a failed validation
-EXIT_CANNOT_WRITE = 74  # EX_IOERR of sysexits.h
-EXIT_INTERRUPTED = 130  # 128 + SIGINT, as a shell reports a process killed by it
-EXIT_CLOSED_PIPE = 141  # 128 + SIGPIPE: as a shell reports a command killed by writing to a closed pipe (`yes | head`)
-EXIT_TERMINATED = 143  # 128 + SIGTERM
+__all__ = ["EXIT_BAD_INPUT", "EXIT_CANNOT_WRITE", "EXIT_CLOSED_PIPE", "EXIT_FAILED", "EXIT_INTERRUPTED",
+           "EXIT_TARGETS_NOT_MET", "EXIT_TERMINATED", "EXIT_VALIDATION_FAILED", "main"]
+
+#: The commands that draw figures: worker processes start drawing before the command's modules load.
+DRAWING = ("run", "validate", "plot")
 
 #: Delay before an interruption swallowed by a finalizer is raised again [s] (:func:`_cleanup_errors`).
 REDELIVERY_S = 0.02
-#: What OpenBLAS reads for its thread count, in this order: a user who set any of them chose (:func:`_one_blas_thread`).
-BLAS_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")
-
-
-class Terminated(BaseException):
-    """SIGTERM, raised like KeyboardInterrupt so that a run cleans up after itself."""
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -51,7 +55,8 @@ def main(argv: list[str] | None = None) -> int:
 
     Called without ``argv`` (as the ``sixdof`` command, reading ``sys.argv``), the process ends as soon
     as the exit handlers registered from then on have run and its output is flushed
-    (:func:`_skip_teardown`); those a program registered before do not run.
+    (:func:`sixdof.cli._process.skip_teardown`); those a program registered before do not run. Only then is
+    the process tuned (:mod:`sixdof.cli._process`): a program calling ``main(argv)`` keeps its settings.
     """
     status = [EXIT_FAILED]  # what the process ends with if the command raises
     try:
@@ -60,11 +65,11 @@ def main(argv: list[str] | None = None) -> int:
             signal.signal(signal.SIGTERM, _terminate)
         args = _parser().parse_args(argv)
         if argv is None:
-            _skip_teardown(status)
-            collect_less()  # the command's process is sixdof's: a program calling main() keeps its settings
-            keep_freed_memory()
-            if args.command in (_run, _validate, _plot):
-                _one_blas_thread()
+            _process.skip_teardown(status)
+            _process.collect_less()  # the command's process is sixdof's: a program calling main() keeps its settings
+            _process.keep_freed_memory()
+            if args.command in DRAWING:
+                _process.one_blas_thread()
     except KeyboardInterrupt:  # while the command starts, before it has done anything
         status[0] = _stopped("interrupted; no partial results were left", EXIT_INTERRUPTED)
         return status[0]
@@ -90,7 +95,7 @@ def _command(args) -> int:
         with _signals(), _cleanup_errors(args.debug), warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", UserWarning)
             try:
-                status = args.command(args)
+                status = _dispatch(args)
                 # Flushed here, where a closed pipe is caught, not by the last flush at exit, which cannot report it.
                 sys.stdout.flush()
                 return status
@@ -102,17 +107,27 @@ def _command(args) -> int:
             return EXIT_CLOSED_PIPE  # whoever read the output stopped reading: nothing failed, nothing to say
         cause = _interruption(exc)  # one a library wrapped (Python 3.11's __set_name__ in a RuntimeError)
         if isinstance(cause, KeyboardInterrupt):
-            return _fail(args, f"interrupted; {_left(cause)}", EXIT_INTERRUPTED)
+            return fail(args, f"interrupted; {_left(cause)}", EXIT_INTERRUPTED)
         if isinstance(cause, Terminated):
-            return _fail(args, f"terminated (SIGTERM); {_left(cause)}", EXIT_TERMINATED)
+            return fail(args, f"terminated (SIGTERM); {_left(cause)}", EXIT_TERMINATED)
         failure = _failure(exc)
         if failure is None:
             raise  # not a user's error: its traceback is what to report
-        return _fail(args, *failure)
+        return fail(args, *failure)
     except KeyboardInterrupt as exc:
-        return _fail(args, f"interrupted; {_left(exc)}", EXIT_INTERRUPTED)
+        return fail(args, f"interrupted; {_left(exc)}", EXIT_INTERRUPTED)
     except Terminated as exc:
-        return _fail(args, f"terminated (SIGTERM); {_left(exc)}", EXIT_TERMINATED)
+        return fail(args, f"terminated (SIGTERM); {_left(exc)}", EXIT_TERMINATED)
+
+
+def _dispatch(args) -> int:
+    """The command's module (:mod:`sixdof.cli.commands`), imported only now and only its own (``sixdof plot``
+    loads no JAX), its ``main`` called with the figure workers of a command that draws: started first, they import
+    matplotlib while this process loads the workflows (NumPy, JAX) and computes."""
+    with FigureWorkers() if args.command in DRAWING else contextlib.nullcontext() as workers:
+        with held_signals():  # what loads here is held with the rest: a Ctrl-C is one line, not an import's traceback
+            command = importlib.import_module(f"sixdof.cli.commands.{args.command}")
+        return command.main(args, workers)
 
 
 def _interruption(exc: BaseException) -> BaseException | None:
@@ -141,8 +156,8 @@ def _failure(exc: Exception) -> tuple[str, int] | None:
     loads NumPy (0.07-0.13 s), which the figure workers that ``run``, ``validate`` and ``plot`` start first
     need not wait for.
     """
-    from sixdof.errors import InputError, SolverError
-    from sixdof.plots.workers import FigureError
+    from sixdof.cli.figures import FigureError  # noqa: PLC0415 (see above)
+    from sixdof.errors import InputError, SolverError  # noqa: PLC0415 (see above)
 
     if isinstance(exc, InputError):
         return f"error: {exc}", EXIT_BAD_INPUT
@@ -179,22 +194,6 @@ def _closed_pipes() -> bool:
             closed = True
     return closed
 
-
-def _skip_teardown(status: list[int]) -> None:
-    """End the process without the interpreter's teardown of every module once the command is done.
-
-    Registered before the command imports anything, so that it runs after every exit handler registered
-    since (JAX's, multiprocessing's...): what is left is freeing the modules of JAX, diffrax and
-    matplotlib one by one, 0.5-0.9 s of a run, for a process whose files are all written and closed.
-    ``status`` holds the exit status (the command's, or 1 when it raised: its traceback is printed by then).
-    """
-    def end() -> None:
-        for stream in (sys.stdout, sys.stderr):
-            with suppress(OSError, ValueError):  # a closed pipe or stream: nothing left to say there
-                stream.flush()
-        os._exit(status[0])
-
-    atexit.register(end)
 
 
 @contextmanager
@@ -239,8 +238,6 @@ def _cleanup_errors(debug: bool):
     try:
         yield
     except BaseException:
-        import gc
-
         # Destroy what the failure left behind while the hook is still in place. Not after a success, which
         # leaves nothing failing behind: a collection then costs ~0.05 s of a run, with JAX's objects loaded.
         gc.collect()
@@ -252,16 +249,7 @@ def _cleanup_errors(debug: bool):
             signal.signal(signal.SIGALRM, alarm[0])
 
 
-def _fail(args, message: str, status: int) -> int:
-    if args.debug:
-        traceback.print_exc()
-    print(f"sixdof: {message}", file=sys.stderr)
-    return status
-
-
 def _parser() -> argparse.ArgumentParser:
-    from sixdof import __version__
-
     parser = argparse.ArgumentParser(
         prog="sixdof", description="Vibration of a rigid body with six degrees of freedom on elastic mounts."
     )
@@ -280,19 +268,19 @@ def _parser() -> argparse.ArgumentParser:
     modes.add_argument("--json", action="store_true", help="print one JSON object instead of tables")
     modes.add_argument("--sensitivity", action="store_true",
                        help="with --json: derivatives of frequencies and decoupling per mount-axis stiffness")
-    modes.set_defaults(command=_modes)
+    modes.set_defaults(command="modes")
 
     run = add("run", help="simulate a scenario; write results, figures and a summary")
     run.add_argument("scenario", help="scenario file (TOML)")
     run.add_argument("--out", default="outputs", help="results go to OUT/<scenario name>/ (default: outputs)")
-    run.set_defaults(command=_run)
+    run.set_defaults(command="run")
 
     check = add(
         "validate", help="check modal frequencies, damping and FRFs against simulated time histories (exit 3 on FAIL)"
     )
     check.add_argument("scenario", help="scenario file (TOML)")
     check.add_argument("--out", default="outputs", help="results go to OUT/<name>_validation/ (default: outputs)")
-    check.set_defaults(command=_validate)
+    check.set_defaults(command="validate")
 
     sweep = add(
         "sweep", help="run many mount variants of a scenario; store frequency and peak distributions"
@@ -305,140 +293,30 @@ def _parser() -> argparse.ArgumentParser:
     _where_arguments(sweep, "chunks")
     sweep.add_argument("--resume", action="store_true",
                        help="continue an interrupted sweep from the chunks it finished (OUT/<name>_sweep.chunks/)")
-    sweep.set_defaults(command=_sweep)
+    sweep.set_defaults(command="sweep")
 
     design = add("optimize", help="optimize the mounts for the scenario's [design] targets (exit 3 if not all met)")
     design.add_argument("scenario", help="scenario file (TOML) with [[design.target]] and [[design.vary]]")
     design.add_argument("--out", default="outputs", help="results go to OUT/<name>_design/ (default: outputs)")
     _where_arguments(design, "robustness samples' chunks")
-    design.set_defaults(command=_optimize)
+    design.set_defaults(command="optimize")
 
     examples = add("examples", help="copy the bundled example scenarios into a folder, to run and adapt")
     examples.add_argument("folder", help="where the scenario files go (created if missing; if any of them is "
                           "already there, nothing is copied and it is named: none is overwritten)")
-    examples.set_defaults(command=_examples)
+    examples.set_defaults(command="examples")
 
     exchange = add("export", help="write a results file's time histories and FRFs as UFF58 or CSV for test tools")
     exchange.add_argument("results", help="results file (results.h5 of a run)")
     exchange.add_argument("--format", choices=("uff58", "csv"), default="uff58", help="file format (default uff58)")
     exchange.add_argument("--out", help="files go to OUT/<name>_export/ (default: beside the results file)")
-    exchange.set_defaults(command=_export)
+    exchange.set_defaults(command="export")
 
     plot = add("plot", help="redraw every figure from a results file, without re-running")
     plot.add_argument("results", help="results file (results.h5 of a run)")
     plot.add_argument("--out", help="folder for the PNG files (default: beside the results file)")
-    plot.set_defaults(command=_plot)
+    plot.set_defaults(command="plot")
     return parser
-
-
-def _modes(args) -> int:
-    with held_signals():
-        from sixdof.io import console
-        from sixdof.schema import naming
-        from sixdof.workflows.modes import modal_run, modes_json
-
-    if args.sensitivity and not args.json:  # before anything is computed
-        raise _input_error("--sensitivity", "--json as well (the derivatives are arrays)", "--sensitivity alone")
-    with naming(args.scenario):  # what the analysis finds wrong in the scenario names its file too
-        run = modal_run(args.scenario, sensitivity=args.sensitivity)
-    if args.json:
-        print(json.dumps(modes_json(run)))
-        return 0
-    print(console.modes_text(run))
-    _print_statics(run.results, run.no_statics)
-    return 0
-
-
-def _print_statics(results, no_statics: str | None = None) -> None:
-    """The statics under gravity (:func:`sixdof.io.console.statics_text`), and a warning for mounts in tension."""
-    from sixdof.io import console
-
-    print(console.statics_text(results, no_statics))
-    if results.statics is not None and results.statics.uplift:
-        warnings.warn(f"mounts in tension (uplift): {', '.join(results.statics.uplift)}", stacklevel=1)
-
-
-def _input_error(field: str, expected: str, got: str) -> Exception:
-    from sixdof.errors import InputError, Plain
-
-    return InputError(field, expected, Plain(got))
-
-
-def _one_blas_thread() -> None:
-    """One BLAS thread per process, unless the user chose otherwise: for the commands that draw figures in
-    worker processes while they compute (``run``, ``validate``, ``plot``), run as the ``sixdof`` command.
-
-    The workers already keep every core busy, and this process' BLAS work is chains of small matrix
-    products (the exact engine, the checks) that gain nothing from more threads. OpenBLAS's threads spin
-    while they wait for the next product, taking cores from the figures: 0.3-0.4 core-seconds of the bridge
-    run, and 25 of the 44 core-seconds of its 2000 s version, which took 30 s either way. Set before NumPy
-    loads (it reads the variable then) and before the figure server starts (it inherits it). OpenBLAS takes
-    ``OMP_NUM_THREADS`` when its own variable is unset: a user's setting of either is kept.
-    """
-    if not any(name in os.environ for name in BLAS_THREAD_VARIABLES):
-        os.environ["OPENBLAS_NUM_THREADS"] = "1"
-
-
-def _run(args) -> int:
-    from sixdof.plots.workers import FigureWorkers
-
-    # Started first: the figure workers import matplotlib while this process loads the scenario and solves.
-    with FigureWorkers() as workers:
-        with held_signals():
-            from sixdof.io import console
-            from sixdof.plots import figure_names
-            from sixdof.schema import naming
-            from sixdof.workflows.run import run_scenario
-
-            _compile_cache()
-        with naming(args.scenario):  # what the run finds wrong in the scenario names its file too
-            results, directory = run_scenario(args.scenario, args.out, progress=_progress(args),
-                                              command_line=" ".join(sys.argv), workers=workers)
-    print(console.run_text(results))
-    print(f"\nWrote {directory}: results.h5, {len(figure_names(results))} figures, summary.md")
-    return 0
-
-
-def _validate(args) -> int:
-    from sixdof.io.report import validation_text
-    from sixdof.io.scenario import load_scenario
-    from sixdof.plots.workers import FigureWorkers
-    from sixdof.schema import naming
-    from sixdof.workflows.validate import validate_scenario
-
-    with FigureWorkers() as workers:  # started first: they import matplotlib while this process computes
-        with held_signals():
-            _compile_cache()
-        scenario = load_scenario(args.scenario)
-        with naming(args.scenario):
-            report, directory = validate_scenario(scenario, args.out, command_line=" ".join(sys.argv),
-                                                  workers=workers, progress=_progress(args))
-    print(validation_text(report))
-    print(f"\nWrote {directory}")
-    if report.verdict != "PASS":
-        failed = sorted({c.mode for c in report.checks if c.verdict != "PASS"})
-        print(f"sixdof: validation FAILED for mode(s) {', '.join(map(str, failed))}: the model and the time "
-              "histories disagree beyond the limits above", file=sys.stderr)
-        return EXIT_VALIDATION_FAILED
-    return 0
-
-
-def _optimize(args) -> int:
-    with held_signals():
-        from sixdof.io.scenario import load_scenario
-        from sixdof.schema import naming
-        from sixdof.workflows.optimize import DESIGN_FILES, optimize_scenario
-
-    _check_workers(args)
-    scenario = load_scenario(args.scenario)
-    with naming(args.scenario):
-        design, directory = optimize_scenario(scenario, args.out, progress=_progress(args), workers=args.workers,
-                                              scheduler=args.scheduler)
-    print(f"\nWrote {directory}: {', '.join(DESIGN_FILES)}")
-    if not design.met:
-        print("sixdof: the targets are not all met (see above); the best compromise is written", file=sys.stderr)
-        return EXIT_TARGETS_NOT_MET
-    return 0
 
 
 def _where_arguments(parser, what: str) -> None:
@@ -451,101 +329,3 @@ def _where_arguments(parser, what: str) -> None:
                        help=f"compute the {what} on an existing Dask cluster (tcp://host:8786)")
 
 
-def _check_workers(args) -> None:
-    """``--workers`` checked before anything is read (:func:`sixdof.workflows.tasks.check_workers`)."""
-    if args.workers is not None:
-        from sixdof.errors import integer
-        from sixdof.workflows.tasks import check_workers
-
-        check_workers(integer(args.workers, "--workers", "a number of worker processes >= 1", 1))
-
-
-def _export(args) -> int:
-    from sixdof.io.exchange import export
-
-    files = export(args.results, args.out, args.format)
-    print(f"Wrote {files[0].parent}: {', '.join(f.name for f in files)}")
-    return 0
-
-
-def _sweep(args) -> int:
-    with held_signals():
-        from sixdof.errors import SolverError
-        from sixdof.io import console, report
-        from sixdof.io.output import check_target
-        from sixdof.io.scenario import load_scenario
-        from sixdof.io.sweep import load_sweep_spec
-        from sixdof.schema import naming
-        from sixdof.workflows.prepare import prepare
-        from sixdof.workflows.sweep import CHUNKS_SUFFIX, ChunkFolder, sweep_scenario, sweep_tables
-
-        _check_workers(args)
-        _compile_cache()
-    scenario = load_scenario(args.scenario)
-    spec = load_sweep_spec(args.spec)
-
-    def chunk_folder():
-        target = check_target(args.out, scenario.name, "_sweep")
-        return target.with_name(target.name + CHUNKS_SUFFIX)
-
-    try:
-        with naming(args.scenario):  # the spec's own errors name the spec's file already
-            scenario = prepare(scenario)
-            result, directory = sweep_scenario(scenario, spec, args.out, chunk_size=args.chunk_size,
-                                               workers=args.workers, scheduler=args.scheduler, resume=args.resume,
-                                               progress=_progress(args), command_line=" ".join(sys.argv))
-    except (KeyboardInterrupt, Terminated, SolverError) as exc:
-        chunks = chunk_folder()
-        kept = len(ChunkFolder.finished_in(chunks))
-        if not kept:
-            raise
-        finished = f"the {kept} chunks finished are" if kept > 1 else "the chunk finished is"
-        note = f"{finished} kept in {chunks}: the same command with --resume computes only the others"
-        if isinstance(exc, SolverError):
-            return _fail(args, f"the solve failed: {exc}; {note}", EXIT_FAILED)
-        if isinstance(exc, Terminated):
-            return _fail(args, f"terminated (SIGTERM); {note}", EXIT_TERMINATED)
-        return _fail(args, f"interrupted; {note}", EXIT_INTERRUPTED)
-    print(f"{console.title(scenario)}\n")
-    print(sweep_tables(directory / "sweep.h5", scenario))
-    if result.cross_check is not None:
-        print(f"\n{report.cross_check_text(result)}")
-    resumed = f", {result.resumed} of them resumed" if result.resumed else ""
-    print(f"\nWrote {directory / 'sweep.h5'} and summary.md ({spec.count} variants, {result.engine} engine, "
-          f"{result.chunks} chunk{'s' if result.chunks != 1 else ''}{resumed}, {result.backend} with "
-          f"{result.workers} worker{'s' if result.workers != 1 else ''}, {result.wall_time_s:.2f} s)")
-    return 0
-
-
-def _progress(args) -> bool:
-    """Whether to show progress: not with ``--quiet``, and only where someone watches (redirected to a log,
-    a meter redrawn in place would be noise)."""
-    return not args.quiet and sys.stderr.isatty()
-
-
-def _compile_cache() -> None:
-    """Reuse compiled solvers across runs (JAX's persistent cache; SIXDOF_JAX_CACHE=off disables)."""
-    from sixdof._jax import enable_compilation_cache
-
-    enable_compilation_cache()
-
-
-def _examples(args) -> int:
-    from sixdof.examples import copy_examples
-
-    copied = copy_examples(args.folder)
-    print(f"Copied {len(copied)} files into {args.folder}; run one with\n"
-          f"  sixdof run {os.path.join(args.folder, 'bridge_beam_traffic.toml')}")
-    return 0
-
-
-def _plot(args) -> int:
-    from sixdof.plots.workers import FigureWorkers
-
-    with FigureWorkers() as workers:  # started first: they import matplotlib while the file is read
-        from sixdof.workflows.redraw import redraw
-
-        figures = redraw(args.results, args.out, workers=workers)
-    for figure in figures:
-        print(figure)
-    return 0

@@ -8,19 +8,19 @@ bode_plot(response)``)::
 
     fig = plot_bode(receptance(system, f_hz), modes=system.modes)
 
-Each function takes the objects it draws (:class:`~sixdof.model.modes.Modes`,
+Each function takes the objects it draws (:class:`~sixdof.analysis.modal.Modes`,
 :class:`~sixdof.results.TimeHistory`, :class:`~sixdof.analysis.frf.FRF`,
 :class:`~sixdof.validation.ValidationReport`...) and returns its figure so that tests and users can
 inspect or restyle it; :func:`save_all` draws every figure a :class:`~sixdof.results.RunResults`
 allows (a live run, or a stored one from :func:`sixdof.io.store.load_results`) and writes each as PNG,
-and :func:`render` draws one of them to PNG bytes (what the worker processes of
-:class:`~sixdof.plots.workers.FigureWorkers` do for the command line).
+and :func:`render` draws one of them to PNG bytes (what the command line's figure workers do,
+:mod:`sixdof.cli.figures`); :mod:`~sixdof.plots.drawer` draws a run's figures as the workflows submit them.
 
 Figures are built as :class:`matplotlib.figure.Figure` objects without pyplot: no backend, no display
 and no global figure list are involved (they render with Agg when saved, work headless, and show in
 Jupyter), and nothing needs closing. Importing this package loads no matplotlib: each name is imported
 from its module on first use, so that a process can decide which figures a run allows (:data:`FIGURES`)
-and leave the drawing to worker processes (:class:`sixdof.plots.workers.FigureWorkers`).
+and leave the drawing to worker processes (:mod:`sixdof.cli.figures`).
 
 Modules: :mod:`~sixdof.plots.common` (display units, envelope decimation, margins, panel grid,
 titles), :mod:`~sixdof.plots.modes`, :mod:`~sixdof.plots.time`, :mod:`~sixdof.plots.frf`,
@@ -33,13 +33,7 @@ import sys
 from collections.abc import Callable, Mapping
 from pathlib import Path
 
-import numpy as np
-
 from sixdof._lazy import lazy_names
-from sixdof.analysis.frf import ForceTransmissibility, GroundTransmissibility, PointFRF
-from sixdof.analysis.mountcheck import carries_shear
-from sixdof.errors import InputError
-from sixdof.results import RunResults
 
 #: Public name -> module of this package that defines it, imported when the name is first used.
 _PUBLIC = {
@@ -82,6 +76,8 @@ _plots = sys.modules[__name__]
 
 
 def _carries_shear(check) -> bool:
+    from sixdof.analysis.mountcheck import carries_shear  # noqa: PLC0415 (loads NumPy: the command's figure workers start first)
+
     return carries_shear(check)
 
 
@@ -97,6 +93,8 @@ def _linear_name(run) -> str:
 
 def _file_order(extras: Mapping[str, object]) -> dict[str, object]:
     """``extras`` in the results file's order (by kind, then name): a live and a loaded run draw alike."""
+    from sixdof.analysis.frf import ForceTransmissibility, GroundTransmissibility, PointFRF  # noqa: PLC0415 (loads NumPy: the command's figure workers start first)
+
     kinds = (ForceTransmissibility, GroundTransmissibility, PointFRF)
 
     def key(item):
@@ -153,6 +151,9 @@ FIXED_TITLES = {"axes.titley": 1.0}
 def figure_names(run) -> list[str]:
     """File names of the figures a :class:`~sixdof.results.RunResults` allows, in the order of
     :data:`FIGURES`."""
+    from sixdof.errors import InputError  # noqa: PLC0415 (loads NumPy: the command's figure workers start first)
+    from sixdof.results import RunResults  # noqa: PLC0415 (loads NumPy: the command's figure workers start first)
+
     if not isinstance(run, RunResults):
         raise InputError("run", "a sixdof.results.RunResults", run)
     return [name for name, _, drawable, _ in FIGURES if drawable(run)]
@@ -175,9 +176,10 @@ def render(run, file_name: str, dpi: int | None = None) -> bytes:
 def png(figure, dpi: int | None = None) -> bytes:
     """A figure as PNG bytes, the way :func:`render` draws it: the pixels ``figure.savefig`` draws, written
     by :func:`~sixdof.plots.common.png_bytes`."""
+    import numpy as np  # noqa: PLC0415 (drawing only: importing sixdof.plots loads nothing)
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
-    from sixdof.plots.common import freeze_unlabelled_ticks, png_bytes  # noqa: PLC0415 (matplotlib, which sixdof.plots loads on first drawing)
+    from sixdof.plots.common import freeze_unlabelled_ticks, png_bytes  # noqa: PLC0415 (loads matplotlib: the command's figure workers start first)
 
     freeze_unlabelled_ticks(figure)
     dpi = dpi or _plots.DPI

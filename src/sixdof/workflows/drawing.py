@@ -2,10 +2,10 @@
 
 import contextlib
 
-from sixdof.plots.workers import FigureWorkers
+from sixdof.plots.drawer import InProcessDrawer
 
 
 def drawer(drawing):
-    """``drawing`` (``submit(results)``, ``save(folder) -> list of paths``) as a context that leaves it open, or
-    figures drawn in this process when ``None``."""
-    return FigureWorkers(processes=0) if drawing is None else contextlib.nullcontext(drawing)
+    """``drawing`` (a :class:`~sixdof.plots.drawer.FigureDrawer`) as a context that leaves it open (its owner closes
+    it), or an :class:`~sixdof.plots.drawer.InProcessDrawer` when ``None``."""
+    return InProcessDrawer() if drawing is None else contextlib.nullcontext(drawing)

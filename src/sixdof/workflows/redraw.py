@@ -18,7 +18,7 @@ def redraw(results: str | Path, directory: str | Path | None = None, *,
     (:func:`sixdof.io.output.replace_files`). A namesake that sixdof did not write is never replaced: it is
     refused before anything is drawn.
 
-    The figures are drawn by ``workers`` (:class:`sixdof.plots.workers.FigureWorkers`; the command line
+    The figures are drawn by ``workers`` (:class:`sixdof.plots.drawer.FigureDrawer`; the command line
     starts them before it reads the file); default: in this process.
 
     Returns

@@ -215,7 +215,7 @@ def save(results: RunResults, out_root: str | Path = "outputs", *, sink=None, dr
         filesystem), instead of one written from ``results`` (which hold only what the figures draw).
     drawing : optional
         What draws the figures (``submit(results)``, ``save(folder) -> list of paths``); default
-        :class:`sixdof.plots.workers.FigureWorkers` in this process.
+        :class:`sixdof.plots.drawer.InProcessDrawer`.
     command_line : str, optional
         Stored as provenance.
 

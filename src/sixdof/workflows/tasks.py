@@ -150,7 +150,7 @@ def dask_setup(worker) -> None:
     """Dask's preload hook, run in each worker process of a local cluster as it starts (``preload`` of
     :func:`task_runner`'s ``LocalCluster``): the worker ignores SIGINT. Ctrl-C reaches the whole process group;
     this process alone handles it and closes the cluster, as the figure workers leave it to this process
-    (:mod:`sixdof.plots.workers`). Without it each worker's event loop stops on the KeyboardInterrupt and prints
+    (:mod:`sixdof.cli.figures`). Without it each worker's event loop stops on the KeyboardInterrupt and prints
     its traceback, some 30 lines a worker, before sixdof's one line.
 
     Not on a cluster sixdof did not start (``--scheduler``, ``client=``): its workers' Ctrl-C is their owner's."""

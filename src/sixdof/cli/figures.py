@@ -1,5 +1,6 @@
-"""Figures drawn in worker processes while a run computes (the command line's ``run``, ``validate`` and
-``plot``).
+"""Figures drawn in worker processes while a run computes (the ``sixdof`` command's ``run``, ``validate`` and
+``plot``): a :class:`~sixdof.plots.drawer.FigureDrawer` for the workflows, private to the command (a program
+calling the library draws in its own process, :class:`~sixdof.plots.drawer.InProcessDrawer`).
 
 Importing this module loads neither matplotlib nor NumPy: the command line starts the workers before
 anything else.
@@ -17,10 +18,10 @@ import threading
 from collections.abc import Iterator
 from concurrent.futures import Future, ProcessPoolExecutor, ThreadPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
+from multiprocessing import forkserver
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from sixdof.interrupts import held_signals
 from sixdof.plots import FIGURES, render
 
 if TYPE_CHECKING:
@@ -28,7 +29,7 @@ if TYPE_CHECKING:
 
 #: Imported once by the worker server before it forks the workers: every plot module, and a small
 #: drawing that loads the rest (Agg, the fonts, mathtext's parser, 3-D axes): each worker starts warm.
-_PRELOAD = ["sixdof.plots._warm"]
+_PRELOAD = ["sixdof.cli._warm"]
 #: Handed out first when several figures are submitted at once: the slowest of each batch (measured),
 #: so that the workers finish together.
 _SLOWEST_FIRST = ("superposition.png", "bode.png", "point_frfs.png", "mode_shapes.png")
@@ -43,8 +44,7 @@ class FigureWorkers:
     """The figures of a run, drawn to PNG in worker processes while the run computes.
 
     The workers are forked from a server process that imports matplotlib and the plotting code once
-    (:mod:`multiprocessing`'s "forkserver"; both run at a lower priority than this process, whose solve
-    the time figures wait for), started when this object is made: the command line makes
+    (:mod:`multiprocessing`'s "forkserver"), started when this object is made: the command line makes
     it before it loads anything else, so that the imports overlap the scenario's parsing and solve. A
     fresh server, not a fork of this process, which may hold JAX's threads (forking them is unsafe).
     As with any such server, a script that starts workers must guard its main code with
@@ -62,20 +62,14 @@ class FigureWorkers:
     ----------
     processes : int, optional
         Number of workers; default: the CPUs this process may use (at least 2: the main process
-        mostly waits once the solve is done). 0: no workers, :meth:`save` draws in this process (what
-        the library's workflows do unless given workers).
+        mostly waits once the solve is done).
     dpi : int, optional
         Resolution of the PNG files [dots per inch]; default :data:`sixdof.plots.DPI`.
     """
 
     def __init__(self, processes: int | None = None, dpi: int | None = None) -> None:
         self.dpi = dpi
-        self._jobs: dict[str, Future | RunResults] = {}  # a figure's PNG to come, or the run to draw it from
-        self._pool = self._handover = None
-        if processes == 0:
-            return
-        from multiprocessing import forkserver
-
+        self._jobs: dict[str, Future] = {}  # each figure's PNG to come
         context = multiprocessing.get_context("forkserver")
         context.set_forkserver_preload(_PRELOAD)
         with _sigint_ignored():  # the server and its workers inherit it: Ctrl-C is this process' business
@@ -88,9 +82,6 @@ class FigureWorkers:
     def submit(self, run: RunResults) -> None:
         """Start drawing every figure ``run`` allows that was not submitted before."""
         new = [(name, reads) for name, reads, drawable, _ in FIGURES if name not in self._jobs and drawable(run)]
-        if self._pool is None:
-            self._jobs.update((name, run) for name, _ in new)
-            return
         new.sort(key=lambda job: _SLOWEST_FIRST.index(job[0]) if job[0] in _SLOWEST_FIRST else len(_SLOWEST_FIRST))
         fields = _Drawn(run)
         for name, reads in new:
@@ -101,15 +92,10 @@ class FigureWorkers:
         :data:`sixdof.plots.FIGURES`."""
         written = []
         for name in [name for name, *_ in FIGURES if name in self._jobs]:
-            job = self._jobs[name]
-            if self._pool is None:
-                with held_signals():  # matplotlib's C code can swallow a KeyboardInterrupt
-                    png = render(job, name, self.dpi)
-            else:
-                try:
-                    png = job.result().result()
-                except BrokenProcessPool as exc:
-                    raise FigureError(f"{name}: a figure worker ended abruptly ({exc})") from exc
+            try:
+                png = self._jobs[name].result().result()
+            except BrokenProcessPool as exc:
+                raise FigureError(f"{name}: a figure worker ended abruptly ({exc})") from exc
             path = directory / name
             path.write_bytes(png)
             written.append(path)
@@ -117,8 +103,6 @@ class FigureWorkers:
 
     def close(self, cancel: bool = False) -> None:
         """Let the workers go; with ``cancel``, stop them where they are."""
-        if self._pool is None:
-            return
         self._handover.shutdown(wait=not cancel, cancel_futures=cancel)
         if cancel:
             # ProcessPoolExecutor can only wait for running jobs: end the workers instead (SIGTERM).
@@ -185,7 +169,7 @@ class _Drawn:
 
     def field(self, name: str):
         if name not in self._fields:
-            from sixdof.results import TimeHistory
+            from sixdof.results import TimeHistory  # noqa: PLC0415 (NumPy: loaded after the workers have started)
 
             value = getattr(self._source, name)
             if isinstance(value, TimeHistory):
@@ -194,6 +178,6 @@ class _Drawn:
         return self._fields[name]
 
     def run(self, reads: tuple[str, ...]) -> RunResults:
-        from sixdof.results import RunResults
+        from sixdof.results import RunResults  # noqa: PLC0415 (NumPy: loaded after the workers have started)
 
         return RunResults(name=self._source.name, **{name: self.field(name) for name in reads})

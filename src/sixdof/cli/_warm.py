@@ -1,4 +1,4 @@
-"""Imported by the figure workers' server before it forks them (:mod:`sixdof.plots.workers`): imports
+"""Imported by the figure workers' server before it forks them (:mod:`sixdof.cli.figures`): imports
 every plot module and draws a small figure, which loads what matplotlib otherwise loads on a first
 drawing (the Agg canvas and PNG writer, the fonts, mathtext's parser for log-axis labels, 3-D axes), so
 that each worker forked from the server starts warm.
@@ -7,22 +7,20 @@ The server ends with the command that started it, with nothing to clean up: it s
 teardown of matplotlib's modules (~0.3 s), during which it would hold the command's output open (a
 caller reading that output through a pipe would wait for it).
 
-Garbage is collected less often, as in the command's process (:mod:`sixdof._gc`), and what the server
-loaded is left out of every collection (:func:`gc.freeze`): the workers inherit both, and their memory
-pages stay shared with the server's instead of being copied when a collection touches them.
+Garbage is collected less often, as in the command's process (:func:`sixdof.cli._process.collect_less`), and
+what the server loaded is left out of every collection (:func:`gc.freeze`): the workers inherit both, and their
+memory pages stay shared with the server's instead of being copied when a collection touches them. They run
+at the command's priority: at nice +5 they lost their share of a busy machine's cores to other programs, and the
+run waited for its figures (``benchmarks/history.md``).
 """
 
 import atexit
 import gc
 import os
 
-from sixdof._gc import collect_less
+from sixdof.cli import _process
 
-collect_less()  # before the imports below, which allocate most of what the server holds
-# The server and the workers it forks run at a lower priority: the command's process, whose solve the time
-# figures wait for, keeps a core to itself while they import matplotlib and draw the modal and FRF figures
-# (bridge run, in pairs: cold 0.93-0.97x, repeated unchanged, being bound by the CPU work of the whole).
-os.nice(5)
+_process.collect_less()  # before the imports below, which allocate most of what the server holds
 
 from matplotlib.figure import Figure  # noqa: E402
 

@@ -123,15 +123,16 @@ def test_plot_of_a_sweep_file_is_an_error_not_an_empty_success(tmp_path, capsys)
 
 
 def test_warnings_go_to_stderr_and_prose_lines_stay_short(tmp_path, capsys):
-    """``modes`` warns of uplift on stderr, as every command warns; the run's report has no line over 120
+    """``modes`` and ``run`` warn of uplift on stderr, as every command warns; the run's report has no line over 120
     characters (the agreement's per-DOF values on a line of their own)."""
     overhang = tmp_path / "overhang.toml"
     overhang.write_text('name = "overhang"\n[body]\nmass = 100.0\ninertia = [5.0, 5.0, 5.0]\n'
                         '[[mounts]]\nname = "near"\nposition = [0, 0.5, 0]\nstiffness = [1e5, 1e5, 1e6]\n'
                         '[[mounts]]\nname = "far"\nposition = [0, 1.5, 0]\nstiffness = [1e5, 1e5, 1e6]\n')
-    assert main(["modes", str(overhang)]) == 0
-    out, err = capsys.readouterr()
-    assert "WARNING: mounts in tension (uplift): far" in err and "WARNING" not in out
+    for command in ("modes", "run"):
+        assert main([command, str(overhang), *(["--out", str(tmp_path)] if command == "run" else [])]) == 0
+        out, err = capsys.readouterr()
+        assert "WARNING: mounts in tension (uplift): far" in err and "WARNING" not in out, command
     assert main(["run", "scenarios/bridge_beam_traffic.toml", "--out", str(tmp_path), "--quiet"]) == 0
     out = capsys.readouterr().out
     assert "  per DOF: x " in out

@@ -78,10 +78,22 @@ def test_a_run_too_long_for_memory_needs_a_sink_and_streams_into_it(tmp_path, mo
     # In memory only what the figures draw; every sample in the sink's file.
     stored = load_tree(sink.path)
     assert stored.array("time/t").size == scenario.simulation.samples > results.response.t.size
+    with pytest.raises(sixdof.InputError, match=r"sink: expected the sink the run streamed into .* got [0-9,]+ of 1,501 samples and no sink"):
+        sixdof.save(results, tmp_path / "out")  # the results alone are the figures' samples: refused
     folder = sixdof.save(results, tmp_path / "out", sink=sink)
-    assert (folder / "results.h5").is_file() and not sink.path.exists()
+    assert (folder / "results.h5").is_file() and sink.path.is_file()  # the user's file stays theirs
     assert load_tree(folder / "results.h5").array("time/t").size == scenario.simulation.samples
     assert "## Time response" in (folder / "summary.md").read_text()
+
+
+def test_a_sink_without_a_simulation_and_results_without_a_scenario_are_refused(tmp_path):
+    scenario = sixdof.parse_scenario(SCENARIO.split("[simulation]")[0], "small.toml")
+    with pytest.raises(sixdof.InputError, match=r"sink: expected a scenario with a \[simulation\]"):
+        sixdof.run(scenario, sink=object())
+    folder = sixdof.save(sixdof.run(scenario), tmp_path)
+    with pytest.raises(sixdof.InputError, match=r"results: expected the RunResults of sixdof.run"):
+        sixdof.save(sixdof.load_results(folder / "results.h5"), tmp_path / "again")
+    assert not (tmp_path / "again").exists()
 
 
 def test_loading_a_scenario_computes_nothing(monkeypatch):

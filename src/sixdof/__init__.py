@@ -20,6 +20,7 @@ _PUBLIC = {
     "DOF_UNITS": "dofs",
     "InputError": "errors",
     "ScenarioError": "errors",
+    "NotPrepared": "io.scenario",
     "SolverError": "errors",
     # The model and scenarios.
     "Maxwell": "model.system",

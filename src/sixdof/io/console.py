@@ -8,7 +8,8 @@ from sixdof.io import report
 
 
 def title(results) -> str:
-    """The first line a command prints of its scenario: its name and description (the name alone without one)."""
+    """The first line a command prints of its scenario (or of results, which carry its name and description): the
+    name and the description (the name alone without one)."""
     return f"{results.name}: {results.description}" if results.description else results.name
 
 

@@ -29,7 +29,8 @@ class FigureDrawer(Protocol):
 
 
 class InProcessDrawer:
-    """A :class:`FigureDrawer` that draws in this process, when the figures are saved.
+    """A :class:`FigureDrawer` that draws in this process, when the figures are saved: one run's figures (the first
+    results submitted for a figure are the ones it is drawn from; a new run takes a new drawer).
 
     Parameters
     ----------

@@ -104,7 +104,7 @@ def _absolute_files(node, base: Path) -> None:
             _absolute_files(value, base)
 
 
-def design_run(scenario, *, progress: bool = True, log=print, runner=None) -> DesignRun:
+def design_run(scenario, *, progress: bool = False, log=None, runner=None) -> DesignRun:
     """Optimize ``scenario``'s mounts for its ``[design]`` targets and study the design's robustness, writing
     nothing.
 
@@ -114,8 +114,8 @@ def design_run(scenario, *, progress: bool = True, log=print, runner=None) -> De
         With ``[[design.target]]`` and ``[[design.vary]]`` entries.
     progress : bool
         Show the starts done.
-    log : callable
-        Receives the terminal's tables.
+    log : callable, optional
+        Receives the terminal's tables (default: nothing printed).
     runner : optional
         Where the robustness study's chunks run (:func:`sixdof.workflows.tasks.task_runner`): default this process.
 
@@ -137,7 +137,8 @@ def design_run(scenario, *, progress: bool = True, log=print, runner=None) -> De
     peaks = None if spread.peak_percentiles is None else tuple(
         _peaks(s, scenario) for s in (scenario.system, system))
     tables = report.design_tables(problem, result, spread, peaks, report.moving_ground(scenario), system)
-    log(tables)
+    if log is not None:
+        log(tables)
     return DesignRun(scenario=scenario, problem=problem, result=result, robustness=spread, system=system,
                      peaks=peaks, tables=tables)
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import shutil
 import warnings
 from dataclasses import dataclass
 from functools import partial
@@ -138,16 +139,23 @@ def run(scenario: Scenario | str | Path, *, sink=None, progress: bool = False, l
     Raises
     ------
     sixdof.errors.InputError
-        A run too long to hold in memory without a ``sink``.
+        A run too long to hold in memory without a ``sink``, or a ``sink`` for a scenario without a
+        ``[simulation]``: before anything is computed.
     """
-    scenario = prepare(scenario)
-    log = log or _silent
+    if not isinstance(scenario, Scenario):
+        scenario = load_scenario(scenario)
     simulation = scenario.simulation
+    # Refused before anything is computed (the preparation's fits and statics included).
     if simulation is not None and sink is None and simulation.samples > MEMORY_SAMPLES:
         raise InputError("sink", f"a sink for a run of more than {MEMORY_SAMPLES:,} output samples, which is not "
-                         "held in memory (sixdof.run(scenario, sink=sixdof.ResultsStream(path)), or "
-                         "sixdof.run_scenario, which streams into its results folder)",
+                         "held in memory (with sixdof.ResultsStream(path) as sink: sixdof.run(scenario, sink=sink); "
+                         "or sixdof.run_scenario, which streams into its results folder)",
                          Plain(f"{simulation.samples:,} samples and no sink"))
+    if sink is not None and simulation is None:
+        raise InputError("sink", "a scenario with a [simulation], whose time response the sink takes",
+                         Plain("no [simulation]"))
+    scenario = prepare(scenario)
+    log = log or _silent
     system, timed = scenario.system, scenario.time_system
     modes = system.modes
     statics, no_statics = try_gravity_statics(timed, scenario.statics.gravity, scenario.statics.direction)
@@ -211,8 +219,9 @@ def save(results: RunResults, out_root: str | Path = "outputs", *, sink=None, dr
         As :func:`run` returns them.
     out_root : str or pathlib.Path
     sink : sixdof.io.stream.ResultsStream, optional
-        The sink the run streamed into: its finished file becomes ``results.h5`` (moved, on the same
-        filesystem), instead of one written from ``results`` (which hold only what the figures draw).
+        The sink the run streamed into: its finished file becomes ``results.h5`` (linked, or copied across
+        filesystems: the sink's file stays where it is), instead of one written from ``results`` (which hold only
+        what the figures draw). Its command line is the one it was opened with.
     drawing : optional
         What draws the figures (``submit(results)``, ``save(folder) -> list of paths``); default
         :class:`sixdof.plots.drawer.InProcessDrawer`.
@@ -224,6 +233,7 @@ def save(results: RunResults, out_root: str | Path = "outputs", *, sink=None, dr
     pathlib.Path
         The folder written.
     """
+    _check_saveable(results, sink)
     target = output.check_target(out_root, results.name)
     with drawer(drawing) as drawing:
         return output.write_folder(target, lambda stage: _save_into(stage, results, sink, drawing, command_line))
@@ -275,12 +285,31 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
     return computed[0], target
 
 
+def _check_saveable(results: RunResults, sink) -> None:
+    """``results`` as :func:`run` returns them (with their scenario), and whole unless their ``sink`` comes too."""
+    scenario = results.scenario
+    if scenario is None:
+        raise InputError("results", "the RunResults of sixdof.run (they carry the scenario their summary is made "
+                         "of); a results file is redrawn by sixdof.workflows.redraw.redraw",
+                         Plain("results without their scenario"))
+    simulation = scenario.simulation
+    if sink is None and simulation is not None and results.response.t.size != simulation.samples:
+        raise InputError("sink", "the sink the run streamed into (its results hold only the samples the figures "
+                         "draw)", Plain(f"{results.response.t.size:,} of {simulation.samples:,} samples and no sink"))
+
+
 def _save_into(stage: Path, results: RunResults, sink, drawing, command_line: str | None) -> None:
-    """``results.h5`` (the sink's, or written from ``results``), the figures and ``summary.md`` into ``stage``."""
+    """``results.h5`` (the sink's, or written from ``results``), the figures and ``summary.md`` into ``stage``.
+    A sink's file elsewhere is linked (copied across filesystems), never moved: it stays the user's."""
     if sink is None:
-        store.write_results(stage / "results.h5", results, command_line=command_line)
+        timed = results.scenario.simulation is not None  # what [output] leaves out is derived from the time response
+        store.write_results(stage / "results.h5", results, command_line=command_line,
+                            omit=results.scenario.output.omitted if timed else ())
     elif Path(sink.path) != stage / "results.h5":
-        os.replace(sink.path, stage / "results.h5")
+        try:
+            os.link(sink.path, stage / "results.h5")
+        except OSError:  # another filesystem, or one without hard links
+            shutil.copyfile(sink.path, stage / "results.h5")
     drawing.submit(results)
     figures = drawing.save(stage)
     (stage / "summary.md").write_text(report.summary_markdown(results, figures), encoding="utf-8")

@@ -17,6 +17,7 @@ from sixdof.analysis.statespace import damping_ratios
 from sixdof.analysis.validity import RangeWarning
 from sixdof.io import output, store
 from sixdof.io.report import validation_text
+from sixdof.io.scenario import Scenario, load_scenario
 from sixdof.results import RunResults
 from sixdof.validation import validate
 from sixdof.workflows.drawing import drawer
@@ -74,8 +75,9 @@ def validate_scenario(scenario, out_root: str | Path = "outputs", *, command_lin
     tuple of (sixdof.validation.ValidationReport, pathlib.Path)
         The report and the folder written.
     """
-    scenario = prepare(scenario)
+    scenario = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
     target = output.check_target(out_root, scenario.name, "_validation")
+    scenario = prepare(scenario)
     with drawer(workers) as drawing:
         results = validation_run(scenario, progress=progress, drawing=drawing)
         output.write_folder(target, lambda stage: _save_into(stage, results, drawing, command_line))

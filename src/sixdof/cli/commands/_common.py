@@ -13,8 +13,13 @@ from sixdof.workflows.tasks import check_workers
 def print_statics(results, no_statics: str | None = None) -> None:
     """The statics under gravity (:func:`sixdof.io.console.statics_text`), and a warning for mounts in tension."""
     print(console.statics_text(results, no_statics))
+    warn_uplift(results)
+
+
+def warn_uplift(results) -> None:
+    """A warning naming the mounts that the statics under gravity put in tension, if any."""
     if results.statics is not None and results.statics.uplift:
-        warnings.warn(f"mounts in tension (uplift): {', '.join(results.statics.uplift)}", stacklevel=1)
+        warnings.warn(f"mounts in tension (uplift): {', '.join(results.statics.uplift)}", stacklevel=2)
 
 
 def check_workers_option(args) -> None:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 
-from sixdof.cli.commands._common import compile_cache, progress
+from sixdof.cli.commands._common import compile_cache, progress, warn_uplift
 from sixdof.interrupts import held_signals
 from sixdof.io import console
 from sixdof.plots import figure_names
@@ -19,5 +19,6 @@ def main(args, workers=None) -> int:
         results, directory = run_scenario(args.scenario, args.out, progress=progress(args),
                                           command_line=" ".join(sys.argv), workers=workers)
     print(console.run_text(results))
+    warn_uplift(results)
     print(f"\nWrote {directory}: results.h5, {len(figure_names(results))} figures, summary.md")
     return 0

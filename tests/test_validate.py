@@ -24,9 +24,9 @@ from sixdof import (
     validate,
 )
 from sixdof.cli import EXIT_VALIDATION_FAILED, main
-from sixdof.io.report import validation_text
 from sixdof.io.scenario import load_scenario
 from sixdof.io.store import load_results
+from sixdof.io.study_report import validation_text
 from sixdof.validation import (
     ValidationSettings,
     decay_estimate,

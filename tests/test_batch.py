@@ -34,7 +34,7 @@ from sixdof import (
 from sixdof.analysis.batch import batch_frequencies, make_variants, run_batch, variant_matrices, variant_system
 from sixdof.analysis.modal import pair_by_similarity, repeated_groups
 from sixdof.analysis.sweep import Study
-from sixdof.io.report import summary_table, tracked_modes_table
+from sixdof.io.study_report import summary_table, tracked_modes_table
 from sixdof.io.sweep import load_sweep_spec, parse_sweep_spec
 from sixdof.model.viscoelastic import LOSS_FACTOR_TARGET
 from sixdof.workflows.prepare import prepare

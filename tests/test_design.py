@@ -12,8 +12,8 @@ import pytest
 from sixdof import InputError, Mount, RigidBody, System, parse_scenario, prepare
 from sixdof.analysis.design import design_metrics, elastic_center, sensitivities
 from sixdof.cli import main
-from sixdof.io.report import SHOWN_AS_ZERO_RTOL
 from sixdof.io.scenario import load_scenario
+from sixdof.io.tables import SHOWN_AS_ZERO_RTOL
 from sixdof.model.kinematics import mount_matrix
 from sixdof.model.modes import modal_analysis
 from systems import bridge, skewed_box

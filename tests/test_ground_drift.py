@@ -12,8 +12,9 @@ from sixdof.dofs import display_unit
 from sixdof.errors import ScenarioError
 from sixdof.excitation import GroundMotion, Table
 from sixdof.excitation.baseline import BASELINE_DEGREE, integrate_record, polynomial_baseline
+from sixdof.files import read_table_csv
 from sixdof.io.report import baseline_text, peaks_text, points_table
-from sixdof.io.scenario import load_scenario, parse_scenario, read_table_csv
+from sixdof.io.scenario import load_scenario, parse_scenario
 from sixdof.results import TimeHistory
 from sixdof.workflows.run import run_scenario
 from tolerances import RTOL_BASELINE, RTOL_RECORD_INTEGRAL

@@ -18,6 +18,7 @@ from sixdof.design.optimize import optimize, robustness
 from sixdof.design.problem import DesignProblem
 from sixdof.dofs import DOFS
 from sixdof.io.store import build_results, load_results, load_tree
+from sixdof.workflows.prepare import prepare
 
 # A body on a V pair of mounts at (+-A, 0, -H), each tilted by THETA0 in the x-z plane towards the other,
 # and a soft vertical mount under the front keeping it upright.
@@ -160,7 +161,7 @@ def test_a_robust_objective_needs_a_tolerance():
 
 
 def test_robustness_without_scatter_is_the_design_itself():
-    scenario = load_scenario("scenarios/engine_inclined_mounts.toml")
+    scenario = prepare(load_scenario("scenarios/engine_inclined_mounts.toml"))
     problem = DesignProblem(scenario.system, _with(scenario.design, tolerance=0.0, samples=5))
     x = problem.initial
     spread = robustness(problem, x, None, scenario.excitation, scenario.simulation)
@@ -382,7 +383,7 @@ def test_optimize_refuses_a_bad_place_for_its_robustness_chunks_before_computing
 def test_the_design_peaks_under_a_moving_ground_are_said_to_be_absolute():
     from types import SimpleNamespace
 
-    from sixdof.io.report import _design_peaks
+    from sixdof.io.study_report import _design_peaks
 
     spread = SimpleNamespace(tolerance=0.2, peak_percentiles=np.ones((12, 3)), responses=SimpleNamespace(cross_check=None))
     peaks = (np.ones(12), np.ones(12))
@@ -422,7 +423,7 @@ samples = 20
 
 
 def test_a_tied_offset_moves_mounts_all_below_the_cg_along_the_axis_and_a_mirrored_pair_symmetrically():
-    from sixdof.io.report import design_tables
+    from sixdof.io.study_report import design_tables
 
     scenario = parse_scenario(LOW_BOX.format(design="""
 [[design.target]]
@@ -467,7 +468,7 @@ tied = true
 
 def test_the_verdict_counts_the_samples_that_meet_every_target():
     # The nominal optimum of BOX stops just inside its window's low edge: met by the design, by few samples.
-    from sixdof.io.report import design_tables, share_percent
+    from sixdof.io.study_report import design_tables, share_percent
 
     scenario = parse_scenario(BOX.format(objective=""))
     problem = DesignProblem(scenario.system, scenario.design)
@@ -486,13 +487,13 @@ def test_the_verdict_counts_the_samples_that_meet_every_target():
     (390, 1000, "39 %"), (999, 1000, "99.9 %"), (9999, 10000, "99.99 %"), (1000, 1000, "100 %"), (1, 1000, "0.1 %"),
     (0, 1000, "0 %"), (2, 3, "67 %")])
 def test_a_share_of_samples_never_reads_as_all_or_none_when_it_is_not(count, total, shown):
-    from sixdof.io.report import share_percent
+    from sixdof.io.study_report import share_percent
 
     assert share_percent(count, total) == shown
 
 
 def test_a_design_not_met_says_so_and_how_many_samples_meet_it():
-    from sixdof.io.report import design_verdict
+    from sixdof.io.study_report import design_verdict
 
     assert design_verdict(False, 0, 1000, 0.15) == ("NOT MET by the nominal design; met in 0 % of the scattered "
                                                      "samples (0 of 1000, every mount-axis stiffness +-15 %).")
@@ -536,7 +537,7 @@ def test_a_stiffness_ratio_keeps_the_optimum_buildable():
     f_z = system.modes.frequency_hz[int(np.argmax(system.modes.ke_distribution[2]))]
     assert 12.0 <= f_z <= 14.0
     # The summary shows each constrained mount's ratios, given and optimized.
-    from sixdof.io.report import design_tables
+    from sixdof.io.study_report import design_tables
 
     text = design_tables(problem, result, robustness(problem, result.x))
     row = next(line for line in text.splitlines() if line.startswith("| a "))

@@ -15,6 +15,7 @@ import os
 import stat
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 from sixdof.errors import InputError, Plain
 
@@ -151,3 +152,33 @@ def csv_numbers(row: list[str], count: int, line: int, name: str, field: str, ex
             raise InputError(field, expected, Plain(f"line {line} of {name}, field {j + 1}: {shown(cell)}"))
         values.append(value)
     return values
+
+
+def read_table_csv(file: Any, base_dir: Path, field: str, columns: tuple[str, str] = ("time in s", "value"),
+                   increasing: bool = False) -> tuple[list[float], list[float]]:
+    """Read a two-column CSV (default time [s], value) with an optional header line and ``#`` comment lines;
+    with ``increasing``, its first column must increase strictly (checked here, where each row's line is known)."""
+    if not isinstance(file, str) or not file:
+        raise InputError(field, "a CSV file name (relative to the scenario file)", file)
+    expected = f"a UTF-8 CSV file of rows of two finite numbers: {', '.join(columns)}"
+    pairs, lines, first = [], [], True
+    for line, row in csv_rows(base_dir / file, field, expected, name=file):
+        try:
+            pair = csv_numbers(row, 2, line, file, field, expected)
+        except InputError:
+            if first:  # only the first row may be a header
+                first = False
+                continue
+            raise
+        first = False
+        pairs.append(pair)
+        lines.append(line)
+    if len(pairs) < 2:
+        raise InputError(field, f"at least 2 rows of {', '.join(columns)}", f"{len(pairs)} rows in {file}")
+    first = [x for x, _ in pairs]
+    back = next((k for k in range(1, len(first)) if first[k] <= first[k - 1]), None) if increasing else None
+    if back is not None:
+        raise InputError(field, f"{expected}, the first column ({columns[0]}) strictly increasing",
+                         Plain(f"{first[back]:g} on line {lines[back]} of {file}, after {first[back - 1]:g} on line "
+                               f"{lines[back - 1]}"))
+    return first, [value for _, value in pairs]

@@ -17,8 +17,8 @@ from sixdof.analysis.design import DesignMetrics, design_metrics, sensitivities
 from sixdof.analysis.statespace import damped_modes, damping_ratios
 from sixdof.analysis.statics import try_gravity_statics
 from sixdof.analysis.validity import RangeWarning, geometric_stiffness_note, implausible_inputs, static_range
-from sixdof.io.report import without_round_off
 from sixdof.io.store import build_results
+from sixdof.io.tables import without_round_off
 from sixdof.results import RunResults
 from sixdof.workflows.prepare import prepare
 

@@ -18,7 +18,7 @@ from sixdof.design.optimize import DesignResult, Robustness, optimize, robustnes
 from sixdof.design.problem import DesignProblem
 from sixdof.design.record import design_record
 from sixdof.errors import readonly
-from sixdof.io import output, report
+from sixdof.io import output, report, study_report
 from sixdof.io.store import write_results
 from sixdof.plots import png
 from sixdof.plots.design import plot_design_decoupling, plot_design_frequencies
@@ -46,7 +46,7 @@ class DesignRun:
     peaks : tuple of ndarray or None
         Peak responses of the given and the optimized design (with a ``[simulation]``).
     tables : str
-        The report's tables (:func:`sixdof.io.report.design_tables`).
+        The report's tables (:func:`sixdof.io.study_report.design_tables`).
     """
 
     scenario: object
@@ -136,7 +136,7 @@ def design_run(scenario, *, progress: bool = False, log=None, runner=None) -> De
                         progress, time_model=scenario.time_model)
     peaks = None if spread.peak_percentiles is None else tuple(
         _peaks(s, scenario) for s in (scenario.system, system))
-    tables = report.design_tables(problem, result, spread, peaks, report.moving_ground(scenario), system)
+    tables = study_report.design_tables(problem, result, spread, peaks, report.moving_ground(scenario), system)
     if log is not None:
         log(tables)
     return DesignRun(scenario=scenario, problem=problem, result=result, robustness=spread, system=system,

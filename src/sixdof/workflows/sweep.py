@@ -33,9 +33,10 @@ from sixdof.analysis.sweep import ChunkedSweep, Study, sweep_on, time_system_of,
 from sixdof.analysis.validity import RangeWarning, variants_fit_range
 from sixdof.errors import InputError, Plain, integer
 from sixdof.io import output
-from sixdof.io.report import cross_check_text, moving_ground, summary_table, tracked_modes_table
+from sixdof.io.report import moving_ground
 from sixdof.io.store import load_results, write_results
 from sixdof.io.stream import ResultsStream
+from sixdof.io.study_report import cross_check_text, summary_table, tracked_modes_table
 from sixdof.results import RunResults, axis_slice
 from sixdof.schema import naming
 from sixdof.workflows.prepare import prepare
@@ -297,8 +298,8 @@ def save_sweep(result, scenario, out_root: str | Path = "outputs", *, command_li
 
 def sweep_tables(path: str | Path, scenario) -> str:
     """The percentiles of a sweep file's frequencies and peaks and its tracked modes
-    (:func:`sixdof.io.report.summary_table`, :func:`~sixdof.io.report.tracked_modes_table`), read a column at a
-    time: the client never holds every variant."""
+    (:func:`sixdof.io.study_report.summary_table`, :func:`~sixdof.io.study_report.tracked_modes_table`), read a
+    column at a time: the client never holds every variant."""
     import h5py
 
     with h5py.File(path, "r") as f:

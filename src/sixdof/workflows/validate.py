@@ -16,8 +16,8 @@ import numpy as np
 from sixdof.analysis.statespace import damping_ratios
 from sixdof.analysis.validity import RangeWarning
 from sixdof.io import output, store
-from sixdof.io.report import validation_text
 from sixdof.io.scenario import Scenario, load_scenario
+from sixdof.io.study_report import validation_text
 from sixdof.results import RunResults
 from sixdof.validation import validate
 from sixdof.workflows.drawing import drawer

@@ -8,7 +8,7 @@ from sixdof.cli._status import EXIT_FAILED, EXIT_INTERRUPTED, EXIT_TERMINATED, T
 from sixdof.cli.commands._common import check_workers_option, compile_cache, progress
 from sixdof.errors import SolverError
 from sixdof.interrupts import held_signals
-from sixdof.io import console, report
+from sixdof.io import console, study_report
 from sixdof.io.output import check_target
 from sixdof.io.scenario import load_scenario
 from sixdof.io.sweep import load_sweep_spec
@@ -45,7 +45,7 @@ def main(args, workers=None) -> int:
     print(f"{console.title(scenario)}\n")
     print(sweep_tables(directory / "sweep.h5", scenario))
     if result.cross_check is not None:
-        print(f"\n{report.cross_check_text(result)}")
+        print(f"\n{study_report.cross_check_text(result)}")
     resumed = f", {result.resumed} of them resumed" if result.resumed else ""
     print(f"\nWrote {directory / 'sweep.h5'} and summary.md ({spec.count} variants, {result.engine} engine, "
           f"{result.chunks} chunk{'s' if result.chunks != 1 else ''}{resumed}, {result.backend} with "

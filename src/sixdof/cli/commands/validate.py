@@ -7,8 +7,8 @@ import sys
 from sixdof.cli._status import EXIT_VALIDATION_FAILED
 from sixdof.cli.commands._common import compile_cache, progress
 from sixdof.interrupts import held_signals
-from sixdof.io.report import validation_text
 from sixdof.io.scenario import load_scenario
+from sixdof.io.study_report import validation_text
 from sixdof.schema import naming
 from sixdof.workflows.validate import validate_scenario
 

@@ -1,0 +1,193 @@
+"""The settings tables of a scenario file, read into frozen, validated objects: ``[statics]``, ``[frf]`` and its
+requests, ``[superposition]``, ``[output]`` and the ``[[points]]`` (:mod:`sixdof.io.scenario` reads the file)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from sixdof.analysis.frf import parse_direction
+from sixdof.errors import (
+    InputError,
+    boolean,
+    check_frequencies,
+    choice_check,
+    direction_check,
+    finite_array,
+    integer_check,
+    label_check,
+    number_check,
+    optional,
+    point,
+)
+from sixdof.frozen import Frozen, checked
+from sixdof.results import DERIVED
+from sixdof.schema import Table, build, unique
+
+
+def _checked_direction(value: Any, field: str, rotations: bool = True):
+    parse_direction(value, field, rotations)  # raises InputError naming the field
+    return tuple(value) if isinstance(value, list) else value
+
+
+def _checked_point(value: Any, field: str) -> tuple[float, float, float]:
+    return tuple(point(value, field).tolist())
+
+
+def checked_vector(value: Any, field: str) -> tuple[float, float, float]:
+    direction_check("a non-zero 3-vector in body axes")(value, field)  # kept as given, not normalized
+    return tuple(float(v) for v in value)
+
+
+def _check_name(name: Any, field: str = "name") -> str:
+    if not isinstance(name, str) or not name or "/" in name:
+        raise InputError(field, "a non-empty string without '/'", name)
+    return name
+
+
+@dataclass(frozen=True)
+class Point(Frozen):
+    """A named body point whose motion is reported. ``position`` from the CG in body axes [m]."""
+
+    name: str = checked(label_check)
+    position: tuple[float, float, float] = checked(_checked_point)
+
+
+@dataclass(frozen=True)
+class StaticsSettings(Frozen):
+    """Gravity for the static deflection: ``gravity`` [m/s^2] along ``direction`` (body axes); with
+    ``geometric_stiffness``, the geometric stiffness of the mounts' preload under it is part of K
+    (:attr:`sixdof.model.system.System.K_geometric`)."""
+
+    gravity: float = checked(number_check("a positive acceleration in m/s^2", low=0.0, strict=True), default=9.80665)
+    direction: tuple[float, float, float] = checked(checked_vector, default=(0.0, 0.0, -1.0))
+    geometric_stiffness: bool = checked(boolean, default=False)
+
+    @property
+    def vector(self) -> np.ndarray:
+        """Gravity in body axes (3,) [m/s^2]."""
+        direction = np.asarray(self.direction, dtype=float)
+        return self.gravity * direction / np.linalg.norm(direction)
+
+
+@dataclass(frozen=True)
+class PointFrfRequest(Frozen):
+    """A point FRF to compute and store (``[[frf.point]]``): the response at ``response_point``
+    along ``response_direction`` per unit load at ``load_point`` along ``load_direction``.
+    Directions are ``"x"`` .. ``"rz"`` (``r*``: a moment in, a rotation out) or 3-vectors.
+    ``quantity`` is ``"receptance"``, ``"mobility"`` or ``"accelerance"``."""
+
+    name: str = checked(_check_name)
+    load_point: tuple[float, float, float] = checked(_checked_point)
+    load_direction: Any = checked(_checked_direction)
+    response_point: tuple[float, float, float] = checked(_checked_point)
+    response_direction: Any = checked(_checked_direction)
+    quantity: str = checked(choice_check(("receptance", "mobility", "accelerance")), default="receptance")
+
+
+@dataclass(frozen=True)
+class ForceTransmissibilityRequest(Frozen):
+    """Forces passed to the foundation per unit load at ``load_point`` along ``load_direction``
+    (``[[frf.force_transmissibility]]``)."""
+
+    name: str = checked(_check_name)
+    load_point: tuple[float, float, float] = checked(_checked_point)
+    load_direction: Any = checked(_checked_direction)
+
+
+@dataclass(frozen=True)
+class GroundTransmissibilityRequest(Frozen):
+    """Motion of ``response_point`` per unit ground translation along ``ground_direction``
+    (``[[frf.ground_transmissibility]]``)."""
+
+    name: str = checked(_check_name)
+    ground_direction: Any = checked(lambda value, field: _checked_direction(value, field, rotations=False))
+    response_point: tuple[float, float, float] = checked(_checked_point)
+
+
+_FRF_REQUESTS = {"point": PointFrfRequest, "force_transmissibility": ForceTransmissibilityRequest,
+                 "ground_transmissibility": GroundTransmissibilityRequest}
+
+
+def _frequency_range(value: Any, field: str) -> tuple[float, float]:
+    expected = "two frequencies [low, high] in Hz with 0 <= low < high"
+    low, high = finite_array(value, field, expected, (2,)).tolist()
+    if not 0 <= low < high:
+        raise InputError(field, expected, value)
+    check_frequencies(high, field, value)
+    return low, high
+
+
+@dataclass(frozen=True)
+class FrfSettings(Frozen):
+    """Frequency grid of the frequency responses: ``points`` frequencies over ``f_hz`` [Hz], and
+    the point FRFs and transmissibilities to compute beside the 6x6 receptance."""
+
+    f_hz: tuple[float, float] = checked(_frequency_range, default=(0.1, 100.0))
+    points: int = checked(integer_check("an integer >= 2", 2), default=2000)
+    spacing: str = checked(choice_check(("log", "linear")), default="log")
+    point: tuple[PointFrfRequest, ...] = ()
+    force_transmissibility: tuple[ForceTransmissibilityRequest, ...] = ()
+    ground_transmissibility: tuple[GroundTransmissibilityRequest, ...] = ()
+
+    def __check__(self) -> None:
+        if self.spacing == "log" and self.f_hz[0] == 0:
+            raise InputError("f_hz", "a positive low frequency for log spacing", self.f_hz)
+
+    def grid(self) -> np.ndarray:
+        """The frequencies [Hz], shape (points,)."""
+        return (np.geomspace if self.spacing == "log" else np.linspace)(*self.f_hz, self.points)
+
+
+@dataclass(frozen=True)
+class SuperpositionSettings(Frozen):
+    """How ``sixdof run`` computes its modal-superposition cross-check (``[superposition]``).
+
+    ``method`` is ``"auto"`` (real modes for classical damping, complex otherwise), ``"real"`` or
+    ``"complex"``; ``n_modes`` or ``f_max_hz`` [Hz] truncate the modal basis, with the static
+    ``residual`` correction for the modes left out. Truncation is for studying which modes carry a
+    response: the cross-check then measures the truncation error, and warns when it is over 1e-6.
+    """
+
+    method: str = checked(choice_check(("auto", "real", "complex")), default="auto")
+    n_modes: int | None = checked(optional(integer_check("an integer from 1 to 6", 1)), default=None)
+    f_max_hz: float | None = checked(optional(number_check("a positive frequency in Hz", low=0.0, strict=True)),
+                                     default=None)
+    residual: bool = checked(boolean, default=True)
+
+    def __check__(self) -> None:
+        if self.n_modes is not None and self.n_modes > 6:
+            raise InputError("n_modes", "an integer from 1 to 6", self.n_modes)
+        if self.n_modes is not None and self.f_max_hz is not None:
+            raise InputError("n_modes", "either n_modes or f_max_hz, not both", self.n_modes)
+
+
+def _derived_check(value, field):
+    if not isinstance(value, (list, tuple)) or not all(isinstance(v, str) for v in value):
+        raise InputError(field, f"a list of names from {', '.join(DERIVED)} (or [] for none)", value)
+    for i, name in enumerate(value):
+        choice_check(DERIVED)(name, f"{field}[{i}]")
+    return tuple(dict.fromkeys(value))
+
+
+@dataclass(frozen=True)
+class OutputSettings(Frozen):
+    """What ``sixdof run`` stores in ``results.h5`` (``[output]``): ``derived`` names the derived quantities
+    written (default all of :data:`DERIVED`, today's file); those left out are derived again on reading."""
+
+    derived: tuple[str, ...] = checked(_derived_check, default=DERIVED)
+
+    @property
+    def omitted(self) -> tuple[str, ...]:
+        """The derived quantities left out of the file."""
+        return tuple(name for name in DERIVED if name not in self.derived)
+
+
+def frf_settings(table: dict) -> FrfSettings:
+    frf = Table(table, "frf", tuple(table))  # keys checked by build(FrfSettings) below
+    requests = {key: tuple(build(cls, t, f"frf.{key}[{i}]") for i, t in enumerate(frf.tables(key)))
+                for key, cls in _FRF_REQUESTS.items()}
+    unique([r.name for group in requests.values() for r in group], "frf")
+    return build(FrfSettings, {**table, **requests}, "frf")

@@ -29,6 +29,7 @@ from sixdof.analysis.statics import STANDARD_GRAVITY, gravity_statics
 from sixdof.plots import plot_mount_loads
 from sixdof.plots.time import TENSION_LABEL, ZOOM_PERIODS, ZOOM_PULSES, event_window, zoom_window
 from sixdof.results import Event
+from sixdof.workflows.prepare import prepare
 from systems import four_mount
 
 MASS = 500.0
@@ -165,7 +166,7 @@ def test_mode_shapes_give_their_scale_and_every_mount_with_its_axis():
     from sixdof.plots import plot_mode_shapes
     from sixdof.plots.modes import AXIS_LENGTH, MAX_DRAWN_ROTATION, MODE_SCALE, body_box, mode_scale
 
-    system = load_scenario("scenarios/engine_inclined_mounts.toml").system  # V mounts at 40 degrees
+    system = prepare(load_scenario("scenarios/engine_inclined_mounts.toml")).system  # V mounts at 40 degrees
     modes = system.modes
     fig = plot_mode_shapes(modes, system)
     size = body_box(system)

@@ -20,6 +20,7 @@ from sixdof.excitation import Excitation, GroundMotion, InitialState, Load
 from sixdof.excitation.signals import HalfSine
 from sixdof.io.scenario import load_scenario, parse_scenario
 from sixdof.model.nonlinear import ForceDeflection
+from sixdof.workflows.prepare import prepare
 from systems import FOUR_MOUNT_CORNERS
 from tolerances import RTOL_DIRECT_EXACT, RTOL_STATICS
 
@@ -790,7 +791,7 @@ def test_good_nonlinear_mounts_are_accepted(tmp_path):
     (tmp_path / "table.csv").write_text("deflection,force\n-0.02,-3000\n-0.01,-1000\n0,0\n0.01,500\n0.02,700\n")
     first = ('bump_stop = {clearance = [0.01, inf, 0.004], stiffness = [1e6, 0.0, 1e6]}\n' + TABLE
              + "tension = false\n")
-    system = parse_scenario(scenario_text(first), source="good.toml", base_dir=tmp_path).system
+    system = prepare(parse_scenario(scenario_text(first), source="good.toml", base_dir=tmp_path)).system
     assert system.nonlinear.names == ("m0 u", "m0 w")
     assert system.nonlinear.kinds == ("bump stop", "table + bump stop + lift-off")
     assert system.equilibrium[2] < 0 and system.nonlinear.static_deflection[1] < 0

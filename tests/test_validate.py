@@ -287,7 +287,7 @@ def test_each_check_fails_just_beyond_its_stated_limit():
 
 
 def test_hysteresis_is_left_out_of_the_model_and_named():
-    system = load_scenario(ENGINE).system
+    system = prepare(load_scenario(ENGINE)).system
     integrated, names = experiment.integrated_model(system)
     assert names == ("left", "right", "rear")
     assert not np.any(integrated.loss_factors)

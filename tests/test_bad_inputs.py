@@ -20,7 +20,7 @@ import pytest
 from sixdof import InputError, RigidBody, ScenarioError, load_scenario
 from sixdof.cli import EXIT_BAD_INPUT, main
 from sixdof.excitation import Harmonic
-from sixdof.model.system import Mount
+from sixdof.model.parts import Mount
 
 SCENARIOS = Path(__file__).parents[1] / "scenarios"
 ENGINE = SCENARIOS / "engine_inclined_mounts.toml"

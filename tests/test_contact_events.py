@@ -16,7 +16,8 @@ import pytest
 
 from sixdof.analysis.direct import SimulationSettings, simulate
 from sixdof.excitation import Excitation, InitialState
-from sixdof.model.system import Mount, RigidBody, System
+from sixdof.model.parts import Mount, RigidBody
+from sixdof.model.system import System
 
 MASS, K, K_STOP, CLEARANCE = 100.0, 1e5, 1e7, 0.005
 

@@ -537,7 +537,8 @@ def test_default_tolerances_hold_for_a_tone_far_above_the_modes():
 def test_scaled_tolerances_stop_at_the_floor():
     """A run of many cycles divides the tolerances down to MIN_TOLERANCE, not below (float64 round-off)."""
     from sixdof.analysis.direct import CYCLES_PER_TOLERANCE, MIN_TOLERANCE, cycle_scaled
-    from sixdof.model.system import Mount, RigidBody, System
+    from sixdof.model.parts import Mount, RigidBody
+    from sixdof.model.system import System
 
     system = System(RigidBody(1.0, [1.0, 1.0, 1.0]),
                     [Mount(f"m{i}", p, [(2 * np.pi * 600) ** 2 / 4] * 3) for i, p in

@@ -27,7 +27,8 @@ from sixdof import (
 )
 from sixdof.analysis.statics import STANDARD_GRAVITY, gravity_statics
 from sixdof.plots import plot_mount_loads
-from sixdof.plots.time import TENSION_LABEL, ZOOM_PERIODS, ZOOM_PULSES, event_window, zoom_window
+from sixdof.plots.time import TENSION_LABEL
+from sixdof.plots.zoom import ZOOM_PERIODS, ZOOM_PULSES, event_window, zoom_window
 from sixdof.results import Event
 from sixdof.workflows.prepare import prepare
 from systems import four_mount

@@ -19,7 +19,7 @@ from sixdof.errors import ScenarioError
 from sixdof.io.scenario import load_scenario, parse_scenario
 from sixdof.io.store import load_results, write_results
 from sixdof.model.kinematics import mount_matrix
-from sixdof.model.system import Mount
+from sixdof.model.parts import Mount
 from sixdof.results import RunResults
 from sixdof.workflows.prepare import prepare
 from systems import four_mount, skewed_machine

@@ -257,7 +257,7 @@ def test_too_many_mounts_or_points_are_refused_before_they_are_read(tmp_path):
 def test_a_system_of_too_many_mounts_is_refused_in_the_api_too():
     from sixdof import RigidBody, System
     from sixdof.errors import InputError
-    from sixdof.model.system import Mount
+    from sixdof.model.parts import Mount
 
     body = RigidBody(mass=500.0, inertia=[60.4, 93.75, 86.7])
     mount = Mount(name="m", position=[0.1, 0.2, -0.4], stiffness=[1e5, 1e5, 2e5])

@@ -222,7 +222,8 @@ def test_a_high_loss_factor_keeps_its_damping_in_the_causal_model():
 def test_mount_axes_of_one_loss_factor_share_one_fit_scaled_by_their_stiffness():
     """The causal model of k (1 + i eta) is k times that of 1 + i eta: axes of one loss factor and any stiffness
     get one fit, scaled, with the same relative errors; a lone fit of each axis gives the same model."""
-    from sixdof.model.system import Mount, RigidBody, System
+    from sixdof.model.parts import Mount, RigidBody
+    from sixdof.model.system import System
     from sixdof.model.viscoelastic import causal_loss_factors, checked_frequencies, loss_band
 
     mounts = [Mount(n, p, k, loss_factor=[0.1, 0.1, 0.1]) for n, p, k in

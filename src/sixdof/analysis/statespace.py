@@ -202,7 +202,7 @@ def damped_modes(C, modes, branches=None) -> tuple[np.ndarray, np.ndarray]:
         Viscous damping [N s/m ...].
     modes : sixdof.model.modes.Modes
         The undamped modes.
-    branches : sixdof.model.system.Branches, optional
+    branches : sixdof.model.parts.Branches, optional
         Maxwell branches (``System.branches``): the poles are then those of the full visco-elastic model
         (the augmented first-order system), paired with the undamped modes of the long-term stiffness.
 
@@ -258,7 +258,7 @@ def damping_ratios(C, modes, branches=None) -> np.ndarray:
         Viscous damping [N s/m ...].
     modes : sixdof.model.modes.Modes
         The undamped modes.
-    branches : sixdof.model.system.Branches, optional
+    branches : sixdof.model.parts.Branches, optional
         Maxwell branches: the ratios of the full visco-elastic model's poles (:func:`damped_modes`).
 
     Returns

@@ -67,7 +67,7 @@ def warn_large_rotations(t: np.ndarray, q: np.ndarray) -> None:
 def body_length(system) -> float:
     """A length [m] for the body: half its box diagonal when its ``dimensions`` are given; else the larger of
     the farthest mount from the CG and half the diagonal of the uniform box of the body's mass and inertia
-    (:attr:`~sixdof.model.system.RigidBody.inertia_box`, ``sqrt(1.5 trace(J) / m)``)."""
+    (:attr:`~sixdof.model.parts.RigidBody.inertia_box`, ``sqrt(1.5 trace(J) / m)``)."""
     body = system.body
     if body.dimensions is not None:
         return float(np.linalg.norm(body.dimensions) / 2)

@@ -15,7 +15,7 @@ from sixdof.errors import InputError, Plain, choice_check, number_check
 from sixdof.files import read_table_csv
 from sixdof.model import viscoelastic
 from sixdof.model.nonlinear import ForceDeflection
-from sixdof.model.system import Maxwell, Mount
+from sixdof.model.parts import Maxwell, Mount
 from sixdof.model.viscoelastic import AXES, read_dynamic_stiffness
 from sixdof.schema import Table, build, make, reject_unknown
 

@@ -28,7 +28,8 @@ from sixdof.io.settings import (
     checked_vector,
     frf_settings,
 )
-from sixdof.model.system import MAX_MOUNTS, Rayleigh, RigidBody, System
+from sixdof.model.parts import Rayleigh, RigidBody
+from sixdof.model.system import MAX_MOUNTS, System
 from sixdof.model.viscoelastic import causal_loss_factors
 from sixdof.schema import Table, build, choices, make, parse, read_text, unique
 

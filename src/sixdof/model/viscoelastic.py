@@ -27,7 +27,7 @@ import numpy as np
 
 from sixdof.errors import InputError, Plain, finite_array, frequency_band, integer, number, readonly
 from sixdof.files import csv_numbers, csv_rows
-from sixdof.model.system import Maxwell, relaxation
+from sixdof.model.parts import Maxwell, relaxation
 from sixdof.results import Result, label, quantity, result_type
 
 #: What a dynamic stiffness table holds, for error messages.
@@ -411,7 +411,7 @@ AXES = "uvw"
 def with_fits(system, fits):
     """``system`` with fitted Maxwell models on mount axes: each fit's long-term stiffness replaces the
     mount's stiffness along that axis, and its branches (those with stiffness > 0) become
-    :class:`~sixdof.model.system.Maxwell` branches of the mount named ``"<mount> <axis> <i>"``.
+    :class:`~sixdof.model.parts.Maxwell` branches of the mount named ``"<mount> <axis> <i>"``.
 
     Parameters
     ----------

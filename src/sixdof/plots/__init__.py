@@ -23,8 +23,8 @@ from its module on first use, so that a process can decide which figures a run a
 and leave the drawing to worker processes (:mod:`sixdof.cli.figures`).
 
 Modules: :mod:`~sixdof.plots.common` (display units, envelope decimation, margins, panel grid,
-titles), :mod:`~sixdof.plots.modes`, :mod:`~sixdof.plots.time`, :mod:`~sixdof.plots.frf`,
-:mod:`~sixdof.plots.validation`.
+titles), :mod:`~sixdof.plots.modes`, :mod:`~sixdof.plots.time` (its zooms: :mod:`~sixdof.plots.zoom`),
+:mod:`~sixdof.plots.frf`, :mod:`~sixdof.plots.validation`.
 """
 
 from __future__ import annotations

@@ -33,7 +33,7 @@ def body_box(system: System | None) -> np.ndarray:
     """Size [Lx, Ly, Lz] of the box drawn for the body [m], centred on the CG.
 
     The body's ``dimensions`` when given; otherwise the box reaching the mounts (symmetric about
-    the CG) or the uniform box of the body's inertia (:attr:`~sixdof.model.system.RigidBody.inertia_box`),
+    the CG) or the uniform box of the body's inertia (:attr:`~sixdof.model.parts.RigidBody.inertia_box`),
     whichever is larger along each axis; a side of zero length is made :data:`FLAT_SIDE` of the largest.
     Without a system: a 1 m cube.
 

@@ -16,6 +16,7 @@ from sixdof.analysis.response import MountForces
 from sixdof.dofs import DOFS, FORCE_UNITS, display_unit, dof_units
 from sixdof.errors import InputError
 from sixdof.plots.common import ROTATION, TRANSLATION, margins, plot_long, require, time_axes, title
+from sixdof.plots.zoom import event_window, zoom_samples, zoom_window
 from sixdof.results import Event, TimeHistory
 
 _HISTORY = "a sixdof.results.TimeHistory"
@@ -33,7 +34,7 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
     likewise.) With ground motion, displacements and velocities relative to the ground are drawn solid
     (the mount strokes), accelerations absolute (what the body feels); the other dashed on the same scale,
     or, where it would flatten the first (a ground that moves away after a shock), only its peak quoted.
-    Given ``events``, the one worth a zoom (:func:`event_window`: a shock first, else a switch-on) is
+    Given ``events``, the one worth a zoom (:func:`~sixdof.plots.zoom.event_window`: a shock first, else a switch-on) is
     drawn again in a zoom panel beside each DOF's whole record, its span shaded there.
     DOFs the excitation does not reach are said to be so instead of drawn.
 
@@ -75,6 +76,34 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
     # The motion relative to the ground only when the ground moves (not merely present as zeros).
     ground = getattr(history, _GROUND[key]) if key in _GROUND else None
     relative = getattr(history, f"{key}_relative") if ground is not None and np.any(ground != 0) else None
+    panels = _history_panels(fig, t, zoom)
+    quiet = unexcited(values if relative is None else np.concatenate([values, relative]))
+    # With the ground moving, displacements and velocities that matter (mount strokes) are relative to it,
+    # accelerations (what the body feels) absolute: that one is drawn solid, the other dashed on the same
+    # scale unless it would flatten the first (a ground that moves away after a shock), when its peak is
+    # only quoted.
+    main_is_relative = relative is not None and key in ("q", "qd")
+    order = {"q": 0, "qd": 1, "qdd": 2}.get(key)
+    amplitude = None  # of the absolute motion, per DOF
+    if steady is not None and order is not None and not main_is_relative and len(steady.f_hz):
+        amplitude = np.sum(np.abs(steady.q) * (2 * np.pi * np.asarray(steady.f_hz))[:, None] ** order, axis=0)
+    for i, axes in enumerate(panels):
+        main, other = (values, relative) if not main_is_relative else (relative, values)
+        if other is not None and np.array_equal(other[:, i], main[:, i]):
+            other = None  # a rotation: the ground does not rotate, relative and absolute are one
+        names = (("relative to the ground", "absolute") if main_is_relative
+                 else ("absolute", "relative to the ground") if other is not None else ("response", ""))
+        steady_i = 0.0 if amplitude is None else float(amplitude[i])
+        legend = (relative is not None or zoom is not None or steady_i > 0) and not np.any(~quiet[:i])  # first drawn
+        _history_dof(fig, axes, i, t, main[:, i], None if other is None else other[:, i], unit=_UNITS[key][i],
+                     names=names, zoom=zoom, quiet=bool(quiet[i]), steady=steady, steady_amplitude=steady_i,
+                     legend=legend)
+    return fig
+
+
+def _history_panels(fig: Figure, t: np.ndarray, zoom) -> list[list]:
+    """The axes of :func:`plot_time_histories`, one list per DOF: its whole record, then its zoom when ``zoom``
+    (:func:`~sixdof.plots.zoom.event_window`) is given."""
     if zoom is None:  # translations left, rotations right (the legend above them)
         margins(fig, left=0.8, right=0.3, top=0.95, bottom=0.55, wspace=1.0, hspace=0.55, columns=2, rows=3)
         grid = fig.subplots(3, 2, sharex=True)
@@ -88,72 +117,63 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
         panels = [[fig.add_subplot(spec[i, 0]), fig.add_subplot(spec[i, 1])] for i in range(6)]
         _time_column([row[0] for row in panels], (t[0], t[-1]))
         _time_column([row[1] for row in panels], zoom[:2], f"zoom: {zoom[2]}")
-    quiet = unexcited(values if relative is None else np.concatenate([values, relative]))
-    # With the ground moving, displacements and velocities that matter (mount strokes) are relative to it,
-    # accelerations (what the body feels) absolute: that one is drawn solid, the other dashed on the same
-    # scale unless it would flatten the first (a ground that moves away after a shock), when its peak is
-    # only quoted.
-    main_is_relative = relative is not None and key in ("q", "qd")
-    order = {"q": 0, "qd": 1, "qdd": 2}.get(key)
-    amplitude = None  # of the absolute motion, per DOF
-    if steady is not None and order is not None and not main_is_relative and len(steady.f_hz):
-        amplitude = np.sum(np.abs(steady.q) * (2 * np.pi * np.asarray(steady.f_hz))[:, None] ** order, axis=0)
-    for i, (whole, *rest) in enumerate(panels):
-        main, other = (values, relative) if not main_is_relative else (relative, values)
-        if other is not None and np.array_equal(other[:, i], main[:, i]):
-            other = None  # a rotation: the ground does not rotate, relative and absolute are one
-        main_peak = float(np.max(np.abs(main[:, i])))
-        other_peak = 0.0 if other is None else float(np.max(np.abs(other[:, i])))
-        drawn_other = other is not None and other_peak <= OTHER_SCALE * main_peak
-        shown = main[:, i] if not drawn_other else np.concatenate([main[:, i], other[:, i]])
-        factor, label = display_unit(shown, _UNITS[key][i])
-        if quiet[i]:
-            peak = float(np.max(np.abs(shown)))
-            what = "exactly zero" if peak == 0 else f"peak {peak:.2g} {_UNITS[key][i]}, round-off"
-            for ax in (whole, *rest):
-                ax.set_yticks([])
-            whole.text(0.5, 0.5, f"not excited: {what}", transform=whole.transAxes, ha="center", va="center",
-                       fontsize=10, color="0.4")
-            for ax in rest:
-                ax.text(0.5, 0.5, "not excited", transform=ax.transAxes, ha="center", va="center", fontsize=10,
-                        color="0.4")
-            whole.set_ylabel(f"{DOFS[i]}")
-            whole.set_title(f"{DOFS[i]}: not excited", fontsize=10, loc="center" if zoom is None else "left")
-            continue
-        names = (("relative to the ground", "absolute") if main_is_relative
-                 else ("absolute", "relative to the ground") if other is not None else ("response", ""))
-        for ax, part in zip((whole, *rest), (slice(None), *(zoom_samples(t, zoom) for _ in rest))):
-            plot_long(ax, t[part], factor * main[part, i], color=TRANSLATION if i < 3 else ROTATION,
-                      linewidth=1.0, label=names[0])
-            if drawn_other:
-                plot_long(ax, t[part], factor * other[part, i], color="black", linestyle="--", linewidth=0.9,
-                          label=names[1])
-        steady_i = 0.0 if amplitude is None else float(amplitude[i])
-        if steady_i > 0:
-            # The loss factors act in the frequency domain only: the time response tends to another steady state.
-            what = ("steady-state amplitude (FRF, with loss factors the time response lacks)" if steady.loss_factors
-                    else "steady-state amplitude")
-            for ax in (whole, *rest):
-                for sign in (1, -1):
-                    ax.axhline(sign * factor * steady_i, color="0.3", linestyle=":", linewidth=1.0,
-                               label=what if sign > 0 else None)
-        if zoom is not None:
-            whole.axvspan(*zoom[:2], color="0.85", zorder=0, label="zoomed span")
-        if (relative is not None or zoom is not None or steady_i > 0) and not np.any(~quiet[:i]):  # first DOF drawn
-            # Above the panels, under the title: inside one it would sit on a curve.
-            fig.legend(*whole.get_legend_handles_labels(), fontsize=8, loc="upper left", frameon=False,
-                       bbox_to_anchor=(0.8 / fig.get_figwidth(), 1 - 0.45 / fig.get_figheight()), ncols=4)
-        whole.set_ylabel(f"{DOFS[i]} [{label}]")
-        heading = f"{DOFS[i]}: peak {factor * main_peak:.4g} {label}"
-        if other is not None:
-            scale, unit = display_unit(other_peak, _UNITS[key][i])
-            heading = (f"{DOFS[i]}: peak {names[0]} {factor * main_peak:.4g} {label}, {names[1]} "
-                       f"{scale * other_peak:.4g} {unit}" + ("" if drawn_other else " (not drawn)"))
-        if steady_i > 0:  # the peak may be the switch-on's: the steady state's amplitude beside it
-            scale, unit = display_unit(steady_i, _UNITS[key][i])  # its own unit: 0.1587 um, not 0.0001587 mm
-            heading += f", steady-state amplitude {scale * steady_i:.4g} {unit}"
-        whole.set_title(heading, fontsize=10, loc="center" if zoom is None else "left")
-    return fig
+    return panels
+
+
+def _history_dof(fig: Figure, axes, i: int, t: np.ndarray, main: np.ndarray, other: np.ndarray | None, *, unit: str,
+                 names: tuple[str, str], zoom, quiet: bool, steady, steady_amplitude: float, legend: bool) -> None:
+    """DOF ``i``'s panels of :func:`plot_time_histories` (its whole record, then its zoom): ``main`` solid,
+    ``other`` dashed unless it would flatten it (SI ``unit``), or "not excited" when ``quiet``; the steady-state
+    amplitude dotted and the figure's legend (``legend``: the first DOF drawn) taken from it."""
+    whole, *rest = axes
+    main_peak = float(np.max(np.abs(main)))
+    other_peak = 0.0 if other is None else float(np.max(np.abs(other)))
+    drawn_other = other is not None and other_peak <= OTHER_SCALE * main_peak
+    shown = main if not drawn_other else np.concatenate([main, other])
+    factor, label = display_unit(shown, unit)
+    if quiet:
+        peak = float(np.max(np.abs(shown)))
+        what = "exactly zero" if peak == 0 else f"peak {peak:.2g} {unit}, round-off"
+        for ax in (whole, *rest):
+            ax.set_yticks([])
+        whole.text(0.5, 0.5, f"not excited: {what}", transform=whole.transAxes, ha="center", va="center",
+                   fontsize=10, color="0.4")
+        for ax in rest:
+            ax.text(0.5, 0.5, "not excited", transform=ax.transAxes, ha="center", va="center", fontsize=10,
+                    color="0.4")
+        whole.set_ylabel(f"{DOFS[i]}")
+        whole.set_title(f"{DOFS[i]}: not excited", fontsize=10, loc="center" if zoom is None else "left")
+        return
+    for ax, part in zip((whole, *rest), (slice(None), *(zoom_samples(t, zoom) for _ in rest))):
+        plot_long(ax, t[part], factor * main[part], color=TRANSLATION if i < 3 else ROTATION,
+                  linewidth=1.0, label=names[0])
+        if drawn_other:
+            plot_long(ax, t[part], factor * other[part], color="black", linestyle="--", linewidth=0.9,
+                      label=names[1])
+    if steady_amplitude > 0:
+        # The loss factors act in the frequency domain only: the time response tends to another steady state.
+        what = ("steady-state amplitude (FRF, with loss factors the time response lacks)" if steady.loss_factors
+                else "steady-state amplitude")
+        for ax in (whole, *rest):
+            for sign in (1, -1):
+                ax.axhline(sign * factor * steady_amplitude, color="0.3", linestyle=":", linewidth=1.0,
+                           label=what if sign > 0 else None)
+    if zoom is not None:
+        whole.axvspan(*zoom[:2], color="0.85", zorder=0, label="zoomed span")
+    if legend:
+        # Above the panels, under the title: inside one it would sit on a curve.
+        fig.legend(*whole.get_legend_handles_labels(), fontsize=8, loc="upper left", frameon=False,
+                   bbox_to_anchor=(0.8 / fig.get_figwidth(), 1 - 0.45 / fig.get_figheight()), ncols=4)
+    whole.set_ylabel(f"{DOFS[i]} [{label}]")
+    heading = f"{DOFS[i]}: peak {factor * main_peak:.4g} {label}"
+    if other is not None:
+        scale, other_unit = display_unit(other_peak, unit)
+        heading = (f"{DOFS[i]}: peak {names[0]} {factor * main_peak:.4g} {label}, {names[1]} "
+                   f"{scale * other_peak:.4g} {other_unit}" + ("" if drawn_other else " (not drawn)"))
+    if steady_amplitude > 0:  # the peak may be the switch-on's: the steady state's amplitude beside it
+        scale, steady_unit = display_unit(steady_amplitude, unit)  # its own unit: 0.1587 um, not 0.0001587 mm
+        heading += f", steady-state amplitude {scale * steady_amplitude:.4g} {steady_unit}"
+    whole.set_title(heading, fontsize=10, loc="center" if zoom is None else "left")
 
 
 #: Legend of the tension shading: a mount that pulls on the body (a linear one holds; one with tension = false lifts
@@ -162,43 +182,6 @@ TENSION_LABEL = "tension (the mount pulls; one with tension = false lifts off in
 #: The second curve of a ground-driven run (absolute or relative motion) is drawn on the first's scale only
 #: while its peak is at most this many times the first's.
 OTHER_SCALE = 10.0
-#: A shock's zoom spans this many times its pulse; a switch-on's (and :func:`zoom_window`'s), this many
-#: periods of its forcing (of the dominant motion); a zoom covers at most this fraction of the record
-#: (a wider one would show what the whole record shows), a shock's at least :data:`ZOOM_MIN_PULSES` pulses.
-ZOOM_PULSES = 25
-ZOOM_PERIODS = 6
-ZOOM_MAX_FRACTION = 0.25
-ZOOM_MIN_PULSES = 4
-
-
-def zoom_samples(t: np.ndarray, window) -> slice:
-    """The samples of ``t`` a zoom on ``window`` (start, end [s], ...) draws: those inside and one either
-    side (a zoom draws its own samples, not the whole record's per-pixel envelope)."""
-    first = max(int(np.searchsorted(t, window[0], side="right")) - 1, 0)
-    return slice(first, int(np.searchsorted(t, window[1], side="left")) + 1)
-
-
-def event_window(events: Mapping[str, Event], t) -> tuple[float, float, str] | None:
-    """``(start, end, label)`` [s] of the zoom on the excitation's ``events`` over the record ``t``:
-    the shortest shock (:data:`ZOOM_PULSES` pulse lengths, from a tenth of that before it, at most
-    :data:`ZOOM_MAX_FRACTION` of the record and at least :data:`ZOOM_MIN_PULSES` pulses), else the first
-    switch-on (:data:`ZOOM_PERIODS` forcing periods, at most that fraction of the record). None when no
-    event needs one (the whole record shows it already)."""
-    t = np.asarray(t, dtype=float)
-    duration = float(t[-1] - t[0]) if len(t) > 1 else 0.0
-    shocks = sorted((e.duration, e.start, n) for n, e in events.items() if e.kind == "shock")
-    starts = sorted((e.start, e.duration, n) for n, e in events.items() if e.kind == "switch-on" and e.duration > 0)
-    longest = ZOOM_MAX_FRACTION * duration
-    choices = [(min(ZOOM_PULSES * length, longest), start, f"{n} (shock, {length * 1e3:.3g} ms at t = {start:.4g} s)")
-               for length, start, n in shocks if ZOOM_MIN_PULSES * length <= longest]
-    choices += [(ZOOM_PERIODS * period, start, f"{n} (switch-on at t = {start:.4g} s)") for start, period, n in starts]
-    for width, start, label in choices:
-        if 0 < width <= longest:
-            low = min(max(start - 0.1 * width, t[0]), t[-1] - width)
-            return float(low), float(low + width), label
-    return None
-
-
 #: A DOF whose peak is below this fraction of the largest DOF's peak (in SI units, rotations in rad as they
 #: are) is not excited: what it holds is round-off of the others, drawn as a line it would look like a signal.
 UNEXCITED_RTOL = 1e-9
@@ -235,7 +218,7 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
         Name of the run, put before the title.
     events : mapping of str to sixdof.results.Event, optional
         The excitation's shocks and switch-ons: the overlay of the one worth a zoom
-        (:func:`event_window`) is drawn again in a middle column.
+        (:func:`~sixdof.plots.zoom.event_window`) is drawn again in a middle column.
     contacts : sixdof.analysis.contact.ContactSummary, optional
         What the nonlinear mounts did: the differences are drawn until its ``first_engaged_t`` [s] (nan:
         none engaged, the whole record).
@@ -266,91 +249,17 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
         where = agreement.worst_dof + (f" {QUANTITIES[agreement.worst_quantity]}" if agreement.rates else "")
         heading += (f"\nworst relative difference {agreement.worst:.2e} in {where}"
                     f"{' before the first engagement' if cut else ''} ({verdict} tolerance {agreement.tolerance:.0e})")
-    top = 1.25 if cut else 1.0  # a third line of title: what the first engagement means
-    if zoom is None:
-        margins(fig, left=0.8, right=0.3, top=top, bottom=0.55, wspace=1.1, hspace=0.45, columns=2, rows=6)
-        axes = fig.subplots(6, 2, sharex="col")
-        zooms = [None] * 6
-    else:  # the overlay's zoom between the overlay and the difference
-        spec = fig.add_gridspec(6, 3, width_ratios=(3, 2, 3))
-        margins(fig, left=0.8, right=0.3, top=top, bottom=0.55, wspace=1.0, hspace=0.45, columns=3, rows=6,
-                target=spec)
-        grid = np.array([[fig.add_subplot(spec[i, c]) for c in range(3)] for i in range(6)])
-        _time_column(grid[:, 0], (t[0], t[-1]))
-        _time_column(grid[:, 2], (t[0], end))
-        axes, zooms = grid[:, [0, 2]], list(grid[:, 1])
-        _time_column(zooms, zoom[:2], f"zoom: {zoom[2]}")
+    axes, zooms = _superposition_panels(fig, t, zoom, end, top=1.25 if cut else 1.0)  # 1.25: a third title line
     quiet = unexcited(q_direct)
     quiet_compared = unexcited(q_direct[compared])  # a DOF still at rest when the first mount engages
     span = f" for t ≤ {first:.4g} s" if cut else ""
     tolerance_drawn = False
     for i in range(6):
-        factor, label = display_unit(q_direct[:, i], _UNITS["q"][i])
         left, right = axes[i]
-        if quiet[i]:  # round-off of the others: said, not drawn as a signal
-            peak = max(float(np.max(np.abs(q_direct[:, i]))), float(np.max(np.abs(q_modal[:, i]))))
-            what = "exactly zero" if peak == 0 else f"peak {peak:.2g} {_UNITS['q'][i]}, round-off"
-            left.text(0.5, 0.5, f"not excited: {what}", transform=left.transAxes, ha="center", va="center",
-                      fontsize=10, color="0.4")
-            left.set_yticks([])
-            left.set_ylabel(DOFS[i])
-            if zooms[i] is not None:
-                zooms[i].set_yticks([])
-                zooms[i].text(0.5, 0.5, "not excited", transform=zooms[i].transAxes, ha="center", va="center",
-                              fontsize=10, color="0.4")
-        else:
-            for ax, part in ((left, slice(None)), (zooms[i], None if zoom is None else zoom_samples(t, zoom))):
-                if ax is None:
-                    continue
-                plot_long(ax, t[part], factor * q_direct[part, i], color="black", linewidth=1.6,
-                          label="direct integration")
-                plot_long(ax, t[part], factor * q_modal[part, i], color="tab:orange", linewidth=1.0, linestyle="--",
-                          label="modal superposition")
-            left.set_ylabel(f"{DOFS[i]} [{label}]")
-            if zoom is not None:
-                left.axvspan(*zoom[:2], color="0.85", zorder=0)
-            if cut:
-                for ax in (left, zooms[i]):
-                    if ax is not None:
-                        ax.axvline(first, color="tab:red", linestyle="-.", linewidth=1.0,
-                                   label="first engagement")  # its time: in the name and the titles
-        # Divided as the agreement divides it: by the DOF's own peak, or for a quiet DOF (round-off
-        # only) by the largest peak of all DOFs, rotations times the agreement's length, or by the floor a
-        # moving ground sets (see compare).
-        denominator, against = float(peaks[i]), "peak"
-        if agreement is not None and DOFS[i] in tuple(agreement.quiet):
-            length = float(agreement.length)
-            largest = float(np.max(peaks * np.array([1.0, 1.0, 1.0, length, length, length])))
-            denominator = float(agreement.denominator[i])
-            against = "largest peak" if largest >= agreement.floor else "1e-6 of the absolute motion"
-        difference = q_modal[compared, i] - q_direct[compared, i]
-        relative = difference / denominator if denominator > 0 else difference
-        if quiet_compared[i] or not np.any(relative):  # round-off against round-off: its size said, not drawn
-            size = float(np.max(np.abs(relative))) if relative.size else 0.0
-            text = ("identical: both exactly zero" if size == 0 else
-                    f"round-off only: max|Δ| / {against} = {size:.1e}")
-            right.text(0.5, 0.5, text, transform=right.transAxes, ha="center", va="center", fontsize=10,
-                       color="0.4")
-            right.set_yticks([])
-            # A DOF at rest until the first engagement may move after it: "not excited" only for the span compared.
-            right.set_title(f"{DOFS[i]}: not excited" + ("" if quiet[i] else span), fontsize=9)
-            continue
-        # The power of ten in the axis label, not in an offset text above the axes (where the title is).
-        largest = float(np.max(np.abs(relative))) if relative.size else 0.0
-        exponent = int(np.floor(np.log10(largest))) if largest > 0 else 0
-        unit = 10.0 ** exponent
-        plot_long(right, t[compared], relative / unit, color="tab:purple", linewidth=0.9)
-        right.set_ylabel(f"Δ{DOFS[i]} / {against} [×10{_superscript(exponent)}]" if exponent
-                         else f"Δ{DOFS[i]} / {against} [1]")
-        # Tolerance lines only where they do not flatten the curve into a line.
-        if agreement is not None and largest > 0.1 * agreement.tolerance:
-            tolerance_drawn = True
-            for sign in (-1, 1):
-                right.axhline(sign * agreement.tolerance / unit, color="tab:red", linestyle="--", linewidth=0.8)
-        if agreement is not None:
-            # Drawn, so more than round-off: quiet only against the largest peak (see compare).
-            note = " (quiet DOF)" if against != "peak" else ""
-            right.set_title(f"{DOFS[i]}: max|Δ| / {against}{span} = {agreement.per_dof[i]:.2e}{note}", fontsize=9)
+        _overlay_dof(left, zooms[i], i, t, q_direct[:, i], q_modal[:, i], quiet=bool(quiet[i]), zoom=zoom,
+                     first=first if cut else None)
+        tolerance_drawn |= _difference_dof(right, i, t, q_direct, q_modal, compared, peaks, agreement,
+                                           quiet=bool(quiet[i]), quiet_compared=bool(quiet_compared[i]), span=span)
     if tolerance_drawn:
         heading += "; dashed red: ± tolerance"
     if cut:
@@ -364,6 +273,106 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
     time_axes(axes, t)
     axes[0, 1].set_xlim(t[0], end)  # the differences' column: the span compared (its axes share it)
     return fig
+
+
+def _superposition_panels(fig: Figure, t: np.ndarray, zoom, end: float, top: float) -> tuple[np.ndarray, list]:
+    """The axes of :func:`plot_superposition`: ``(axes, zooms)``, the overlays and differences (6, 2) (the
+    differences' time axis to ``end`` [s]) and each DOF's zoom of the overlay (None without ``zoom``)."""
+    if zoom is None:
+        margins(fig, left=0.8, right=0.3, top=top, bottom=0.55, wspace=1.1, hspace=0.45, columns=2, rows=6)
+        axes = fig.subplots(6, 2, sharex="col")
+        zooms = [None] * 6
+    else:  # the overlay's zoom between the overlay and the difference
+        spec = fig.add_gridspec(6, 3, width_ratios=(3, 2, 3))
+        margins(fig, left=0.8, right=0.3, top=top, bottom=0.55, wspace=1.0, hspace=0.45, columns=3, rows=6,
+                target=spec)
+        grid = np.array([[fig.add_subplot(spec[i, c]) for c in range(3)] for i in range(6)])
+        _time_column(grid[:, 0], (t[0], t[-1]))
+        _time_column(grid[:, 2], (t[0], end))
+        axes, zooms = grid[:, [0, 2]], list(grid[:, 1])
+        _time_column(zooms, zoom[:2], f"zoom: {zoom[2]}")
+    return axes, zooms
+
+
+def _overlay_dof(left, zoomed, i: int, t: np.ndarray, q_direct: np.ndarray, q_modal: np.ndarray, *, quiet: bool,
+                 zoom, first: float | None) -> None:
+    """DOF ``i``'s overlay of the direct solution ``q_direct`` and the superposition ``q_modal`` [m or rad] on
+    ``left`` and its zoom ``zoomed`` (or None), "not excited" when ``quiet``; ``first``: the time [s] of the first
+    engagement, marked (None: no mount engaged before the end)."""
+    factor, label = display_unit(q_direct, _UNITS["q"][i])
+    if quiet:  # round-off of the others: said, not drawn as a signal
+        peak = max(float(np.max(np.abs(q_direct))), float(np.max(np.abs(q_modal))))
+        what = "exactly zero" if peak == 0 else f"peak {peak:.2g} {_UNITS['q'][i]}, round-off"
+        left.text(0.5, 0.5, f"not excited: {what}", transform=left.transAxes, ha="center", va="center",
+                  fontsize=10, color="0.4")
+        left.set_yticks([])
+        left.set_ylabel(DOFS[i])
+        if zoomed is not None:
+            zoomed.set_yticks([])
+            zoomed.text(0.5, 0.5, "not excited", transform=zoomed.transAxes, ha="center", va="center",
+                        fontsize=10, color="0.4")
+        return
+    for ax, part in ((left, slice(None)), (zoomed, None if zoom is None else zoom_samples(t, zoom))):
+        if ax is None:
+            continue
+        plot_long(ax, t[part], factor * q_direct[part], color="black", linewidth=1.6,
+                  label="direct integration")
+        plot_long(ax, t[part], factor * q_modal[part], color="tab:orange", linewidth=1.0, linestyle="--",
+                  label="modal superposition")
+    left.set_ylabel(f"{DOFS[i]} [{label}]")
+    if zoom is not None:
+        left.axvspan(*zoom[:2], color="0.85", zorder=0)
+    if first is not None:
+        for ax in (left, zoomed):
+            if ax is not None:
+                ax.axvline(first, color="tab:red", linestyle="-.", linewidth=1.0,
+                           label="first engagement")  # its time: in the name and the titles
+
+
+def _difference_dof(right, i: int, t: np.ndarray, q_direct: np.ndarray, q_modal: np.ndarray, compared: slice,
+                    peaks: np.ndarray, agreement: Agreement | None, *, quiet: bool, quiet_compared: bool,
+                    span: str) -> bool:
+    """DOF ``i``'s difference of the superposition from the direct solution (both (n, 6) [m, rad]) over the
+    samples ``compared``, divided as the agreement divides it, on ``right``; ``span``: the titles' note of the
+    span compared. Returns whether the tolerance lines were drawn."""
+    # Divided as the agreement divides it: by the DOF's own peak, or for a quiet DOF (round-off
+    # only) by the largest peak of all DOFs, rotations times the agreement's length, or by the floor a
+    # moving ground sets (see compare).
+    denominator, against = float(peaks[i]), "peak"
+    if agreement is not None and DOFS[i] in tuple(agreement.quiet):
+        length = float(agreement.length)
+        largest = float(np.max(peaks * np.array([1.0, 1.0, 1.0, length, length, length])))
+        denominator = float(agreement.denominator[i])
+        against = "largest peak" if largest >= agreement.floor else "1e-6 of the absolute motion"
+    difference = q_modal[compared, i] - q_direct[compared, i]
+    relative = difference / denominator if denominator > 0 else difference
+    if quiet_compared or not np.any(relative):  # round-off against round-off: its size said, not drawn
+        size = float(np.max(np.abs(relative))) if relative.size else 0.0
+        text = ("identical: both exactly zero" if size == 0 else
+                f"round-off only: max|Δ| / {against} = {size:.1e}")
+        right.text(0.5, 0.5, text, transform=right.transAxes, ha="center", va="center", fontsize=10,
+                   color="0.4")
+        right.set_yticks([])
+        # A DOF at rest until the first engagement may move after it: "not excited" only for the span compared.
+        right.set_title(f"{DOFS[i]}: not excited" + ("" if quiet else span), fontsize=9)
+        return False
+    # The power of ten in the axis label, not in an offset text above the axes (where the title is).
+    largest = float(np.max(np.abs(relative))) if relative.size else 0.0
+    exponent = int(np.floor(np.log10(largest))) if largest > 0 else 0
+    unit = 10.0 ** exponent
+    plot_long(right, t[compared], relative / unit, color="tab:purple", linewidth=0.9)
+    right.set_ylabel(f"Δ{DOFS[i]} / {against} [×10{_superscript(exponent)}]" if exponent
+                     else f"Δ{DOFS[i]} / {against} [1]")
+    # Tolerance lines only where they do not flatten the curve into a line.
+    tolerance_drawn = agreement is not None and largest > 0.1 * agreement.tolerance
+    if tolerance_drawn:
+        for sign in (-1, 1):
+            right.axhline(sign * agreement.tolerance / unit, color="tab:red", linestyle="--", linewidth=0.8)
+    if agreement is not None:
+        # Drawn, so more than round-off: quiet only against the largest peak (see compare).
+        note = " (quiet DOF)" if against != "peak" else ""
+        right.set_title(f"{DOFS[i]}: max|Δ| / {against}{span} = {agreement.per_dof[i]:.2e}{note}", fontsize=9)
+    return tolerance_drawn
 
 
 def _time_column(column, span, heading: str | None = None) -> None:
@@ -441,8 +450,8 @@ def plot_mount_loads(check: MountCheck, t, *, name: str = "", events: Mapping[st
     row per mount, all in one unit: the whole record on the left, tension shaded red and the static load
     dashed (the whole records share one force range); on the right a zoom, its span marked on the left and
     its force range its own, where single cycles and short events can be read: on the excitation's shock
-    or switch-on (:func:`event_window`), else on the largest dynamic excursion (:func:`zoom_window`). A
-    record too short for a zoom is drawn alone.
+    or switch-on (:func:`~sixdof.plots.zoom.event_window`), else on the largest dynamic excursion
+    (:func:`~sixdof.plots.zoom.zoom_window`). A record too short for a zoom is drawn alone.
 
     Parameters
     ----------
@@ -586,24 +595,3 @@ def plot_mount_shear(check: MountCheck, t, *, name: str = "", events: Mapping[st
                          f"peak shear deflection {scale * sliding[k, j]:.4g} {shown} at t = {t[j]:.4g} s",
                          fontsize=9, loc="left")
     return fig
-
-
-def zoom_window(t: np.ndarray, dynamic: np.ndarray) -> tuple[float, float, str] | None:
-    """``(start, end, label)`` [s] of the span around the largest ``|dynamic|`` (any row of (rows, n))
-    covering :data:`ZOOM_PERIODS` periods of its row's dominant motion (from its zero crossings), within
-    the record; None when that
-    span would cover more than a third of the record (the whole record shows it already) or the row
-    does not move."""
-    k, i = np.unravel_index(np.argmax(np.abs(dynamic)), dynamic.shape)
-    row = dynamic[k]
-    duration = t[-1] - t[0]
-    if duration <= 0 or not np.any(row):
-        return None
-    crossings = np.count_nonzero(np.diff(np.signbit(row - np.mean(row))))
-    if crossings < 2:
-        return None
-    width = ZOOM_PERIODS * 2.0 * duration / crossings  # a period is two crossings
-    if width > ZOOM_MAX_FRACTION * duration:
-        return None
-    start = min(max(t[i] - width / 2, t[0]), t[-1] - width)
-    return float(start), float(start + width), "the largest excursion"

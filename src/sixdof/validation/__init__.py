@@ -1,5 +1,6 @@
 """Modal results validated against time histories: estimators (:mod:`.estimation`), the free-decay and
-random-force experiment (:mod:`.experiment`), and the random response's check (:mod:`.random_time`).
+random-force experiment (:mod:`.experiment`; :mod:`.runs` runs it), and the random response's check
+(:mod:`.random_time`).
 
 Names load on first use: :mod:`.estimation` imports scipy.signal (about 0.7 s), which a run that validates
 nothing must not pay for (``sixdof.validation.random_time`` is imported by every run whose ``[random]`` has
@@ -13,7 +14,7 @@ _PUBLIC = {
     "effective_averages": "estimation", "estimate_frf": "estimation", "h1_random_error": "estimation",
     "held_model_frf": "estimation", "peak_frequency": "estimation",
     "Check": "experiment", "FreeDecay": "experiment", "ModeCheck": "experiment", "RandomRun": "experiment",
-    "ValidationReport": "experiment", "ValidationSettings": "experiment", "validate": "experiment",
+    "ValidationReport": "experiment", "ValidationSettings": "experiment", "validate": "runs",
 }
 
 __all__ = sorted(_PUBLIC)

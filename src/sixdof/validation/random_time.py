@@ -377,16 +377,7 @@ def random_time_check(system, random, points=None, settings: TimeCheckSettings |
     memory_check("random.time_check.duration", 64.0 * knots + SOLVE_BYTES_PER_SAMPLE * rate * (settle + duration),
                  "a record", f"{settle + duration:.4g} s at {KNOTS_PER_PERIOD * high:.4g} Hz")
     started = time.perf_counter()
-    record = synthesize(psd, settle + duration, settings.seed)
-    if random.input == "force":
-        excitation = Excitation(loads=(Load(name="random", point=random.point, force=random.direction, signal=record),))
-    else:
-        excitation = Excitation(ground=GroundMotion(quantity="acceleration", direction=random.direction,
-                                                    signal=record))
-    given = simulation or SimulationSettings(duration=1.0, sample_rate_hz=1.0)  # its solver and tolerances
-    run = SimulationSettings(duration=settle + duration, sample_rate_hz=rate, solver=given.solver, rtol=given.rtol,
-                             atol=given.atol, max_steps=given.max_steps)
-    response = simulate(model, excitation, run, progress=progress)
+    response = _simulate(model, random, settle + duration, rate, settings.seed, simulation, progress)
     keep = response.t >= settle
     series = _series(model, random, points, response, keep)
 
@@ -396,42 +387,21 @@ def random_time_check(system, random, points=None, settings: TimeCheckSettings |
     samples = int(np.count_nonzero(keep))
     record_s = samples / rate
 
-    judged, units, freq_ms, time_ms, sigma = [], [], [], [], []
-
-    def judge(name, unit, expected_ms, measured_ms, eps):
-        judged.append(name)
-        units.append(unit)
-        freq_ms.append(expected_ms)
-        time_ms.append(measured_ms)
-        sigma.append(eps)
-
     # Record mean squares.
     largest: dict[str, float] = {}
     mean_square = band_mean_squares(f_fine, fine, _transfer_psds(model, random, points, np.array([low, high])),
                                     low, high)
     for name, (_, unit) in series.items():
         largest[_family(name, unit)] = max(largest.get(_family(name, unit), 0.0), mean_square[name])
-    for name, (x, unit) in series.items():
-        ms = mean_square[name]
-        if ms <= EXCITED_SHARE * largest[_family(name, unit)] or ms == 0.0:
-            continue
-        eps = record_error(fine[name], step, record_s)
-        judge(f"rms:{name}", unit, ms, float(np.mean(x**2)), eps)
+    checks = _record_checks(series, mean_square, largest, fine, step, record_s)
 
     # Octave bands of the accelerations' Welch PSDs.
     accelerations = [n for n in series if n.startswith(("qdd:", "point:"))]
     f_bins, welch_psd = welch.estimate(np.stack([series[n][0] for n in accelerations], axis=1))
     expected = welch.expected(f_fine, np.stack([fine[n] for n in accelerations], axis=1), f_bins)
-    for centre, inside in octave_bands(f_bins, low, high):
-        for j, name in enumerate(accelerations):
-            unit = series[name][1]
-            e = expected[inside, j]
-            band_ms = float(np.sum(e) * welch.bin_hz)
-            if band_ms <= EXCITED_SHARE * largest[_family(name, unit)] or band_ms == 0.0:
-                continue
-            judge(f"band:{name}@{centre:.4g}Hz", unit, band_ms, float(np.sum(welch_psd[inside, j]) * welch.bin_hz),
-                  welch.band_error(e, samples))
+    checks += _band_checks(accelerations, series, largest, welch, f_bins, welch_psd, expected, (low, high), samples)
 
+    judged, units, freq_ms, time_ms, sigma = (list(v) for v in zip(*checks)) if checks else ([], [], [], [], [])
     freq_ms, time_ms, sigma = (np.array(v, dtype=float) for v in (freq_ms, time_ms, sigma))
     z = z_score(time_ms / freq_ms, sigma)
     limit = sidak_limit(len(judged))
@@ -456,3 +426,54 @@ def random_time_check(system, random, points=None, settings: TimeCheckSettings |
         degrees_of_freedom=2.0 * welch.segments(samples) / welch.overlap_factor(), sample_rate_hz=rate,
         knot_rate_hz=KNOTS_PER_PERIOD * high, solver_steps=int(response.stats.num_steps),
         wall_time_s=time.perf_counter() - started, notes=tuple(notes))
+
+
+def _simulate(model, random, duration: float, rate: float, seed: int, simulation, progress):
+    """The direct solve of ``model`` [a TimeHistory] under a record of ``random``'s PSD (``seed``) lasting
+    ``duration`` [s], sampled at ``rate`` [Hz] with the solver and tolerances of ``simulation``."""
+    record = synthesize(random.psd, duration, seed)
+    if random.input == "force":
+        excitation = Excitation(loads=(Load(name="random", point=random.point, force=random.direction, signal=record),))
+    else:
+        excitation = Excitation(ground=GroundMotion(quantity="acceleration", direction=random.direction,
+                                                    signal=record))
+    given = simulation or SimulationSettings(duration=1.0, sample_rate_hz=1.0)  # its solver and tolerances
+    run = SimulationSettings(duration=duration, sample_rate_hz=rate, solver=given.solver, rtol=given.rtol,
+                             atol=given.atol, max_steps=given.max_steps)
+    return simulate(model, excitation, run, progress=progress)
+
+
+#: One quantity judged: ``(name, unit, expected mean square, measured mean square, relative standard error)``.
+_Judged = tuple[str, str, float, float, float]
+
+
+def _record_checks(series, mean_square: dict[str, float], largest: dict[str, float], fine: dict, step: float,
+                   record_s: float) -> list[_Judged]:
+    """Each excited quantity's mean square over the record (``record_s`` [s]) against the PSD's ``mean_square``
+    (of the PSDs ``fine``, on a grid of ``step`` [Hz])."""
+    checks = []
+    for name, (x, unit) in series.items():
+        ms = mean_square[name]
+        if ms <= EXCITED_SHARE * largest[_family(name, unit)] or ms == 0.0:
+            continue
+        eps = record_error(fine[name], step, record_s)
+        checks.append((f"rms:{name}", unit, ms, float(np.mean(x**2)), eps))
+    return checks
+
+
+def _band_checks(accelerations: list[str], series, largest: dict[str, float], welch: Welch, f_bins: np.ndarray,
+                 welch_psd: np.ndarray, expected: np.ndarray, band: tuple[float, float],
+                 samples: int) -> list[_Judged]:
+    """Each excited acceleration's mean square in each octave band of ``band`` [Hz]: its Welch PSD ``welch_psd``
+    (bins ``f_bins`` [Hz], from ``samples`` samples) against the ``expected`` one."""
+    checks = []
+    for centre, inside in octave_bands(f_bins, *band):
+        for j, name in enumerate(accelerations):
+            unit = series[name][1]
+            e = expected[inside, j]
+            band_ms = float(np.sum(e) * welch.bin_hz)
+            if band_ms <= EXCITED_SHARE * largest[_family(name, unit)] or band_ms == 0.0:
+                continue
+            checks.append((f"band:{name}@{centre:.4g}Hz", unit, band_ms,
+                           float(np.sum(welch_psd[inside, j]) * welch.bin_hz), welch.band_error(e, samples)))
+    return checks

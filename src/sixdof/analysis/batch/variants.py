@@ -15,7 +15,8 @@ from sixdof.errors import InputError, Plain, integer, readonly
 from sixdof.model.damping import damping_matrix
 from sixdof.model.kinematics import mount_local_map, mount_matrix_jax, stiffness_jax
 from sixdof.model.modes import ZERO_MODE_RTOL
-from sixdof.model.system import Branches, System
+from sixdof.model.parts import Branches
+from sixdof.model.system import System
 from sixdof.results import quantity
 
 

@@ -35,7 +35,7 @@ class Loads:
 
 def excitation_inputs(excitation, K, C, branches=None):
     """An :class:`~sixdof.excitation.Excitation` as the engine's inputs for the stiffness and damping K, C (and
-    the Maxwell branches, :class:`~sixdof.model.system.Branches`, that the ground's velocity also drives).
+    the Maxwell branches, :class:`~sixdof.model.parts.Branches`, that the ground's velocity also drives).
 
     Returns
     -------

@@ -199,7 +199,7 @@ def modal_solve(
         ``qd0`` are then ignored): its time must be at most ``t[0]``.
     modes : sixdof.analysis.modal.Modes, optional
         The undamped modes of ``(M, K)`` when already known (``System.modes``).
-    branches : sixdof.model.system.Branches, optional
+    branches : sixdof.model.parts.Branches, optional
         Maxwell branches (``System.branches``); none by default. Complex modes only, every mode kept.
     branch_forces : array_like, shape (nb,), optional
         The branches' forces at ``t[0]`` [N]; default relaxed (zero).

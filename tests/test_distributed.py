@@ -272,7 +272,7 @@ def test_robustness_chunks_on_two_workers(cluster):
     from sixdof.design.problem import DesignProblem
     from sixdof.workflows.tasks import OnDask
 
-    scenario = load_scenario("scenarios/engine_inclined_mounts.toml")
+    scenario = prepare(load_scenario("scenarios/engine_inclined_mounts.toml"))
     spec = dataclasses.replace(scenario.design, samples=ROBUSTNESS_CHUNK + 300)
     problem = DesignProblem(scenario.system, spec)
     here = robustness(problem, problem.initial, InProcess())

@@ -36,6 +36,7 @@ from sixdof.analysis.frf import UNDAMPED_RESONANCE_RTOL, cross_check
 from sixdof.analysis.statics import STANDARD_GRAVITY, gravity_statics
 from sixdof.analysis.validity import SMALL_ANGLE_RAD, RangeWarning, body_length, static_range
 from sixdof.excitation import HalfSine, Harmonic, Haversine, Ramp, Random, Step, Sweep, Table
+from sixdof.workflows.prepare import prepare
 from systems import bridge
 from tolerances import RTOL_AT_REST, RTOL_DIRECT_STEADY_STATE, RTOL_LINALG, RTOL_SIGNAL
 
@@ -258,7 +259,7 @@ def test_a_scenario_grid_on_an_undamped_resonance_is_refused_before_computing():
     text = f'name = "free"\n{body}[frf]\nf_hz = [{lowest!r}, 100.0]\npoints = 10\nspacing = "linear"\n'
     with pytest.raises(ScenarioError, match=rf"^free.toml: frf.f_hz: expected frequencies off the natural "
                        rf"frequency of mode 1 .* got {lowest:.12g} Hz \(frequency 1 of 10\)$"):
-        parse_scenario(text, "free.toml")
+        prepare(parse_scenario(text, "free.toml"))  # the run's first step, before anything is computed
 
 
 IDLE = {

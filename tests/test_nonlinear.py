@@ -577,7 +577,7 @@ def test_lift_off_when_the_ground_drops_away_with_a_jump_in_its_velocity():
 def test_bridge_bearings_that_cannot_pull_never_pull():
     """bridge_beam_uplift: bearings 3 and 4 lift off, and none of the four, all tension = false, ever pulls (its
     largest w load, static included, is <= 0 but for round-off; the dashpots used to pull 0.82 kN first)."""
-    scenario = load_scenario("scenarios/bridge_beam_uplift.toml")
+    scenario = prepare(load_scenario("scenarios/bridge_beam_uplift.toml"))
     system = scenario.system
     history = simulate(system, scenario.excitation, scenario.simulation)
     w = system.nonlinear.static_force[:, None] + mount_forces(system, history).local[:, :, 2]
@@ -779,8 +779,8 @@ TABLE = 'force_deflection = {file = "table.csv", axis = "w"}\n'
 def test_bad_nonlinear_mounts_are_refused_naming_the_field(tmp_path, first, csv, positions, field, says):
     if csv is not None:
         (tmp_path / "table.csv").write_text(csv)
-    with pytest.raises(ScenarioError) as error:
-        parse_scenario(scenario_text(first, positions), source="bad.toml", base_dir=tmp_path)
+    with pytest.raises(ScenarioError) as error:  # read, then prepared (the statics find a mount in tension)
+        prepare(parse_scenario(scenario_text(first, positions), source="bad.toml", base_dir=tmp_path))
     assert error.value.field == field
     assert str(error.value).startswith(f"bad.toml: {field}: expected ")
     assert says in str(error.value)

@@ -179,7 +179,7 @@ def test_robustness_runs_the_scattered_samples_on_the_exact_batch_engine():
 
     from sixdof.analysis.superposition import superpose
 
-    scenario = load_scenario("scenarios/engine_inclined_mounts.toml")
+    scenario = prepare(load_scenario("scenarios/engine_inclined_mounts.toml"))
     spec = _with(scenario.design, samples=40, seed=3)
     problem = DesignProblem(scenario.system, spec)
     x = problem.initial + 0.1  # not the given design: the samples scatter design x
@@ -220,7 +220,7 @@ def test_robustness_responses_carry_the_loss_factors_causal_models(model):
     from sixdof.analysis.superposition import superpose
 
     text = Path("scenarios/engine_inclined_mounts.toml").read_text() + f'\n[damping]\nloss_factor_model = "{model}"\n'
-    scenario = parse_scenario(text)
+    scenario = prepare(parse_scenario(text))
     problem = DesignProblem(scenario.system, _with(scenario.design, samples=4))
     spread = robustness(problem, problem.initial, None, scenario.excitation, scenario.simulation,
                         time_model=scenario.time_model)
@@ -260,9 +260,9 @@ def test_optimize_writes_a_scenario_that_reproduces_the_design_and_a_labelled_fi
     assert "P(met)" in out
     names = sorted(p.name for p in folder.iterdir() if not p.name.startswith("."))
     assert names == ["decoupling.png", "design.h5", "frequencies.png", "optimized.toml", "summary.md"]
-    optimized = load_scenario(folder / "optimized.toml")  # a complete, valid scenario
+    optimized = prepare(load_scenario(folder / "optimized.toml"))  # a complete, valid scenario
     # Written with the digits that matter: each optimized stiffness to 4 significant figures.
-    changed = [k for m, m0 in zip(optimized.system.mounts, load_scenario("scenarios/engine_inclined_mounts.toml")
+    changed = [k for m, m0 in zip(optimized.system.mounts, prepare("scenarios/engine_inclined_mounts.toml")
                                   .system.mounts) for k, k0 in zip(m.stiffness, m0.stiffness) if k != k0]
     assert len(changed) == 7 and all(float(f"{k:.4g}") == k for k in changed)
     assert optimized.name == "engine_inclined_mounts_optimized" and optimized.simulation is not None

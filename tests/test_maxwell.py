@@ -23,6 +23,7 @@ from sixdof.excitation.signals import HalfSine, Step
 from sixdof.io.scenario import load_scenario, parse_scenario
 from sixdof.io.store import load_results, write_results
 from sixdof.results import RunResults
+from sixdof.workflows.prepare import prepare
 from systems import FOUR_MOUNT_CORNERS, THREE_MOUNTS, skewed_machine
 from tolerances import (
     RTOL_BATCH_CHUNKS,
@@ -173,7 +174,7 @@ def test_modes_json_gives_the_poles_of_the_full_model(capsys):
     assert f.shape == (6,) and np.all(f > np.array(data["frequency_hz"]))  # the branches stiffen every mode
     np.testing.assert_allclose(zeta, data["damping_ratio"], rtol=1e-12)
     np.testing.assert_allclose(fd, f * np.sqrt(1 - zeta**2), rtol=1e-12)
-    eigenvalues = np.linalg.eigvals(augmented(load_scenario(scenario).system))
+    eigenvalues = np.linalg.eigvals(augmented(prepare(load_scenario(scenario)).system))
     for pole in 2 * np.pi * (-zeta * f + 1j * fd):
         assert np.min(np.abs(eigenvalues - pole)) <= 1e-9 * abs(pole)
     assert main(["modes", scenario]) == 0
@@ -313,9 +314,10 @@ stiffness = [3e5, 2e5, 9e5]
 
 
 def scenario(tmp_path, extra="", damping="", rows=None):
+    """The scenario, read and prepared (its fits made): what a run starts from."""
     if rows is not None:
         (tmp_path / "k.csv").write_text("f, K', eta\n" + "\n".join(rows) + "\n")
-    return parse_scenario(BASE.format(extra=extra, damping=damping), source="v.toml", base_dir=tmp_path)
+    return prepare(parse_scenario(BASE.format(extra=extra, damping=damping), source="v.toml", base_dir=tmp_path))
 
 
 def measured(f_hz):

@@ -15,6 +15,7 @@ from sixdof.analysis.validity import (
 )
 from sixdof.cli import main
 from sixdof.io.scenario import load_scenario, parse_scenario
+from sixdof.workflows.prepare import prepare
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 MACHINE = (SCENARIOS / "machine_unbalance.toml").read_text()
@@ -32,7 +33,7 @@ def messages(text: str) -> list[str]:
 
 @pytest.mark.parametrize("path", sorted(SCENARIOS.glob("*.toml")), ids=lambda p: p.stem)
 def test_the_bundled_scenarios_are_plausible(path):
-    s = load_scenario(path)
+    s = prepare(load_scenario(path))
     assert implausible_inputs(s.system, s.excitation, {p.name: p.position for p in s.points}) == []
 
 

@@ -239,6 +239,7 @@ def test_help_and_import_load_no_numerics():
                           "except SystemExit:\n    pass") == []
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_plot_never_imports_jax(tmp_path):
     path = tmp_path / "results.h5"
     write_results(path, **run_parts())

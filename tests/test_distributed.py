@@ -137,6 +137,7 @@ def test_in_process_sweep_against_diffrax_and_the_unchunked_batch(in_process):
     np.testing.assert_allclose(in_process.cross_check_peak_q[0], np.max(np.abs(again.q), axis=0), rtol=1e-12)
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_two_workers_give_the_in_process_result_bit_for_bit(cluster, in_process):
     on_dask = sweep(SCENARIO, SPEC, scheduler=cluster.scheduler.address)  # as --scheduler ADDRESS connects
     assert on_dask.backend == "dask" and on_dask.workers == 2 and on_dask.chunks == 5
@@ -148,6 +149,7 @@ def test_two_workers_give_the_in_process_result_bit_for_bit(cluster, in_process)
     np.testing.assert_array_equal(on_dask.cross_check.per_dof, in_process.cross_check.per_dof)
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_workers_run_single_threaded_with_the_compilation_cache(tmp_path, monkeypatch):
     monkeypatch.setenv("SIXDOF_JAX_CACHE", str(tmp_path / "cache"))
     with task_runner(workers=2) as runner:
@@ -191,6 +193,7 @@ def test_progress_over_chunks_shows_variants_per_second(tmp_path, capsys):
     assert "2 / 2 chunks (100%)" in err and "variants/s" in err
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_a_killed_worker_costs_only_its_chunk(tmp_path):
     """SIGKILL of a worker mid-sweep while it holds chunks: they run again, nothing is lost or doubled."""
     long = dataclasses.replace(SCENARIO, simulation=dataclasses.replace(SCENARIO.simulation, duration=40.0))
@@ -391,6 +394,7 @@ def _interrupted(command, ready):
     return process.returncode, err.strip().splitlines()
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 @pytest.mark.skipif(not os.path.isdir("/proc"), reason="finds the process group's processes in /proc")
 def test_ctrl_c_at_a_sweep_on_two_workers_is_one_line_and_its_chunks_are_kept(tmp_path):
     """Ctrl-C at a terminal signals the Dask workers too: they ignore it (a worker's event loop stopped by it
@@ -456,6 +460,7 @@ SMALL_SPEC = ("count = 30\nseed = 3\nchunk_size = 10\ncross_check = 0\n[[vary]]\
               "distribution = 'uniform'\nlow = 0.8\nhigh = 1.2\n")
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_a_sweep_killed_while_it_writes_a_chunk_leaves_debris_the_next_run_removes(tmp_path):
     """SIGKILL of ``sweep --workers 2`` in the middle of a chunk file: its ``.chunk-00001.h5.<id>.tmp`` goes with
     the next --resume, which removes no other file; while a live sweep holds the folder, nothing is removed."""

@@ -400,6 +400,7 @@ def test_design_figures_draw_before_and_after_with_the_targets():
     assert ax.get_ylabel() == "kinetic energy in the dominant coordinate [%]"
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_mount_shear_png_is_drawn_for_a_shear_load_and_draws_each_resultant():
     from sixdof.analysis.mountcheck import SHEAR_SHARE, carries_shear
     from sixdof.plots import plot_mount_shear

@@ -218,6 +218,7 @@ def test_peaks_relative_to_a_moving_ground_come_first():
     assert not peaks_text(still).startswith("Relative")
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_a_run_on_a_drifting_record_warns_and_puts_relative_motion_first(tmp_path):
     scenario = _scenario(tmp_path, offset=0.001, duration=20.0)
     with pytest.warns(GroundDriftWarning, match=r"ends at .* mm at t = 20 s, 100 % of its peak"):

@@ -16,6 +16,7 @@ import pytest
 from sixdof import ScenarioError, load_scenario
 from sixdof import files as input_files
 from sixdof.cli import EXIT_BAD_INPUT, main
+from sixdof.workflows.prepare import prepare
 
 SCENARIOS = Path(__file__).parents[1] / "scenarios"
 RECORD = 'signal = { kind = "table", file = "ground_accelerogram.csv" }'
@@ -31,8 +32,9 @@ def with_record(tmp_path: Path, file: str) -> Path:
 
 
 def refused(scenario: Path, field: str, expected: str) -> None:
+    """Refused when read, or when the run prepares it (its first step, before anything is computed)."""
     with pytest.raises(ScenarioError, match=rf"^{re.escape(str(scenario))}: {re.escape(field)}: expected {expected}"):
-        load_scenario(scenario)
+        prepare(load_scenario(scenario))
 
 
 # ----------------------------------------------------------------------------------------------------

@@ -216,6 +216,7 @@ def visco_variants():
                                  position_offset=rng.normal(0.0, 0.03, (3, n, 3)))
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 @pytest.mark.parametrize("engine", ["exact", "diffrax"])
 def test_a_batch_of_visco_elastic_variants_is_the_exact_matrix_exponential_of_each(visco_variants, engine):
     # A free response: each variant's branches scaled with its mount axes' stiffness factors and moved with its
@@ -256,6 +257,7 @@ def test_variant_system_keeps_the_branches_scaled_and_moved(visco_variants):
     np.testing.assert_allclose(augmented(one), augmented(by_hand), rtol=1e-14, atol=0)
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 @pytest.mark.parametrize("engine", ["exact", "diffrax"])
 def test_a_visco_elastic_batch_under_loads_equals_each_variant_alone(visco_variants, engine):
     # Loads, and ground motion (the exact engine: the ground's velocity drives each variant's own branches),

@@ -548,6 +548,7 @@ def dropping_ground_reference(times):
     return out, events
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_lift_off_when_the_ground_drops_away_with_a_jump_in_its_velocity():
     """The ground's velocity jumps at the pulse's ends: the mounts' dashpot load jumps past zero there, which no step
     brackets (it changes between one step's end and the next one's start). The body lifts off at the pulse's start,

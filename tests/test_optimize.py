@@ -124,6 +124,7 @@ tied = true
 """
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_the_robust_objective_keeps_the_scattered_designs_inside_the_window():
     # Four mounts in the CG's plane: the z mode is pure, f = sqrt(sum k_w / m) / 2 pi, 10.07 Hz as given. The
     # nominal optimum stops just inside the window's low edge, where stiffness scatter of +-15 % drops many
@@ -160,6 +161,7 @@ def test_a_robust_objective_needs_a_tolerance():
         parse_scenario(text)
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_robustness_without_scatter_is_the_design_itself():
     scenario = prepare(load_scenario("scenarios/engine_inclined_mounts.toml"))
     problem = DesignProblem(scenario.system, _with(scenario.design, tolerance=0.0, samples=5))
@@ -244,6 +246,7 @@ def _with(spec, **changes):
     return dataclasses.replace(spec, **changes)
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_optimize_writes_a_scenario_that_reproduces_the_design_and_a_labelled_file(tmp_path, capsys):
     assert main(["optimize", "scenarios/engine_inclined_mounts.toml", "--out", str(tmp_path), "--quiet"]) == 0
     out = capsys.readouterr().out

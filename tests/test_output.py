@@ -187,6 +187,7 @@ def test_a_signal_during_the_write_keeps_the_previous_results(previous, scenario
     assert debris(out) == []
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 @pytest.mark.parametrize(("signum", "status", "word"), [(signal.SIGINT, EXIT_INTERRUPTED, "interrupted"),
                                                        (signal.SIGTERM, EXIT_TERMINATED, "terminated (SIGTERM)")])
 def test_a_signal_during_the_swap_is_acted_on_once_the_results_are_in_place_and_said_so(
@@ -294,6 +295,7 @@ def test_ctrl_c_reaches_the_whole_process_group_and_leaves_no_process(previous, 
     assert_group_ends(process.pid, within_s=5.0)
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_sigkill_debris_is_removed_by_the_next_run(previous, scenario_file, tmp_path, own_tmpdir):
     out = tmp_path / "out"
     returncode, _ = signal_at(child("write", "run", str(scenario_file), "--out", str(out), **own_tmpdir), "WRITING",
@@ -441,6 +443,7 @@ def test_a_reader_that_went_away_is_no_failed_write(scenario_file, tmp_path):
     assert load_results(folder / "results.h5").frf is not None
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_plot_replaces_the_figures_all_or_nothing(previous, tmp_path):
     folder = tmp_path / "out" / "pump"
     returncode, err = signal_at(child("plot", "plot", str(folder / "results.h5")), "PLOTTED", signal.SIGINT)

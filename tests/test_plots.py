@@ -512,6 +512,7 @@ def test_plot_from_a_file_never_loads_pyplot(modal_only, tmp_path):
     )
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_workers_draw_what_save_all_draws(run, tmp_path):
     """The figures drawn in worker processes, submitted as the run's parts appear, are the files save_all
     draws in this process, byte for byte."""
@@ -536,6 +537,7 @@ def test_a_figure_failing_in_a_worker_fails_loudly(parts, tmp_path):
             workers.save(tmp_path)
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_png_files_hold_the_pixels_savefig_draws(run):
     """plots.png writes the figure's pixels itself (unfiltered rows, Pillow's filter search skipped): every
     figure decodes to the pixels matplotlib's own PNG holds, at the resolution it says, and the figure keeps
@@ -557,6 +559,7 @@ def test_png_files_hold_the_pixels_savefig_draws(run):
             np.testing.assert_array_equal(np.asarray(mine), np.asarray(theirs), err_msg=name)
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_fixed_titles_draw_the_same_pixels(run):
     """render() draws with titles at a fixed height (plots.FIXED_TITLES): every figure is the one matplotlib's
     automatic title placement draws (a 3-D panel's title once sat on its legend)."""
@@ -571,6 +574,7 @@ def test_fixed_titles_draw_the_same_pixels(run):
             np.testing.assert_array_equal(pixels(fixed), pixels(draw(run)), err_msg=name)
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_frozen_ticks_draw_the_same_pixels(run):
     """render() draws unlabelled ticks (minor log ticks, the time ticks of panels above a shared time
     axis) as two collections per axis (fast): at the resolution of the files, every figure is the one

@@ -29,6 +29,7 @@ from systems import sdof, skewed_box, small_box
 from tolerances import RTOL_TIME_CHECK_RMS
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_a_table_with_slopes_is_a_cubic_hermite_spline():
     t = np.array([0.0, 0.3, 0.5, 1.2, 2.0])
     cubic = lambda x: 1 + 2 * x - 3 * x**2 + 0.7 * x**3  # noqa: E731
@@ -115,6 +116,7 @@ def _force_on_the_box(duration=None, seed=0):
     return random, TimeCheckSettings(duration=duration, seed=seed)
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_a_coupled_box_under_a_random_force_agrees_with_its_time_history():
     system = small_box(zeta=0.04)  # every DOF coupled, modes 10 to 49 Hz
     random, settings = _force_on_the_box()
@@ -156,6 +158,7 @@ def test_a_model_three_percent_too_stiff_fails_the_check(monkeypatch):
     assert np.max(np.abs(check.z)) > check.z_limit
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_loss_factors_are_left_out_of_both_sides_and_said():
     system = skewed_box()  # loss factors on mounts a and c
     random = RandomInput(input="ground_acceleration", direction=[1.0, 0.5, 1.0],
@@ -172,6 +175,7 @@ def test_a_free_body_is_refused():
         random_time_check(sdof(), random)
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_the_check_is_stored_with_its_labels_and_read_back(tmp_path):
     """Also a file whose random response has points but no time history: the points' labels arrive after an
     array along them (they used to collide with the index scale made for it)."""
@@ -288,6 +292,7 @@ def test_z_is_the_normal_equivalent_of_a_chi_square_ratio():
         assert float(z_score(chi2.ppf(p, nu) / nu, sigma)) == pytest.approx(norm.ppf(p), abs=0.02)
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_the_causal_models_of_the_loss_factors_are_carried_on_both_sides():
     # The time model of a run (loss factors as their causal Maxwell models): the record is damped by them and the
     # FRF side is that model's; nothing is left out, and the check still passes.

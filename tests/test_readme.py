@@ -12,6 +12,7 @@ from sixdof import load_scenario
 README = Path(__file__).resolve().parents[1] / "README.md"
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 @pytest.mark.parametrize("code", re.findall(r"```python\n(.*?)```", README.read_text(), re.S))
 def test_python_examples_run(code, tmp_path):
     """Each block runs saved as a script and run from the repository, warnings as errors: as a reader who

@@ -157,6 +157,7 @@ def test_sample_rate_too_low_is_warned_with_the_numbers(scenario):
     assert sampling_warnings(scenario, modal_analysis(scenario.system.M, scenario.system.K)) == []
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_cli_run_and_plot(tmp_path, capsys):
     path = tmp_path / "small.toml"
     path.write_text(SCENARIO.replace("duration = 0.6", "duration = 0.2"))
@@ -201,6 +202,7 @@ def test_truncated_superposition_reports_its_error_and_warns(tmp_path):
     assert "Truncated to modes 1, 2, 3" in (folder / "summary.md").read_text()
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_output_table_leaves_derived_quantities_out_and_reading_derives_them_again(outcome, tmp_path):
     import dataclasses
 

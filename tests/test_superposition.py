@@ -429,6 +429,7 @@ def direct(system_name, kind):
     return simulate(SYSTEMS[system_name], EXCITATIONS[kind], SETTINGS)
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 @pytest.mark.parametrize("system_name", DIRECT_SYSTEMS)
 @pytest.mark.parametrize("kind", list(EXCITATIONS))
 def test_agrees_with_direct_solver(system_name, kind):

@@ -238,9 +238,10 @@ def test_a_model_that_disagrees_fails_with_exit_status_3(tmp_path, capsys, monke
     # the FRF's amplitude near each peak do, far beyond their limits (since issue 45 the loss factors'
     # Maxwell branches, in both, share the damping: the FRF check then fails where the dashpots dominate).
     import sixdof.validation
+    from sixdof.workflows import validate as workflow
 
     real_validate = sixdof.validation.validate
-    monkeypatch.setattr(sixdof.validation, "validate",
+    monkeypatch.setattr(workflow, "validate",
                         lambda system, settings=None, **kw: real_validate(system, settings, model=_more_damped(system, 1.5), **kw))
     assert main(["validate", ENGINE, "--out", str(tmp_path)]) == EXIT_VALIDATION_FAILED == 3
     captured = capsys.readouterr()

@@ -146,6 +146,7 @@ def _same_folder(a: Path, b: Path, results: str) -> None:
             assert timed.sub(b"", (a / name).read_bytes()) == timed.sub(b"", (b / name).read_bytes()), name
 
 
+@pytest.mark.slow  # over 10 s on the 2-core machine
 def test_a_validation_computed_then_saved_is_what_validate_scenario_writes(tmp_path):
     from sixdof.workflows.validate import save_validation, validate_scenario, validation_run
 

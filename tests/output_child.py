@@ -7,6 +7,7 @@ of a results folder), ``plot`` (after the figures are drawn, before they are mov
 ``swapped`` (after the new folder is in place, before the user's files are moved across) or ``none``.
 """
 
+import faulthandler
 import os
 import resource
 import signal
@@ -63,4 +64,6 @@ if __name__ == "__main__":
         limit = int(os.environ["SIXDOF_TEST_FSIZE"])
         resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
     hook(sys.argv[1])
+    # A child that hangs prints where each thread stands and ends, before the test's own timeout (120 s).
+    faulthandler.dump_traceback_later(100, exit=True)
     sys.exit(cli.main(sys.argv[2:]))

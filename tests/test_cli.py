@@ -310,6 +310,24 @@ def test_only_the_command_s_own_process_collects_garbage_less_often():
     assert command == (COLLECT_EVERY, *before[1:])
 
 
+@pytest.mark.parametrize("user_flags", [None, "--xla_cpu_use_fusion_emitters=true --xla_dump_to=/dev/null"])
+def test_only_the_command_s_own_process_compiles_without_xla_s_fusion_emitters(user_flags):
+    """The ``sixdof`` command turns XLA's CPU fusion emitters off (they slow its compilation) and keeps any
+    flag the user set, their own value of that one included; a program calling main() keeps XLA_FLAGS as it was."""
+    env = {k: v for k, v in os.environ.items() if k != "XLA_FLAGS"}
+    if user_flags is not None:
+        env["XLA_FLAGS"] = user_flags
+    code = ("import os, sys\nfrom sixdof.cli import main\nbefore = os.environ.get('XLA_FLAGS')\n"
+            "main(['modes', 'scenarios/bridge_beam.toml', '--json'])\nlibrary = os.environ.get('XLA_FLAGS')\n"
+            "sys.argv = ['sixdof', 'modes', 'scenarios/bridge_beam.toml', '--json']\nmain()\n"
+            "print(repr((before, library, os.environ.get('XLA_FLAGS'))), file=sys.stderr)\n")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+    assert result.returncode == 0, result.stderr
+    before, library, command = ast.literal_eval(result.stderr)
+    assert before == library == user_flags
+    assert command == (user_flags or "--xla_cpu_use_fusion_emitters=false")
+
+
 @pytest.mark.skipif(platform.libc_ver()[0] != "glibc", reason="glibc's allocator")
 @pytest.mark.parametrize("user_setting", [None, "MALLOC_TRIM_THRESHOLD_", "GLIBC_TUNABLES"])
 def test_the_command_s_own_process_keeps_the_memory_it_frees(user_setting):

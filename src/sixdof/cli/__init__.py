@@ -68,6 +68,7 @@ def main(argv: list[str] | None = None) -> int:
             _process.skip_teardown(status)
             _process.collect_less()  # the command's process is sixdof's: a program calling main() keeps its settings
             _process.keep_freed_memory()
+            _process.compile_faster()
             if args.command in DRAWING:
                 _process.one_blas_thread()
     except KeyboardInterrupt:  # while the command starts, before it has done anything

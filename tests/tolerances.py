@@ -157,3 +157,11 @@ RTOL_BASELINE = 1e-10
 # central differences (relative step 1e-4) of systems that each solve their own statics, relative to each
 # parameter's largest derivative: the differences' truncation and round-off (measured 2.2e-8 on skewed_machine).
 RTOL_GEOMETRIC_GRADIENT = 1e-6
+
+# --- measured data: FRF estimation, projection, correlation (tests/test_frf_estimation.py, test_projection.py) ---
+# Multiple coherence of noise-free two-reference H1 (two-mass system, 41 s Hann segments against a 0.77 s decay):
+# its distance from 1 is the leakage of the response to forces before each segment, measured 5.0e-3.
+TOL_COHERENCE_NOISE_FREE = 1e-2
+# Least-squares DOFs of an exact rigid motion on 12 channels of a metre-sized frame (pinv of a 12x6 matrix of
+# condition ~10): a few ulps of the unit-sized values.
+ATOL_PROJECTION_ROUNDOFF = 1e-13

@@ -12,7 +12,8 @@ from sixdof._lazy import lazy_names
 _PUBLIC = {
     "DecayEstimate": "estimation", "EstimatedFRF": "estimation", "decay_estimate": "estimation",
     "effective_averages": "estimation", "estimate_frf": "estimation", "h1_random_error": "estimation",
-    "held_model_frf": "estimation", "peak_frequency": "estimation",
+    "held_model_frf": "estimation", "peak_frequency": "estimation", "MultiReferenceFRF": "estimation",
+    "check_resolution": "estimation", "estimate_frfs": "estimation",
     "Check": "experiment", "FreeDecay": "experiment", "ModeCheck": "experiment", "RandomRun": "experiment",
     "ValidationReport": "experiment", "ValidationSettings": "experiment", "validate": "runs",
 }

@@ -54,6 +54,7 @@ from sixdof.dofs import DOFS, dof_units
 from sixdof.errors import InputError, Plain, memory_check, readonly
 from sixdof.excitation.loads import Excitation, GroundMotion, Load
 from sixdof.excitation.signals import Table
+from sixdof.validation.estimation import BINS_PER_BANDWIDTH, resolving_segment_s, sharpest_bandwidth
 from sixdof.validation.experiment import integrated_model
 
 #: Knots of the synthesized record per period of the PSD's top frequency (cubic Hermite: a sine
@@ -61,9 +62,6 @@ from sixdof.validation.experiment import integrated_model
 KNOTS_PER_PERIOD = 8
 #: Output samples per period of the PSD's top frequency: the 2.56 of signal analysers.
 OUTPUT_OVERSAMPLING = 2.56
-#: Welch bins per half-power bandwidth of the least damped mode in band: the resolution at which the band
-#: errors hold (at one bin per bandwidth z was measured to scatter 1.2-1.5 times wider than stated).
-BINS_PER_BANDWIDTH = 4
 #: Welch segments (50 % overlap) of a default record, and the fewest a record may hold.
 AVERAGES, MIN_AVERAGES = 32, 8
 #: Longest default record [s] (lightly damped low modes): fewer averages beyond it, down to MIN_AVERAGES.
@@ -107,7 +105,7 @@ def _least_damped(system, band) -> tuple[float, float]:
     f_n = system.modes.frequency_hz
     zeta = _modal_damping(system)
     inside = (f_n >= band[0]) & (f_n <= band[1]) & (f_n > 0)
-    bandwidth = float(np.min(2 * zeta[inside] * f_n[inside])) if np.any(inside) else band[0]
+    bandwidth = sharpest_bandwidth(f_n[inside], zeta[inside]) if np.any(inside) else band[0]
     branches = system.branches
     state = mechanical_form(np.linalg.inv(np.asarray(system.M)), system.K, system.C, branches.rows, branches.stiffness,
                             branches.tau)
@@ -123,7 +121,7 @@ def _segment(bandwidth: float, psd, duration: float | None) -> tuple[float, floa
     resonance in band: the band errors assume a PSD flat across a bin (coarser bins were measured to scatter
     z 1.2-1.8 times wider than stated). A longer record averages more segments, not shorter ones.
     """
-    segment = max(BINS_PER_BANDWIDTH / bandwidth, 4.0 / float(psd.f_hz[0]))
+    segment = max(resolving_segment_s(bandwidth), 4.0 / float(psd.f_hz[0]))
     shortest = (MIN_AVERAGES + 1) / 2 * segment
     if duration is None:
         duration = max(min((AVERAGES + 1) / 2 * segment, MAX_DEFAULT_S), shortest)

@@ -14,6 +14,7 @@ _PUBLIC = {
     "effective_averages": "estimation", "estimate_frf": "estimation", "h1_random_error": "estimation",
     "held_model_frf": "estimation", "peak_frequency": "estimation", "MultiReferenceFRF": "estimation",
     "check_resolution": "estimation", "estimate_frfs": "estimation",
+    "BodyProjection": "projection", "project_to_body": "projection",
     "Check": "experiment", "FreeDecay": "experiment", "ModeCheck": "experiment", "RandomRun": "experiment",
     "ValidationReport": "experiment", "ValidationSettings": "experiment", "validate": "runs",
 }

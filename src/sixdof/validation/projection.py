@@ -60,12 +60,12 @@ class BodyProjection(Result):
         Unit of the measured motion.
     """
 
+    node: np.ndarray = quantity("1", ("node",), description="node numbers")
     q: np.ndarray = quantity(lambda p: _dof_units(p.unit), ("dof", "column"),
                              description="least-squares rigid-body DOFs of the measured motion")
     residual: np.ndarray = quantity("1", ("column",), description="relative norm of the motion no rigid body makes")
     node_residual: np.ndarray = quantity("1", ("node", "column"), description="residual per node")
     channel_residual: np.ndarray = quantity("1", ("channel", "column"), description="residual per channel")
-    node: np.ndarray = quantity("1", ("node",), description="node numbers")
     column_shape: tuple = label(encode=lambda s: np.asarray(s, dtype=int), decode=lambda a: tuple(int(v) for v in a))
     unit: str = label(name="motion_unit", default="1")
 

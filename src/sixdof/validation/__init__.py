@@ -1,6 +1,6 @@
 """Modal results validated against time histories: estimators (:mod:`.estimation`), the free-decay and
-random-force experiment (:mod:`.experiment`; :mod:`.runs` runs it), and the random response's check
-(:mod:`.random_time`).
+random-force experiment (:mod:`.experiment`; :mod:`.runs` runs it), the random response's check
+(:mod:`.random_time`), and the modal identification of measured FRFs (:mod:`.identify`, pLSCF + LSFD).
 
 Names load on first use: :mod:`.estimation` imports scipy.signal (about 0.7 s), which a run that validates
 nothing must not pay for (``sixdof.validation.random_time`` is imported by every run whose ``[random]`` has
@@ -15,6 +15,8 @@ _PUBLIC = {
     "held_model_frf": "estimation", "peak_frequency": "estimation",
     "Check": "experiment", "FreeDecay": "experiment", "ModeCheck": "experiment", "RandomRun": "experiment",
     "ValidationReport": "experiment", "ValidationSettings": "experiment", "validate": "runs",
+    "Identification": "identify", "IdentifiedModes": "identify", "StabilityDiagram": "identify",
+    "identify_modes": "identify",
 }
 
 __all__ = sorted(_PUBLIC)

@@ -132,9 +132,13 @@ def test_a_flexible_mode_above_the_band_is_no_mode_inside_it_is_one():
 
 
 def test_the_close_pair_with_one_reference():
-    # Measured: noise-free, one reference resolves the pair too (the common denominator sees both poles
-    # through the 12 outputs' different numerators); with 2 % noise it does not at the default order.
+    # Observed: noise-free, one reference resolves the pair too (the common denominator sees both poles through
+    # the 12 outputs' different numerators), at the default 120 orders (40 with three references). With 2 %
+    # noise it still finds two poles, but the 11.0 Hz one's damping is 47 % off (0.0295 for 0.02) and the
+    # pair's MAC drops to 0.988-0.993; three references keep it within 0.12 % and MAC 0.99998
+    # (test_noisy_frfs_within_the_stated_limits). So only the noise-free case is a requirement here.
     exact = identified(n_ref=1)
+    assert exact.stability.max_order == 120
     index = paired(exact, TRUE_F)
     np.testing.assert_allclose(exact.modes.frequency_hz[index], TRUE_F, rtol=RTOL_F_EXACT)
 

@@ -157,3 +157,8 @@ RTOL_BASELINE = 1e-10
 # central differences (relative step 1e-4) of systems that each solve their own statics, relative to each
 # parameter's largest derivative: the differences' truncation and round-off (measured 2.2e-8 on skewed_machine).
 RTOL_GEOMETRIC_GRADIENT = 1e-6
+
+# --- measured test data (tests/test_testfile.py, tests/test_exchange.py) ---
+# ASCII UFF55 and UFF15 write 6 significant digits (E13.5): a mode shape or node coordinate read back is within
+# half a unit of its 6th digit, 5e-6 of its own size.
+RTOL_UFF_ASCII = 5e-6

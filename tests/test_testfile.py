@@ -347,3 +347,17 @@ def test_test_data_refuses_arrays_that_do_not_fit_its_channels():
         dataclasses.replace(frf, quantity="acceleration")
     with pytest.raises(InputError, match=r"out_directions: expected unit vectors"):
         dataclasses.replace(frf, out_directions=2 * frf.out_directions)
+
+
+def test_geometry_from_a_dataset_2411_in_double_precision(tmp_path):
+    nodes = {201: (0.123456789012, -0.4, 0.3), 202: (0.0, 0.5, -0.125)}
+    numbers = list(nodes)
+    points = pyuff.prepare_2411(node_nums=numbers, def_cs=[0, 0], disp_cs=[0, 0], color=[1, 1],
+                                x=[nodes[n][0] for n in numbers], y=[nodes[n][1] for n in numbers],
+                                z=[nodes[n][2] for n in numbers])
+    test = load_test(write(tmp_path / "fine.uff", [points, time_set(201, 2, 12, "m/s^2", np.ones(10)),
+                                                   time_set(202, -4, 13, "N m", np.ones(10))]))
+    np.testing.assert_allclose(test.out_positions, [nodes[201]], rtol=1e-15)  # 2411 keeps 16 digits
+    np.testing.assert_array_equal(test.ref_rotation, [True])  # a force channel about -X: a moment
+    np.testing.assert_array_equal(test.ref_directions, [[-1.0, 0.0, 0.0]])
+    np.testing.assert_array_equal(test.load_columns()[:, 0], [0, 0, 0, -1, 0, 0])

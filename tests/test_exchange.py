@@ -161,14 +161,16 @@ def test_each_format_replaces_its_own_files_and_keeps_the_other_s(results, tmp_p
     (folder / "notes.txt").write_text("mine")
     assert main(["export", str(results), "--format", "csv", "--out", str(tmp_path)]) == 0
     assert "kept them: notes.txt" in capsys.readouterr().err
-    assert sorted(os.listdir(folder)) == [".sixdof-files", "notes.txt", "small.uff", "small_frf.csv", "small_time.csv"]
+    assert sorted(os.listdir(folder)) == [".sixdof-files", "notes.txt", "small.uff", "small_frf.csv", "small_modes.uff",
+                                          "small_time.csv"]
     assert (folder / "small.uff").read_bytes() == uff
-    assert (folder / ".sixdof-files").read_text().split() == ["small.uff", "small_frf.csv", "small_time.csv"]
+    assert (folder / ".sixdof-files").read_text().split() == ["small.uff", "small_frf.csv", "small_modes.uff",
+                                                              "small_time.csv"]
     frf_only = SCENARIO.split("[simulation]")[0] + "[frf]" + SCENARIO.split("[frf]")[1].replace("points = 50",
                                                                                                  "points = 30")
     frf_only, frf_folder = run_scenario(parse_scenario(frf_only), tmp_path / "frf_only", progress=False)
     assert main(["export", str(frf_folder / "results.h5"), "--format", "csv", "--out", str(tmp_path)]) == 0
-    assert sorted(os.listdir(folder)) == [".sixdof-files", "notes.txt", "small.uff", "small_frf.csv"]
+    assert sorted(os.listdir(folder)) == [".sixdof-files", "notes.txt", "small.uff", "small_frf.csv", "small_modes.uff"]
     assert (folder / "small.uff").read_bytes() == uff and (folder / "notes.txt").read_text() == "mine"
     with (folder / "small_frf.csv").open() as stream:
         assert len(list(csv.reader(stream))) == 1 + 30  # the header and the new run's frequencies
@@ -223,3 +225,72 @@ def test_csv_of_a_base_excited_run_carries_the_ground_motion_after_the_body_s_co
                                                                           ("m",) * 3 + ("rad",) * 3)),
                                 *(f"top a{a} (absolute) [m/s^2]" for a in "xyz")]
     np.testing.assert_array_equal(table[:, 1:7], tree.array("time/q"))
+
+
+def test_csv_export_read_back_as_test_data_gives_the_run_s_data_exactly(results, tmp_path):
+    """The loads' generalized force at the CG are the references, the points' accelerations the responses."""
+    from sixdof import load_test
+    from sixdof.io.exchange import export
+
+    files = export(results, tmp_path, "csv")
+    run = load_results(results)
+    test = load_test(files[0], parse_scenario(SCENARIO, "small.toml"))
+    assert (test.kind, test.quantity) == ("time", "acceleration")
+    np.testing.assert_array_equal(test.t, run.response.t)
+    np.testing.assert_array_equal(test.responses, run.points["top"].acceleration)
+    np.testing.assert_array_equal(test.inputs, run.response.Q)
+    assert test.out_labels == ("top ax", "top ay", "top az") and test.ref_labels == ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
+    np.testing.assert_array_equal(test.out_positions, [[0.4, 0.5, 0.3]] * 3)
+    np.testing.assert_array_equal(test.ref_rotation, [False] * 3 + [True] * 3)
+    np.testing.assert_array_equal(test.load_columns(), np.eye(6))  # the generalized force itself
+    assert test.sample_rate_hz == pytest.approx(1000.0, rel=1e-12)
+
+
+def test_modes_are_exported_as_uff55_at_the_points_with_uff15_geometry(results, tmp_path):
+    pyuff = pytest.importorskip("pyuff")
+    from sixdof.model.kinematics import point_map
+    from tolerances import RTOL_UFF_ASCII
+
+    assert main(["export", str(results), "--out", str(tmp_path)]) == 0
+    run = load_results(results)
+    uff = pyuff.UFF(str(tmp_path / "small_export" / "small_modes.uff"))
+    sets = [uff.read_sets(k) for k in range(uff.get_n_sets())]
+    assert [s["type"] for s in sets] == [15] + [55] * 6
+    assert list(sets[0]["node_nums"]) == [2]  # the point, numbered as in the UFF58 file
+    np.testing.assert_allclose([sets[0][c][0] for c in "xyz"], [0.4, 0.5, 0.3], rtol=RTOL_UFF_ASCII)
+    expected = point_map([0.4, 0.5, 0.3]) @ run.modes.shapes  # (3, 6): the point's translations per mode
+    for j, data in enumerate(sets[1:]):
+        assert (data["analysis_type"], data["data_ch"], data["spec_data_type"], data["mode_n"]) == (2, 2, 8, j + 1)
+        assert data["freq"] == pytest.approx(run.modes.frequency_hz[j], rel=RTOL_UFF_ASCII)
+        shape = np.array([data["r1"][0], data["r2"][0], data["r3"][0]])
+        np.testing.assert_allclose(shape, expected[:, j], rtol=0, atol=RTOL_UFF_ASCII * np.abs(expected[:, j]).max())
+
+
+def test_modes_go_to_the_test_nodes_in_the_test_frame(results):
+    """With [test.nodes], origin and axes: the shapes at origin + p @ axes, turned into the test frame."""
+    import dataclasses
+
+    pytest.importorskip("pyuff")
+    from sixdof.io.exchange import modal_sets
+    from sixdof.model.kinematics import point_map
+
+    axes = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    text = SCENARIO + """
+[test]
+origin = [0.1, 0.0, -0.2]
+axes = [[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
+
+[test.nodes]
+7 = [0.25, -0.4, 0.3]
+3 = [0.0, 0.5, -0.125]
+"""
+    run = load_results(results)
+    sets = modal_sets(dataclasses.replace(run, provenance={"scenario_text": text}))
+    assert list(sets[0]["node_nums"]) == [3, 7]
+    np.testing.assert_array_equal(sets[0]["x"], [0.0, 0.25])  # the lab's coordinates, as given
+    body = np.array([[-0.4, 0.0, -0.325], [0.5, 0.25, 0.1]])  # origin + p @ axes, by hand
+    for j, data in enumerate(sets[1:]):
+        for n in range(2):
+            expected = axes @ (point_map(body[n]) @ run.modes.shapes[:, j])
+            np.testing.assert_allclose([data["r1"][n], data["r2"][n], data["r3"][n]], expected, rtol=1e-12,
+                                       atol=1e-15)

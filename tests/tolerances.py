@@ -165,3 +165,8 @@ TOL_COHERENCE_NOISE_FREE = 1e-2
 # Least-squares DOFs of an exact rigid motion on 12 channels of a metre-sized frame (pinv of a 12x6 matrix of
 # condition ~10): a few ulps of the unit-sized values.
 ATOL_PROJECTION_ROUNDOFF = 1e-13
+
+# --- measured test data (tests/test_testfile.py, tests/test_exchange.py) ---
+# ASCII UFF55 and UFF15 write 6 significant digits (E13.5): a mode shape or node coordinate read back is within
+# half a unit of its 6th digit, 5e-6 of its own size.
+RTOL_UFF_ASCII = 5e-6

@@ -80,6 +80,8 @@ _PUBLIC = {
     "ResultsStream": "io.stream",
     "optimize_scenario": "workflows.optimize",
     "load_results": "io.store",
+    "load_test": "io.testfile",
+    "TestData": "validation.testdata",
     "write_results": "io.store",
 }
 

@@ -307,7 +307,8 @@ def _parser() -> argparse.ArgumentParser:
                           "already there, nothing is copied and it is named: none is overwritten)")
     examples.set_defaults(command="examples")
 
-    exchange = add("export", help="write a results file's time histories and FRFs as UFF58 or CSV for test tools")
+    exchange = add("export", help="write a results file's time histories and FRFs as UFF58 (with the modes as UFF55) "
+                   "or CSV for test tools")
     exchange.add_argument("results", help="results file (results.h5 of a run)")
     exchange.add_argument("--format", choices=("uff58", "csv"), default="uff58", help="file format (default uff58)")
     exchange.add_argument("--out", help="files go to OUT/<name>_export/ (default: beside the results file)")

@@ -17,11 +17,18 @@ node 1 along +X..+RZ. An input channel names its own DOF as its reference too (t
 reference is ``NONE``, node 0, direction 0), so a test tool can tell the reference channels, a shaker's
 control accelerometer or a force gauge, from the responses: this is sixdof's convention, UFF58 itself has
 no input flag for a time history.
+
+Beside the UFF58 file, ``<name>_modes.uff`` holds the model's undamped modes for a test lab's pre-test MAC
+(issue 47, item 8): dataset 15, the nodes (the scenario's ``[test.nodes]`` in the test frame, else the
+``[[points]]`` numbered 2, 3... in body axes from the CG, as above), and per mode a dataset 55 (normal mode,
+3 translations per node, displacement, mass-normalized shapes [kg^-0.5] in the nodes' frame, with frequency and
+modal damping ratio). Both are ASCII: UFF55 and UFF15 keep 6 significant digits.
 """
 
 from __future__ import annotations
 
 import csv
+import tomllib
 from pathlib import Path
 from typing import NamedTuple
 
@@ -30,11 +37,15 @@ import numpy as np
 from sixdof.dofs import DOF_UNITS, DOFS, FORCE_UNITS, LOADS
 from sixdof.errors import InputError, Plain
 from sixdof.io import output
+from sixdof.io.settings import Point
 from sixdof.io.store import load_results
+from sixdof.model.kinematics import point_map
+from sixdof.schema import build
+from sixdof.validation.testdata import TestSetup
 
 FORMATS = ("uff58", "csv")
 #: The files each format writes (at most), named after the run.
-_FILES = {"uff58": ("{}.uff",), "csv": ("{}_time.csv", "{}_frf.csv")}
+_FILES = {"uff58": ("{}.uff", "{}_modes.uff"), "csv": ("{}_time.csv", "{}_frf.csv")}
 _TIME, _FRF = 1, 4  # UFF58 function types
 _DISPLACEMENT, _VELOCITY, _ACCELERATION, _FORCE = 8, 11, 12, 13  # UFF58 specific data types
 _SECONDS, _HERTZ = 17, 18
@@ -187,6 +198,48 @@ def uff58_sets(run) -> list[dict]:
     return sets
 
 
+def mode_nodes(run) -> tuple[np.ndarray, np.ndarray, TestSetup]:
+    """The nodes the mode shapes are written at: node numbers (n,), their coordinates (n, 3) [m] in the test
+    frame, and the ``[test]`` setup placing that frame in body axes; the scenario's ``[test.nodes]`` (read from
+    the text the results file keeps), else its ``[[points]]`` (numbered 2, 3..., body axes, as the UFF58 file)."""
+    raw = tomllib.loads(run.provenance.get("scenario_text", "") or "")
+    setup = build(TestSetup, raw["test"], "test") if isinstance(raw.get("test"), dict) else TestSetup()
+    if setup.nodes:
+        numbers = sorted(setup.nodes)
+        return np.asarray(numbers, np.int64), np.asarray([setup.nodes[n] for n in numbers], float), setup
+    points = [build(Point, t, f"points[{i}]").position for i, t in enumerate(raw.get("points", []))]
+    if not points and run.points:  # results written from parts, without the scenario's text
+        points = [motion.position for motion in run.points.values()]
+    return np.arange(2, len(points) + 2, dtype=np.int64), np.asarray(points, float).reshape(-1, 3), TestSetup()
+
+
+def modal_sets(run) -> list[dict]:
+    """The UFF15 and UFF55 datasets of a run's modes at :func:`mode_nodes` (see the module); none without
+    modes or nodes."""
+    import pyuff
+
+    numbers, local, setup = mode_nodes(run)
+    if run.modes is None or numbers.size == 0:
+        return []
+    axes = np.asarray(setup.axes)
+    # Body-axis translations of each node per mode, turned into the test frame (rows of axes: its axes).
+    shapes = np.einsum("ij,njm->nim", axes, point_map(setup.to_body(local)) @ np.asarray(run.modes.shapes))
+    zeros = np.zeros(numbers.size, dtype=np.int64)
+    sets = [pyuff.prepare_15(node_nums=numbers, def_cs=zeros, disp_cs=zeros, color=zeros + 1, x=local[:, 0],
+                             y=local[:, 1], z=local[:, 2])]
+    ratios = run.damping_ratios if run.damping_ratios is not None else np.zeros(6)
+    name = run.name or "sixdof"
+    for j, f in enumerate(np.asarray(run.modes.frequency_hz, float)):
+        zeta = float(ratios[j]) if np.isfinite(ratios[j]) else 0.0
+        sets.append(pyuff.prepare_55(
+            model_type=1, id1=f"{name}: mode {j + 1}", id2="sixdof undamped mode, mass-normalized [kg^-0.5]",
+            id3="NONE", id4="NONE", id5="NONE", analysis_type=2, data_ch=2, spec_data_type=_DISPLACEMENT,
+            data_type=2, n_data_per_node=3, r1=shapes[:, 0, j], r2=shapes[:, 1, j], r3=shapes[:, 2, j],
+            node_nums=numbers, load_case=1, mode_n=j + 1, freq=float(f), modal_m=1.0, modal_damp_vis=zeta,
+            modal_damp_his=0.0))
+    return sets
+
+
 def _write_csv(path: Path, headers: list[str], columns: list[np.ndarray]) -> None:
     with path.open("w", newline="", encoding="utf-8") as stream:
         writer = csv.writer(stream)
@@ -199,7 +252,8 @@ def export(results: str | Path, out_root: str | Path | None = None, fmt: str = "
     (default: beside the results file), all or nothing. The files of the other format there are kept: each
     export replaces its own format's files only.
 
-    ``"uff58"``: ``<name>.uff`` (see the module). ``"csv"``: ``<name>_time.csv`` (t [s], the CG's q [m, rad],
+    ``"uff58"``: ``<name>.uff`` and, with modes, ``<name>_modes.uff`` (see the module).
+    ``"csv"``: ``<name>_time.csv`` (t [s], the CG's q [m, rad],
     each point's acceleration [m/s^2], then the input channels: a base-excited run's ground displacement,
     velocity and acceleration, ``ground dx [m]`` ... ``ground az [m/s^2]``, and the applied loads'
     generalized force, ``Fx [N]`` ... ``Mz [N m]``, when there are loads) and ``<name>_frf.csv`` (f [Hz], the
@@ -220,7 +274,7 @@ def export(results: str | Path, out_root: str | Path | None = None, fmt: str = "
         raise InputError("results", "a run with time histories or FRFs to export", Plain(f"{results}: neither"))
     name = run.name or results.stem
     files = {each: [pattern.format(name) for pattern in patterns] for each, patterns in _FILES.items()}
-    (uff_file,), (time_file, frf_file) = files["uff58"], files["csv"]
+    (uff_file, modes_file), (time_file, frf_file) = files["uff58"], files["csv"]
     target = output.check_target(out_root if out_root is not None else results.parent, name, "_export")
     written: list[str] = []
 
@@ -231,6 +285,10 @@ def export(results: str | Path, out_root: str | Path | None = None, fmt: str = "
             path = stage / uff_file
             pyuff.UFF(str(path)).write_sets(uff58_sets(run), mode="add")
             written.append(path.name)
+            modal = modal_sets(run)
+            if modal:
+                pyuff.UFF(str(stage / modes_file)).write_sets(modal, mode="add")
+                written.append(modes_file)
             return
         if run.response is not None:
             frame = _frame(run.response)

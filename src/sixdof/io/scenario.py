@@ -32,6 +32,7 @@ from sixdof.model.parts import Rayleigh, RigidBody
 from sixdof.model.system import MAX_MOUNTS, System
 from sixdof.model.viscoelastic import causal_loss_factors
 from sixdof.schema import Table, build, choices, make, parse, read_text, unique
+from sixdof.validation.testdata import TestSetup
 
 #: The most body points of a scenario: 1,000 took 52 s for the bundled compressor's 3 s run at 2 kHz on a busy
 #: machine; each adds 216 bytes a sample to a run's results file.
@@ -90,6 +91,8 @@ class Scenario:
         The ``[random]`` table: a base-acceleration or force PSD.
     design : sixdof.design.spec.DesignSpec
         The ``[design]`` table: torque axis, targets and variables (empty when absent).
+    test : sixdof.validation.testdata.TestSetup or None
+        The ``[test]`` table: the test's node coordinates, the test frame in body axes, the correlation limits.
     measured : tuple of sixdof.io.mounts.MeasuredStiffness
         The mounts' measured dynamic stiffness tables, read and checked: fitted by
         :func:`sixdof.workflows.prepare.prepare`, which puts their Maxwell models in ``system``.
@@ -131,6 +134,7 @@ class Scenario:
     loss_factor_band_hz: Any = None
     loss_factor_terms: Any = None
     model: Any = None
+    test: TestSetup | None = None  # the [test] table (issue 47): where a test's nodes are, correlation limits
 
     @property
     def needs_preparing(self) -> tuple[str, ...]:
@@ -272,7 +276,13 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
                     measured=tuple(fits), loss_factor_model=loss_model,
                     loss_factor_band_hz=damping.value("loss_factor_band_hz", None),
                     loss_factor_terms=damping.value("loss_factor_terms", None),
-                    path=Path(source) if source != "<string>" else None)
+                    path=Path(source) if source != "<string>" else None, test=_test(top.table("test", default=None)))
+
+
+# The [test] table (issue 47): a self-contained block.
+def _test(raw: dict | None) -> TestSetup | None:
+    """The ``[test]`` table, or None without one."""
+    return None if raw is None else build(TestSetup, raw, "test")
 
 
 def _spectrum(raw: dict, simulation):
@@ -428,4 +438,5 @@ def _with_file(table: dict, path: str, base_dir: Path) -> dict:
 _TOP_LEVEL_KEYS = (
     "name", "description", "body", "mounts", "damping", "loads", "ground", "initial", "simulation",
     "frf", "superposition", "points", "statics", "output", "design", "random", "shock_response_spectrum",
+    "test",
 )

@@ -23,6 +23,7 @@ import sixdof.analysis.steady  # noqa: F401
 import sixdof.model.modes  # noqa: F401
 import sixdof.model.system  # noqa: F401
 import sixdof.model.viscoelastic  # noqa: F401
+import sixdof.validation.testdata  # noqa: F401
 from sixdof.results import result_class
 
 

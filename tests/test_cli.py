@@ -403,7 +403,7 @@ def test_examples_are_copied_runnable_and_never_overwritten(tmp_path, capsys):
     folder = tmp_path / "mine"
     assert main(["examples", str(folder)]) == 0
     repository = Path("scenarios")
-    bundled = sorted(p.relative_to(repository).as_posix() for p in repository.rglob("*") if p.suffix in (".toml", ".csv"))
+    bundled = sorted(p.relative_to(repository).as_posix() for p in repository.rglob("*") if p.suffix in (".toml", ".csv", ".uff", ".json"))
     copied = sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*") if p.is_file())
     assert copied == bundled and "bridge_beam_traffic.toml" in copied
     assert all((folder / name).read_bytes() == (repository / name).read_bytes() for name in copied)

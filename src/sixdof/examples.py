@@ -11,6 +11,9 @@ from pathlib import Path
 
 from sixdof.errors import InputError, Plain
 
+#: What a bundled example is made of: scenarios, the tables they read, a test file (UFF) and its truth (JSON).
+EXTENSIONS = (".toml", ".csv", ".uff", ".json")
+
 
 def _folder():
     """The installed examples (a :class:`importlib.resources.abc.Traversable`)."""
@@ -18,14 +21,14 @@ def _folder():
 
 
 def example_files() -> list[str]:
-    """The bundled files, as paths relative to their folder (scenarios, the data they read, sweeps)."""
+    """The bundled files, as paths relative to their folder (scenarios, the data they read, sweeps, tests)."""
     found = []
 
     def walk(folder, prefix=""):
         for item in sorted(folder.iterdir(), key=lambda i: i.name):
             if item.is_dir():
                 walk(item, f"{prefix}{item.name}/")
-            elif item.name.endswith((".toml", ".csv")):
+            elif item.name.endswith(EXTENSIONS):
                 found.append(f"{prefix}{item.name}")
 
     walk(_folder())

@@ -157,3 +157,12 @@ RTOL_BASELINE = 1e-10
 # central differences (relative step 1e-4) of systems that each solve their own statics, relative to each
 # parameter's largest derivative: the differences' truncation and round-off (measured 2.2e-8 on skewed_machine).
 RTOL_GEOMETRIC_GRADIENT = 1e-6
+
+# --- model updating (tests/test_update.py) ---
+# Variables updated to exact test modes against the truth: the eigen-equation residual is zero there, and the
+# bounded quasi-Newton search (ftol 1e-15) stops within this of it (measured: see the commit).
+RTOL_UPDATE_EXACT = 1e-6
+# The updated scenario's modes, written at full precision and read back, against the update's: round-off only.
+RTOL_UPDATED_TEXT = 1e-9
+# Noisy test modes (stated noise, one seed): each updated variable within this many of its standard errors.
+UPDATE_NOISE_SIGMAS = 3.0

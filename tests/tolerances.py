@@ -170,3 +170,12 @@ ATOL_PROJECTION_ROUNDOFF = 1e-13
 # ASCII UFF55 and UFF15 write 6 significant digits (E13.5): a mode shape or node coordinate read back is within
 # half a unit of its 6th digit, 5e-6 of its own size.
 RTOL_UFF_ASCII = 5e-6
+
+# --- model updating (tests/test_update.py) ---
+# Variables updated to exact test modes against the truth: the eigen-equation residual is zero there, and the
+# bounded quasi-Newton search (ftol 1e-15) stops within this of it (measured: see the commit).
+RTOL_UPDATE_EXACT = 1e-6
+# The updated scenario's modes, written at full precision and read back, against the update's: round-off only.
+RTOL_UPDATED_TEXT = 1e-9
+# Noisy test modes (stated noise, one seed): each updated variable within this many of its standard errors.
+UPDATE_NOISE_SIGMAS = 3.0

@@ -111,6 +111,30 @@ def variables(spec, mount_names: tuple[str, ...], positions) -> tuple[Variable, 
     return tuple(found)
 
 
+def mount_arrays(system, variables: tuple[Variable, ...], x, stiffness_scale=None):
+    """Positions (n_mounts, 3) [m], stiffnesses (n_mounts, 3) [N/m] and axes (n_mounts, 3, 3) of ``system``'s
+    mounts with the ``variables`` (:func:`variables`) at ``x`` (n,), JAX-traceable; ``stiffness_scale``
+    (n_mounts, 3) multiplies every mount-axis stiffness. The design's and the model update's one map."""
+    from sixdof._jax import jnp
+
+    positions = jnp.asarray(system.positions, dtype=float)
+    stiffness = jnp.asarray(system.stiffnesses, dtype=float)
+    axes = jnp.asarray(system.axes, dtype=float)
+    for k, variable in enumerate(variables):
+        rows = jnp.array(variable.mounts)
+        if variable.parameter == "stiffness":
+            stiffness = stiffness.at[rows, variable.axis].multiply(x[k], unique_indices=True)  # mounts listed once
+        elif variable.parameter == "position":
+            positions = positions.at[rows, variable.axis].add(x[k] * jnp.array(variable.signs))
+        else:  # the rows of each mount's axes turned about a body axis by +-x[k] degrees
+            for mount, sign in zip(variable.mounts, variable.signs):
+                turn = _rotation(variable.axis, jnp.deg2rad(sign * x[k]))
+                axes = axes.at[mount].set(axes[mount] @ turn.T)
+    if stiffness_scale is not None:
+        stiffness = stiffness * stiffness_scale
+    return positions, stiffness, axes
+
+
 class DesignProblem:
     """The targets of ``spec`` as functions of its variables, for ``system`` under gravity ``gravity``
     [m/s^2] along ``direction`` (body axes). :meth:`values`, :meth:`violations` and :meth:`objective` take
@@ -166,25 +190,7 @@ class DesignProblem:
 
     def mounts(self, x, stiffness_scale=None):
         """Positions (n_mounts, 3) [m], stiffnesses (n_mounts, 3) [N/m] and axes (n_mounts, 3, 3) of design ``x``."""
-        from sixdof._jax import jnp
-
-        system = self.system
-        positions = jnp.asarray(system.positions, dtype=float)
-        stiffness = jnp.asarray(system.stiffnesses, dtype=float)
-        axes = jnp.asarray(system.axes, dtype=float)
-        for k, variable in enumerate(self.variables):
-            rows = jnp.array(variable.mounts)
-            if variable.parameter == "stiffness":
-                stiffness = stiffness.at[rows, variable.axis].multiply(x[k], unique_indices=True)  # mounts listed once
-            elif variable.parameter == "position":
-                positions = positions.at[rows, variable.axis].add(x[k] * jnp.array(variable.signs))
-            else:  # the rows of each mount's axes turned about a body axis by +-x[k] degrees
-                for mount, sign in zip(variable.mounts, variable.signs):
-                    turn = _rotation(variable.axis, jnp.deg2rad(sign * x[k]))
-                    axes = axes.at[mount].set(axes[mount] @ turn.T)
-        if stiffness_scale is not None:
-            stiffness = stiffness * stiffness_scale
-        return positions, stiffness, axes
+        return mount_arrays(self.system, self.variables, x, stiffness_scale)
 
     def system_at(self, x):
         """The :class:`~sixdof.model.system.System` with the mounts of design ``x`` (and its own preload)."""

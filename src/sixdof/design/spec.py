@@ -33,6 +33,8 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from sixdof.chunks import check_count
 from sixdof.dofs import AXES, DOFS, MOUNT_AXES
 from sixdof.errors import (
@@ -250,9 +252,10 @@ def _varied(entry: Vary) -> list[tuple[str, str]]:
     return [(entry.parameter, axis) for axis in axes]
 
 
-def check_mounts(spec: DesignSpec, mount_names: tuple[str, ...]) -> DesignSpec:
+def check_mounts(spec: DesignSpec, mount_names: tuple[str, ...], table: str = "design") -> DesignSpec:
     """``spec`` with each variable's and stiffness ratio's ``mounts`` checked against the system's (default:
-    all), and each mount parameter varied by one entry at most.
+    all), and each mount parameter varied by one entry at most (``table``: the table the entries are in, for
+    the messages).
 
     Raises
     ------
@@ -277,7 +280,7 @@ def check_mounts(spec: DesignSpec, mount_names: tuple[str, ...]) -> DesignSpec:
                 earlier = seen.setdefault((mount, parameter, axis), i)
                 if earlier != i:
                     what = f"the angle about {axis}" if parameter == "angle" else f"{parameter} {axis}"
-                    raise InputError(f"vary[{i}]", "each mount parameter varied by one [[design.vary]] only",
+                    raise InputError(f"vary[{i}]", f"each mount parameter varied by one [[{table}.vary]] only",
                                      Plain(f"{what} of mount {mount} varied by vary[{earlier}] too"))
     seen_ratio: dict[str, int] = {}
     for i, entry in enumerate(ratios):
@@ -287,3 +290,71 @@ def check_mounts(spec: DesignSpec, mount_names: tuple[str, ...]) -> DesignSpec:
                 raise InputError(f"stiffness_ratio[{i}].mounts", "each mount in one [[design.stiffness_ratio]] only",
                                  Plain(f"{mount}, in stiffness_ratio[{earlier}] too"))
     return dataclasses.replace(spec, vary=vary, stiffness_ratio=ratios)
+
+
+# ----------------------------------------------------------------------------------------------------
+# The [update] table: what model updating may change (sixdof.design.update).
+# ----------------------------------------------------------------------------------------------------
+
+#: What updating minimizes (:class:`UpdateSpec`): ``"modal"``, the test modes' eigen-equation residual.
+UPDATE_OBJECTIVES = ("modal",)
+
+
+def _bounds_table(value: Any, field: str, expected: str) -> tuple[Any, str]:
+    """The ``bounds`` of a ``{bounds = ...}`` table, and its field; a tuple is bounds checked already (a copy of
+    the spec, :func:`dataclasses.replace`)."""
+    if isinstance(value, tuple):
+        return value, field
+    if not isinstance(value, dict) or set(value) != {"bounds"}:
+        raise InputError(field, expected, value)
+    return value["bounds"], f"{field}.bounds"
+
+
+def _factor_bounds(value: Any, field: str) -> tuple[float, float]:
+    bounds, field = _bounds_table(value, field, "a table {bounds = [lo, hi]} of factors with 0 < lo < hi")
+    low, high = _bounds(bounds, field)
+    if low <= 0:
+        raise InputError(field, "factors [lo, hi] with 0 < lo < hi", [low, high])
+    return low, high
+
+
+def _offset_bounds(value: Any, field: str) -> tuple[tuple[float, float], ...]:
+    expected = "a table {bounds = [[lo, hi], [lo, hi], [lo, hi]]} in m along x, y, z, each lo <= 0 <= hi, lo < hi"
+    bounds, field = _bounds_table(value, field, expected)
+    rows = finite_array(bounds, field, expected, (3, 2))
+    if not np.all((rows[:, 0] <= 0) & (rows[:, 1] >= 0) & (rows[:, 0] < rows[:, 1])):
+        raise InputError(field, expected, bounds)
+    return tuple((float(lo), float(hi)) for lo, hi in rows)
+
+
+@dataclass(frozen=True)
+class UpdateSpec(Frozen):
+    """The ``[update]`` table: what updating a model to a test may change, each variable within its bounds.
+
+    ``vary``: ``[[update.vary]]`` entries, the grammar of ``[[design.vary]]`` (:class:`Vary`: stiffness factors
+    per mount axis, ``tied``, positions, angles); ``mass``: a factor on the body's mass; ``inertia``: factors on
+    the body's three second moments of mass along its principal axes (so the tensor stays positive definite and
+    its principal moments keep the triangle inequality, :mod:`sixdof.design.update`); ``cg_offset``: where the
+    centre of gravity lies from the given one [m] along x, y, z (every mount and test point moves the other way
+    relative to it); ``starts``: how many starting points (the given model first, then random points within the
+    bounds, ``seed``); ``objective``: ``"modal"``, the test modes' eigen-equation residual."""
+
+    vary: tuple[Vary, ...] = ()
+    mass: tuple[float, float] | None = checked(optional(_factor_bounds), default=None)
+    inertia: tuple[float, float] | None = checked(optional(_factor_bounds), default=None)
+    cg_offset: tuple[tuple[float, float], ...] | None = checked(optional(_offset_bounds), default=None)
+    starts: int = checked(integer_check("an integer >= 1", 1), default=4)
+    seed: int = checked(integer_check("an integer >= 0", 0), default=0)
+    objective: str = checked(choice_check(UPDATE_OBJECTIVES), default="modal")
+
+    def __check__(self) -> None:
+        check_count(self.starts, "starts", "starts", MAX_STARTS, SECONDS_PER_START)
+        if not self.vary and self.mass is None and self.inertia is None and self.cg_offset is None:
+            raise InputError("vary", "at least one [[update.vary]], mass, inertia or cg_offset to update",
+                             Plain("nothing to vary"))
+
+
+def check_update_mounts(spec: UpdateSpec, mount_names: tuple[str, ...]) -> UpdateSpec:
+    """``spec`` with each ``[[update.vary]]``'s mounts checked and resolved as :func:`check_mounts` does a
+    design's (one grammar, one check)."""
+    return dataclasses.replace(spec, vary=check_mounts(DesignSpec(vary=spec.vary), mount_names, "update").vary)

@@ -15,7 +15,7 @@ import numpy as np
 
 from sixdof.analysis.random import PSD, RandomInput
 from sixdof.analysis.srs import SRSSettings
-from sixdof.design.spec import DesignSpec, StiffnessRatio, Target, Vary, check_mounts
+from sixdof.design.spec import DesignSpec, StiffnessRatio, Target, UpdateSpec, Vary, check_mounts, check_update_mounts
 from sixdof.errors import InputError, Plain, choice_check, file_name, memory_check
 from sixdof.files import read_table_csv
 from sixdof.io.mounts import read_mount
@@ -93,6 +93,8 @@ class Scenario:
         The ``[design]`` table: torque axis, targets and variables (empty when absent).
     test : sixdof.validation.testdata.TestSetup or None
         The ``[test]`` table: the test's node coordinates, the test frame in body axes, the correlation limits.
+    update : sixdof.design.spec.UpdateSpec or None
+        The ``[update]`` table: what updating the model to a test may change (None when absent).
     measured : tuple of sixdof.io.mounts.MeasuredStiffness
         The mounts' measured dynamic stiffness tables, read and checked: fitted by
         :func:`sixdof.workflows.prepare.prepare`, which puts their Maxwell models in ``system``.
@@ -135,6 +137,7 @@ class Scenario:
     loss_factor_terms: Any = None
     model: Any = None
     test: TestSetup | None = None  # the [test] table (issue 47): where a test's nodes are, correlation limits
+    update: UpdateSpec | None = None
 
     @property
     def needs_preparing(self) -> tuple[str, ...]:
@@ -264,6 +267,8 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     unique([p.name for p in points], "points")
     output = build(OutputSettings, top.table("output", default={}), "output")
     design = _design(top.table("design", default={}), system)
+    update = top.table("update", default=None)
+    update = None if update is None else _update(update, system)
     random = top.table("random", default=None)
     if random is not None:
         random = _random(random)
@@ -276,7 +281,8 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
                     measured=tuple(fits), loss_factor_model=loss_model,
                     loss_factor_band_hz=damping.value("loss_factor_band_hz", None),
                     loss_factor_terms=damping.value("loss_factor_terms", None),
-                    path=Path(source) if source != "<string>" else None, test=_test(top.table("test", default=None)))
+                    path=Path(source) if source != "<string>" else None, test=_test(top.table("test", default=None)),
+                    update=update)
 
 
 # The [test] table (issue 47): a self-contained block.
@@ -321,6 +327,19 @@ def _design(raw: dict, system: System):
     spec = make(DesignSpec, "design", torque_axis=None if axis is None else checked_vector(axis, "design.torque_axis"),
                 target=targets, vary=vary, stiffness_ratio=ratios, **settings)
     return make(check_mounts, "design", spec=spec, mount_names=tuple(m.name for m in system.mounts))
+
+
+_UPDATE_KEYS = ("vary", "mass", "inertia", "cg_offset", "starts", "seed", "objective")
+
+
+def _update(raw: dict, system: System) -> UpdateSpec:
+    """The ``[update]`` table (:class:`~sixdof.design.spec.UpdateSpec`): ``[[update.vary]]`` read as
+    ``[[design.vary]]`` is."""
+    table = Table(raw, "update", _UPDATE_KEYS)
+    vary = tuple(build(Vary, t, f"update.vary[{i}]") for i, t in enumerate(table.tables("vary")))
+    settings = {k: raw[k] for k in _UPDATE_KEYS if k in raw and k != "vary"}
+    spec = make(UpdateSpec, "update", vary=vary, **settings)
+    return make(check_update_mounts, "update", spec=spec, mount_names=tuple(m.name for m in system.mounts))
 
 
 #: Peak memory of ``sixdof run`` per output sample [bytes], with its superposition cross-check and figures:
@@ -439,4 +458,5 @@ _TOP_LEVEL_KEYS = (
     "name", "description", "body", "mounts", "damping", "loads", "ground", "initial", "simulation",
     "frf", "superposition", "points", "statics", "output", "design", "random", "shock_response_spectrum",
     "test",
+    "update",
 )

@@ -17,6 +17,7 @@ from sixdof.analysis.statics import replace_with_preload
 from sixdof.design.optimize import DesignResult, Robustness, optimize, robustness
 from sixdof.design.problem import DesignProblem
 from sixdof.design.record import design_record
+from sixdof.design.scenario_text import scenario_text
 from sixdof.errors import readonly
 from sixdof.io import output, report, study_report
 from sixdof.io.store import write_results
@@ -69,39 +70,17 @@ DESIGN_FILES = ("optimized.toml", "design.h5", "summary.md", "frequencies.png", 
 
 def optimized_toml(scenario, system) -> str:
     """The scenario's text with the mounts of ``system``, the name ``<name>_optimized`` and a description and
-    first line that say so: comments and layout kept (tomlkit), relative file references made absolute (the
-    file lives elsewhere)."""
-    import tomlkit
-
-    document = tomlkit.parse(scenario.text)
-    document["name"] = f"{scenario.name}_optimized"
-    said = OPTIMIZED_NOTE.format(name=scenario.name)
-    document["description"] = f"{scenario.description} ({said})" if scenario.description else said
-    for table, mount in zip(document["mounts"], system.mounts):
-        table["position"] = [float(v) for v in mount.position]
-        table["stiffness"] = [float(v) for v in mount.stiffness]
-        if "axes" in table or not np.allclose(mount.axes, np.eye(3), rtol=0, atol=1e-15):
-            table["axes"] = [[float(v) for v in row] for row in mount.axes]
-    base = scenario.path.parent if scenario.path is not None else Path(".")
-    _absolute_files(document, base.resolve())
+    first line that say so (:func:`sixdof.design.scenario_text.scenario_text`: comments and layout kept,
+    relative file references made absolute)."""
     source = scenario.path.name if scenario.path is not None else "the scenario"
-    return (f"# Written by `sixdof optimize` from {source}: its [[mounts]] position, stiffness and axes are the\n"
-            f"# optimized design's; the comments below are the original's and may describe the mounts before.\n"
-            + tomlkit.dumps(document))
+    return scenario_text(
+        scenario, system, name=f"{scenario.name}_optimized", note=OPTIMIZED_NOTE.format(name=scenario.name),
+        header=(f"# Written by `sixdof optimize` from {source}: its [[mounts]] position, stiffness and axes are the\n"
+                f"# optimized design's; the comments below are the original's and may describe the mounts before.\n"))
 
 
 #: The optimized scenario's description says what it is (``sixdof run`` prints it as its title).
 OPTIMIZED_NOTE = "mounts optimized by sixdof optimize for the [design] targets of {name}"
-
-
-def _absolute_files(node, base: Path) -> None:
-    """Every ``file = "..."`` below ``node`` made absolute against ``base``."""
-    items = node.items() if hasattr(node, "items") else enumerate(node) if isinstance(node, list) else ()
-    for key, value in list(items):
-        if key == "file" and isinstance(value, str) and not Path(value).is_absolute():
-            node[key] = str(base / value)
-        elif hasattr(value, "items") or isinstance(value, list):
-            _absolute_files(value, base)
 
 
 def design_run(scenario, *, progress: bool = False, log=None, runner=None) -> DesignRun:

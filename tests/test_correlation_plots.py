@@ -242,3 +242,13 @@ def test_the_correlation_figures_render_by_name(test, identification, correlatio
                                                                    "update_history.png"]
     for name in ("stability.png", "mac.png"):
         assert plots.render_correlation(run, name, dpi=40).startswith(b"\x89PNG\r\n\x1a\n")
+
+
+def test_the_figures_draw_onto_the_caller_s(test, model_H, correlation):
+    fig = Figure(figsize=(8, 6))
+    ax = fig.add_subplot()
+    assert plots.plot_mac(correlation, ax=ax) is fig and len(fig.axes) == 2 and fig._suptitle is None
+    fig = Figure(figsize=(15, 18))
+    assert plots.plot_frf_overlay(test, model_H, fig=fig) is fig and len(fig.axes) == 30 and fig._suptitle is None
+    fig = Figure(figsize=(12, 6))
+    assert plots.plot_update_history(history(), fig=fig) is fig and len(fig.axes) == 3 and fig._suptitle is None

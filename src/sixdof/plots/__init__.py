@@ -24,7 +24,8 @@ and leave the drawing to worker processes (:mod:`sixdof.cli.figures`).
 
 Modules: :mod:`~sixdof.plots.common` (display units, envelope decimation, margins, panel grid,
 titles), :mod:`~sixdof.plots.modes`, :mod:`~sixdof.plots.time` (its zooms: :mod:`~sixdof.plots.zoom`),
-:mod:`~sixdof.plots.frf`, :mod:`~sixdof.plots.validation`.
+:mod:`~sixdof.plots.frf`, :mod:`~sixdof.plots.validation`; a test against the model (``sixdof correlate``):
+:mod:`~sixdof.plots.correlation`, drawn by :func:`render_correlation` (:data:`CORRELATION_FIGURES`).
 """
 
 from __future__ import annotations
@@ -62,9 +63,16 @@ _PUBLIC = {
     "plot_srs": "srs",
     "plot_dynamic_stiffness": "viscoelastic",
     "plot_mount_fits": "viscoelastic",
+    "UpdateHistory": "correlation",
+    "plot_frf_overlay": "correlation",
+    "plot_mac": "correlation",
+    "plot_stability": "correlation",
+    "plot_update_history": "correlation",
+    "update_history": "correlation",
 }
 
-__all__ = sorted([*_PUBLIC, "FIGURES", "FIXED_TITLES", "figure_names", "png", "render", "save_all"])
+__all__ = sorted([*_PUBLIC, "CORRELATION_FIGURES", "FIGURES", "FIXED_TITLES", "correlation_figure_names",
+                  "figure_names", "png", "render", "render_correlation", "save_all"])
 
 
 __getattr__, __dir__ = lazy_names(__name__, _PUBLIC, __all__)
@@ -142,6 +150,36 @@ FIGURES: tuple[tuple[str, tuple[str, ...], Callable[[object], bool], Callable[[o
      lambda run: _plots.plot_mount_fits(run.viscoelastic, name=run.name)),
 )
 _DRAW = {name: draw for name, _, _, draw in FIGURES}
+
+
+def _frf_unit(test) -> str:
+    """The unit of a test's FRFs for the mode indicator's label when one unit holds for every channel, else ``""``."""
+    from sixdof.plots.correlation import frf_unit  # noqa: PLC0415 (loads matplotlib: the command's figure workers start first)
+
+    units = {frf_unit(test.quantity, bool(o), bool(r)) for o in test.out_rotation for r in test.ref_rotation}
+    return units.pop() if len(units) == 1 else ""
+
+
+#: Each figure of a correlation run (``sixdof correlate``): its file name, whether the run allows it, and how it
+#: is drawn (returns a :class:`matplotlib.figure.Figure`). The run is any object with ``name`` (str), ``test``
+#: (:class:`~sixdof.validation.testdata.TestData` of FRFs), ``identification``
+#: (:class:`~sixdof.validation.identify.Identification`), ``correlation``
+#: (:class:`~sixdof.validation.correlation.Correlation`), ``model_H`` (the model's FRFs on the test's channels,
+#: shape of ``test.H``), and ``updated_H`` and ``update`` (:class:`~sixdof.design.update.UpdateResult`), both
+#: ``None`` without an update.
+CORRELATION_FIGURES: tuple[tuple[str, Callable[[object], bool], Callable[[object], object]], ...] = (
+    ("stability.png", lambda run: run.identification is not None,
+     lambda run: _plots.plot_stability(run.identification, H=None if run.test is None else run.test.H,
+                                       f_hz=None if run.test is None else run.test.f_hz,
+                                       unit="" if run.test is None else _frf_unit(run.test), name=run.name)),
+    ("mac.png", lambda run: run.correlation is not None,
+     lambda run: _plots.plot_mac(run.correlation, name=run.name)),
+    ("frf_overlay.png", lambda run: run.test is not None and run.test.H is not None and run.model_H is not None,
+     lambda run: _plots.plot_frf_overlay(run.test, run.model_H, H_updated=run.updated_H, name=run.name)),
+    ("update_history.png", lambda run: run.update is not None,
+     lambda run: _plots.plot_update_history(run.update, name=run.name)),
+)
+_DRAW_CORRELATION = {name: draw for name, _, draw in CORRELATION_FIGURES}
 #: matplotlib settings :func:`render` draws with: titles at their fixed height. matplotlib's automatic
 #: placement measures every axes' tick labels at each draw to clear labels above the axes, which none of
 #: these figures has (8 % of their drawing time); they look the same either way.
@@ -170,6 +208,21 @@ def render(run, file_name: str, dpi: int | None = None) -> bytes:
 
     with matplotlib.rc_context(FIXED_TITLES):
         figure = _DRAW[file_name](run)
+    return png(figure, dpi)
+
+
+def correlation_figure_names(run) -> list[str]:
+    """File names of the figures a correlation run allows, in the order of :data:`CORRELATION_FIGURES`."""
+    return [name for name, drawable, _ in CORRELATION_FIGURES if drawable(run)]
+
+
+def render_correlation(run, file_name: str, dpi: int | None = None) -> bytes:
+    """Draw the figure ``file_name`` of :data:`CORRELATION_FIGURES` from a correlation run and return it as PNG
+    bytes, ``dpi`` dots per inch (default :data:`DPI`), as :func:`render` does."""
+    import matplotlib
+
+    with matplotlib.rc_context(FIXED_TITLES):
+        figure = _DRAW_CORRELATION[file_name](run)
     return png(figure, dpi)
 
 

@@ -12,7 +12,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Rectangle
 
 import sixdof
-from sixdof import InputError, load_test, parse_scenario, plots
+from sixdof import InputError, load_scenario, load_test, plots
 from sixdof.plots.correlation import UpdateHistory, frf_unit, update_history, wrapped_phase_deg
 from sixdof.validation.correlation import channel_shapes, correlate_modes
 from sixdof.validation.identify import identify_modes
@@ -24,11 +24,8 @@ ORDER = 24  # a modest order: the six modes are stable from order 5 (the default
 
 @pytest.fixture(scope="module")
 def scenario():
-    """The bundled scenario with its planned ``[test]`` table switched on (the nodes in the lab frame)."""
-    text = (SCENARIOS / "machine_tap_test.toml").read_text()
-    block = text[text.index("# [test]\n"):text.index("# Model updating")]
-    text += "\n" + "\n".join(line[2:] for line in block.splitlines() if line.startswith("# "))
-    return parse_scenario(text, "machine_tap_test.toml", SCENARIOS)
+    """The bundled scenario (its ``[test]`` table: the nodes in the lab frame)."""
+    return load_scenario(SCENARIOS / "machine_tap_test.toml")
 
 
 @pytest.fixture(scope="module")
@@ -233,7 +230,7 @@ def test_the_update_history_reads_an_update_result_s_fields():
 
 
 def test_the_correlation_figures_render_by_name(test, identification, correlation, model_H):
-    run = types.SimpleNamespace(name="tap", test=test, identification=identification, correlation=correlation,
+    run = types.SimpleNamespace(name="tap", measured=test, identification=identification, correlation=correlation,
                                 model_H=model_H, updated_H=None, update=None)
     assert plots.correlation_figure_names(run) == ["stability.png", "mac.png", "frf_overlay.png"]
     assert plots.correlation_figure_names(types.SimpleNamespace(**{**vars(run), "update": history()}))[-1] == (

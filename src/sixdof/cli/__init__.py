@@ -2,10 +2,12 @@
 
 Exit status: 0 done; 1 the solve failed or a figure could not be drawn; 2 bad input (nothing computed,
 nothing written); 3 ``validate`` found the model and the time histories disagreeing beyond their limits
-(verdict FAIL; its results were written); 74 a file could not be written (full disk, file-size limit,
-permissions); 130 interrupted (SIGINT), 141 its output's reader went away (``sixdof run ... | head``: the rest
-of the output is dropped, silently), 143 terminated (SIGTERM). Whatever the status, results already in place are
-left whole: a results folder is replaced completely or not at all (:mod:`sixdof.io.output`).
+(verdict FAIL; its results were written), ``optimize`` did not meet every target, or ``correlate``
+found the model (the updated one with ``--update``) and the test not correlated; 74 a file could not be
+written (full disk, file-size limit, permissions); 130 interrupted (SIGINT), 141 its output's reader went
+away (``sixdof run ... | head``: the rest of the output is dropped, silently), 143 terminated (SIGTERM).
+Whatever the status, results already in place are left whole: a results folder is replaced completely or
+not at all (:mod:`sixdof.io.output`).
 """
 
 from __future__ import annotations
@@ -282,6 +284,16 @@ def _parser() -> argparse.ArgumentParser:
     check.add_argument("scenario", help="scenario file (TOML)")
     check.add_argument("--out", default="outputs", help="results go to OUT/<name>_validation/ (default: outputs)")
     check.set_defaults(command="validate")
+
+    correlate = add("correlate", help="correlate the model with a test (UFF58 or CSV): identified modes, MAC, "
+                    "with --update the [update] variables fitted (exit 3 if not correlated)")
+    correlate.add_argument("scenario", help="scenario file (TOML); its [test] table places the test's nodes")
+    correlate.add_argument("--test", required=True, help="measured data: UFF58 FRFs or time histories, or CSV as "
+                           "`sixdof export --format csv` writes it")
+    correlate.add_argument("--update", action="store_true", help="update the model to the test ([update] table)")
+    correlate.add_argument("--out", default="outputs", help="results go to OUT/<name>_correlation/ (default: outputs)")
+    correlate.add_argument("--json", action="store_true", help="print one JSON object instead of tables")
+    correlate.set_defaults(command="correlate")
 
     sweep = add(
         "sweep", help="run many mount variants of a scenario; store frequency and peak distributions"

@@ -5,7 +5,7 @@ import traceback
 
 EXIT_FAILED = 1
 EXIT_BAD_INPUT = 2
-EXIT_VALIDATION_FAILED = 3
+EXIT_VALIDATION_FAILED = 3  # validate's FAIL; correlate's model and test not correlated
 EXIT_TARGETS_NOT_MET = 3  # optimize: the best compromise is written, as validate writes a failed validation
 EXIT_CANNOT_WRITE = 74  # EX_IOERR of sysexits.h
 EXIT_INTERRUPTED = 130  # 128 + SIGINT, as a shell reports a process killed by it

@@ -199,3 +199,52 @@ def validation_text(report) -> str:
                                               f" (all {len(report.checks)} checks of {len(verdicts)} modes within "
                                               "their limits)")]
     return "\n".join(parts)
+
+
+def correlation_table(correlation) -> str:
+    """The pairs of a :class:`sixdof.validation.correlation.Correlation` (modes numbered from 1), then its verdict."""
+    c = correlation
+    has_body = c.mac_body is not None
+    headers = ["test", "model", "f_test [Hz]", "f_model [Hz]", "error [%]", "MAC",
+               *(["MAC 6-DOF"] if has_body else []), "damping test", "damping model"]
+    numbers = np.arange(1, len(c.f_test) + 1) if c.test_number is None else c.test_number
+    rows = [[numbers[t], m + 1, f"{c.f_test[t]:.4g}", f"{c.f_model[m]:.4g}", f"{c.frequency_error_percent[k]:+.2f}",
+             f"{c.mac[t, m]:.3f}", *([f"{c.mac_body[t, m]:.3f}"] if has_body else []),
+             f"{c.damping_test[t]:.4f}", f"{c.damping_model[m]:.4f}"]
+            for k, (t, m) in enumerate(zip(c.pair_test, c.pair_model))]
+    verdict = (f"Correlated: every test mode paired, within {c.max_frequency_error_percent:g} % and MAC >= "
+               f"{c.min_mac:g}."
+               if c.correlated else "NOT correlated:\n" + "\n".join(f"  {r}" for r in c.reasons))
+    return table(headers, rows) + "\n" + verdict
+
+
+def correlation_text(run) -> str:
+    """A correlation run's report (:class:`sixdof.design.correlation.CorrelationRun`): the test, its identified
+    modes, the pairs against the model and the verdict, and after an update its variables and the pairs again."""
+    test, found = run.test, run.identification.modes
+    low, high = run.identification.band_hz
+    kind = ("FRFs" if test.kind == "frf" else
+            f"time histories ({len(test.t)} samples at {test.sample_rate_hz:g} Hz; H1 from "
+            f"{run.estimate.averages} Welch averages of {run.estimate.nperseg} samples, {run.estimate.window} "
+            f"window, {100 * run.estimate.overlap:g} % overlap)")
+    parts = [f"Test: {test.source}: {kind}, {test.n_outputs} response channels on "
+             f"{len(set(test.out_nodes.tolist()))} nodes, {test.n_references} references, {low:.4g}-{high:.4g} Hz.",
+             "", "Identified modes (poly-reference LSCF and LSFD, orders up to "
+             f"{run.identification.stability.max_order}):",
+             table(["test mode", "f [Hz]", "damping", "not rigid [%]", "correlated"],
+                   [[j + 1, f"{f:.4g}", f"{z:.4f}", f"{100 * r:.1f}", "yes" if ok else "no (not rigid)"]
+                    for j, (f, z, r, ok) in enumerate(zip(found.frequency_hz, found.damping_ratio,
+                                                          run.projection.residual, run.rigid))]),
+             "", "Against the model:", correlation_table(run.correlation)]
+    if run.update is not None:
+        u = run.update
+        parts += ["", f"Update ({len(u.start)} starts; objective {u.objective_initial:.3g} -> "
+                  f"{u.objective_final:.3g}):",
+                  table(["variable", "unit", "given", "updated", "standard error", "determined"],
+                        [[name, unit, f"{a:.5g}", f"{b:.5g}", f"{s:.3g}", "yes" if ok else "NO"]
+                         for name, unit, a, b, s, ok in zip(u.variable, u.variable_units, u.initial, u.updated,
+                                                            u.standard_error, u.determined)], "llrrrl"),
+                  "", "Against the updated model:", correlation_table(run.correlation_updated)]
+    if run.notes:
+        parts += ["", *(f"Note: {n}" for n in run.notes)]
+    return "\n".join(parts)

@@ -161,21 +161,21 @@ def _frf_unit(test) -> str:
 
 
 #: Each figure of a correlation run (``sixdof correlate``): its file name, whether the run allows it, and how it
-#: is drawn (returns a :class:`matplotlib.figure.Figure`). The run is any object with ``name`` (str), ``test``
-#: (:class:`~sixdof.validation.testdata.TestData` of FRFs), ``identification``
+#: is drawn (returns a :class:`matplotlib.figure.Figure`). The run is any object with ``name`` (str), ``measured``
+#: (:class:`~sixdof.validation.testdata.TestData` of FRFs: those correlated), ``identification``
 #: (:class:`~sixdof.validation.identify.Identification`), ``correlation``
 #: (:class:`~sixdof.validation.correlation.Correlation`), ``model_H`` (the model's FRFs on the test's channels,
-#: shape of ``test.H``), and ``updated_H`` and ``update`` (:class:`~sixdof.design.update.UpdateResult`), both
+#: shape of ``measured.H``), and ``updated_H`` and ``update`` (:class:`~sixdof.design.update.UpdateResult`), both
 #: ``None`` without an update.
 CORRELATION_FIGURES: tuple[tuple[str, Callable[[object], bool], Callable[[object], object]], ...] = (
     ("stability.png", lambda run: run.identification is not None,
-     lambda run: _plots.plot_stability(run.identification, H=None if run.test is None else run.test.H,
-                                       f_hz=None if run.test is None else run.test.f_hz,
-                                       unit="" if run.test is None else _frf_unit(run.test), name=run.name)),
+     lambda run: _plots.plot_stability(run.identification, H=None if run.measured is None else run.measured.H,
+                                       f_hz=None if run.measured is None else run.measured.f_hz,
+                                       unit="" if run.measured is None else _frf_unit(run.measured), name=run.name)),
     ("mac.png", lambda run: run.correlation is not None,
      lambda run: _plots.plot_mac(run.correlation, name=run.name)),
-    ("frf_overlay.png", lambda run: run.test is not None and run.test.H is not None and run.model_H is not None,
-     lambda run: _plots.plot_frf_overlay(run.test, run.model_H, H_updated=run.updated_H, name=run.name)),
+    ("frf_overlay.png", lambda run: run.measured is not None and run.measured.H is not None and run.model_H is not None,
+     lambda run: _plots.plot_frf_overlay(run.measured, run.model_H, H_updated=run.updated_H, name=run.name)),
     ("update_history.png", lambda run: run.update is not None,
      lambda run: _plots.plot_update_history(run.update, name=run.name)),
 )

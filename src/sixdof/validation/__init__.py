@@ -17,7 +17,7 @@ _PUBLIC = {
     "held_model_frf": "estimation", "peak_frequency": "estimation", "MultiReferenceFRF": "estimation",
     "check_resolution": "estimation", "estimate_frfs": "estimation",
     "BodyProjection": "projection", "project_to_body": "projection",
-    "Correlation": "correlation", "correlate_modes": "correlation", "correlation_table": "correlation",
+    "Correlation": "correlation", "correlate_modes": "correlation",
     "mac": "correlation", "pair_modes": "correlation",
     "Check": "experiment", "FreeDecay": "experiment", "ModeCheck": "experiment", "RandomRun": "experiment",
     "ValidationReport": "experiment", "ValidationSettings": "experiment", "validate": "runs",

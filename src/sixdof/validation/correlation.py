@@ -17,7 +17,7 @@ import numpy as np
 from sixdof.errors import InputError, Plain, readonly
 from sixdof.results import Result, label, quantity, result_type
 
-__all__ = ["Correlation", "channel_shapes", "correlate_modes", "correlation_table", "mac", "pair_modes"]
+__all__ = ["Correlation", "channel_shapes", "correlate_modes", "mac", "pair_modes"]
 
 #: A test mode whose best MAC with any model mode is below this is left unpaired: at 0.5 two shapes share
 #: less than half their direction, which no one calls the same mode.
@@ -129,7 +129,10 @@ class Correlation(Result):
     correlated : bool
         Every test mode paired, every pair within both limits.
     reasons : tuple of str
-        Why not, one line per failing pair or unpaired test mode (modes numbered from 1).
+        Why not, one line per failing pair or unpaired test mode (modes numbered from 1; test modes by
+        ``test_number``).
+    test_number : ndarray of int, shape (m_test,)
+        The number each test mode is known by (from 1: its number among every mode identified).
     """
 
     f_test: np.ndarray = quantity("Hz", ("test_mode",))
@@ -145,6 +148,8 @@ class Correlation(Result):
     reasons: tuple = label(encode=lambda r: "\n".join(r), decode=lambda s: tuple(str(s).split("\n")) if s else ())
     mac_body: np.ndarray | None = quantity("1", ("test_mode", "model_mode"), default=None,
                                            description="MAC on the six projected body DOFs")
+    test_number: np.ndarray | None = quantity("1", ("test_mode",), default=None,
+                                              description="the number each test mode is known by (from 1)")
 
     @property
     def frequency_error_percent(self) -> np.ndarray:
@@ -166,7 +171,7 @@ def _positive(value, field: str, size: int | None = None) -> np.ndarray:
 
 def correlate_modes(f_test, damping_test, shapes_test, f_model, damping_model, shapes_model, body_test=None,
                     body_model=None, max_frequency_error_percent: float = MAX_FREQUENCY_ERROR_PERCENT,
-                    min_mac: float = MIN_MAC, floor: float = PAIRING_FLOOR) -> Correlation:
+                    min_mac: float = MIN_MAC, floor: float = PAIRING_FLOOR, test_numbers=None) -> Correlation:
     """Pair test modes with model modes by MAC on the measured channels and judge the pairs.
 
     Parameters
@@ -188,6 +193,9 @@ def correlate_modes(f_test, damping_test, shapes_test, f_model, damping_model, s
         A pair fails below this MAC on the measured channels.
     floor : float
         Pairing floor (:func:`pair_modes`).
+    test_numbers : array_like of int, shape (m_test,), optional
+        The number each test mode is known by in the reasons and tables (default 1 to ``m_test``): its number
+        among all the modes identified, when only some are correlated.
 
     Returns
     -------
@@ -214,9 +222,13 @@ def correlate_modes(f_test, damping_test, shapes_test, f_model, damping_model, s
         if body.shape != matrix.shape:
             raise InputError("body_model", f"body shapes (6, {ft.size}) and (6, {fm.size})",
                              Plain(f"a MAC matrix of shape {body.shape}"))
+    numbers = np.arange(1, ft.size + 1) if test_numbers is None else np.asarray(test_numbers, dtype=int)
+    if numbers.shape != ft.shape:
+        raise InputError("test_numbers", f"one number per test mode, shape ({ft.size},)",
+                         Plain(f"shape {numbers.shape}"))
     pairs = pair_modes(matrix, ft, fm, floor)
     paired = {t for t, _ in pairs}
-    reasons = [f"test mode {t + 1} ({ft[t]:.4g} Hz): no model mode with MAC >= {floor:g}"
+    reasons = [f"test mode {numbers[t]} ({ft[t]:.4g} Hz): no model mode with MAC >= {floor:g}"
                for t in range(ft.size) if t not in paired]
     for t, m in pairs:
         error = 100.0 * (fm[m] - ft[t]) / ft[t]
@@ -226,7 +238,7 @@ def correlate_modes(f_test, damping_test, shapes_test, f_model, damping_model, s
         if matrix[t, m] < min_mac:
             failing.append(f"MAC {matrix[t, m]:.3f} below {min_mac:g}")
         if failing:
-            reasons.append(f"test mode {t + 1} ({ft[t]:.4g} Hz) with model mode {m + 1} ({fm[m]:.4g} Hz): "
+            reasons.append(f"test mode {numbers[t]} ({ft[t]:.4g} Hz) with model mode {m + 1} ({fm[m]:.4g} Hz): "
                            + ", ".join(failing))
     reasons.sort(key=lambda text: int(text.split()[2]))
     as_int = np.asarray([t for t, _ in pairs], dtype=int), np.asarray([m for _, m in pairs], dtype=int)
@@ -235,25 +247,4 @@ def correlate_modes(f_test, damping_test, shapes_test, f_model, damping_model, s
                        pair_model=readonly(as_int[1], int),
                        max_frequency_error_percent=float(max_frequency_error_percent), min_mac=float(min_mac),
                        correlated=not reasons, reasons=tuple(reasons),
-                       mac_body=None if body is None else readonly(body))
-
-
-def correlation_table(correlation: Correlation) -> str:
-    """The pairs as a plain-text table for the console (modes numbered from 1), then the verdict."""
-    c = correlation
-    has_body = c.mac_body is not None
-    header = ["test", "model", "f_test [Hz]", "f_model [Hz]", "error [%]", "MAC"] + (["MAC 6-DOF"] if has_body else [])
-    header += ["damping test", "damping model"]
-    lines = []
-    for k, (t, m) in enumerate(zip(c.pair_test, c.pair_model)):
-        row = [f"{t + 1}", f"{m + 1}", f"{c.f_test[t]:.4g}", f"{c.f_model[m]:.4g}",
-               f"{c.frequency_error_percent[k]:+.2f}", f"{c.mac[t, m]:.3f}"]
-        row += [f"{c.mac_body[t, m]:.3f}"] if has_body else []
-        row += [f"{c.damping_test[t]:.4f}", f"{c.damping_model[m]:.4f}"]
-        lines.append(row)
-    widths = [max(len(h), *(len(r[i]) for r in lines)) if lines else len(h) for i, h in enumerate(header)]
-    text = ["  ".join(h.rjust(w) for h, w in zip(header, widths))]
-    text += ["  ".join(v.rjust(w) for v, w in zip(r, widths)) for r in lines]
-    verdict = (f"correlated: every test mode paired within {c.max_frequency_error_percent:g} % and MAC >= "
-               f"{c.min_mac:g}" if c.correlated else "not correlated:\n" + "\n".join(f"  {r}" for r in c.reasons))
-    return "\n".join(text) + "\n" + verdict
+                       mac_body=None if body is None else readonly(body), test_number=readonly(numbers, int))

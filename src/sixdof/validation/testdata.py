@@ -45,7 +45,8 @@ def _reference_units(test: TestData, per: bool) -> tuple[str, ...]:
     return tuple("N m" if r else "N" for r in test.ref_rotation)
 
 
-def _frf_units(test: TestData) -> MixedUnits:
+def frf_units(test: TestData) -> MixedUnits:
+    """The units of ``test``'s FRFs, per output and reference channel."""
     return MixedUnits((("output", _output_units(test)), ("reference", _reference_units(test, True))),
                       f"{test.quantity}: response unit per output times 1/N or 1/(N m) per reference")
 
@@ -132,7 +133,7 @@ class TestData(Frozen, Result):
     ref_labels: tuple[str, ...] = array_field("", ("reference",), decode=_labels,
                                               description="reference channel names")
     f_hz: np.ndarray | None = array_field("Hz", ("f_hz",), default=None)
-    H: np.ndarray | None = array_field(_frf_units, ("f_hz", "output", "reference"), default=None,
+    H: np.ndarray | None = array_field(frf_units, ("f_hz", "output", "reference"), default=None,
                                        description="measured FRF, response per reference")
     t: np.ndarray | None = array_field("s", ("t",), default=None)
     inputs: np.ndarray | None = array_field(_input_units, ("t", "reference"), default=None,
@@ -235,7 +236,7 @@ class TestData(Frozen, Result):
         variables = {}
         if self.kind == "frf":
             coords["f_hz"] = ("f_hz", np.asarray(self.f_hz), {"units": "Hz"})
-            variables["H"] = (("f_hz", "output", "reference"), np.asarray(self.H), _frf_units(self).attrs())
+            variables["H"] = (("f_hz", "output", "reference"), np.asarray(self.H), frf_units(self).attrs())
         else:
             coords["t"] = ("t", np.asarray(self.t), {"units": "s"})
             variables["inputs"] = (("t", "reference"), np.asarray(self.inputs), _input_units(self).attrs())

@@ -42,6 +42,7 @@ from sixdof.io.store.codec import DERIVABLE, PROVENANCE_PACKAGES, ROOTS, build_r
 from sixdof.io.store.reader import UncheckedWarning, load_tree
 from sixdof.io.store.tree import (
                                   CHECKSUMS,
+                                  CORRELATION_FORMAT,
                                   CRC,
                                   DESIGN_FORMAT,
                                   FORMAT,
@@ -53,6 +54,7 @@ from sixdof.io.store.tree import (
 )
 from sixdof.io.store.writer import CHUNK_BYTES, LIBVER, discard, publish, save_results
 
-__all__ = ["CHECKSUMS", "CHUNK_BYTES", "CRC", "DERIVABLE", "DESIGN_FORMAT", "FORMAT", "FORMAT_VERSION", "LIBVER",
+__all__ = ["CHECKSUMS", "CHUNK_BYTES", "CORRELATION_FORMAT", "CRC",
+           "DERIVABLE", "DESIGN_FORMAT", "FORMAT", "FORMAT_VERSION", "LIBVER",
            "PROVENANCE_PACKAGES", "ROOTS", "UNITS_LABEL", "UNITS_ONE", "Dataset", "Results", "UncheckedWarning",
            "build_results", "discard", "load_results", "load_tree", "publish", "save_results", "write_results"]

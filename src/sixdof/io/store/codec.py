@@ -18,12 +18,14 @@ import numpy as np
 
 from sixdof.analysis.mountcheck import mount_check
 from sixdof.analysis.response import mount_forces
+from sixdof.design.correlation import CorrelationRun
 from sixdof.design.record import DesignRecord
 from sixdof.dofs import MixedUnits
 from sixdof.errors import InputError, Plain
 from sixdof.io.store.reader import load_tree
 from sixdof.io.store.registry import registered
 from sixdof.io.store.tree import (
+    CORRELATION_FORMAT,
     DESIGN_FORMAT,
     FORMAT,
     FORMAT_VERSION,
@@ -37,7 +39,7 @@ from sixdof.io.store.writer import save_results
 from sixdof.results import DERIVED, FIXED_SCALES, RunResults, descriptions
 
 #: The class at the root of a file of each ``format`` (its root attribute).
-ROOTS: dict[str, type] = {FORMAT: RunResults, DESIGN_FORMAT: DesignRecord}
+ROOTS: dict[str, type] = {FORMAT: RunResults, DESIGN_FORMAT: DesignRecord, CORRELATION_FORMAT: CorrelationRun}
 
 #: Packages whose versions are recorded in every file.
 PROVENANCE_PACKAGES: tuple[str, ...] = ("sixdof", "numpy", "scipy", "jax", "jaxlib", "diffrax", "equinox", "h5py")

@@ -14,7 +14,17 @@ import numpy as np
 from sixdof.dofs import MixedUnits
 from sixdof.errors import InputError, Plain
 from sixdof.io.store.checksum import crc
-from sixdof.io.store.tree import _RESERVED_ATTRS, CHECKSUMS, CRC, DESIGN_FORMAT, FORMAT, UNITS_LABEL, Dataset, Results
+from sixdof.io.store.tree import (
+    _RESERVED_ATTRS,
+    CHECKSUMS,
+    CORRELATION_FORMAT,
+    CRC,
+    DESIGN_FORMAT,
+    FORMAT,
+    UNITS_LABEL,
+    Dataset,
+    Results,
+)
 
 
 class UncheckedWarning(UserWarning):
@@ -59,7 +69,7 @@ def load_tree(path: str | os.PathLike) -> Results:
     with f:
         where = ["its root"]  # the object being read, for the message
         try:
-            if f.attrs.get("format") not in (FORMAT, DESIGN_FORMAT):
+            if f.attrs.get("format") not in (FORMAT, DESIGN_FORMAT, CORRELATION_FORMAT):
                 raise InputError("results", f"an HDF5 file with format = {FORMAT!r}", Plain(f"{path} without it"))
             return _read_tree(f, path, where)
         except InputError as exc:

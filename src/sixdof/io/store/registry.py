@@ -51,5 +51,11 @@ def _batch() -> None:
     import sixdof.analysis.direct  # noqa: F401, PLC0415 (it loads JAX or SciPy: only for a file that names its classes)
 
 
+def _update() -> None:
+    """Register the model update's UpdateResult (its module loads JAX to update, not to be read, but imports the
+    design layer's JAX model)."""
+    import sixdof.design.update  # noqa: F401, PLC0415 (it loads JAX or SciPy: only for a file that names its classes)
+
+
 #: The heavy modules' registrations, the lighter first: a validation's file is read without JAX.
-_HEAVY = (_validation, _batch)
+_HEAVY = (_validation, _batch, _update)

@@ -20,6 +20,8 @@ FORMAT = "sixdof-results"
 FORMAT_VERSION = 2  # 2: written from the results' descriptions, read back as typed objects
 #: The layout of ``design.h5`` (``sixdof optimize``), written and read by the same code.
 DESIGN_FORMAT = "sixdof-design"
+#: The layout of ``correlation.h5`` (``sixdof correlate``).
+CORRELATION_FORMAT = "sixdof-correlation"
 
 #: ``units`` of dimensionless numbers and of text labels.
 UNITS_ONE = "1"

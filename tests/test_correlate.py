@@ -87,6 +87,7 @@ def test_a_saved_correlation_reads_back_as_it_was(run, tmp_path):
     assert back.rigid.tolist() == run.rigid.tolist() and back.notes == run.notes
     summary = (folder / "summary.md").read_text()
     assert "NOT correlated" in summary and "![mac](mac.png)" in summary
+    assert "Motion no rigid body makes, per node" in summary
 
 
 def _time_test(seconds: float, rate_hz: float, seed: int):

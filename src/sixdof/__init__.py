@@ -79,6 +79,8 @@ _PUBLIC = {
     "prepare": "workflows.prepare",
     "ResultsStream": "io.stream",
     "optimize_scenario": "workflows.optimize",
+    "correlation_run": "workflows.correlate",
+    "save_correlation": "workflows.correlate",
     "load_results": "io.store",
     "load_test": "io.testfile",
     "TestData": "validation.testdata",

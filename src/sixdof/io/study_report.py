@@ -235,6 +235,10 @@ def correlation_text(run) -> str:
                    [[j + 1, f"{f:.4g}", f"{z:.4f}", f"{100 * r:.1f}", "yes" if ok else "no (not rigid)"]
                     for j, (f, z, r, ok) in enumerate(zip(found.frequency_hz, found.damping_ratio,
                                                           run.projection.residual, run.rigid))]),
+             "", "Motion no rigid body makes, per node [% of each mode's motion over all channels]:",
+             table(["node", *(f"mode {j + 1}" for j in range(len(found.frequency_hz)))],
+                   [[node, *(f"{100 * r:.1f}" for r in residuals)]
+                    for node, residuals in zip(run.projection.node, run.projection.node_residual)]),
              "", "Against the model:", correlation_table(run.correlation)]
     if run.update is not None:
         u = run.update

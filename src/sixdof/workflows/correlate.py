@@ -95,7 +95,7 @@ def correlation_run(scenario, test, *, update: bool = False, progress=None) -> C
     rows = test.response_rows()
     projection = project_to_body(found.shapes, rows, test.out_nodes, test.out_positions)
     rigid = projection.residual <= RIGID_RESIDUAL
-    notes += [f"test mode {j + 1} at {found.frequency_hz[j]:.3f} Hz: {100 * projection.residual[j]:.0f} % of its "
+    notes += [f"test mode {j + 1} at {found.frequency_hz[j]:.3f} Hz: {100 * projection.residual[j]:.1f} % of its "
               "motion is not rigid-body motion (a mode of the body itself); not correlated"
               for j in np.flatnonzero(~rigid)]
     setup = scenario.test or TestSetup()

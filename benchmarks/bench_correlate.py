@@ -28,8 +28,8 @@ compilation cache on, as ``sixdof correlate`` runs it (a fresh folder: one call 
 
 Timings: ``identify_modes`` best of 5, the scipy modal fit once (it takes ~50x as long), ``update`` three times
 (its first call, then the best of two), the scipy update best of 2; ``--quick``: each once, ``update`` twice.
-Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/bench_correlate.py [--quick]`` (~1.5 min on 2 shared cores, about
-1 min quick); writes ``results/correlate.json``.
+Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/bench_correlate.py [--quick]`` (~1 min on 2 cores, up to 2 min
+when other programs load them); writes ``results/correlate.json``.
 """
 
 from __future__ import annotations

@@ -10,6 +10,6 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 
 for script in ("bench_direct.py", "bench_superposition.py", "bench_frf.py", "bench_batch.py", "bench_cli.py",
-               "bench_sweep.py", "make_table.py"):
+               "bench_sweep.py", "bench_correlate.py", "make_table.py"):
     print(f"== {script}", flush=True)
     subprocess.run([sys.executable, str(HERE / script), *sys.argv[1:]], check=True)

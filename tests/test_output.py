@@ -4,9 +4,11 @@ left whole by real signals, SIGKILL, a file-size limit, a full filesystem and co
 import dataclasses
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import pytest
@@ -90,12 +92,14 @@ def child(hook: str, *args: str, **env: str) -> subprocess.Popen:
 
 
 @pytest.fixture
-def own_tmpdir(tmp_path) -> dict:
+def own_tmpdir():
     """``TMPDIR`` for a child that will be killed: a process ended by SIGKILL cannot remove its temporary
-    folders (multiprocessing's, holding the figure workers' server socket), so they go into the test's own."""
-    folder = tmp_path / "tmp"
-    folder.mkdir()
-    return {"TMPDIR": str(folder)}
+    folders (multiprocessing's, holding the figure workers' server socket), so they go into the test's own,
+    removed after it. Short, beside the system's: a Unix socket's path holds at most 107 bytes, which
+    pytest's ``tmp_path`` (under pytest-xdist, one level deeper) and multiprocessing's names exceed."""
+    folder = tempfile.mkdtemp(prefix="sixdof-test-")
+    yield {"TMPDIR": folder}
+    shutil.rmtree(folder, ignore_errors=True)
 
 
 def signal_at(process: subprocess.Popen, word: str, signum: int) -> tuple[int, str]:

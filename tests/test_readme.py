@@ -32,8 +32,11 @@ def test_listed_scenarios_load(name):
 
 def test_quick_start_installs_the_package_alone_and_tests_with_their_extra():
     """The run command installs sixdof without the test extra (pytest, Dask, the peer libraries: hundreds of MB
-    a user running one example does not need); the test command installs the test extra and runs pytest."""
+    a user running one example does not need); the test command installs the test extra and runs pytest as CI
+    does (the last line of .ci/run)."""
     first_block = re.search(r"```bash\n(.*?)```", README.read_text(), re.S).group(1).splitlines()
     run, test = first_block
     assert re.search(r'pip install -e \.(\s|$)', run) and "[test]" not in run and "sixdof run scenarios/" in run
-    assert 'pip install -e ".[test]"' in test and test.rstrip().endswith("python -m pytest")
+    ci = (README.parent / ".ci" / "run").read_text().strip().splitlines()[-1]
+    assert ci.startswith("python -m pytest")
+    assert test.startswith('pip install -e ".[test]" && ') and test.endswith(f"&& {ci}")

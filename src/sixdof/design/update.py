@@ -68,6 +68,7 @@ from sixdof.errors import InputError, Plain, readonly
 from sixdof.frozen import Frozen
 from sixdof.model.kinematics import stiffness_jax
 from sixdof.results import Result, label, quantity, result_type
+from sixdof.validation.correlation import mac, pair_modes
 
 #: A variable whose standard error exceeds this share of its scale is not determined by the test.
 DETERMINED_RTOL = 0.10
@@ -308,26 +309,15 @@ def model_modes(model: UpdateModel, x):
     return jnp.sqrt(jnp.maximum(eigenvalues, 0.0)) / (2 * jnp.pi), L_inv.T @ vectors
 
 
-def mac(a, b) -> np.ndarray:
-    """Modal assurance criterion (n_a, n_b) of the columns of ``a`` (n, n_a) and ``b`` (n, n_b), real or complex:
-    ``|a_i^H b_j|^2 / ((a_i^H a_i)(b_j^H b_j))``."""
-    a, b = np.asarray(a), np.asarray(b)
-    cross = np.abs(a.conj().T @ b) ** 2
-    return cross / np.outer(np.sum(np.abs(a) ** 2, axis=0), np.sum(np.abs(b) ** 2, axis=0))
-
-
 def pairs(model: UpdateModel, test: TestModes, x) -> tuple[np.ndarray, np.ndarray]:
     """The model mode (index from 0) paired with each test mode at ``x`` by MAC on the measured channels (the
     one-to-one assignment of the largest total MAC), and each pair's MAC."""
-    import scipy.optimize
-
-    _, shapes = model_modes(model, np.asarray(x, dtype=float))
+    frequency_hz, shapes = model_modes(model, np.asarray(x, dtype=float))
     offset = model.matrices(np.asarray(x, dtype=float))[2]
     on_channels = np.asarray(moved_rows(test.rows, offset) @ shapes)
     found = mac(test.shapes, on_channels)  # (m, 6)
-    test_index, model_index = scipy.optimize.linear_sum_assignment(-found)
-    order = np.argsort(test_index)
-    model_index = model_index[order]
+    paired = pair_modes(found, test.frequency_hz, np.asarray(frequency_hz), floor=0.0)  # every test mode paired
+    model_index = np.array([m for _, m in sorted(paired)], dtype=int)
     return model_index, found[np.arange(len(model_index)), model_index]
 
 

@@ -7,6 +7,7 @@ Each function draws from the typed results alone and returns its figure; ``ax=``
 
 from __future__ import annotations
 
+import textwrap
 from dataclasses import dataclass
 
 import numpy as np
@@ -20,6 +21,8 @@ from sixdof.validation.correlation import Correlation
 from sixdof.validation.identify import STABILITY_CLASSES, Identification
 from sixdof.validation.testdata import FRF_QUANTITIES, RESPONSE_UNITS, TestData
 
+#: Characters per line of a variable's name in the update history's legends (long tied-mount names wrap).
+LEGEND_WIDTH = 36
 #: Marker, size, colour and legend text of each stability class (:data:`~sixdof.validation.identify.STABILITY_CLASSES`:
 #: 0 new ... 3 stable in frequency, damping and participation vector): the more stable, the bolder.
 STABILITY_STYLE = tuple(
@@ -538,11 +541,13 @@ def plot_update_history(update, fig: Figure | None = None, *, name: str = "") ->
         for v in np.flatnonzero(pick):
             unit = history.units[v]
             if k == 0:
+                label = (f"{history.variables[v]} (given {history.initial[v]:.4g}"
+                         + ("" if unit in ("1", "") else f" {unit}") + ")")
                 ax.plot(iterations, values[:, v] / history.initial[v], linewidth=1.2,
-                        label=f"{history.variables[v]} (given {history.initial[v]:.4g}"
-                              + ("" if unit in ("1", "") else f" {unit}") + ")")
+                        label=textwrap.fill(label, LEGEND_WIDTH, subsequent_indent="  "))
             else:
-                ax.plot(iterations, values[:, v], linewidth=1.2, label=f"{history.variables[v]} [{unit}]")
+                ax.plot(iterations, values[:, v], linewidth=1.2,
+                        label=textwrap.fill(f"{history.variables[v]} [{unit}]", LEGEND_WIDTH, subsequent_indent="  "))
         if polish.any():
             ax.axvline(best_count - 0.5, color="black", linewidth=0.8, linestyle=":")
         if k == 0:

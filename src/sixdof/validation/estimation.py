@@ -12,7 +12,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.signal
 
 from sixdof.errors import InputError, Plain, readonly
 from sixdof.results import Result, label, quantity, result_type
@@ -276,6 +275,8 @@ def estimate_frfs(inputs, outputs, sample_rate_hz: float, nperseg: int, window: 
         raise InputError("nperseg", f"an integer from 8 to the number of samples {n}", nperseg)
     if not 0.0 <= overlap < 1.0:
         raise InputError("overlap", "a fraction of a segment in [0, 1)", overlap)
+    import scipy.signal  # 1.1 s to import: a run that estimates nothing does not pay it
+
     noverlap = math.floor(overlap * nperseg)
     kw = dict(fs=sample_rate_hz, window=window, nperseg=nperseg, noverlap=noverlap, detrend=False)
     n_ref = x.shape[1]

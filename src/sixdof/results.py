@@ -346,6 +346,8 @@ class RunResults(Frozen):
         The stationary random response to the ``[random]`` PSD.
     srs : sixdof.analysis.srs.ShockSpectra or None
         Shock response spectra of the base and of the body points (``[shock_response_spectrum]``).
+    spectrum : sixdof.analysis.spectrum.ResponseSpectrum or None
+        The response-spectrum analysis (``[spectrum]``).
     viscoelastic : tuple of sixdof.model.viscoelastic.MaxwellFit
         The Maxwell models fitted to the mounts' measured dynamic stiffness or loss factors.
     validation : sixdof.validation.ValidationReport or None
@@ -396,6 +398,7 @@ class RunResults(Frozen):
     steady_state: Any = part("SteadyState", group="steady_state", default=None)
     random: Any = part("RandomResponse", group="random", default=None)
     srs: Any = part("ShockSpectra", group="srs", default=None)
+    spectrum: Any = part("ResponseSpectrum", group="spectrum", default=None)
     validation: Any = part("ValidationReport", group="validation", default=None)
     viscoelastic: tuple = sequence("MaxwellFit", group="viscoelastic", key=lambda fit: fit.name, default=())
     sweep: Any = part("BatchResult", group="sweep", default=None)

@@ -42,7 +42,7 @@ from sixdof.excitation.baseline import (
 )
 from sixdof.excitation.signals import Harmonic, Signal, Table, signal_field
 from sixdof.frozen import Frozen, checked
-from sixdof.model.kinematics import generalized_force
+from sixdof.model.kinematics import generalized_force, rigid_translation
 
 
 @dataclass(frozen=True, eq=False)
@@ -275,7 +275,7 @@ class GroundMotion(Frozen):
     @property
     def rigid_vector(self) -> np.ndarray:
         """``r`` (6,): the generalized coordinates of a unit ground translation (no rotation)."""
-        return np.concatenate([self.direction, np.zeros(3)])
+        return rigid_translation(self.direction)
 
 
 @dataclass(frozen=True, eq=False)

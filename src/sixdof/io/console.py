@@ -56,6 +56,8 @@ def run_text(results) -> str:
         lines.append(f"\nRandom vibration:\n{report.random_text(results.random)}")
     if results.srs is not None:
         lines.append(f"\n{report.srs_text(results.srs)}")
+    if results.spectrum is not None:
+        lines.append(f"\nResponse spectrum: {report.spectrum_text(results.spectrum)}")
     if results.agreement is not None:
         lines += _time_text(results)
     if results.frf is not None:

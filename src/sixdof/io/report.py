@@ -266,6 +266,8 @@ def summary_markdown(results, figures=()) -> str:
         parts += ["## Random vibration", "", random_text(random), ""]
     if srs is not None:
         parts += ["## Shock response spectra", "", srs_text(srs), ""]
+    if results.spectrum is not None:
+        parts += ["## Response spectrum", "", spectrum_text(results.spectrum), ""]
     if response is not None:
         transient = PEAKS_WITH_TRANSIENT if steady is not None else ""
         parts += ["## Time response", ""]
@@ -358,6 +360,41 @@ def srs_text(srs) -> str:
                 rows.append([name, axis, f"{spectrum[k] / STANDARD_GRAVITY:.4g}", f"{srs.f_hz[k]:.4g}"])
     return (f"Maximax absolute-acceleration SRS, Q = {srs.q:g}, {srs.f_hz[0]:g} to {srs.f_hz[-1]:g} Hz:\n"
             + table(["signal", "axis", "peak SRS [g]", "at f [Hz]"], rows))
+
+
+def spectrum_text(spectrum) -> str:
+    """The response-spectrum analysis (:class:`~sixdof.analysis.spectrum.ResponseSpectrum`): the spectrum, each
+    mode's period, spectral value and effective masses, the combined peaks of the DOFs, mounts and base, in blocks
+    apart (Markdown as it is)."""
+    directions = spectrum.direction
+    head = (f"{spectrum.spectrum}; {spectrum.combination.upper()} over the modes (damping "
+            f"{100 * spectrum.damping:g} %), {spectrum.directional.upper()} over the directions "
+            f"{', '.join(directions)}:")
+    modes = [[str(j + 1), f"{spectrum.period[j]:.4g}", f"{100 * spectrum.mode_damping[j]:.3g}",
+              *(f"{spectrum.spectral_acceleration[i, j]:.4g}" for i in range(len(directions))),
+              *(f"{spectrum.effective_mass[i, j]:.4g}" for i in range(len(directions)))] for j in range(6)]
+    modes.append(["sum", "", "", *[""] * len(directions),
+                  *(f"{100 * share:.1f} %" for share in spectrum.mass_share)])
+    lines = [head, table(["mode", "T [s]", "xi [%]", *(f"Sa {d} [m/s²]" for d in directions),
+                          *(f"m_eff {d} [kg]" for d in directions)], modes)]
+    rows = []
+    for k, dof in enumerate(DOFS):
+        factor, unit = display_unit(spectrum.combined_q[k], DOF_UNITS[k])
+        rows.append([dof, *(f"{factor * v:.4g}" for v in spectrum.peak_q[:, k]),
+                     f"{factor * spectrum.combined_q[k]:.4g} {unit}"])
+    lines += ["Peak displacement relative to the ground:",
+              table(["DOF", *directions, spectrum.directional], rows)]
+    factor, unit = display_unit(spectrum.combined_mount_deflection, "m")
+    mounts = [[name, *(f"{factor * d:.4g}" for d in deflection), *(f"{f:.4g}" for f in force)]
+              for name, deflection, force in zip(spectrum.mounts, spectrum.combined_mount_deflection,
+                                                 spectrum.combined_mount_force)]
+    lines += [f"Mounts ({spectrum.directional} of the directions):",
+              table(["mount", *(f"defl {a} [{unit}]" for a in "uvw"), *(f"force {a} [N]" for a in "uvw")], mounts)]
+    lines.append("Base shear [N] " + ", ".join(f"{a} {v:.4g}" for a, v in zip("xyz", spectrum.combined_base_shear))
+                 + "; base moment about the CG [N m] "
+                 + ", ".join(f"{a} {v:.4g}" for a, v in zip("xyz", spectrum.combined_base_moment)))
+    lines += [f"Note: {note}" for note in spectrum.notes]
+    return "\n\n".join(lines)  # blocks apart: a Markdown table needs a blank line before it
 
 
 def random_text(random) -> str:

@@ -27,6 +27,7 @@ from sixdof.io.settings import (
     SuperpositionSettings,
     checked_vector,
     frf_settings,
+    spectrum_settings,
 )
 from sixdof.model.parts import Rayleigh, RigidBody
 from sixdof.model.system import MAX_MOUNTS, System
@@ -91,6 +92,8 @@ class Scenario:
         The ``[random]`` table: a base-acceleration or force PSD.
     design : sixdof.design.spec.DesignSpec
         The ``[design]`` table: torque axis, targets and variables (empty when absent).
+    response_spectrum : sixdof.excitation.spectra.SpectrumSettings or None
+        The ``[spectrum]`` table: a response-spectrum analysis (no ``[simulation]`` needed).
     test : sixdof.validation.testdata.TestSetup or None
         The ``[test]`` table: the test's node coordinates, the test frame in body axes, the correlation limits.
     update : sixdof.design.spec.UpdateSpec or None
@@ -138,6 +141,7 @@ class Scenario:
     model: Any = None
     test: TestSetup | None = None  # the [test] table (issue 47): where a test's nodes are, correlation limits
     update: UpdateSpec | None = None
+    response_spectrum: Any = None  # the [spectrum] table (issue 48): a SpectrumSettings
 
     @property
     def needs_preparing(self) -> tuple[str, ...]:
@@ -282,7 +286,13 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
                     loss_factor_band_hz=damping.value("loss_factor_band_hz", None),
                     loss_factor_terms=damping.value("loss_factor_terms", None),
                     path=Path(source) if source != "<string>" else None, test=_test(top.table("test", default=None)),
-                    update=update)
+                    update=update, response_spectrum=_response_spectrum(top, base_dir))
+
+
+def _response_spectrum(top: Table, base_dir: Path):
+    """The ``[spectrum]`` table (issue 48), or None without one."""
+    raw = top.table("spectrum", default=None)
+    return None if raw is None else spectrum_settings(raw, base_dir)
 
 
 # The [test] table (issue 47): a self-contained block.
@@ -459,4 +469,5 @@ _TOP_LEVEL_KEYS = (
     "frf", "superposition", "points", "statics", "output", "design", "random", "shock_response_spectrum",
     "test",
     "update",
+    "spectrum",
 )

@@ -4,6 +4,7 @@ requests, ``[superposition]``, ``[output]`` and the ``[[points]]`` (:mod:`sixdof
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -11,6 +12,7 @@ import numpy as np
 from sixdof.analysis.frf import parse_direction
 from sixdof.errors import (
     InputError,
+    Plain,
     boolean,
     check_frequencies,
     choice_check,
@@ -22,9 +24,10 @@ from sixdof.errors import (
     optional,
     point,
 )
+from sixdof.files import read_table_csv
 from sixdof.frozen import Frozen, checked
 from sixdof.results import DERIVED
-from sixdof.schema import Table, build, unique
+from sixdof.schema import Table, build, make, unique
 
 
 def _checked_direction(value: Any, field: str, rotations: bool = True):
@@ -191,3 +194,40 @@ def frf_settings(table: dict) -> FrfSettings:
                 for key, cls in _FRF_REQUESTS.items()}
     unique([r.name for group in requests.values() for r in group], "frf")
     return build(FrfSettings, {**table, **requests}, "frf")
+
+
+#: The keys of ``[spectrum]``: the EN 1998-1 spectrum's, or a file's, then the analysis's.
+_EC8_KEYS = ("type", "ground_type", "ag", "importance", "behaviour_factor")
+_SPECTRUM_KEYS = ("code", "file", *_EC8_KEYS, "damping", "directions", "combination", "directional")
+
+
+def spectrum_settings(table: dict, base_dir: Path):
+    """The ``[spectrum]`` table (:class:`sixdof.excitation.spectra.SpectrumSettings`): ``code = "ec8"`` with
+    ``type``, ``ground_type``, ``ag``, ``importance``, ``behaviour_factor``, or ``file`` (period [s],
+    pseudo-acceleration [m/s^2], relative to the scenario file ``base_dir``); ``damping``, ``directions``,
+    ``combination``, ``directional``."""
+    from sixdof.excitation.spectra import EC8Spectrum, SpectrumSettings, TabulatedSpectrum  # noqa: PLC0415 (the excitation package loads JAX)
+
+    spectrum = Table(table, "spectrum", _SPECTRUM_KEYS)
+    given = [key for key in ("code", "file") if key in table]
+    if len(given) != 1:
+        raise InputError("spectrum", 'either code = "ec8" or file = "<csv>" (period in s, pseudo-acceleration in '
+                         "m/s^2)", Plain("both" if given else "neither"))
+    analysis = {key: table[key] for key in ("damping", "directions", "combination", "directional") if key in table}
+    damping = analysis.get("damping", 0.05)  # checked with the analysis's settings below
+    if "code" in table:
+        choice_check(("ec8",))(table["code"], "spectrum.code")
+        for key in ("type", "ground_type", "ag"):
+            spectrum.value(key)  # required: named before the others
+        shape = build(EC8Spectrum, {key: table[key] for key in _EC8_KEYS if key in table}, "spectrum")
+    else:
+        extra = [key for key in _EC8_KEYS if key in table]
+        if extra:
+            raise InputError(f"spectrum.{extra[0]}", 'code = "ec8" (a file gives its spectrum whole)',
+                             Plain(f"file = {table['file']!r}"))
+        periods, values = read_table_csv(table["file"], base_dir, "spectrum.file",
+                                         columns=("period in s", "pseudo-acceleration in m/s^2"), increasing=True)
+        shape = make(TabulatedSpectrum, "spectrum.file", periods=periods, values=values,
+                     damping=damping if isinstance(damping, (int, float)) and 0 <= damping < 1 else 0.05,
+                     source=str(table["file"]))
+    return make(SpectrumSettings, "spectrum", spectrum=shape, **analysis)

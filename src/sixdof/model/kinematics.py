@@ -61,6 +61,13 @@ def response_row(point, direction, rotation: bool) -> np.ndarray:
     return direction @ point_map(point)
 
 
+def rigid_translation(direction) -> np.ndarray:
+    """The influence vector ``r`` (6,) of a rigid translation of the ground along ``direction`` (3,): the
+    generalized coordinates that follow a unit translation, ``[d, 0, 0, 0]`` (no rotation; every point of the body
+    moves by ``d``). How ground motion enters the equations, ``M q_rel'' + C q_rel' + K q_rel = -M r u_g''``."""
+    return np.concatenate([np.asarray(direction, dtype=float), np.zeros(3)])
+
+
 def mount_local_map(positions, axes) -> np.ndarray:
     """Map from ``q`` to each mount's deformation along its own axes, shape (..., n, 3, 6).
 

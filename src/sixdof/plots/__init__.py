@@ -61,6 +61,7 @@ _PUBLIC = {
     "plot_random": "random",
     "plot_random_check": "random",
     "plot_srs": "srs",
+    "plot_spectrum": "spectrum",
     "plot_dynamic_stiffness": "viscoelastic",
     "plot_mount_fits": "viscoelastic",
     "UpdateHistory": "correlation",
@@ -146,6 +147,8 @@ FIGURES: tuple[tuple[str, tuple[str, ...], Callable[[object], bool], Callable[[o
     ("random_check.png", ("random",), lambda run: run.random is not None and run.random.time_check is not None,
      lambda run: _plots.plot_random_check(run.random.time_check, name=run.name)),
     ("srs.png", ("srs",), lambda run: run.srs is not None, lambda run: _plots.plot_srs(run.srs, name=run.name)),
+    ("spectrum.png", ("spectrum",), lambda run: run.spectrum is not None,
+     lambda run: _plots.plot_spectrum(run.spectrum, name=run.name)),
     ("dynamic_stiffness.png", ("viscoelastic",), lambda run: bool(run.viscoelastic),
      lambda run: _plots.plot_mount_fits(run.viscoelastic, name=run.name)),
 )

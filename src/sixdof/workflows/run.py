@@ -26,6 +26,7 @@ from sixdof.analysis.mountcheck import MountLimitWarning, merge_mount_checks, mo
 from sixdof.analysis.random import random_response
 from sixdof.analysis.records import merge_stats, merge_superposition
 from sixdof.analysis.response import mount_forces, points_motion
+from sixdof.analysis.spectrum import response_spectrum
 from sixdof.analysis.srs import shock_spectra
 from sixdof.analysis.statespace import damping_ratios
 from sixdof.analysis.statics import try_gravity_statics
@@ -111,8 +112,8 @@ def excitation_frequencies(excitation) -> list[tuple[str, float]]:
 
 def run(scenario: Scenario | str | Path, *, sink=None, progress: bool = False, log=None, drawing=None) -> RunResults:
     """Compute everything a scenario asks for, writing nothing: modes, statics, damping, steady state, FRFs,
-    random response, and with a ``[simulation]`` the time response with its cross-check, mount checks, point
-    motions and shock response spectra.
+    random response, response-spectrum analysis, and with a ``[simulation]`` the time response with its
+    cross-check, mount checks, point motions and shock response spectra.
 
     Parameters
     ----------
@@ -184,10 +185,13 @@ def run(scenario: Scenario | str | Path, *, sink=None, progress: bool = False, l
         random = dataclasses.replace(random, time_check=random_time_check(
             scenario.time_system, scenario.random, points, scenario.random.time_check,
             simulation=simulation, progress=progress))
+    spectrum = None if scenario.response_spectrum is None else response_spectrum(system, scenario.response_spectrum)
+    if spectrum is not None:
+        notes.extend(spectrum.notes)
     results = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
                          damping_ratios=zeta, statics=statics, frf=frf, frf_extras=frf_extras, steady_state=steady,
-                         random=random, viscoelastic=scenario.viscoelastic, provenance=provenance(scenario),
-                         scenario=scenario, stiffness_note=stiffness_note,
+                         random=random, spectrum=spectrum, viscoelastic=scenario.viscoelastic,
+                         provenance=provenance(scenario), scenario=scenario, stiffness_note=stiffness_note,
                          **_loss_factor_labels(scenario, statics_line if statics is not None else ""))
     if drawing is not None:
         drawing.submit(results)  # the modal and FRF figures are drawn while the solve runs

@@ -71,6 +71,12 @@ _PUBLIC = {
     "ground_transmissibility": "analysis.frf",
     "validate": "validation",
     "design_metrics": "analysis.design",
+    "response_spectrum": "analysis.spectrum",
+    "ResponseSpectrum": "analysis.spectrum",
+    "effective_linearization_loop": "analysis.isolation",
+    "SpectrumSettings": "excitation.spectra",
+    "EC8Spectrum": "excitation.spectra",
+    "TabulatedSpectrum": "excitation.spectra",
     "sensitivities": "analysis.design",
     # End to end and files.
     "run": "workflows.run",

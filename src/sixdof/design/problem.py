@@ -111,6 +111,16 @@ def variables(spec, mount_names: tuple[str, ...], positions) -> tuple[Variable, 
     return tuple(found)
 
 
+def initial_values(variables: tuple[Variable, ...]) -> np.ndarray:
+    """The variables' starting values (n,), each in its own unit."""
+    return np.array([v.initial for v in variables])
+
+
+def variable_bounds(variables: tuple[Variable, ...]) -> np.ndarray:
+    """The variables' lower and upper bounds (n, 2), each in its own unit."""
+    return np.array([v.bounds for v in variables], dtype=float).reshape(-1, 2)
+
+
 def mount_arrays(system, variables: tuple[Variable, ...], x, stiffness_scale=None):
     """Positions (n_mounts, 3) [m], stiffnesses (n_mounts, 3) [N/m] and axes (n_mounts, 3, 3) of ``system``'s
     mounts with the ``variables`` (:func:`variables`) at ``x`` (n,), JAX-traceable; ``stiffness_scale``
@@ -181,12 +191,12 @@ class DesignProblem:
 
     @property
     def initial(self) -> np.ndarray:
-        return np.array([v.initial for v in self.variables])
+        return initial_values(self.variables)
 
     @property
     def bounds(self) -> np.ndarray:
         """(n, 2) lower and upper bounds."""
-        return np.array([v.bounds for v in self.variables], dtype=float).reshape(-1, 2)
+        return variable_bounds(self.variables)
 
     def mounts(self, x, stiffness_scale=None):
         """Positions (n_mounts, 3) [m], stiffnesses (n_mounts, 3) [N/m] and axes (n_mounts, 3, 3) of design ``x``."""

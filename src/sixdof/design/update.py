@@ -60,7 +60,7 @@ import numpy as np
 
 from sixdof.analysis.statics import replace_with_preload
 from sixdof.design.optimize import bounded_minimize, start_points
-from sixdof.design.problem import Variable, mount_arrays, variables
+from sixdof.design.problem import Variable, initial_values, mount_arrays, variable_bounds, variables
 from sixdof.design.record import VARIABLE_UNITS
 from sixdof.design.scenario_text import scenario_text
 from sixdof.dofs import AXES, MixedUnits
@@ -211,12 +211,12 @@ class UpdateModel:
 
     @property
     def initial(self) -> np.ndarray:
-        return np.array([v.initial for v in self.variables])
+        return initial_values(self.variables)
 
     @property
     def bounds(self) -> np.ndarray:
         """(n, 2) lower and upper bounds."""
-        return np.array([v.bounds for v in self.variables], dtype=float).reshape(-1, 2)
+        return variable_bounds(self.variables)
 
     @property
     def units(self) -> tuple[str, ...]:

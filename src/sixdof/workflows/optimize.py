@@ -83,7 +83,7 @@ def optimized_toml(scenario, system) -> str:
 OPTIMIZED_NOTE = "mounts optimized by sixdof optimize for the [design] targets of {name}"
 
 
-def design_run(scenario, *, progress: bool = False, log=None, runner=None) -> DesignRun:
+def design_run(scenario, *, progress: bool = False, log=None, runner=None, problem=None) -> DesignRun:
     """Optimize ``scenario``'s mounts for its ``[design]`` targets and study the design's robustness, writing
     nothing.
 
@@ -97,13 +97,15 @@ def design_run(scenario, *, progress: bool = False, log=None, runner=None) -> De
         Receives the terminal's tables (default: nothing printed).
     runner : optional
         Where the robustness study's chunks run (:func:`sixdof.workflows.tasks.task_runner`): default this process.
+    problem : DesignProblem, optional
+        The scenario's design problem, when the caller has built it already (to refuse a bad ``[design]`` early).
 
     Returns
     -------
     DesignRun
     """
     scenario = prepare(scenario)
-    problem = _problem(scenario)
+    problem = _problem(scenario) if problem is None else problem
     shown = meter(progress, scenario.design.starts, "starts", "optimize")
     result = optimize(problem, progress=shown)
     shown.close()
@@ -142,10 +144,10 @@ def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: b
         The design and the folder written.
     """
     scenario = prepare(scenario)
-    _problem(scenario)  # its refusals before a cluster is started
+    problem = _problem(scenario)  # its refusals before a cluster is started
     target = output.check_target(out_root, scenario.name, "_design")
     with task_runner(workers, scheduler, client) as runner:  # a bad address fails before the optimization
-        run = design_run(scenario, progress=progress, log=log, runner=runner)
+        run = design_run(scenario, progress=progress, log=log, runner=runner, problem=problem)
     return run, output.write_folder(target, lambda stage: _save_into(stage, run))
 
 

@@ -174,6 +174,7 @@ def test_workers_run_single_threaded_with_the_compilation_cache(tmp_path, monkey
     assert any((tmp_path / "cache").glob("jit_*")) and any((tmp_path / "cache" / "sixdof_solves").glob("*.jaxexport"))
 
 
+@pytest.mark.slow  # 8-10 s: a sweep in process and on a two-worker cluster
 def test_files_equal_in_process_and_on_two_workers(tmp_path, cluster):
     a, a_folder = sweep_scenario(SCENARIO, SPEC, tmp_path / "a")
     _, b_folder = sweep_scenario(SCENARIO, SPEC, tmp_path / "b", client=cluster, progress="text")

@@ -167,6 +167,7 @@ def test_inertia_is_recovered_and_stays_positive_definite():
         assert moments.max() <= moments.sum() - moments.max()
 
 
+@pytest.mark.slow  # 8-11 s: an update, then the updated scenario loaded and solved
 def test_updated_scenario_text_runs_with_the_updated_modes():
     """Mass, CG offset and mount stiffnesses updated; the text written reads back with the updated model's
     modes, its points and loads moved with the CG."""

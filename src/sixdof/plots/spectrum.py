@@ -50,13 +50,14 @@ def plot_spectrum(spectrum: ResponseSpectrum, *, name: str = "") -> Figure:
             at = (round(float(spectrum.period[j]), 6), round(float(spectrum.spectral_acceleration[k, j]), 6))
             marks.setdefault(at, []).append((j + 1, direction, color,
                                              np.isclose(spectrum.mode_damping[j], spectrum.damping)))
-    for (period, value), modes in marks.items():
+    # Labels of neighbouring modes alternate below and above their markers, which are drawn over any label.
+    for n, ((period, value), modes) in enumerate(sorted(marks.items())):
         for _, _, color, own in modes:
             ax.plot(period, value, "o", markersize=7, color=color, markerfacecolor=color if own else "white",
-                    markeredgewidth=1.5, zorder=3)
+                    markeredgewidth=1.5, zorder=5)
         text = ", ".join(f"{j} ({d})" for j, d, _, _ in modes)
         ax.annotate(f"mode {text}" if len(modes) == 1 else f"modes {text}", (period, value),
-                    textcoords="offset points", xytext=(7, -14), fontsize=9, color=modes[0][2],
+                    textcoords="offset points", xytext=(7, -14 if n % 2 == 0 else 6), fontsize=9, color=modes[0][2],
                     bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "edgecolor": "none", "alpha": 0.8})
     ax.plot([], [], "o", color="0.3", label="a mode at its period (hollow: its own damping)")
     ax.set_xlabel("period T [s]")

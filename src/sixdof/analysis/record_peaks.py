@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from sixdof.analysis.direct import SimulationSettings, simulate
+from sixdof.analysis.frf.points import parse_direction
 from sixdof.analysis.matching import EC8_MEAN_RECORDS
 from sixdof.analysis.response import mount_forces
 from sixdof.dofs import motion_units
@@ -30,8 +31,6 @@ from sixdof.results import Result, label, quantity, result_type
 #: The rules of :func:`design_value`.
 RULES = {"mean": f"mean of the records' peaks (at least {EC8_MEAN_RECORDS} records, EN 1998-1 4.3.3.4.3(3))",
          "max": f"most unfavourable record (fewer than {EC8_MEAN_RECORDS} records, EN 1998-1 4.3.3.4.3(3))"}
-
-_DIRECTIONS = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
 
 
 def design_value(peaks) -> tuple[np.ndarray, str]:
@@ -105,17 +104,6 @@ class RecordPeaks(Result):
     design_base_shear: float = label(decode=float)
 
 
-def _direction(direction) -> np.ndarray:
-    if isinstance(direction, str):
-        if direction not in _DIRECTIONS:
-            raise InputError("direction", "'x', 'y', 'z' or a 3-vector in body axes", direction)
-        return np.array(_DIRECTIONS[direction])
-    vector = np.asarray(direction, dtype=float)
-    if vector.shape != (3,) or not np.all(np.isfinite(vector)) or not np.any(vector):
-        raise InputError("direction", "'x', 'y', 'z' or a non-zero 3-vector in body axes", direction)
-    return vector / np.linalg.norm(vector)
-
-
 def _records(records) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
     found = []
     for i, record in enumerate(records):
@@ -170,7 +158,7 @@ def record_peaks(system: System, records, direction, *, sample_rate_hz: float | 
     """
     instance(system, "system", System)
     records = _records(records)
-    vector = _direction(direction)
+    vector, _ = parse_direction(direction, "direction", rotations=False)
     runs = [_peaks(system, t, a, vector, sample_rate_hz) for t, a in records]
     peaks = {key: np.array([run[key] for run in runs]) for key in runs[0]}
     design = {}

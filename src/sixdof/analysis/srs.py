@@ -73,6 +73,18 @@ class ShockSpectra(Result):
                                         description="maximax absolute-acceleration SRS of the base acceleration")
 
 
+def _substeps(per_period: int, periods_per_sample: float) -> int:
+    """Steps per sample of a record that give an oscillator at least ``per_period`` steps per period, for
+    ``periods_per_sample`` of its periods in one sample step (at least 1)."""
+    return max(1, math.ceil(per_period * periods_per_sample))
+
+
+def _linear_between(x: np.ndarray, steps: int) -> np.ndarray:
+    """Samples ``x`` (n,) linear between each two, ``steps`` per interval ((n - 1) steps + 1 values): the input
+    as the filters take it, so that the response there is the same response's exact values in between."""
+    return np.interp(np.arange((x.size - 1) * steps + 1) / steps, np.arange(x.size), x)
+
+
 def srs(t, acceleration, f_hz, q: float = 10.0) -> np.ndarray:
     """Maximax absolute-acceleration SRS of a base acceleration sampled uniformly.
 
@@ -103,10 +115,9 @@ def srs(t, acceleration, f_hz, q: float = 10.0) -> np.ndarray:
     zeta = 1.0 / (2.0 * q)
     out = np.empty(f.size)
     for k, fn in enumerate(f):
-        steps = max(1, math.ceil(PEAK_STEPS_PER_PERIOD * fn * dt))  # per sample of the record
-        # The input linear between samples, as the filter takes it, from 0 one sample before the first (the
-        # filter's start from rest): exact values of the same response in between.
-        fine = np.interp(np.arange(x.size * steps + 1) / steps, np.arange(x.size + 1), np.append(0.0, x))
+        steps = _substeps(PEAK_STEPS_PER_PERIOD, fn * dt)
+        # From 0 one sample before the first (the filter's start from rest).
+        fine = _linear_between(np.append(0.0, x), steps)
         h = dt / steps
         a = 2 * np.pi * fn * zeta * h  # Smallwood's A and B
         b = 2 * np.pi * fn * np.sqrt(1 - zeta**2) * h
@@ -233,12 +244,11 @@ def pseudo_acceleration_spectrum(t, acceleration, periods, damping: float = 0.05
     number(damping, "damping", "a damping ratio in [0, 1)", low=0.0, high=1.0 - 1e-12)
     out = np.empty(periods.size)
     for k, period in enumerate(periods):
-        steps = max(1, math.ceil(SPECTRUM_STEPS_PER_PERIOD * dt / period))
+        steps = _substeps(SPECTRUM_STEPS_PER_PERIOD, dt / period)
         if steps == 1:
             fine_t, fine = t, x
         else:
-            grid = np.arange((x.size - 1) * steps + 1) / steps
-            fine_t, fine = t[0] + grid * dt, np.interp(grid, np.arange(x.size), x)
+            fine_t, fine = t[0] + np.arange((x.size - 1) * steps + 1) / steps * dt, _linear_between(x, steps)
         omega = 2.0 * np.pi / period
         out[k] = omega * omega * np.max(np.abs(relative_displacement(fine_t, fine, period, damping)))
     return out

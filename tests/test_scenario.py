@@ -136,7 +136,7 @@ BAD = [
     ("rayleigh zeta too big", ("zeta = 0.02", "zeta = 1.5"), r"damping.rayleigh.zeta: expected a damping ratio in \[0, 1\), got 1.5"),
     ("negative alpha", ("rayleigh = { zeta = 0.02, f_hz = [1.0, 30.0] }", "rayleigh = { alpha = -0.1, beta = 0.001 }"), r"damping.rayleigh.alpha: expected a finite number >= 0, got -0.1"),
     ("modal ratios of 4", ("rayleigh = { zeta = 0.02, f_hz = [1.0, 30.0] }", "modal = [0.01, 0.02, 0.03, 0.04]"), r"damping.modal: expected one damping ratio in \[0, 1\) or 6 of them"),
-    ("unknown damping key", ("rayleigh = {", "raleigh = {"), r"damping.raleigh: expected one of the keys loss_factor_band_hz, loss_factor_model, loss_factor_terms, modal, rayleigh, got an unknown key; did you mean 'rayleigh'\?"),
+    ("unknown damping key", ("rayleigh = {", "raleigh = {"), r"damping.raleigh: expected one of the keys loss_factor_band_hz, loss_factor_model, loss_factor_terms, modal, rayleigh, rayleigh_excludes_hysteresis, got an unknown key; did you mean 'rayleigh'\?"),
     ("frf reversed range", ("f_hz = [0.5, 50.0]", "f_hz = [50.0, 0.5]"), r"frf.f_hz: expected two frequencies \[low, high\] in Hz with 0 <= low < high, got \[50.0, 0.5\]"),
     ("frf points fractional", ("points = 100", "points = 10.5"), r"frf.points: expected an integer >= 2, got 10.5"),
     ("frf log from zero", ("f_hz = [0.5, 50.0]", "f_hz = [0.0, 50.0]"), r"frf.f_hz: expected a positive low frequency for log spacing"),

@@ -174,6 +174,9 @@ class TimeHistory(Frozen, Result):
     maxwell_force : ndarray, shape (n, nb), or None
         Force in each Maxwell branch state [N] (:attr:`sixdof.model.system.System.branches`), as the
         mount's spring force: it acts on the body as ``-R' f``. ``None`` without visco-elastic mounts.
+    hysteretic_state : ndarray, shape (n, nh), or None
+        The hysteretic variable ``z`` of each hysteretic mount axis [1] (:attr:`sixdof.model.system.System.hysteretic`),
+        ``None`` without hysteretic mounts (and from the linear paths, which use their linearization).
     energy_input, energy_dissipated : ndarray, shape (n,), or None
         Runs with nonlinear mounts: the work done on the body by the loads and the ground since the start, and the
         energy dissipated since the start [J] (integrated with the motion, for the energy balance of
@@ -201,12 +204,16 @@ class TimeHistory(Frozen, Result):
     maxwell_force: np.ndarray | None = quantity("N", ("t", "branch_state"), default=None,
                                                 description="force in each Maxwell branch state along its mount "
                                                 "axis (resisting the mount's deformation)")
+    hysteretic_state: np.ndarray | None = quantity("1", ("t", "hysteretic_axis"), default=None,
+                                                   description="hysteretic variable z of each hysteretic mount axis "
+                                                   "(direct solve)")
     energy_input: np.ndarray | None = quantity("J", ("t",), default=None,
                                                description="work done on the body by the loads and, through the "
                                                "mounts, by the ground since the start (runs with nonlinear mounts)")
     energy_dissipated: np.ndarray | None = quantity("J", ("t",), default=None,
-                                                    description="energy dissipated by the dashpots, damping models "
-                                                    "and Maxwell branches since the start (runs with nonlinear mounts)")
+                                                    description="energy dissipated by the dashpots, damping models, "
+                                                    "Maxwell branches and hysteretic bearings since the start "
+                                                    "(runs with nonlinear mounts)")
     stats: Any = part("SolverStats", prefix="solver_", default=None)
     superposition: Any = part("SuperpositionInfo", prefix="", default=None)
     contacts: Any = part("ContactEvents", group="contact_events", default=None)
@@ -235,6 +242,11 @@ class TimeHistory(Frozen, Result):
             if force.ndim != 2 or force.shape[0] != n:
                 raise InputError("maxwell_force", f"shape ({n}, nb)", f"shape {force.shape}")
             self._derive(maxwell_force=force)
+        if self.hysteretic_state is not None:
+            state = readonly(self.hysteretic_state)
+            if state.ndim != 2 or state.shape[0] != n:
+                raise InputError("hysteretic_state", f"shape ({n}, nh)", f"shape {state.shape}")
+            self._derive(hysteretic_state=state)
 
     @property
     def has_ground(self) -> bool:

@@ -206,11 +206,17 @@ def with_extremes(balance: EnergyBalance, peak: float, scale: float) -> EnergyBa
 
 def stored_energy(system, response) -> np.ndarray:
     """Energy stored in the mounts about the static equilibrium (n,) [J]: the linearized springs ``z' K z / 2``,
-    the nonlinear laws' excess over their tangent, the Maxwell branches' springs ``f^2 / (2 k)``. A mount lifted off
+    the nonlinear laws' excess over their tangent, the Maxwell branches' springs ``f^2 / (2 k)``, the hysteretic
+    laws' ``p d^2 / 2 + q d_y z^2 / 2`` (:meth:`~sixdof.model.hysteresis.HystereticAxes.stored`). A mount lifted off
     stores nothing in its spring (the direct solve counts what it let go of as dissipated)."""
     z = response.q_relative
-    K = np.asarray(system.K)
+    hysteretic = system.hysteretic
+    # The hysteretic axes' linearization is no spring of the direct solve: their laws store what they do.
+    K = np.asarray(system.K) - np.asarray(system.K_hysteretic) if hysteretic.count else np.asarray(system.K)
     stored = 0.5 * np.einsum("ni,ij,nj->n", z, K, z)
+    if hysteretic.count:
+        stored = stored + hysteretic.stored(**hysteretic.motion(z, response.qd_relative,
+                                                                  response.hysteretic_state)).sum(axis=1)
     laws = system.nonlinear
     branches = system.branches
     if laws.count:

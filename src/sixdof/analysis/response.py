@@ -115,7 +115,9 @@ class MountForces(Result):
         Mount point's displacement relative to the ground, body axes [m].
     elastic, damping, total : ndarray, shape (m, n, 3)
         Spring force ``A' diag(k) A delta``, dashpot force ``A' diag(c) A delta'`` (with the forces of the
-        mount's Maxwell branches, :attr:`TimeHistory.maxwell_force`) and their sum, in body axes [N].
+        mount's Maxwell branches, :attr:`TimeHistory.maxwell_force`) and their sum, in body axes [N]. A hysteretic
+        axis's spring force is its law's ``p d + q z`` (:mod:`sixdof.model.hysteresis`) in a direct solve, its
+        linearization in the linear paths.
     local : ndarray, shape (m, n, 3)
         ``total`` along each mount's own axes [N].
     other_damping : ndarray, shape (n, 6)
@@ -167,8 +169,15 @@ def mount_forces(system: System, response: TimeHistory) -> MountForces:
     # The same product as point_motion, so a mount's deformation is its point's relative motion exactly.
     deformation, rate = (np.stack([x @ Tm.T for Tm in T]) for x in (z, zd))  # (m, n, 3)
     A = np.asarray(system.axes)  # (m, 3, 3): rows are the mount's axes
+    hysteretic = system.hysteretic
+    # A direct solve's hysteretic axes carry their laws' force, with no equivalent dashpot (the linear paths' model).
+    direct = hysteretic.count and response.hysteretic_state is not None
     local_elastic, local_damping = (np.einsum("mij,mnj->mni", A, x) * k[:, None, :]
-                                    for x, k in ((deformation, system.stiffnesses), (rate, system.dampings)))
+                                    for x, k in ((deformation, system.stiffnesses),
+                                                 (rate, system.given_dampings if direct else system.dampings)))
+    if direct:
+        local_elastic[hysteretic.mount, :, hysteretic.axis] = hysteretic.force(
+            **hysteretic.motion(z, zd, response.hysteretic_state)).T
     branches = system.branches
     if branches.count:  # a Maxwell branch's force acts along its mount's axis, beside the dashpot's
         np.add.at(local_damping, (branches.mount, slice(None), branches.axis), response.maxwell_force.T)

@@ -248,16 +248,30 @@ def _newton(system: System, Q: np.ndarray) -> np.ndarray:
                            "lifting off, or stops and tables too soft to carry the weight)"))
 
 
+def check_pendulum_loads(system: System) -> None:
+    """Refuse a friction pendulum whose mount carries no compressive load at ``system``'s
+    :attr:`~sixdof.model.system.System.equilibrium` (its restoring force and friction are proportional to it)."""
+    h = system.hysteretic
+    for e in np.flatnonzero(h.pendulum & (h.static_load <= 0)):
+        j = int(h.mount[e])
+        raise InputError(f"mounts[{j}].friction_pendulum", "a friction pendulum on a mount that carries load at rest "
+                         "(in compression along w at the static equilibrium: sixdof.analysis.statics.at_equilibrium)",
+                         Plain(f"{system.mount_names[j]} carries {-h.static_load[e]:.4g} N of tension at rest"
+                               if h.static_load[e] < 0 else f"{system.mount_names[j]} carries no load at rest"))
+
+
 def at_equilibrium(system: System, statics: Statics) -> System:
     """``system`` linearized about ``statics`` (:attr:`~sixdof.model.system.System.equilibrium` set to its
-    deflection): where its nonlinear mounts sit at rest.
+    deflection): where its nonlinear mounts sit at rest, and the load its friction pendulums carry.
 
     Raises
     ------
     InputError
-        If a mount that cannot carry tension (``tension = False``) has lifted off at rest.
+        If a mount that cannot carry tension (``tension = False``) has lifted off at rest, or a friction pendulum's
+        mount carries no compressive load (:func:`check_pendulum_loads`).
     """
     system = dataclasses.replace(system, equilibrium=statics.q)
+    check_pendulum_loads(system)
     laws = system.nonlinear
     for e in range(laws.count):
         if "lift-off" in laws.kinds[e] and laws.static_deflection[e] > 0:

@@ -58,7 +58,7 @@ def run_text(results) -> str:
         lines.append(f"\n{report.srs_text(results.srs)}")
     if results.spectrum is not None:
         lines.append(f"\nResponse spectrum: {report.spectrum_text(results.spectrum)}")
-    if results.agreement is not None:
+    if results.response is not None and results.response.stats is not None:  # a direct solve
         lines += _time_text(results)
     if results.frf is not None:
         lines.append(f"FRF direct vs modal: {results.frf.max_relative_difference:.1e} (worst relative difference)")
@@ -70,7 +70,8 @@ def _time_text(results) -> list[str]:
     scenario = results.scenario
     info = results.superposition.superposition
     until = " until the first nonlinear mount engaged" if results.contacts is not None else ""
-    lines = [f"\nDirect solve vs modal superposition ({info.method} modes){until}: {results.agreement}"]
+    lines = [] if results.agreement is None else [
+        f"\nDirect solve vs modal superposition ({info.method} modes){until}: {results.agreement}"]
     truncation = info.truncation
     if truncation is not None:
         kept = ", ".join(str(j + 1) for j in info.modes_kept)
@@ -84,6 +85,9 @@ def _time_text(results) -> list[str]:
     if results.contacts is not None:
         checks = report.nonlinear_text(results.contacts, results.energy, results.refined, results.agreement, stats)
         lines.append(f"\nNonlinear mounts:\n{checks}")
+    if results.system.hysteretic.count:
+        table = report.hysteresis_table(results.system, results.response, results.mount_forces)
+        lines.append(f"\nHysteretic bearings (sampled):\n{table}")
     limits = np.stack([m.max_deflection for m in results.system.mounts])
     lines.append(f"\nMount checks:\n{report.mount_check_text(results.mount_check, limits)}")
     if results.points:

@@ -14,6 +14,7 @@ import numpy as np
 from sixdof.errors import InputError, Plain, choice_check, number_check
 from sixdof.files import read_table_csv
 from sixdof.model import viscoelastic
+from sixdof.model.hysteresis import BoucWen, FrictionPendulum, check_on_mount
 from sixdof.model.nonlinear import ForceDeflection
 from sixdof.model.parts import Maxwell, Mount
 from sixdof.model.viscoelastic import AXES, read_dynamic_stiffness
@@ -56,13 +57,16 @@ _BUMP_STOP = {"clearance": "bump_clearance", "stiffness": "bump_stiffness"}
 #: The keys of a ``[[mounts]]`` table (the README's): the Mount's fields, ``bump_stop`` in place of the two it
 #: fills, and the tables read beside the mount. Its unknown keys are checked against this list alone.
 _MOUNT_KEYS = (*(f.name for f in dataclasses.fields(Mount) if f.init and f.name not in _BUMP_STOP.values()),
-              "bump_stop", "maxwell", "dynamic_stiffness", "force_deflection")
+              "bump_stop", "maxwell", "dynamic_stiffness", "force_deflection", "hysteresis", "friction_pendulum")
+#: The laws a ``hysteresis`` table names, and the keys of each besides ``law``.
+_HYSTERESIS_LAWS = {"bouc_wen": BoucWen}
 
 
-def read_mount(raw: Any, path: str, base_dir: Path) -> tuple[Mount, list[Maxwell], list, list]:
+def read_mount(raw: Any, path: str, base_dir: Path) -> tuple[Mount, list[Maxwell], list, list, list]:
     """A ``[[mounts]]`` table: the mount, its ``[[mounts.maxwell]]`` branches, its ``dynamic_stiffness`` tables
-    (:class:`MeasuredStiffness`, fitted later) and its ``force_deflection`` tables
-    (:class:`~sixdof.model.nonlinear.ForceDeflection`)."""
+    (:class:`MeasuredStiffness`, fitted later), its ``force_deflection`` tables
+    (:class:`~sixdof.model.nonlinear.ForceDeflection`) and its hysteretic laws (``hysteresis``,
+    ``friction_pendulum``: :mod:`sixdof.model.hysteresis`)."""
     if not isinstance(raw, dict):
         raise InputError(path, "a table", raw)
     for key in _BUMP_STOP.values():  # the model's names of bump_stop's keys
@@ -72,6 +76,7 @@ def read_mount(raw: Any, path: str, base_dir: Path) -> tuple[Mount, list[Maxwell
     table = dict(raw)
     maxwell, measured = table.pop("maxwell", []), table.pop("dynamic_stiffness", [])
     stop, curves = table.pop("bump_stop", None), table.pop("force_deflection", [])
+    hysteresis, pendulum = table.pop("hysteresis", None), table.pop("friction_pendulum", None)
     if stop is not None:
         keys = Table(stop, f"{path}.bump_stop", tuple(_BUMP_STOP))
         table.update({model: keys.value(key) for key, model in _BUMP_STOP.items()})
@@ -110,7 +115,45 @@ def read_mount(raw: Any, path: str, base_dir: Path) -> tuple[Mount, list[Maxwell
     if set(axes) & {fit.axis for fit in fits}:
         raise InputError(f"{path}.force_deflection", "axes without a dynamic_stiffness fit (each replaces the "
                          "axis's stiffness)", Plain(f"axes {', '.join(sorted(set(axes)))}"))
-    return mount, branches, fits, tables
+    laws = _hysteretic_laws(mount, hysteresis, pendulum, path)
+    taken = {law_axis for law in laws for law_axis in law.axes} & set(axes)
+    if taken:
+        raise InputError(f"{path}.force_deflection", "axes without a hysteretic law (each replaces the axis's "
+                         "force)", Plain(f"axes {', '.join(sorted(taken))}"))
+    return mount, branches, fits, tables, laws
+
+
+def _hysteretic_laws(mount: Mount, hysteresis: Any, pendulum: Any, path: str) -> list:
+    """The ``hysteresis`` and ``friction_pendulum`` tables of a mount, each checked on it
+    (:func:`~sixdof.model.hysteresis.check_on_mount`)."""
+    laws = []
+    if hysteresis is not None:
+        field = f"{path}.hysteresis"
+        if not isinstance(hysteresis, dict):
+            raise InputError(field, "a table {law = \"bouc_wen\", axes = [...], yield_force = [...], ...}", hysteresis)
+        keys = dict(hysteresis)
+        law = choice_check(tuple(_HYSTERESIS_LAWS))(keys.pop("law", None), f"{field}.law")
+        laws.append((field, build(_HYSTERESIS_LAWS[law], {"mount": mount.name, **keys}, field)))
+    if pendulum is not None:
+        field = f"{path}.friction_pendulum"
+        laws.append((field, build(FrictionPendulum, {"mount": mount.name, **_table(pendulum, field)}, field)))
+    if len(laws) == 2 and set(laws[0][1].axes) & set(laws[1][1].axes):
+        raise InputError(f"{path}.friction_pendulum", "axes without a hysteresis law (one law per axis)",
+                         Plain(f"axes {', '.join(sorted(set(laws[0][1].axes) & set(laws[1][1].axes)))}"))
+    for field, law in laws:
+        try:
+            check_on_mount(law, mount)
+        except InputError as error:
+            where = path if error.field.startswith("mount.") else field
+            name = error.field[6:] if error.field.startswith("mount.") else error.field
+            raise InputError(f"{where}.{name}", error.expected, error.got) from None
+    return [law for _, law in laws]
+
+
+def _table(raw: Any, field: str) -> dict:
+    if not isinstance(raw, dict):
+        raise InputError(field, "a table", raw)
+    return dict(raw)
 
 
 def _fit(mount: Mount, raw: Any, field: str, base_dir: Path) -> MeasuredStiffness:

@@ -71,9 +71,38 @@ def damping_note(system) -> str:
 LISTED_INTERVALS = 12
 
 
+def hysteresis_table(system, response, forces) -> str:
+    """Each hysteretic mount axis over a direct solve: its law, peak deflection from rest and force (sampled),
+    their ratio (the loop's secant stiffness at its peak) beside the linear paths' stiffness, and the peak of
+    ``|z|`` (1: fully yielded)."""
+    h = system.hysteretic
+    d = response.q_relative @ h.rows.T
+    force = forces.local[h.mount, :, h.axis].T
+    linear = h.linear_stiffness
+    rows = []
+    moved = np.abs(d).max(axis=0) > 1e-9 * max(np.abs(d).max(), 1e-300)  # not round-off alone
+    for e, name in enumerate(h.names):
+        peak = int(np.argmax(np.abs(d[:, e])))
+        secant = force[peak, e] / d[peak, e] if moved[e] else float("nan")
+        rows.append([name, "friction pendulum" if h.pendulum[e] else "Bouc-Wen",
+                     f"{1e3 * np.abs(d[:, e]).max():.4g}" if moved[e] else "0",
+                     f"{1e-3 * np.abs(force[:, e]).max():.4g}" if moved[e] else "0",
+                     f"{1e-3 * secant:.4g}" if moved[e] else "-",
+                     f"{1e-3 * linear[e]:.4g} ({h.linearization[e]})",
+                     f"{np.abs(response.hysteretic_state[:, e]).max():.3f}"])
+    return table(["mount axis", "law", "peak deflection [mm]", "peak force [kN]", "secant at peak [kN/m]",
+                  "linear paths' stiffness [kN/m]", "peak |z|"], rows)
+
+
 def nonlinear_text(contacts, energy, refined, agreement, stats) -> str:
     """When and where the nonlinear mounts engaged, and the run's cross-checks while they did: the energy
-    balance and the second solve at tighter tolerances (:class:`~sixdof.analysis.contact.ContactSummary`)."""
+    balance and the second solve at tighter tolerances (:class:`~sixdof.analysis.contact.ContactSummary`).
+    ``agreement`` None: a run with hysteretic bearings, which are never compared with the superposition."""
+    if agreement is None:
+        return "\n".join([
+            "Hysteretic bearings act from the start: the modal superposition (their linearization) is not compared; "
+            "these check the run instead.", _energy_line(energy),
+            f"Second solve at 100x tighter tolerances: {refined}"])
     mm = 1e3
     rows = []
     for e, name in enumerate(contacts.names):
@@ -97,11 +126,15 @@ def nonlinear_text(contacts, energy, refined, agreement, stats) -> str:
     lines.append("Modal superposition (the linearization): " + (
         f"compared until the first mount engaged, t = {first:.6g} s" if np.isfinite(first)
         else "no mount engaged, compared over the whole run") + f": {agreement}")
-    lines.append(f"Energy balance (work of loads and ground = kinetic + stored + dissipated): worst residual "
-                 f"{energy.worst:.2e} of the largest energy ({energy.energy_scale:.4g} J) vs tolerance "
-                 f"{energy.tolerance:.0e}: {'ok' if energy.ok else 'FAILED'}")
+    lines.append(_energy_line(energy))
     lines.append(f"Second solve at 100x tighter tolerances: {refined}")
     return "\n".join(lines)
+
+
+def _energy_line(energy) -> str:
+    return (f"Energy balance (work of loads and ground = kinetic + stored + dissipated): worst residual "
+            f"{energy.worst:.2e} of the largest energy ({energy.energy_scale:.4g} J) vs tolerance "
+            f"{energy.tolerance:.0e}: {'ok' if energy.ok else 'FAILED'}")
 
 
 def viscoelastic_table(fits) -> str:
@@ -289,8 +322,12 @@ def summary_markdown(results, figures=()) -> str:
         if nonlinear is not None:
             parts += ["### Nonlinear mounts", "", nonlinear_text(*nonlinear, agreement, stats).replace("\n", "\n\n"),
                       ""]
-        parts += ["### Direct solve vs modal superposition" + (" (until the first mount engaged)" if nonlinear else ""),
-                  "", _agreement_table(agreement, superposition.superposition), ""]
+        if scenario.system.hysteretic.count:
+            parts += ["### Hysteretic bearings", "", hysteresis_table(results.system, response, forces), ""]
+        if agreement is not None:
+            parts += ["### Direct solve vs modal superposition" + (" (until the first mount engaged)" if nonlinear
+                                                                   else ""),
+                      "", _agreement_table(agreement, superposition.superposition), ""]
     if frf is not None:
         f_hz = frf.direct.f_hz
         linearized = (" Nonlinear mounts enter at their slope at the static equilibrium (the linearization)."

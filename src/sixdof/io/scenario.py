@@ -16,7 +16,7 @@ import numpy as np
 from sixdof.analysis.random import PSD, RandomInput
 from sixdof.analysis.srs import SRSSettings
 from sixdof.design.spec import DesignSpec, StiffnessRatio, Target, UpdateSpec, Vary, check_mounts, check_update_mounts
-from sixdof.errors import InputError, Plain, choice_check, file_name, memory_check
+from sixdof.errors import InputError, Plain, boolean, choice_check, file_name, memory_check
 from sixdof.files import read_table_csv
 from sixdof.io.mounts import read_mount
 from sixdof.io.settings import (
@@ -29,6 +29,7 @@ from sixdof.io.settings import (
     frf_settings,
     spectrum_settings,
 )
+from sixdof.model.hysteresis import BoucWen, FrictionPendulum
 from sixdof.model.parts import Rayleigh, RigidBody
 from sixdof.model.system import MAX_MOUNTS, System
 from sixdof.model.viscoelastic import causal_loss_factors
@@ -231,18 +232,23 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
         if len(found) > most:
             raise InputError(key, f"at most {most:,} [[{key}]] tables", Plain(f"{len(found):,}"))
     body = build(RigidBody, top.table("body"), "body")
-    mounts, branches, fits, tables = [], [], [], []
+    mounts, branches, fits, tables, laws = [], [], [], [], []
     for i, table in enumerate(mount_tables):
-        mount, own_branches, own_fits, own_tables = read_mount(table, f"mounts[{i}]", base_dir)
+        mount, own_branches, own_fits, own_tables, own_laws = read_mount(table, f"mounts[{i}]", base_dir)
         mounts.append(mount)
         branches += own_branches
         fits += own_fits
         tables += own_tables
+        laws += own_laws
     damping = Table(top.table("damping", default={}), "damping",
-                    ("rayleigh", "modal", "loss_factor_model", "loss_factor_band_hz", "loss_factor_terms"))
+                    ("rayleigh", "modal", "loss_factor_model", "loss_factor_band_hz", "loss_factor_terms",
+                     "rayleigh_excludes_hysteresis"))
     rayleigh, modal = _damping(damping)
+    excludes = boolean(damping.value("rayleigh_excludes_hysteresis", True), "damping.rayleigh_excludes_hysteresis")
     system = make(System, "", body=body, mounts=mounts, rayleigh=rayleigh, modal_damping=modal, maxwell=branches,
-                  force_deflection=tables)
+                  force_deflection=tables, bouc_wen=[law for law in laws if isinstance(law, BoucWen)],
+                  friction_pendulum=[law for law in laws if isinstance(law, FrictionPendulum)],
+                  rayleigh_excludes_hysteresis=excludes)
     statics = build(StaticsSettings, top.table("statics", default={}), "statics")
 
     loads = tuple(_load(t, f"loads[{i}]", base_dir) for i, t in enumerate(top.tables("loads")))

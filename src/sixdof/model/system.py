@@ -35,6 +35,7 @@ from sixdof.errors import (
 )
 from sixdof.frozen import Frozen
 from sixdof.model.damping import damping_matrix
+from sixdof.model.hysteresis import BoucWen, FrictionPendulum, HystereticAxes, check_on_mount, hysteretic_axes
 from sixdof.model.kinematics import geometric_stiffness, mount_local_map, mount_matrix
 from sixdof.model.modes import Modes, modal_analysis
 from sixdof.model.nonlinear import ForceDeflection, ForceLaws, force_laws
@@ -163,6 +164,12 @@ class System(Frozen):
                                                          "(n_mounts, 3) in N, body axes", (-1, 3))),
         description="static load on each mount under gravity_preload (force of the body on it), body axes: the "
         "preload whose geometric stiffness K_geometric is")
+    bouc_wen: tuple[BoucWen, ...] = sequence(lambda: BoucWen, group="bouc_wen", key=lambda law: law.mount, default=())
+    friction_pendulum: tuple[FrictionPendulum, ...] = sequence(lambda: FrictionPendulum, group="friction_pendulum",
+                                                               key=lambda law: law.mount, default=())
+    rayleigh_excludes_hysteresis: bool = quantity("1", (), default=True, encode=bool, decode=bool,
+                                                  description="1: the Rayleigh term beta K leaves out the hysteretic "
+                                                  "axes' stiffness")
 
     #: Stored beside the fields (not read back: the system recomputes them).
     derived = {
@@ -209,6 +216,7 @@ class System(Frozen):
             raise InputError("mounts", "unique mount names", f"{', '.join(duplicated)} repeated")
         self._check_maxwell(names)
         self._check_tables(names)
+        self._check_hysteresis(names)
         self._check_preload()
         self._check_modal_range()
         if self.rayleigh is not None and not isinstance(self.rayleigh, Rayleigh):
@@ -238,6 +246,33 @@ class System(Frozen):
         duplicated = sorted({n for n in names if names.count(n) > 1})
         if duplicated:
             raise InputError("force_deflection", "one table per mount axis", f"{', '.join(duplicated)} repeated")
+
+    def _check_hysteresis(self, mounts: list[str]) -> None:
+        """Each hysteretic law on a mount of the system, able to act there
+        (:func:`~sixdof.model.hysteresis.check_on_mount`), on axes no table or other law takes."""
+        self._derive(bouc_wen=tuple_of(self.bouc_wen, "bouc_wen", "a sequence of BoucWen"),
+                     friction_pendulum=tuple_of(self.friction_pendulum, "friction_pendulum",
+                                                "a sequence of FrictionPendulum"))
+        taken = {(t.mount, t.axis) for t in self.force_deflection}
+        for key, kind in (("bouc_wen", BoucWen), ("friction_pendulum", FrictionPendulum)):
+            for i, law in enumerate(getattr(self, key)):
+                field = f"{key}[{i}]"
+                if not isinstance(law, kind):
+                    raise InputError(field, f"a {kind.__name__}", law)
+                if law.mount not in mounts:
+                    raise InputError(f"{field}.mount", f"the name of a mount ({', '.join(mounts)})", law.mount)
+                j = mounts.index(law.mount)
+                try:
+                    check_on_mount(law, self.mounts[j])
+                except InputError as error:
+                    if error.field.startswith("mount."):
+                        raise InputError(f"mounts[{j}].{error.field[6:]}", error.expected, error.got) from None
+                    raise error.within(field) from None
+                for axis in law.axes:
+                    if (law.mount, axis) in taken:
+                        raise InputError(f"{field}.axes", f"axes of {law.mount} that no force_deflection table or "
+                                         "other hysteretic law takes (one law per axis)", axis)
+                    taken.add((law.mount, axis))
 
     def _check_preload(self) -> None:
         """``mount_preload`` is given with ``gravity_preload``, one load per mount, and balances the weight and its
@@ -308,12 +343,51 @@ class System(Frozen):
     def stiffnesses(self) -> np.ndarray:
         """Mount stiffnesses along their own axes, shape (n, 3) [N/m]: each mount's ``stiffness``, with a nonlinear
         axis's slope at the static equilibrium (the linearization every linear path uses)."""
-        laws = self.nonlinear
-        if not laws.count:
+        laws, hysteretic = self.nonlinear, self.hysteretic
+        if not laws.count and not hysteretic.count:
             return self.given_stiffnesses
         stiffness = np.array(self.given_stiffnesses)
         stiffness[laws.mount, laws.axis] = laws.tangent
+        stiffness[hysteretic.mount, hysteretic.axis] = hysteretic.linear_stiffness
         return readonly(stiffness)
+
+    @cached_property
+    def hysteretic(self) -> HystereticAxes:
+        """The hysteretic mount axes (Bouc-Wen, friction pendulums; :class:`~sixdof.model.hysteresis.HystereticAxes`,
+        none without them). A pendulum carries its mount's compressive load along ``w`` at :attr:`equilibrium`."""
+        local = mount_local_map(self.positions, self.axes)
+        deflection = local[:, 2] @ np.asarray(self.equilibrium, dtype=float)  # (n,) along w
+        load = -self.given_stiffnesses[:, 2] * deflection
+        laws = self.nonlinear
+        on_w = laws.axis == 2
+        load[laws.mount[on_w]] = -laws.static_force[on_w]
+        return hysteretic_axes(self.mounts, local, self.bouc_wen, self.friction_pendulum, load)
+
+    @cached_property
+    def K_hysteretic(self) -> np.ndarray:
+        """The part of :attr:`K` the hysteretic axes' linearization makes (6, 6) [N/m, N, N m/rad]: what the direct
+        solve replaces by their laws."""
+        h = self.hysteretic
+        return readonly(h.rows.T @ (h.linear_stiffness[:, None] * h.rows))
+
+    @cached_property
+    def equivalent_dampings(self) -> np.ndarray:
+        """The equivalent viscous dashpots of the hysteretic axes' effective linearization (n, 3) [N s/m]: ``2 xi_eff
+        K_eff / omega``, ``omega`` the circular frequency of the undamped mode whose strain energy the axis holds the
+        largest share of (zero for the initial linearization)."""
+        h = self.hysteretic
+        c = np.zeros((len(self.mounts), 3))
+        xi = h.linear_damping_ratio
+        if not np.any(xi > 0):
+            return readonly(c)
+        modes = self.modes
+        k = h.linear_stiffness
+        omega = np.asarray(modes.omega, dtype=float)
+        elastic = omega > 0  # rigid-body modes (a mechanism) store nothing
+        strain = k[:, None] * (h.rows @ np.asarray(modes.shapes)) ** 2 / np.where(elastic, omega, 1.0) ** 2
+        w = omega[np.argmax(np.where(elastic, strain, -1.0), axis=1)]
+        c[h.mount, h.axis] = np.where(xi > 0, 2.0 * xi * k / np.maximum(w, 1e-300), 0.0)
+        return readonly(c)
 
     @cached_property
     def nonlinear(self) -> ForceLaws:
@@ -321,7 +395,20 @@ class System(Frozen):
         every mount is linear)."""
         return force_laws(self.mounts, mount_local_map(self.positions, self.axes), self.force_deflection,
                           self.equilibrium)
-    dampings = _stacked("damping", "Mount viscous damping along their own axes, shape (n, 3) [N s/m].")
+    given_dampings = _stacked("damping", "The mounts' own dashpots along their axes, shape (n, 3) [N s/m].")
+
+    @cached_property
+    def dampings(self) -> np.ndarray:
+        """Mount viscous damping along their own axes, shape (n, 3) [N s/m]: each mount's ``damping``, with the
+        equivalent dashpot of an effectively linearized hysteretic axis (what every linear path uses)."""
+        if not self.hysteretic.count:
+            return self.given_dampings
+        return readonly(self.given_dampings + self.equivalent_dampings)
+
+    @cached_property
+    def C_equivalent(self) -> np.ndarray:
+        """The equivalent dashpots' part of :attr:`C` (6, 6): what the direct solve leaves out (the laws dissipate)."""
+        return readonly(mount_matrix(self.positions, self.equivalent_dampings, self.axes))
     loss_factors = _stacked("loss_factor", "Mount hysteretic loss factors, shape (n, 3).")
     axes = _stacked("axes", "Mount axes (rows, in body axes), shape (n, 3, 3).")
 
@@ -340,14 +427,18 @@ class System(Frozen):
 
     def linearized(self) -> System:
         """This system with every mount linear at its slope at the static equilibrium (no bump stop, lift-off or
-        table): what the modes and FRFs describe, for the analyses that need a linear model of it."""
-        if not self.nonlinear.count:
+        table) and every hysteretic axis at its linearization (stiffness and equivalent dashpot): what the modes and
+        FRFs describe, for the analyses that need a linear model of it. (Rayleigh damping then acts on the whole
+        linearized K.)"""
+        if not self.nonlinear.count and not self.hysteretic.count:
             return self
-        mounts = [dataclasses.replace(m, stiffness=k, bump_clearance=np.full(3, np.inf), bump_stiffness=np.zeros(3),
-                                      tension=True) for m, k in zip(self.mounts, self.stiffnesses)]
+        mounts = [dataclasses.replace(m, stiffness=k, damping=c, bump_clearance=np.full(3, np.inf),
+                                      bump_stiffness=np.zeros(3), tension=True)
+                  for m, k, c in zip(self.mounts, self.stiffnesses, self.dampings)]
         # The copy keeps the preload it is given: the nonlinear mounts' at their equilibrium, not the linear statics'
         # of their slopes.
-        return dataclasses.replace(self, mounts=mounts, force_deflection=(), equilibrium=np.zeros(6))
+        return dataclasses.replace(self, mounts=mounts, force_deflection=(), equilibrium=np.zeros(6), bouc_wen=(),
+                                   friction_pendulum=())
 
     @cached_property
     def M(self) -> np.ndarray:
@@ -399,7 +490,8 @@ class System(Frozen):
         alpha, beta = (self.rayleigh.alpha, self.rayleigh.beta) if self.rayleigh is not None else (0.0, 0.0)
         zeta = np.broadcast_to(np.asarray(self.modal_damping or 0.0, dtype=float), (6,))
         modes = self.modes
-        return readonly(damping_matrix(self.M, self.K, self.C_mounts, alpha, beta, zeta, modes.shapes, modes.omega))
+        K = self.K - self.K_hysteretic if self.rayleigh_excludes_hysteresis and self.hysteretic.count else self.K
+        return readonly(damping_matrix(self.M, K, self.C_mounts, alpha, beta, zeta, modes.shapes, modes.omega))
 
     @cached_property
     def modes(self) -> Modes:

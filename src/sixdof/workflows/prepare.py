@@ -49,7 +49,9 @@ def _model(scenario: Scenario) -> PreparedModel:
     fits = [(m.mount, m.axis, _fitted(m)) for m in scenario.measured]
     system = with_fits(system, fits) if fits else system
     statics = scenario.statics
-    if system.nonlinear.count:  # linearized about its static equilibrium, which the nonlinear statics find
+    # Linearized about its static equilibrium, which the nonlinear statics find; a friction pendulum carries the load
+    # it has there.
+    if system.nonlinear.count or system.friction_pendulum:
         system = at_equilibrium(system, gravity_statics(system, statics.gravity, statics.direction))
     if statics.geometric_stiffness:  # before any computation: mounts that cannot carry the weight have no preload
         system = _preloaded(system, statics.vector)

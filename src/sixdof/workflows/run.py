@@ -409,7 +409,7 @@ def _time_response(scenario, statics, stream, progress) -> _TimeResponse:
     if drift is not None:
         notes.append(drift)
         warnings.warn(drift, GroundDriftWarning, stacklevel=3)
-    if not agreement.ok:
+    if agreement is not None and not agreement.ok:
         notes.append(f"direct and modal superposition disagree: worst DOF {agreement.worst_dof} "
                      f"({QUANTITIES[agreement.worst_quantity]}) at {agreement.worst:.3g} of its peak (tolerance "
                      f"{agreement.tolerance:.0e})")
@@ -432,14 +432,15 @@ REFINEMENT = 100.0
 
 class _Nonlinear:
     """The cross-checks of a run with nonlinear mounts, window by window: a second solve at tighter tolerances,
-    the energy balance, the superposition compared only until the first mount engages, and when and where
-    they engaged."""
+    the energy balance, the superposition compared only until the first mount engages (never with hysteretic
+    bearings), and when and where they engaged."""
 
     def __init__(self, system, excitation, settings, length: float) -> None:
         self.system, self.excitation, self.settings, self.length = system, excitation, settings, length
         self.events, self.balances, self.refined = [], [], None
         self.origin = None
-        self.first_engaged = np.inf
+        # Hysteretic bearings act from the start: the superposition (their linearization) is never compared.
+        self.first_engaged = -np.inf if system.hysteretic.count else np.inf
         laws = system.nonlinear
         self.low, self.high = np.full(laws.count, np.inf), np.full(laws.count, -np.inf)
 

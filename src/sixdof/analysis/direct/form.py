@@ -46,8 +46,12 @@ def mechanical_form(Minv, K, C, rows, k_b, tau) -> np.ndarray:
 
 
 def first_order_form(system: System, excitation: Excitation) -> tuple[np.ndarray, np.ndarray]:
-    """``A`` (N, N) and ``B`` (N, n_loads + 1) of ``x' = A x + B u(t)`` for the state ``x = [z, w, u_g, v_g, f]``
-    (``N = 14 + nb``, ``nb`` Maxwell branch states).
+    """``A`` (N, N) and ``B`` (N, n_loads + 1) of ``x' = A x + B u(t)`` for the state ``x = [z, w, u_g, v_g, f, h]``
+    (``N = 14 + nb + nh``, ``nb`` Maxwell branch states, ``nh`` hysteretic variables).
+
+    With hysteretic mounts it is the linear part of the motion alone: ``K`` and ``C`` without the hysteretic
+    axes' linearization (:attr:`System.K_hysteretic`, :attr:`System.C_equivalent`), whose laws the direct solve
+    adds (:func:`sixdof.analysis.direct.solve._solve_segment`), and zero rows for ``h``.
 
     The input is ``u = [s_1(t) ... s_n(t), g(t)]``: the load signals, then the ground's velocity ``v_g``
     (ground given as a displacement or a velocity) or acceleration ``a_g`` (given as an acceleration,
@@ -56,12 +60,12 @@ def first_order_form(system: System, excitation: Excitation) -> tuple[np.ndarray
     vectors, _ = _load_vectors(excitation)
     n = vectors.shape[0]
     Minv = np.linalg.inv(np.asarray(system.M, dtype=float))
-    C, K = np.asarray(system.C, dtype=float), np.asarray(system.K, dtype=float)
+    K, C = direct_matrices(system)
     branches = system.branches
     R, k_b = branches.rows, branches.stiffness
-    size = 14 + branches.count
+    size = 14 + branches.count + system.hysteretic.count
     A = np.zeros((size, size))
-    mechanical = np.r_[0:12, 14:size]  # z, w and f; u_g, v_g (12, 13) between
+    mechanical = np.r_[0:12, 14:14 + branches.count]  # z, w and f; u_g, v_g (12, 13) between, h after
     A[np.ix_(mechanical, mechanical)] = mechanical_form(Minv, K, C, R, k_b, branches.tau)
     B = np.zeros((size, n + 1))
     B[6:12, :n] = Minv @ vectors.T
@@ -70,7 +74,7 @@ def first_order_form(system: System, excitation: Excitation) -> tuple[np.ndarray
         # The ground's velocity v_g enters z' = w - r v_g, the dashpots' force -C (w - r v_g) and the
         # branches' f' = k_b R (w - r v_g) - f / tau.
         r = ground.rigid_vector
-        by_velocity = np.concatenate([-r, Minv @ C @ r, [0.0, 0.0], -k_b * (R @ r)])
+        by_velocity = np.concatenate([-r, Minv @ C @ r, [0.0, 0.0], -k_b * (R @ r), np.zeros(size - 14 - k_b.size)])
         if ground.quantity == "acceleration":
             A[:, 13] += by_velocity
             A[12, 13] = 1.0  # u_g' = v_g
@@ -80,6 +84,15 @@ def first_order_form(system: System, excitation: Excitation) -> tuple[np.ndarray
             if ground.quantity == "velocity":
                 B[12, n] = 1.0  # u_g' = v_g
     return A, B
+
+
+def direct_matrices(system: System) -> tuple[np.ndarray, np.ndarray]:
+    """``K`` and ``C`` (6, 6) of the direct solve's linear part: the system's, less the linearization of its
+    hysteretic axes (their stiffness and equivalent dashpots), which the solve replaces by their laws."""
+    K, C = np.asarray(system.K, dtype=float), np.asarray(system.C, dtype=float)
+    if not system.hysteretic.count:
+        return K, C
+    return K - np.asarray(system.K_hysteretic), C - np.asarray(system.C_equivalent)
 
 
 def _load_vectors(excitation: Excitation) -> tuple[np.ndarray, tuple]:

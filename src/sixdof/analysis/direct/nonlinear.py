@@ -8,8 +8,10 @@ import numpy as np
 
 from sixdof._jax import jax
 from sixdof.analysis.contact import ContactEvents
+from sixdof.analysis.direct.form import direct_matrices
 from sixdof.analysis.direct.settings import SimulationSettings
 from sixdof.analysis.direct.solve import REGION_HYSTERESIS, _window_args
+from sixdof.analysis.statics import check_pendulum_loads
 from sixdof.errors import SolverError, readonly
 from sixdof.excitation import Excitation
 from sixdof.model.system import System
@@ -20,14 +22,17 @@ if TYPE_CHECKING:  # the windows' module imports this one
 
 def is_nonlinear(system: System) -> bool:
     """Whether a mount of ``system`` has a kink in its force law (a bump stop, lift-off or a table that is not
-    linear): then only the direct solve answers it exactly."""
-    return bool(np.isfinite(system.nonlinear.knots).any())
+    linear) or a hysteretic law (Bouc-Wen, friction pendulum): then only the direct solve answers it exactly."""
+    return bool(np.isfinite(system.nonlinear.knots).any()) or system.hysteretic.count > 0
 
 
 def _nonlinear_params(system: System, excitation: Excitation, sigma: np.ndarray, settings: SimulationSettings) -> dict:
     """The arrays :func:`_solve_segment` needs besides the linear solve's."""
+    check_pendulum_loads(system)
     laws, branches = system.nonlinear, system.branches
     M = np.asarray(system.M, dtype=float)
+    K, C = direct_matrices(system)
+    h = system.hysteretic
     ground = excitation.ground
     scale_d = np.abs(laws.rows) @ sigma[:6]
     energy = 0.5 * float(np.sum(np.diag(M) * sigma[6:12] ** 2))
@@ -36,8 +41,13 @@ def _nonlinear_params(system: System, excitation: Excitation, sigma: np.ndarray,
                      "hysteresis": REGION_HYSTERESIS * scale_d, "contact": laws.contact, "damping": laws.damping,
                      "lifts": laws.lifts, "lifted_region": laws.lifted_region, "stiffness_scale": laws.stiffness_scale,
                      "branches": laws.branch_map(branches.mount, branches.axis)},
-            "Minv": np.linalg.inv(M), "C": np.asarray(system.C, dtype=float),
-            "K": np.asarray(system.K, dtype=float), "R": branches.rows.reshape(-1, 6),
+            "hysteresis": {"rows": h.rows, "pendulum": h.pendulum.astype(float), "stiffness": h.stiffness,
+                           "strength": h.strength, "mu_fast": h.mu_fast, "rate": h.rate,
+                           "yield_displacement": h.yield_displacement, "exponent": h.exponent, "beta": h.beta,
+                           "gamma": h.gamma, "coupled": h.coupled, "load_row": h.load_row,
+                           "load_stiffness": h.load_stiffness, "load_damping": h.load_damping,
+                           "static_load": h.static_load},
+            "Minv": np.linalg.inv(M), "C": C, "K": K, "R": branches.rows.reshape(-1, 6),
             "k_b": branches.stiffness, "tau": branches.tau,
             "r": np.zeros(6) if ground is None else ground.rigid_vector, "energy_scale": np.full(2, energy),
             "dtmax": np.float64(settings.min_contact_s / 2)}
@@ -109,7 +119,8 @@ def _law_motion(laws, params: dict, code: int, r: np.ndarray, t: float, x: np.nd
     of its Maxwell branches [N] at time ``t`` and state ``x``."""
     d = laws.static_deflection + laws.rows @ x[:6]
     rate = laws.rows @ (x[6:12] - r * _ground_velocity(params, code, t, x))
-    return d, rate, params["laws"]["branches"] @ x[14:]
+    nb = params["k_b"].size
+    return d, rate, params["laws"]["branches"] @ x[14:14 + nb]
 
 
 def _next_region(run: _Run, t: float, x: np.ndarray, region: np.ndarray, crossed: np.ndarray) -> np.ndarray:

@@ -42,8 +42,9 @@ def state_scale(system: System, excitation: Excitation | None, settings: Simulat
 
     Returns
     -------
-    ndarray, shape (14 + nb,)
-        ``[z (6) m, rad; w (6) m/s, rad/s; u_g m; v_g m/s; f (nb) N]``, all > 0.
+    ndarray, shape (14 + nb + nh,)
+        ``[z (6) m, rad; w (6) m/s, rad/s; u_g m; v_g m/s; f (nb) N; h (nh) 1]``, all > 0: a hysteretic variable's
+        is 1, the bound of ``|h|``.
     """
     M = np.asarray(system.M)
     modes = system.modes
@@ -71,14 +72,15 @@ def state_scale(system: System, excitation: Excitation | None, settings: Simulat
     root_m = np.sqrt(np.diag(M))
     branches = system.branches
     if not np.any(np.concatenate([z, w]) > 0):
-        return np.ones(14 + branches.count)
+        return np.ones(14 + branches.count + system.hysteretic.count)
 
     def floored(x):
         floor = SCALE_FLOOR * np.max(x * root_m)
         return np.maximum(x, floor / root_m) if floor > 0 else np.where(x > 0, x, 1.0)
 
     z, w = floored(z), floored(w)
-    return np.concatenate([z, w, [ground_u, ground_v], branches.stiffness * (np.abs(branches.rows) @ z)])
+    return np.concatenate([z, w, [ground_u, ground_v], branches.stiffness * (np.abs(branches.rows) @ z),
+                           np.ones(system.hysteretic.count)])
 
 
 def _ground_peaks(ground, settings: SimulationSettings) -> tuple[float, float, float]:

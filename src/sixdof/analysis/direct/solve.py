@@ -119,25 +119,32 @@ def _solve_segment(p, xs0, ts, t0, t1, jump_ts, rtol, atol, region, *, solver: s
     scale = jnp.concatenate([sigma, p["energy_scale"]])
     C, K, R, k_b, tau = p["C"], p["K"], p["R"], p["k_b"], p["tau"]
     r = p["r"]
+    nb = k_b.size
+    branch = slice(14, 14 + nb)
 
     def motion(t, x):
-        """``x'`` in the region, and the input ``u``."""
+        """``x'`` in the region, the input ``u`` and the hysteretic axes' :func:`_hysteresis`."""
         u = _input(t, x[12:14], p, code)
         dx = A @ x + B @ u + c
-        zd, f = dx[:6], x[14:]
+        zd, f = dx[:6], x[branch]
         dx = dx.at[6:12].add(Minv @ (C_off @ zd + R.T @ (off * f)))
-        return dx.at[14:].add(-off * k_b * (R @ zd)), u
+        dx = dx.at[branch].add(-off * k_b * (R @ zd))
+        hyst = _hysteresis(p["hysteresis"], x[:6], zd, x[14 + nb:])
+        dx = dx.at[6:12].add(-Minv @ (p["hysteresis"]["rows"].T @ hyst["force"]))
+        return dx.at[14 + nb:].set(hyst["rate"]), u, hyst
 
     def field(t, ys, args):
         x = ys[:size] * sigma
-        dx, u = motion(t, x)
-        z, w, f = x[:6], x[6:12], x[14:]
+        dx, u, hyst = motion(t, x)
+        z, w, f = x[:6], x[6:12], x[branch]
         zd = dx[:6]
-        v_g = _ground_kinematics(code, p, t, x[12:14])[1]
+        _, v_g, a_g = _ground_kinematics(code, p, t, x[12:14])
         # The generalized force of the mounts on the foundation.
-        mounts = K @ z + dK @ z + f0 + (C - C_off) @ zd + R.T @ ((1.0 - off) * f)
+        mounts = (K @ z + dK @ z + f0 + (C - C_off) @ zd + R.T @ ((1.0 - off) * f)
+                  + p["hysteresis"]["rows"].T @ hyst["force"])
         power = p["vectors"].T @ u[:-1] @ w - v_g * (r @ mounts)  # the ground moves against the mounts' force
-        loss = zd @ (C - C_off) @ zd + jnp.sum(f * f / (k_b * tau))
+        loss = (zd @ (C - C_off) @ zd + jnp.sum(f * f / (k_b * tau))
+                + _hysteretic_loss(p["hysteresis"], hyst, dx[6:12] - r * a_g))
         return jnp.concatenate([dx, jnp.stack([power, loss])]) / scale
 
     # Distances to the region's knots, below and above (ne, 2), over each axis's deflection scale: the event is the
@@ -152,13 +159,14 @@ def _solve_segment(p, xs0, ts, t0, t1, jump_ts, rtol, atol, region, *, solver: s
         rate = rows @ (x[6:12] - r * _ground_kinematics(code, p, t, x[12:14])[1])
         at = jnp.sum(knots < d[:, None], axis=1)  # the region of d alone, lifted or not
         load = pick(laws["intercept"], at) + pick(laws["slope"], at) * d + laws["damping"] * rate
-        e = (load + laws["branches"] @ x[14:]) / laws["stiffness_scale"]
+        e = (load + laws["branches"] @ x[branch]) / laws["stiffness_scale"]
         below = jnp.where(lifted, jnp.maximum(d - low, e), d - low)
         above = jnp.where(lifts & ~lifted, jnp.minimum(high - d, -e), high - d)
         return jnp.stack([below + delta, above + delta], axis=1) / length[:, None]
 
-    event = diffrax.Event(lambda t, y, args, **kw: jnp.min(distances(t, y)), direction=False,
-                          root_finder=_event_bisection())
+    # Hysteretic laws alone have no region to leave: no event.
+    event = None if not knots.shape[0] else diffrax.Event(lambda t, y, args, **kw: jnp.min(distances(t, y)),
+                                                          direction=False, root_finder=_event_bisection())
     # An event is a sign change between steps: capped steps see every excursion past a knot that lasts two steps.
     sol = solve_ode(field, xs0, t0, t1, diffrax.SaveAt(ts=ts, t1=True), jump_ts, rtol, atol, args=None,
                     solver=solver, max_steps=max_steps, event=event, dtmax=p["dtmax"])
@@ -168,17 +176,62 @@ def _solve_segment(p, xs0, ts, t0, t1, jump_ts, rtol, atol, region, *, solver: s
     xs = ys[:, :size] * sigma
 
     def outputs(t, x):
-        dx, u = motion(t, x)
+        dx, u, _ = motion(t, x)
         return dx[6:12], p["vectors"].T @ u[:-1], jnp.stack(_ground_kinematics(code, p, t, x[12:14]))
 
     qdd, Q, ground = jax.vmap(outputs)(ts, xs)
     energy = ys[:, size:] * p["energy_scale"]
     stats = jnp.stack([sol.stats["num_steps"], sol.stats["num_accepted_steps"], sol.stats["num_rejected_steps"]])
-    at_end = distances(sol.ts[last], sol.ys[last])
-    crossed = (sol.result == diffrax.RESULTS.event_occurred) & (at_end == jnp.min(at_end))
+    at_end = distances(sol.ts[last], sol.ys[last]) if knots.shape[0] else jnp.zeros((0, 2))
+    crossed = (sol.result == diffrax.RESULTS.event_occurred) & (at_end == jnp.min(at_end, initial=jnp.inf))
     ok = (sol.result == diffrax.RESULTS.successful) | (sol.result == diffrax.RESULTS.event_occurred)
     result = jax.tree.leaves(sol.result)[0]
     return sol.ys[last], xs, qdd, Q, ground, ok, result, stats, energy, sol.ts[last], crossed
+
+
+def _hysteresis(h, z, zd, state):
+    """The hysteretic axes (:class:`~sixdof.model.hysteresis.HystereticAxes`, as the arrays ``h``) at the body's
+    motion ``z``, ``z'`` relative to the ground and their variables ``state`` (traced): each axis's force
+    ``p d + q z`` [N], the rate of its variable (Wen's law, biaxial where ``coupled``), and what the energy
+    balance needs (:func:`_hysteretic_loss`)."""
+    d, rate = h["rows"] @ z, h["rows"] @ zd
+    pendulum = h["pendulum"]
+    # A pendulum's compressive load along w, zero once lifted off; its sliding speed in the dish's plane.
+    load_rate = h["load_row"] @ zd
+    load = jnp.maximum(h["static_load"] - h["load_stiffness"] * (h["load_row"] @ z)
+                       - h["load_damping"] * load_rate, 0.0)
+    speed = jnp.sqrt(h["coupled"] @ (rate * rate))
+    slowing = jnp.exp(-h["rate"] * speed)
+    mu = h["mu_fast"] - (h["mu_fast"] - h["strength"]) * slowing
+    p = jnp.where(pendulum > 0, load * h["stiffness"], h["stiffness"])
+    q = jnp.where(pendulum > 0, load * mu, h["strength"])
+    # d_y z' = d' - |z|^(n - 2) (beta sgn(z . d') + gamma) (z . d') z, with |z|^(n - 2) z (z . d') -> 0 as z -> 0.
+    along = h["coupled"] @ (state * rate)
+    norm2 = h["coupled"] @ (state * state)
+    power = jnp.where(norm2 > 0, jnp.maximum(norm2, 1e-300) ** (0.5 * h["exponent"] - 1.0), 0.0)
+    state_rate = (rate - power * (h["beta"] * jnp.sign(along) + h["gamma"]) * along * state) / h["yield_displacement"]
+    return {"force": p * d + q * state, "rate": state_rate, "d": d, "d_rate": rate, "state": state, "p": p, "q": q,
+            "load": load, "load_rate": load_rate, "speed": speed, "slowing": slowing}
+
+
+def _hysteretic_loss(h, hyst, zdd):
+    """The energy the hysteretic axes dissipate per unit time [W] at the body's acceleration ``zdd`` relative to the
+    ground (traced): their force's power less the rate of ``p d^2 / 2 + q d_y z^2 / 2``
+    (:meth:`~sixdof.model.hysteresis.HystereticAxes.stored`), whose ``p`` and ``q`` change with a pendulum's load and
+    speed."""
+    d, rate, state, q = hyst["d"], hyst["d_rate"], hyst["state"], hyst["q"]
+    d_y = h["yield_displacement"]
+    pendulum = h["pendulum"] > 0
+    acc = h["rows"] @ zdd
+    load_dot = jnp.where(hyst["load"] > 0, -h["load_stiffness"] * hyst["load_rate"]
+                         - h["load_damping"] * (h["load_row"] @ zdd), 0.0)
+    speed_dot = jnp.where(hyst["speed"] > 0, (h["coupled"] @ (rate * acc)) / jnp.maximum(hyst["speed"], 1e-300), 0.0)
+    mu = jnp.where(hyst["load"] > 0, q / jnp.maximum(hyst["load"], 1e-300), 0.0)
+    mu_dot = (h["mu_fast"] - h["strength"]) * h["rate"] * hyst["slowing"] * speed_dot
+    p_dot = jnp.where(pendulum, load_dot * h["stiffness"], 0.0)
+    q_dot = jnp.where(pendulum, load_dot * mu + hyst["load"] * mu_dot, 0.0)
+    loss = q * (state * rate - d_y * state * hyst["rate"]) - 0.5 * p_dot * d * d - 0.5 * q_dot * d_y * state * state
+    return jnp.sum(loss)
 
 
 def _event_bisection():

@@ -72,6 +72,7 @@ class _Run:
     region: np.ndarray | None = None  # the force laws' regions at the start (nonlinear mounts)
     laws: Any = None  # System.nonlinear, with nonlinear mounts
     code: int = 0  # the ground's kind (_GROUND_CODES)
+    branches: int = 0  # Maxwell branch states (after them in the state: the hysteretic variables)
 
 
 def _prepare(system: System, excitation: Excitation, settings: SimulationSettings,
@@ -92,7 +93,9 @@ def _prepare(system: System, excitation: Excitation, settings: SimulationSetting
     # q0 includes the equilibrium r u_g(t0), so that at rest no mount is deflected.
     q0, qd0 = excitation.initial_state(system, t0)
     u0 = float(ground.scale * ground.signal(t0)) if code == 1 else 0.0
-    x0 = np.concatenate([q0 - r * u0, qd0, [0.0, 0.0], excitation.initial_branch_forces(system)])
+    # The hysteretic variables start at zero: the bearings at rest at the static equilibrium.
+    x0 = np.concatenate([q0 - r * u0, qd0, [0.0, 0.0], excitation.initial_branch_forces(system),
+                         np.zeros(system.hysteretic.count)])
 
     breakpoints = np.array(sorted(b for b in excitation.breakpoints if t0 < b < t1), dtype=float)
     inside = [_inside(breakpoints, ts[0], end) for ts, end in window_spans(settings, window)]
@@ -108,7 +111,7 @@ def _prepare(system: System, excitation: Excitation, settings: SimulationSetting
     solve = _compiled_window(example, solver=settings.solver, code=code, max_steps=settings.max_steps,
                              nonlinear=region is not None)
     return _Run(params, r, sigma, breakpoints, slots, window, solve, region, laws if region is not None else None,
-                code), xs0
+                code, system.branches.count), xs0
 
 
 def simulate_windows(system: System, excitation: Excitation | None, settings: SimulationSettings, *,
@@ -207,7 +210,9 @@ def _window(run: _Run, xs0: np.ndarray, region, ts: np.ndarray, end: float, sett
     energy = {key: value[:n] for key, value in extra.items() if key.startswith("energy")}
     history = TimeHistory(
         t=ts, q=x[:, :6] + np.outer(kin[:, 0], r), qd=x[:, 6:12], qdd=qdd, Q=Q, **ground, **energy,
-        maxwell_force=x[:, 14:] if x.shape[1] > 14 else None, contacts=extra.get("contacts"),
+        maxwell_force=x[:, 14:14 + run.branches] if run.branches else None,
+        hysteretic_state=x[:, 14 + run.branches:] if x.shape[1] > 14 + run.branches else None,
+        contacts=extra.get("contacts"),
         stats=SolverStats(
             solver=settings.solver, rtol=settings.rtol, atol=settings.atol, scale=readonly(run.sigma),
             num_steps=n_steps, num_accepted=n_accepted, num_rejected=n_rejected,

@@ -30,9 +30,10 @@ swap by mistake. OpenSees' ``signum(0)`` is -1 where ours is 0; the two differ o
 the ``|z|^n`` term vanishes (z = 0) or the increment does (d' = 0).
 
 Time integration: Newmark's average acceleration (gamma = 1/2, beta = 1/4, second order, no numerical damping),
-full Newton iterations, the ground acceleration a Path time series (a first-order hold of its samples) through
-UniformExcitation, so the displacements are relative to the ground. The backward Euler update of z makes the
-whole first order in the time step (tests/test_opensees_reference.py measures it).
+Newton iterations (Krylov-accelerated) to a displacement increment of 1e-12, the ground acceleration a Path time
+series (a first-order hold of its samples) through UniformExcitation, so the displacements are relative to the
+ground. The backward Euler update of z makes the whole first order in the time step (tests/test_opensees_reference.py
+measures it).
 """
 
 from __future__ import annotations
@@ -75,12 +76,17 @@ def _uniform_step(t) -> float:
 
 
 def _transient(ops, substeps, dt):
-    """Newmark average acceleration, full Newton, a small dense system."""
+    """Newmark average acceleration, Krylov-accelerated Newton iterations, a small dense system.
+
+    KrylovNewton rather than full Newton: the same answer (4e-15 apart on the bridge, both to the displacement
+    tolerance) in 0.57 of the time (measured on the bridge benchmark, 16,000 steps; BandGeneral, UmfPack or
+    ProfileSPD instead of FullGeneral changed nothing measurable on the 6 equations left after the constraints).
+    """
     ops.constraints("Transformation")
     ops.numberer("Plain")
     ops.system("FullGeneral")
     ops.test("NormDispIncr", DISPLACEMENT_TOLERANCE, MAX_ITERATIONS)
-    ops.algorithm("Newton")
+    ops.algorithm("KrylovNewton")
     ops.integrator("Newmark", 0.5, 0.25)
     ops.analysis("Transient")
     return dt / substeps
@@ -299,16 +305,25 @@ def rigid_body_on_bearings(mass, inertia, positions, stiffness, damping, hystere
     return RigidBodyHistory(t, q, deflection, force, h)
 
 
-def peak_change(q, q_ref, length) -> float:
-    """Largest change of the per-DOF peaks ``max_t |q|`` relative to ``q_ref``'s, over the DOFs that move.
+def moving_dofs(q_ref, length) -> np.ndarray:
+    """(6,) bool: the DOFs whose peak ``max_t |q_ref|`` is at least 1e-6 of the largest, rotations counted as
+    displacements at ``length`` [m] (the body's half size); a DOF decoupled by symmetry sits at round-off."""
+    scale = np.max(np.abs(q_ref), axis=0) * np.array([1, 1, 1, length, length, length])
+    return scale > 1e-6 * scale.max()
 
-    Rotations count as displacements at ``length`` [m] (the body's half size) to decide which DOFs move: those
-    whose peak is below 1e-6 of the largest are left out (a DOF decoupled by symmetry sits at round-off).
-    """
-    peak, peak_ref = np.max(np.abs(q), axis=0), np.max(np.abs(q_ref), axis=0)
-    scale = peak_ref * np.array([1, 1, 1, length, length, length])
-    moving = scale > 1e-6 * scale.max()
-    return float(np.max(np.abs(peak[moving] - peak_ref[moving]) / peak_ref[moving]))
+
+def peak_change(q, q_ref, length) -> float:
+    """Largest change of the per-DOF peaks ``max_t |q|`` relative to ``q_ref``'s, over the :func:`moving_dofs`."""
+    moving = moving_dofs(q_ref, length)
+    peak, peak_ref = np.max(np.abs(q[:, moving]), axis=0), np.max(np.abs(q_ref[:, moving]), axis=0)
+    return float(np.max(np.abs(peak - peak_ref) / peak_ref))
+
+
+def worst_error(q, q_ref, length) -> float:
+    """``max_t |q - q_ref| / max_t |q_ref|``, the largest over the :func:`moving_dofs` (each on its own scale)."""
+    moving = moving_dofs(q_ref, length)
+    return float(np.max(np.max(np.abs(q[:, moving] - q_ref[:, moving]), axis=0)
+                        / np.max(np.abs(q_ref[:, moving]), axis=0)))
 
 
 @dataclass(frozen=True)

@@ -31,6 +31,7 @@ from opensees_models import (  # noqa: E402
     peak_change,
     rigid_body_on_bearings,
     time_opensees,
+    worst_error,
 )
 from references import relative_error_per_dof, state_matrices  # noqa: E402
 from sixdof import Mount, RigidBody, System  # noqa: E402
@@ -224,3 +225,17 @@ def test_time_opensees_stops_when_the_peaks_settle():
                                       substeps=timing.substeps // 2)
     length = np.max(np.abs(BODY["positions"]))
     assert peak_change(timing.history.q, previous.q, length) == timing.change
+
+
+def test_accuracy_measures_leave_out_the_dofs_at_rest():
+    """A DOF a symmetry leaves at round-off (1e-20) neither counts as moving nor divides by its peak."""
+    t = np.linspace(0.0, 1.0, 11)
+    q_ref = np.zeros((11, 6))
+    q_ref[:, 1], q_ref[:, 3], q_ref[:, 0] = 0.1 * t, 2e-3 * t, 1e-20 * t  # y to 0.1 m, rx to 2e-3 rad (0.04 m at 20 m)
+    q = q_ref * (1 + np.array([1.0, 0.02, 0.0, 0.05, 0.0, 0.0]))
+    q[5, 1] += 0.003  # y: peak 2 % higher; at t = 0.5, 1 % + 3 % of its peak off
+    assert worst_error(q, q_ref, 20.0) == pytest.approx(0.05)  # rx's, x (100 % of nothing) left out
+    assert peak_change(q, q_ref, 20.0) == pytest.approx(0.05)
+    q[:, 3] = q_ref[:, 3]
+    assert worst_error(q, q_ref, 20.0) == pytest.approx(0.04)
+    assert peak_change(q, q_ref, 20.0) == pytest.approx(0.02)

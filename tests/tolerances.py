@@ -179,3 +179,31 @@ RTOL_UPDATE_EXACT = 1e-6
 RTOL_UPDATED_TEXT = 1e-9
 # Noisy test modes (stated noise, one seed): each updated variable within this many of its standard errors.
 UPDATE_NOISE_SIGMAS = 3.0
+
+# --- the OpenSeesPy reference of the hysteretic bearings (tests/test_opensees_reference.py) ---
+# OpenSees' BoucWen material updates z by backward Euler along the strain path: its error is first order in the
+# step (or the strain increment), Newmark's on an elastic model second order. A halving of the step divides the
+# error by 2 (or 4) within this share (measured ratios 1.96-2.03 and 3.98-4.0).
+FIRST_ORDER_RATIO = 0.1
+SECOND_ORDER_RATIO = 0.05
+# The reference solves (DOP853, rtol 1e-11 piece by piece) against rtol 1e-13: the error the comparisons carry
+# from the reference side, per DOF relative to its peak (measured <= 1e-7 on the rigid body, 3e-10 on one mass).
+RTOL_HYSTERESIS_REFERENCE = 1e-6
+# The BoucWen material on a cyclic quasi-static path of 400 increments per yield deflection against the exact
+# n = 1 law, relative to Fy (measured 5.8e-4: the backward Euler error of the increment).
+RTOL_BOUC_WEN_MATERIAL = 1e-3
+# OpenSees (Newmark average acceleration) at its finest step of each test against the scipy solves: the
+# time-step error, first order (measured on one mass at 0.625 ms: peak displacement <= 5.9e-4, hysteretic force
+# history <= 2.9e-3 of the peak force; on the rigid body at 0.3125 ms the forces 3.4e-3).
+RTOL_OPENSEES_PEAK = 1e-3
+RTOL_OPENSEES_FORCE = 5e-3
+# Richardson's 2 x(h/2) - x(h) against the reference, as a share of x(h/2)'s error: the first-order term is all
+# of the difference (measured 0.014-0.016 on one mass; 0.02-0.21 per DOF of the rigid body, least on its vertical
+# DOF, whose error is partly Newmark's second-order one).
+RTOL_OPENSEES_RICHARDSON = 0.1
+RTOL_OPENSEES_RICHARDSON_BODY = 0.3
+# The hysteretic rigid body at 0.3125 ms against solve_ivp, per DOF relative to its peak: first order, larger than
+# on one mass at the same step as its modes are faster (measured 3.4e-4 on z to 7.2e-3 on rz).
+RTOL_OPENSEES_BODY = 1e-2
+# The elastic rigid body at 1.25 ms against the exact solution, per DOF relative to its peak (measured <= 3.8e-4).
+RTOL_OPENSEES_ELASTIC = 1e-3

@@ -207,3 +207,6 @@ RTOL_OPENSEES_RICHARDSON_BODY = 0.3
 RTOL_OPENSEES_BODY = 1e-2
 # The elastic rigid body at 1.25 ms against the exact solution, per DOF relative to its peak (measured <= 3.8e-4).
 RTOL_OPENSEES_ELASTIC = 1e-3
+# sixdof's direct solve of the hysteretic rigid body at its default tolerances against solve_ivp, per DOF relative
+# to its peak (measured 7.9e-8 on x to 2.6e-6 on rz).
+RTOL_SIXDOF_HYSTERESIS = 1e-5

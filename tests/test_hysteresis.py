@@ -307,3 +307,36 @@ def test_velocity_dependent_friction_follows_constantinou():
         p, q = h.coefficients(speed=speed)
         assert q[0] == pytest.approx(h.static_load[0] * (0.09 - 0.06 * np.exp(-20.0 * speed)), rel=1e-14)
         assert p[0] == pytest.approx(h.static_load[0] / 2.0, rel=1e-14)
+
+
+def test_isolated_spectrum_iterates_to_the_design_displacement_a_hand_iteration_finds():
+    """One isolated mass on four Bouc-Wen bearings (x alone: the spectrum along x), EN 1998-2's loop against the
+    same fixed point iterated here by hand: T_eff = 2 pi sqrt(m / K_eff(D)), xi_eff(D) of the bilinear loop,
+    D = S_e(T_eff, xi_eff) (T_eff / 2 pi)^2 with EN 1998-1's eta(xi) = sqrt(10 / (5 + 100 xi)) >= 0.55."""
+    from sixdof.analysis.isolation import isolated_spectrum  # noqa: PLC0415
+    from sixdof.excitation.spectra import EC8Spectrum, SpectrumSettings  # noqa: PLC0415
+
+    extra = ('hysteresis = { law = "bouc_wen", axes = ["u", "v"], yield_force = [500.0, 500.0], '
+             'post_yield_ratio = 0.1, biaxial = true, linearization = "effective", design_displacement = 0.02 }')
+    scenario = parse_scenario(SCENARIO.format(extra=extra))
+    system = scenario.system
+    shape = EC8Spectrum(type=1, ground_type="C", ag=2.45)
+    settings = SpectrumSettings(spectrum=shape, directions=["x"])
+    loop = isolated_spectrum(system, settings)
+    k, fy, a = 0.25e6, 500.0, 0.1
+    d_y = fy / k
+    D = 0.02
+    for _ in range(200):
+        k_eff = 4 * (a * k + (1 - a) * fy / D)
+        xi = 4 * (1 - a) * fy * (D - d_y) / (2 * np.pi * (k_eff / 4) * D ** 2)
+        T = 2 * np.pi * np.sqrt(MASS / k_eff)
+        D_new = float(shape.horizontal(np.array([T]), xi)[0]) * (T / (2 * np.pi)) ** 2
+        if abs(D_new - D) < 1e-12:
+            break
+        D = D_new
+    # The converged analysis's bearing deflection along x (u), to the loop's tolerance (1e-3 on K_eff and xi, about
+    # 2e-3 on D here, where K_eff changes as 0.6 D).
+    converged = loop.response.combined_mount_deflection[:, 0]
+    assert converged == pytest.approx(np.full(4, D), rel=2e-3)
+    assert loop.change[-1] < 1e-3 and loop.design_displacement.shape[0] >= 3
+    assert loop.response.mode_damping.max() == pytest.approx(xi, rel=5e-3)

@@ -7,7 +7,9 @@ new design displacements. The loop iterates until the effective stiffnesses and 
 iteration to the next (relative change below ``rtol``, 1e-3 by default), refusing loudly after ``max_iterations``
 (30).
 
-What the isolators are is the caller's: :func:`effective_linearization_loop` takes a callable
+:func:`isolated_spectrum` runs it for a system's hysteretic axes whose ``linearization`` is ``"effective"``
+(:mod:`sixdof.model.hysteresis`), from their ``design_displacement``. More generally, what the isolators are is the
+caller's: :func:`effective_linearization_loop` takes a callable
 ``linearize(D) -> (system, xi_eff)`` that, for the design displacements ``D`` [m] of the hysteretic mount axes
 (one per entry of ``axes``, each a (mount index, axis index) pair), returns the system with those axes'
 effective stiffnesses (read back from :attr:`~sixdof.model.system.System.stiffnesses`) and each axis's effective
@@ -25,6 +27,7 @@ design displacement of each axis is its combined peak deflection over the direct
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -163,3 +166,33 @@ def effective_linearization_loop(linearize: Callable, settings, axes: Sequence[t
         axes=names, design_displacement=readonly(rows["D"]), stiffness=readonly(rows["k"]),
         damping=readonly(rows["xi"]), system_damping=readonly(rows["system"]),
         effective_period=readonly(rows["period"]), change=readonly(rows["change"]), response=response, rtol=rtol)
+
+
+def isolated_spectrum(system, settings) -> EffectiveLinearization | None:
+    """The effective-linearization loop (:func:`effective_linearization_loop`) of ``system``'s hysteretic axes with
+    ``linearization = "effective"`` (:attr:`~sixdof.model.system.System.hysteretic`), from their design
+    displacements; ``None`` for a system without any (its analysis is :func:`response_spectrum` of its
+    linearization). The other axes keep the linearization they state; damping enters through the modes
+    (:func:`isolation_damping`), not through the equivalent dashpots of :attr:`System.dampings`."""
+    h = system.hysteretic
+    effective = np.array([lin == "effective" for lin in h.linearization], dtype=bool)
+    if not effective.any():
+        return None
+    base = system.linearized()
+    chosen = np.flatnonzero(effective)
+
+    def linearize(D):
+        k_eff, xi = h.effective(np.where(effective, _spread(D, chosen, h.count), 1.0))
+        stiffness = np.array(base.stiffnesses)
+        stiffness[h.mount[chosen], h.axis[chosen]] = k_eff[chosen]
+        mounts = [dataclasses.replace(m, stiffness=k) for m, k in zip(base.mounts, stiffness)]
+        return dataclasses.replace(base, mounts=mounts), xi[chosen]
+
+    axes = [(int(h.mount[e]), int(h.axis[e])) for e in chosen]
+    return effective_linearization_loop(linearize, settings, axes, h.design_displacement[chosen])
+
+
+def _spread(values, where: np.ndarray, size: int) -> np.ndarray:
+    full = np.ones(size)
+    full[where] = values
+    return full

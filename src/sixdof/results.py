@@ -360,6 +360,9 @@ class RunResults(Frozen):
         Shock response spectra of the base and of the body points (``[shock_response_spectrum]``).
     spectrum : sixdof.analysis.spectrum.ResponseSpectrum or None
         The response-spectrum analysis (``[spectrum]``).
+    isolation : sixdof.analysis.isolation.EffectiveLinearization or None
+        An isolated system's effective-linearization loop (EN 1998-2 7.5.4), whose converged analysis ``spectrum``
+        is (``/spectrum/linearization``).
     viscoelastic : tuple of sixdof.model.viscoelastic.MaxwellFit
         The Maxwell models fitted to the mounts' measured dynamic stiffness or loss factors.
     validation : sixdof.validation.ValidationReport or None
@@ -411,6 +414,7 @@ class RunResults(Frozen):
     random: Any = part("RandomResponse", group="random", default=None)
     srs: Any = part("ShockSpectra", group="srs", default=None)
     spectrum: Any = part("ResponseSpectrum", group="spectrum", default=None)
+    isolation: Any = part("EffectiveLinearization", group="spectrum/linearization", default=None)
     validation: Any = part("ValidationReport", group="validation", default=None)
     viscoelastic: tuple = sequence("MaxwellFit", group="viscoelastic", key=lambda fit: fit.name, default=())
     sweep: Any = part("BatchResult", group="sweep", default=None)

@@ -58,6 +58,8 @@ def run_text(results) -> str:
         lines.append(f"\n{report.srs_text(results.srs)}")
     if results.spectrum is not None:
         lines.append(f"\nResponse spectrum: {report.spectrum_text(results.spectrum)}")
+        if results.isolation is not None:
+            lines.append(report.isolation_text(results.isolation))
     if results.response is not None and results.response.stats is not None:  # a direct solve
         lines += _time_text(results)
     if results.frf is not None:

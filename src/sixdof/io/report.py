@@ -301,6 +301,8 @@ def summary_markdown(results, figures=()) -> str:
         parts += ["## Shock response spectra", "", srs_text(srs), ""]
     if results.spectrum is not None:
         parts += ["## Response spectrum", "", spectrum_text(results.spectrum), ""]
+        if results.isolation is not None:
+            parts += [isolation_text(results.isolation), ""]
     if response is not None:
         transient = PEAKS_WITH_TRANSIENT if steady is not None else ""
         parts += ["## Time response", ""]
@@ -397,6 +399,21 @@ def srs_text(srs) -> str:
                 rows.append([name, axis, f"{spectrum[k] / STANDARD_GRAVITY:.4g}", f"{srs.f_hz[k]:.4g}"])
     return (f"Maximax absolute-acceleration SRS, Q = {srs.q:g}, {srs.f_hz[0]:g} to {srs.f_hz[-1]:g} Hz:\n"
             + table(["signal", "axis", "peak SRS [g]", "at f [Hz]"], rows))
+
+
+def isolation_text(loop) -> str:
+    """The effective-linearization loop of an isolated system
+    (:class:`~sixdof.analysis.isolation.EffectiveLinearization`): each iteration's design displacements, effective
+    stiffnesses and damping, the system's damping and T_eff."""
+    rows = [[str(i + 1), f"{1e3 * loop.design_displacement[i].min():.4g}-{1e3 * loop.design_displacement[i].max():.4g}",
+             f"{1e-3 * loop.stiffness[i].min():.4g}-{1e-3 * loop.stiffness[i].max():.4g}",
+             f"{100 * loop.system_damping[i]:.3g}", f"{loop.effective_period[i]:.4g}",
+             "-" if not np.isfinite(loop.change[i]) else f"{loop.change[i]:.2e}"]
+            for i in range(loop.change.size)]
+    return (f"Effective linearization (EN 1998-2 7.5.4) of {len(loop.axes)} isolator axes, converged in "
+            f"{loop.change.size} iterations (relative change < {loop.rtol:g}); modes of T >= 0.8 T_eff take the "
+            f"system's damping:\n" + table(["iteration", "D [mm]", "K_eff [kN/m]", "xi_eff [%]", "T_eff [s]",
+                                            "change"], rows))
 
 
 def spectrum_text(spectrum) -> str:

@@ -22,6 +22,7 @@ from sixdof.analysis.compare import QUANTITIES, compare, compare_motion, merge_a
 from sixdof.analysis.contact import contact_summary, energy_balance, merge_events, total_deflection, with_extremes
 from sixdof.analysis.direct import is_nonlinear, progress_meter, simulate_windows
 from sixdof.analysis.frf import cross_check, force_transmissibility, ground_transmissibility, point_frf
+from sixdof.analysis.isolation import isolated_spectrum
 from sixdof.analysis.mountcheck import MountLimitWarning, merge_mount_checks, mount_check
 from sixdof.analysis.random import random_response
 from sixdof.analysis.records import merge_stats, merge_superposition
@@ -185,12 +186,12 @@ def run(scenario: Scenario | str | Path, *, sink=None, progress: bool = False, l
         random = dataclasses.replace(random, time_check=random_time_check(
             scenario.time_system, scenario.random, points, scenario.random.time_check,
             simulation=simulation, progress=progress))
-    spectrum = None if scenario.response_spectrum is None else response_spectrum(system, scenario.response_spectrum)
+    spectrum, isolation = _spectrum(system, scenario.response_spectrum)
     if spectrum is not None:
         notes.extend(spectrum.notes)
     results = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
                          damping_ratios=zeta, statics=statics, frf=frf, frf_extras=frf_extras, steady_state=steady,
-                         random=random, spectrum=spectrum, viscoelastic=scenario.viscoelastic,
+                         random=random, spectrum=spectrum, isolation=isolation, viscoelastic=scenario.viscoelastic,
                          provenance=provenance(scenario), scenario=scenario, stiffness_note=stiffness_note,
                          **_loss_factor_labels(scenario, statics_line if statics is not None else ""))
     if drawing is not None:
@@ -209,6 +210,15 @@ def run(scenario: Scenario | str | Path, *, sink=None, progress: bool = False, l
         if sink is not None:
             sink.finish(results)
     return dataclasses.replace(results, notes=tuple(notes))
+
+
+def _spectrum(system, settings):
+    """The response-spectrum analysis of ``[spectrum]`` (None without one), and for an isolated system (hysteretic
+    axes linearized ``"effective"``) the EN 1998-2 effective-linearization loop whose converged analysis it is."""
+    if settings is None:
+        return None, None
+    loop = isolated_spectrum(system, settings)
+    return (response_spectrum(system, settings), None) if loop is None else (loop.response, loop)
 
 
 def save(results: RunResults, out_root: str | Path = "outputs", *, sink=None, drawing=None,

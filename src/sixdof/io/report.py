@@ -4,6 +4,7 @@ by :func:`sixdof.io.tables.table` (a sweep's, an optimization's and a validation
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -474,6 +475,14 @@ def records_text(spectrum, records, check, peaks, damping_ratios=None) -> str:
     damping = ("" if zeta is None or not np.isfinite(zeta) else
                f"; the records run the model's own damping ({100 * zeta:.3g} % in mode {mode + 1}), the spectrum "
                f"{100 * spectrum.damping:g} %")
+    t1 = hi / 2
+    analysed = float(spectrum.spectral_acceleration[row, mode])
+    matched = float(np.exp(np.interp(np.log(t1), np.log(records.periods), np.log(records.target))))
+    if not math.isclose(analysed, matched, rel_tol=1e-6):  # a design spectrum (q), or another damping ratio
+        lines.append(wrapped(f"At T1 the analysis's spectrum gives {analysed:.4g} m/s² (ratio "
+                             f"{100 * spectrum.mode_damping[mode]:g} %) and the records' target {matched:.4g} m/s² "
+                             "(the 5 %-damped elastic spectrum, EN 1998-1 3.2.3.1.2(4)c): their peaks differ by as "
+                             "much."))
     lines.append(wrapped(f"Peaks along {direction}: the spectrum's ({spectrum.combination.upper()} of the modes, "
                          f"{direction} alone) and the records' design value, {rule}{damping}. Relative to the ground; "
                          "records min and max: the spread over the suite."))

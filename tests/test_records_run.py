@@ -173,6 +173,7 @@ def test_sixdof_run_with_three_records_stores_them_and_takes_the_most_unfavourab
         assert [c.strip() for c in row.strip("|").split("|")] == ["x", "mm", *(f"{v:.4g}" for v in x),
                                                                   f"{x[1] / x[0]:.3f}"]
     assert "### Spectrum-compatible records" in (folder / "summary.md").read_text(encoding="utf-8")
+    assert (folder / "records.png").exists() and (folder / "spectrum.png").exists()
 
 
 def test_a_suite_failing_a_clause_is_warned_of_and_still_run():
@@ -190,6 +191,20 @@ def test_a_suite_failing_a_clause_is_warned_of_and_still_run():
     assert results.record_peaks.rule == "max" and results.record_peaks.peak_q.shape == (2, 6)
     text = run_text(results)
     assert "NOT met: EN 1998-1 3.2.3.1.2(4)a" in text and "| (4)a accelerograms" in text and "|  NO |" in text
+    # The figure draws what is stored: each record's spectrum, their mean, the target and 90 % of it over the band.
+    from sixdof.plots import plot_records
+
+    records, check = results.spectrum_records, results.records_check
+    fig = plot_records(records, check, name="case")
+    top, bottom = fig.axes
+    lines = {line.get_label(): line for line in top.get_lines()}
+    np.testing.assert_array_equal(lines["mean of the 2"].get_ydata(), records.spectra.mean(axis=0))
+    np.testing.assert_array_equal(lines["target (elastic, 5 %)"].get_ydata(), records.target)
+    floor = lines["90 % of the target (the floor)"]
+    assert np.all((floor.get_xdata() >= check.band[0]) & (floor.get_xdata() <= check.band[1]))
+    np.testing.assert_allclose(floor.get_ydata(), 0.9 * se(floor.get_xdata()), rtol=1e-12)
+    assert "do NOT meet EN 1998-1 3.2.3.1.2" in fig.texts[0].get_text()
+    assert [line.get_ydata()[0] for line in bottom.get_lines()[-2:]] == pytest.approx([check.ag_s, -check.ag_s])
     t1 = bridge_t1()
     sd = AG * S * 2.5 / 1.5 * TC / t1  # EN 1998-1 eq. (3.15)
     assert (f"At T1 the analysis's spectrum gives {sd:.4g} m/s² (ratio 5 %) and the records' target "

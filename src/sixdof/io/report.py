@@ -502,16 +502,16 @@ def records_text(spectrum, records, check, peaks, damping_ratios=None) -> str:
     mounts = [[name, axis, f"{factor * deflection[0, i, a]:.4g}", f"{factor * deflection[1, i, a]:.4g}",
                f"{force[0, i, a]:.4g}", f"{force[1, i, a]:.4g}", _ratio(force[1, i, a], force[0, i, a])]
               for i, name in enumerate(spectrum.mounts) for a, axis in enumerate("uvw")]
-    lines += ["Mounts (deflection and load along their own axes; the spectrum's load is the spring's, the records' "
-              "the mount's whole dynamic load):",
+    lines += [wrapped("Mounts (deflection and load along their own axes; the spectrum's load is the spring's, the "
+                      "records' the mount's whole dynamic load):"),
               table(["mount", "axis", f"spectrum defl [{unit}]", f"records defl [{unit}]", "spectrum force [N]",
                      "records force [N]", "records / spectrum"], mounts)]
     base_force = without_round_off(np.stack([spectrum.base_shear[row], peaks.design_base_force]))
     base_moment = without_round_off(np.stack([spectrum.base_moment[row], peaks.design_base_moment]))
     base = [[axis, f"{base_force[0, a]:.4g}", f"{base_force[1, a]:.4g}", f"{base_moment[0, a]:.4g}",
              f"{base_moment[1, a]:.4g}"] for a, axis in enumerate(AXES)]
-    lines += [f"Base (on the foundation, body axes; the records' peak shear in the x-y plane "
-              f"{peaks.design_base_shear:.4g} N):",
+    lines += [wrapped(f"Base (on the foundation, body axes; the records' peak shear in the x-y plane "
+                      f"{peaks.design_base_shear:.4g} N):"),
               table(["axis", "spectrum force [N]", "records force [N]", "spectrum moment [N m]",
                      "records moment [N m]"], base)]
     return "\n\n".join(lines)  # blocks apart: a Markdown table needs a blank line before it

@@ -231,3 +231,28 @@ def test_seven_records_of_20_s_give_the_mean_of_their_peaks(tmp_path):
     # The mean of 7 at 5 % damping against the spectrum's x peak (CQC): measured 1.068, as the suite's spectrum
     # at T1 (1.05-1.13 of the target) makes it.
     assert 1.0 <= peaks.design_q[0] / stored.spectrum.peak_q[0, 0] <= 1.15
+
+
+def test_a_step_too_long_for_t1_and_peaks_sampled_coarser_than_asked_are_said():
+    """A run finds T1 only once it has the modes: a step longer than 0.1 T1 is refused then, naming the key. Bearings
+    300 times stiffer vertically put the highest mode at 38 sqrt(300) = 659 Hz: 10 samples per its period at 0.01 s
+    would need 66 times the record's rate, more than a run of 65,536 samples holds (46 for 14 s), which the run
+    says."""
+    from sixdof import run
+    from sixdof.workflows.run import SamplingWarning
+
+    stiff = scenario_text("{ count = 1, duration = 14.0, dt = 0.01 }").replace("312e6]", "9.36e10]").replace(
+        "496e6]", "1.488e11]")
+    with pytest.warns(RecordsWarning, match=r"\(4\)a: 1 accelerogram"), \
+            pytest.warns(SamplingWarning, match=r"spectrum.records: the peaks under each record are sought at 4600 "
+                                                r"Hz, 7.0 samples per period of the highest natural frequency") as caught:
+        results = run(parse_scenario(stiff))
+    f_max = results.modes.frequency_hz.max()
+    assert f_max == pytest.approx(38.034 * math.sqrt(300), rel=1e-3)
+    message = next(str(w.message) for w in caught if issubclass(w.category, SamplingWarning))
+    assert f"({f_max:.4g} Hz; 65536 samples a run at most)" in message
+    assert results.record_peaks.peak_q.shape == (1, 6)
+    slow = scenario_text("{ count = 3, duration = 14.0, dt = 0.2 }")
+    with pytest.raises(InputError, match=r"^spectrum.records.dt: expected a time step of at most 0.1 T1 = 0.1599 s.*"
+                                         r"got 0.2"):
+        run(parse_scenario(slow))

@@ -222,12 +222,12 @@ def _spectrum_records(scenario, spectrum, notes: list) -> dict:
     sought at :data:`MIN_SAMPLES_PER_PERIOD` samples per period of the highest natural frequency at least."""
     settings = scenario.spectrum_records
     t1 = float(spectrum.period[spectrum.dominant_mode(settings.direction)])
-    try:
+    try:  # what the file cannot show before the modes are known: a step too long for T1, a table too short
         target = elastic_target(scenario.response_spectrum.spectrum, settings.direction, t1, settings.dt)
+        suite, check = ec8_suite(target.periods, target.sa, settings, ag_s=target.ag_s, fundamental_period=t1,
+                                 source=target.source)
     except InputError as exc:
         raise exc if exc.field.startswith("spectrum.") else exc.within("spectrum.records") from None
-    suite, check = ec8_suite(target.periods, target.sa, settings, ag_s=target.ag_s, fundamental_period=t1,
-                             source=target.source)
     for failure in check.failures:
         notes.append(f"spectrum.records: {failure}")
         warnings.warn(notes[-1], RecordsWarning, stacklevel=3)

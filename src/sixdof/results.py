@@ -363,6 +363,12 @@ class RunResults(Frozen):
     isolation : sixdof.analysis.isolation.EffectiveLinearization or None
         An isolated system's effective-linearization loop (EN 1998-2 7.5.4), whose converged analysis ``spectrum``
         is (``/spectrum/linearization``).
+    spectrum_records : sixdof.analysis.matching.SpectrumCompatibleRecords or None
+        The accelerograms of ``[spectrum] records``, matched to the elastic spectrum (``/spectrum/records``).
+    records_check : sixdof.analysis.matching.RecordCheck or None
+        Their checks against EN 1998-1 3.2.3.1.2 (``/spectrum/records_check``).
+    record_peaks : sixdof.analysis.record_peaks.RecordPeaks or None
+        The peak responses under each record and their design values (``/spectrum/record_peaks``).
     viscoelastic : tuple of sixdof.model.viscoelastic.MaxwellFit
         The Maxwell models fitted to the mounts' measured dynamic stiffness or loss factors.
     validation : sixdof.validation.ValidationReport or None
@@ -415,6 +421,9 @@ class RunResults(Frozen):
     srs: Any = part("ShockSpectra", group="srs", default=None)
     spectrum: Any = part("ResponseSpectrum", group="spectrum", default=None)
     isolation: Any = part("EffectiveLinearization", group="spectrum/linearization", default=None)
+    spectrum_records: Any = part("SpectrumCompatibleRecords", group="spectrum/records", default=None)
+    records_check: Any = part("RecordCheck", group="spectrum/records_check", default=None)
+    record_peaks: Any = part("RecordPeaks", group="spectrum/record_peaks", default=None)
     validation: Any = part("ValidationReport", group="validation", default=None)
     viscoelastic: tuple = sequence("MaxwellFit", group="viscoelastic", key=lambda fit: fit.name, default=())
     sweep: Any = part("BatchResult", group="sweep", default=None)
@@ -431,6 +440,9 @@ class RunResults(Frozen):
             raise InputError("superposition", "a direct response to compare with", Plain("none"))
         if self.statics is not None and self.system is None:
             raise InputError("statics", "the system it belongs to", Plain("none"))
+        for name in ("spectrum_records", "records_check", "record_peaks"):
+            if getattr(self, name) is not None and self.spectrum is None:
+                raise InputError(name, "the response-spectrum analysis (spectrum) the records belong to", Plain("none"))
         if self.frf is not None and not hasattr(self.frf, "modal"):
             raise InputError("frf", "an FRFCrossCheck (sixdof.analysis.frf.cross_check: direct and modal)", self.frf)
         if self.frf_extras and self.frf is None:

@@ -26,10 +26,16 @@ text: (3) a stationary part of at least 10 s (read here as the envelope's platea
 there by construction); (4)a at least 3 accelerograms; (4)b the mean of their zero-period spectral
 accelerations (their peak ground accelerations) not below ``ag S``; (4)c between ``0.2 T1`` and ``2 T1`` no
 value of the mean 5 %-damped spectrum below 90 % of the target.
+
+A run's suite (``[spectrum] records``, :func:`elastic_target` and :func:`ec8_suite`) is matched to the *elastic*
+spectrum of 3.2.2.2 (3.2.3.1.2(4)c: "the 5 % damped elastic spectrum"), never the design spectrum with a
+behaviour factor, and checked with ``ag S`` (its zero-period ordinate) and T1 the period of the mode with the
+largest effective mass in the records' direction.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -38,6 +44,7 @@ import numpy as np
 from sixdof.analysis.srs import pseudo_acceleration_spectrum
 from sixdof.errors import InputError, Plain, choice_check, integer, integer_check, number, number_check, readonly
 from sixdof.excitation.baseline import polynomial_baseline
+from sixdof.excitation.spectra import EC8Spectrum, TabulatedSpectrum
 from sixdof.frozen import Frozen, checked
 from sixdof.results import Result, label, quantity, result_type
 
@@ -65,6 +72,20 @@ MAX_CORRECTION = 3.0
 #: The generator aims at the target times this factor, so that the mean of a few records stays above the 90 % of
 #: EN 1998-1 3.2.3.1.2(4)c where one record's scatter dips: measured, 7 records of 20 s within [0.95, 1.15].
 MATCH_AIM = 1.05
+#: The damping ratio of the spectra the records are matched to and checked against (EN 1998-1 3.2.3.1.2(4)c).
+EC8_RECORD_DAMPING = 0.05
+#: Periods of a run's target (:func:`elastic_target`), log-spaced: as the tests' 60 over 0.02-4 s, where 7 records'
+#: mean spectrum kept within 0.94-1.14 of the target.
+TARGET_POINTS = 60
+#: The target's shortest period [s], or two record steps where longer: the records carry frequencies up to
+#: ``1 / periods[0]``, and no record carries any above its Nyquist frequency ``1 / (2 dt)`` (50 Hz at 0.01 s).
+TARGET_SHORTEST = 0.02
+#: The target's longest period [s] (unless ``2 T1`` is longer): the period up to which EN 1998-1 states its spectra.
+TARGET_LONGEST = 4.0
+
+
+class RecordsWarning(UserWarning):
+    """A suite of accelerograms does not meet EN 1998-1 3.2.3.1.2 (a clause of :func:`records_meet_ec8`)."""
 
 
 def _ec8_records(value, field: str) -> int:
@@ -297,6 +318,8 @@ class SpectrumCompatibleRecords(Result):
     scale : float
         The factor (>= 1) the matched suite was scaled by so that its mean peak reaches ``ag S`` (1: not needed).
     method : str
+    target_source : str
+        What the target is (one line; "" when the caller did not say): :attr:`RecordTarget.source`.
     """
 
     t: np.ndarray = quantity("s", ("t",))
@@ -314,6 +337,7 @@ class SpectrumCompatibleRecords(Result):
     decay: float = label(decode=float)
     scale: float = label(decode=float)
     method: str = label(decode=str, default="SIMQKE (Gasparini & Vanmarcke 1976), iterated on the Fourier amplitudes")
+    target_source: str = label(decode=str, default="")
 
     @property
     def records(self) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
@@ -426,3 +450,124 @@ def spectrum_compatible_records(periods, target_sa, n: int, *, seed: int, durati
         t=readonly(t), acceleration=readonly(scale * records), periods=readonly(periods), target=readonly(target),
         spectra=readonly(scale * spectra), damping=float(damping), seed=seed, iterations=iterations, rise=rise,
         stationary=stationary, decay=float(t[-1] - rise - stationary), scale=scale)
+
+
+@dataclass(frozen=True, eq=False)
+class RecordTarget:
+    """The spectrum a run's records are matched to (:func:`elastic_target`).
+
+    Attributes
+    ----------
+    periods, sa : ndarray, shape (period,)
+        Increasing periods [s] and the 5 %-damped elastic pseudo-accelerations there [m/s^2].
+    ag_s : float
+        The zero-period ordinate [m/s^2]: ``ag S`` of EN 1998-1 3.2.3.1.2(4)b.
+    source : str
+        One line: which spectrum, and where ``ag_s`` comes from.
+    """
+
+    periods: np.ndarray
+    sa: np.ndarray
+    ag_s: float
+    source: str
+
+
+def elastic_target(spectrum, direction: str, fundamental_period: float, dt: float) -> RecordTarget:
+    """The target of spectrum-compatible records along ``direction``: the 5 %-damped *elastic* spectrum (EN 1998-1
+    3.2.3.1.2(4)c), at :data:`TARGET_POINTS` log-spaced periods from :data:`TARGET_SHORTEST` (or ``2 dt``) to
+    :data:`TARGET_LONGEST` (or ``2 T1``).
+
+    - An :class:`~sixdof.excitation.spectra.EC8Spectrum`: its elastic form (a behaviour factor dropped), Se of
+      3.2.2.2 along x and y, Sve of 3.2.2.3 along z; ``ag_s`` its value at T = 0, ``ag S = importance ag S``
+      horizontally (3.2.3.1.2(4)b), ``avg`` vertically (the vertical spectrum's own zero-period ordinate).
+    - A :class:`~sixdof.excitation.spectra.TabulatedSpectrum`: the table (as the analysis takes it, times
+      ``eta(0.05) / eta(damping)`` when given at another damping ratio), its periods clipped to the table's;
+      ``ag_s`` its first ordinate, which must be at T = 0 (the peak ground acceleration, which damping leaves
+      unchanged).
+
+    Parameters
+    ----------
+    spectrum : EC8Spectrum or TabulatedSpectrum
+    direction : {"x", "y", "z"}
+    fundamental_period : float
+        T1 [s]: the target reaches ``2 T1`` and starts below ``0.2 T1``.
+    dt : float
+        The records' time step [s].
+
+    Returns
+    -------
+    RecordTarget
+
+    Raises
+    ------
+    InputError
+        ``dt`` too long for the band ``0.2 T1``-``2 T1`` (more than ``0.1 T1``); a table not starting at T = 0
+        (``spectrum.file``) or ending before ``2 T1``.
+    """
+    t1 = number(fundamental_period, "fundamental_period", "a period T1 in s, > 0", low=0.0, strict=True)
+    low = max(TARGET_SHORTEST, 2.0 * dt)
+    if low > 0.2 * t1:
+        raise InputError("dt", f"a time step of at most 0.1 T1 = {0.1 * t1:.4g} s, so that the records carry the band "
+                         f"0.2 T1-2 T1 that EN 1998-1 3.2.3.1.2(4)c checks (T1 = {t1:.4g} s)", dt)
+    high = max(TARGET_LONGEST, 2.0 * t1)
+    xi = EC8_RECORD_DAMPING
+    if isinstance(spectrum, EC8Spectrum):
+        elastic = dataclasses.replace(spectrum, behaviour_factor=None)
+        periods = np.geomspace(low, high, TARGET_POINTS)
+        ag_s = float(elastic.pseudo_acceleration(0.0, xi, direction))
+        zero = "avg (Table 3.4), its value at T = 0" if direction == "z" else "ag S, its value at T = 0"
+        kind = "vertical Sve" if direction == "z" else "horizontal Se"
+        source = (f"{elastic.describe()}: {kind} at {100 * xi:g} % damping along {direction}; "
+                  f"{zero} = {ag_s:.4g} m/s^2")
+        return RecordTarget(readonly(periods), readonly(elastic.pseudo_acceleration(periods, xi, direction)), ag_s,
+                            source)
+    if not isinstance(spectrum, TabulatedSpectrum):
+        raise InputError("spectrum", "an EC8Spectrum or a TabulatedSpectrum", spectrum)
+    first, last = float(spectrum.periods[0]), float(spectrum.periods[-1])
+    if first != 0.0:
+        raise InputError("spectrum.file", "a table starting at period 0 s: its zero-period ordinate is the ag S "
+                         "that the records' peak ground acceleration is checked against (EN 1998-1 3.2.3.1.2(4)b)",
+                         Plain(f"{spectrum.source} starting at {first:g} s"))
+    if last < 2.0 * t1:
+        raise InputError("spectrum.file", f"a table reaching 2 T1 = {2 * t1:.4g} s, the end of the band EN 1998-1 "
+                         "3.2.3.1.2(4)c checks the records over", Plain(f"{spectrum.source} ending at {last:g} s"))
+    periods = np.geomspace(low, min(high, last), TARGET_POINTS)
+    ag_s = float(spectrum.values[0])
+    source = (f"{spectrum.describe()}, taken at {100 * xi:g} % damping; ag S = its ordinate at T = 0 = "
+              f"{ag_s:.4g} m/s^2")
+    return RecordTarget(readonly(periods), readonly(spectrum.pseudo_acceleration(periods, xi)), ag_s, source)
+
+
+def ec8_suite(periods, target_sa, settings: RecordSettings, *, ag_s: float, fundamental_period: float,
+              source: str = "") -> tuple[SpectrumCompatibleRecords, RecordCheck]:
+    """The suite ``settings`` asks for, matched to the target (:func:`spectrum_compatible_records`) at 5 % damping,
+    and its checks against EN 1998-1 3.2.3.1.2 (:func:`records_meet_ec8`).
+
+    Parameters
+    ----------
+    periods, target_sa : array_like, shape (nT,)
+        The target: increasing periods [s] and 5 %-damped pseudo-accelerations [m/s^2] (:func:`elastic_target`).
+    settings : RecordSettings
+    ag_s : float
+        ``ag S`` [m/s^2]: the records' mean peak is scaled up to it where short, and checked against it.
+    fundamental_period : float
+        T1 [s], for the check's band ``0.2 T1``-``2 T1``.
+    source : str, optional
+        What the target is, stored with the records (``target_source``).
+
+    Returns
+    -------
+    tuple of (SpectrumCompatibleRecords, RecordCheck)
+        The check's failures are the caller's to report: a suite of fewer than 3 records is allowed to be run.
+    """
+    if not isinstance(settings, RecordSettings):
+        raise InputError("settings", "a RecordSettings", settings)
+    suite = spectrum_compatible_records(periods, target_sa, settings.count, seed=settings.seed,
+                                        duration=settings.duration, dt=settings.dt, damping=EC8_RECORD_DAMPING,
+                                        ag_s=ag_s, rise=settings.rise, stationary=settings.stationary,
+                                        iterations=settings.iterations)
+    suite = dataclasses.replace(suite, target_source=str(source))
+    check = records_meet_ec8(suite.t, suite.acceleration, periods, target_sa, ag_s=ag_s,
+                             fundamental_period=fundamental_period, stationary=settings.stationary,
+                             damping=EC8_RECORD_DAMPING)
+    return suite, check

@@ -139,6 +139,13 @@ class ResponseSpectrum(Result):
     damping: float = label(decode=float)
     notes: tuple[str, ...] = label(default=())
 
+    def dominant_mode(self, direction: str) -> int:
+        """The mode (index, ascending frequency) with the largest effective mass along ``direction``, one of
+        :attr:`direction`: its period is the T1 of EN 1998-1 3.2.3.1.2(4)c for records along it."""
+        if direction not in self.direction:
+            raise InputError("direction", f"one of the analysed directions {', '.join(self.direction)}", direction)
+        return int(np.argmax(self.effective_mass[self.direction.index(direction)]))
+
 
 def cqc_coefficients(omega, xi) -> np.ndarray:
     """Der Kiureghian's (1981) correlation coefficients ``rho_ij`` of modes of circular frequencies ``omega``

@@ -16,6 +16,7 @@ the record's. At the record's own steps, a peak falling between two samples woul
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -188,17 +189,26 @@ def relative_displacement(t, acceleration, period: float, damping: float = 0.05)
     from scipy.signal import lfilter, lfiltic  # only when spectra are asked for
 
     t, a = np.asarray(t, float), np.asarray(acceleration, float)
-    h = float(t[1] - t[0])
-    phi, b0, b1 = _foh_recurrence(2.0 * np.pi / period, damping, h)
-    # u_k as a filter of a: c adj(zI - Phi) (B0 + B1 z) / det(zI - Phi), c = [1, 0].
-    num = [b1[0], b0[0] - phi[1, 1] * b1[0] + phi[0, 1] * b1[1], -phi[1, 1] * b0[0] + phi[0, 1] * b0[1]]
-    den = [1.0, -np.trace(phi), np.linalg.det(phi)]
-    # The filter's past (two outputs, zero inputs before the record) set so that x_0 = 0: stepping back from rest,
-    # x_-1 = -Phi^-1 B1 a_0, x_-2 = Phi^-1 x_-1.
-    back1 = -np.linalg.solve(phi, b1 * a[0])
-    back2 = np.linalg.solve(phi, back1)
-    state = lfiltic(num, den, [back1[0], back2[0]], [0.0, 0.0])
+    num, den, back = _displacement_filter(2.0 * np.pi / float(period), float(damping), float(t[1] - t[0]))
+    state = lfiltic(num, den, [back[0] * a[0], back[1] * a[0]], [0.0, 0.0])
     return lfilter(num, den, a, zi=state)[0]
+
+
+@functools.lru_cache(maxsize=4096)
+def _displacement_filter(omega: float, zeta: float, h: float) -> tuple[tuple, tuple, tuple]:
+    """The recursive filter of :func:`relative_displacement` for one oscillator and step: numerator, denominator
+    and the filter's past outputs per unit first sample (tuples of floats). Cached: matching a record computes the
+    same oscillators' spectra again at every iteration, and the matrix exponential of each costs more than its
+    filter (up to 8 ms where BLAS threads wait for a busy machine's cores)."""
+    phi, b0, b1 = _foh_recurrence(omega, zeta, h)
+    # u_k as a filter of a: c adj(zI - Phi) (B0 + B1 z) / det(zI - Phi), c = [1, 0].
+    num = (b1[0], b0[0] - phi[1, 1] * b1[0] + phi[0, 1] * b1[1], -phi[1, 1] * b0[0] + phi[0, 1] * b0[1])
+    den = (1.0, -np.trace(phi), np.linalg.det(phi))
+    # The filter's past (two outputs, zero inputs before the record) set so that x_0 = 0: stepping back from rest,
+    # x_-1 = -Phi^-1 B1 a_0, x_-2 = Phi^-1 x_-1 (linear in a_0: given per unit a_0).
+    back1 = -np.linalg.solve(phi, b1)
+    back2 = np.linalg.solve(phi, back1)
+    return tuple(map(float, num)), tuple(map(float, den)), (float(back1[0]), float(back2[0]))
 
 
 def pseudo_acceleration_spectrum(t, acceleration, periods, damping: float = 0.05) -> np.ndarray:

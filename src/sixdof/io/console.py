@@ -60,6 +60,10 @@ def run_text(results) -> str:
         lines.append(f"\nResponse spectrum: {report.spectrum_text(results.spectrum)}")
         if results.isolation is not None:
             lines.append(report.isolation_text(results.isolation))
+    if results.record_peaks is not None:
+        lines.append("\nSpectrum-compatible records: " + report.records_text(
+            results.spectrum, results.spectrum_records, results.records_check, results.record_peaks,
+            results.damping_ratios))
     if results.response is not None and results.response.stats is not None:  # a direct solve
         lines += _time_text(results)
     if results.frf is not None:

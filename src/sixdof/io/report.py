@@ -4,6 +4,7 @@ by :func:`sixdof.io.tables.table` (a sweep's, an optimization's and a validation
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -12,7 +13,7 @@ from sixdof.analysis.compare import QUANTITIES
 from sixdof.analysis.statespace import damped_modes
 from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.analysis.validity import body_length
-from sixdof.dofs import DOF_UNITS, DOFS, display_unit
+from sixdof.dofs import AXES, DOF_UNITS, DOFS, display_unit
 from sixdof.io.tables import fixed, table, without_round_off, wrapped
 from sixdof.model.viscoelastic import FIT_LOSS_ANGLE_ERROR_DEG, FIT_MODULUS_ERROR, long_term_note, loss_fit_misses
 
@@ -303,6 +304,10 @@ def summary_markdown(results, figures=()) -> str:
         parts += ["## Response spectrum", "", spectrum_text(results.spectrum), ""]
         if results.isolation is not None:
             parts += [isolation_text(results.isolation), ""]
+    if results.record_peaks is not None:
+        parts += ["### Spectrum-compatible records", "", records_text(results.spectrum, results.spectrum_records,
+                                                                      results.records_check, results.record_peaks,
+                                                                      results.damping_ratios), ""]
     if response is not None:
         transient = PEAKS_WITH_TRANSIENT if steady is not None else ""
         parts += ["## Time response", ""]
@@ -449,6 +454,89 @@ def spectrum_text(spectrum) -> str:
                  + ", ".join(f"{a} {v:.4g}" for a, v in zip("xyz", spectrum.combined_base_moment)))
     lines += [f"Note: {note}" for note in spectrum.notes]
     return "\n\n".join(lines)  # blocks apart: a Markdown table needs a blank line before it
+
+
+def records_text(spectrum, records, check, peaks, damping_ratios=None) -> str:
+    """The spectrum-compatible records of ``[spectrum] records`` beside the response-spectrum analysis ``spectrum``:
+    how they were made (:class:`~sixdof.analysis.matching.SpectrumCompatibleRecords`), their EN 1998-1 3.2.3.1.2
+    checks (:class:`~sixdof.analysis.matching.RecordCheck`) and the design value of their peak responses
+    (:class:`~sixdof.analysis.record_peaks.RecordPeaks`) beside the spectrum's peaks along the records' direction
+    (modes combined, that direction alone); ``damping_ratios`` (6,) the model's, which the records run with."""
+    direction = AXES[int(np.argmax(np.abs(peaks.direction)))]
+    row = spectrum.direction.index(direction)
+    mode = spectrum.dominant_mode(direction)
+    count, dt = records.acceleration.shape[0], float(records.t[1] - records.t[0])
+    head = (f"{count} accelerograms of {records.t[-1]:g} s at {dt:g} s along {direction}: "
+            f"{records.method}; seed {records.seed}, {records.iterations} iterations, envelope rising "
+            f"{records.rise:g} s, stationary {records.stationary:g} s, decaying {records.decay:g} s. Target: "
+            f"{records.target_source or 'as given'}.")
+    if records.scale > 1.0:
+        head += f" Scaled by {records.scale:.4g} so that their mean peak reaches ag S."
+    lo, hi = check.band
+    clauses = [("(3) stationary part [s]", f"{check.stationary:g}", ">= 10", check.stationary >= 10.0),
+               ("(4)a accelerograms", str(check.count), ">= 3", check.count >= 3),
+               ("(4)b mean peak ground acceleration [m/s²]", f"{check.pga_mean:.4g}", f">= ag S = {check.ag_s:.4g}",
+                check.pga_mean >= check.ag_s * (1 - 1e-12)),
+               (f"(4)c mean / target Sa over {lo:.4g}-{hi:.4g} s [1]",
+                f"{check.min_ratio:.4f} (at {check.min_ratio_period:.4g} s) to {check.max_ratio:.4f}", ">= 0.9",
+                check.min_ratio >= 0.9)]
+    lines = [wrapped(head),
+             f"EN 1998-1 3.2.3.1.2, T1 = {hi / 2:.4g} s (mode {mode + 1}, the largest effective mass along "
+             f"{direction}): " + ("met." if check.passed else "NOT met: " + "; ".join(check.failures)),
+             table(["clause", "value", "limit", "met"], [[*c[:3], "yes" if c[3] else "NO"] for c in clauses])]
+    if peaks.rule == "mean":
+        rule = f"the mean of the {count} records' peaks (EN 1998-1 4.3.3.4.3(3): at least 7 records)"
+    else:
+        rule = f"the most unfavourable of the {count} records' peaks (EN 1998-1 4.3.3.4.3(3): fewer than 7 records)"
+    zeta = None if damping_ratios is None else float(damping_ratios[mode])
+    damping = ("" if zeta is None or not np.isfinite(zeta) else
+               f"; the records run the model's own damping ({100 * zeta:.3g} % in mode {mode + 1}), the spectrum "
+               f"{100 * spectrum.damping:g} %")
+    t1 = hi / 2
+    analysed = float(spectrum.spectral_acceleration[row, mode])
+    matched = float(np.exp(np.interp(np.log(t1), np.log(records.periods), np.log(records.target))))
+    if not math.isclose(analysed, matched, rel_tol=1e-6):  # a design spectrum (q), or another damping ratio
+        lines.append(wrapped(f"At T1 the analysis's spectrum gives {analysed:.4g} m/s² (ratio "
+                             f"{100 * spectrum.mode_damping[mode]:g} %) and the records' target {matched:.4g} m/s² "
+                             "(the 5 %-damped elastic spectrum, EN 1998-1 3.2.3.1.2(4)c): their peaks differ by as "
+                             "much."))
+    lines.append(wrapped(f"Peaks along {direction}: the spectrum's ({spectrum.combination.upper()} of the modes, "
+                         f"{direction} alone) and the records' design value, {rule}{damping}. Relative to the ground; "
+                         "records min and max: the spread over the suite."))
+    reference = spectrum.peak_q[row]
+    columns = np.stack([reference, peaks.design_q, peaks.peak_q.min(axis=0), peaks.peak_q.max(axis=0)], axis=1)
+    columns = np.concatenate([without_round_off(columns[:3]), without_round_off(columns[3:])])  # m and rad apart
+    rows = []
+    for k, dof in enumerate(DOFS):
+        factor, unit = display_unit(columns[k], DOF_UNITS[k])
+        rows.append([dof, unit, *(f"{factor * v:.4g}" for v in columns[k]),
+                     _ratio(columns[k, 1], columns[k, 0])])
+    lines.append(table(["DOF", "unit", "spectrum", "records", "records min", "records max", "records / spectrum"],
+                       rows))
+    deflection = without_round_off(np.stack([spectrum.mount_deflection[row], peaks.design_deflection]))
+    force = without_round_off(np.stack([spectrum.mount_force[row], peaks.design_force]))
+    factor, unit = display_unit(deflection, "m")
+    mounts = [[name, axis, f"{factor * deflection[0, i, a]:.4g}", f"{factor * deflection[1, i, a]:.4g}",
+               f"{force[0, i, a]:.4g}", f"{force[1, i, a]:.4g}", _ratio(force[1, i, a], force[0, i, a])]
+              for i, name in enumerate(spectrum.mounts) for a, axis in enumerate("uvw")]
+    lines += [wrapped("Mounts (deflection and load along their own axes; the spectrum's load is the spring's, the "
+                      "records' the mount's whole dynamic load):"),
+              table(["mount", "axis", f"spectrum defl [{unit}]", f"records defl [{unit}]", "spectrum force [N]",
+                     "records force [N]", "records / spectrum"], mounts)]
+    base_force = without_round_off(np.stack([spectrum.base_shear[row], peaks.design_base_force]))
+    base_moment = without_round_off(np.stack([spectrum.base_moment[row], peaks.design_base_moment]))
+    base = [[axis, f"{base_force[0, a]:.4g}", f"{base_force[1, a]:.4g}", f"{base_moment[0, a]:.4g}",
+             f"{base_moment[1, a]:.4g}"] for a, axis in enumerate(AXES)]
+    lines += [wrapped(f"Base (on the foundation, body axes; the records' peak shear in the x-y plane "
+                      f"{peaks.design_base_shear:.4g} N):"),
+              table(["axis", "spectrum force [N]", "records force [N]", "spectrum moment [N m]",
+                     "records moment [N m]"], base)]
+    return "\n\n".join(lines)  # blocks apart: a Markdown table needs a blank line before it
+
+
+def _ratio(value: float, reference: float) -> str:
+    """``value / reference`` to 3 decimals, "-" where the reference is 0 (shown so: round-off of its table)."""
+    return f"{value / reference:.3f}" if reference else "-"
 
 
 def random_text(random) -> str:

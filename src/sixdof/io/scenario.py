@@ -27,6 +27,7 @@ from sixdof.io.settings import (
     SuperpositionSettings,
     checked_vector,
     frf_settings,
+    record_settings,
     spectrum_settings,
 )
 from sixdof.model.hysteresis import BoucWen, FrictionPendulum
@@ -95,6 +96,8 @@ class Scenario:
         The ``[design]`` table: torque axis, targets and variables (empty when absent).
     response_spectrum : sixdof.excitation.spectra.SpectrumSettings or None
         The ``[spectrum]`` table: a response-spectrum analysis (no ``[simulation]`` needed).
+    spectrum_records : sixdof.analysis.matching.RecordSettings or None
+        ``[spectrum] records``: spectrum-compatible accelerograms run beside the response-spectrum analysis.
     test : sixdof.validation.testdata.TestSetup or None
         The ``[test]`` table: the test's node coordinates, the test frame in body axes, the correlation limits.
     update : sixdof.design.spec.UpdateSpec or None
@@ -143,6 +146,7 @@ class Scenario:
     test: TestSetup | None = None  # the [test] table (issue 47): where a test's nodes are, correlation limits
     update: UpdateSpec | None = None
     response_spectrum: Any = None  # the [spectrum] table (issue 48): a SpectrumSettings
+    spectrum_records: Any = None  # [spectrum] records (issue 48): a RecordSettings
 
     @property
     def needs_preparing(self) -> tuple[str, ...]:
@@ -292,13 +296,23 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
                     loss_factor_band_hz=damping.value("loss_factor_band_hz", None),
                     loss_factor_terms=damping.value("loss_factor_terms", None),
                     path=Path(source) if source != "<string>" else None, test=_test(top.table("test", default=None)),
-                    update=update, response_spectrum=_response_spectrum(top, base_dir))
+                    update=update, **_response_spectrum(top, base_dir))
 
 
-def _response_spectrum(top: Table, base_dir: Path):
-    """The ``[spectrum]`` table (issue 48), or None without one."""
+def _response_spectrum(top: Table, base_dir: Path) -> dict:
+    """The Scenario fields of the ``[spectrum]`` table (issue 48) and its ``records`` (none without them)."""
     raw = top.table("spectrum", default=None)
-    return None if raw is None else spectrum_settings(raw, base_dir)
+    if raw is None:
+        return {}
+    spectrum = spectrum_settings(raw, base_dir)
+    if "records" not in raw:
+        return {"response_spectrum": spectrum}
+    records = record_settings(raw["records"], spectrum)
+    samples = round(records.duration / records.dt) + 1
+    if samples > MEMORY_SAMPLES:  # each record's run is held in memory, as a [simulation] without a sink
+        raise InputError("spectrum.records", f"records of at most {MEMORY_SAMPLES} samples each (duration / dt + 1)",
+                         Plain(f"{samples} samples ({records.duration:g} s at {records.dt:g} s)"))
+    return {"response_spectrum": spectrum, "spectrum_records": records}
 
 
 # The [test] table (issue 47): a self-contained block.

@@ -198,14 +198,14 @@ def frf_settings(table: dict) -> FrfSettings:
 
 #: The keys of ``[spectrum]``: the EN 1998-1 spectrum's, or a file's, then the analysis's.
 _EC8_KEYS = ("type", "ground_type", "ag", "importance", "behaviour_factor")
-_SPECTRUM_KEYS = ("code", "file", *_EC8_KEYS, "damping", "directions", "combination", "directional")
+_SPECTRUM_KEYS = ("code", "file", *_EC8_KEYS, "damping", "directions", "combination", "directional", "records")
 
 
 def spectrum_settings(table: dict, base_dir: Path):
     """The ``[spectrum]`` table (:class:`sixdof.excitation.spectra.SpectrumSettings`): ``code = "ec8"`` with
     ``type``, ``ground_type``, ``ag``, ``importance``, ``behaviour_factor``, or ``file`` (period [s],
     pseudo-acceleration [m/s^2], relative to the scenario file ``base_dir``); ``damping``, ``directions``,
-    ``combination``, ``directional``."""
+    ``combination``, ``directional``. Its ``records`` are read by :func:`record_settings`."""
     from sixdof.excitation.spectra import EC8Spectrum, SpectrumSettings, TabulatedSpectrum  # noqa: PLC0415 (the excitation package loads JAX)
 
     spectrum = Table(table, "spectrum", _SPECTRUM_KEYS)
@@ -231,3 +231,30 @@ def spectrum_settings(table: dict, base_dir: Path):
                      damping=damping if isinstance(damping, (int, float)) and 0 <= damping < 1 else 0.05,
                      source=str(table["file"]))
     return make(SpectrumSettings, "spectrum", spectrum=shape, **analysis)
+
+
+def record_settings(raw: Any, spectrum, field: str = "spectrum.records"):
+    """The ``records`` of ``[spectrum]`` (:class:`sixdof.analysis.matching.RecordSettings`): spectrum-compatible
+    accelerograms run against the spectrum ``spectrum`` (:class:`~sixdof.excitation.spectra.SpectrumSettings`).
+
+    Their ``direction`` must be one of the spectrum's directions (its peaks there are what the records' are
+    reported beside), and a tabulated spectrum must start at period 0 (its zero-period ordinate is the ``ag S``
+    of EN 1998-1 3.2.3.1.2(4)b). Every error names ``field.<key>``.
+    """
+    from sixdof.analysis.matching import RecordSettings  # noqa: PLC0415 (it loads JAX: the excitation package)
+    from sixdof.excitation.spectra import TabulatedSpectrum  # noqa: PLC0415 (the excitation package loads JAX)
+
+    if not isinstance(raw, dict):
+        raise InputError(field, "a table, e.g. { count = 7, seed = 1, duration = 20.0, dt = 0.01, direction = "
+                         '"x" }', raw)
+    settings = build(RecordSettings, raw, field)
+    if settings.direction not in spectrum.directions:
+        raise InputError(f"{field}.direction", "one of the spectrum's directions "
+                         f"{', '.join(repr(d) for d in spectrum.directions)} (its peaks there are compared with the "
+                         "records')", settings.direction)
+    table = spectrum.spectrum
+    if isinstance(table, TabulatedSpectrum) and table.periods[0] != 0.0:
+        raise InputError(field, "a spectrum file starting at period 0 s: its zero-period ordinate is the ag S that "
+                         "the records' peak ground acceleration is checked against (EN 1998-1 3.2.3.1.2(4)b)",
+                         Plain(f"{table.source} starting at {table.periods[0]:g} s"))
+    return settings

@@ -63,6 +63,7 @@ _PUBLIC = {
     "plot_srs": "srs",
     "plot_spectrum": "spectrum",
     "plot_hysteresis": "hysteresis",
+    "plot_records": "records",
     "plot_dynamic_stiffness": "viscoelastic",
     "plot_mount_fits": "viscoelastic",
     "UpdateHistory": "correlation",
@@ -153,6 +154,8 @@ FIGURES: tuple[tuple[str, tuple[str, ...], Callable[[object], bool], Callable[[o
     ("srs.png", ("srs",), lambda run: run.srs is not None, lambda run: _plots.plot_srs(run.srs, name=run.name)),
     ("spectrum.png", ("spectrum",), lambda run: run.spectrum is not None,
      lambda run: _plots.plot_spectrum(run.spectrum, name=run.name)),
+    ("records.png", ("spectrum", "spectrum_records", "records_check"), lambda run: run.spectrum_records is not None,
+     lambda run: _plots.plot_records(run.spectrum_records, run.records_check, name=run.name)),
     ("dynamic_stiffness.png", ("viscoelastic",), lambda run: bool(run.viscoelastic),
      lambda run: _plots.plot_mount_fits(run.viscoelastic, name=run.name)),
 )

@@ -23,8 +23,10 @@ from sixdof.analysis.contact import contact_summary, energy_balance, merge_event
 from sixdof.analysis.direct import is_nonlinear, progress_meter, simulate_windows
 from sixdof.analysis.frf import cross_check, force_transmissibility, ground_transmissibility, point_frf
 from sixdof.analysis.isolation import isolated_spectrum
+from sixdof.analysis.matching import RecordsWarning, ec8_suite, elastic_target
 from sixdof.analysis.mountcheck import MountLimitWarning, merge_mount_checks, mount_check
 from sixdof.analysis.random import random_response
+from sixdof.analysis.record_peaks import record_peaks
 from sixdof.analysis.records import merge_stats, merge_superposition
 from sixdof.analysis.response import mount_forces, points_motion
 from sixdof.analysis.spectrum import response_spectrum
@@ -189,9 +191,11 @@ def run(scenario: Scenario | str | Path, *, sink=None, progress: bool = False, l
     spectrum, isolation = _spectrum(system, scenario.response_spectrum)
     if spectrum is not None:
         notes.extend(spectrum.notes)
+    records = {} if scenario.spectrum_records is None else _spectrum_records(scenario, spectrum, notes)
     results = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
                          damping_ratios=zeta, statics=statics, frf=frf, frf_extras=frf_extras, steady_state=steady,
-                         random=random, spectrum=spectrum, isolation=isolation, viscoelastic=scenario.viscoelastic,
+                         random=random, spectrum=spectrum, isolation=isolation, **records,
+                         viscoelastic=scenario.viscoelastic,
                          provenance=provenance(scenario), scenario=scenario, stiffness_note=stiffness_note,
                          **_loss_factor_labels(scenario, statics_line if statics is not None else ""))
     if drawing is not None:
@@ -219,6 +223,34 @@ def _spectrum(system, settings):
         return None, None
     loop = isolated_spectrum(system, settings)
     return (response_spectrum(system, settings), None) if loop is None else (loop.response, loop)
+def _spectrum_records(scenario, spectrum, notes: list) -> dict:
+    """The RunResults fields of ``[spectrum] records`` (issue 48, point 5): the suite matched to the elastic spectrum
+    (:func:`~sixdof.analysis.matching.elastic_target`, T1 the period of the mode with the largest effective mass
+    along the records' direction), its EN 1998-1 3.2.3.1.2 checks, whose failures are warned of and added to
+    ``notes``, and the time system's peaks under each record (:func:`~sixdof.analysis.record_peaks.record_peaks`),
+    sought at :data:`MIN_SAMPLES_PER_PERIOD` samples per period of the highest natural frequency at least."""
+    settings = scenario.spectrum_records
+    t1 = float(spectrum.period[spectrum.dominant_mode(settings.direction)])
+    try:  # what the file cannot show before the modes are known: a step too long for T1, a table too short
+        target = elastic_target(scenario.response_spectrum.spectrum, settings.direction, t1, settings.dt)
+        suite, check = ec8_suite(target.periods, target.sa, settings, ag_s=target.ag_s, fundamental_period=t1,
+                                 source=target.source)
+    except InputError as exc:
+        raise exc if exc.field.startswith("spectrum.") else exc.within("spectrum.records") from None
+    for failure in check.failures:
+        notes.append(f"spectrum.records: {failure}")
+        warnings.warn(notes[-1], RecordsWarning, stacklevel=3)
+    system = scenario.time_system
+    f_max = float(np.max(system.modes.frequency_hz))
+    wanted = int(np.ceil(MIN_SAMPLES_PER_PERIOD * f_max * settings.dt - 1e-9))
+    steps = max(1, min(wanted, (MEMORY_SAMPLES - 1) // (suite.t.size - 1)))  # each run held in memory
+    if steps < wanted:
+        notes.append(f"spectrum.records: the peaks under each record are sought at {steps / settings.dt:g} Hz, "
+                     f"{steps / (settings.dt * f_max):.1f} samples per period of the highest natural frequency "
+                     f"({f_max:.4g} Hz; {MEMORY_SAMPLES} samples a run at most): they may read low there")
+        warnings.warn(notes[-1], SamplingWarning, stacklevel=3)
+    peaks = record_peaks(system, suite.records, settings.direction, sample_rate_hz=steps / settings.dt)
+    return {"spectrum_records": suite, "records_check": check, "record_peaks": peaks}
 
 
 def save(results: RunResults, out_root: str | Path = "outputs", *, sink=None, drawing=None,

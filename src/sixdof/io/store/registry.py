@@ -59,5 +59,12 @@ def _update() -> None:
     import sixdof.design.update  # noqa: F401, PLC0415 (it loads JAX or SciPy: only for a file that names its classes)
 
 
+def _records() -> None:
+    """Register the spectrum-compatible records' results (SpectrumCompatibleRecords, RecordCheck, RecordPeaks: their
+    modules load JAX, through the excitation package and the direct solve)."""
+    import sixdof.analysis.matching  # noqa: F401, PLC0415 (it loads JAX or SciPy: only for a file that names its classes)
+    import sixdof.analysis.record_peaks  # noqa: F401, PLC0415 (it loads JAX or SciPy: only for a file that names its classes)
+
+
 #: The heavy modules' registrations, the lighter first: a validation's file is read without JAX.
-_HEAVY = (_validation, _batch, _update)
+_HEAVY = (_validation, _batch, _update, _records)

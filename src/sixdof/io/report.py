@@ -61,6 +61,13 @@ def damping_note(system) -> str:
     if np.any(system.loss_factors):
         text += ("; not the mounts' loss factors, which the FRFs and the steady state take exactly, k (1 + i eta), "
                  "and the time response as their causal Maxwell models (damping.loss_factor_model)")
+    hysteretic = system.hysteretic
+    if hysteretic.count:
+        kinds = sorted(set(hysteretic.linearization))
+        text += (f"; the {hysteretic.count} hysteretic bearing axes enter the modes, damping ratios and FRFs at their "
+                 + " or ".join(f"{kind} linearization" for kind in kinds)
+                 + (" (the elastic stiffness, no damping)" if kinds == ["initial"] else
+                    " (the secant stiffness and equivalent dashpot at the design displacement where effective)"))
     if system.nonlinear.count:
         text += ("; modes, damping ratios and FRFs are those of the linearization about the static equilibrium "
                  "(each nonlinear mount axis at its slope there), exact only while no stop engages and no mount "

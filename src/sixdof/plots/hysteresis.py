@@ -52,7 +52,8 @@ def plot_hysteresis(system: System, response: TimeHistory, forces: MountForces, 
         ax.plot(1e3 * d[:, e], 1e-3 * force[:, e], color="C0", linewidth=0.9)
         span = np.array([-peaks[e], peaks[e]])
         ax.plot(1e3 * span, 1e-3 * linear[e] * span, color="0.4", linewidth=0.8, linestyle="--",
-                label=f"{h.linearization[e]} {1e-3 * linear[e]:.4g} kN/m")
+                label=f"{h.linearization[e]} {1e-3 * linear[e]:.4g} kN/m" + (
+                    f" (D = {1e3 * h.design_displacement[e]:.4g} mm)" if h.linearization[e] == "effective" else ""))
         ax.axhline(0.0, color="0.8", linewidth=0.6)
         ax.axvline(0.0, color="0.8", linewidth=0.6)
         law = "friction pendulum" if h.pendulum[e] else "Bouc-Wen"

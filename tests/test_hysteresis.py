@@ -376,3 +376,27 @@ def test_the_bundled_lead_rubber_bridge():
     S_d = float(shape.horizontal(np.array([T_eff]), xi)[0]) * (T_eff / (2 * np.pi)) ** 2
     assert damping_correction(xi) < 0.8  # the lead's damping counts
     assert spectrum.combined_mount_deflection[0, 1] == pytest.approx(S_d, rel=5e-3)
+
+
+@pytest.mark.slow  # 20 s on the 2-core machine: lift-off events on every rocking cycle
+def test_friction_pendulums_that_lift_off_with_velocity_dependent_friction_balance_their_energy():
+    """Four pendulums under the CG with tension = false and Constantinou's friction, shaken until the body rocks:
+    the run's energy balance (the pendulums' load changing with the rocking) and its second solve hold."""
+    import sixdof  # noqa: PLC0415
+
+    corner = """
+[[mounts]]
+name = "p{i}"
+position = [{x}, {y}, -0.3]
+stiffness = [0.0, 0.0, 2.5e7]
+damping = [0.0, 0.0, 2e3]
+tension = false
+friction_pendulum = {{ radius = 1.5, mu = {{ slow = 0.04, fast = 0.08, rate = 20.0 }} }}
+"""
+    text = HEAD.replace('f_hz = 2.0 }', 'f_hz = 0.8, duration = 3.0 }').replace("scale = 3.0", "scale = 4.0").replace(
+        "duration = 1.0", "duration = 4.0").replace("inertia = [100.0, 100.0, 100.0]", "inertia = [400.0, 400.0, 700.0]")
+    text += "".join(corner.format(i=i, x=x, y=y) for i, (x, y) in enumerate([(1, 1), (1, -1), (-1, 1), (-1, -1)]))
+    results = sixdof.run(parse_scenario(text))
+    assert results.system.hysteretic.static_load == pytest.approx(np.full(8, MASS * G / 4), rel=1e-9)
+    assert results.energy.ok and results.refined.ok
+    assert np.abs(results.response.q_relative[:, 0]).max() > 100 * 5e-4  # sliding, far past d_y

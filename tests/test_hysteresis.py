@@ -400,3 +400,12 @@ friction_pendulum = {{ radius = 1.5, mu = {{ slow = 0.04, fast = 0.08, rate = 20
     assert results.system.hysteretic.static_load == pytest.approx(np.full(8, MASS * G / 4), rel=1e-9)
     assert results.energy.ok and results.refined.ok
     assert np.abs(results.response.q_relative[:, 0]).max() > 100 * 5e-4  # sliding, far past d_y
+
+
+def test_sweeps_and_designs_refuse_hysteretic_bearings_rather_than_linearize_them_silently():
+    from sixdof.analysis.batch.variants import check_batchable  # noqa: PLC0415
+
+    system = single_mass(BoucWen(mount="b", axes=["u"], yield_force=[FY], post_yield_ratio=RATIO))
+    with pytest.raises(InputError) as caught:
+        check_batchable(system)
+    assert "hysteretic bearings" in caught.value.expected and "b u" in str(caught.value.got)

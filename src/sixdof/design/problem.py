@@ -158,10 +158,10 @@ class DesignProblem:
     """
 
     def __init__(self, system, spec, gravity: float = STANDARD_GRAVITY, direction=(0.0, 0.0, -1.0)) -> None:
-        if system.nonlinear.count:
+        if system.nonlinear_axes:
             raise InputError("mounts", "linear mounts (designing mounts with bump stops, lift-off or force-deflection "
-                             "tables is not supported yet)",
-                             Plain(f"nonlinear mount axes {', '.join(system.nonlinear.names)}"))
+                             "tables or hysteretic bearings is not supported yet)",
+                             Plain(f"nonlinear mount axes {', '.join(system.nonlinear_axes)}"))
         self.system, self.spec = system, spec
         self.names = tuple(m.name for m in system.mounts)
         self.variables = variables(spec, self.names, system.positions)

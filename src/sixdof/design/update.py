@@ -186,10 +186,10 @@ class UpdateModel:
     """
 
     def __init__(self, system, spec) -> None:
-        if system.nonlinear.count:
+        if system.nonlinear_axes:
             raise InputError("mounts", "linear mounts (updating mounts with bump stops, lift-off or force-deflection "
-                             "tables is not supported yet)",
-                             Plain(f"nonlinear mount axes {', '.join(system.nonlinear.names)}"))
+                             "tables or hysteretic bearings is not supported yet)",
+                             Plain(f"nonlinear mount axes {', '.join(system.nonlinear_axes)}"))
         self.system, self.spec = system, spec
         self.names = tuple(m.name for m in system.mounts)
         self.mount_variables = variables(spec, self.names, system.positions)

@@ -363,6 +363,12 @@ class System(Frozen):
         load[laws.mount[on_w]] = -laws.static_force[on_w]
         return hysteretic_axes(self.mounts, local, self.bouc_wen, self.friction_pendulum, load)
 
+    @property
+    def nonlinear_axes(self) -> tuple[str, ...]:
+        """The mount axes only the direct solve answers exactly: nonlinear laws (:attr:`nonlinear`) and hysteretic
+        bearings (:attr:`hysteretic`), ``"<mount> <axis>"``."""
+        return self.nonlinear.names + self.hysteretic.names
+
     @cached_property
     def K_hysteretic(self) -> np.ndarray:
         """The part of :attr:`K` the hysteretic axes' linearization makes (6, 6) [N/m, N, N m/rad]: what the direct

@@ -127,10 +127,10 @@ def _model_side(system: System, model: System, notes: list[str]) -> _ModelSide:
     """The model side of :func:`validate` (its notes appended to ``notes``); refuses a model without underdamped
     elastic modes."""
     field = "system" if model is system else "model"
-    if system.nonlinear.count:
+    if system.nonlinear_axes:
         # The modal results are the linearization's; the histories stay the nonlinear model's, so that the check
         # says whether the linearization describes the motion at the release amplitude and the random force.
-        notes.append(f"nonlinear mount axes ({', '.join(system.nonlinear.names)}): the modal results are those of "
+        notes.append(f"nonlinear mount axes ({', '.join(system.nonlinear_axes)}): the modal results are those of "
                      "the linearization about the static equilibrium, the time histories those of the nonlinear "
                      "model; they differ (and the checks fail) where a free decay (released at 1 mm or 1 mrad) or "
                      "a random-force run engages a stop or lifts a mount")

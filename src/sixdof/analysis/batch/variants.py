@@ -52,10 +52,10 @@ class Variants:
 def check_batchable(system: System) -> None:
     """Raise an :class:`InputError` naming the mounts unless the batch engines can run variants of ``system``:
     not with nonlinear mounts (Maxwell branches are carried)."""
-    if system.nonlinear.count:
+    if system.nonlinear_axes:
         raise InputError("mounts", "linear mounts (sweeps and batches of mounts with bump stops, lift-off or "
-                         "force-deflection tables are not supported yet)",
-                         Plain(f"nonlinear mount axes {', '.join(system.nonlinear.names)}"))
+                         "force-deflection tables or hysteretic bearings are not supported yet)",
+                         Plain(f"nonlinear mount axes {', '.join(system.nonlinear_axes)}"))
 
 
 def make_variants(system: System, *, stiffness_factor=None, damping_factor=None,

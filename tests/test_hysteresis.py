@@ -409,3 +409,16 @@ def test_sweeps_and_designs_refuse_hysteretic_bearings_rather_than_linearize_the
     with pytest.raises(InputError) as caught:
         check_batchable(system)
     assert "hysteretic bearings" in caught.value.expected and "b u" in str(caught.value.got)
+
+
+def test_modes_json_lists_each_bearing_axis_at_its_linearization(capsys):
+    import json  # noqa: PLC0415
+
+    from sixdof.cli import main  # noqa: PLC0415
+
+    path = Path(__file__).resolve().parents[1] / "scenarios" / "bridge_beam_lrb.toml"
+    assert main(["modes", str(path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    D, k, fy, a = 0.1, 2.05e6, 13.6e3, 0.1
+    assert out["linearization"] == ["effective"] * 8
+    assert out["linearized_stiffness"] == pytest.approx([a * k + (1 - a) * fy / D] * 8, rel=1e-12)

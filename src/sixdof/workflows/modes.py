@@ -88,8 +88,11 @@ def modes_json(run: ModalRun) -> dict:
            "damping_ratios": modal["damping_ratio"], "zero_modes": list(modes.zero_modes), "statics": None}
     laws = system.nonlinear
     # Modes of a system with nonlinear mounts are those of its linearization about the static equilibrium.
-    out["linearized_axes"] = list(laws.names)
-    out["linearized_stiffness"] = [float(k) for k in laws.tangent]
+    # Hysteretic bearings at their stated linearization, after them.
+    hysteretic = system.hysteretic
+    out["linearized_axes"] = list(laws.names) + list(hysteretic.names)
+    out["linearized_stiffness"] = [float(k) for k in laws.tangent] + [float(k) for k in hysteretic.linear_stiffness]
+    out["linearization"] = ["tangent"] * laws.count + list(hysteretic.linearization)
     out["geometric_stiffness"] = system.geometric_stiffness  # whether K (so the modes) holds gravity's K_G
     out["full_model_poles"] = _full_model_poles(system, modes)
     out.update(_design_json(run))

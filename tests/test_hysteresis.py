@@ -422,3 +422,12 @@ def test_modes_json_lists_each_bearing_axis_at_its_linearization(capsys):
     D, k, fy, a = 0.1, 2.05e6, 13.6e3, 0.1
     assert out["linearization"] == ["effective"] * 8
     assert out["linearized_stiffness"] == pytest.approx([a * k + (1 - a) * fy / D] * 8, rel=1e-12)
+
+
+def test_a_friction_triple_is_checked_as_the_table_is():
+    from sixdof.model.hysteresis import FrictionPendulum  # noqa: PLC0415
+
+    for mu in ([0.04, 1.5, 20.0], [0.0, 0.08, 20.0], [0.04, 0.08, -1.0]):
+        with pytest.raises(InputError) as caught:
+            FrictionPendulum(mount="p", radius=2.0, mu=mu)
+        assert caught.value.field == "mu"

@@ -175,7 +175,7 @@ def isolated_spectrum(system, settings) -> EffectiveLinearization | None:
     linearization). The other axes keep the linearization they state; damping enters through the modes
     (:func:`isolation_damping`), not through the equivalent dashpots of :attr:`System.dampings`."""
     h = system.hysteretic
-    effective = np.array([lin == "effective" for lin in h.linearization], dtype=bool)
+    effective = h.effective_axes
     if not effective.any():
         return None
     base = system.linearized()

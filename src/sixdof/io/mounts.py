@@ -129,9 +129,7 @@ def _hysteretic_laws(mount: Mount, hysteresis: Any, pendulum: Any, path: str) ->
     laws = []
     if hysteresis is not None:
         field = f"{path}.hysteresis"
-        if not isinstance(hysteresis, dict):
-            raise InputError(field, "a table {law = \"bouc_wen\", axes = [...], yield_force = [...], ...}", hysteresis)
-        keys = dict(hysteresis)
+        keys = _table(hysteresis, field)
         law = choice_check(tuple(_HYSTERESIS_LAWS))(keys.pop("law", None), f"{field}.law")
         laws.append((field, build(_HYSTERESIS_LAWS[law], {"mount": mount.name, **keys}, field)))
     if pendulum is not None:
@@ -141,12 +139,7 @@ def _hysteretic_laws(mount: Mount, hysteresis: Any, pendulum: Any, path: str) ->
         raise InputError(f"{path}.friction_pendulum", "axes without a hysteresis law (one law per axis)",
                          Plain(f"axes {', '.join(sorted(set(laws[0][1].axes) & set(laws[1][1].axes)))}"))
     for field, law in laws:
-        try:
-            check_on_mount(law, mount)
-        except InputError as error:
-            where = path if error.field.startswith("mount.") else field
-            name = error.field[6:] if error.field.startswith("mount.") else error.field
-            raise InputError(f"{where}.{name}", error.expected, error.got) from None
+        check_on_mount(law, mount, field, path)
     return [law for _, law in laws]
 
 

@@ -46,6 +46,7 @@ in which the axis stores the most strain energy.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -157,8 +158,9 @@ def _friction(value, field: str) -> tuple[float, float, float]:
                              high=1.0) for k in ("slow", "fast"))
         rate = number(value["rate"], f"{field}.rate", "a rate in s/m > 0", low=0.0, strict=True)
         return slow, fast, rate
-    if isinstance(value, (tuple, list, np.ndarray)) and len(value) == 3:
-        return tuple(float(v) for v in value)
+    if isinstance(value, (tuple, list, np.ndarray)) and len(value) == 3:  # (slow, fast, rate), as stored
+        slow, fast = (number(v, field, expected, low=0.0, strict=True, high=1.0) for v in value[:2])
+        return slow, fast, number(value[2], field, expected, low=0.0)
     mu = number(value, field, expected, low=0.0, strict=True, high=1.0)
     return mu, mu, 0.0
 
@@ -202,30 +204,31 @@ class FrictionPendulum(Frozen):
         _linearization_check(self)
 
 
-def check_on_mount(law: BoucWen | FrictionPendulum, mount) -> None:
+def check_on_mount(law: BoucWen | FrictionPendulum, mount, field: str, mount_field: str) -> None:
     """Refuse a law that cannot act on ``mount`` (a :class:`~sixdof.model.parts.Mount`): on an axis that a bump stop
     or lift-off makes nonlinear already, a Bouc-Wen axis without stiffness, a biaxial law on unequal stiffnesses, a
     friction pendulum with a stiffness of its own in the dish's plane or on a mount that carries no load along
-    ``w``. Fields: the law's (``axes``), or the mount's as ``mount.<field>``."""
+    ``w``. The error names the law's ``field.axes`` or the mount's ``mount_field.stiffness``."""
     pendulum = isinstance(law, FrictionPendulum)
+    axes_field, stiffness_field = f"{field}.axes", f"{mount_field}.stiffness"
     for axis in law.axes:
         a = AXES.index(axis)
         if np.isfinite(mount.bump_clearance[a]):
-            raise InputError("axes", f"axes of {mount.name} without a bump stop (one law per axis)", axis)
+            raise InputError(axes_field, f"axes of {mount.name} without a bump stop (one law per axis)", axis)
         if axis == "w" and not mount.tension:
-            raise InputError("axes", f"axes of {mount.name} without lift-off (tension = false; one law per axis)",
+            raise InputError(axes_field, f"axes of {mount.name} without lift-off (tension = false; one law per axis)",
                              axis)
         if not pendulum and mount.stiffness[a] <= 0:
-            raise InputError("axes", f"axes where {mount.name} has a stiffness > 0 (the elastic stiffness of the "
+            raise InputError(axes_field, f"axes where {mount.name} has a stiffness > 0 (the elastic stiffness of the "
                              "Bouc-Wen law)", axis)
         if pendulum and mount.stiffness[a] != 0:
-            raise InputError("mount.stiffness", f"0 on the friction pendulum's axis {axis} (the pendulum's N / R is "
+            raise InputError(stiffness_field, f"0 on the friction pendulum's axis {axis} (the pendulum's N / R is "
                              "its stiffness there)", mount.stiffness.tolist())
     if not pendulum and law.biaxial and mount.stiffness[0] != mount.stiffness[1]:
-        raise InputError("mount.stiffness", "the same stiffness on u and v for a biaxial Bouc-Wen law (a circular "
+        raise InputError(stiffness_field, "the same stiffness on u and v for a biaxial Bouc-Wen law (a circular "
                          "yield surface)", mount.stiffness.tolist())
     if pendulum and mount.stiffness[2] <= 0:
-        raise InputError("mount.stiffness", "a stiffness > 0 along w on a friction pendulum's mount: it carries the "
+        raise InputError(stiffness_field, "a stiffness > 0 along w on a friction pendulum's mount: it carries the "
                          "load N that the pendulum's restoring force and friction are proportional to",
                          mount.stiffness.tolist())
 
@@ -338,23 +341,27 @@ class HystereticAxes:
         return k_eff, xi
 
     @property
+    def effective_axes(self) -> np.ndarray:
+        """Whether each axis's linearization is ``"effective"`` (nh,)."""
+        return np.array([lin == "effective" for lin in self.linearization], dtype=bool)
+
+    @property
     def linear_stiffness(self) -> np.ndarray:
         """The stiffness the linear paths use on each axis (nh,) [N/m]: initial or effective."""
-        effective = np.array([lin == "effective" for lin in self.linearization], dtype=bool)
-        if not effective.any():
-            return self.initial_stiffness
-        k_eff, _ = self.effective(np.where(effective, self.design_displacement, 1.0))
-        return np.where(effective, k_eff, self.initial_stiffness)
+        return self._linearization[0]
 
     @property
     def linear_damping_ratio(self) -> np.ndarray:
         """The equivalent viscous damping ratio of each axis in the linear paths (nh,) [1]: zero for the initial
         linearization."""
-        effective = np.array([lin == "effective" for lin in self.linearization], dtype=bool)
-        if not effective.any():
-            return np.zeros(self.count)
-        _, xi = self.effective(np.where(effective, self.design_displacement, 1.0))
-        return np.where(effective, xi, 0.0)
+        return self._linearization[1]
+
+    @cached_property
+    def _linearization(self) -> tuple[np.ndarray, np.ndarray]:
+        """(:attr:`linear_stiffness`, :attr:`linear_damping_ratio`), from :meth:`effective` where it applies."""
+        effective = self.effective_axes
+        k_eff, xi = self.effective(np.where(effective, self.design_displacement, 1.0))
+        return readonly(np.where(effective, k_eff, self.initial_stiffness)), readonly(np.where(effective, xi, 0.0))
 
 
 def hysteretic_axes(mounts, local_map: np.ndarray, bouc_wen, pendulums, static_w_load: np.ndarray) -> HystereticAxes:

@@ -262,12 +262,7 @@ class System(Frozen):
                 if law.mount not in mounts:
                     raise InputError(f"{field}.mount", f"the name of a mount ({', '.join(mounts)})", law.mount)
                 j = mounts.index(law.mount)
-                try:
-                    check_on_mount(law, self.mounts[j])
-                except InputError as error:
-                    if error.field.startswith("mount."):
-                        raise InputError(f"mounts[{j}].{error.field[6:]}", error.expected, error.got) from None
-                    raise error.within(field) from None
+                check_on_mount(law, self.mounts[j], field, f"mounts[{j}]")
                 for axis in law.axes:
                     if (law.mount, axis) in taken:
                         raise InputError(f"{field}.axes", f"axes of {law.mount} that no force_deflection table or "

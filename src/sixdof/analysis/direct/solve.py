@@ -211,7 +211,7 @@ def _hysteresis(h, z, zd, state):
     power = jnp.where(norm2 > 0, jnp.maximum(norm2, 1e-300) ** (0.5 * h["exponent"] - 1.0), 0.0)
     state_rate = (rate - power * (h["beta"] * jnp.sign(along) + h["gamma"]) * along * state) / h["yield_displacement"]
     return {"force": p * d + q * state, "rate": state_rate, "d": d, "d_rate": rate, "state": state, "p": p, "q": q,
-            "load": load, "load_rate": load_rate, "speed": speed, "slowing": slowing}
+            "mu": mu, "load": load, "load_rate": load_rate, "speed": speed, "slowing": slowing}
 
 
 def _hysteretic_loss(h, hyst, zdd):
@@ -226,10 +226,9 @@ def _hysteretic_loss(h, hyst, zdd):
     load_dot = jnp.where(hyst["load"] > 0, -h["load_stiffness"] * hyst["load_rate"]
                          - h["load_damping"] * (h["load_row"] @ zdd), 0.0)
     speed_dot = jnp.where(hyst["speed"] > 0, (h["coupled"] @ (rate * acc)) / jnp.maximum(hyst["speed"], 1e-300), 0.0)
-    mu = jnp.where(hyst["load"] > 0, q / jnp.maximum(hyst["load"], 1e-300), 0.0)
     mu_dot = (h["mu_fast"] - h["strength"]) * h["rate"] * hyst["slowing"] * speed_dot
     p_dot = jnp.where(pendulum, load_dot * h["stiffness"], 0.0)
-    q_dot = jnp.where(pendulum, load_dot * mu + hyst["load"] * mu_dot, 0.0)
+    q_dot = jnp.where(pendulum, load_dot * hyst["mu"] + hyst["load"] * mu_dot, 0.0)
     loss = q * (state * rate - d_y * state * hyst["rate"]) - 0.5 * p_dot * d * d - 0.5 * q_dot * d_y * state * state
     return jnp.sum(loss)
 

@@ -93,8 +93,14 @@ def _carries_shear(check) -> bool:
 
 
 def _linear_name(run) -> str:
-    """The run's name in the title of a figure of its linear model, saying so when its mounts are nonlinear."""
-    if run.system is None or not run.system.nonlinear.count:
+    """The run's name in the title of a figure of its linear model, saying so when its mounts are nonlinear or
+    hysteretic."""
+    if run.system is None:
+        return run.name
+    if run.system.hysteretic.count:  # the bearings' linearization, which the run does not compare with
+        kinds = " or ".join(sorted(set(run.system.hysteretic.linearization)))
+        return f"{run.name} (linear model: bearings at their {kinds} linearization)"
+    if not run.system.nonlinear.count:
         return run.name
     first = None if run.contacts is None else run.contacts.first_engaged_t
     if first is not None and first == first:  # not nan: a mount engaged

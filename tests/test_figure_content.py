@@ -146,6 +146,20 @@ def test_responding_compares_each_dof_within_its_kind():
     assert not responding(np.zeros((101, 6))).any()
 
 
+def test_the_not_excited_line_groups_zeros_and_round_off_and_quotes_small_peaks():
+    from sixdof.dofs import dof_units
+    from sixdof.plots.time import not_excited_line
+
+    values = np.outer([0.0, 1.0, -0.5], [1e-2, 0.0, 5e-7, 0.0, 1e-20, 2e-6])
+    line = not_excited_line(values, [1, 2, 3, 4], dof_units(0))
+    assert line.endswith("): y, rx (exactly zero); ry (round-off only); z (peak 500 nm)")
+    difference = np.array([1e-9, 0.0, 3e-8, 0.0, 2e-12, 1e-9])
+    line = not_excited_line(values, [1, 2, 3, 4], dof_units(0), difference)
+    assert line.endswith("): y, rx (exactly zero); ry (round-off only, relative difference at most 2.0e-12); "
+                         "z (peak 500 nm, relative difference 3.0e-08)")
+    assert not_excited_line(values, [], dof_units(0)) == ""
+
+
 def test_time_dofs_of_a_ground_motion_draw_the_body_beside_the_ground():
     from sixdof.plots import plot_time_histories
 

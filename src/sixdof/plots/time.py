@@ -203,16 +203,22 @@ def unexcited(values: np.ndarray) -> np.ndarray:
 
 
 def not_excited_line(values: np.ndarray, quiet: list[int], units, difference: np.ndarray | None = None) -> str:
-    """The one line naming the DOFs ``quiet`` that a figure leaves out: those exactly zero together, the others
-    each with its peak in ``values`` (n, 6) [SI ``units`` per DOF] and, given ``difference`` (6,), the relative
-    difference of a cross-check."""
+    """The one line naming the DOFs ``quiet`` that a figure leaves out: those exactly zero together, those at
+    round-off (:func:`unexcited`) together, the others each with its peak in ``values`` (n, 6) [SI ``units`` per
+    DOF]; given ``difference`` (6,), the relative difference of a cross-check (for those at round-off, the
+    largest)."""
     if not quiet:
         return ""
     peaks = np.max(np.abs(values), axis=0) if len(values) else np.zeros(6)
+    roundoff = unexcited(values)
     zero = [i for i in quiet if peaks[i] == 0 and (difference is None or difference[i] == 0)]
+    tiny = [i for i in quiet if roundoff[i] and i not in zero]
     parts = [f"{', '.join(DOFS[i] for i in zero)} (exactly zero)"] if zero else []
+    if tiny:
+        most = "" if difference is None else f", relative difference at most {max(difference[i] for i in tiny):.1e}"
+        parts.append(f"{', '.join(DOFS[i] for i in tiny)} (round-off only{most})")
     for i in quiet:
-        if i not in zero:
+        if i not in zero and i not in tiny:
             factor, unit = display_unit(peaks[i], units[i])
             what = f"peak {factor * peaks[i]:.3g} {unit}"
             if difference is not None:

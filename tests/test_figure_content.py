@@ -133,6 +133,26 @@ def test_time_dofs_draws_the_input_above_and_only_the_dofs_that_move():
     assert all(dof in line.split("): ", 1)[1] for dof in ("x", "y", "rx", "ry", "rz"))
 
 
+def test_time_dofs_draws_a_moment_of_its_own_and_quotes_the_moment_of_an_offset_force():
+    from sixdof.plots import plot_time_histories
+
+    system = four_mount(m=MASS, k=(2e5, 3e5, 8e5), damping=(100.0, 100.0, 300.0))
+    settings = SimulationSettings(duration=0.5, sample_rate_hz=500.0)
+    # A force 0.2 m off the centre of gravity: its moment (0.2 m x 500 N about y) is quoted, not drawn again.
+    offset = (Load("l", [0.2, 0.0, 0.0], force=[0, 0, 500.0], signal=Harmonic(f_hz=5.0)),)
+    titles = [ax.get_title(loc="left") for ax in plot_time_histories(simulate(system, Excitation(loads=offset),
+                                                                              settings)).axes]
+    assert titles[0].startswith("applied force at the centre of gravity: peak Fz 500 N; moments about it (not drawn)")
+    assert not any(title.startswith("applied moment") for title in titles)
+    # A torque of its own beside a force: both drawn, each on its axes.
+    torque = offset + (Load("engine", [0.0, 0.0, 0.0], moment=[0.0, 0.0, 40.0], signal=Harmonic(f_hz=9.0)),)
+    fig = plot_time_histories(simulate(system, Excitation(loads=torque), settings))
+    force, moment = fig.axes[:2]
+    assert force.get_ylabel() == "force [N]" and moment.get_ylabel() == "moment [N m]"
+    assert "Mz 40" in moment.get_title(loc="left")
+    assert {line.get_label() for line in moment.get_lines()} >= {"Mz"}
+
+
 def test_responding_compares_each_dof_within_its_kind():
     from sixdof.plots.time import RESPONDS_RTOL, responding
 

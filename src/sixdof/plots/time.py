@@ -61,7 +61,8 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
 
     (µm or µrad when the peak is below 0.01 mm or 0.01 mrad; velocities and accelerations
     likewise.) The input, from ``history`` itself: the applied force at the centre of gravity (``Q``, each
-    component that responds; moments about it drawn when no force is applied, else their peak quoted) and, with
+    component that responds), and the moment about it on its own axes unless it is the moment of those forces
+    (loads at fixed points: then its peaks are quoted), and, with
     ground motion, the ground's acceleration along each axis it moves along, with the body's absolute
     acceleration at the centre of gravity on the same axes (what isolation is about). With ground motion,
     displacements and velocities relative to the ground are drawn solid (the mount strokes), accelerations
@@ -244,10 +245,21 @@ def input_panels(history: TimeHistory) -> list[tuple]:
     if Q is not None and np.any(Q != 0):
         applied = responding(Q)
         forces, moments = np.flatnonzero(applied[:3]), 3 + np.flatnonzero(applied[3:])
-        shown, quoted = (forces, moments) if len(forces) else (moments, ())
-        panels.append((lambda axes, t, zoom: _load_panel(axes, t, zoom, Q, shown, quoted),
-                       "applied force" if len(forces) else "applied moment"))
+        implied = len(forces) and len(moments) and _implied(Q[:, forces], Q[:, moments])
+        if len(forces):
+            panels.append((lambda axes, t, zoom: _load_panel(axes, t, zoom, Q, forces, moments if implied else ()),
+                           "applied force"))
+        if len(moments) and not implied:
+            panels.append((lambda axes, t, zoom: _load_panel(axes, t, zoom, Q, moments, ()), "applied moment"))
     return panels
+
+
+def _implied(forces: np.ndarray, moments: np.ndarray) -> bool:
+    """Whether the ``moments`` (n, m) [N m] are a fixed combination of the ``forces`` (n, k) [N] (forces applied at
+    fixed points, their moments about the centre of gravity): their peaks are then quoted, not drawn again. A moment
+    of its own (an engine's torque) is drawn on its own axes."""
+    coefficients, *_ = np.linalg.lstsq(forces, moments, rcond=None)
+    return bool(np.linalg.norm(moments - forces @ coefficients) <= 1e-6 * np.linalg.norm(moments))
 
 
 def _ground_panel(axes, t: np.ndarray, zoom, history: TimeHistory, c: int) -> None:
@@ -310,7 +322,7 @@ def _history_dof(fig: Figure, axes, i: int, t: np.ndarray, main: np.ndarray, oth
     factor, label = display_unit(shown, unit)
     for ax, part in zip((whole, *rest), (slice(None), *(zoom_samples(t, zoom) for _ in rest))):
         plot_long(ax, t[part], factor * main[part], color=TRANSLATION if i < 3 else ROTATION,
-                  linewidth=1.0, label=names[0])
+                  linewidth=1.0, label=None if names[0] == "response" else names[0])  # alone: no legend entry
         if drawn_other:
             plot_long(ax, t[part], factor * other[part], color="black", linestyle="--", linewidth=0.9,
                       label=names[1])

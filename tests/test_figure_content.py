@@ -120,6 +120,7 @@ def test_time_dofs_draws_the_input_above_and_only_the_dofs_that_move():
     for dof in ("x", "y", "rx", "ry", "rz"):
         assert dof in named
     assert fig.get_suptitle() == "box: displacement of the centre of gravity, with the input above"
+    assert_figure_texts_clear(fig)
     # The cross-check figure draws z alone too, overlay and difference, and names the others with their differences.
     from sixdof.analysis.compare import compare
     from sixdof.analysis.superposition import superpose
@@ -131,6 +132,7 @@ def test_time_dofs_draws_the_input_above_and_only_the_dofs_that_move():
     assert left.get_ylabel().startswith("z [") and len(left.get_lines()) == 2 and right.get_lines()
     (line,) = notes(fig)
     assert all(dof in line.split("): ", 1)[1] for dof in ("x", "y", "rx", "ry", "rz"))
+    assert_figure_texts_clear(fig)
 
 
 def test_time_dofs_draws_a_moment_of_its_own_and_quotes_the_moment_of_an_offset_force():
@@ -151,6 +153,7 @@ def test_time_dofs_draws_a_moment_of_its_own_and_quotes_the_moment_of_an_offset_
     assert force.get_ylabel() == "force [N]" and moment.get_ylabel() == "moment [N m]"
     assert "Mz 40" in moment.get_title(loc="left")
     assert {line.get_label() for line in moment.get_lines()} >= {"Mz"}
+    assert_figure_texts_clear(fig)
 
 
 def test_responding_compares_each_dof_within_its_kind():
@@ -164,6 +167,39 @@ def test_responding_compares_each_dof_within_its_kind():
                       0.99 * RESPONDS_RTOL * 1e-6, 1e-14])
     assert responding(np.outer(wave, peaks)).tolist() == [True, True, False, True, False, False]
     assert not responding(np.zeros((101, 6))).any()
+
+
+def assert_figure_texts_clear(fig) -> None:
+    """:func:`figures.assert_texts_clear`, and the figure's own lines of text (the not-excited line, the zoom's
+    heading) clear of each other, of every title and of every legend."""
+    from figures import assert_texts_clear
+
+    assert_texts_clear(fig)
+    renderer = fig.canvas.get_renderer()
+    lines = [(text.get_text(), text.get_window_extent(renderer)) for text in fig.texts if text is not fig._suptitle]
+    heads = [*lines, ("suptitle", fig._suptitle.get_window_extent(renderer))]
+    for ax in fig.axes:
+        heads += [(title.get_text(), title.get_window_extent(renderer)) for title in (ax.title, ax._left_title)
+                  if title.get_text()]
+    heads += [("legend", legend.get_window_extent(renderer)) for legend in fig.legends]
+    for text, box in lines:
+        for other, other_box in heads:
+            assert other == text or not box.overlaps(other_box), (text, other)
+
+
+def test_time_dofs_of_a_ground_shock_keeps_its_lines_of_text_apart():
+    from sixdof.plots import plot_time_histories
+
+    system = four_mount(m=MASS, k=(2e5, 3e5, 8e5), damping=(100.0, 100.0, 300.0))
+    excitation = Excitation(ground=GroundMotion(quantity="acceleration", direction=[0.0, 0.0, 1.0], scale=196.0,
+                                                signal=HalfSine(start=0.01, duration=0.011)))
+    response = simulate(system, excitation, SimulationSettings(duration=0.4, sample_rate_hz=4000.0))
+    events = {name: Event(*event) for name, event in excitation.events(0.0, 0.4).items()}
+    fig = plot_time_histories(response, events=events, name="electronics_box")
+    # The ground's shock and the body's response, each in its zoom; a note naming what does not move.
+    assert fig.axes[0].get_title(loc="left").startswith("ground and body acceleration along z")
+    assert len(fig.axes[1].get_lines()) == 2
+    assert_figure_texts_clear(fig)
 
 
 def test_the_not_excited_line_groups_zeros_and_round_off_and_quotes_small_peaks():

@@ -124,8 +124,14 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
     note = "" if len(dofs) == 6 else not_excited_line(main, [i for i in range(6) if not drawn[i]], _UNITS[key])
     heading = (f"{_QUANTITIES[key]} at the centre of gravity" if key == "Q"
                else f"{_QUANTITIES[key]} of the centre of gravity" + (", with the input above" if inputs else ""))
+    order = {"q": 0, "qd": 1, "qdd": 2}.get(key)
+    amplitude = np.zeros(6)  # of the absolute motion, per DOF
+    if steady is not None and order is not None and not main_is_relative and len(steady.f_hz):
+        amplitude = np.sum(np.abs(steady.q) * (2 * np.pi * np.asarray(steady.f_hz))[:, None] ** order, axis=0)
+    # The figure's legend, from the first DOF drawn, when it has more than its one curve to explain.
+    legend = bool(dofs) and (relative is not None or zoom is not None or amplitude[dofs[0]] > 0)
     fig, rows = _stacked_rows(t, [INPUT_HEIGHT] * len(inputs) + [height] * max(len(dofs), 1), zoom,
-                              title(name, heading), note)
+                              title(name, heading), note, legend_line=legend or zoom is not None)
     for (draw, *_), axes in zip(inputs, rows):
         draw(axes, t, zoom)
     if not dofs:  # nothing moves: said on the one panel
@@ -133,31 +139,28 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
             ax.set_yticks([])
             ax.text(0.5, 0.5, "no DOF moves", transform=ax.transAxes, ha="center", va="center", color="0.4")
         return fig
-    order = {"q": 0, "qd": 1, "qdd": 2}.get(key)
-    amplitude = None  # of the absolute motion, per DOF
-    if steady is not None and order is not None and not main_is_relative and len(steady.f_hz):
-        amplitude = np.sum(np.abs(steady.q) * (2 * np.pi * np.asarray(steady.f_hz))[:, None] ** order, axis=0)
     for k, (i, axes) in enumerate(zip(dofs, rows[len(inputs):])):
         paired = other
         if paired is not None and np.array_equal(paired[:, i], main[:, i]):
             paired = None  # a rotation: the ground does not rotate, relative and absolute are one
         names = (("relative to the ground", "absolute") if main_is_relative
                  else ("absolute", "relative to the ground") if paired is not None else ("response", ""))
-        steady_i = 0.0 if amplitude is None else float(amplitude[i])
-        legend = k == 0 and (relative is not None or zoom is not None or steady_i > 0)  # the first drawn
         _history_dof(fig, axes, i, t, main[:, i], None if paired is None else paired[:, i], unit=_UNITS[key][i],
-                     names=names, zoom=zoom, steady=steady, steady_amplitude=steady_i, legend=legend)
+                     names=names, zoom=zoom, steady=steady, steady_amplitude=float(amplitude[i]),
+                     legend=legend and k == 0)
     return fig
 
 
-def _stacked_rows(t: np.ndarray, heights: list[float], zoom, heading: str, note: str) -> tuple[Figure, list[list]]:
-    """A figure of one row per entry of ``heights`` [in] under ``heading`` and the line ``note`` (if any), and
-    its axes, one list per row: its whole record, then its zoom when ``zoom``
-    (:func:`~sixdof.plots.zoom.event_window`) is given; one time axis per column, labelled under the last row."""
+def _stacked_rows(t: np.ndarray, heights: list[float], zoom, heading: str, note: str,
+                  legend_line: bool) -> tuple[Figure, list[list]]:
+    """A figure of one row per entry of ``heights`` [in] under ``heading``, the line ``note`` (if any) and a line
+    for the legend and the zoom's heading (``legend_line``), and its axes, one list per row: its whole record, then
+    its zoom when ``zoom`` (:func:`~sixdof.plots.zoom.event_window`) is given; one time axis per column, labelled
+    under the last row."""
     gap, bottom = 0.55, 0.55  # between rows (each has a title), under the last (its time labels)
     # From the top [in]: the title, the note, the line of the legend and the zoom's heading, the first row's title.
     legend_at = 0.55 + (0.3 if note else 0.0)
-    top = legend_at + 0.25 + 0.35
+    top = legend_at + (0.25 if legend_line else -0.1) + 0.35
     fig = Figure(figsize=(12, top + bottom + sum(heights) + gap * (len(heights) - 1)))
     height = fig.get_figheight()
     fig.suptitle(heading, fontsize=13, y=1 - 0.15 / height, va="top")

@@ -26,8 +26,9 @@ from sixdof import (
     write_results,
 )
 from sixdof.analysis.statics import STANDARD_GRAVITY, gravity_statics
+from sixdof.dofs import DOFS
 from sixdof.plots import plot_mount_loads
-from sixdof.plots.time import TENSION_LABEL
+from sixdof.plots.time import TENSION_LABEL, responding
 from sixdof.plots.zoom import ZOOM_PERIODS, ZOOM_PULSES, event_window, zoom_window
 from sixdof.results import Event
 from sixdof.workflows.prepare import prepare
@@ -93,37 +94,151 @@ def test_tension_is_shaded_exactly_where_a_mount_lifts_off():
     assert TENSION_LABEL in [text.get_text() for text in fig.legends[0].get_texts()]
 
 
-def test_unexcited_dofs_are_said_to_be_so_not_drawn_as_noise():
+def test_time_dofs_draws_the_input_above_and_only_the_dofs_that_move():
     from sixdof.plots import plot_time_histories
+    from sixdof.plots.time import RESPONDS_RTOL, notes
 
     system = four_mount(m=MASS, k=(2e5, 3e5, 8e5), damping=(100.0, 100.0, 300.0))
     vertical = (Load("l", [0.0, 0.0, 0.0], force=[0, 0, 500.0], signal=Harmonic(f_hz=5.0)),)
     response = simulate(system, Excitation(loads=vertical), SimulationSettings(duration=1.0, sample_rate_hz=500.0))
     peaks = np.max(np.abs(response.q), axis=0)
     assert peaks[2] > 1e-5 and np.all(np.delete(peaks, 2) < 1e-12 * peaks[2])  # z alone moves
-    fig = plot_time_histories(response)
-    order = [0, 3, 1, 4, 2, 5]  # axes row by row: translations left, rotations right
-    for ax, i in zip(fig.axes, order):
-        texts = [text.get_text() for text in ax.texts]
-        if i == 2:
-            assert len(ax.get_lines()) == 1 and not texts
-        else:
-            assert not ax.get_lines() and texts and texts[0].startswith("not excited: ")
-            assert ax.get_title().endswith("not excited")
-    # The cross-check figure says so too, on the left; on the right it draws a difference only where one exists.
+    fig = plot_time_histories(response, name="box")
+    # Two rows: the applied force (the load's own signal, 500 N at 5 Hz), then z; a single DOF gets a tall panel.
+    load, z = fig.axes
+    assert load.get_title(loc="left") == "applied force at the centre of gravity: peak Fz 500 N"
+    assert load.get_ylabel() == "force [N]" and len(load.get_lines()) == 1
+    force = load.get_lines()[0].get_ydata()
+    np.testing.assert_allclose(force, 500.0 * np.sin(2 * np.pi * 5.0 * load.get_lines()[0].get_xdata()), atol=1e-9)
+    assert z.get_ylabel().startswith("z [") and z.get_title(loc="left").startswith("translation z: peak")
+    assert len(z.get_lines()) == 1 and not z.texts
+    assert z.get_position().height * fig.get_figheight() >= 2.9  # inches
+    assert load.get_position().y0 > z.get_position().y1  # the input above
+    (line,) = notes(fig)
+    assert line.startswith(f"not excited (peak at most {RESPONDS_RTOL:g} of the largest of its kind")
+    named = line.split("): ", 1)[1]
+    for dof in ("x", "y", "rx", "ry", "rz"):
+        assert dof in named
+    assert fig.get_suptitle() == "box: displacement of the centre of gravity, with the input above"
+    assert_figure_texts_clear(fig)
+    # The cross-check figure draws z alone too, overlay and difference, and names the others with their differences.
     from sixdof.analysis.compare import compare
     from sixdof.analysis.superposition import superpose
     from sixdof.plots import plot_superposition
 
     modal = superpose(system, Excitation(loads=vertical), response.t)
     fig = plot_superposition(response, modal, compare(response.q, modal.q, length=0.5))
-    for i in range(6):
-        left, right = fig.axes[2 * i], fig.axes[2 * i + 1]
-        if i == 2:
-            assert len(left.get_lines()) == 2 and right.get_lines()
-        else:
-            assert not left.get_lines() and left.texts[0].get_text().startswith("not excited: ")
-            assert not right.get_lines() and right.texts[0].get_text().startswith(("identical", "round-off only"))
+    left, right = fig.axes
+    assert left.get_ylabel().startswith("z [") and len(left.get_lines()) == 2 and right.get_lines()
+    (line,) = notes(fig)
+    assert all(dof in line.split("): ", 1)[1] for dof in ("x", "y", "rx", "ry", "rz"))
+    assert_figure_texts_clear(fig)
+
+
+def test_time_dofs_draws_a_moment_of_its_own_and_quotes_the_moment_of_an_offset_force():
+    from sixdof.plots import plot_time_histories
+
+    system = four_mount(m=MASS, k=(2e5, 3e5, 8e5), damping=(100.0, 100.0, 300.0))
+    settings = SimulationSettings(duration=0.5, sample_rate_hz=500.0)
+    # A force 0.2 m off the centre of gravity: its moment (0.2 m x 500 N about y) is quoted, not drawn again.
+    offset = (Load("l", [0.2, 0.0, 0.0], force=[0, 0, 500.0], signal=Harmonic(f_hz=5.0)),)
+    titles = [ax.get_title(loc="left") for ax in plot_time_histories(simulate(system, Excitation(loads=offset),
+                                                                              settings)).axes]
+    assert titles[0].startswith("applied force at the centre of gravity: peak Fz 500 N; moments about it (not drawn)")
+    assert not any(title.startswith("applied moment") for title in titles)
+    # A torque of its own beside a force: both drawn, each on its axes.
+    torque = offset + (Load("engine", [0.0, 0.0, 0.0], moment=[0.0, 0.0, 40.0], signal=Harmonic(f_hz=9.0)),)
+    fig = plot_time_histories(simulate(system, Excitation(loads=torque), settings))
+    force, moment = fig.axes[:2]
+    assert force.get_ylabel() == "force [N]" and moment.get_ylabel() == "moment [N m]"
+    assert "Mz 40" in moment.get_title(loc="left")
+    assert {line.get_label() for line in moment.get_lines()} >= {"Mz"}
+    assert_figure_texts_clear(fig)
+
+
+def test_responding_compares_each_dof_within_its_kind():
+    from sixdof.plots.time import RESPONDS_RTOL, responding
+
+    t = np.linspace(0.0, 1.0, 101)
+    wave = np.sin(2 * np.pi * 3 * t)
+    # x 1 mm; y just above, z just below RESPONDS_RTOL of it; rx 1 µrad (drawn: the largest rotation, however
+    # small beside the translations); ry just below RESPONDS_RTOL of rx; rz round-off of the largest of all.
+    peaks = np.array([1e-3, 1.01 * RESPONDS_RTOL * 1e-3, 0.99 * RESPONDS_RTOL * 1e-3, 1e-6,
+                      0.99 * RESPONDS_RTOL * 1e-6, 1e-14])
+    assert responding(np.outer(wave, peaks)).tolist() == [True, True, False, True, False, False]
+    assert not responding(np.zeros((101, 6))).any()
+
+
+def assert_figure_texts_clear(fig) -> None:
+    """:func:`figures.assert_texts_clear`, and the figure's own lines of text (the not-excited line, the zoom's
+    heading) clear of each other, of every title and of every legend."""
+    from figures import assert_texts_clear
+
+    assert_texts_clear(fig)
+    renderer = fig.canvas.get_renderer()
+    lines = [(text.get_text(), text.get_window_extent(renderer)) for text in fig.texts if text is not fig._suptitle]
+    heads = [*lines, ("suptitle", fig._suptitle.get_window_extent(renderer))]
+    for ax in fig.axes:
+        heads += [(title.get_text(), title.get_window_extent(renderer)) for title in (ax.title, ax._left_title)
+                  if title.get_text()]
+    heads += [("legend", legend.get_window_extent(renderer)) for legend in fig.legends]
+    for text, box in lines:
+        for other, other_box in heads:
+            assert other == text or not box.overlaps(other_box), (text, other)
+
+
+def test_time_dofs_of_a_ground_shock_keeps_its_lines_of_text_apart():
+    from sixdof.plots import plot_time_histories
+
+    system = four_mount(m=MASS, k=(2e5, 3e5, 8e5), damping=(100.0, 100.0, 300.0))
+    excitation = Excitation(ground=GroundMotion(quantity="acceleration", direction=[0.0, 0.0, 1.0], scale=196.0,
+                                                signal=HalfSine(start=0.01, duration=0.011)))
+    response = simulate(system, excitation, SimulationSettings(duration=0.4, sample_rate_hz=4000.0))
+    events = {name: Event(*event) for name, event in excitation.events(0.0, 0.4).items()}
+    fig = plot_time_histories(response, events=events, name="electronics_box")
+    # The ground's shock and the body's response, each in its zoom; a note naming what does not move.
+    assert fig.axes[0].get_title(loc="left").startswith("ground and body acceleration along z")
+    assert len(fig.axes[1].get_lines()) == 2
+    assert_figure_texts_clear(fig)
+
+
+def test_the_not_excited_line_groups_zeros_and_round_off_and_quotes_small_peaks():
+    from sixdof.dofs import dof_units
+    from sixdof.plots.time import not_excited_line
+
+    values = np.outer([0.0, 1.0, -0.5], [1e-2, 0.0, 5e-7, 0.0, 1e-20, 2e-6])
+    line = not_excited_line(values, [1, 2, 3, 4], dof_units(0))
+    assert line.endswith("): y, rx (exactly zero); ry (round-off only); z (peak 500 nm)")
+    difference = np.array([1e-9, 0.0, 3e-8, 0.0, 2e-12, 1e-9])
+    line = not_excited_line(values, [1, 2, 3, 4], dof_units(0), difference)
+    assert line.endswith("): y, rx (exactly zero); ry (round-off only, relative difference at most 2.0e-12); "
+                         "z (peak 500 nm, relative difference 3.0e-08)")
+    assert not_excited_line(values, [], dof_units(0)) == ""
+
+
+def test_time_dofs_of_a_ground_motion_draw_the_body_beside_the_ground():
+    from sixdof.plots import plot_time_histories
+
+    system = four_mount(m=MASS, k=(2e5, 3e5, 8e5), damping=(100.0, 100.0, 300.0))
+    ground = GroundMotion(quantity="acceleration", direction=[0.0, 1.0, 0.0], scale=2.0,
+                          signal=Harmonic(f_hz=8.0))
+    response = simulate(system, Excitation(ground=ground), SimulationSettings(duration=2.0, sample_rate_hz=1000.0))
+    fig = plot_time_histories(response, "q")
+    accelerations, *dofs = fig.axes
+    assert accelerations.get_title(loc="left").startswith("ground and body acceleration along y, peaks: ground 2 m/s²")
+    assert accelerations.get_ylabel() == "ay [m/s²]"
+    ground_line, body_line = accelerations.get_lines()
+    assert (ground_line.get_label(), body_line.get_label()) == ("ground", "body (centre of gravity, absolute)")
+    t = ground_line.get_xdata()
+    np.testing.assert_allclose(ground_line.get_ydata(), np.interp(t, response.t, response.ground_acceleration[:, 1]))
+    np.testing.assert_allclose(body_line.get_ydata(), np.interp(t, response.t, response.qdd[:, 1]))
+    ratio = np.max(np.abs(response.qdd[:, 1])) / np.max(np.abs(response.ground_acceleration[:, 1]))
+    assert f"{ratio:.2f} of the ground's" in accelerations.get_title(loc="left")
+    # The DOFs that move: y (the mount stroke, relative to the ground, with the absolute dashed) and what couples.
+    assert dofs[0].get_ylabel().startswith("y [")
+    assert [line.get_label() for line in dofs[0].get_lines()] == ["relative to the ground", "absolute"]
+    assert [ax.get_ylabel().split(" ")[0] for ax in dofs] == [
+        DOFS[i] for i in np.flatnonzero(responding(response.q_relative) | responding(response.q))]
 
 
 def test_bode_marks_the_operating_frequency_and_close_modes_stay_legible():
@@ -248,14 +363,15 @@ def test_time_dofs_zooms_on_the_shock_beside_the_whole_record_and_the_file_keeps
     response = simulate(system, excitation, SimulationSettings(duration=5.0, sample_rate_hz=2000.0))
     events = {name: Event(*event) for name, event in excitation.events(0.0, 5.0).items()}
     fig = plot_time_histories(response, events=events)
-    assert len(fig.axes) == 12  # per DOF: the whole record, then the zoom
+    # Per row (the applied force, then each DOF that moves): the whole record, then the zoom.
+    drawn = responding(response.q)
+    assert len(fig.axes) == 2 * (1 + drawn.sum())
+    assert fig.axes[0].get_title(loc="left").startswith("applied force at the centre of gravity: peak Fz 5 kN")
     window = event_window(events, response.t)
     assert window[:2] == pytest.approx((2.0 - 0.1 * ZOOM_PULSES * 0.01, 2.0 + 0.9 * ZOOM_PULSES * 0.01))
-    assert fig.axes[1].get_title(loc="left").startswith("zoom: impact (shock, 10 ms at t = 2 s")
-    for i in range(6):
-        whole, zoom = fig.axes[2 * i], fig.axes[2 * i + 1]
-        if not whole.get_lines():
-            continue  # not excited
+    assert [text for text in fig.texts if text.get_text().startswith("zoom: impact (shock, 10 ms at t = 2 s")]
+    for k in range(len(fig.axes) // 2):
+        whole, zoom = fig.axes[2 * k], fig.axes[2 * k + 1]
         assert whole.get_xlim() == (0.0, 5.0) and zoom.get_xlim() == pytest.approx(window[:2])
         x, y = zoom.get_lines()[0].get_xdata(), zoom.get_lines()[0].get_ydata()
         # The zoom draws its own samples, every one of them (not the whole record's per-pixel envelope).
@@ -300,11 +416,12 @@ def test_superposition_zooms_on_the_shock_beside_the_whole_overlay():
     events = {name: Event(*event) for name, event in excitation.events(0.0, 5.0).items()}
     fig = plot_superposition(response, modal, compare(response.q, modal.q, length=0.5), events=events)
     window = event_window(events, response.t)
-    assert len(fig.axes) == 18  # per DOF: the overlay, its zoom, the difference
+    rows = responding(response.q).sum()
+    assert len(fig.axes) == 3 * rows  # per DOF that moves: the overlay, its zoom, the difference
     zooms = [ax for ax in fig.axes if ax.get_xlim() == pytest.approx(window[:2])]
-    assert len(zooms) == 6 and zooms[0].get_title(loc="left").startswith("zoom: impact (shock")
+    assert len(zooms) == rows and zooms[0].get_title(loc="left").startswith("zoom: impact (shock")
     drawn = [ax for ax in zooms if ax.get_lines()]
-    assert drawn  # the excited DOFs: both solutions, over the zoom's own samples
+    assert len(drawn) == rows  # both solutions, over the zoom's own samples
     for ax in drawn:
         direct, superposed = ax.get_lines()[:2]
         assert direct.get_label() == "direct integration"

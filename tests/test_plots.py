@@ -13,12 +13,14 @@ from matplotlib.figure import Figure
 
 import sixdof
 from sixdof import plots
+from sixdof.analysis.compare import relative_to_ground
 from sixdof.analysis.response import MountForces
 from sixdof.cli.figures import FigureError, FigureWorkers
 from sixdof.dofs import DOFS
 from sixdof.errors import InputError
 from sixdof.model.modes import modal_analysis
 from sixdof.model.system import System
+from sixdof.plots.time import responding
 from sixdof.results import RunResults, TimeHistory
 from store_cases import run_parts
 from systems import bridge, four_mount
@@ -183,7 +185,12 @@ def test_time_histories_use_readable_units_per_dof(parts):
     q = response.q
     factors = {"mm": 1e3, "µm": 1e6, "nm": 1e9, "mrad": 1e3, "µrad": 1e6, "nrad": 1e9}
     by_label = {ax.get_ylabel().split(" ")[0]: ax for ax in fig.axes}
+    # The DOFs that move, each on its own axes (the others named in one line).
+    drawn = responding(q)
+    assert [dof for dof in by_label if dof in DOFS] == [dof for i, dof in enumerate(DOFS) if drawn[i]]
     for i, dof in enumerate(DOFS):
+        if not drawn[i]:
+            continue
         ax = by_label[dof]
         unit = ax.get_ylabel().split("[")[1].rstrip("]")
         assert unit in (("mm", "µm", "nm") if i < 3 else ("mrad", "µrad", "nrad"))
@@ -205,7 +212,7 @@ def test_time_histories_show_the_motion_relative_to_a_moving_ground():
     # Displacements: the mount stroke, relative to the ground, first; the absolute dashed on the same scale.
     assert [line.get_label() for line in y.lines] == ["relative to the ground", "absolute"]
     assert_drawn_from(y.lines[0], t, 1e3 * (q[:, 1] - ground[:, 1]))
-    assert y.get_title() == "y: peak relative to the ground 0.5 mm, absolute 2 mm"
+    assert y.get_title(loc="left") == "translation y: peak relative to the ground 0.5 mm, absolute 2 mm"
     # Accelerations: what the body feels, absolute, first.
     y = {ax.get_ylabel(): ax for ax in plots.plot_time_histories(history, "qdd").axes}["y [mm/s²]"]
     assert [line.get_label() for line in y.lines] == ["absolute", "relative to the ground"]
@@ -215,7 +222,7 @@ def test_time_histories_show_the_motion_relative_to_a_moving_ground():
                        ground_acceleration=ground)
     y = {ax.get_ylabel(): ax for ax in plots.plot_time_histories(away).axes}["y [µm]"]  # the stroke's own scale
     assert [line.get_label() for line in y.lines] == ["relative to the ground"]
-    assert y.get_title() == "y: peak relative to the ground 500 µm, absolute 500 mm (not drawn)"
+    assert y.get_title(loc="left") == "translation y: peak relative to the ground 500 µm, absolute 500 mm (not drawn)"
     # A ground that does not move draws no relative motion.
     still = TimeHistory(t=t, q=q, qd=q, qdd=q, ground_displacement=0 * ground, ground_velocity=0 * ground,
                         ground_acceleration=0 * ground)
@@ -234,10 +241,12 @@ def test_superposition_overlay_and_difference(parts):
     direct, modal, agreement = parts["response"], parts["superposition"], parts["agreement"]
     fig = plots.plot_superposition(direct, modal, agreement)
     assert labelled_axes(fig)
-    assert len(fig.axes) == 12
+    drawn = np.flatnonzero(responding(relative_to_ground(direct, modal)[0]))
+    assert len(fig.axes) == 2 * len(drawn)  # per DOF that moves: the overlay and the difference
     assert f"{agreement.worst:.2e}" in fig.get_suptitle()
-    for i in range(6):
-        right = fig.axes[2 * i + 1]
+    for row, i in enumerate(drawn):
+        assert fig.axes[2 * row].get_ylabel().startswith(f"{DOFS[i]} [")
+        right = fig.axes[2 * row + 1]
         relative = drawn_relative(right)
         # The plotted curve's peak is the agreement of that DOF (no DOF is quiet here).
         assert np.max(np.abs(relative)) == pytest.approx(agreement.per_dof[i], rel=RTOL_DRAWN)
@@ -264,16 +273,18 @@ def test_superposition_difference_of_a_quiet_dof_is_the_agreement():
     agreement = compare(response.q, modal.q, length=0.5)
     assert set(agreement.quiet) >= {"y", "z", "rx", "rz"}
     fig = plots.plot_superposition(response, modal, agreement)
+    # Round-off against round-off: not drawn, named in one line with the agreement's largest number.
+    (line,) = [text.get_text() for text in fig.texts if text.get_text().startswith("not excited")]
+    quiet = [agreement.per_dof[i] for i in range(6) if DOFS[i] in agreement.quiet and agreement.per_dof[i] > 0]
+    assert (f"(round-off only, relative difference at most {max(quiet):.1e})" in line if quiet
+            else line.endswith(f": {', '.join(agreement.quiet)} (exactly zero)"))
+    rows = {ax.get_ylabel().split(" ")[0]: k for k, ax in enumerate(fig.axes[::2])}
     for i in range(6):
-        ax = fig.axes[2 * i + 1]
-        if DOFS[i] in agreement.quiet:  # round-off against round-off: the agreement's number said, not drawn
-            assert not ax.lines
-            text = ax.texts[0].get_text()
-            if agreement.per_dof[i] == 0:
-                assert text == "identical: both exactly zero"
-            else:
-                assert float(text.rsplit("= ", 1)[1]) == pytest.approx(agreement.per_dof[i], rel=0.06)
+        if DOFS[i] in agreement.quiet:
+            assert DOFS[i] not in rows
+            assert DOFS[i] in line.split("): ", 1)[1]
             continue
+        ax = fig.axes[2 * rows[DOFS[i]] + 1]
         assert np.max(np.abs(drawn_relative(ax))) == pytest.approx(agreement.per_dof[i], rel=1e-9)
 
 
@@ -310,8 +321,12 @@ def test_superposition_of_a_nonlinear_run_draws_the_differences_until_the_first_
     draw = next(draw for name, _, _, draw in plots.FIGURES if name == "superposition.png")
     fig = draw(run)  # as sixdof run and sixdof plot draw it: the run's contacts given
     assert f"t = {first:.4g} s; the superposition is not valid after it" in fig.get_suptitle()
-    for i in range(6):
-        left, right = fig.axes[2 * i], fig.axes[2 * i + 1]
+    # x, z and rx move (z only after the engagement): a row each; y, ry and rz, at rest, are named in one line.
+    assert [ax.get_ylabel().split(" ")[0] for ax in fig.axes[::2]] == ["x", "z", "rx"]
+    assert [text.get_text() for text in fig.texts if text.get_text().startswith("not excited")][0].endswith(
+        ": y, ry, rz (exactly zero)")
+    for row, i in enumerate((0, 2, 3)):
+        left, right = fig.axes[2 * row], fig.axes[2 * row + 1]
         assert right.get_xlim() == (0.0, first) and left.get_xlim() == (0.0, 1.0)
         title = right.get_title()
         assert "round-off" not in title
@@ -323,9 +338,9 @@ def test_superposition_of_a_nonlinear_run_draws_the_differences_until_the_first_
             assert [line.get_label() for line in left.get_lines()] == ["direct integration", "modal superposition",
                                                                        "first engagement"]
             assert left.get_lines()[2].get_xdata()[0] == first
-        else:  # at rest until the engagement: said so, and z only until then (it moves after)
+        else:  # z, at rest until the engagement: said so, its difference only until then (it moves after)
             assert not right.lines
-            assert title == ("z: not excited for t ≤ 0.4 s" if i == 2 else f"{DOFS[i]}: not excited")
+            assert title == "z: not excited for t ≤ 0.4 s"
     # Without contacts (a linear run) the whole record is compared.
     whole = plots.plot_superposition(direct, modal, compare(q, q_modal, length=0.5))
     assert whole.axes[1].get_xlim() == (0.0, 1.0) and "first engagement" not in whole.get_suptitle()

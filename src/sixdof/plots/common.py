@@ -36,6 +36,9 @@ PNG_COMPRESS_LEVEL = 1
 TRANSLATION = "tab:blue"
 ROTATION = "tab:red"
 COMPONENT_COLORS = ("tab:blue", "tab:orange", "tab:green")
+#: Each DOF in words, for titles (``DOFS`` order: x, y, z, rx, ry, rz).
+DOF_NAMES = ("translation x", "translation y", "translation z", "rotation rx (about x)", "rotation ry (about y)",
+             "rotation rz (about z)")
 
 
 def envelope_indices(values: np.ndarray, max_points: int = MAX_POINTS) -> np.ndarray:

@@ -5,7 +5,8 @@ region and the isolation efficiency read off at each operating frequency (not EN
 The force transmissibility of a load pattern ``Q`` (the generalized force phasor at the CG of the harmonic
 loads at one operating frequency, :attr:`~sixdof.analysis.steady.SteadyState.applied`) is, at every frequency
 ``f``, the amplitude of the force the mounts pass to the foundation, :func:`~sixdof.analysis.frf.foundation_forces`
-of ``H(f) Q``, over the amplitude of the applied force (both the largest over a period,
+of ``H(f) Q``, over the amplitude of the applied force (a torque without a force: the moment on the foundation
+about the CG's rest position over the applied moment; both the largest over a period,
 :func:`~sixdof.analysis.steady.vector_amplitude`): dimensionless, and at the operating frequency the
 steady state's :attr:`~sixdof.analysis.steady.SteadyState.transmissibility`. The motion transmissibility of a
 ground moving along ``d`` is the amplitude of the CG's absolute translation per unit ground translation
@@ -26,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from sixdof.analysis.frf import foundation_forces, ground_transmissibility, receptance
-from sixdof.analysis.steady import vector_amplitude
+from sixdof.analysis.steady import CANCELLED_RTOL, vector_amplitude
 from sixdof.errors import InputError, readonly
 
 #: A mode holding at least this share of a load pattern's participation is excited by it (see the module).
@@ -41,8 +42,9 @@ class TransmissibilityCurve:
 
     Attributes
     ----------
-    kind : {"force", "motion"}
-        Force on the foundation over the applied force, or absolute CG translation over the ground's.
+    kind : {"force", "moment", "motion"}
+        Force on the foundation over the applied force; moment on the foundation (about the CG's rest position)
+        over the applied moment, for a pattern without a force; or absolute CG translation over the ground's.
     f_hz : ndarray, shape (nf,)
         Frequencies of ``values`` [Hz].
     values : ndarray, shape (nf,)
@@ -75,23 +77,24 @@ class TransmissibilityCurve:
 
 @dataclass(frozen=True, eq=False)
 class IsolationSummary:
-    """What :func:`isolation_summary` finds: the force curves (one per load pattern) and the motion curve.
+    """What :func:`isolation_summary` finds: the load curves (one per load pattern) and the motion curve.
 
     Attributes
     ----------
-    force : tuple of TransmissibilityCurve
-        One per distinct load pattern at the operating frequencies (empty without harmonic loads).
+    loads : tuple of TransmissibilityCurve
+        One per distinct load pattern at the operating frequencies (empty without harmonic loads): of kind
+        ``"force"``, or ``"moment"`` for a pattern without a force (a torque).
     motion : TransmissibilityCurve or None
         The ground's (None without a ground motion at an operating frequency).
     """
 
-    force: tuple[TransmissibilityCurve, ...]
+    loads: tuple[TransmissibilityCurve, ...]
     motion: TransmissibilityCurve | None
 
     @property
     def curves(self) -> tuple[TransmissibilityCurve, ...]:
-        """Every curve, force ones first."""
-        return self.force + (() if self.motion is None else (self.motion,))
+        """Every curve, the loads' first."""
+        return self.loads + (() if self.motion is None else (self.motion,))
 
 
 def participation(modes, M, Q) -> np.ndarray:
@@ -110,18 +113,20 @@ def _boundary(modes, shares) -> tuple[tuple[int, ...], float]:
     return excited, float(np.sqrt(2.0) * np.max(modes.frequency_hz[list(excited)]))
 
 
-def _force_values(system, f_hz, Q) -> np.ndarray:
+def _load_values(system, f_hz, Q, part: slice) -> np.ndarray:
+    """``|T|`` of the load pattern ``Q`` at ``f_hz``: the ``part`` (forces or moments) of what the foundation
+    receives over that of ``Q``."""
     frf = receptance(system, f_hz)
     _, _, total = foundation_forces(system, frf.omega, frf.H @ Q)
-    return vector_amplitude(total[:, :3]) / vector_amplitude(Q[:3])[()]
+    return vector_amplitude(total[:, part]) / vector_amplitude(Q[part])[()]
 
 
 def _patterns(operating_hz, applied) -> list[tuple[np.ndarray, list[float]]]:
-    """The distinct load patterns (normalized phasors with a force) and their operating frequencies."""
+    """The distinct load patterns (normalized phasors) and their operating frequencies."""
     found: list[tuple[np.ndarray, list[float]]] = []
     for f, Q in zip(operating_hz, applied):
-        scale = vector_amplitude(Q[:3])[()]
-        if not scale > 0:  # moments only: no force transmissibility
+        scale = np.linalg.norm(Q)
+        if not scale > 0:
             continue
         Q = Q / scale
         for pattern, frequencies in found:
@@ -167,13 +172,17 @@ def isolation_summary(system, modes, f_hz, operating_hz=(), applied=None, ground
     if applied.shape[0] != operating_hz.size:
         raise InputError("applied", f"one load phasor (6,) per operating frequency ({operating_hz.size})",
                          applied.shape)
-    force = []
+    loads = []
     for Q, frequencies in _patterns(operating_hz, applied):
         at = np.array(frequencies)
         shares = participation(modes, system.M, Q)
         excited, boundary = _boundary(modes, shares)
-        at_operating = _force_values(system, at, Q)
-        force.append(TransmissibilityCurve("force", f_hz, readonly(_force_values(system, f_hz, Q)), readonly(at),
+        # A pattern without a force (a torque, or forces that cancel) passes a moment: its ratio is the moments'.
+        force = vector_amplitude(Q[:3])[()] > CANCELLED_RTOL * np.linalg.norm(Q)
+        part = slice(0, 3) if force else slice(3, 6)
+        at_operating = _load_values(system, at, Q, part)
+        loads.append(TransmissibilityCurve("force" if force else "moment", f_hz,
+                                           readonly(_load_values(system, f_hz, Q, part)), readonly(at),
                                            readonly(at_operating), readonly(1.0 - at_operating), excited,
                                            readonly(shares), boundary))
     motion = None
@@ -187,7 +196,7 @@ def isolation_summary(system, modes, f_hz, operating_hz=(), applied=None, ground
         at_operating = vector_amplitude(ground_transmissibility(system, ground_hz, d, np.zeros(3)).absolute)
         motion = TransmissibilityCurve("motion", f_hz, readonly(values), readonly(ground_hz), readonly(at_operating),
                                        readonly(1.0 - at_operating), excited, readonly(shares), boundary)
-    return IsolationSummary(tuple(force), motion)
+    return IsolationSummary(tuple(loads), motion)
 
 
 def ground_operating(run) -> tuple[np.ndarray | None, np.ndarray]:

@@ -10,13 +10,14 @@ from sixdof.plots.common import COMPONENT_COLORS, margins, mark_modes, natural_f
 
 #: The y label of each kind of curve: dimensionless ratios of amplitudes.
 LABELS = {"force": "force transmissibility |F_foundation / F_applied| [-]",
+          "moment": "moment transmissibility |M_foundation / M_applied| [-]",
           "motion": "motion transmissibility |x_body / x_ground| [-]"}
 #: Face colour of the isolation region (|T| < 1 for every excited mode).
 ISOLATION_COLOR = "tab:green"
 
 
 def _efficiency(value: float) -> str:
-    return f"isolation {100 * value:.1f} %" if value >= 0 else f"amplified: |T| = {1 - value:.3g}"
+    return f"isolation {100 * value:.1f} %" + ("" if value >= 0 else " (amplified)")
 
 
 def _panel(ax, curves, frequency_hz) -> None:
@@ -33,7 +34,8 @@ def _panel(ax, curves, frequency_hz) -> None:
     for k, curve in enumerate(curves):
         many = len(curves) > 1
         label = f"load pattern at {', '.join(f'{v:.4g}' for v in curve.operating_hz)} Hz" if many else (
-            "force on the foundation / applied force" if curve.kind == "force" else "CG / ground translation")
+            {"force": "force on the foundation / applied force", "moment": "moment on the foundation / applied moment",
+             "motion": "CG / ground translation"}[curve.kind])
         ax.loglog(curve.f_hz, curve.values, color=COMPONENT_COLORS[k % len(COMPONENT_COLORS)], linewidth=1.4,
                   label=label)
     ax.set_xlim(f[0], f[-1])
@@ -65,7 +67,8 @@ def plot_transmissibility(summary: IsolationSummary, modes=None, fig: Figure | N
     modes : sixdof.model.modes.Modes, optional
         Natural frequencies [Hz] to mark (dotted, numbered).
     fig : matplotlib.figure.Figure, optional
-        Draw into this figure: one panel per kind of curve, force above motion, sharing the frequency axis;
+        Draw into this figure: one panel per kind of curve (force, moment of a torque, ground motion, from the
+        top), sharing the frequency axis;
         its title and margins are left as they are. Default: a new figure.
     name : str
         Name of the run, put before the title (new figure only).
@@ -76,7 +79,8 @@ def plot_transmissibility(summary: IsolationSummary, modes=None, fig: Figure | N
     """
     require(summary, "summary", IsolationSummary, "a sixdof.analysis.isolation_summary.IsolationSummary")
     frequency_hz = natural_frequencies(modes)
-    kinds = [curves for curves in (summary.force, () if summary.motion is None else (summary.motion,)) if curves]
+    kinds = [curves for curves in ([c for c in summary.loads if c.kind == kind] for kind in ("force", "moment"))
+             if curves] + ([[summary.motion]] if summary.motion is not None else [])
     if not kinds:
         raise ValueError("summary: no transmissibility to draw (no operating frequency)")
     new = fig is None

@@ -6,7 +6,15 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from sixdof.analysis.isolation_summary import IsolationSummary
-from sixdof.plots.common import COMPONENT_COLORS, margins, mark_modes, natural_frequencies, plain_frequencies, require, title
+from sixdof.plots.common import (
+    COMPONENT_COLORS,
+    margins,
+    mark_modes,
+    natural_frequencies,
+    plain_frequencies,
+    require,
+    title,
+)
 
 #: The y label of each kind of curve: dimensionless ratios of amplitudes.
 LABELS = {"force": "force transmissibility |F_foundation / F_applied| [-]",

@@ -290,7 +290,7 @@ def _frequencies_part(results, summary) -> list[str]:
     curves = () if summary is None else summary.curves
     operating = np.unique(np.concatenate([c.operating_hz for c in curves])) if curves else np.zeros(0)
     excited = {r for c in curves for r in c.excited_modes}
-    headers = ["mode", "f_n [Hz]", "dominant DOF", *(["excited"] if curves else []),
+    headers = ["mode #", "f_n [Hz]", "dominant DOF", *(["excited"] if curves else []),
                *(f"r = {f:.4g} Hz / f_n" for f in operating)]
     digits = next((d for d in range(4, 9) if len({f"{f:.{d}g}" for f in modes.frequency_hz})
                    == len(set(modes.frequency_hz))), 9)  # close modes printed apart
@@ -345,13 +345,13 @@ def _mounts_part(check, limits) -> list[str]:
                     "along the axis nearest its limit, margin = 1 - peak / limit):"), table(headers, rows, "lrrlrrr")]
 
 
-def _points_part(points) -> list[str]:
-    """Peak accelerations at the named points."""
+def _points_part(points, steady: bool) -> list[str]:
+    """Peak accelerations at the named points (said to include the switch-on transient with a ``steady`` state)."""
     rows = []
     for name, motion in points.items():
         peaks = np.max(np.abs(motion.acceleration), axis=0)
         rows.append([name, *(f"{a:.4g}" for a in peaks), f"{peaks.max() / STANDARD_GRAVITY:.3g}"])
-    return ["Peak accelerations at the named points (absolute, switch-on included):",
+    return [f"Peak accelerations at the named points over the run (absolute{PEAKS_WITH_TRANSIENT if steady else ''}):",
             table(["point", "peak ax [m/s^2]", "peak ay [m/s^2]", "peak az [m/s^2]", "peak a [g]"], rows)]
 
 
@@ -371,7 +371,7 @@ def isolation_summary_text(results) -> str:
         limits = np.stack([m.max_deflection for m in results.system.mounts])
         parts += ["", *_mounts_part(results.mount_check, limits)]
     if results.points:
-        parts += ["", *_points_part(results.points)]
+        parts += ["", *_points_part(results.points, results.steady_state is not None)]
     return "\n".join(parts)
 
 

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from matplotlib.patches import Rectangle
 
+from figures import frozen_tick_difference
 from sixdof.analysis.isolation_summary import (
     EXCITED_FRACTION,
     has_operating,
@@ -24,7 +25,6 @@ from sixdof.io.console import run_text
 from sixdof.io.report import ISOLATION_SUMMARY, summary_markdown
 from sixdof.plots import figure_names, plot_transmissibility
 from sixdof.plots.transmissibility import LABELS
-from figures import frozen_tick_difference
 from systems import four_mount, sdof
 from tolerances import RTOL_LINALG
 

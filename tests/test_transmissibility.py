@@ -86,6 +86,25 @@ def test_the_isolation_region_starts_above_the_modes_the_load_excites():
         isolation_summary(system, modes, f, [30.0, 40.0], [[1.0, 0, 0, 0, 0, 0]])
 
 
+def test_a_torque_and_a_ground_motion_get_their_own_panels():
+    system = four_mount(m=500.0, k=(2e5, 3e5, 8e5), damping=(300.0, 300.0, 600.0))
+    f_z = math.sqrt(4 * 8e5 / 500.0) / (2 * math.pi)  # the bounce mode, decoupled: a single DOF
+    zeta = 4 * 600.0 / (2 * math.sqrt(4 * 8e5 * 500.0))
+    f = np.geomspace(0.1, 10.0, 200) * f_z
+    torque = [[0, 0, 0, 0, 50.0, 0]]  # about y at the CG: no force applied, the moments' ratio
+    summary = isolation_summary(system, system.modes, f, [3 * f_z], torque, [0, 0, 1.0], [2 * f_z])
+    assert [c.kind for c in summary.curves] == ["moment", "motion"]
+    assert summary.loads[0].values[0] == pytest.approx(1.0, rel=1e-2)  # quasi-static: the mounts carry it all
+    fig = plot_transmissibility(summary, system.modes)
+    assert [ax.get_ylabel() for ax in fig.axes] == [LABELS["moment"], LABELS["motion"]]
+    assert fig.axes[-1].get_xlabel() == "frequency [Hz]" and fig.axes[0].get_xlabel() == ""
+    (motion,) = [line for line in fig.axes[1].get_lines() if line.get_label() == "CG / ground translation"]
+    np.testing.assert_allclose(motion.get_ydata(), closed_form(f / f_z, zeta), rtol=RTOL_LINALG)
+    (note,) = [t.get_text() for t in fig.axes[1].texts if t.get_text().startswith("operating")]
+    assert note.endswith(f"isolation {100 * (1 - closed_form(2.0, zeta)):.1f} %")
+    assert summary.motion.isolation_hz == pytest.approx(math.sqrt(2) * f_z, rel=RTOL_LINALG)
+
+
 @pytest.fixture(scope="module")
 def unbalanced(tmp_path_factory):
     """machine_unbalance, its mounts given a 4 mm deflection limit along w (to see a margin)."""

@@ -202,11 +202,13 @@ def isolation_summary(system, modes, f_hz, operating_hz=(), applied=None, ground
 def ground_operating(run) -> tuple[np.ndarray | None, np.ndarray]:
     """The direction and operating frequencies [Hz] of a run's ground motion when its signal is a harmonic
     without end (``None`` and none otherwise, and for a stored run, which keeps no excitation)."""
-    from sixdof.excitation import Harmonic  # noqa: PLC0415 (excitation loads JAX, which a summary never needs)
-
     excitation = None if run.scenario is None else run.scenario.excitation
     ground = None if excitation is None else excitation.ground
-    if ground is None or not (isinstance(ground.signal, Harmonic) and np.isinf(ground.signal.duration)):
+    if ground is None:  # before the import: a stored run's figures load no JAX
+        return None, np.zeros(0)
+    from sixdof.excitation import Harmonic  # noqa: PLC0415 (loads JAX, already there where a ground motion is)
+
+    if not (isinstance(ground.signal, Harmonic) and np.isinf(ground.signal.duration)):
         return None, np.zeros(0)
     return np.asarray(ground.direction, dtype=float), np.array([ground.signal.f_hz])
 

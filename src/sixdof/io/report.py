@@ -323,8 +323,10 @@ def _frequencies_part(results, summary) -> list[str]:
     return [*lines, table(headers, rows, "l" + "r" * len(operating))]
 
 
-def _mounts_part(check, limits) -> list[str]:
-    """Peak mount loads and deflections against their limits, with the margins."""
+def _mounts_part(check, mounts) -> list[str]:
+    """Peak mount loads and deflections against their limits (``mounts``' ``max_deflection`` and
+    ``allow_tension``), with the margins."""
+    limits = np.stack([m.max_deflection for m in mounts])
     factor, unit = display_unit(np.concatenate([check.max_compression, check.min_compression]), "N")
     peaks = np.abs(without_round_off(check.peak_deflection))  # signed: magnitudes against the limits
     scale, length = display_unit(peaks, "m")
@@ -334,9 +336,10 @@ def _mounts_part(check, limits) -> list[str]:
         axis = int(np.argmax(np.where(finite, peaks[j] / np.where(finite, limits[j], 1.0), -np.inf))) \
             if finite.any() else int(np.argmax(peaks[j]))
         use = peaks[j, axis] / limits[j, axis] if finite.any() else None
-        tension = check.min_compression[j] < 0 and np.isfinite(check.tension_start_t[j])
+        tension = ("none" if not (check.min_compression[j] < 0 and np.isfinite(check.tension_start_t[j]))
+                   else "yes (allowed)" if mounts[j].allow_tension else "TENSION (not allowed)")
         rows.append([name, f"{check.max_compression[j] * factor:.4g}", f"{check.min_compression[j] * factor:.4g}",
-                     "TENSION" if tension else "none", f"{peaks[j, axis] * scale:.4g} ({'uvw'[axis]})",
+                     tension, f"{peaks[j, axis] * scale:.4g} ({'uvw'[axis]})",
                      "-" if use is None else f"{limits[j, axis] * scale:.4g}",
                      "-" if use is None else f"{100 * (1 - use):.0f} %" + (" EXCEEDED" if use > 1 else "")])
     headers = ["mount", f"max N [{unit}]", f"min N [{unit}]", "tension",
@@ -368,8 +371,7 @@ def isolation_summary_text(results) -> str:
     summary = run_isolation_summary(results) if has_operating(results) else None
     parts = _frequencies_part(results, summary)
     if results.mount_check is not None and results.system is not None:
-        limits = np.stack([m.max_deflection for m in results.system.mounts])
-        parts += ["", *_mounts_part(results.mount_check, limits)]
+        parts += ["", *_mounts_part(results.mount_check, results.system.mounts)]
     if results.points:
         parts += ["", *_points_part(results.points, results.steady_state is not None)]
     return "\n".join(parts)

@@ -10,8 +10,10 @@ from pathlib import Path
 import numpy as np
 
 from sixdof.analysis.compare import QUANTITIES
+from sixdof.analysis.isolation_summary import has_operating, run_isolation_summary
 from sixdof.analysis.statespace import damped_modes
 from sixdof.analysis.statics import STANDARD_GRAVITY
+from sixdof.analysis.steady import vector_amplitude
 from sixdof.analysis.validity import body_length
 from sixdof.dofs import AXES, DOF_UNITS, DOFS, display_unit
 from sixdof.io.tables import fixed, table, without_round_off, wrapped
@@ -320,6 +322,12 @@ def _frequencies_part(results, summary) -> list[str]:
         rows.append([f"applied force [{unit}]", *(f"{at[f][0] * factor:.4g}" if f in at else "-" for f in operating)])
         rows.append([f"force on the foundation [{unit}]",
                      *(f"{at[f][1] * factor:.4g}" if f in at else "-" for f in operating)])
+        if any(curve.kind == "moment" for curve in curves):  # a torque: its moments too
+            moments = dict(zip(steady.f_hz, zip(vector_amplitude(steady.applied[:, 3:]),
+                                                vector_amplitude(steady.transmitted[:, 3:]))))
+            rows.append(["applied moment [N m]", *(f"{moments[f][0]:.4g}" if f in moments else "-" for f in operating)])
+            rows.append(["moment on the foundation [N m]",
+                         *(f"{moments[f][1]:.4g}" if f in moments else "-" for f in operating)])
     return [*lines, table(headers, rows, "l" + "r" * len(operating))]
 
 
@@ -364,8 +372,6 @@ def isolation_summary_text(results) -> str:
     isolation efficiency and force on the foundation at each (:mod:`sixdof.analysis.isolation_summary`), the peak
     mount loads and deflections against their limits with margins, and the peak accelerations at the named
     points. What ``sixdof run`` prints first and what ``summary.md`` starts with; the solver checks follow."""
-    from sixdof.analysis.isolation_summary import has_operating, run_isolation_summary  # noqa: PLC0415 (a summary of a run only)
-
     if results.modes is None:
         return ""
     summary = run_isolation_summary(results) if has_operating(results) else None

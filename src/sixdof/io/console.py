@@ -44,8 +44,11 @@ def run_text(results) -> str:
     fits, statics, steady state, random vibration, shock spectra, the cross-check, mount checks, body points
     and the FRF cross-check."""
     scenario, system = results.scenario, results.system
-    lines = [f"{title(results)}\n", report.modes_table(results.modes, results.damping_ratios, system),
-             report.damping_note(system)]
+    lines = [f"{title(results)}\n"]
+    summary = report.isolation_summary_text(results)
+    if summary:
+        lines += [f"{report.ISOLATION_SUMMARY}:\n{summary}", "\nDetails and solver checks:"]
+    lines += [report.modes_table(results.modes, results.damping_ratios, system), report.damping_note(system)]
     if scenario.viscoelastic:
         lines.append(f"\nVisco-elastic mounts (Maxwell fits):\n{report.viscoelastic_table(scenario.viscoelastic)}")
     if results.statics is not None:

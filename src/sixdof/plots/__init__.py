@@ -56,6 +56,7 @@ _PUBLIC = {
     "plot_time_histories": "time",
     "plot_bode": "frf",
     "plot_point_frfs": "frf",
+    "plot_transmissibility": "transmissibility",
     "plot_free_decays": "validation",
     "plot_validation_frf": "validation",
     "plot_random": "random",
@@ -90,6 +91,18 @@ def _carries_shear(check) -> bool:
     from sixdof.analysis.mountcheck import carries_shear  # noqa: PLC0415 (loads NumPy: the command's figure workers start first)
 
     return carries_shear(check)
+
+
+def _has_operating(run) -> bool:
+    from sixdof.analysis.isolation_summary import has_operating  # noqa: PLC0415 (loads NumPy: the command's figure workers start first)
+
+    return has_operating(run)
+
+
+def _isolation_summary(run):
+    from sixdof.analysis.isolation_summary import run_isolation_summary  # noqa: PLC0415 (loads NumPy: the command's figure workers start first)
+
+    return run_isolation_summary(run)
 
 
 def _linear_name(run) -> str:
@@ -147,6 +160,8 @@ FIGURES: tuple[tuple[str, tuple[str, ...], Callable[[object], bool], Callable[[o
     ("bode.png", ("frf", "modes", "steady_state", "system"), lambda run: run.frf is not None,
      lambda run: _plots.plot_bode(run.frf, run.modes, name=_linear_name(run),
                                   operating_hz=None if run.steady_state is None else run.steady_state.f_hz)),
+    ("transmissibility.png", ("system", "modes", "frf", "steady_state"), lambda run: _has_operating(run),
+     lambda run: _plots.plot_transmissibility(_isolation_summary(run), run.modes, name=_linear_name(run))),
     ("point_frfs.png", ("frf", "frf_extras", "modes", "system"), lambda run: bool(run.frf_extras),
      lambda run: _plots.plot_point_frfs(_file_order(run.frf_extras), run.modes, name=_linear_name(run))),
     ("validation_frf.png", ("validation",), lambda run: run.validation is not None and bool(run.validation.random_runs),

@@ -1,0 +1,149 @@
+"""``report.html`` (issue 49, items 4 and 6): one self-contained page per run, parsed back with the standard
+library's HTML parser (every figure of the folder embedded byte for byte, nothing referenced outside the file,
+the scenario's text and the sections present) and rendered by a real browser (headless Chromium) where one is
+installed."""
+
+from __future__ import annotations
+
+import base64
+import shutil
+import subprocess
+from html.parser import HTMLParser
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from sixdof.io.html_report import FIGURE_CAPTIONS, REPORT, markdown_html
+from sixdof.plots import FIGURES
+from sixdof.workflows.run import run_scenario
+
+SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "bridge_beam_traffic.toml"
+SECTIONS = ["Summary", "Model", "Figures", "Checks", "Scenario"]
+
+
+class Page(HTMLParser):
+    """What a page holds: its tags with their attributes, the text of each heading, table cell and ``<pre>``."""
+
+    def __init__(self) -> None:
+        super().__init__(convert_charrefs=True)
+        self.tags: list[tuple[str, dict]] = []
+        self.texts: dict[str, list[str]] = {}
+        self._open: list[str] = []
+
+    def handle_starttag(self, tag, attrs):
+        self.tags.append((tag, dict(attrs)))
+        if tag in ("h1", "h2", "h3", "h4", "pre", "td", "th", "figcaption", "p"):
+            self._open.append(tag)
+            self.texts.setdefault(tag, []).append("")
+
+    def handle_endtag(self, tag):
+        if self._open and self._open[-1] == tag:
+            self._open.pop()
+
+    def handle_data(self, data):
+        if self._open:
+            self.texts[self._open[-1]][-1] += data
+
+
+def parsed(text: str) -> Page:
+    page = Page()
+    page.feed(text)
+    page.close()
+    return page
+
+
+@pytest.fixture(scope="module")
+def outcome(tmp_path_factory):
+    results, folder = run_scenario(SCENARIO, tmp_path_factory.mktemp("out"), progress=False, log=lambda *_: None)
+    return results, folder, (folder / REPORT).read_text(encoding="utf-8")
+
+
+def test_every_figure_of_the_folder_is_in_the_report_byte_for_byte(outcome):
+    _, folder, text = outcome
+    images = {attrs["alt"]: attrs["src"] for tag, attrs in parsed(text).tags if tag == "img"}
+    figures = sorted(p.name for p in folder.glob("*.png"))
+    assert figures and sorted(images) == figures
+    prefix = "data:image/png;base64,"
+    for name, src in images.items():
+        assert src.startswith(prefix) and base64.b64decode(src[len(prefix):]) == (folder / name).read_bytes()
+
+
+def test_the_report_references_nothing_outside_itself(outcome):
+    _, _, text = outcome
+    page = parsed(text)
+    assert not [tag for tag, _ in page.tags if tag in ("script", "link", "iframe", "object", "embed", "base")]
+    for tag, attrs in page.tags:
+        for key in ("src", "href", "srcset", "data", "action", "poster"):
+            value = attrs.get(key)
+            if value is not None:  # a figure's data: URI, or a link to a section of the page itself
+                assert value.startswith("data:image/") if key == "src" else value.startswith("#"), (tag, attrs)
+    assert "url(" not in text and "@import" not in text and "http://" not in text and "https://" not in text
+    anchors = {attrs["href"][1:] for tag, attrs in page.tags if tag == "a"}
+    assert anchors <= {attrs.get("id") for _, attrs in page.tags}
+
+
+def test_the_report_holds_the_sections_the_checks_and_the_scenario_itself(outcome):
+    results, folder, text = outcome
+    page = parsed(text)
+    assert page.texts["h1"] == [results.name]
+    assert page.texts["h2"] == SECTIONS
+    summary = (folder / "summary.md").read_text(encoding="utf-8")
+    headings = [line.lstrip("#").strip() for line in summary.splitlines()[1:] if line.startswith("## ")]
+    assert "Natural frequencies" in headings and "Figures" in headings
+    assert [h for h in headings if h != "Figures"] == [h for h in page.texts["h3"] if h not in ("Body", "Mounts")]
+    assert SCENARIO.read_text(encoding="utf-8") in page.texts["pre"]  # unescaped by the parser: the file itself
+    cells = page.texts["td"]
+    verdict = cells[cells.index("direct solve against modal superposition") + 2]
+    assert verdict == ("pass" if results.agreement.ok else "FAIL") == "pass"
+    model = parsed(text.split('<section id="model">')[1].split("</section>")[0])
+    header = next(h for h in model.texts["th"] if h.startswith("stiffness"))
+    per = {"[N/m]": 1.0, "[kN/m]": 1e3, "[MN/m]": 1e6}[header.split()[-1]]
+    for mount in results.system.mounts:  # the model's table: each mount's stiffness as the scenario gives it
+        row = model.texts["td"].index(mount.name)
+        assert model.texts["td"][row + 2] == ", ".join(f"{v / per:.4g}" for v in mount.stiffness)
+    assert f"{results.system.body.mass:.6g} kg" in model.texts["td"]
+    captions = page.texts["figcaption"]
+    assert len(captions) == len(list(folder.glob("*.png")))
+    assert all(FIGURE_CAPTIONS[Path(c.split(":")[0]).stem] in c for c in captions)
+
+
+def test_every_figure_of_a_run_has_its_sentence():
+    assert {Path(name).stem for name, *_ in FIGURES} <= set(FIGURE_CAPTIONS)
+
+
+def test_markdown_tables_paragraphs_and_escaping():
+    text = ("# Title\n\nSome prose wrapped\nover two lines & <more>:\n| DOF | peak |q'| | at t [s] |\n"
+            "|-----|----------:|---------:|\n| x   |    1 mm   |     0.5  |\n\n- one\n- two `a<b`\n")
+    page = parsed(markdown_html(text, heading_shift=1))
+    assert page.texts["h2"] == ["Title"]
+    assert page.texts["p"] == ["Some prose wrapped over two lines & <more>:"]
+    assert page.texts["th"] == ["DOF", "peak |q'|", "at t [s]"]  # the cell's pipes kept: cut at the rule's
+    assert page.texts["td"] == ["x", "1 mm", "0.5"]
+    right = [attrs.get("class") for tag, attrs in page.tags if tag == "td"]
+    assert right == [None, "r", "r"]
+    assert "&lt;more&gt;" in markdown_html(text) and "<code>a&lt;b</code>" in markdown_html(text)
+
+
+def _browser() -> str | None:
+    return shutil.which("chromium") or next((p for p in ("/usr/bin/chromium",) if Path(p).exists()), None)
+
+
+@pytest.mark.skipif(_browser() is None, reason="no Chromium installed (.ci/run installs Debian's chromium where "
+                                               "apt-get may run; elsewhere: apt-get install chromium)")
+def test_chromium_renders_the_report(outcome, tmp_path):
+    from PIL import Image  # noqa: PLC0415 (matplotlib's own dependency, for the screenshot's pixels)
+
+    _, folder, _ = outcome
+    shot = tmp_path / "report.png"
+    subprocess.run([_browser(), "--headless", "--disable-gpu", "--no-sandbox", "--hide-scrollbars",
+                    f"--screenshot={shot}", "--window-size=1280,2000", (folder / REPORT).as_uri()],
+                   check=True, capture_output=True, timeout=120, cwd=tmp_path)
+    with Image.open(shot) as image:
+        assert image.size == (1280, 2000)
+        pixels = np.asarray(image.convert("RGB"), dtype=int)
+    ink = np.any(pixels < 200, axis=2)  # text, rules and table borders
+    assert 0.01 < ink.mean() < 0.5  # rendered: neither a blank page nor a black one
+    assert ink[:, :640].mean() > 0.01 and ink[:1000].mean() > 0.01 and ink[1000:].mean() > 0.01
+    tinted = (pixels[..., 2] - pixels[..., 0]) > 10  # the table headers' and links' blue: the style applied
+    assert tinted.mean() > 0.001

@@ -295,6 +295,18 @@ def run_checks(results) -> list[Check]:
     return checks
 
 
+def correlation_checks(run) -> list[Check]:
+    """The verdict of a correlation run (``sixdof correlate``: a
+    :class:`~sixdof.design.correlation.CorrelationRun`): the model against the test, and after an update the
+    updated model (which the verdict then judges), with their reasons; then every note of the run."""
+    judged = [("model against the test", run.correlation)]
+    if run.correlation_updated is not None:
+        judged.append(("updated model against the test", run.correlation_updated))
+    checks = [Check(what, "; ".join(c.reasons) if c.reasons else "every test mode paired within the limits",
+                    "pass" if c.correlated else "FAIL") for what, c in judged if c is not None]
+    return checks + [Check("note", note, "warning") for note in run.notes or ()]
+
+
 # ----------------------------------------------------------------------------------------------------
 # The page.
 # ----------------------------------------------------------------------------------------------------

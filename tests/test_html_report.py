@@ -75,6 +75,16 @@ def test_markdown_tables_paragraphs_and_escaping():
     assert "&lt;more&gt;" in markdown_html(text) and "<code>a&lt;b</code>" in markdown_html(text)
 
 
+def test_a_table_whose_rows_are_set_apart_stays_one_table_and_two_tables_stay_two():
+    spaced = "| a | b |\n\n|---|--:|\n\n| 1 | 2 |\n\n| 3 | 4 |\n\nAfter."
+    page = parsed(markdown_html(spaced))
+    assert [tag for tag, _ in page.tags].count("table") == 1 and page.texts["td"] == ["1", "2", "3", "4"]
+    assert page.texts["p"] == ["After."]
+    two = "| a | b |\n|---|--:|\n| 1 | 2 |\n\n| c | d |\n|---|--:|\n| 3 | 4 |\n"
+    page = parsed(markdown_html(two))
+    assert [tag for tag, _ in page.tags].count("table") == 2 and page.texts["th"] == ["a", "b", "c", "d"]
+
+
 def _browser() -> str | None:
     return shutil.which("chromium") or next((p for p in ("/usr/bin/chromium",) if Path(p).exists()), None)
 

@@ -153,11 +153,8 @@ def markdown_html(text: str, heading_shift: int = 0) -> str:
             out.append(f"<h{level}>{_inline(heading.group(2).strip())}</h{level}>")
         elif stripped.startswith("|"):
             flush()
-            end = i
-            while end < len(lines) and lines[end].strip().startswith("|"):
-                end += 1
-            out.append(_table_html(lines[i:end]))
-            i = end
+            rows, i = _table_lines(lines, i)
+            out.append(_table_html(rows))
             continue
         elif not stripped or _IMAGE_LINE.match(line):
             flush()
@@ -172,6 +169,29 @@ def markdown_html(text: str, heading_shift: int = 0) -> str:
         i += 1
     flush()
     return "\n".join(out)
+
+
+def _table_lines(lines: Sequence[str], start: int) -> tuple[list[str], int]:
+    """The rows of the pipe table starting at ``lines[start]``, and the index after it. Rows set apart by blank
+    lines stay one table (a summary that doubles its line breaks: the nonlinear mounts' text) unless a row
+    followed by a rule line starts a table of its own."""
+    rows, i = [], start
+    while i < len(lines):
+        if lines[i].strip().startswith("|"):
+            rows.append(lines[i])
+            i += 1
+            continue
+        after = next((j for j in range(i, len(lines)) if lines[j].strip()), len(lines))
+        if lines[i].strip() or after == len(lines) or not lines[after].strip().startswith("|"):
+            break
+        following = next((j for j in range(after + 1, len(lines)) if lines[j].strip()), None)
+        if following is not None and _RULE.fullmatch(lines[following].strip()) and len(rows) >= 2:
+            break  # a header and its rule: another table
+        i = after
+    return rows, i
+
+
+_RULE = re.compile(r"\|(\s*:?-+:?\s*\|)+")
 
 
 def _joined(lines: Sequence[str]) -> list[str]:
@@ -202,7 +222,7 @@ def _table_html(lines: Sequence[str]) -> str:
     """A pipe table as HTML. The columns are cut where the rule line (``|---|--:|``) has its pipes when every
     row has a pipe there (:func:`sixdof.io.tables.table` pads its columns, and a cell may hold a pipe:
     ``peak |q'|``); otherwise at every pipe."""
-    if len(lines) < 2 or not re.fullmatch(r"\|(\s*:?-+:?\s*\|)+", lines[1].strip()):
+    if len(lines) < 2 or not _RULE.fullmatch(lines[1].strip()):
         return "<pre>" + html.escape("\n".join(lines)) + "</pre>"
     rule = lines[1].strip()
     cuts = [k for k, c in enumerate(rule) if c == "|"]
@@ -365,7 +385,7 @@ def report_html(title: str, summary: str, *, figures: Sequence[str | Path] = (),
         sections.append(("figures", "Figures", "\n".join(_figure_html(f) for f in others)))
     if checks:
         rows = "\n".join(f"<tr><td>{html.escape(c.what)}</td><td>{html.escape(c.result)}</td>"
-                         f"<td class={html.escape(c.verdict.split()[0])}>{html.escape(c.verdict)}</td></tr>"
+                         f'<td class="{html.escape(c.verdict.split()[0])}">{html.escape(c.verdict)}</td></tr>'
                          for c in checks)
         sections.append(("checks", "Checks", "<table>\n<thead><tr><th>check</th><th>result</th><th>verdict</th>"
                                              f"</tr></thead>\n<tbody>\n{rows}\n</tbody>\n</table>"))
@@ -402,9 +422,11 @@ def write_report(folder: str | Path, title: str, summary: str, *, figures: Seque
 
 def write_run_report(folder: str | Path, results, summary: str, figures: Sequence[str | Path] = (),
                      title: str | None = None) -> Path:
-    """:func:`write_report` for a :class:`~sixdof.results.RunResults` (a run's or a validation's): its model
-    (``results.system``), checks (:func:`run_checks`) and scenario file (``results.scenario.text``)."""
+    """:func:`write_report` for a :class:`~sixdof.results.RunResults` (a run's or a validation's): its model as
+    the scenario file gives it (``results.scenario.given_system``: no fits, no linearization), checks
+    (:func:`run_checks`) and scenario file (``results.scenario.text``)."""
     scenario = results.scenario
+    system = results.system if scenario is None else scenario.given_system
     return write_report(folder, title or results.name, summary,
-                        figures=figures, system=results.system, checks=run_checks(results),
+                        figures=figures, system=system, checks=run_checks(results),
                         scenario_text=None if scenario is None else scenario.text)

@@ -337,7 +337,8 @@ def _save_into(stage: Path, scenario, count: int, merge, command_line: str | Non
                + (f"## Warnings\n\n{listed}\n" if listed else "") + f"{table}\n" + (f"\n{check}\n" if check else ""))
     (stage / "summary.md").write_text(summary, encoding="utf-8")
     html_report.write_report(stage, f"{scenario.name}: sweep of {count} variants", summary,
-                             figures=sorted(stage.glob("*.png")), system=scenario.system, scenario_text=scenario.text)
+                             figures=sorted(stage.glob("*.png")), system=scenario.given_system,
+                             scenario_text=scenario.text)
     return notes
 
 

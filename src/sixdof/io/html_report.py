@@ -281,15 +281,26 @@ def model_markdown(system) -> str:
 
 def run_checks(results) -> list[Check]:
     """The checks of a :class:`~sixdof.results.RunResults` and their verdicts, as the run judged them: the
-    solver's cross-check by modal superposition, the FRFs' direct against modal (reported: no limit is set),
+    solver's cross-check by modal superposition, with nonlinear mounts the energy balance and the second solve
+    at tighter tolerances, the FRFs' direct against modal (reported: no limit is set),
     the mount limits, the random response's time check, the records' clauses, a validation's checks, and
     every warning of the run."""
     checks = []
     agreement = results.agreement
     if agreement is not None:
-        checks.append(Check("direct solve against modal superposition",
+        until = " (until the first mount engaged)" if results.contacts is not None else ""
+        checks.append(Check("direct solve against modal superposition" + until,
                             f"worst {agreement.worst:.2e} ({agreement.worst_dof}) against the tolerance "
                             f"{agreement.tolerance:.0e}", "pass" if agreement.ok else "FAIL"))
+    energy, refined = results.energy, results.refined
+    if energy is not None:
+        checks.append(Check("energy balance (work of loads and ground = kinetic + stored + dissipated)",
+                            f"worst residual {energy.worst:.2e} of the largest energy against the tolerance "
+                            f"{energy.tolerance:.0e}", "pass" if energy.ok else "FAIL"))
+    if refined is not None:
+        checks.append(Check("second solve at 100x tighter tolerances",
+                            f"worst {refined.worst:.2e} ({refined.worst_dof}) against the tolerance "
+                            f"{refined.tolerance:.0e}", "pass" if refined.ok else "FAIL"))
     if results.frf is not None:
         checks.append(Check("FRF direct against modal", f"{results.frf.max_relative_difference:.1e} (worst "
                             "relative difference)", "reported"))

@@ -45,7 +45,7 @@ def test_the_report_holds_the_sections_the_checks_and_the_scenario_itself(outcom
     assert SCENARIO.read_text(encoding="utf-8") in page.texts["pre"]  # unescaped by the parser: the file itself
     cells = page.texts["td"]
     verdict = cells[cells.index("direct solve against modal superposition") + 2]
-    assert verdict == ("pass" if results.agreement.ok else "FAIL") == "pass"
+    assert verdict == ("PASS" if results.agreement.ok else "FAIL") == "PASS"
     model = section(folder, "model")
     header = next(h for h in model.texts["th"] if h.startswith("stiffness"))
     per = {"[N/m]": 1.0, "[kN/m]": 1e3, "[MN/m]": 1e6}[header.split()[-1]]

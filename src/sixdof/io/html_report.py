@@ -91,15 +91,15 @@ figure { margin: 1.5em 0; }
 figure img { max-width: 100%; border: 1px solid #ccd; }
 figcaption { font-style: italic; margin-top: 0.3em; }
 pre { background: #f4f4f8; border: 1px solid #ccd; padding: 0.8em; overflow-x: auto; font-size: 0.85em; }
-.PASS, .pass { color: #161; font-weight: bold; }
-.FAIL, .fail, .warning { color: #a11; font-weight: bold; }
+.PASS { color: #161; font-weight: bold; }
+.FAIL, .warning { color: #a11; font-weight: bold; }
 """
 
 
 @dataclass(frozen=True)
 class Check:
     """One check of a run and its verdict: ``what`` is checked, the ``result`` measured (against its limit), and
-    the ``verdict`` (``pass``, ``FAIL``, ``warning`` or ``reported`` where the library sets no limit)."""
+    the ``verdict`` (``PASS``, ``FAIL``, ``warning``, or ``reported`` where the library sets no limit)."""
 
     what: str
     result: str
@@ -291,16 +291,16 @@ def run_checks(results) -> list[Check]:
         until = " (until the first mount engaged)" if results.contacts is not None else ""
         checks.append(Check("direct solve against modal superposition" + until,
                             f"worst {agreement.worst:.2e} ({agreement.worst_dof}) against the tolerance "
-                            f"{agreement.tolerance:.0e}", "pass" if agreement.ok else "FAIL"))
+                            f"{agreement.tolerance:.0e}", "PASS" if agreement.ok else "FAIL"))
     energy, refined = results.energy, results.refined
     if energy is not None:
         checks.append(Check("energy balance (work of loads and ground = kinetic + stored + dissipated)",
                             f"worst residual {energy.worst:.2e} of the largest energy against the tolerance "
-                            f"{energy.tolerance:.0e}", "pass" if energy.ok else "FAIL"))
+                            f"{energy.tolerance:.0e}", "PASS" if energy.ok else "FAIL"))
     if refined is not None:
         checks.append(Check("second solve at 100x tighter tolerances",
                             f"worst {refined.worst:.2e} ({refined.worst_dof}) against the tolerance "
-                            f"{refined.tolerance:.0e}", "pass" if refined.ok else "FAIL"))
+                            f"{refined.tolerance:.0e}", "PASS" if refined.ok else "FAIL"))
     if results.frf is not None:
         checks.append(Check("FRF direct against modal", f"{results.frf.max_relative_difference:.1e} (worst "
                             "relative difference)", "reported"))
@@ -308,7 +308,7 @@ def run_checks(results) -> list[Check]:
         violations = results.mount_check.violations
         checks.append(Check("mount limits (max_deflection, allow_tension)",
                             "; ".join(violations) if violations else "no mount beyond its limits",
-                            "FAIL" if violations else "pass"))
+                            "FAIL" if violations else "PASS"))
     random = results.random
     if random is not None and random.time_check is not None:
         check = random.time_check
@@ -318,7 +318,7 @@ def run_checks(results) -> list[Check]:
     if results.records_check is not None:
         failures = results.records_check.failures
         checks.append(Check("spectrum-compatible records (EN 1998-1 3.2.3.1.2)",
-                            "; ".join(failures) if failures else "every clause met", "FAIL" if failures else "pass"))
+                            "; ".join(failures) if failures else "every clause met", "FAIL" if failures else "PASS"))
     if results.validation is not None:
         checks += [Check(f"mode {c.mode}: {c.name.replace('_', ' ')}", f"{c.value:.3g} against {c.limit:.3g}"
                          + ("" if c.unit == "1" else f" {c.unit}"), c.verdict) for c in results.validation.checks]
@@ -334,7 +334,7 @@ def correlation_checks(run) -> list[Check]:
     if run.correlation_updated is not None:
         judged.append(("updated model against the test", run.correlation_updated))
     checks = [Check(what, "; ".join(c.reasons) if c.reasons else "every test mode paired within the limits",
-                    "pass" if c.correlated else "FAIL") for what, c in judged if c is not None]
+                    "PASS" if c.correlated else "FAIL") for what, c in judged if c is not None]
     return checks + [Check("note", note, "warning") for note in run.notes or ()]
 
 

@@ -275,8 +275,17 @@ def model_markdown(system) -> str:
                            ", ".join(f"{v * 1e3:.4g}" for v in limit) if np.isfinite(limit).any() else "-"])
     headers = ["mount", "position x, y, z [m]", f"stiffness u, v, w [{k_unit}]", f"damping u, v, w [{c_unit}]",
                "loss factor u, v, w", "axes", "max deflection [mm]"]
-    return "\n".join(["### Body", "", table(["property", "value"], rows, "ll"), "", "### Mounts", "",
-                      table(headers, mount_rows, "lllllll")])
+    parts = ["### Body", "", table(["property", "value"], rows, "ll"), "", "### Mounts", "",
+             table(headers, mount_rows, "lllllll")]
+    nonlinear, hysteretic = system.nonlinear, system.hysteretic
+    if nonlinear.count:
+        parts += ["", "Nonlinear mount axes: "
+                  + ", ".join(f"{n} ({k})" for n, k in zip(nonlinear.names, nonlinear.kinds)) + "."]
+    if hysteretic.count:
+        parts += ["", "Hysteretic mount axes: " + ", ".join(
+            f"{n} ({'friction pendulum' if p else 'Bouc-Wen'})" for n, p in zip(hysteretic.names, hysteretic.pendulum))
+                  + "."]
+    return "\n".join(parts)
 
 
 def run_checks(results) -> list[Check]:

@@ -8,12 +8,13 @@ from __future__ import annotations
 import shutil
 import subprocess
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
 from html_pages import check_report, parsed, section
-from sixdof.io.html_report import FIGURE_CAPTIONS, REPORT, markdown_html
+from sixdof.io.html_report import FIGURE_CAPTIONS, REPORT, embeddable, markdown_html, report_html, run_checks
 from sixdof.plots import FIGURES
 from sixdof.workflows.run import run_scenario
 
@@ -83,6 +84,32 @@ def test_a_table_whose_rows_are_set_apart_stays_one_table_and_two_tables_stay_tw
     two = "| a | b |\n|---|--:|\n| 1 | 2 |\n\n| c | d |\n|---|--:|\n| 3 | 4 |\n"
     page = parsed(markdown_html(two))
     assert [tag for tag, _ in page.tags].count("table") == 2 and page.texts["th"] == ["a", "b", "c", "d"]
+
+
+def test_a_failed_check_and_a_warning_read_as_such():
+    agreement = SimpleNamespace(worst=3e-5, worst_dof="rz", tolerance=1e-6, ok=False)
+    check = SimpleNamespace(violations=("mount 2: deflection 12 mm beyond its max_deflection 10 mm",))
+    results = SimpleNamespace(agreement=agreement, energy=None, refined=None, frf=None, mount_check=check,
+                              random=None, records_check=None, validation=None, contacts=None,
+                              notes=("something to know",))
+    checks = run_checks(results)
+    assert [c.verdict for c in checks] == ["FAIL", "FAIL", "warning"]
+    assert "3.00e-05 (rz)" in checks[0].result and checks[1].result == check.violations[0]
+    page = parsed(report_html("t", "# t\n", checks=checks))
+    assert page.texts["td"][2::3] == ["FAIL", "FAIL", "warning"]
+
+
+def test_a_figure_is_shown_once_from_its_png_else_its_svg(tmp_path):
+    (tmp_path / "bode.png").write_bytes(b"\x89PNG fake")
+    (tmp_path / "bode.svg").write_text("<svg/>")
+    (tmp_path / "srs.svg").write_text("<svg/>")
+    (tmp_path / "srs.pdf").write_bytes(b"%PDF")
+    (tmp_path / "mac.pdf").write_bytes(b"%PDF")
+    shown = embeddable(sorted(tmp_path.iterdir()))
+    assert [p.name for p in shown] == ["bode.png", "srs.svg"]
+    page = parsed(report_html("t", "", figures=sorted(tmp_path.iterdir())))
+    sources = [attrs["src"] for tag, attrs in page.tags if tag == "img"]
+    assert [s.split(";")[0] for s in sources] == ["data:image/png", "data:image/svg+xml"]
 
 
 def _browser() -> str | None:

@@ -74,6 +74,7 @@ def test_markdown_tables_paragraphs_and_escaping():
     right = [attrs.get("class") for tag, attrs in page.tags if tag == "td"]
     assert right == [None, "r", "r"]
     assert "&lt;more&gt;" in markdown_html(text) and "<code>a&lt;b</code>" in markdown_html(text)
+    assert markdown_html("- a\n- b\nAfter.") == "<ul>\n<li>a</li>\n<li>b</li>\n</ul>\n<p>After.</p>"
 
 
 def test_a_table_whose_rows_are_set_apart_stays_one_table_and_two_tables_stay_two():

@@ -165,6 +165,8 @@ def markdown_html(text: str, heading_shift: int = 0) -> str:
         elif items and line.startswith(" "):  # a list item's continuation
             items[-1] += " " + stripped
         else:
+            if items:  # prose after a list: the list ends first
+                flush()
             paragraph.append(line)
         i += 1
     flush()

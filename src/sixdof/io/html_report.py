@@ -82,7 +82,8 @@ body { font-family: sans-serif; margin: 2em auto; max-width: 1200px; padding: 0 
 h1 { border-bottom: 2px solid #446; }
 h2 { border-bottom: 1px solid #99a; margin-top: 2em; }
 nav a { margin-right: 1em; }
-table { border-collapse: collapse; margin: 0.8em 0; font-size: 0.9em; }
+table { border-collapse: collapse; margin: 0.8em 0; font-size: 0.9em; display: block; max-width: 100%;
+        overflow-x: auto; }
 th, td { border: 1px solid #bbc; padding: 0.2em 0.6em; }
 th { background: #eef; }
 td.r, th.r { text-align: right; }

@@ -15,6 +15,7 @@ import pytest
 import scipy.integrate
 import scipy.linalg
 
+from html_pages import check_report
 from references import state_matrices
 from sixdof import (
     Excitation,
@@ -335,6 +336,7 @@ def test_sweep_command_prints_the_cross_check(tmp_path, capsys):
     assert ": ok\n  per DOF: x " in out and "3 variants, exact engine" in out
     summary = (tmp_path / "out" / "beam_sweep" / "summary.md").read_text()  # the terminal's tables, kept
     assert summary.startswith("# beam: sweep of 3 variants\n") and "| f1 [Hz]" in summary
+    assert check_report(tmp_path / "out" / "beam_sweep").texts["h1"] == ["beam: sweep of 3 variants"]
     assert "| mode (dominant DOF) | nominal [Hz] | p5 [Hz] | p50 [Hz] | p95 [Hz] | lowest MAC |" in summary
     assert "Cross-check of the exact engine: diffrax solved variants 0, 1, 2; peak agreement worst " in summary
     # The peaks' percentiles in the run summary's display units (mm, µrad ...), each row its own, not raw SI.

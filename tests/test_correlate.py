@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from html_pages import check_report, section
 from sixdof.io.scenario import load_scenario, parse_scenario
 from sixdof.io.store import load_results
 from sixdof.io.testfile import load_test
@@ -88,6 +89,9 @@ def test_a_saved_correlation_reads_back_as_it_was(run, tmp_path):
     summary = (folder / "summary.md").read_text()
     assert "NOT correlated" in summary and "![mac](mac.png)" in summary
     assert "Motion no rigid body makes, per node" in summary
+    check_report(folder)  # self-contained, every figure in it
+    cells = section(folder, "checks").texts["td"]
+    assert cells[cells.index("model against the test") + 2] == "FAIL"
 
 
 def _time_test(seconds: float, rate_hz: float, seed: int):

@@ -262,7 +262,7 @@ def test_optimize_writes_a_scenario_that_reproduces_the_design_and_a_labelled_fi
                           f"scattered samples ({within.sum()} of 1000, every mount-axis stiffness +-15 %).\n")
     assert "P(met)" in out
     names = sorted(p.name for p in folder.iterdir() if not p.name.startswith("."))
-    assert names == ["decoupling.png", "design.h5", "frequencies.png", "optimized.toml", "summary.md"]
+    assert names == ["decoupling.png", "design.h5", "frequencies.png", "optimized.toml", "report.html", "summary.md"]
     optimized = prepare(load_scenario(folder / "optimized.toml"))  # a complete, valid scenario
     # Written with the digits that matter: each optimized stiffness to 4 significant figures.
     changed = [k for m, m0 in zip(optimized.system.mounts, prepare("scenarios/engine_inclined_mounts.toml")

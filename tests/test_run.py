@@ -93,10 +93,10 @@ def outcome(scenario, tmp_path_factory):
 def test_run_writes_results_figures_and_summary(outcome):
     computed, folder = outcome
     assert sorted(p.name for p in folder.iterdir()) == sorted(
-        [".sixdof-files", "results.h5", "summary.md", *figure_names(computed)]
+        [".sixdof-files", "results.h5", "summary.md", "report.html", *figure_names(computed)]
     )
     listed = (folder / ".sixdof-files").read_text().splitlines()
-    assert listed == sorted(["results.h5", "summary.md", *figure_names(computed)])
+    assert listed == sorted(["results.h5", "summary.md", "report.html", *figure_names(computed)])
     assert not [p for p in folder.parent.iterdir() if p.name.startswith(".")]
     results = load_tree(folder / "results.h5")
     q = results.array("time/q")

@@ -11,6 +11,7 @@ import pytest
 import scipy.linalg
 import scipy.signal
 
+from html_pages import check_report, section
 from references import displacement_resonance_hz, log_decrement
 from sixdof import (
     Excitation,
@@ -223,6 +224,10 @@ def test_engine_scenario_passes_through_the_command(tmp_path, capsys):
     with h5py.File(tmp_path / "engine_inclined_mounts_validation" / "results.h5") as f:
         assert f["validation"].attrs["verdict"] == "PASS"
         assert [v.decode() for v in f["validation/checks/verdict"][:]] == ["PASS"] * 24
+    folder = tmp_path / "engine_inclined_mounts_validation"
+    check_report(folder)
+    cells = section(folder, "checks").texts["td"]  # check, result, verdict: each check's as the file has it
+    assert cells[2::3] == ["PASS"] * 24 and len(cells) == 3 * 24
 
 
 def _more_damped(system, factor):

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import sixdof
+from html_pages import check_report
 from sixdof.io.scenario import NotPrepared
 from sixdof.io.store import load_tree
 from sixdof.io.stream import ResultsStream
@@ -200,6 +201,7 @@ bounds = [0.5, 2.0]
     assert run.system is not run.scenario.system and run.result.x.size == 2
     folder = save_design(run, tmp_path / "saved")
     assert sorted(p.name for p in folder.iterdir() if not p.name.startswith(".")) == sorted(DESIGN_FILES)
+    check_report(folder)  # self-contained, both figures in it
     again, written = optimize_scenario(scenario, tmp_path / "direct", progress=False, log=lambda text: None)
     assert again.met == run.met and (folder / "optimized.toml").read_text() == (written / "optimized.toml").read_text()
     assert (folder / "summary.md").read_text() == (written / "summary.md").read_text()

@@ -21,7 +21,7 @@ from sixdof.analysis.frf import receptance
 from sixdof.analysis.statespace import damping_ratios
 from sixdof.design.correlation import CorrelationRun
 from sixdof.errors import InputError, Plain
-from sixdof.io import output
+from sixdof.io import html_report, output
 from sixdof.io.scenario import Scenario, load_scenario, parse_scenario
 from sixdof.io.store import write_results
 from sixdof.io.study_report import correlation_text
@@ -45,7 +45,7 @@ RIGID_RESIDUAL = 0.3
 #: The least Welch averages an H1 estimate of time data is made of (its segment is shortened to reach them).
 MIN_AVERAGES = 8
 #: The files a correlation's folder holds besides its figures.
-CORRELATION_FILES = ("correlation.h5", "summary.md")
+CORRELATION_FILES = ("correlation.h5", "summary.md", "report.html")
 
 
 def correlation_run(scenario, test, *, update: bool = False, progress=None) -> CorrelationRun:
@@ -201,8 +201,11 @@ def _save_into(stage: Path, run: CorrelationRun, command_line: str | None) -> No
     if run.updated_text:
         (stage / "updated.toml").write_text(run.updated_text, encoding="utf-8")
     links = "\n".join(f"![{Path(name).stem}]({name})" for name in figures)
-    (stage / "summary.md").write_text(f"# {run.name}: model against test\n\n{correlation_text(run)}\n\n{links}\n",
-                                      encoding="utf-8")
+    summary = f"# {run.name}: model against test\n\n{correlation_text(run)}\n\n{links}\n"
+    (stage / "summary.md").write_text(summary, encoding="utf-8")
+    html_report.write_report(stage, f"{run.name}: model against test", summary, figures=[stage / n for n in figures],
+                             checks=html_report.correlation_checks(run),
+                             scenario_text=(run.provenance or {}).get("scenario_text"))
 
 
 

@@ -19,7 +19,7 @@ from sixdof.design.problem import DesignProblem
 from sixdof.design.record import design_record
 from sixdof.design.scenario_text import scenario_text
 from sixdof.errors import readonly
-from sixdof.io import output, report, study_report
+from sixdof.io import html_report, output, report, study_report
 from sixdof.io.store import write_results
 from sixdof.plots import png
 from sixdof.plots.design import plot_design_decoupling, plot_design_frequencies
@@ -65,7 +65,7 @@ class DesignRun:
 
 
 #: The files a design's folder holds, figures last.
-DESIGN_FILES = ("optimized.toml", "design.h5", "summary.md", "frequencies.png", "decoupling.png")
+DESIGN_FILES = ("optimized.toml", "design.h5", "summary.md", "report.html", "frequencies.png", "decoupling.png")
 
 
 def optimized_toml(scenario, system) -> str:
@@ -178,6 +178,8 @@ def _save_into(stage: Path, run: DesignRun) -> None:
     heading = f"# {scenario.name}: mount design\n\n"
     images = "".join(f"![{n[:-4]}]({n})\n\n" for n in figures)
     (stage / "summary.md").write_text(heading + run.tables + "\n\n" + images, encoding="utf-8")
+    html_report.write_report(stage, f"{scenario.name}: mount design", heading + run.tables,
+                             figures=[stage / name for name in figures], system=system, scenario_text=scenario.text)
 
 
 #: Significant figures of an optimized stiffness [N/m] as written and reported: 4 change it by at most 5e-5 of

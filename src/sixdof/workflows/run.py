@@ -47,7 +47,7 @@ from sixdof.analysis.validity import (
 )
 from sixdof.errors import InputError, Plain
 from sixdof.excitation import Excitation
-from sixdof.io import output, report, store
+from sixdof.io import html_report, output, report, store
 from sixdof.io.scenario import MEMORY_SAMPLES, Scenario, load_scenario
 from sixdof.io.stream import ResultsStream
 from sixdof.model.viscoelastic import long_term_note, loss_fit_misses
@@ -345,7 +345,8 @@ def _check_saveable(results: RunResults, sink) -> None:
 
 
 def _save_into(stage: Path, results: RunResults, sink, drawing, command_line: str | None) -> None:
-    """``results.h5`` (the sink's, or written from ``results``), the figures and ``summary.md`` into ``stage``.
+    """``results.h5`` (the sink's, or written from ``results``), the figures, ``summary.md`` and ``report.html``
+    into ``stage``.
     A sink's file elsewhere is linked (copied across filesystems), never moved: it stays the user's."""
     if sink is None:
         timed = results.scenario.simulation is not None  # what [output] leaves out is derived from the time response
@@ -358,7 +359,9 @@ def _save_into(stage: Path, results: RunResults, sink, drawing, command_line: st
             shutil.copyfile(sink.path, stage / "results.h5")
     drawing.submit(results)
     figures = drawing.save(stage)
-    (stage / "summary.md").write_text(report.summary_markdown(results, figures), encoding="utf-8")
+    summary = report.summary_markdown(results, figures)
+    (stage / "summary.md").write_text(summary, encoding="utf-8")
+    html_report.write_run_report(stage, results, summary, figures)
 
 
 def _silent(*_) -> None:

@@ -32,7 +32,7 @@ from sixdof import __version__
 from sixdof.analysis.sweep import ChunkedSweep, Study, sweep_on, time_system_of, where_ran
 from sixdof.analysis.validity import RangeWarning, variants_fit_range
 from sixdof.errors import InputError, Plain, integer
-from sixdof.io import output
+from sixdof.io import html_report, output
 from sixdof.io.report import moving_ground
 from sixdof.io.store import load_results, write_results
 from sixdof.io.stream import ResultsStream
@@ -315,8 +315,9 @@ def _warn(notes: list[str]) -> None:
 
 
 def _save_into(stage: Path, scenario, count: int, merge, command_line: str | None) -> list[str]:
-    """``sweep.h5`` (its variants streamed by ``merge(sink)``, which returns the merged result cut to no variants)
-    and ``summary.md`` into ``stage``; returns the warnings of variants the Maxwell fits do not vouch for."""
+    """``sweep.h5`` (its variants streamed by ``merge(sink)``, which returns the merged result cut to no variants),
+    ``summary.md`` and ``report.html`` into ``stage``; returns the warnings of variants the Maxwell fits do not
+    vouch for."""
     parts = {"command_line": command_line} if command_line is not None else {}
     path = stage / "sweep.h5"
     with ResultsStream(path, axis="variant", **parts) as stream:
@@ -332,9 +333,12 @@ def _save_into(stage: Path, scenario, count: int, merge, command_line: str | Non
     about = f"{scenario.description}\n\n" if scenario.description else ""
     check = cross_check_text(merged)
     listed = "".join(f"- {note}\n" for note in notes)
-    (stage / "summary.md").write_text(f"# {scenario.name}: sweep of {count} variants\n\n{about}"
-                                      + (f"## Warnings\n\n{listed}\n" if listed else "")
-                                      + f"{table}\n" + (f"\n{check}\n" if check else ""), encoding="utf-8")
+    summary = (f"# {scenario.name}: sweep of {count} variants\n\n{about}"
+               + (f"## Warnings\n\n{listed}\n" if listed else "") + f"{table}\n" + (f"\n{check}\n" if check else ""))
+    (stage / "summary.md").write_text(summary, encoding="utf-8")
+    html_report.write_report(stage, f"{scenario.name}: sweep of {count} variants", summary,
+                             figures=sorted(stage.glob("*.png")), system=scenario.given_system,
+                             scenario_text=scenario.text)
     return notes
 
 

@@ -15,7 +15,7 @@ import numpy as np
 
 from sixdof.analysis.statespace import damping_ratios
 from sixdof.analysis.validity import RangeWarning
-from sixdof.io import output, store
+from sixdof.io import html_report, output, store
 from sixdof.io.scenario import Scenario, load_scenario
 from sixdof.io.study_report import validation_text
 from sixdof.results import RunResults
@@ -59,7 +59,7 @@ def validation_run(scenario, *, progress=None, drawing=None) -> RunResults:
 def save_validation(results: RunResults, out_root: str | Path = "outputs", *, drawing=None,
                     command_line: str | None = None) -> Path:
     """Write a validation (:func:`validation_run`) into ``out_root/<name>_validation/``: ``results.h5``, figures
-    and ``validation.md``, all or nothing, whatever its verdict (PASS or FAIL). Returns the folder."""
+    ``validation.md`` and ``report.html``, all or nothing, whatever its verdict (PASS or FAIL). Returns the folder."""
     target = output.check_target(out_root, results.name, "_validation")
     with drawer(drawing) as drawing:
         return output.write_folder(target, lambda stage: _save_into(stage, results, drawing, command_line))
@@ -92,3 +92,4 @@ def _save_into(stage: Path, results: RunResults, drawing, command_line: str | No
     text = (f"# {results.name}: modal results against time histories\n\n{validation_text(results.validation)}\n\n"
             f"{links}\n")
     (stage / "validation.md").write_text(text, encoding="utf-8")
+    html_report.write_run_report(stage, results, text, figures, title=f"{results.name}: validation")

@@ -20,5 +20,5 @@ def main(args, workers=None) -> int:
                                           command_line=" ".join(sys.argv), workers=workers)
     print(console.run_text(results))
     warn_uplift(results)
-    print(f"\nWrote {directory}: results.h5, {len(figure_names(results))} figures, summary.md")
+    print(f"\nWrote {directory}: results.h5, {len(figure_names(results))} figures, summary.md, report.html")
     return 0

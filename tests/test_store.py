@@ -428,7 +428,9 @@ def test_extra_datasets_and_attributes_round_trip(tmp_path):
     extra = {"statics/q": Dataset(np.arange(6.0), UNITS["q"], ("dof",), {"gravity": 9.81}),
              "statics/dof": Dataset(np.array(DOFS), "", ("dof",)),
              "statics/flag": Dataset(np.array([True, False]), "1", ("dof2",)),
-             "statics/dof2": Dataset(np.array([0, 1]), "1", ("dof2",))}
+             "statics/dof2": Dataset(np.array([0, 1]), "1", ("dof2",)),
+             # a scalar text, as a force-deflection table names its axis: h5py reads it back as bare bytes
+             "statics/axis": Dataset(np.array("w"), "", ())}
     results = write_results(tmp_path / "r.h5", system=system, extra=extra,
                             extra_attrs={"statics": {"uplift": ("1", "2"), "ok": True, "none": None, "empty": ()}})
     loaded = load_tree(tmp_path / "r.h5")
@@ -437,6 +439,10 @@ def test_extra_datasets_and_attributes_round_trip(tmp_path):
     assert loaded.attrs["statics"]["ok"] is True and loaded.attrs["statics"]["empty"] == ()
     assert "none" not in loaded.attrs["statics"]
     assert loaded["statics/flag"].data.dtype == bool
+    assert loaded["statics/axis"].data.shape == () and str(loaded["statics/axis"].data) == "w"
+    _set(tmp_path / "r.h5", "statics/axis", "u")  # and a change to it is caught
+    with pytest.raises(InputError, match="dataset statics/axis: its checksum fails"):
+        load_tree(tmp_path / "r.h5")
     assert loaded["statics/q"].units == UNITS["q"]
     # Booleans read back as booleans in xarray too.
     xr = pytest.importorskip("xarray")

@@ -128,8 +128,9 @@ def _read_tree(f, path: Path, where: list[str]) -> Results:
         if not isinstance(node, h5py.Dataset):
             raise _Damage(f"expected a group or a dataset, found {type(node).__name__}")
         raw = node[()]
-        _check_crc(own, checked, None if node.fletcher32 else raw)
         text = node.dtype.kind == "O" or h5py.check_string_dtype(node.dtype) is not None
+        # h5py reads a scalar text dataset as bare bytes: as an array, its shape counts as the writer's does.
+        _check_crc(own, checked, None if node.fletcher32 else np.asarray(raw, dtype=object) if text else raw)
         data = np.array([v.decode() if isinstance(v, bytes) else str(v) for v in np.ravel(raw).tolist()],
                         dtype=str).reshape(np.shape(raw)) if text else raw
         dims = _dims(f, node, own, name, by_address)

@@ -212,8 +212,7 @@ def stored_energy(system, response) -> np.ndarray:
     z = response.q_relative
     hysteretic = system.hysteretic
     # The hysteretic axes' linearization is no spring of the direct solve: their laws store what they do.
-    K = np.asarray(system.K) - np.asarray(system.K_hysteretic) if hysteretic.count else np.asarray(system.K)
-    stored = 0.5 * np.einsum("ni,ij,nj->n", z, K, z)
+    stored = 0.5 * np.einsum("ni,ij,nj->n", z, np.asarray(system.K_direct), z)
     if hysteretic.count:
         stored = stored + hysteretic.stored(**hysteretic.motion(z, response.qd_relative,
                                                                   response.hysteretic_state)).sum(axis=1)

@@ -372,6 +372,18 @@ class System(Frozen):
         return readonly(h.rows.T @ (h.linear_stiffness[:, None] * h.rows))
 
     @cached_property
+    def K_direct(self) -> np.ndarray:
+        """The stiffness (6, 6) of the direct solve's linear part [N/m, N, N m/rad]: :attr:`K` less the hysteretic
+        axes' linearization (:attr:`K_hysteretic`), whose laws the solve adds; :attr:`K` without them."""
+        return readonly(self.K - self.K_hysteretic) if self.hysteretic.count else self.K
+
+    @cached_property
+    def C_direct(self) -> np.ndarray:
+        """The damping (6, 6) of the direct solve's linear part [N s/m, N s, N m s/rad]: :attr:`C` less the
+        hysteretic axes' equivalent dashpots (:attr:`C_equivalent`); :attr:`C` without them."""
+        return readonly(self.C - self.C_equivalent) if self.hysteretic.count else self.C
+
+    @cached_property
     def equivalent_dampings(self) -> np.ndarray:
         """The equivalent viscous dashpots of the hysteretic axes' effective linearization (n, 3) [N s/m]: ``2 xi_eff
         K_eff / omega``, ``omega`` the circular frequency of the undamped mode whose strain energy the axis holds the

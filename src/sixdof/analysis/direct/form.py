@@ -50,7 +50,7 @@ def first_order_form(system: System, excitation: Excitation) -> tuple[np.ndarray
     (``N = 14 + nb + nh``, ``nb`` Maxwell branch states, ``nh`` hysteretic variables).
 
     With hysteretic mounts it is the linear part of the motion alone: ``K`` and ``C`` without the hysteretic
-    axes' linearization (:attr:`System.K_hysteretic`, :attr:`System.C_equivalent`), whose laws the direct solve
+    axes' linearization (:attr:`System.K_direct`, :attr:`System.C_direct`), whose laws the direct solve
     adds (:func:`sixdof.analysis.direct.solve._solve_segment`), and zero rows for ``h``.
 
     The input is ``u = [s_1(t) ... s_n(t), g(t)]``: the load signals, then the ground's velocity ``v_g``
@@ -60,7 +60,7 @@ def first_order_form(system: System, excitation: Excitation) -> tuple[np.ndarray
     vectors, _ = _load_vectors(excitation)
     n = vectors.shape[0]
     Minv = np.linalg.inv(np.asarray(system.M, dtype=float))
-    K, C = direct_matrices(system)
+    K, C = np.asarray(system.K_direct, dtype=float), np.asarray(system.C_direct, dtype=float)
     branches = system.branches
     R, k_b = branches.rows, branches.stiffness
     size = 14 + branches.count + system.hysteretic.count
@@ -84,15 +84,6 @@ def first_order_form(system: System, excitation: Excitation) -> tuple[np.ndarray
             if ground.quantity == "velocity":
                 B[12, n] = 1.0  # u_g' = v_g
     return A, B
-
-
-def direct_matrices(system: System) -> tuple[np.ndarray, np.ndarray]:
-    """``K`` and ``C`` (6, 6) of the direct solve's linear part: the system's, less the linearization of its
-    hysteretic axes (their stiffness and equivalent dashpots), which the solve replaces by their laws."""
-    K, C = np.asarray(system.K, dtype=float), np.asarray(system.C, dtype=float)
-    if not system.hysteretic.count:
-        return K, C
-    return K - np.asarray(system.K_hysteretic), C - np.asarray(system.C_equivalent)
 
 
 def _load_vectors(excitation: Excitation) -> tuple[np.ndarray, tuple]:

@@ -8,7 +8,6 @@ import numpy as np
 
 from sixdof._jax import jax
 from sixdof.analysis.contact import ContactEvents
-from sixdof.analysis.direct.form import direct_matrices
 from sixdof.analysis.direct.settings import SimulationSettings
 from sixdof.analysis.direct.solve import REGION_HYSTERESIS, _window_args
 from sixdof.analysis.statics import check_pendulum_loads
@@ -31,7 +30,7 @@ def _nonlinear_params(system: System, excitation: Excitation, sigma: np.ndarray,
     check_pendulum_loads(system)
     laws, branches = system.nonlinear, system.branches
     M = np.asarray(system.M, dtype=float)
-    K, C = direct_matrices(system)
+    K, C = np.asarray(system.K_direct, dtype=float), np.asarray(system.C_direct, dtype=float)
     h = system.hysteretic
     ground = excitation.ground
     scale_d = np.abs(laws.rows) @ sigma[:6]

@@ -172,7 +172,7 @@ def test_machine_unbalance_prints_and_stores_its_severity(tmp_path):
     start = next(i for i, line in enumerate(lines) if line.startswith("Vibration severity"))
     assert lines.index(f"{ISOLATION_SUMMARY}:") < start < summary_end < lines.index("Details and solver checks:")
     head = " ".join(lines[start:start + 4])
-    assert "from the steady state" in head and "group 2, flexible foundation" in head
+    assert "from the steady state, v_rms = sqrt(sum|v_k|^2/2)" in head and "group 2, flexible foundation" in head
     assert "A/B 2.3, B/C 4.5, C/D 7.1 mm/s" in head
     rows = {row[1].strip(): [c.strip() for c in row[2:-1]] for row in (line.split("|") for line in lines[start:summary_end])
             if len(row) > 2}
@@ -181,7 +181,9 @@ def test_machine_unbalance_prints_and_stores_its_severity(tmp_path):
         assert rows[name][:3] == [f"{x:.3g}" for x in v]
         assert rows[name][4].startswith(zone_of(v.max(), (2.3, 4.5, 7.1)))
         assert rows[name][5] == f"{100 * (1 - v.max() / 4.5):.0f} %"
-    assert "Vibration severity" in summary_markdown(results)
+    markdown = summary_markdown(results)
+    assert "Vibration severity" in markdown
+    assert "- 1: (x, ry)\n- 2: (y, rx)\n- 3: (z)\n- 4: (rz)" in markdown  # one list: the decoupled subsystems
     path = tmp_path / "results.h5"
     write_results(path, results)
     loaded = load_results(path).severity

@@ -201,7 +201,14 @@ def decoupling_text(modes, metrics) -> str:
 def _markdown(text: str) -> str:
     """Lines of :func:`subsystems_text` or :func:`design_text` as Markdown: a paragraph each, indented lines
     as list items."""
-    return "\n\n".join(f"- {line.strip()}" if line.startswith("  ") else line for line in text.splitlines())
+    blocks: list[list[str]] = []  # paragraphs, and lists of consecutive items
+    for line in text.splitlines():
+        item = line.startswith("  ")
+        if item and blocks and blocks[-1][0].startswith("- "):
+            blocks[-1].append(f"- {line.strip()}")
+        else:
+            blocks.append([f"- {line.strip()}" if item else line])
+    return "\n\n".join("\n".join(block) for block in blocks)
 
 
 def design_text(metrics) -> str:

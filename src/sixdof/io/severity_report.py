@@ -18,7 +18,7 @@ def _how(severity, steady) -> str:
         outside = [] if steady is None else [f for f in steady.f_hz if not low <= f <= high]
         listed = ", ".join(f"{f:.4g}" for f in inside) or "none"
         left = f"; outside the band, left out: {', '.join(f'{f:.4g}' for f in outside)} Hz" if outside else ""
-        return (f"from the steady state, RMS = sqrt(sum |v|^2 / 2) over the operating frequencies in {band} "
+        return (f"from the steady state, v_rms = sqrt(sum|v_k|^2/2) over the operating frequencies in {band} "
                 f"({listed} Hz{left})")
     if severity.source == "random":
         return f"from the random response, its velocity PSD integrated over {band}"
@@ -32,9 +32,9 @@ def severity_part(severity, steady=None) -> list[str]:
     :class:`~sixdof.analysis.steady.SteadyState`, whose operating frequencies a steady-state answer lists)."""
     mm_s = 1e3
     b_ab, b_bc, b_cd = (mm_s * b for b in severity.boundaries)
-    head = wrapped(f"Vibration severity (broadband RMS velocity, absolute, {_how(severity, steady)}; "
-                   f"{severity.basis}: zone boundaries A/B {b_ab:g}, B/C {b_bc:g}, C/D {b_cd:g} mm/s; each point "
-                   f"judged by its largest direction measured, margin = 1 - v / (B/C)):")
+    head = wrapped(f"Vibration severity: broadband RMS velocity (absolute), {_how(severity, steady)}.")
+    head += "\n" + wrapped(f"Zones of {severity.basis}: A/B {b_ab:g}, B/C {b_bc:g}, C/D {b_cd:g} mm/s; each point "
+                           "judged by its largest direction measured, margin to C = 1 - v / (B/C):")
     measured = set(severity.directions)
     rows = []
     for j, name in enumerate(severity.points):

@@ -213,12 +213,13 @@ def run(scenario: Scenario | str | Path, *, sink=None, progress: bool = False, l
                 results.response, results.points, scenario.shock_response_spectrum,
                 None if ground is None else ground.direction))
         notes.extend(timed.notes)
+    if scenario.severity is not None:  # before the sink finishes the file
+        results = dataclasses.replace(results, severity=_severity(scenario, results))
+    if simulation is not None:
         if drawing is not None:
             drawing.submit(results)
         if sink is not None:
             sink.finish(results)
-    if scenario.severity is not None:
-        results = dataclasses.replace(results, severity=_severity(scenario, results))
     return dataclasses.replace(results, notes=tuple(notes))
 
 

@@ -135,6 +135,34 @@ def test_the_steady_state_severity_of_a_single_dof_is_the_closed_form(tmp_path):
     assert severity.margin[0] == pytest.approx(1 - 1e3 * exact / 2.0, rel=1e-12)
 
 
+def test_the_random_severity_of_a_single_dof_is_the_integral_of_its_velocity_psd(tmp_path):
+    from scipy.integrate import quad
+
+    s0 = 50.0  # N^2/Hz along z at the CG, 2-2000 Hz
+    text = SDOF_TOML.split("[[loads]]")[0] + f"""
+[random]
+input = "force"
+direction = "z"
+point = [0.0, 0.0, 0.0]
+psd = {{ f_hz = [2.0, 2000.0], value = [{s0}, {s0}], unit = "N^2/Hz" }}
+time_check = false
+[[points]]
+name = "top"
+position = [0.0, 0.0, 0.5]
+"""
+    results = run_text_of(tmp_path, text + severity_toml(group=1, foundation="rigid"))
+    severity = results.severity
+    assert severity.source == "random" and severity.basis.endswith("group 1, rigid foundation")
+
+    def velocity_psd(f):  # the single DOF's: w^2 S0 / |k - m w^2 + i w c|^2
+        w = 2 * math.pi * f
+        return w**2 * s0 / abs(STIFFNESS - MASS * w**2 + 1j * w * DAMPING) ** 2
+
+    exact = math.sqrt(quad(velocity_psd, 10.0, 1000.0, points=[F_N], limit=200, epsabs=0, epsrel=1e-12)[0])
+    assert severity.rms_velocity[0, 2] == pytest.approx(exact, rel=1e-6)
+    assert "from the random response, its velocity PSD integrated over 10-1000 Hz" in " ".join(run_text(results).split())
+
+
 @pytest.mark.slow
 def test_the_time_history_severity_of_a_single_dof_is_the_closed_form(tmp_path):
     text = SDOF_TOML + "[simulation]\nduration = 3.0\nsample_rate_hz = 4000.0\n"
@@ -145,6 +173,8 @@ def test_the_time_history_severity_of_a_single_dof_is_the_closed_form(tmp_path):
     # 1.5 s on, the switch-on transient at 9.2 Hz (zeta 0.016) is down to exp(-1.4) and the 10 Hz high-pass
     # leaves (9.2/10)^8 ... of it: the steady state's RMS to 1 %.
     assert severity.rms_velocity[0, 2] == pytest.approx(sdof_velocity_rms(F_OP), rel=1e-2)
+    assert "from the time history band-passed to 10-1000 Hz (Butterworth, order 4, zero phase) over 1.5-2.7 s" \
+        in " ".join(run_text(results).split())
 
 
 # ------------------------------------------------------------------------------------------------------------

@@ -165,7 +165,7 @@ class SeveritySettings(Frozen):
     def basis(self) -> str:
         """Where the boundaries come from, in words."""
         if self.zones_mm_s is not None:
-            return "the boundaries given (zones_mm_s)"
+            return "given: zones_mm_s"
         return f"ISO 10816-3 / 20816-3, group {self.group}, {self.foundation} foundation"
 
 

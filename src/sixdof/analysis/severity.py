@@ -10,9 +10,11 @@ are those of ISO 10816-3:2009 (industrial machines above 15 kW, measured in situ
 Table A.1 (group 1: large machines, 300 kW to 50 MW, or shaft height >= 315 mm) and Table A.2 (group 2: medium
 machines, 15 kW to 300 kW, or shaft height 160 to 315 mm), each for a rigid or a flexible foundation (a
 foundation is rigid along a direction when the lowest natural frequency of machine and foundation along it is
-at least 25 % above the main excitation frequency). Checked against secondary sources (Beckhoff's TwinCAT
-condition-monitoring manual, TF3600, "Vibration assessment according to ISO 10816-3": 2.3 / 4.5 / 7.1 mm/s for
-group 1, rigid); the user's own boundaries (``zones_mm_s``) replace them.
+at least 25 % above the main excitation frequency). The standard itself was not at hand: the rigid columns
+agree with secondary sources (Beckhoff's TwinCAT condition-monitoring manual, TF3600, "Vibration assessment
+according to ISO 10816-3": 2.3 / 4.5 / 7.1 mm/s, group 1; published ISO 10816-3 zone listings: 1.4 / 2.8 /
+4.5 mm/s, group 2), the flexible ones were found in none; the user's own boundaries (``zones_mm_s``) replace
+them.
 
 The RMS velocity of each direction of a point (body axes, absolute) is computed from one of the run's answers,
 each within the band ``f_lo .. f_hi`` (default 10 .. 1000 Hz):

@@ -222,6 +222,8 @@ def design_text(metrics) -> str:
         lines += [f"Torque-roll axis (torque about [{', '.join(f'{c:.4g}' for c in metrics.torque_axis)}]): [{tra}]; "
                   f"roll mode {metrics.roll_mode + 1} at {metrics.roll_mode_tra_angle_deg:.2f} deg from it",
                   f"Decoupling in TRA coordinates:\n  {shares}"]
+    else:
+        lines.append("Torque-roll axis: none ([design] torque_axis names the exciting torque's axis)")
     centre = metrics.elastic_center
     lines.append("Elastic centre: none (no point decouples the mount stiffness)" if centre is None else
                  f"Elastic centre: [{', '.join(f'{c:.4g}' for c in centre)}] m from the CG")

@@ -328,6 +328,9 @@ class RunResults(Frozen):
         The scenario's.
     system : sixdof.model.system.System or None
     modes : sixdof.model.modes.Modes or None
+    design : sixdof.analysis.design.DesignMetrics or None
+        The modes' decoupling, the torque-roll axis (with ``[design] torque_axis``) and the elastic centre: what
+        ``sixdof modes`` prints beside the modes (``/design``).
     damping_ratios : ndarray, shape (6,), or None
         Damping ratio of each mode (``nan`` for rigid-body modes).
     statics : sixdof.analysis.statics.Statics or None
@@ -358,6 +361,8 @@ class RunResults(Frozen):
         The stationary random response to the ``[random]`` PSD.
     srs : sixdof.analysis.srs.ShockSpectra or None
         Shock response spectra of the base and of the body points (``[shock_response_spectrum]``).
+    severity : sixdof.analysis.severity.VibrationSeverity or None
+        Broadband RMS velocity of body points against the evaluation zones (``[severity]``).
     spectrum : sixdof.analysis.spectrum.ResponseSpectrum or None
         The response-spectrum analysis (``[spectrum]``).
     isolation : sixdof.analysis.isolation.EffectiveLinearization or None
@@ -399,6 +404,7 @@ class RunResults(Frozen):
     loss_factor_model: str = label(default="")
     loss_factor_statics: str = label(default="")
     modes: Any = part("Modes", group="modal", default=None)
+    design: Any = part("DesignMetrics", group="design", default=None)
     damping_ratios: np.ndarray | None = quantity("1", ("mode",), name="modal/damping_ratio", default=None,
                                                  description="modal damping ratio (nan for rigid-body modes, inf for "
                                                  "overdamped modes: no oscillating pole)")
@@ -419,6 +425,7 @@ class RunResults(Frozen):
     steady_state: Any = part("SteadyState", group="steady_state", default=None)
     random: Any = part("RandomResponse", group="random", default=None)
     srs: Any = part("ShockSpectra", group="srs", default=None)
+    severity: Any = part("VibrationSeverity", group="severity", default=None)
     spectrum: Any = part("ResponseSpectrum", group="spectrum", default=None)
     isolation: Any = part("EffectiveLinearization", group="spectrum/linearization", default=None)
     spectrum_records: Any = part("SpectrumCompatibleRecords", group="spectrum/records", default=None)

@@ -34,15 +34,17 @@ from sixdof.errors import InputError, instance, readonly
 from sixdof.model.kinematics import stiffness_jax
 from sixdof.model.modes import inverse_cholesky
 from sixdof.model.system import System
+from sixdof.results import Result, label, quantity, result_type
 
 #: The elastic centre exists when the symmetric part of ``-A^-1 B`` is at most this fraction of the mount
 #: set's length scale ``sqrt(trace(C) / trace(A))`` (``C`` the rotational stiffness block).
 ELASTIC_CENTER_RTOL = 1e-6
 
 
+@result_type
 @dataclass(frozen=True, eq=False)
-class DesignMetrics:
-    """Result of :func:`design_metrics`.
+class DesignMetrics(Result):
+    """Result of :func:`design_metrics` (stored in ``/design``).
 
     Attributes
     ----------
@@ -50,6 +52,10 @@ class DesignMetrics:
         Kinetic-energy share of each mode's dominant body coordinate [%].
     dominant_dof : tuple of str
         That coordinate, per mode.
+    elastic_axes : ndarray, shape (3, 3)
+        Rows: the principal elastic axes (unit vectors, body axes), by ascending ``principal_stiffness``.
+    principal_stiffness : ndarray, shape (3,)
+        Translational stiffness along each principal elastic axis [N/m].
     torque_axis, torque_roll_axis : ndarray, shape (3,), or None
         The unit torque axis given and the TRA (unit vector, body axes, pointing the torque's way); None
         without a torque axis.
@@ -61,22 +67,29 @@ class DesignMetrics:
         Each mode's largest kinetic-energy share in TRA coordinates [%].
     elastic_center : ndarray, shape (3,), or None
         From the CG in body axes [m]; None when the mount set has none.
-    elastic_axes : ndarray, shape (3, 3)
-        Rows: the principal elastic axes (unit vectors, body axes), by ascending ``principal_stiffness``.
-    principal_stiffness : ndarray, shape (3,)
-        Translational stiffness along each principal elastic axis [N/m].
     """
 
-    decoupling_percent: np.ndarray
-    dominant_dof: tuple[str, ...]
-    torque_axis: np.ndarray | None
-    torque_roll_axis: np.ndarray | None
-    roll_mode: int | None
-    roll_mode_tra_angle_deg: float | None
-    decoupling_tra_percent: np.ndarray | None
-    elastic_center: np.ndarray | None
-    elastic_axes: np.ndarray
-    principal_stiffness: np.ndarray
+    decoupling_percent: np.ndarray = quantity("percent", ("mode",),
+                                              description="kinetic-energy share of each mode's dominant DOF")
+    dominant_dof: tuple[str, ...] = quantity("", ("mode",), name="decoupling_dof",
+                                             decode=lambda a: tuple(str(d) for d in a),
+                                             description="the DOF of decoupling_percent, per mode")
+    elastic_axes: np.ndarray = quantity("1", ("elastic_axis", "axis"),
+                                        description="rows: principal elastic axes (body axes), ascending stiffness")
+    principal_stiffness: np.ndarray = quantity("N/m", ("elastic_axis",),
+                                               description="translational stiffness along each principal axis")
+    torque_axis: np.ndarray | None = quantity("1", ("axis",), default=None,
+                                              description="unit torque axis given (body axes)")
+    torque_roll_axis: np.ndarray | None = quantity("1", ("axis",), default=None,
+                                                   description="torque-roll axis, unit vector in body axes")
+    roll_mode: int | None = label(default=None, encode=int, decode=int)
+    roll_mode_tra_angle_deg: float | None = label(default=None, encode=float, decode=float)
+    decoupling_tra_percent: np.ndarray | None = quantity("percent", ("mode",), default=None,
+                                                         description="largest kinetic-energy share in TRA coordinates")
+    elastic_center: np.ndarray | None = quantity("m", ("axis",), default=None,
+                                                 description="elastic centre from the CG, body axes")
+
+    group = "design"
 
 
 def design_metrics(system, torque_axis=None) -> DesignMetrics:

@@ -21,9 +21,7 @@ def modes_text(run) -> str:
     return "\n".join([
         f"{title(results)}\n",
         report.modes_table(modes, zeta if system.C.any() or system.maxwell else None, system),
-        report.damping_note(system),
-        "\nKinetic energy distribution [%] (share of each mode's kinetic energy in each DOF):",
-        report.ke_table(modes), "", report.subsystems_text(modes), "", report.design_text(run.metrics)])
+        report.damping_note(system), f"\n{report.decoupling_text(modes, run.metrics)}"])
 
 
 def statics_text(results, no_statics: str | None = None) -> str:
@@ -47,7 +45,11 @@ def run_text(results) -> str:
     lines = [f"{title(results)}\n"]
     summary = report.isolation_summary_text(results)
     if summary:
-        lines += [f"{report.ISOLATION_SUMMARY}:\n{summary}", "\nDetails and solver checks:"]
+        lines.append(f"{report.ISOLATION_SUMMARY}:\n{summary}")
+    if results.design is not None:  # what `sixdof modes` prints after the modes
+        lines.append(f"\n{report.DECOUPLING}:\n{report.decoupling_text(results.modes, results.design)}")
+    if summary:
+        lines.append("\nDetails and solver checks:")
     lines += [report.modes_table(results.modes, results.damping_ratios, system), report.damping_note(system)]
     if scenario.viscoelastic:
         lines.append(f"\nVisco-elastic mounts (Maxwell fits):\n{report.viscoelastic_table(scenario.viscoelastic)}")

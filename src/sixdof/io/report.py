@@ -16,6 +16,7 @@ from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.analysis.steady import vector_amplitude
 from sixdof.analysis.validity import body_length
 from sixdof.dofs import AXES, DOF_UNITS, DOFS, display_unit
+from sixdof.io.severity_report import severity_part
 from sixdof.io.tables import fixed, table, without_round_off, wrapped
 from sixdof.model.viscoelastic import FIT_LOSS_ANGLE_ERROR_DEG, FIT_MODULUS_ERROR, long_term_note, loss_fit_misses
 
@@ -186,6 +187,30 @@ def subsystems_text(modes) -> str:
     return text
 
 
+#: The heading of what ``sixdof modes`` prints after the modes table (:func:`decoupling_text`).
+DECOUPLING = "Decoupling and torque-roll axis"
+
+
+def decoupling_text(modes, metrics) -> str:
+    """What ``sixdof modes`` prints after the modes and ``sixdof run`` after its isolation summary: the kinetic-energy
+    distribution, the decoupled subsystems and the design metrics (:func:`design_text`)."""
+    return "\n".join(["Kinetic energy distribution [%] (share of each mode's kinetic energy in each DOF):",
+                      ke_table(modes), "", subsystems_text(modes), "", design_text(metrics)])
+
+
+def _markdown(text: str) -> str:
+    """Lines of :func:`subsystems_text` or :func:`design_text` as Markdown: a paragraph each, indented lines
+    as list items."""
+    blocks: list[list[str]] = []  # paragraphs, and lists of consecutive items
+    for line in text.splitlines():
+        item = line.startswith("  ")
+        if item and blocks and blocks[-1][0].startswith("- "):
+            blocks[-1].append(f"- {line.strip()}")
+        else:
+            blocks.append([f"- {line.strip()}" if item else line])
+    return "\n\n".join("\n".join(block) for block in blocks)
+
+
 def design_text(metrics) -> str:
     """Decoupling per mode, the torque-roll axis and the elastic centre (a design.DesignMetrics)."""
     modes = "  ".join(f"{j + 1}: {p:.1f} % {d}" for j, (p, d) in enumerate(zip(metrics.decoupling_percent,
@@ -197,6 +222,8 @@ def design_text(metrics) -> str:
         lines += [f"Torque-roll axis (torque about [{', '.join(f'{c:.4g}' for c in metrics.torque_axis)}]): [{tra}]; "
                   f"roll mode {metrics.roll_mode + 1} at {metrics.roll_mode_tra_angle_deg:.2f} deg from it",
                   f"Decoupling in TRA coordinates:\n  {shares}"]
+    else:
+        lines.append("Torque-roll axis: none ([design] torque_axis names the exciting torque's axis)")
     centre = metrics.elastic_center
     lines.append("Elastic centre: none (no point decouples the mount stiffness)" if centre is None else
                  f"Elastic centre: [{', '.join(f'{c:.4g}' for c in centre)}] m from the CG")
@@ -370,8 +397,9 @@ def isolation_summary_text(results) -> str:
     """The isolation summary of a run's :class:`~sixdof.results.RunResults`, in one screen: natural frequencies
     against the operating frequencies (the frequency ratio), the force (and ground motion) transmissibility,
     isolation efficiency and force on the foundation at each (:mod:`sixdof.analysis.isolation_summary`), the peak
-    mount loads and deflections against their limits with margins, and the peak accelerations at the named
-    points. What ``sixdof run`` prints first and what ``summary.md`` starts with; the solver checks follow."""
+    mount loads and deflections against their limits with margins, the peak accelerations at the named points and,
+    with ``[severity]``, the vibration severity. What ``sixdof run`` prints first and what ``summary.md`` starts
+    with; the solver checks follow."""
     if results.modes is None:
         return ""
     summary = run_isolation_summary(results) if has_operating(results) else None
@@ -380,6 +408,8 @@ def isolation_summary_text(results) -> str:
         parts += ["", *_mounts_part(results.mount_check, results.system.mounts)]
     if results.points:
         parts += ["", *_points_part(results.points, results.steady_state is not None)]
+    if results.severity is not None:
+        parts += ["", *severity_part(results.severity, results.steady_state)]
     return "\n".join(parts)
 
 
@@ -402,6 +432,10 @@ def summary_markdown(results, figures=()) -> str:
     summary = isolation_summary_text(results)
     if summary:
         parts += [f"## {ISOLATION_SUMMARY}", "", summary.replace(":\n|", ":\n\n|"), ""]
+    if results.design is not None:
+        parts += [f"## {DECOUPLING}", "", "### Kinetic energy distribution [%]", "",
+                  "Share of each mode's kinetic energy in each DOF:", "", ke_table(modes), "",
+                  _markdown(subsystems_text(modes)), "", _markdown(design_text(results.design)), ""]
     if notes:
         parts += ["## Warnings", "", *(f"- {n}" for n in notes), ""]
     parts += ["## Natural frequencies", "", modes_table(modes, damping_ratios, scenario.system), "",
@@ -410,8 +444,9 @@ def summary_markdown(results, figures=()) -> str:
         parts += [stiffness_note[0].upper() + stiffness_note[1:] + ".", ""]
     if scenario.viscoelastic:
         parts += ["## Visco-elastic mounts", "", viscoelastic_table(scenario.viscoelastic), ""]
-    parts += ["## Kinetic energy distribution [%]", "", ke_table(modes), ""]
-    parts += [subsystems_text(modes).replace("\n  ", "\n- ").replace(":\n", ":\n\n", 1), ""]
+    if results.design is None:  # a run's decoupling is in its engineering section, above
+        parts += ["## Kinetic energy distribution [%]", "", ke_table(modes), ""]
+        parts += [subsystems_text(modes).replace("\n  ", "\n- ").replace(":\n", ":\n\n", 1), ""]
     if statics is not None:
         line = long_term_note(scenario.viscoelastic)
         parts += ["## Statics under gravity", "", statics_table(statics, scenario.system), ""] + ([line, ""] if line

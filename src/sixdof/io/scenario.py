@@ -14,7 +14,9 @@ from typing import Any
 import numpy as np
 
 from sixdof.analysis.random import PSD, RandomInput
+from sixdof.analysis.severity import SeveritySettings, chosen_source, measured_points
 from sixdof.analysis.srs import SRSSettings
+from sixdof.analysis.steady import operating_phasors
 from sixdof.design.spec import DesignSpec, StiffnessRatio, Target, UpdateSpec, Vary, check_mounts, check_update_mounts
 from sixdof.errors import InputError, Plain, boolean, choice_check, file_name, memory_check
 from sixdof.files import read_table_csv
@@ -98,6 +100,8 @@ class Scenario:
         The ``[spectrum]`` table: a response-spectrum analysis (no ``[simulation]`` needed).
     spectrum_records : sixdof.analysis.matching.RecordSettings or None
         ``[spectrum] records``: spectrum-compatible accelerograms run beside the response-spectrum analysis.
+    severity : sixdof.analysis.severity.SeveritySettings or None
+        The ``[severity]`` table: RMS velocity of body points against evaluation zones.
     test : sixdof.validation.testdata.TestSetup or None
         The ``[test]`` table: the test's node coordinates, the test frame in body axes, the correlation limits.
     update : sixdof.design.spec.UpdateSpec or None
@@ -147,6 +151,7 @@ class Scenario:
     update: UpdateSpec | None = None
     response_spectrum: Any = None  # the [spectrum] table (issue 48): a SpectrumSettings
     spectrum_records: Any = None  # [spectrum] records (issue 48): a RecordSettings
+    severity: Any = None  # the [severity] table (issue 49): a SeveritySettings
 
     @property
     def needs_preparing(self) -> tuple[str, ...]:
@@ -289,6 +294,9 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
     spectrum = top.table("shock_response_spectrum", default=None)
     if spectrum is not None:
         spectrum = _spectrum(spectrum, simulation)
+    severity = top.table("severity", default=None)
+    if severity is not None:
+        severity = _severity(severity, points, system, excitation, simulation, random)
     return Scenario(name=name, description=description, given_system=system, excitation=excitation,
                     simulation=simulation, frf=frf, superposition=superposition, points=points, statics=statics,
                     output=output, shock_response_spectrum=spectrum, random=random, design=design, text=text,
@@ -296,7 +304,7 @@ def _scenario(raw: dict, text: str, base_dir: Path, source: str) -> Scenario:
                     loss_factor_band_hz=damping.value("loss_factor_band_hz", None),
                     loss_factor_terms=damping.value("loss_factor_terms", None),
                     path=Path(source) if source != "<string>" else None, test=_test(top.table("test", default=None)),
-                    update=update, **_response_spectrum(top, base_dir))
+                    update=update, severity=severity, **_response_spectrum(top, base_dir))
 
 
 def _response_spectrum(top: Table, base_dir: Path) -> dict:
@@ -341,6 +349,20 @@ def _random(raw: dict):
     psd = build(PSD, table.table("psd"), "random.psd")
     return make(RandomInput, "random", input=table.value("input"), direction=table.value("direction", "z"),
                 point=table.value("point", None), psd=psd, time_check=table.value("time_check", True))
+
+
+def _severity(raw: dict, points, system: System, excitation, simulation, random) -> SeveritySettings:
+    """The ``[severity]`` table, its points found and the answer it is computed from there (checked now: before
+    anything is computed)."""
+    settings = build(SeveritySettings, raw, "severity")
+    make(measured_points, "severity", settings=settings, points={p.name: p.position for p in points},
+         mounts={m.name: m.position for m in system.mounts})
+    steady = excitation is not None and excitation.ground is None and operating_phasors(excitation)[0].size > 0
+    record = None
+    if simulation is not None and simulation.samples <= MEMORY_SAMPLES:  # a longer run keeps only what is drawn
+        record = (simulation.start, simulation.start + simulation.duration, simulation.sample_rate_hz)
+    make(chosen_source, "severity", settings=settings, steady=steady, random=random is not None, record=record)
+    return settings
 
 
 _DESIGN_SETTINGS = ("tolerance", "samples", "seed", "starts", "objective", "robust_samples")
@@ -490,4 +512,5 @@ _TOP_LEVEL_KEYS = (
     "test",
     "update",
     "spectrum",
+    "severity",
 )

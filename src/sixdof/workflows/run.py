@@ -20,6 +20,7 @@ import numpy as np
 
 from sixdof.analysis.compare import QUANTITIES, compare, compare_motion, merge_agreements
 from sixdof.analysis.contact import contact_summary, energy_balance, merge_events, total_deflection, with_extremes
+from sixdof.analysis.design import design_metrics
 from sixdof.analysis.direct import is_nonlinear, progress_meter, simulate_windows
 from sixdof.analysis.frf import cross_check, force_transmissibility, ground_transmissibility, point_frf
 from sixdof.analysis.isolation import isolated_spectrum
@@ -29,6 +30,7 @@ from sixdof.analysis.random import random_response
 from sixdof.analysis.record_peaks import record_peaks
 from sixdof.analysis.records import merge_stats, merge_superposition
 from sixdof.analysis.response import mount_forces, points_motion
+from sixdof.analysis.severity import measured_points, run_severity
 from sixdof.analysis.spectrum import response_spectrum
 from sixdof.analysis.srs import shock_spectra
 from sixdof.analysis.statespace import damping_ratios
@@ -52,6 +54,7 @@ from sixdof.io.scenario import MEMORY_SAMPLES, Scenario, load_scenario
 from sixdof.io.stream import ResultsStream
 from sixdof.model.viscoelastic import long_term_note, loss_fit_misses
 from sixdof.results import Event, RunResults, envelope_samples, time_concat, time_slice
+from sixdof.schema import make
 from sixdof.validation.random_time import random_time_check
 from sixdof.workflows.drawing import drawer
 from sixdof.workflows.prepare import prepare
@@ -193,7 +196,8 @@ def run(scenario: Scenario | str | Path, *, sink=None, progress: bool = False, l
         notes.extend(spectrum.notes)
     records = {} if scenario.spectrum_records is None else _spectrum_records(scenario, spectrum, notes)
     results = RunResults(name=scenario.name, description=scenario.description, system=system, modes=modes,
-                         damping_ratios=zeta, statics=statics, frf=frf, frf_extras=frf_extras, steady_state=steady,
+                         design=design_metrics(system, scenario.design.torque_axis), damping_ratios=zeta,
+                         statics=statics, frf=frf, frf_extras=frf_extras, steady_state=steady,
                          random=random, spectrum=spectrum, isolation=isolation, **records,
                          viscoelastic=scenario.viscoelastic,
                          provenance=provenance(scenario), scenario=scenario, stiffness_note=stiffness_note,
@@ -209,11 +213,26 @@ def run(scenario: Scenario | str | Path, *, sink=None, progress: bool = False, l
                 results.response, results.points, scenario.shock_response_spectrum,
                 None if ground is None else ground.direction))
         notes.extend(timed.notes)
+    if scenario.severity is not None:  # before the sink finishes the file
+        results = dataclasses.replace(results, severity=_severity(scenario, results))
+    if simulation is not None:
         if drawing is not None:
             drawing.submit(results)
         if sink is not None:
             sink.finish(results)
     return dataclasses.replace(results, notes=tuple(notes))
+
+
+def _severity(scenario, results):
+    """The ``[severity]`` of a run's results (:func:`sixdof.analysis.severity.run_severity`); a time history only
+    where the run holds every sample."""
+    settings, system = scenario.severity, results.system
+    positions = measured_points(settings, {p.name: p.position for p in scenario.points},
+                                {m.name: m.position for m in system.mounts})
+    whole = scenario.simulation is not None and scenario.simulation.samples <= MEMORY_SAMPLES
+    return make(run_severity, "severity", settings=settings, system=system, positions=positions,
+                steady=results.steady_state, random=results.random, random_input=scenario.random,
+                response=results.response if whole else None)
 
 
 def _spectrum(system, settings):

@@ -12,12 +12,14 @@ from collections.abc import Callable
 
 import sixdof.analysis.compare  # noqa: F401
 import sixdof.analysis.contact  # noqa: F401
+import sixdof.analysis.design  # noqa: F401
 import sixdof.analysis.frf  # noqa: F401
 import sixdof.analysis.isolation  # noqa: F401
 import sixdof.analysis.mountcheck  # noqa: F401
 import sixdof.analysis.random  # noqa: F401
 import sixdof.analysis.records  # noqa: F401
 import sixdof.analysis.response  # noqa: F401
+import sixdof.analysis.severity  # noqa: F401
 import sixdof.analysis.spectrum  # noqa: F401
 import sixdof.analysis.srs  # noqa: F401
 import sixdof.analysis.statics  # noqa: F401

@@ -148,6 +148,13 @@ def test_mode_shapes_draw_into_a_given_figure_or_subfigure(parts):
     assert plots.plot_mode_shapes(modes, system, fig=plain) is plain and len(plain.axes) == 6
 
 
+def test_mode_animations_want_at_least_two_frames(parts, tmp_path):
+    for frames in (1, 2.5, True):
+        with pytest.raises(InputError, match="frames: expected an integer number of frames per period, at least 2"):
+            plots.modes.write_mode_animations(parts["modes"], parts["system"], tmp_path, frames=frames)
+    assert not list(tmp_path.iterdir())
+
+
 def test_mode_drawing_scales_translations_and_caps_rotations():
     points = np.array([[1.0, 2.0, 3.0], [-1.0, 0.0, 0.5]])
     translation = np.array([0.0, 0.0, 2e-3, 0.0, 0.0, 0.0])

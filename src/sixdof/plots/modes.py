@@ -3,14 +3,18 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
+import matplotlib
 import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
 from sixdof.dofs import DOFS
+from sixdof.errors import InputError
 from sixdof.model.modes import Modes
 from sixdof.model.system import System
+from sixdof.plots import FIXED_TITLES
 from sixdof.plots.common import distinct_digits, margins, require, title
 
 #: Largest displacement of the drawn body in a mode-shape panel, as a fraction of its largest size.
@@ -280,19 +284,87 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, fig=None, na
     else:
         grid = fig.add_gridspec(rows, columns, left=0.05, right=0.97, top=0.85, bottom=0.04, wspace=0.08,
                                 hspace=0.3)
-    freqs = modes.frequency_hz
-    digits = distinct_digits(freqs, 4)
+    digits = distinct_digits(modes.frequency_hz, 4)
     for j, view in enumerate(_views(scene, shapes)):
         ax = fig.add_subplot(grid[j // columns, j % columns], projection="3d")
         _draw_mode(ax, scene, shapes[:, j], view)
-        frequency = "rigid-body mode (0 Hz)" if freqs[j] == 0 else f"{freqs[j]:.{digits}g} Hz"
-        ax.set_title(f"Mode {j + 1}: {frequency}\n{mode_words(modes, j, scene.words)}\n"
-                     f"{_scale_words(scene, shapes[:, j], view)}", fontsize=10.5)
+        ax.set_title(_mode_title(modes, j, digits, scene, view), fontsize=10.5)
         # At the axes' top: 3-D axes lower a title to 0.92 of their height, which only matplotlib's automatic
         # placement (off in sixdof.plots.render) raises again at each draw.
         ax.title.set_y(1.0)
     _legend(fig, scene, 1.0 - 0.62 / fig.get_size_inches()[1] if new else 0.99)
     return fig.get_figure(root=True)
+
+
+#: Frames of one period of a mode's animation (:func:`write_mode_animations`), and their rate [1/s].
+ANIMATION_FRAMES = 24
+ANIMATION_FPS = 12
+#: Resolution of the animations [dots per inch]: one :data:`PANEL` is 400 x 424 pixels.
+ANIMATION_DPI = 80
+
+
+def write_mode_animations(modes: Modes, system: System | None, folder, *, frames: int | None = None) -> list:
+    """Each mode as an animated GIF, ``mode_1.gif``, ``mode_2.gif``... in ``folder``: the panel of
+    :func:`plot_mode_shapes` (same view, scale and title) with the body oscillating through one period,
+    ``q(t) = sin(2 pi t / T) x`` the drawn shape, looping (:data:`ANIMATION_FRAMES` frames at
+    :data:`ANIMATION_FPS` a second, written by matplotlib's ``PillowWriter``).
+
+    Parameters
+    ----------
+    modes : sixdof.model.modes.Modes
+    system : sixdof.model.system.System or None
+        As :func:`plot_mode_shapes`'s.
+    folder : str or pathlib.Path
+        An existing folder; files of these names there are replaced.
+    frames : int, optional
+        Frames of one period (at least 2); default :data:`ANIMATION_FRAMES`.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written, in mode order.
+    """
+    require(modes, "modes", Modes, _MODES)
+    frames = ANIMATION_FRAMES if frames is None else frames
+    if isinstance(frames, bool) or not isinstance(frames, int) or frames < 2:
+        raise InputError("frames", "an integer number of frames per period, at least 2", frames)
+    scene = _Scene.of(system)
+    shapes = np.asarray(modes.shapes, dtype=float)
+    with matplotlib.rc_context(FIXED_TITLES):  # as every figure file (sixdof.plots.render)
+        return [_animate(modes, j, scene, view, Path(folder) / f"mode_{j + 1}.gif", frames)
+                for j, view in enumerate(_views(scene, shapes))]
+
+
+def _animate(modes: Modes, j: int, scene: _Scene, view: _View, path, frames: int):
+    """Mode ``j`` drawn in ``view`` through one period into the GIF ``path``; the path."""
+    from matplotlib.animation import PillowWriter  # noqa: PLC0415 (matplotlib's animation: only when writing)
+
+    shape = np.asarray(modes.shapes[:, j], dtype=float)
+    fig = Figure(figsize=PANEL)
+    ax = fig.add_subplot(projection="3d")
+    margins(fig, left=0.3, right=0.2, top=1.45, bottom=0.25)
+    artists = _draw_mode(ax, scene, shape, view)
+    _legend(fig, scene, 0.99, columns=2)
+    ax.set_title(_mode_title(modes, j, distinct_digits(modes.frequency_hz, 4), scene, view), fontsize=10)
+    ax.title.set_y(1.0)
+    drawn = view.scale(scene, shape) * shape
+    writer = PillowWriter(fps=ANIMATION_FPS)
+    with writer.saving(fig, path, ANIMATION_DPI):
+        for k in range(frames):
+            for artist in artists:
+                artist.remove()
+            q = np.sin(2.0 * np.pi * k / frames) * drawn
+            artists = _draw_moved(ax, scene, q[:3] + scene.points @ finite_rotation(q[3:]).T)
+            writer.grab_frame()
+    return path
+
+
+def _mode_title(modes: Modes, j: int, digits: int, scene: _Scene, view: _View) -> str:
+    """Mode ``j``'s panel title: its frequency, dominant motion with its share of kinetic energy, and the scale."""
+    f = modes.frequency_hz[j]
+    frequency = "rigid-body mode (0 Hz)" if f == 0 else f"{f:.{digits}g} Hz"
+    return (f"Mode {j + 1}: {frequency}\n{mode_words(modes, j, scene.words)}\n"
+            f"{_scale_words(scene, modes.shapes[:, j], view)}")
 
 
 def _scale_words(scene: _Scene, shape: np.ndarray, view: _View) -> str:
@@ -311,8 +383,8 @@ def _scale_words(scene: _Scene, shape: np.ndarray, view: _View) -> str:
     return f"seen end-on, along {axis}, the axis it turns about\n{words}"
 
 
-def _legend(fig, scene: _Scene, top: float) -> None:
-    """The key to the panels, in one row at ``top`` (a fraction of ``fig``'s height)."""
+def _legend(fig, scene: _Scene, top: float, columns: int | None = None) -> None:
+    """The key to the panels at ``top`` (a fraction of ``fig``'s height), in ``columns`` (default: one row)."""
     from matplotlib.lines import Line2D  # noqa: PLC0415 (matplotlib: only when drawing)
     from matplotlib.patches import Patch  # noqa: PLC0415 (matplotlib: only when drawing)
 
@@ -323,15 +395,15 @@ def _legend(fig, scene: _Scene, top: float) -> None:
                     Line2D([], [], marker="o", color="tab:red", label="mount, body side (line: deflection)")]
     if scene.w_axes is not None:
         handles.append(Line2D([], [], color="black", linewidth=1.3, label="mount w axis"))
-    fig.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, top), ncol=len(handles), fontsize=9,
+    fig.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, top), ncol=columns or len(handles), fontsize=9,
                frameon=False, borderaxespad=0.0, columnspacing=1.2)
 
 
-def _draw_mode(ax, scene: _Scene, shape: np.ndarray, view: _View) -> None:
-    """One mode in ``ax`` (3-D axes): the box at rest and moved, the mounts, limits, view and zoom."""
+def _draw_mode(ax, scene: _Scene, shape: np.ndarray, view: _View) -> list:
+    """One mode in ``ax`` (3-D axes): the box at rest and moved, the mounts, limits, view and zoom; the artists
+    of the moved body (:func:`_draw_moved`)."""
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: PLC0415 (3-D axes, only for the mode shapes)
 
-    moved = view.moved(scene, shape)
     corners, mounts = scene.corners, scene.mounts
     size = view.largest
     # Artists drawn in their zorder, not sorted by depth: the box's faces (each collection still orders
@@ -339,15 +411,10 @@ def _draw_mode(ax, scene: _Scene, shape: np.ndarray, view: _View) -> None:
     ax.computed_zorder = False
     ax.add_collection3d(Poly3DCollection([corners[f] for f in _FACES], facecolors=(0.6, 0.6, 0.6, 0.06),
                                          edgecolors=(0.5, 0.5, 0.5, 0.7), linewidths=0.8, linestyles="--"))
-    ax.add_collection3d(Poly3DCollection([moved[:8][f] for f in _FACES], facecolors=(0.12, 0.47, 0.71, 0.25),
-                                         edgecolors=(0.05, 0.25, 0.45, 1.0), linewidths=1.3))
+    moving = _draw_moved(ax, scene, view.moved(scene, shape))
     down = 1 if view.along == 2 else 2  # the body axis pointing up the panel
     if len(mounts):
-        ax.scatter(*mounts.T, marker="^", s=55, color="black", depthshade=False)
-        body_side = moved[8:]
-        ax.scatter(*body_side.T, marker="o", s=28, color="tab:red", depthshade=False)
-        for a, b in zip(mounts, body_side):
-            ax.plot(*np.stack([a, b]).T, color="tab:red", linewidth=1.2)
+        ax.scatter(*mounts.T, marker="^", s=55, color="black", depthshade=False, zorder=3)
         plane = list(view.plane)
         for group in same_place(mounts[:, plane] / (2.0 * view.reach[plane])):
             p = np.mean(mounts[group], axis=0)  # below the ground side, on white: clear of markers and edges
@@ -374,6 +441,23 @@ def _draw_mode(ax, scene: _Scene, shape: np.ndarray, view: _View) -> None:
         ax.view_init(*END_VIEWS[view.along])
         ax.set_proj_type("ortho")
     _fit(ax, aspect)
+    return moving
+
+
+def _draw_moved(ax, scene: _Scene, moved: np.ndarray) -> list:
+    """The body at ``moved`` (its corners, then its mounts' body side [m]) in ``ax``: the box, the mounts' body
+    side and their deflection from the ground side; the artists drawn."""
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: PLC0415 (3-D axes, only for the mode shapes)
+
+    box = Poly3DCollection([moved[:8][f] for f in _FACES], facecolors=(0.12, 0.47, 0.71, 0.25),
+                           edgecolors=(0.05, 0.25, 0.45, 1.0), linewidths=1.3, zorder=1)
+    artists = [ax.add_collection3d(box)]
+    if len(scene.mounts):
+        body_side = moved[8:]
+        artists.append(ax.scatter(*body_side.T, marker="o", s=28, color="tab:red", depthshade=False, zorder=4))
+        for a, b in zip(scene.mounts, body_side):
+            artists += ax.plot(*np.stack([a, b]).T, color="tab:red", linewidth=1.2, zorder=2)
+    return artists
 
 
 def _fit(ax, aspect: np.ndarray) -> None:

@@ -133,6 +133,30 @@ def test_mode_shapes(parts):
     assert fig.axes[0].get_xlabel() == "x [m]"
 
 
+def test_coupled_modes_name_their_two_largest_shares():
+    from scipy.linalg import eigh
+
+    # Every DOF coupled to every other: modes with no DOF holding half of the kinetic energy.
+    A = np.random.default_rng(3).normal(size=(6, 6))
+    M, K = np.diag([100.0, 100.0, 100.0, 10.0, 10.0, 10.0]), A @ A.T * 1e5 + 1e4 * np.eye(6)
+    fig = plots.plot_mode_shapes(modal_analysis(M, K))  # no system: a 1 m cube, z up, x taken as longitudinal
+    words = {"x": "longitudinal motion along x", "y": "lateral motion along y", "z": "vertical bounce along z",
+             "rx": "roll about x", "ry": "pitch about y", "rz": "yaw about z"}
+    _, phi = eigh(K, M)
+    ke = phi * (M @ phi)
+    coupled = 0
+    for j, ax in enumerate(fig.axes):
+        first, second = np.argsort(ke[:, j])[::-1][:2]
+        share = 100 * ke[:, j]
+        if ke[first, j] >= 0.5:
+            assert f"mostly {words[DOFS[first]]} ({share[first]:.0f} % of kinetic energy)" in ax.get_title()
+            continue
+        coupled += 1
+        assert (f"coupled: {words[DOFS[first]]} {share[first]:.0f} %\nand {words[DOFS[second]]} {share[second]:.0f} % "
+                "of kinetic energy") in ax.get_title()
+    assert coupled == 2
+
+
 def test_mode_shapes_draw_into_a_given_figure_or_subfigure(parts):
     modes, system = parts["modes"], parts["system"]
     fig = Figure(figsize=(14, 9))

@@ -274,21 +274,27 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, fig=None, na
     n = shapes.shape[1]
     columns = 1 if n == 1 else COLUMNS
     rows = -(-n // columns)
+    views = _views(scene, shapes)
+    digits = distinct_digits(modes.frequency_hz, 4)
+    titles = [_mode_title(modes, j, digits, scene, view) for j, view in enumerate(views)]
+    lines = [t.count("\n") + 1 for t in titles]  # 3, or 4 for a coupled mode or an end-on view
     new = fig is None
     if new:
-        fig = Figure(figsize=(PANEL[0] * columns, PANEL[1] * rows + 0.75))
+        # Room above each row for its longest title (0.18 inch a line), under the title and key for the first.
+        first, longest = max(lines[:columns]), max(lines)
+        extra = 0.18 * (first - 3 + (longest - 3) * (rows - 1))  # beyond three lines a title
+        fig = Figure(figsize=(PANEL[0] * columns, PANEL[1] * rows + 0.75 + extra))
         fig.suptitle(title(name, "mode shapes (each drawn to its own scale)"), fontsize=13)
         grid = fig.add_gridspec(rows, columns)
-        margins(fig, left=0.3, right=0.2, top=1.6, bottom=0.25, wspace=0.4, hspace=1.1, columns=columns,
-                rows=rows, target=grid)
+        margins(fig, left=0.3, right=0.2, top=1.06 + 0.18 * first, bottom=0.25, wspace=0.4,
+                hspace=0.56 + 0.18 * longest, columns=columns, rows=rows, target=grid)
     else:
         grid = fig.add_gridspec(rows, columns, left=0.05, right=0.97, top=0.85, bottom=0.04, wspace=0.08,
                                 hspace=0.3)
-    digits = distinct_digits(modes.frequency_hz, 4)
-    for j, view in enumerate(_views(scene, shapes)):
+    for j, view in enumerate(views):
         ax = fig.add_subplot(grid[j // columns, j % columns], projection="3d")
         _draw_mode(ax, scene, shapes[:, j], view)
-        ax.set_title(_mode_title(modes, j, digits, scene, view), fontsize=10.5)
+        ax.set_title(titles[j], fontsize=10.5)
         # At the axes' top: 3-D axes lower a title to 0.92 of their height, which only matplotlib's automatic
         # placement (off in sixdof.plots.render) raises again at each draw.
         ax.title.set_y(1.0)
@@ -342,10 +348,11 @@ def _animate(modes: Modes, j: int, scene: _Scene, view: _View, path, frames: int
     shape = np.asarray(modes.shapes[:, j], dtype=float)
     fig = Figure(figsize=PANEL)
     ax = fig.add_subplot(projection="3d")
-    margins(fig, left=0.3, right=0.2, top=1.45, bottom=0.25)
+    text = _mode_title(modes, j, distinct_digits(modes.frequency_hz, 4), scene, view)
+    margins(fig, left=0.3, right=0.2, top=0.85 + 0.18 * (text.count("\n") + 1), bottom=0.25)  # the key, the title
     artists = _draw_mode(ax, scene, shape, view)
     _legend(fig, scene, 0.99, columns=2)
-    ax.set_title(_mode_title(modes, j, distinct_digits(modes.frequency_hz, 4), scene, view), fontsize=10)
+    ax.set_title(text, fontsize=10)
     ax.title.set_y(1.0)
     drawn = view.scale(scene, shape) * shape
     writer = PillowWriter(fps=ANIMATION_FPS)

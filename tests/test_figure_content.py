@@ -277,55 +277,126 @@ def test_the_phase_is_drawn_unwrapped():
     assert -180 < phase_deg(-np.exp(1j * np.linspace(0.1, 3.0, 50)))[0] <= 180
 
 
-def test_mode_shapes_give_their_scale_and_every_mount_with_its_axis():
+def _drawn_rigid_motion(ax):
+    """The rigid motion (translation of the CG [m], rotation vector [rad]) that takes a panel's mounts from their
+    ground side to their body side, read off its mount lines (Kabsch's fit, by scipy): what the panel draws."""
+    from scipy.spatial.transform import Rotation
+
+    lines = [np.array(line.get_data_3d()).T for line in ax.get_lines()
+             if line.get_color() == "tab:red" and len(line.get_xdata()) == 2]
+    ground, body = np.array([line[0] for line in lines]), np.array([line[1] for line in lines])
+    rotation, _ = Rotation.align_vectors(body - body.mean(axis=0), ground - ground.mean(axis=0))
+    return body.mean(axis=0) - rotation.apply(ground.mean(axis=0)), rotation.as_rotvec(), rotation
+
+
+@pytest.mark.parametrize("scenario", ["engine_inclined_mounts", "cabinet_earthquake"])  # V mounts at 40 degrees;
+def test_mode_shapes_draw_each_mode_at_the_scale_their_title_says_with_every_mount_and_axis(scenario):
+    import re  # ... a tall cabinet whose yaw is drawn at the largest rotation
+
+    from scipy.linalg import eigh
+
     from sixdof.io.scenario import load_scenario
     from sixdof.plots import plot_mode_shapes
-    from sixdof.plots.modes import AXIS_LENGTH, MAX_DRAWN_ROTATION, MODE_SCALE, body_box, mode_scale
+    from sixdof.plots.modes import AXIS_LENGTH, MAX_DRAWN_ROTATION, MODE_SCALE
 
-    system = prepare(load_scenario("scenarios/engine_inclined_mounts.toml")).system  # V mounts at 40 degrees
-    modes = system.modes
-    fig = plot_mode_shapes(modes, system)
-    size = body_box(system)
+    system = prepare(load_scenario(f"scenarios/{scenario}.toml")).system
+    inclined = not np.allclose(system.axes, np.eye(3))
+    fig = plot_mode_shapes(system.modes, system)
+    _, phi = eigh(system.K, system.M)  # scipy's modes, not sixdof's
+    size = np.asarray(system.body.dimensions, float)
     corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], float) * size / 2
-    points = np.vstack([corners, system.positions])
     for j, ax in enumerate(fig.axes):
-        scale = mode_scale(points, modes.shapes[:, j], float(np.max(size)))
-        assert ax.get_title().endswith(f"(mass-normalized shape × {scale:.3g})")
-        # The physical size of what is drawn: the largest point displacement is MODE_SCALE of the body's
-        # largest side, unless the drawn rotation reaches MAX_DRAWN_ROTATION first.
-        moved, turned = ax.get_title().rsplit("drawn: ", 1)[1].split(" (")[0].split(", ")
-        rotation = np.degrees(scale * np.linalg.norm(modes.shapes[3:, j]))
-        assert float(turned.rstrip("°")) == pytest.approx(rotation if rotation >= 0.01 else 0.0, rel=0.05)
-        assert float(moved.rstrip(" m")) <= MODE_SCALE * float(np.max(size)) * 1.05
-        assert (float(moved.rstrip(" m")) == pytest.approx(MODE_SCALE * float(np.max(size)), rel=0.05)
-                or rotation == pytest.approx(np.degrees(MAX_DRAWN_ROTATION), rel=0.05))
+        scale_line = ax.get_title().splitlines()[-1]
+        words = re.fullmatch(r"drawn: largest motion (\S+) % of body size \((\S+) m\)(?:, turned (\S+)°)?", scale_line)
+        assert words, scale_line
+        percent, of, turned = (float(v or 0.0) for v in words.groups())
+        assert of == pytest.approx(np.max(size), rel=5e-3)
+        # What is drawn is mode j itself, scaled: translation and rotation in the proportions of scipy's shape.
+        t, r, rotation = _drawn_rigid_motion(ax)
+        q = np.concatenate([t, r])
+        factor = q @ phi[:, j] / (phi[:, j] @ phi[:, j])
+        np.testing.assert_allclose(q, factor * phi[:, j], atol=1e-9 * np.max(np.abs(q)))
+        # ... at the scale said: the rotation, and the largest motion of a corner or mount.
+        assert np.degrees(np.linalg.norm(r)) == pytest.approx(turned, rel=0.05, abs=0.01)
+        points = np.vstack([corners, system.positions])
+        largest = np.max(np.linalg.norm(t + rotation.apply(points) - points, axis=1))
+        assert 100 * largest / np.max(size) == pytest.approx(percent, rel=0.05)
+        # MODE_SCALE of the body's size, unless the rotation reached MAX_DRAWN_ROTATION first
+        if np.linalg.norm(r) < MAX_DRAWN_ROTATION * (1 - 1e-9):
+            assert percent == pytest.approx(100 * MODE_SCALE)
+        else:
+            assert np.linalg.norm(r) == pytest.approx(MAX_DRAWN_ROTATION) and percent <= 100 * MODE_SCALE
         assert sorted(text.get_text().strip() for text in ax.texts) == sorted(system.mount_names)
         axis_lines = [line for line in ax.get_lines() if line.get_color() == "black" and len(line.get_xdata()) == 2]
-        assert len(axis_lines) == len(system.mounts)
+        assert len(axis_lines) == (len(system.mounts) if inclined else 0)
         for line, p, w in zip(axis_lines, system.positions, system.axes[:, 2]):
             start, end = np.array(line.get_data_3d()).T
             np.testing.assert_allclose(start, p)  # from the mount's ground side, along its w axis
             np.testing.assert_allclose(end - start, AXIS_LENGTH * float(np.max(size)) * w)
-    # Mounts along the body axes: no axis lines.
-    from systems import four_mount
+    legend = [text.get_text() for text in fig.legends[0].get_texts()]
+    assert legend == ["at rest", "mode shape", "mount, ground side", "mount, body side (line: deflection)",
+                      *(["mount w axis"] if inclined else [])]
+    assert inclined == (scenario == "engine_inclined_mounts")
+    if scenario == "cabinet_earthquake":  # its yaw turns the most, 0.3 rad, moving its corners less than 15 %
+        assert any(abs(_drawn_rigid_motion(ax)[1][2]) == pytest.approx(MAX_DRAWN_ROTATION) for ax in fig.axes)
 
-    plain = four_mount()
-    fig = plot_mode_shapes(plain.modes, plain)
-    assert not [line for line in fig.axes[0].get_lines() if line.get_color() == "black"]
-    # The bridge's bearings come in pairs 0.39 m apart on a 40 m beam, drawn at one place: one label each pair,
-    # neither hidden behind the other.
+
+def _pixels(ax, collection):
+    """The corners of a drawn box (a Poly3DCollection, after drawing) in pixels, one row each; corners within 1 %
+    of the panel's width of each other are one (end-on, the near and the far end)."""
+    vertices = ax.transData.transform(np.concatenate([path.vertices for path in collection.get_paths()]))
+    corners: list[list[np.ndarray]] = []
+    for v in vertices:
+        near = next((c for c in corners if np.linalg.norm(c[0] - v) < 0.01 * ax.bbox.width), None)
+        corners.append([v]) if near is None else near.append(v)
+    return np.array([np.mean(c, axis=0) for c in corners])
+
+
+def test_every_bridge_mode_moves_visibly_and_its_roll_is_seen_end_on_undistorted():
+    import matplotlib
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
+    from sixdof.plots import FIXED_TITLES, plot_mode_shapes
     from systems import bridge
 
-    beam = bridge()
-    fig = plot_mode_shapes(beam.modes, beam)
-    FigureCanvasAgg(fig).draw()
+    beam = bridge()  # the seed's 83 t beam, 1.2 x 40 x 2 m, on four bearings
+    with matplotlib.rc_context(FIXED_TITLES):
+        fig = plot_mode_shapes(beam.modes, beam)
+        FigureCanvasAgg(fig).draw()
     renderer = fig.canvas.get_renderer()
+    rolls = [ax for ax in fig.axes if "mostly roll about y" in ax.get_title()]
     for ax in fig.axes:
-        assert [text.get_text() for text in ax.texts] == ["1, 2", "3, 4"]
+        rest, moved = (_pixels(ax, c) for c in ax.collections[:2])
+        # The drawn motion: how far each moved corner lies from the nearest corner at rest, against the panel.
+        shift = np.max(np.min(np.linalg.norm(moved[:, None] - rest[None], axis=2), axis=1))
+        assert shift >= 0.05 * ax.bbox.width, ax.get_title()
+        labels = [text.get_text() for text in ax.texts]
+        # The bearings come in pairs 0.39 m apart on the 40 m beam: one label each pair, neither hidden behind the
+        # other; seen end-on, the two ends' bearings fall together instead.
+        assert labels == (["1, 4", "2, 3"] if ax in rolls else ["1, 2", "3, 4"])
         first, second = (text.get_window_extent(renderer) for text in ax.texts)
         assert not first.overlaps(second)
+    assert len(rolls) == 1
+    roll = rolls[0]
+    assert "seen end-on, along y" in roll.get_title()
+    # End-on, both ends of the box fall on one rectangle: at rest 1.2 m wide and 2 m high, to one scale.
+    rest, moved = (_pixels(roll, c) for c in roll.collections[:2])
+    assert len(rest) == len(moved) == 4
+    width, height = np.ptp(rest, axis=0)
+    assert width / height == pytest.approx(1.2 / 2.0, rel=1e-3)
+    # Turned by the angle the title says, and still the same rectangle (no shear, no stretch).
+    turned = float(roll.get_title().rsplit("turned ", 1)[1].rstrip("°"))
+    centre = moved.mean(axis=0)
+    np.testing.assert_allclose(centre, rest.mean(axis=0), atol=1.0)  # about the CG: a pure roll
+    order = np.argsort(np.arctan2(*(moved - centre).T[::-1]))
+    ring = moved[order]
+    edges = np.roll(ring, -1, axis=0) - ring
+    lengths = np.linalg.norm(edges, axis=1)
+    np.testing.assert_allclose(np.sort(lengths), np.sort([width, width, height, height]), rtol=2e-3)
+    long_edge = edges[np.argmax(lengths)]
+    tilt = np.degrees(np.arctan2(abs(long_edge[0]), abs(long_edge[1])))  # from the vertical
+    assert tilt == pytest.approx(turned, rel=0.05)
+    assert tilt > 5.0  # plainly visible
 
 
 def test_the_excitation_names_its_shocks_and_switch_ons_within_the_record():

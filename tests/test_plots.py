@@ -61,7 +61,9 @@ def labelled_axes(fig: Figure, categorical=()):
         if ax.get_xlabel() or not ax.get_shared_x_axes().get_siblings(ax)[1:]:
             labels.append(ax.get_xlabel())
         if hasattr(ax, "get_zlabel"):
-            labels.append(ax.get_zlabel())
+            # 3-D: the axes with ticks (an end-on view's line of sight has none, nor a label)
+            labels = [getattr(ax, f"get_{a}label")() for a in "xyz" if len(getattr(ax, f"get_{a}ticks")())]
+            assert len(labels) >= 2, ax.get_title()
         for label in labels:
             assert label, ax.get_title()
             if label not in categorical:
@@ -99,18 +101,82 @@ def test_envelope_keeps_each_slices_extrema():
     assert set(plots.envelope_indices(np.ones(1001), max_points=10).tolist()) >= {0, 1000}
 
 
+#: The bridge's DOFs in words, by hand: its length (40 m) is along y, z is up.
+BRIDGE_WORDS = {"x": "lateral motion along x", "y": "longitudinal motion along y", "z": "vertical bounce along z",
+                "rx": "pitch about x", "ry": "roll about y", "rz": "yaw about z"}
+
+
 def test_mode_shapes(parts):
-    modes = parts["modes"]
-    fig = plots.plot_mode_shapes(modes, parts["system"])
+    from scipy.linalg import eigh
+
+    modes, system = parts["modes"], parts["system"]
+    fig = plots.plot_mode_shapes(modes, system)
     assert isinstance(fig, Figure)
     assert len(fig.axes) == 6 and all(ax.name == "3d" for ax in fig.axes)
     assert labelled_axes(fig)
+    # Every panel large enough to read: 2 columns of at least 4 inches.
+    width, height = fig.get_size_inches()
+    assert {round(ax.get_position().x0, 2) for ax in fig.axes} == {round(fig.axes[0].get_position().x0, 2),
+                                                                   round(fig.axes[1].get_position().x0, 2)}
+    assert all(ax.get_position().width * width >= 4.0 for ax in fig.axes)
+    # The dominant DOF and its kinetic-energy share, from scipy's own eigenvectors: T_i = phi_i (M phi)_i / 2.
+    _, phi = eigh(system.K, system.M)
+    ke = phi * (system.M @ phi)
+    ke /= ke.sum(axis=0)
     freqs = modes.frequency_hz
     for j, ax in enumerate(fig.axes):
         title = ax.get_title()
-        assert f"Mode {j + 1}: {freqs[j]:.4g} Hz" in title
-        assert f"dominant {modes.dominant_dof[j]}" in title
-    assert [ax.get_xlabel() for ax in fig.axes[:1]] == ["x [m]"]
+        i = int(np.argmax(ke[:, j]))
+        assert title.startswith(f"Mode {j + 1}: {freqs[j]:.4g} Hz\n")
+        assert f"mostly {BRIDGE_WORDS[DOFS[i]]} ({100 * ke[i, j]:.0f} % of kinetic energy)" in title
+        assert "×" not in title and "mass-normalized" not in title  # the scale in words, no factor to decode
+    assert fig.axes[0].get_xlabel() == "x [m]"
+
+
+def test_coupled_modes_name_their_two_largest_shares():
+    from scipy.linalg import eigh
+
+    # Every DOF coupled to every other: modes with no DOF holding half of the kinetic energy.
+    A = np.random.default_rng(3).normal(size=(6, 6))
+    M, K = np.diag([100.0, 100.0, 100.0, 10.0, 10.0, 10.0]), A @ A.T * 1e5 + 1e4 * np.eye(6)
+    fig = plots.plot_mode_shapes(modal_analysis(M, K))  # no system: a 1 m cube, z up, x taken as longitudinal
+    words = {"x": "longitudinal motion along x", "y": "lateral motion along y", "z": "vertical bounce along z",
+             "rx": "roll about x", "ry": "pitch about y", "rz": "yaw about z"}
+    _, phi = eigh(K, M)
+    ke = phi * (M @ phi)
+    coupled = 0
+    for j, ax in enumerate(fig.axes):
+        first, second = np.argsort(ke[:, j])[::-1][:2]
+        share = 100 * ke[:, j]
+        if ke[first, j] >= 0.5:
+            assert f"mostly {words[DOFS[first]]} ({share[first]:.0f} % of kinetic energy)" in ax.get_title()
+            continue
+        coupled += 1
+        assert (f"coupled: {words[DOFS[first]]} {share[first]:.0f} %\nand {words[DOFS[second]]} {share[second]:.0f} % "
+                "of kinetic energy") in ax.get_title()
+    assert coupled == 2
+
+
+def test_mode_shapes_draw_into_a_given_figure_or_subfigure(parts):
+    modes, system = parts["modes"], parts["system"]
+    fig = Figure(figsize=(14, 9))
+    left, right = fig.subfigures(1, 2, width_ratios=[1, 2])
+    assert plots.plot_mode_shapes(modes, system, fig=right) is fig
+    assert not left.axes and len(right.axes) == 6 and len(fig.axes) == 6
+    assert all(right.bbox.x0 <= ax.bbox.x0 and ax.bbox.x1 <= right.bbox.x1 + 1e-6 for ax in fig.axes)
+    assert fig.get_size_inches().tolist() == [14, 9] and fig.get_suptitle() == ""
+    # Two columns, mode 1 top left, row by row.
+    x0, y0 = (np.array([getattr(ax.get_position(), k) for ax in fig.axes]) for k in ("x0", "y0"))
+    assert x0[0] == x0[2] == x0[4] < x0[1] == x0[3] == x0[5] and y0[0] == y0[1] > y0[2] == y0[3] > y0[4]
+    plain = Figure()
+    assert plots.plot_mode_shapes(modes, system, fig=plain) is plain and len(plain.axes) == 6
+
+
+def test_mode_animations_want_at_least_two_frames(parts, tmp_path):
+    for frames in (1, 2.5, True):
+        with pytest.raises(InputError, match="frames: expected an integer number of frames per period, at least 2"):
+            plots.modes.write_mode_animations(parts["modes"], parts["system"], tmp_path, frames=frames)
+    assert not list(tmp_path.iterdir())
 
 
 def test_mode_drawing_scales_translations_and_caps_rotations():

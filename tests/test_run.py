@@ -239,7 +239,31 @@ def test_output_table_leaves_derived_quantities_out_and_reading_derives_them_aga
     ('derived = ["mount_force"]', r"output\.derived\[0\]: expected 'mount_forces' or 'mount_check', got 'mount_force'"),
     ('derived = "all"', r"output\.derived: expected a list of names from mount_forces, mount_check"),
     ("keep = []", r"output"),
+    ('animate_modes = "yes"', r"output\.animate_modes: expected true or false, got 'yes'"),
 ])
 def test_output_table_errors_name_the_field(table, message):
     with pytest.raises(InputError, match=message):
         parse_scenario(SCENARIO.replace("[simulation]", f"[output]\n{table}\n\n[simulation]"))
+
+
+def test_animate_modes_writes_one_looping_gif_per_mode(tmp_path, monkeypatch):
+    from PIL import Image, ImageSequence
+
+    from sixdof.plots import modes as mode_plots
+
+    monkeypatch.setattr(mode_plots, "ANIMATION_FRAMES", 4)  # a quarter period a frame: rest, +shape, rest, -shape
+    modal = SCENARIO.split("[[loads]]")[0] + "\n[output]\nanimate_modes = true\n"
+    scenario = parse_scenario(modal, "modal.toml")
+    assert scenario.output.animate_modes and not parse_scenario(SCENARIO).output.animate_modes
+    _, folder = run_scenario(scenario, tmp_path, progress=False)
+    assert sorted(p.name for p in folder.glob("*.gif")) == [f"mode_{j}.gif" for j in range(1, 7)]
+    for j in range(1, 7):
+        with Image.open(folder / f"mode_{j}.gif") as gif:
+            assert gif.n_frames == 4 and gif.info["loop"] == 0  # for ever
+            assert gif.info["duration"] == pytest.approx(1000 / mode_plots.ANIMATION_FPS, abs=10)
+            rest, up, _, down = (np.asarray(frame.convert("RGB"), dtype=int) for frame in ImageSequence.Iterator(gif))
+        # The body moves one way, then the other.
+        assert np.abs(up - rest).sum() > 0 and np.abs(down - rest).sum() > 0 and np.abs(up - down).sum() > 0
+    # Written by sixdof as the rest (replaced by the next run, kept by none of the user's): off by default, see
+    # test_run_writes_results_figures_and_summary.
+    assert {f"mode_{j}.gif" for j in range(1, 7)} <= set((folder / ".sixdof-files").read_text().splitlines())

@@ -30,7 +30,7 @@ REPORT = "report.html"
 #: One sentence per figure file name (its stem: any format) on what the figure shows.
 FIGURE_CAPTIONS = {
     "mode_shapes": "The body on its mounts in each mode of vibration, the deformed shape drawn over the rest "
-                   "position, with the mode's natural frequency in its title.",
+                   "position, with the mode's natural frequency, dominant motion and decoupling in its title.",
     "ke_distribution": "How each mode's kinetic energy is shared among the six degrees of freedom: a mode "
                        "with nearly all of it in one degree of freedom is decoupled.",
     "time_dofs": "The motion of the centre of gravity over time, one panel per degree of freedom that "

@@ -178,9 +178,12 @@ def _derived_check(value, field):
 @dataclass(frozen=True)
 class OutputSettings(Frozen):
     """What ``sixdof run`` stores in ``results.h5`` (``[output]``): ``derived`` names the derived quantities
-    written (default all of :data:`DERIVED`, today's file); those left out are derived again on reading."""
+    written (default all of :data:`DERIVED`, today's file); those left out are derived again on reading.
+    ``animate_modes`` (default false) also writes each mode shape as an animated GIF, ``mode_1.gif``...
+    (:func:`sixdof.plots.modes.write_mode_animations`)."""
 
     derived: tuple[str, ...] = checked(_derived_check, default=DERIVED)
+    animate_modes: bool = checked(boolean, default=False)
 
     @property
     def omitted(self) -> tuple[str, ...]:

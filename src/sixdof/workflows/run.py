@@ -49,6 +49,7 @@ from sixdof.analysis.validity import (
 )
 from sixdof.errors import InputError, Plain
 from sixdof.excitation import Excitation
+from sixdof.interrupts import held_signals
 from sixdof.io import html_report, output, report, store
 from sixdof.io.scenario import MEMORY_SAMPLES, Scenario, load_scenario
 from sixdof.io.stream import ResultsStream
@@ -378,6 +379,11 @@ def _save_into(stage: Path, results: RunResults, sink, drawing, command_line: st
             shutil.copyfile(sink.path, stage / "results.h5")
     drawing.submit(results)
     figures = drawing.save(stage)
+    if results.scenario.output.animate_modes and results.modes is not None:
+        from sixdof.plots.modes import write_mode_animations  # noqa: PLC0415 (loads matplotlib: only when asked)
+
+        with held_signals():  # matplotlib's C code can swallow a KeyboardInterrupt
+            write_mode_animations(results.modes, results.system, stage)
     summary = report.summary_markdown(results, figures)
     (stage / "summary.md").write_text(summary, encoding="utf-8")
     html_report.write_run_report(stage, results, summary, figures)

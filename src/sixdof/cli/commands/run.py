@@ -20,5 +20,8 @@ def main(args, workers=None) -> int:
                                           command_line=" ".join(sys.argv), workers=workers)
     print(console.run_text(results))
     warn_uplift(results)
-    print(f"\nWrote {directory}: results.h5, {len(figure_names(results))} figures, summary.md, report.html")
+    gifs = len(results.modes.frequency_hz) if results.scenario.output.animate_modes and results.modes is not None else 0
+    animations = f", {gifs} mode animations (mode_1.gif...)" if gifs else ""
+    print(f"\nWrote {directory}: results.h5, {len(figure_names(results))} figures{animations}, summary.md, "
+          "report.html")
     return 0

@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import csv
 import tomllib
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -202,6 +203,14 @@ def modal_sets(run) -> list[dict]:
     return sets
 
 
+def _write_uff(path: Path, sets: list[dict]) -> None:
+    import pyuff
+
+    with warnings.catch_warnings():  # pyuff leaves the text handle it reopens after each binary dataset open
+        warnings.simplefilter("ignore", ResourceWarning)
+        pyuff.UFF(str(path)).write_sets(sets, mode="add")
+
+
 def _write_csv(path: Path, headers: list[str], columns: list[np.ndarray]) -> None:
     with path.open("w", newline="", encoding="utf-8") as stream:
         writer = csv.writer(stream)
@@ -266,13 +275,11 @@ def export(results: str | Path, out_root: str | Path | None = None, fmt: str = "
 
     def write(stage: Path) -> None:
         if fmt == "uff58":
-            import pyuff
-
-            pyuff.UFF(str(stage / uff_file)).write_sets(uff58_sets(run, parts, point_quantity), mode="add")
+            _write_uff(stage / uff_file, uff58_sets(run, parts, point_quantity))
             written.append(uff_file)
             modal = modal_sets(run)
             if modal:
-                pyuff.UFF(str(stage / modes_file)).write_sets(modal, mode="add")
+                _write_uff(stage / modes_file, modal)
                 written.append(modes_file)
             return
         if channels:

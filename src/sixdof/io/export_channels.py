@@ -147,14 +147,19 @@ def scenario_points(run) -> list[tuple[str, np.ndarray]]:
 def export_nodes(run) -> list[Node]:
     """Every node of a run's export, numbered as the module says."""
     nodes = [Node(CG_NODE, "CG", "cg", np.zeros(3))]
-    nodes += [Node(len(nodes) + 1, name, "point", position) for name, position in scenario_points(run)]
+
+    def add(name: str, kind: str, position) -> None:
+        nodes.append(Node(len(nodes) + 1, name, kind, np.asarray(position, float)))
+
+    for name, position in scenario_points(run):
+        add(name, "point", position)
     if run.system is not None:
-        nodes += [Node(len(nodes) + 1, name, "mount", np.asarray(position, float))
-                  for name, position in zip(run.system.mount_names, run.system.positions)]
+        for name, position in zip(run.system.mount_names, run.system.positions):
+            add(name, "mount", position)
     for name, item in file_order(run.frf_extras):
         for label, place in _places(name, item):
             if _node_at(nodes, place) is None:
-                nodes.append(Node(len(nodes) + 1, label, "frf", np.asarray(place, float)))
+                add(label, "frf", place)
     return nodes
 
 

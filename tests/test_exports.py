@@ -112,6 +112,16 @@ def test_the_header_numbers_the_nodes_and_dataset_15_places_them(uff):
     assert not np.any(nodes["def_cs"]) and not np.any(nodes["disp_cs"])  # body axes, no system of their own
 
 
+def test_every_id_line_fits_uff58_s_80_characters(run):
+    # A longer one is cut (pyuff writes 80): the ID lines say which request and channel a dataset is.
+    from sixdof.io.exchange import uff58_sets
+
+    sets = [data for data in uff58_sets(run) if data["type"] == 58]
+    assert len(sets) == 6 + 3 + 12 + 6 + 36 + 15 + 3 + 3
+    assert max(len(data.get(line, "")) for data in sets for line in ("id1", "id2")) <= 80
+    assert len({data["id1"] for data in sets}) == len(sets)  # and no two alike
+
+
 def test_mount_forces_are_reaction_force_responses_at_the_mounts_nodes(uff, run):
     sets, forces = by_id(uff), run.mount_forces
     assert forces.names == MOUNTS and np.abs(forces.total).max() > 10.0  # the hit loads the mounts
@@ -147,8 +157,7 @@ def test_point_frfs_carry_their_response_and_reference_dofs_and_agree_with_the_r
         assert (data["func_type"], dof(data, "rsp"), dof(data, "ref")) == (4, response, reference)
         assert (units(data, "ordinate"), units(data, "orddenom"), data["ord_data_type"]) == (ordinate, denominator, 6)
         np.testing.assert_array_equal(data["data"], frf.values)
-    assert sets["point FRF cross (accelerance)"]["id2"].strip() == "response direction (0.707106781, 0.707106781, 0) " \
-                                                                   "body axes"
+    assert sets["point FRF cross (accelerance)"]["id2"].strip() == "response along (0.707107, 0.707107, 0) body axes"
     # From the file's own receptance: rx per Mx is the receptance's entry; the drive mobility i w (T H T')_zz.
     np.testing.assert_allclose(sets["point FRF turn (receptance)"]["data"], receptance[:, 3, 3], rtol=1e-12)
     T = point_map(POSITIONS[TOP])
@@ -161,19 +170,20 @@ def test_transmissibilities_are_responses_per_their_reference(uff, run):
     floor, base = run.frf_extras["to_floor"], run.frf_extras["base"]
     resultant = np.zeros((floor.f_hz.size, 3), complex)
     for k, axis in enumerate("xyz"):
-        data = sets[f"force transmissibility to_floor: foundation F{axis}"]
+        data = sets[f"to_floor foundation F{axis}"]
         assert (dof(data, "rsp"), dof(data, "ref")) == ((0, k + 1, "GROUND"), (TOP, 3, "top"))
         assert (units(data, "ordinate"), units(data, "orddenom")) == ((9, "N"), (13, "N"))
+        assert data["id2"].strip() == "force transmissibility"  # its load along +Z: no vector to give
         np.testing.assert_array_equal(data["data"], floor.total[:, k])
         for m, name in enumerate(MOUNTS):
-            data = sets[f"force transmissibility to_floor: mount {name} F{axis}"]
+            data = sets[f"to_floor mount {name} F{axis}"]
             assert (dof(data, "rsp"), dof(data, "ref")) == ((MOUNT_NODES[name], k + 1, name), (TOP, 3, "top"))
             np.testing.assert_array_equal(data["data"], floor.mount_forces[:, m, k])
             resultant[:, k] += data["data"]
-        data = sets[f"ground transmissibility base: {axis} (absolute)"]
+        data = sets[f"base {axis} (absolute)"]
         assert (dof(data, "rsp"), dof(data, "ref")) == ((TOP, k + 1, "top"), (0, 0, "GROUND"))  # along no axis
         assert (units(data, "ordinate"), units(data, "orddenom")) == ((8, "m"), (8, "m"))
-        assert data["id2"].strip() == "ground direction (0, 0.6, 0.8) body axes"
+        assert data["id2"].strip() == "ground transmissibility, ground along (0, 0.6, 0.8) body axes"
         np.testing.assert_array_equal(data["data"], base.absolute[:, k])
     np.testing.assert_allclose(resultant, floor.total_force, rtol=1e-12, atol=1e-12 * np.abs(resultant).max())
 

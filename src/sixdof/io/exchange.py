@@ -11,7 +11,7 @@ label of the fixed ground; never a body node), node 1 the centre of gravity, nod
 their order, then the mounts, then the places of ``[frf]`` requests that are none of these; the file opens with
 a header (dataset 151, the numbering in its description line) and the nodes' positions in body axes from the
 CG (dataset 15, ASCII: 6 significant digits). Directions 1-6 are +X, +Y, +Z, +RX, +RY, +RZ (body axes), 0 a
-direction along no axis (its vector in the ID line 2). Time histories are function type 1: the CG's
+direction along no axis (its vector in the ID line 2, with a transmissibility's kind). Time histories are function type 1: the CG's
 displacement (ordinate type 8), the points' motion (8, 11 or 12), the mounts' force (9, reaction force, in N:
 the dynamic force each exerts on the foundation, body axes); FRFs function type 4: the receptance (response
 displacement per excitation force, types 8 over 13) and point FRFs (8, 11 or 12 per their quantity, over 13);

@@ -9,7 +9,7 @@ time histories carries: they are the references.
 Node numbers (:func:`export_nodes`), the same whatever is chosen: 0 the ground (and foundation), 1 the CG,
 2, 3... the ``[[points]]`` in their order, then the mounts in theirs, then each place an ``[frf]`` request names
 that is none of these (in the requests' file order). Directions 1-6 are +X, +Y, +Z, +RX, +RY, +RZ (body axes), a
-negative code the opposite way; a direction along no axis is code 0, its vector in the ID line 2.
+negative code the opposite way; a direction along no axis is code 0, its vector in the ID line 2 (6 digits).
 """
 
 from __future__ import annotations
@@ -87,7 +87,8 @@ class Ratio(NamedTuple):
     Attributes
     ----------
     name, description : str
-        The CSV columns' name (``"Re <name> [unit]"``, ``"Im ..."``) and UFF58's ID line 1.
+        The CSV columns' name (``"Re <name> [unit]"``, ``"Im ..."``) and UFF58's ID line 1 (after the run's
+        name; 80 characters in all).
     func_type : int
         UFF58 function type: 4 (FRF), transmissibilities too.
     response, reference : tuple of (int, int, str)
@@ -96,7 +97,7 @@ class Ratio(NamedTuple):
         UFF58 specific data type and SI unit of the response and of the reference.
     values : ndarray, shape (nf,), complex
     note : str
-        UFF58's ID line 2: an off-axis direction's vector, else ``"NONE"``.
+        UFF58's ID line 2: a transmissibility's kind and an off-axis direction's vector, else ``"NONE"``.
     """
 
     name: str
@@ -179,11 +180,11 @@ def direction_code(direction, rotation: bool = False) -> int:
     return 0
 
 
-def _note(**directions) -> str:
-    """ID line 2: the vectors of the directions along no axis (code 0), else ``NONE``."""
-    off = [f"{what} direction ({', '.join(f'{v:.9g}' for v in np.asarray(d, float))}) body axes"
+def _note(kind: str = "", **directions) -> str:
+    """ID line 2: ``kind`` and the vectors of the directions along no axis (code 0), else ``NONE``."""
+    off = [f"{what} along ({', '.join(f'{v:.6g}' for v in np.asarray(d, float))}) body axes"
            for what, d in directions.items() if direction_code(d) == 0]
-    return "; ".join(off) or "NONE"
+    return ", ".join(([kind] if kind else []) + off) or "NONE"
 
 
 def contents(run, what, source: str) -> tuple[str, ...]:
@@ -307,22 +308,21 @@ def _extra(name: str, item, nodes: list[Node]) -> list[Ratio]:
                       _note(response=item.response_direction, load=item.load_direction))]
     if isinstance(item, ForceTransmissibility):
         reference, denominator = _load_reference(item, name, nodes)
-        note = _note(load=item.load_direction)
-        channels = [Ratio(f"{name} total F{axis}", f"force transmissibility {name}: foundation F{axis}",
+        note = _note("force transmissibility", load=item.load_direction)
+        channels = [Ratio(f"{name} total F{axis}", f"{name} foundation F{axis}",
                           _TRANSMISSIBILITY, (GROUND_NODE, k + 1, "GROUND"), reference, (_REACTION, "N"), denominator,
                           np.asarray(item.total[:, k], complex), note) for k, axis in enumerate(AXES)]
         mounts = {node.name: node.number for node in nodes if node.kind == "mount"}
         for m, mount in enumerate(item.mount_names):
-            channels += [Ratio(f"{name} mount {mount} F{axis}", f"force transmissibility {name}: mount {mount} "
-                               f"F{axis}", _TRANSMISSIBILITY, (mounts[mount], k + 1, mount), reference,
+            channels += [Ratio(f"{name} mount {mount} F{axis}", f"{name} mount {mount} F{axis}", _TRANSMISSIBILITY, (mounts[mount], k + 1, mount), reference,
                                (_REACTION, "N"), denominator, np.asarray(item.mount_forces[:, m, k], complex), note)
                          for k, axis in enumerate(AXES)]
         return channels
     node = _node_at(nodes, item.response_point)
     reference = (GROUND_NODE, direction_code(item.ground_direction), "GROUND")
-    return [Ratio(f"{name} {axis} (absolute)", f"ground transmissibility {name}: {axis} (absolute)",
+    return [Ratio(f"{name} {axis} (absolute)", f"{name} {axis} (absolute)",
                   _TRANSMISSIBILITY, (node.number, k + 1, node.name), reference, (_DISPLACEMENT, "m"),
-                  (_DISPLACEMENT, "m"), np.asarray(item.absolute[:, k], complex), _note(ground=item.ground_direction))
+                  (_DISPLACEMENT, "m"), np.asarray(item.absolute[:, k], complex), _note("ground transmissibility", ground=item.ground_direction))
             for k, axis in enumerate(AXES)]
 
 

@@ -8,20 +8,19 @@ on the foundation; ``frfs``, the ``[frf]`` requests: point FRFs, force and groun
 
 UFF58 conventions (:mod:`sixdof.io.export_channels`): node 0 the ground and foundation (the usual finite-element
 label of the fixed ground; never a body node), node 1 the centre of gravity, nodes 2, 3... the ``[[points]]`` in
-their order, then the mounts, then the places of ``[frf]`` requests that are none of these; the file opens with
-a header (dataset 151, the numbering in its description line) and the nodes' positions in body axes from the
-CG (dataset 15, ASCII: 6 significant digits). Directions 1-6 are +X, +Y, +Z, +RX, +RY, +RZ (body axes), 0 a
-direction along no axis (its vector in the ID line 2, with a transmissibility's kind). Time histories are function type 1: the CG's
-displacement (ordinate type 8), the points' motion (8, 11 or 12), the mounts' force (9, reaction force, in N:
-the dynamic force each exerts on the foundation, body axes); FRFs function type 4: the receptance (response
+their order, then the mounts, then the places of ``[frf]`` requests that are none of these; the file opens with a
+header (dataset 151, the numbering in its description line) and the nodes' positions in body axes from the CG
+(dataset 15, ASCII: 6 significant digits). Directions 1-6 are +X, +Y, +Z, +RX, +RY, +RZ (body axes), 0 a direction
+along no axis (its vector in the ID line 2, with a transmissibility's kind). Time histories are function type 1:
+the CG's displacement (ordinate type 8), the points' motion (8, 11 or 12), the mounts' force (9, reaction force, in
+N: the dynamic force each exerts on the foundation, body axes); FRFs function type 4: the receptance (response
 displacement per excitation force, types 8 over 13) and point FRFs (8, 11 or 12 per their quantity, over 13);
 transmissibilities function type 4 too (pyuff writes no type 5), told by their data types: a force
-transmissibility's resultant force on the foundation (node 0) and each mount's force (9 over 13, N/N or N/(N m)
-for a moment load), a ground transmissibility's absolute motion of its point per unit ground motion (8 over 8,
-m/m). All in binary UFF58 (58b) double precision (ord_data_type 4
-real, 6 complex), which reads back exactly (ASCII UFF58 keeps 6 digits of an uneven abscissa such as a log
-frequency grid), with SI unit labels and their length and force exponents. An entity name is cut to UFF58's 10
-characters (a point's whole name is in the ID line).
+transmissibility's resultant force on the foundation (node 0) and each mount's force (9 over 13, N/N or N/(N m) for
+a moment load), a ground transmissibility's absolute motion of its point per unit ground motion (8 over 8, m/m).
+All in binary UFF58 (58b) double precision (ord_data_type 4 real, 6 complex), which reads back exactly (ASCII UFF58
+keeps 6 digits of an uneven abscissa such as a log frequency grid), with SI unit labels and their length and force
+exponents. An entity name is cut to UFF58's 10 characters (a point's whole name is in the ID line).
 
 The time histories end with the run's inputs: a base-excited run's ground motion, displacement, velocity and
 acceleration (types 8, 11, 12) at node 0 along +X, +Y, +Z, entity ``GROUND``; a run with loads, the applied

@@ -309,21 +309,21 @@ def _extra(name: str, item, nodes: list[Node]) -> list[Ratio]:
     if isinstance(item, ForceTransmissibility):
         reference, denominator = _load_reference(item, name, nodes)
         note = _note("force transmissibility", load=item.load_direction)
-        channels = [Ratio(f"{name} total F{axis}", f"{name} foundation F{axis}",
-                          _TRANSMISSIBILITY, (GROUND_NODE, k + 1, "GROUND"), reference, (_REACTION, "N"), denominator,
+        channels = [Ratio(f"{name} total F{axis}", f"{name} foundation F{axis}", _TRANSMISSIBILITY,
+                          (GROUND_NODE, k + 1, "GROUND"), reference, (_REACTION, "N"), denominator,
                           np.asarray(item.total[:, k], complex), note) for k, axis in enumerate(AXES)]
         mounts = {node.name: node.number for node in nodes if node.kind == "mount"}
         for m, mount in enumerate(item.mount_names):
-            channels += [Ratio(f"{name} mount {mount} F{axis}", f"{name} mount {mount} F{axis}", _TRANSMISSIBILITY, (mounts[mount], k + 1, mount), reference,
-                               (_REACTION, "N"), denominator, np.asarray(item.mount_forces[:, m, k], complex), note)
-                         for k, axis in enumerate(AXES)]
+            channels += [Ratio(f"{name} mount {mount} F{axis}", f"{name} mount {mount} F{axis}", _TRANSMISSIBILITY,
+                               (mounts[mount], k + 1, mount), reference, (_REACTION, "N"), denominator,
+                               np.asarray(item.mount_forces[:, m, k], complex), note) for k, axis in enumerate(AXES)]
         return channels
     node = _node_at(nodes, item.response_point)
     reference = (GROUND_NODE, direction_code(item.ground_direction), "GROUND")
-    return [Ratio(f"{name} {axis} (absolute)", f"{name} {axis} (absolute)",
-                  _TRANSMISSIBILITY, (node.number, k + 1, node.name), reference, (_DISPLACEMENT, "m"),
-                  (_DISPLACEMENT, "m"), np.asarray(item.absolute[:, k], complex), _note("ground transmissibility", ground=item.ground_direction))
-            for k, axis in enumerate(AXES)]
+    note = _note("ground transmissibility", ground=item.ground_direction)
+    return [Ratio(f"{name} {axis} (absolute)", f"{name} {axis} (absolute)", _TRANSMISSIBILITY,
+                  (node.number, k + 1, node.name), reference, (_DISPLACEMENT, "m"), (_DISPLACEMENT, "m"),
+                  np.asarray(item.absolute[:, k], complex), note) for k, axis in enumerate(AXES)]
 
 
 def numbering(run) -> str:

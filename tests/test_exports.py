@@ -253,6 +253,24 @@ def test_the_whole_uff58_export_is_refused_by_load_test_in_one_line(results, tmp
     with pytest.raises(InputError, match=r"func_type\): expected function type 1 as dataset 3: one kind of data per "
                                          r"file, got 4"):
         load_test(path)
+    # Mount forces are no test response (a reaction force, not a motion): refused by name, not taken for inputs.
+    path = export(results, tmp_path / "mounts", "uff58", what="points,mounts")[0]
+    with pytest.raises(InputError, match=r"dataset 6 \(UFF58 ordinate_spec_data_type\): expected a response: 8 "
+                                         r"\(displacement\), 11 \(velocity\) or 12 \(acceleration\), got 9"):
+        load_test(path)
+
+
+def test_an_export_is_the_same_bytes_each_time_dated_by_its_run(results, run, tmp_path):
+    pytest.importorskip("pyuff")
+    from sixdof.io.exchange import export
+
+    first, second = (export(results, tmp_path / name, "uff58")[0].read_bytes() for name in ("one", "two"))
+    assert first == second
+    from datetime import datetime
+
+    created = datetime.fromisoformat(run.provenance["created_utc"])  # dataset 151's dates: the run's
+    lines = first.decode("latin-1").splitlines()
+    assert lines[5].startswith(f"{created:%d-%b-%y} {created:%H:%M:%S}") and lines[6].startswith(lines[5][:18])
 
 
 def test_what_picks_the_parts_and_a_bad_choice_is_one_clear_error(results, run, tmp_path, capsys):

@@ -42,6 +42,7 @@ from __future__ import annotations
 import csv
 import tomllib
 import warnings
+from datetime import datetime
 from pathlib import Path
 
 import numpy as np
@@ -85,6 +86,8 @@ def _abscissa(x: np.ndarray) -> dict:
 #: UFF58 record 6 gives an entity name 10 characters (format 10A1): pyuff writes a longer one whole, which pushes
 #: the node and direction out of their columns (a 13-character point name read back as node 0).
 _ENTITY_CHARACTERS = 10
+#: An ID line (records 1-5) and a dataset 151's lines have 80 characters: pyuff writes a longer one whole.
+_ID_CHARACTERS = 80
 #: The length and force exponents UFF58 records 8-11 give each unit sixdof writes (time has none: UFF58's unit
 #: system is length, force and temperature).
 _UNIT_EXPONENTS = {"m": (1, 0), "m/s": (1, 0), "m/s^2": (1, 0), "rad": (0, 0), "rad/s": (0, 0), "rad/s^2": (0, 0),
@@ -106,8 +109,9 @@ def _time_set(name: str, channel: Channel, t: np.ndarray) -> dict:
     ref_node, ref_dir, ref_entity = channel.reference
     return pyuff.prepare_58(
         binary=1, func_type=1, rsp_node=channel.node, rsp_dir=channel.direction, ref_node=ref_node, ref_dir=ref_dir,
-        ord_data_type=4, id1=f"{name}: {channel.description}", rsp_ent_name=channel.entity[:_ENTITY_CHARACTERS],
-        ref_ent_name=ref_entity[:_ENTITY_CHARACTERS], **_axis("abscissa", _SECONDS, "s"),
+        ord_data_type=4, id1=f"{name}: {channel.description}"[:_ID_CHARACTERS],
+        rsp_ent_name=channel.entity[:_ENTITY_CHARACTERS], ref_ent_name=ref_entity[:_ENTITY_CHARACTERS],
+        **_axis("abscissa", _SECONDS, "s"),
         **_axis("ordinate", channel.data_type, channel.units), **_NO_DENOMINATOR, data=channel.data, x=t,
         num_pts=t.size, **_abscissa(t))
 
@@ -119,7 +123,7 @@ def _ratio_set(name: str, ratio: Ratio, f: np.ndarray) -> dict:
     (rsp_node, rsp_dir, rsp_entity), (ref_node, ref_dir, ref_entity) = ratio.response, ratio.reference
     return pyuff.prepare_58(
         binary=1, func_type=ratio.func_type, rsp_node=rsp_node, rsp_dir=rsp_dir, ref_node=ref_node, ref_dir=ref_dir,
-        ord_data_type=6, id1=f"{name}: {ratio.description}", id2=ratio.note,
+        ord_data_type=6, id1=f"{name}: {ratio.description}"[:_ID_CHARACTERS], id2=ratio.note[:_ID_CHARACTERS],
         rsp_ent_name=rsp_entity[:_ENTITY_CHARACTERS], ref_ent_name=ref_entity[:_ENTITY_CHARACTERS],
         **_axis("abscissa", _HERTZ, "Hz"), **_axis("ordinate", *ratio.ordinate),
         **_axis("orddenom", *ratio.denominator), data=ratio.values, x=f, num_pts=f.size, **_abscissa(f))
@@ -131,12 +135,16 @@ def _header_sets(run, name: str) -> list[dict]:
     import pyuff
 
     nodes = export_nodes(run)
-    created = str(run.provenance.get("created_utc", "") or "")
-    header = pyuff.prepare_151(model_name=f"{name} (sixdof export)", description=f"nodes: {numbering(run)}"[:80],
-                               db_app="sixdof", program="sixdof export")
-    # Dates of the run, not of the export: one results file exports to the same bytes.
-    header |= {key: created[:10] for key in ("date_db_created", "date_db_saved", "date_file_written")}
-    header |= {key: created[11:19] for key in ("time_db_created", "time_db_saved", "time_file_written")}
+    header = pyuff.prepare_151(model_name=f"{name} (sixdof export)"[:_ID_CHARACTERS],
+                               description=f"nodes: {numbering(run)}"[:_ID_CHARACTERS], db_app="sixdof",
+                               program="sixdof export")
+    # The run's date, not the export's (UFF's DD-MMM-YY and HH:MM:SS): one results file exports to the same bytes.
+    try:
+        created = datetime.fromisoformat(str(run.provenance.get("created_utc", "")))
+    except ValueError:  # results written from parts, without provenance
+        created = datetime(1970, 1, 1)
+    header |= {f"date_{key}": created.strftime("%d-%b-%y") for key in ("db_created", "db_saved", "file_written")}
+    header |= {f"time_{key}": created.strftime("%H:%M:%S") for key in ("db_created", "db_saved", "file_written")}
     zeros = np.zeros(len(nodes), dtype=np.int64)
     positions = np.array([node.position for node in nodes])
     geometry = pyuff.prepare_15(node_nums=np.array([node.number for node in nodes]), def_cs=zeros, disp_cs=zeros,

@@ -288,7 +288,9 @@ def frf_channels(run, parts: tuple[str, ...]) -> list[Ratio]:
     return channels
 
 
-def _load_reference(item, name: str, nodes: list[Node]) -> tuple[tuple[int, int, str], tuple[int, str]]:
+def _load_reference(item, nodes: list[Node]) -> tuple[tuple[int, int, str], tuple[int, str]]:
+    """The UFF58 reference DOF of a request's load (its node, direction code and entity) and its data type and
+    unit (excitation force, N or N m)."""
     moment = item.load_kind == "moment"
     node = _node_at(nodes, item.load_point)
     return (node.number, direction_code(item.load_direction, moment), node.name), (_FORCE, "N m" if moment else "N")
@@ -300,14 +302,14 @@ def _extra(name: str, item, nodes: list[Node]) -> list[Ratio]:
         data_type, suffix = _FRF_RESPONSES[item.quantity]
         rotation = item.response_kind == "rotation"
         node = _node_at(nodes, item.response_point)
-        reference, denominator = _load_reference(item, name, nodes)
+        reference, denominator = _load_reference(item, nodes)
         return [Ratio(name, f"point FRF {name} ({item.quantity})", _FRF,
                       (node.number, direction_code(item.response_direction, rotation), node.name), reference,
                       (data_type, ("rad" if rotation else "m") + suffix), denominator,
                       np.asarray(item.values, complex),
                       _note(response=item.response_direction, load=item.load_direction))]
     if isinstance(item, ForceTransmissibility):
-        reference, denominator = _load_reference(item, name, nodes)
+        reference, denominator = _load_reference(item, nodes)
         note = _note("force transmissibility", load=item.load_direction)
         channels = [Ratio(f"{name} total F{axis}", f"{name} foundation F{axis}", _TRANSMISSIBILITY,
                           (GROUND_NODE, k + 1, "GROUND"), reference, (_REACTION, "N"), denominator,

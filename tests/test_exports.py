@@ -229,11 +229,11 @@ def test_the_points_export_reads_back_exactly_as_test_data(results, run, tmp_pat
     pytest.importorskip("pyuff")
     from sixdof.io.exchange import export
 
-    (uff_file, _), (csv_file, _) = (export(results, tmp_path / fmt, fmt, what="points", point_quantity=quantity)
-                                    if fmt == "uff58" else export(results, tmp_path / fmt, fmt,
-                                                                  point_quantity=quantity) for fmt in ("uff58", "csv"))
-    for test in (load_test(uff_file), load_test(csv_file, parse_scenario(TEXT, "small.toml"))):
-        assert (test.kind, test.quantity) == ("time", quantity)
+    uff_file = export(results, tmp_path / "uff", "uff58", what="points", point_quantity=quantity)[0]
+    csv_file = export(results, tmp_path / "csv", "csv", point_quantity=quantity)[0]
+    labels = (("2+X", "2+Y", "2+Z"), tuple(f"top {quantity[0]}{axis}" for axis in "xyz"))  # ax, vx, dx
+    for test, names in zip((load_test(uff_file), load_test(csv_file, parse_scenario(TEXT, "small.toml"))), labels):
+        assert (test.kind, test.quantity, test.out_labels) == ("time", quantity, names)
         np.testing.assert_array_equal(test.responses, getattr(run.points["top"], quantity))
         np.testing.assert_array_equal(test.inputs, run.response.Q)
         np.testing.assert_array_equal(test.out_nodes, [TOP] * 3)

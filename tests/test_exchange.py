@@ -47,15 +47,24 @@ def shaken(tmp_path_factory):
     return folder / "results.h5"
 
 
+def function_sets(path) -> list[dict]:
+    """The datasets 58 of a UFF file, read back with pyuff."""
+    import pyuff
+
+    uff = pyuff.UFF(str(path))
+    with warnings.catch_warnings():  # pyuff leaves a handle per binary dataset to the garbage collector
+        warnings.simplefilter("ignore", ResourceWarning)
+        return [data for data in (uff.read_sets(k) for k in range(uff.get_n_sets())) if data["type"] == 58]
+
+
 def test_uff58_carries_every_history_and_receptance_with_its_dof_and_units(results, tmp_path, capsys):
-    pyuff = pytest.importorskip("pyuff")
+    pytest.importorskip("pyuff")
     assert main(["export", str(results), "--out", str(tmp_path)]) == 0
     assert "small.uff" in capsys.readouterr().out
     run = load_results(results)
-    uff = pyuff.UFF(str(tmp_path / "small_export" / "small.uff"))
-    sets = [uff.read_sets(k) for k in range(uff.get_n_sets())]
-    first = 6 + 3 * len(run.points)  # then the applied loads, the input
-    assert len(sets) == first + 6 + 36
+    sets = function_sets(tmp_path / "small_export" / "small.uff")
+    first = 6 + 3 * len(run.points) + 3 * len(run.mount_forces.names)  # then the applied loads, the input
+    assert len(sets) == first + 6 + 36 + 3 + 3 * 4 + 1  # and the force transmissibility and the point FRF
     for k in range(6):  # the CG's displacement: node 1, direction k+1
         data = sets[k]
         assert (data["func_type"], data["rsp_node"], data["rsp_dir"], data["ordinate_spec_data_type"]) == (1, 1, k + 1, 8)
@@ -74,7 +83,7 @@ def test_uff58_carries_every_history_and_receptance_with_its_dof_and_units(resul
         assert data["ordinate_axis_units_lab"].strip() == ("N" if j < 3 else "N m") == dict(Q.units.factors)["load"][j]
         np.testing.assert_array_equal(data["data"], Q.data[:, j])
     frf = run.frf.direct
-    for data in sets[first + 6:]:  # receptance: response over reference (node 1 both)
+    for data in sets[first + 6:first + 6 + 36]:  # receptance: response over reference (node 1 both)
         i, j = data["rsp_dir"] - 1, data["ref_dir"] - 1
         assert (data["func_type"], data["ordinate_spec_data_type"], data["orddenom_spec_data_type"]) == (4, 8, 13)
         assert data["orddenom_axis_units_lab"].strip() == ("N" if j < 3 else "N m")
@@ -89,7 +98,7 @@ def test_uff58_unit_exponents_follow_the_unit_labels(results):
 
     expected = {"m": (1, 0), "m/s": (1, 0), "m/s^2": (1, 0), "rad": (0, 0), "N": (0, 1), "N m": (1, 1), "s": (0, 0),
                 "Hz": (0, 0), "NONE": (0, 0)}
-    for data in uff58_sets(load_results(results)):
+    for data in uff58_sets(load_results(results))[2:]:  # after the header and the nodes
         for axis in ("abscissa", "ordinate", "orddenom"):
             label = data[f"{axis}_axis_units_lab"]
             assert (data[f"{axis}_len_unit_exp"], data[f"{axis}_force_unit_exp"]) == expected[label], (data["id1"], axis)
@@ -109,9 +118,9 @@ def test_uff58_keeps_the_node_and_direction_of_a_point_with_a_long_name(results,
     with warnings.catch_warnings():  # pyuff leaves a handle per binary dataset to the garbage collector
         warnings.simplefilter("ignore", ResourceWarning)
         pyuff.UFF(str(path)).write_sets(uff58_sets(run), mode="add")
-    uff = pyuff.UFF(str(path))
+    sets = function_sets(path)
     for axis in range(3):
-        data = uff.read_sets(6 + axis)
+        data = sets[6 + axis]
         assert (data["rsp_node"], data["rsp_dir"], data["rsp_ent_name"].strip()) == (2, axis + 1, "circuit_bo")
         assert data["id1"].strip() == f"small: circuit_board_corner acceleration {'xyz'[axis]}"
         np.testing.assert_array_equal(data["data"], run.points["circuit_board_corner"].acceleration[:, axis])
@@ -129,8 +138,8 @@ def test_csv_columns_name_their_quantity_and_unit_and_hold_the_results(results, 
     table = np.array(rows[1:], dtype=float)
     np.testing.assert_array_equal(table[:, 0], run.response.t)  # CSV keeps every digit (repr)
     np.testing.assert_array_equal(table[:, 1:7], run.response.q)
-    loads = rows[0].index("Fx [N]")  # the input: the applied loads, after the points
-    assert loads == 1 + 6 + 3 * len(run.points) and rows[0][loads + 3:] == ["Mx [N m]", "My [N m]", "Mz [N m]"]
+    loads = rows[0].index("Fx [N]")  # the input: the applied loads, after the points and the mounts
+    assert loads == 1 + 6 + 3 * len(run.points) + 3 * len(run.mount_forces.names) and rows[0][loads + 3:] == ["Mx [N m]", "My [N m]", "Mz [N m]"]
     np.testing.assert_array_equal(table[:, loads:], load_tree(results).array("time/Q"))
     with files[1].open() as stream:
         rows = list(csv.reader(stream))
@@ -179,13 +188,12 @@ def test_each_format_replaces_its_own_files_and_keeps_the_other_s(results, tmp_p
 def test_uff58_of_a_base_excited_run_carries_the_ground_motion_as_input_channels(shaken, tmp_path):
     """The ground's displacement, velocity and acceleration per axis after the body's histories: node 0, entity
     GROUND, its own DOF as reference, each equal to the results file's dataset and labelled with its units."""
-    pyuff = pytest.importorskip("pyuff")
+    pytest.importorskip("pyuff")
     assert main(["export", str(shaken), "--out", str(tmp_path)]) == 0
     tree, run = load_tree(shaken), load_results(shaken)
-    uff = pyuff.UFF(str(tmp_path / "small_export" / "small.uff"))
-    sets = [uff.read_sets(k) for k in range(uff.get_n_sets())]
-    first = 6 + 3 * len(run.points)
-    assert len(sets) == first + 9 + 36
+    sets = function_sets(tmp_path / "small_export" / "small.uff")
+    first = 6 + 3 * len(run.points) + 3 * len(run.mount_forces.names)
+    assert len(sets) == first + 9 + 36 + 3 + 3 * 4 + 1
     assert np.abs(tree.array("time/ground_acceleration")).max() > 1.0  # the shake is there to be exported
     for n, (path, data_type, _) in enumerate(GROUND_CHANNELS):
         for axis in range(3):
@@ -213,7 +221,7 @@ def test_csv_of_a_base_excited_run_carries_the_ground_motion_after_the_body_s_co
     with files[0].open() as stream:
         rows = list(csv.reader(stream))
     table = np.array(rows[1:], dtype=float)
-    first = 1 + 6 + 3
+    first = 1 + 6 + 3 + 3 * 4  # t, the CG, the point, the mounts
     for n, (path, _, letter) in enumerate(GROUND_CHANNELS):
         columns = slice(first + 3 * n, first + 3 * n + 3)
         assert rows[0][columns] == [f"ground {letter}{axis} [{tree[path].units}]" for axis in "xyz"]
@@ -223,7 +231,8 @@ def test_csv_of_a_base_excited_run_carries_the_ground_motion_after_the_body_s_co
     # With the ground moving, the body's channels say they are absolute (as stored: q, not q_relative).
     assert rows[0][1:first] == [*(f"{d} (absolute) [{u}]" for d, u in zip(("x", "y", "z", "rx", "ry", "rz"),
                                                                           ("m",) * 3 + ("rad",) * 3)),
-                                *(f"top a{a} (absolute) [m/s^2]" for a in "xyz")]
+                                *(f"top a{a} (absolute) [m/s^2]" for a in "xyz"),
+                                *(f"mount {m} F{a} [N]" for m in "abcd" for a in "xyz")]
     np.testing.assert_array_equal(table[:, 1:7], tree.array("time/q"))
 
 

@@ -319,10 +319,17 @@ def _parser() -> argparse.ArgumentParser:
                           "already there, nothing is copied and it is named: none is overwritten)")
     examples.set_defaults(command="examples")
 
-    exchange = add("export", help="write a results file's time histories and FRFs as UFF58 (with the modes as UFF55) "
-                   "or CSV for test tools")
+    exchange = add("export", help="write a results file's time histories (CG, points, mount forces) and FRFs "
+                   "(receptance, point FRFs, transmissibilities) as UFF58 (with the modes as UFF55) or CSV for test "
+                   "tools")
     exchange.add_argument("results", help="results file (results.h5 of a run)")
     exchange.add_argument("--format", choices=("uff58", "csv"), default="uff58", help="file format (default uff58)")
+    exchange.add_argument("--what", default=None, metavar="PARTS",
+                          help="comma-separated parts to export: cg (the CG's displacement and the receptance), "
+                          "points (the [[points]] motions), mounts (the mount forces), frfs (the [frf] point FRFs and "
+                          "transmissibilities); default all the results hold")
+    exchange.add_argument("--point-quantity", choices=("displacement", "velocity", "acceleration"),
+                          default="acceleration", help="the points' motion (default acceleration)")
     exchange.add_argument("--out", help="files go to OUT/<name>_export/ (default: beside the results file)")
     exchange.set_defaults(command="export")
 

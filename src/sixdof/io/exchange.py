@@ -1,14 +1,26 @@
-"""Results for test and correlation tools (issue 19, point 5): a run's time histories and FRFs as universal
-file format dataset 58 (what test labs exchange; written with pyuff) or as CSV.
+"""Results for test and correlation tools (issue 19, point 5; issue 49, item 5): what a run computed, as
+universal file format dataset 58 (what test labs exchange; written with pyuff) or as CSV.
 
-UFF58 conventions used: node 1 is the centre of gravity, nodes 2, 3... the ``[[points]]`` in their order,
-node 0 the ground (the usual finite-element label of the fixed ground; never a body node); directions 1-6
-are +X, +Y, +Z, +RX, +RY, +RZ (body axes). Time histories are function type 1 (the CG's displacement,
-ordinate type 8; the points' accelerations, type 12), the receptance function type 4 (response displacement
-per excitation force, types 8 over 13), all in binary UFF58 (58b) double precision, which reads back exactly
-(ASCII UFF58 keeps 6 digits of an uneven abscissa such as a log frequency grid), with SI unit labels and
-their length and force exponents. An entity name is cut to UFF58's 10 characters (a point's whole name is in
-the ID line).
+An export holds the parts the user chose (``--what``, :data:`~sixdof.io.export_channels.CONTENTS`; default all
+the run holds): ``cg``, the CG's displacement per DOF and the 6x6 receptance; ``points``, the ``[[points]]``
+motions (``--point-quantity``: displacement, velocity or acceleration, the default); ``mounts``, each mount's force
+on the foundation; ``frfs``, the ``[frf]`` requests: point FRFs, force and ground transmissibilities.
+
+UFF58 conventions (:mod:`sixdof.io.export_channels`): node 0 the ground and foundation (the usual finite-element
+label of the fixed ground; never a body node), node 1 the centre of gravity, nodes 2, 3... the ``[[points]]`` in
+their order, then the mounts, then the places of ``[frf]`` requests that are none of these; the file opens with a
+header (dataset 151, the numbering in its description line) and the nodes' positions in body axes from the CG
+(dataset 15, ASCII: 6 significant digits). Directions 1-6 are +X, +Y, +Z, +RX, +RY, +RZ (body axes), 0 a direction
+along no axis (its vector in the ID line 2, with a transmissibility's kind). Time histories are function type 1:
+the CG's displacement (ordinate type 8), the points' motion (8, 11 or 12), the mounts' force (9, reaction force, in
+N: the dynamic force each exerts on the foundation, body axes); FRFs function type 4: the receptance (response
+displacement per excitation force, types 8 over 13) and point FRFs (8, 11 or 12 per their quantity, over 13);
+transmissibilities function type 4 too (pyuff writes no type 5), told by their data types: a force
+transmissibility's resultant force on the foundation (node 0) and each mount's force (9 over 13, N/N or N/(N m) for
+a moment load), a ground transmissibility's absolute motion of its point per unit ground motion (8 over 8, m/m).
+All in binary UFF58 (58b) double precision (ord_data_type 4 real, 6 complex), which reads back exactly (ASCII UFF58
+keeps 6 digits of an uneven abscissa such as a log frequency grid), with SI unit labels and their length and force
+exponents. An entity name is cut to UFF58's 10 characters (a point's whole name is in the ID line).
 
 The time histories end with the run's inputs: a base-excited run's ground motion, displacement, velocity and
 acceleration (types 8, 11, 12) at node 0 along +X, +Y, +Z, entity ``GROUND``; a run with loads, the applied
@@ -29,15 +41,25 @@ from __future__ import annotations
 
 import csv
 import tomllib
+import warnings
+from datetime import datetime
 from pathlib import Path
-from typing import NamedTuple
 
 import numpy as np
 
-from sixdof.dofs import DOF_UNITS, DOFS, FORCE_UNITS, LOADS
 from sixdof.errors import InputError, Plain
 from sixdof.io import output
-from sixdof.io.settings import Point
+from sixdof.io.export_channels import (
+    POINT_QUANTITIES,
+    Channel,
+    Ratio,
+    contents,
+    export_nodes,
+    frf_channels,
+    numbering,
+    scenario_points,
+    time_channels,
+)
 from sixdof.io.store import load_results
 from sixdof.model.kinematics import point_map
 from sixdof.schema import build
@@ -46,73 +68,11 @@ from sixdof.validation.testdata import TestSetup
 FORMATS = ("uff58", "csv")
 #: The files each format writes (at most), named after the run.
 _FILES = {"uff58": ("{}.uff", "{}_modes.uff"), "csv": ("{}_time.csv", "{}_frf.csv")}
-_TIME, _FRF = 1, 4  # UFF58 function types
-_DISPLACEMENT, _VELOCITY, _ACCELERATION, _FORCE = 8, 11, 12, 13  # UFF58 specific data types
+_DISPLACEMENT = 8  # UFF58 specific data type
 _SECONDS, _HERTZ = 17, 18
 #: A time history has no denominator (UFF58 type 0, "unknown").
 _NO_DENOMINATOR = {"orddenom_spec_data_type": 0, "orddenom_axis_units_lab": "NONE", "orddenom_len_unit_exp": 0,
                    "orddenom_force_unit_exp": 0, "orddenom_temp_unit_exp": 0}
-#: The ground's UFF58 node (see the module).
-_GROUND_NODE = 0
-
-
-class _Input(NamedTuple):
-    """One input channel of a run's time histories, as both formats write it.
-
-    Attributes
-    ----------
-    name : str
-        Short name: the CSV column's, before its unit (``"ground az"``).
-    description : str
-        What it is, for UFF58's ID line 1 (``"ground acceleration z"``).
-    entity, node, direction : str, int, int
-        UFF58 DOF identification: entity name, node and direction (1-6 for +X..+RZ).
-    data_type : int
-        UFF58 specific data type of the ordinate (8 displacement, 11 velocity, 12 acceleration, 13 excitation
-        force).
-    units : str
-        SI units of ``data``.
-    data : ndarray, shape (n,)
-        The channel at the response's times.
-    """
-
-    name: str
-    description: str
-    entity: str
-    node: int
-    direction: int
-    data_type: int
-    units: str
-    data: np.ndarray
-
-
-def _inputs(response) -> list[_Input]:
-    """The input channels of a run's time histories: with ground motion, the ground's displacement [m],
-    velocity [m/s] and acceleration [m/s^2] along x, y, z (body axes), in that order; then, when the run
-    applies loads, their generalized force at the CG [N, N m] per load ``Fx .. Mz``.
-
-    Parameters
-    ----------
-    response : sixdof.results.TimeHistory
-
-    Returns
-    -------
-    list of _Input
-    """
-    channels = []
-    if response.has_ground:
-        motions = (("d", "displacement", _DISPLACEMENT, "m", response.ground_displacement),
-                   ("v", "velocity", _VELOCITY, "m/s", response.ground_velocity),
-                   ("a", "acceleration", _ACCELERATION, "m/s^2", response.ground_acceleration))
-        channels += [_Input(f"ground {letter}{axis}", f"ground {kind} {axis}", "GROUND", _GROUND_NODE, k + 1,
-                            data_type, units, np.asarray(motion[:, k], float))
-                     for letter, kind, data_type, units, motion in motions for k, axis in enumerate("xyz")]
-    # Q holds the loads only (the ground acts through the mounts): all zero when the run applies none, and six
-    # channels of zeros would only pose as a force input.
-    if response.Q is not None and np.any(response.Q):
-        channels += [_Input(load, f"applied load {load}", "CG", 1, j + 1, _FORCE, FORCE_UNITS[j],
-                            np.asarray(response.Q[:, j], float)) for j, load in enumerate(LOADS)]
-    return channels
 
 
 def _abscissa(x: np.ndarray) -> dict:
@@ -126,6 +86,8 @@ def _abscissa(x: np.ndarray) -> dict:
 #: UFF58 record 6 gives an entity name 10 characters (format 10A1): pyuff writes a longer one whole, which pushes
 #: the node and direction out of their columns (a 13-character point name read back as node 0).
 _ENTITY_CHARACTERS = 10
+#: An ID line (records 1-5) and a dataset 151's lines have 80 characters: pyuff writes a longer one whole.
+_ID_CHARACTERS = 80
 #: The length and force exponents UFF58 records 8-11 give each unit sixdof writes (time has none: UFF58's unit
 #: system is length, force and temperature).
 _UNIT_EXPONENTS = {"m": (1, 0), "m/s": (1, 0), "m/s^2": (1, 0), "rad": (0, 0), "rad/s": (0, 0), "rad/s^2": (0, 0),
@@ -140,61 +102,71 @@ def _axis(axis: str, data_type: int, units: str) -> dict:
             f"{axis}_force_unit_exp": force, f"{axis}_temp_unit_exp": 0}
 
 
-def _frame(response, relative: bool = False) -> str:
-    """What a body channel's motion is measured from, for its name: nothing when the ground is fixed (absolute and
-    relative are the same), else " (absolute)" or " (relative)" (to the ground), as a test tool cannot tell."""
-    if not response.has_ground:
-        return ""
-    return " (relative)" if relative else " (absolute)"
-
-
-def _time_history(label: str, node: int, direction: int, entity: str, data_type: int, units: str, data, t,
-                  reference: tuple[int, int, str] = (0, 0, "NONE")) -> dict:
-    """One time history as a UFF58 dataset (function type 1, real, double precision): ``label`` its ID line,
-    the response at ``node`` along ``direction`` of ``entity``, with ``reference`` (node, direction, entity)."""
+def _time_set(name: str, channel: Channel, t: np.ndarray) -> dict:
+    """One time history as a UFF58 dataset (function type 1, real, double precision)."""
     import pyuff
 
-    ref_node, ref_dir, ref_entity = reference
+    ref_node, ref_dir, ref_entity = channel.reference
     return pyuff.prepare_58(
-        binary=1, func_type=_TIME, rsp_node=node, rsp_dir=direction, ref_node=ref_node, ref_dir=ref_dir,
-        ord_data_type=4, id1=label, rsp_ent_name=entity[:_ENTITY_CHARACTERS],
-        ref_ent_name=ref_entity[:_ENTITY_CHARACTERS], **_axis("abscissa", _SECONDS, "s"),
-        **_axis("ordinate", data_type, units), **_NO_DENOMINATOR, data=np.asarray(data, float), x=t, num_pts=t.size,
-        **_abscissa(t))
+        binary=1, func_type=1, rsp_node=channel.node, rsp_dir=channel.direction, ref_node=ref_node, ref_dir=ref_dir,
+        ord_data_type=4, id1=f"{name}: {channel.description}"[:_ID_CHARACTERS],
+        rsp_ent_name=channel.entity[:_ENTITY_CHARACTERS], ref_ent_name=ref_entity[:_ENTITY_CHARACTERS],
+        **_axis("abscissa", _SECONDS, "s"),
+        **_axis("ordinate", channel.data_type, channel.units), **_NO_DENOMINATOR, data=channel.data, x=t,
+        num_pts=t.size, **_abscissa(t))
 
 
-def uff58_sets(run) -> list[dict]:
-    """The UFF58 datasets of a run: the CG's displacement per DOF, each point's acceleration per axis, the
-    input channels (:func:`_inputs`), and the receptance per response DOF and load (see the module)."""
+def _ratio_set(name: str, ratio: Ratio, f: np.ndarray) -> dict:
+    """One frequency response as a UFF58 dataset (function type 4 or 5, complex, double precision)."""
     import pyuff
 
-    sets = []
+    (rsp_node, rsp_dir, rsp_entity), (ref_node, ref_dir, ref_entity) = ratio.response, ratio.reference
+    return pyuff.prepare_58(
+        binary=1, func_type=ratio.func_type, rsp_node=rsp_node, rsp_dir=rsp_dir, ref_node=ref_node, ref_dir=ref_dir,
+        ord_data_type=6, id1=f"{name}: {ratio.description}"[:_ID_CHARACTERS], id2=ratio.note[:_ID_CHARACTERS],
+        rsp_ent_name=rsp_entity[:_ENTITY_CHARACTERS], ref_ent_name=ref_entity[:_ENTITY_CHARACTERS],
+        **_axis("abscissa", _HERTZ, "Hz"), **_axis("ordinate", *ratio.ordinate),
+        **_axis("orddenom", *ratio.denominator), data=ratio.values, x=f, num_pts=f.size, **_abscissa(f))
+
+
+def _header_sets(run, name: str) -> list[dict]:
+    """Dataset 151 (the node numbering in its description) and dataset 15 (every node in body axes from the
+    CG, no coordinate system of its own)."""
+    import pyuff
+
+    nodes = export_nodes(run)
+    header = pyuff.prepare_151(model_name=f"{name} (sixdof export)"[:_ID_CHARACTERS],
+                               description=f"nodes: {numbering(run)}"[:_ID_CHARACTERS], db_app="sixdof",
+                               program="sixdof export")
+    # The run's date, not the export's (UFF's DD-MMM-YY and HH:MM:SS): one results file exports to the same bytes.
+    try:
+        created = datetime.fromisoformat(str(run.provenance.get("created_utc", "")))
+    except ValueError:  # results written from parts, without provenance
+        created = datetime(1970, 1, 1)
+    header |= {f"date_{key}": created.strftime("%d-%b-%y") for key in ("db_created", "db_saved", "file_written")}
+    header |= {f"time_{key}": created.strftime("%H:%M:%S") for key in ("db_created", "db_saved", "file_written")}
+    zeros = np.zeros(len(nodes), dtype=np.int64)
+    positions = np.array([node.position for node in nodes])
+    geometry = pyuff.prepare_15(node_nums=np.array([node.number for node in nodes]), def_cs=zeros, disp_cs=zeros,
+                                color=zeros + 1, x=positions[:, 0], y=positions[:, 1], z=positions[:, 2])
+    return [header, geometry]
+
+
+def uff58_sets(run, what=None, point_quantity: str = "acceleration") -> list[dict]:
+    """The UFF58 file's datasets for the parts ``what`` (see :func:`export`): the header and nodes, the time
+    histories (:func:`~sixdof.io.export_channels.time_channels`), then the frequency responses
+    (:func:`~sixdof.io.export_channels.frf_channels`)."""
+    parts = contents(run, what, "the results")
     name = run.name or "sixdof"
-    if run.response is not None:
+    sets = _header_sets(run, name)
+    channels = time_channels(run, parts, point_quantity)
+    if channels:
         t = np.asarray(run.response.t, float)
-        for i, dof in enumerate(DOFS):
-            sets.append(_time_history(f"{name}: CG {dof} displacement{_frame(run.response)}", 1, i + 1, "CG",
-                                      _DISPLACEMENT, DOF_UNITS[i], run.response.q[:, i], t))
-        for k, (point, motion) in enumerate(run.points.items()):
-            for axis in range(3):
-                sets.append(_time_history(
-                    f"{name}: {point} acceleration {'xyz'[axis]}{_frame(run.response, motion.relative)}", k + 2,
-                    axis + 1, point, _ACCELERATION, "m/s^2", motion.acceleration[:, axis], t))
-        for channel in _inputs(run.response):
-            sets.append(_time_history(f"{name}: {channel.description} (input)", channel.node, channel.direction,
-                                      channel.entity, channel.data_type, channel.units, channel.data, t,
-                                      reference=(channel.node, channel.direction, channel.entity)))
-    if run.frf is not None:
-        frf = run.frf.direct
-        f = np.asarray(frf.f_hz, float)
-        for i, dof in enumerate(DOFS):
-            for j, load in enumerate(LOADS):
-                sets.append(pyuff.prepare_58(
-                    binary=1, func_type=_FRF, rsp_node=1, rsp_dir=i + 1, ref_node=1, ref_dir=j + 1, ord_data_type=6,
-                    id1=f"{name}: receptance {dof} per {load}", rsp_ent_name="CG", ref_ent_name="CG",
-                    **_axis("abscissa", _HERTZ, "Hz"), **_axis("ordinate", _DISPLACEMENT, DOF_UNITS[i]),
-                    **_axis("orddenom", _FORCE, FORCE_UNITS[j]),
-                    data=np.asarray(frf.H[:, i, j], complex), x=f, num_pts=f.size, **_abscissa(f)))
+        sets += [_time_set(name, channel, t) for channel in channels]
+    ratios = frf_channels(run, parts)
+    if ratios:
+        f = np.asarray(run.frf.direct.f_hz, float)
+        sets += [_ratio_set(name, ratio, f) for ratio in ratios]
     return sets
 
 
@@ -207,9 +179,7 @@ def mode_nodes(run) -> tuple[np.ndarray, np.ndarray, TestSetup]:
     if setup.nodes:
         numbers = sorted(setup.nodes)
         return np.asarray(numbers, np.int64), np.asarray([setup.nodes[n] for n in numbers], float), setup
-    points = [build(Point, t, f"points[{i}]").position for i, t in enumerate(raw.get("points", []))]
-    if not points and run.points:  # results written from parts, without the scenario's text
-        points = [motion.position for motion in run.points.values()]
+    points = [position for _, position in scenario_points(run)]
     return np.arange(2, len(points) + 2, dtype=np.int64), np.asarray(points, float).reshape(-1, 3), TestSetup()
 
 
@@ -240,6 +210,14 @@ def modal_sets(run) -> list[dict]:
     return sets
 
 
+def _write_uff(path: Path, sets: list[dict]) -> None:
+    import pyuff
+
+    with warnings.catch_warnings():  # pyuff leaves the text handle it reopens after each binary dataset open
+        warnings.simplefilter("ignore", ResourceWarning)
+        pyuff.UFF(str(path)).write_sets(sets, mode="add")
+
+
 def _write_csv(path: Path, headers: list[str], columns: list[np.ndarray]) -> None:
     with path.open("w", newline="", encoding="utf-8") as stream:
         writer = csv.writer(stream)
@@ -247,31 +225,55 @@ def _write_csv(path: Path, headers: list[str], columns: list[np.ndarray]) -> Non
         writer.writerows(np.column_stack(columns).tolist())
 
 
-def export(results: str | Path, out_root: str | Path | None = None, fmt: str = "uff58") -> list[Path]:
-    """Write a results file's time histories and FRFs for other tools, into ``<out_root>/<name>_export/``
-    (default: beside the results file), all or nothing. The files of the other format there are kept: each
-    export replaces its own format's files only.
+def export(results: str | Path, out_root: str | Path | None = None, fmt: str = "uff58", what=None,
+           point_quantity: str = "acceleration") -> list[Path]:
+    """Write a results file's time histories and frequency responses for other tools, into
+    ``<out_root>/<name>_export/`` (default: beside the results file), all or nothing. The files of the other
+    format there are kept: each export replaces its own format's files only.
 
     ``"uff58"``: ``<name>.uff`` and, with modes, ``<name>_modes.uff`` (see the module).
-    ``"csv"``: ``<name>_time.csv`` (t [s], the CG's q [m, rad],
-    each point's acceleration [m/s^2], then the input channels: a base-excited run's ground displacement,
-    velocity and acceleration, ``ground dx [m]`` ... ``ground az [m/s^2]``, and the applied loads'
-    generalized force, ``Fx [N]`` ... ``Mz [N m]``, when there are loads) and ``<name>_frf.csv`` (f [Hz], the
-    real and imaginary part of each receptance entry), unit in every column header. With the ground moving, a
-    body channel's name says what its motion is measured from: ``x (absolute) [m]``, ``top ax (relative) [m/s^2]``
-    (the UFF58 ID lines too).
+    ``"csv"``: ``<name>_time.csv`` (``t [s]``, then per part: the CG's q ``x [m]`` .. ``rz [rad]``, each point's
+    motion ``top ax [m/s^2]`` (``dx [m]``, ``vx [m/s]``), each mount's force ``mount a Fx [N]``; then the input
+    channels: a base-excited run's ground displacement, velocity and acceleration, ``ground dx [m]`` ...
+    ``ground az [m/s^2]``, and the applied loads' generalized force, ``Fx [N]`` ... ``Mz [N m]``, when there are
+    loads) and ``<name>_frf.csv`` (``f [Hz]``, the real and imaginary part of each receptance entry ``Re x/Fx
+    [m/N]``, point FRF ``Re drive [(m/s)/N]``, force transmissibility ``Re to_floor total Fz [N/N]``, ``Re
+    to_floor mount a Fz [N/N]`` and ground transmissibility ``Re base z (absolute) [m/m]``), unit in every column
+    header. With the ground moving, a body channel's name says what its motion is measured from: ``x (absolute)
+    [m]``, ``top ax (relative) [m/s^2]`` (the UFF58 ID lines too).
+
+    Parameters
+    ----------
+    results : str or pathlib.Path
+    out_root : str or pathlib.Path, optional
+    fmt : str
+        ``"uff58"`` or ``"csv"``.
+    what : str or sequence of str, optional
+        The parts: ``"cg"``, ``"points"``, ``"mounts"``, ``"frfs"`` (a comma-separated string or a sequence);
+        default every part the run holds. A part the run lacks is refused.
+    point_quantity : str
+        The points' motion: ``"displacement"`` [m], ``"velocity"`` [m/s] or ``"acceleration"`` [m/s^2].
 
     Returns
     -------
     list of pathlib.Path
         The files written.
+
+    Raises
+    ------
+    sixdof.errors.InputError
+        A format, part or point quantity not known, a part the run does not hold, a file not a sixdof results file.
     """
     if fmt not in FORMATS:
         raise InputError("--format", " or ".join(FORMATS), fmt)
+    if point_quantity not in POINT_QUANTITIES:
+        raise InputError("--point-quantity", " or ".join(POINT_QUANTITIES), point_quantity)
     results = Path(results)
     run = load_results(results)
     if run.response is None and run.frf is None:
         raise InputError("results", "a run with time histories or FRFs to export", Plain(f"{results}: neither"))
+    parts = contents(run, what, str(results))
+    channels, ratios = time_channels(run, parts, point_quantity), frf_channels(run, parts)
     name = run.name or results.stem
     files = {each: [pattern.format(name) for pattern in patterns] for each, patterns in _FILES.items()}
     (uff_file, modes_file), (time_file, frf_file) = files["uff58"], files["csv"]
@@ -280,37 +282,20 @@ def export(results: str | Path, out_root: str | Path | None = None, fmt: str = "
 
     def write(stage: Path) -> None:
         if fmt == "uff58":
-            import pyuff
-
-            path = stage / uff_file
-            pyuff.UFF(str(path)).write_sets(uff58_sets(run), mode="add")
-            written.append(path.name)
+            _write_uff(stage / uff_file, uff58_sets(run, parts, point_quantity))
+            written.append(uff_file)
             modal = modal_sets(run)
             if modal:
-                pyuff.UFF(str(stage / modes_file)).write_sets(modal, mode="add")
+                _write_uff(stage / modes_file, modal)
                 written.append(modes_file)
             return
-        if run.response is not None:
-            frame = _frame(run.response)
-            headers = ["t [s]", *(f"{d}{frame} [{u}]" for d, u in zip(DOFS, DOF_UNITS))]
-            columns = [run.response.t, *run.response.q.T]
-            for point, motion in run.points.items():
-                headers += [f"{point} a{a}{_frame(run.response, motion.relative)} [m/s^2]" for a in "xyz"]
-                columns += list(motion.acceleration.T)
-            for channel in _inputs(run.response):
-                headers.append(f"{channel.name} [{channel.units}]")
-                columns.append(channel.data)
-            _write_csv(stage / time_file, headers, columns)
+        if channels:
+            _write_csv(stage / time_file, ["t [s]", *(f"{c.name} [{c.units}]" for c in channels)],
+                       [run.response.t, *(c.data for c in channels)])
             written.append(time_file)
-        if run.frf is not None:
-            frf = run.frf.direct
-            headers, columns = ["f [Hz]"], [frf.f_hz]
-            for i, dof in enumerate(DOFS):
-                for j, load in enumerate(LOADS):
-                    unit = f"{DOF_UNITS[i]}/{FORCE_UNITS[j]}" if " " not in FORCE_UNITS[j] else \
-                        f"{DOF_UNITS[i]}/({FORCE_UNITS[j]})"
-                    headers += [f"Re {dof}/{load} [{unit}]", f"Im {dof}/{load} [{unit}]"]
-                    columns += [frf.H[:, i, j].real, frf.H[:, i, j].imag]
+        if ratios:
+            headers = ["f [Hz]", *(f"{part} {r.name} [{r.unit}]" for r in ratios for part in ("Re", "Im"))]
+            columns = [run.frf.direct.f_hz, *(v for r in ratios for v in (r.values.real, r.values.imag))]
             _write_csv(stage / frf_file, headers, columns)
             written.append(frf_file)
 

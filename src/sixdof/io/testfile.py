@@ -20,7 +20,9 @@ are m, or converted by the dataset 164's length factor.
 
 CSV: the time histories ``sixdof export --format csv`` writes (a unit in every header): the applied loads'
 generalized force columns ``Fx [N]`` .. ``Mz [N m]`` at the CG are the references, the scenario's
-``[[points]]`` accelerations ``<point> ax [m/s^2]`` .. the responses, at the points' positions.
+``[[points]]`` accelerations ``<point> ax [m/s^2]`` .. the responses, at the points' positions (or their
+velocities ``<point> vx [m/s]`` or displacements ``<point> dx [m]``, as ``--point-quantity`` exported them); the
+other columns (the CG's, the mounts' forces, the ground's) are not read.
 """
 
 from __future__ import annotations
@@ -370,6 +372,10 @@ def _time(uff: _Uff, records: list[int], nodes, setup: TestSetup, common: dict) 
 _HEADER = re.compile(r"^(?P<name>.*\S)\s*\[(?P<unit>[^\]]*)\]$")
 #: What a body channel's column may add to its name (with ground motion: what the motion is measured from).
 _FRAMES = ("", " (absolute)")
+#: The points' quantities a CSV may hold, by the letter of their columns (``top ax``, ``top vx``, ``top dx``).
+_POINT_QUANTITIES = (("a", "acceleration"), ("v", "velocity"), ("d", "displacement"))
+_POINT_COLUMNS = {"acceleration": (_ACCELERATION, "m/s^2"), "velocity": (_VELOCITY, "m/s"),
+                  "displacement": (_DISPLACEMENT, "m")}
 
 
 def _load_csv(path: Path, scenario: Scenario | None) -> TestData:
@@ -407,12 +413,17 @@ def _load_csv(path: Path, scenario: Scenario | None) -> TestData:
     if not scenario.points:
         raise InputError(f"{scenario.path or scenario.name} points", "[[points]] whose accelerations are the "
                          "responses", Plain("none"))
+    # The points' quantity: the one whose columns the first point has (an export holds one), acceleration first.
+    letter, quantity = next(((letter, quantity) for letter, quantity in _POINT_QUANTITIES
+                             if any(f"{scenario.points[0].name} {letter}x{frame}" in columns for frame in _FRAMES)),
+                            _POINT_QUANTITIES[0])
+    data_type, unit = _POINT_COLUMNS[quantity]
     responses, out = [], []
     for p, point in enumerate(scenario.points):
         for a, axis in enumerate("xyz"):
-            name = f"{point.name} a{axis}"
-            responses.append(column(tuple(name + frame for frame in _FRAMES), _ACCELERATION, False,
-                                    f"the acceleration of point {point.name!r} ('{name} [m/s^2]')"))
+            name = f"{point.name} {letter}{axis}"
+            responses.append(column(tuple(name + frame for frame in _FRAMES), data_type, False,
+                                    f"the {quantity} of point {point.name!r} ('{name} [{unit}]')"))
             out.append((p + 2, name, np.asarray(point.position, float), np.eye(3)[a], False))
     inputs, ref = [], []
     for j, load in enumerate(LOADS):
@@ -420,7 +431,7 @@ def _load_csv(path: Path, scenario: Scenario | None) -> TestData:
         inputs.append(column((load,), _FORCE, moment, "a reference channel: the applied loads' generalized force "
                              f"'{load} [{'N m' if moment else 'N'}]'"))
         ref.append((1, load, np.zeros(3), np.eye(3)[j % 3], moment))
-    return TestData(name=path.stem, source=str(path), kind="time", quantity="acceleration", t=t,
+    return TestData(name=path.stem, source=str(path), kind="time", quantity=quantity, t=t,
                     inputs=np.column_stack(inputs), responses=np.column_stack(responses), sample_rate_hz=rate,
                     **_fields(out, ref))
 

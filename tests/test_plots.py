@@ -455,6 +455,17 @@ def test_point_frfs(parts):
     assert len(fig.axes) == 6
 
 
+def test_point_frf_that_is_zero_by_symmetry_is_said_so_on_a_linear_axis():
+    system = four_mount()  # symmetric: a moment about z turns the body about z alone
+    f = np.linspace(1.0, 30.0, 50)
+    frf = sixdof.point_frf(system, f, np.zeros(3), "rz", np.zeros(3), "rx")
+    assert not np.any(np.abs(frf.values) > 0)
+    fig = plots.plot_point_frfs({"turn": frf}, system.modes)
+    mag = fig.axes[0]
+    assert mag.get_yscale() == "linear"
+    assert "zero at every frequency: the load does not excite this response" in [t.get_text() for t in mag.texts]
+
+
 def test_mount_forces(parts):
     forces, t = parts["mount_forces"], parts["response"].t
     fig = plots.plot_mount_forces(forces, t)

@@ -185,7 +185,11 @@ def plot_point_frfs(extras: Mapping[str, PointFRF | ForceTransmissibility | Grou
     for row, (f, heading, ratio, magnitude, complex_values, unit) in enumerate(items):
         mag, phase = axes[row]
         mag.plot(f, magnitude, color="tab:blue")
-        mag.set_yscale("log")
+        if np.any(magnitude > 0):
+            mag.set_yscale("log")
+        else:  # a log axis cannot hold it: a response the load does not reach (by symmetry, say)
+            mag.text(0.5, 0.5, "zero at every frequency: the load does not excite this response",
+                     transform=mag.transAxes, ha="center", va="center", fontsize=10)
         mag.set_ylabel(f"magnitude [{unit.replace('^2', '²')}]")
         # Wrapped to the magnitude panel's width: beyond it a title runs over the phase column.
         mag.set_title(textwrap.fill(heading, 80), fontsize=10, loc="left")

@@ -23,7 +23,8 @@ from sixdof.analysis.severity import (
 )
 from sixdof.errors import InputError
 from sixdof.io.console import modes_text, run_text, statics_text
-from sixdof.io.report import DECOUPLING, ISOLATION_SUMMARY, summary_markdown
+from sixdof.io.isolation_report import ISOLATION_SUMMARY
+from sixdof.io.report import DECOUPLING, summary_markdown
 from sixdof.io.scenario import parse_scenario
 from sixdof.io.store import load_results, write_results
 from systems import sdof

@@ -22,7 +22,8 @@ from sixdof.analysis.isolation_summary import (
 )
 from sixdof.errors import InputError
 from sixdof.io.console import run_text
-from sixdof.io.report import ISOLATION_SUMMARY, summary_markdown
+from sixdof.io.isolation_report import ISOLATION_SUMMARY
+from sixdof.io.report import summary_markdown
 from sixdof.plots import figure_names, plot_transmissibility
 from sixdof.plots.transmissibility import LABELS
 from systems import four_mount, sdof

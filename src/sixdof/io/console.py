@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from sixdof.io import report
+from sixdof.io import isolation_report, report, spectra_report
 
 
 def title(results) -> str:
@@ -43,9 +43,9 @@ def run_text(results) -> str:
     and the FRF cross-check."""
     scenario, system = results.scenario, results.system
     lines = [f"{title(results)}\n"]
-    summary = report.isolation_summary_text(results)
+    summary = isolation_report.isolation_summary_text(results)
     if summary:
-        lines.append(f"{report.ISOLATION_SUMMARY}:\n{summary}")
+        lines.append(f"{isolation_report.ISOLATION_SUMMARY}:\n{summary}")
     if results.design is not None:  # what `sixdof modes` prints after the modes
         lines.append(f"\n{report.DECOUPLING}:\n{report.decoupling_text(results.modes, results.design)}")
     if summary:
@@ -58,15 +58,15 @@ def run_text(results) -> str:
     if results.steady_state is not None:
         lines.append(f"\n{report.steady_state_text(results.steady_state)}")
     if results.random is not None:
-        lines.append(f"\nRandom vibration:\n{report.random_text(results.random)}")
+        lines.append(f"\nRandom vibration:\n{spectra_report.random_text(results.random)}")
     if results.srs is not None:
-        lines.append(f"\n{report.srs_text(results.srs)}")
+        lines.append(f"\n{spectra_report.srs_text(results.srs)}")
     if results.spectrum is not None:
-        lines.append(f"\nResponse spectrum: {report.spectrum_text(results.spectrum)}")
+        lines.append(f"\nResponse spectrum: {spectra_report.spectrum_text(results.spectrum)}")
         if results.isolation is not None:
-            lines.append(report.isolation_text(results.isolation))
+            lines.append(spectra_report.isolation_text(results.isolation))
     if results.record_peaks is not None:
-        lines.append("\nSpectrum-compatible records: " + report.records_text(
+        lines.append("\nSpectrum-compatible records: " + spectra_report.records_text(
             results.spectrum, results.spectrum_records, results.records_check, results.record_peaks,
             results.damping_ratios))
     if results.response is not None and results.response.stats is not None:  # a direct solve

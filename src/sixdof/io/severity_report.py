@@ -1,6 +1,6 @@
-"""The vibration severity's part of the isolation summary (:func:`sixdof.io.isolation_report.isolation_summary_text`): each
-point's broadband RMS velocity, its zone with the boundaries, and the margin to zone C
-(:mod:`sixdof.analysis.severity`)."""
+"""The vibration severity's part of the isolation summary
+(:func:`sixdof.io.isolation_report.isolation_summary_text`): each point's broadband RMS velocity, its zone with the
+boundaries, and the margin to zone C (:mod:`sixdof.analysis.severity`)."""
 
 from __future__ import annotations
 

@@ -187,7 +187,7 @@ def test_cli_bad_input_writes_nothing(tmp_path, capsys):
 
 
 def test_truncated_superposition_reports_its_error_and_warns(tmp_path):
-    from sixdof.workflows.run import AgreementWarning
+    from sixdof.workflows.time_response import AgreementWarning
 
     text = SCENARIO + "\n[superposition]\nn_modes = 3\n"
     scenario = parse_scenario(text.replace("duration = 0.6", "duration = 0.2"), "trunc.toml")

@@ -98,6 +98,7 @@ def test_window_envelopes_hold_every_bin_extreme_of_the_whole_run():
 @pytest.mark.slow  # ~16 CPU s
 def test_a_long_run_streams_its_windows_and_keeps_only_what_its_figures_draw(tmp_path, monkeypatch):
     from sixdof.workflows import run as workflows
+    from sixdof.workflows import time_response
     from sixdof.workflows.run import run_scenario
 
     text = (SCENARIOS / "bridge_beam_traffic.toml").read_text()
@@ -105,8 +106,8 @@ def test_a_long_run_streams_its_windows_and_keeps_only_what_its_figures_draw(tmp
     assert scenario.simulation.samples == 1501
     whole, whole_folder = run_scenario(scenario, tmp_path / "whole", progress=False)
     monkeypatch.setattr(workflows, "MEMORY_SAMPLES", 1000)
-    monkeypatch.setattr(workflows, "ENVELOPE_BINS", 100)
-    monkeypatch.setattr(workflows, "LONG_RUN_WINDOW", 512)
+    monkeypatch.setattr(time_response, "ENVELOPE_BINS", 100)
+    monkeypatch.setattr(time_response, "LONG_RUN_WINDOW", 512)
     long, long_folder = run_scenario(scenario, tmp_path / "long", progress=False)
     stored, reference = (load_tree(folder / "results.h5") for folder in (long_folder, whole_folder))
     assert stored.attrs["time"]["solver_num_windows"] == 3 and reference.attrs["time"]["solver_num_windows"] == 1
@@ -144,12 +145,13 @@ def test_ctrl_c_stops_a_long_run_at_once_and_leaves_nothing(tmp_path, monkeypatc
 
     from sixdof.analysis import direct
     from sixdof.workflows import run as workflows
+    from sixdof.workflows import time_response
     from sixdof.workflows.run import run_scenario
 
     text = (SCENARIOS / "bridge_beam_traffic.toml").read_text()
     scenario = parse_scenario(text.replace("duration = 20.0", "duration = 1.5"), "traffic.toml")
     monkeypatch.setattr(workflows, "MEMORY_SAMPLES", 1000)
-    monkeypatch.setattr(workflows, "LONG_RUN_WINDOW", 256)  # 6 windows
+    monkeypatch.setattr(time_response, "LONG_RUN_WINDOW", 256)  # 6 windows
     solved = []
 
     def interrupted_after_the_first(*args, **kwargs):
@@ -160,7 +162,7 @@ def test_ctrl_c_stops_a_long_run_at_once_and_leaves_nothing(tmp_path, monkeypatc
             yield window
 
     windows = direct.simulate_windows
-    monkeypatch.setattr(workflows, "simulate_windows", interrupted_after_the_first)
+    monkeypatch.setattr(time_response, "simulate_windows", interrupted_after_the_first)
     # A test runner started in the background inherits SIGINT ignored; a user's terminal raises it.
     previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     try:

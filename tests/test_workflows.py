@@ -66,12 +66,13 @@ def test_run_takes_a_path_and_reports_its_warnings(tmp_path):
 
 def test_a_run_too_long_for_memory_needs_a_sink_and_streams_into_it(tmp_path, monkeypatch):
     from sixdof.workflows import run as run_module
+    from sixdof.workflows import time_response
 
     text = (SCENARIOS / "bridge_beam_traffic.toml").read_text().replace("duration = 20.0", "duration = 1.5")
     scenario = sixdof.parse_scenario(text, "traffic.toml", base_dir=SCENARIOS)
     monkeypatch.setattr(run_module, "MEMORY_SAMPLES", 1000)  # as if this run's 1501 samples were too many to hold
-    monkeypatch.setattr(run_module, "LONG_RUN_WINDOW", 512)
-    monkeypatch.setattr(run_module, "ENVELOPE_BINS", 100)
+    monkeypatch.setattr(time_response, "LONG_RUN_WINDOW", 512)
+    monkeypatch.setattr(time_response, "ENVELOPE_BINS", 100)
     with pytest.raises(sixdof.InputError, match=r"sink: expected a sink for a run of more than 1,000 output samples"):
         sixdof.run(scenario)
     with ResultsStream(tmp_path / "stream" / "results.h5") as sink:

@@ -19,7 +19,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from sixdof.analysis.frf.records import ForceTransmissibility, GroundTransmissibility, PointFRF
+from sixdof.analysis.frf.records import ForceTransmissibility, PointFRF, in_file_order
 from sixdof.dofs import AXES, DOF_UNITS, DOFS, FORCE_UNITS, LOADS
 from sixdof.errors import InputError, Plain
 from sixdof.io.settings import Point
@@ -119,14 +119,6 @@ class Ratio(NamedTuple):
         return f"{grouped(self.ordinate[1])}/{grouped(self.denominator[1])}"
 
 
-def file_order(extras) -> list[tuple[str, object]]:
-    """The ``[frf]`` requests' results by kind (force, then ground transmissibilities, then point FRFs) and
-    name, as the results file keeps them: a live and a loaded run export alike."""
-    kinds = (ForceTransmissibility, GroundTransmissibility, PointFRF)
-    return sorted(dict(extras).items(), key=lambda item: (next(
-        (k for k, cls in enumerate(kinds) if isinstance(item[1], cls)), len(kinds)), item[0]))
-
-
 def _places(name: str, item) -> list[tuple[str, np.ndarray]]:
     if isinstance(item, PointFRF):
         return [(name, item.response_point), (name, item.load_point)]
@@ -157,7 +149,7 @@ def export_nodes(run) -> list[Node]:
     if run.system is not None:
         for name, position in zip(run.system.mount_names, run.system.positions):
             add(name, "mount", position)
-    for name, item in file_order(run.frf_extras):
+    for name, item in in_file_order(run.frf_extras):
         for label, place in _places(name, item):
             if _node_at(nodes, place) is None:
                 add(label, "frf", place)
@@ -270,9 +262,9 @@ def time_channels(run, parts: tuple[str, ...], point_quantity: str = "accelerati
 
 def frf_channels(run, parts: tuple[str, ...]) -> list[Ratio]:
     """The frequency responses of ``parts``: the receptance per DOF and load (``cg``), then the ``[frf]``
-    requests (``frfs``, in :func:`file_order`): a point FRF from its load to its response; a force
-    transmissibility (reaction force per excitation force), the resultant force on the foundation
-    (node 0) per axis, then each mount's; a ground transmissibility (displacement per displacement),
+    requests (``frfs``, in :func:`~sixdof.analysis.frf.in_file_order`): a point FRF from its load to its
+    response; a force transmissibility (reaction force per excitation force), the resultant force on the
+    foundation (node 0) per axis, then each mount's; a ground transmissibility (displacement per displacement),
     the response point's absolute motion per axis per the ground's (node 0) along its direction."""
     channels = []
     if "cg" in parts and run.frf is not None:
@@ -283,7 +275,7 @@ def frf_channels(run, parts: tuple[str, ...]) -> list[Ratio]:
                      for i, dof in enumerate(DOFS) for j, load in enumerate(LOADS)]
     if "frfs" in parts:
         nodes = export_nodes(run)
-        for name, item in file_order(run.frf_extras):
+        for name, item in in_file_order(run.frf_extras):
             channels += _extra(name, item, nodes)
     return channels
 

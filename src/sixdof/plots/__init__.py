@@ -122,16 +122,10 @@ def _linear_name(run) -> str:
 
 
 def _file_order(extras: Mapping[str, object]) -> dict[str, object]:
-    """``extras`` in the results file's order (by kind, then name): a live and a loaded run draw alike."""
-    from sixdof.analysis.frf import ForceTransmissibility, GroundTransmissibility, PointFRF  # noqa: PLC0415 (loads NumPy: the command's figure workers start first)
+    """``extras`` in the results file's order: a live and a loaded run draw alike."""
+    from sixdof.analysis.frf import in_file_order  # noqa: PLC0415 (loads NumPy: the command's figure workers start first)
 
-    kinds = (ForceTransmissibility, GroundTransmissibility, PointFRF)
-
-    def key(item):
-        kind = next((k for k, cls in enumerate(kinds) if isinstance(item[1], cls)), len(kinds))
-        return kind, item[0]
-
-    return dict(sorted(extras.items(), key=key))
+    return dict(in_file_order(extras))
 
 
 #: Each figure of a run: its file name, the fields of :class:`~sixdof.results.RunResults` it draws

@@ -64,12 +64,13 @@ from sixdof.analysis.frf.records import (
     FRFCrossCheck,
     GroundTransmissibility,
     PointFRF,
+    in_file_order,
 )
 
 __all__ = [
     "FRF", "FRFCrossCheck", "ForceTransmissibility", "GroundTransmissibility", "PointFRF", "QUANTITIES",
     "cross_check", "check_resonances", "dynamic_stiffness", "force_transmissibility", "foundation_forces",
-    "frf_difference",
+    "frf_difference", "in_file_order",
     "ground_transmissibility", "hysteretic_stiffness", "point_frf", "receptance",
     "RIGID_DAMPING_RTOL", "UNDAMPED_RESONANCE_RTOL", "mount_impedances", "parse_direction", "support_stiffness",
 ]

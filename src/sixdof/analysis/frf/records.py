@@ -288,3 +288,14 @@ def _ratio_unit(numerator: str, denominator: str) -> str:
         return f"({unit})" if " " in unit or "/" in unit else unit
 
     return f"{grouped(numerator)}/{grouped(denominator)}"
+
+
+def in_file_order(extras) -> list[tuple[str, object]]:
+    """The ``[frf]`` requests' results (name to result) by kind (force, then ground transmissibilities, then
+    point FRFs) and name, as the results file keeps them: a live and a loaded run draw and export alike."""
+    kinds = (ForceTransmissibility, GroundTransmissibility, PointFRF)
+
+    def key(item):
+        return next((k for k, cls in enumerate(kinds) if isinstance(item[1], cls)), len(kinds)), item[0]
+
+    return sorted(dict(extras).items(), key=key)

@@ -267,3 +267,9 @@ def test_animate_modes_writes_one_looping_gif_per_mode(tmp_path, monkeypatch):
     # Written by sixdof as the rest (replaced by the next run, kept by none of the user's): off by default, see
     # test_run_writes_results_figures_and_summary.
     assert {f"mode_{j}.gif" for j in range(1, 7)} <= set((folder / ".sixdof-files").read_text().splitlines())
+    # Shown in the report (embedded, with a sentence) and linked from the summary.
+    page = (folder / "report.html").read_text()
+    for j in range(1, 7):
+        assert f'<figure id="mode_{j}"><img src="data:image/gif;base64,' in page
+        assert f"Mode {j} oscillating through one period" in page
+        assert f"![mode_{j}](mode_{j}.gif)" in (folder / "summary.md").read_text()

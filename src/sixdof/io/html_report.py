@@ -110,6 +110,9 @@ class Check:
 def figure_caption(name: str) -> str:
     """The sentence on what the figure file ``name`` shows (:data:`FIGURE_CAPTIONS`; a plain one when unknown)."""
     stem = Path(name).stem
+    animated = re.fullmatch(r"mode_(\d+)", stem)
+    if animated:  # sixdof.plots.modes.write_mode_animations
+        return f"Mode {animated.group(1)} oscillating through one period, as drawn in mode_shapes (animated)."
     return FIGURE_CAPTIONS.get(stem, f"The figure {stem.replace('_', ' ')} of this run.")
 
 
@@ -356,21 +359,22 @@ def correlation_checks(run) -> list[Check]:
 
 
 def figure_uri(path: str | Path) -> str:
-    """A figure file as a ``data:`` URI (PNG or SVG)."""
+    """A figure file as a ``data:`` URI (PNG, SVG or an animated GIF)."""
     path = Path(path)
-    kind = {".png": "image/png", ".svg": "image/svg+xml"}[path.suffix.lower()]
+    kind = {".png": "image/png", ".svg": "image/svg+xml", ".gif": "image/gif"}[path.suffix.lower()]
     return f"data:{kind};base64,{base64.b64encode(path.read_bytes()).decode('ascii')}"
 
 
 def embeddable(figures: Iterable[str | Path]) -> list[Path]:
-    """One file per figure of ``figures`` that a page can show: its PNG, else its SVG (a PDF alone is left
-    out), in the order given."""
+    """One file per figure of ``figures`` that a page can show: its PNG, else its SVG, else its GIF (a mode's
+    animation; a PDF alone is left out), in the order given."""
     by_stem: dict[str, list[Path]] = {}
     for figure in map(Path, figures):
         by_stem.setdefault(figure.stem, []).append(figure)
     chosen = []
     for files in by_stem.values():
-        shown = sorted((f for f in files if f.suffix.lower() in (".png", ".svg")), key=lambda f: f.suffix != ".png")
+        order = (".png", ".svg", ".gif")
+        shown = sorted((f for f in files if f.suffix.lower() in order), key=lambda f: order.index(f.suffix.lower()))
         chosen += shown[:1]
     return chosen
 

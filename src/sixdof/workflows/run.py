@@ -361,7 +361,7 @@ def _save_into(stage: Path, results: RunResults, sink, drawing, command_line: st
         from sixdof.plots.modes import write_mode_animations  # noqa: PLC0415 (loads matplotlib: only when asked)
 
         with held_signals():  # matplotlib's C code can swallow a KeyboardInterrupt
-            write_mode_animations(results.modes, results.system, stage)
+            figures = [*figures, *write_mode_animations(results.modes, results.system, stage)]
     summary = report.summary_markdown(results, figures)
     (stage / "summary.md").write_text(summary, encoding="utf-8")
     html_report.write_run_report(stage, results, summary, figures)

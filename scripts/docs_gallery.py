@@ -68,7 +68,8 @@ WORDS = {
     "hysteresis.png": "each hysteretic bearing's loop, force against deflection",
     "spectrum.png": "the design spectrum and the modes' periods",
     "records.png": "spectrum-compatible records and their spectra",
-    "frequencies.png": "natural frequencies of the given and optimized designs against the target windows",
+    "frequencies.png": "the natural frequency of the mode each DOF dominates, given and optimized, against the "
+                       "target windows",
     "decoupling.png": "decoupling of the given and optimized designs against the targets",
     "stability.png": "the stability diagram of the test's identification",
     "mac.png": "MAC of the test modes against the model's",
@@ -80,7 +81,7 @@ WORDS = {
 def _key() -> str:
     """A hash of everything the figures depend on: the package's source and the bundled scenarios."""
     digest = hashlib.sha256()
-    for path in sorted([*(ROOT / "src" / "sixdof").rglob("*.py"), *(ROOT / "scenarios").rglob("*")]):
+    for path in sorted([*(ROOT / "src" / "sixdof").rglob("*.py"), *(ROOT / "scenarios").rglob("*"), Path(__file__)]):
         if path.is_file():
             digest.update(str(path.relative_to(ROOT)).encode() + b"\0" + path.read_bytes())
     return digest.hexdigest()[:16]

@@ -79,9 +79,9 @@ WORDS = {
 
 
 def _key() -> str:
-    """A hash of everything the figures depend on: the package's source and the bundled scenarios."""
-    digest = hashlib.sha256()
-    for path in sorted([*(ROOT / "src" / "sixdof").rglob("*.py"), *(ROOT / "scenarios").rglob("*"), Path(__file__)]):
+    """A hash of everything the figures depend on: the package's source, the bundled scenarios and this hook."""
+    digest = hashlib.sha256(Path(__file__).read_bytes())
+    for path in sorted([*(ROOT / "src" / "sixdof").rglob("*.py"), *(ROOT / "scenarios").rglob("*")]):
         if path.is_file():
             digest.update(str(path.relative_to(ROOT)).encode() + b"\0" + path.read_bytes())
     return digest.hexdigest()[:16]

@@ -3,8 +3,6 @@
 import importlib.util
 from pathlib import Path
 
-import pytest
-
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -24,7 +22,6 @@ def test_an_escaped_pipe_in_code_becomes_a_pipe_and_nowhere_else():
 
 
 def test_the_gallery_page_shows_each_entry_and_its_figures_in_order(tmp_path):
-    pytest.importorskip("mkdocs")
     gallery = hook("docs_gallery")
     name = gallery.ENTRIES[0][0]
     (tmp_path / name).mkdir()
@@ -45,7 +42,6 @@ def test_the_gallery_page_shows_each_entry_and_its_figures_in_order(tmp_path):
 def test_the_gallery_is_drawn_again_when_the_source_changes(tmp_path, monkeypatch):
     """The cache key is that of the package's source and the scenarios: the same for the same files, another for
     a changed module or scenario."""
-    pytest.importorskip("mkdocs")
     gallery = hook("docs_gallery")
     (tmp_path / "src" / "sixdof").mkdir(parents=True)
     (tmp_path / "scenarios").mkdir()

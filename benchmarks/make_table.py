@@ -135,8 +135,8 @@ def main():
                   f"{sp['target_error']:g} of each DOF's peak. Measured {sp['ratio']:.2f}x (best of {sp['repeat']}, "
                   f"timed alternately): {verdict(ok, miss)}; "
                   f"q' {sp['worst_dof_error_qd']:.2g}, q'' {sp['worst_dof_error_qdd']:.2g}. On this shared 2-core "
-                  "machine the ratio of best times varies from run to run and between machines (the README gives "
-                  "the spans measured).",
+                  "machine the ratio of best times varies from run to run and between machines (docs/performance.md "
+                  "gives the spans measured).",
                   *([] if "engine_faults" not in sp else [
                       f"Page faults a call: sixdof.superpose {sp['engine_faults']:.0f}, the exact discretization "
                       f"{sp['exact_faults']:.0f} (glibc's allocator returns freed memory to the system)."]),

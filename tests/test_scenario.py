@@ -186,14 +186,14 @@ def test_bad_input_names_file_field_expectation_and_value(change, message):
 
 
 def readme_mount_keys() -> list[str]:
-    """The keys of a ``[[mounts]]`` table as the README's scenario reference lists them."""
-    text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    """The keys of a ``[[mounts]]`` table as the scenario reference (docs/reference/scenario.md) lists them."""
+    text = (Path(__file__).resolve().parents[1] / "docs" / "reference" / "scenario.md").read_text()
     rows = text.split("| **`[[mounts]]`** |")[1].split("| **`[damping]`** |")[0]
     return re.findall(r"^\| `\[*(?:mounts\.)?(\w+)\]*` \|", rows, re.M)
 
 
 def test_an_unknown_mount_key_lists_the_keys_a_mount_accepts():
-    """Exactly the README's keys, and the nearest of them suggested (``bump_stop``, not the model's
+    """Exactly the scenario reference's keys, and the nearest of them suggested (``bump_stop``, not the model's
     ``bump_clearance``, which the file may not use)."""
     keys = readme_mount_keys()
     assert {"bump_stop", "maxwell", "dynamic_stiffness", "force_deflection"} <= set(keys)

@@ -299,7 +299,7 @@ def _parser() -> argparse.ArgumentParser:
         "sweep", help="run many mount variants of a scenario; store frequency and peak distributions"
     )
     sweep.add_argument("scenario", help="scenario file (TOML)")
-    sweep.add_argument("--spec", required=True, help="variation spec (TOML; see the README)")
+    sweep.add_argument("--spec", required=True, help="variation spec (TOML; see docs/guides/sweeps.md)")
     sweep.add_argument("--out", default="outputs", help="results go to OUT/<name>_sweep/ (default: outputs)")
     sweep.add_argument("--chunk-size", type=int, default=None,
                        help="variants per chunk: one task, one seed, one file (default: the spec's, else 1000)")

@@ -54,8 +54,9 @@ class MeasuredStiffness:
 
 #: The keys of a ``bump_stop`` table and the :class:`~sixdof.model.system.Mount` fields they fill.
 _BUMP_STOP = {"clearance": "bump_clearance", "stiffness": "bump_stiffness"}
-#: The keys of a ``[[mounts]]`` table (the README's): the Mount's fields, ``bump_stop`` in place of the two it
-#: fills, and the tables read beside the mount. Its unknown keys are checked against this list alone.
+#: The keys of a ``[[mounts]]`` table (as docs/reference/scenario.md lists them): the Mount's fields, ``bump_stop`` in
+#: place of the two it fills, and the tables read beside the mount.
+#: Its unknown keys are checked against this list alone.
 _MOUNT_KEYS = (*(f.name for f in dataclasses.fields(Mount) if f.init and f.name not in _BUMP_STOP.values()),
               "bump_stop", "maxwell", "dynamic_stiffness", "force_deflection", "hysteresis", "friction_pendulum")
 #: The laws a ``hysteresis`` table names, and the keys of each besides ``law``.

@@ -240,7 +240,7 @@ def plot_sweep_sensitivity(fit, modes, *, name: str = "", fig: Figure | None = N
         r2 = fit.r_squared[k]
         fitted = "R² n/a" if not np.isfinite(r2) else f"R² = {r2:.3f}"
         left_out = len(fit.parameters) - len(order)
-        more = f"\n({left_out} smaller effects not shown)" if left_out else ""
+        more = f"\n({left_out} smaller effect{'s' if left_out > 1 else ''} not shown)" if left_out else ""
         ax.set_title(f"{labels[fit.modes[k]]}: {fit.nominal_hz[k]:.4g} Hz, {fitted}{more}", fontsize=9)
         ax.grid(True, axis="x", alpha=0.3)
         span = np.max(np.abs(np.concatenate([low[order], high[order]]))) or 1.0

@@ -94,6 +94,19 @@ def test_a_saved_correlation_reads_back_as_it_was(run, tmp_path):
     assert cells[cells.index("model against the test") + 2] == "FAIL"
 
 
+def test_sixdof_plot_redraws_a_correlation_by_its_metadata_not_its_name(run, tmp_path):
+    from sixdof.cli import main
+
+    folder = save_correlation(run, tmp_path / "saved")
+    renamed = tmp_path / "anything.h5"  # the kind is the file's own, not its name's
+    renamed.write_bytes((folder / "correlation.h5").read_bytes())
+    assert main(["plot", str(renamed), "--out", str(tmp_path / "redrawn")]) == 0
+    names = ["frf_overlay.png", "mac.png", "stability.png"]
+    assert sorted(p.name for p in (tmp_path / "redrawn").glob("*.png")) == names
+    for name in names:  # what the correlation drew
+        assert (tmp_path / "redrawn" / name).read_bytes() == (folder / name).read_bytes()
+
+
 def _time_test(seconds: float, rate_hz: float, seed: int):
     """Time histories of the tap test's channels under three uncorrelated random forces at its references,
     computed exactly for forces linear between samples (the first-order-hold discretization of the nominal

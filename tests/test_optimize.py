@@ -263,6 +263,10 @@ def test_optimize_writes_a_scenario_that_reproduces_the_design_and_a_labelled_fi
     assert "P(met)" in out
     names = sorted(p.name for p in folder.iterdir() if not p.name.startswith("."))
     assert names == ["decoupling.png", "design.h5", "frequencies.png", "optimized.toml", "report.html", "summary.md"]
+    # sixdof plot draws the design's figures again from design.h5 alone, as the optimization drew them.
+    assert main(["plot", str(folder / "design.h5"), "--out", str(tmp_path / "redrawn")]) == 0
+    for name in ("decoupling.png", "frequencies.png"):
+        assert (tmp_path / "redrawn" / name).read_bytes() == (folder / name).read_bytes()
     optimized = prepare(load_scenario(folder / "optimized.toml"))  # a complete, valid scenario
     # Written with the digits that matter: each optimized stiffness to 4 significant figures.
     changed = [k for m, m0 in zip(optimized.system.mounts, prepare("scenarios/engine_inclined_mounts.toml")

@@ -306,6 +306,13 @@ def test_a_scenario_with_a_spectrum_runs_stores_and_reads_back(tmp_path):
     for name in ("peak_q", "combined_q", "combined_mount_force", "combined_base_shear", "effective_mass", "curve"):
         assert np.array_equal(getattr(stored, name), getattr(results.spectrum, name)), name
     assert stored.directional == "100-30" and stored.spectrum.startswith("EN 1998-1:2004 elastic spectrum")
+    # sixdof plot draws a spectrum run's figures again, as the run drew them.
+    from sixdof.cli import main
+
+    assert main(["plot", str(folder / "results.h5"), "--out", str(tmp_path / "redrawn")]) == 0
+    drawn = sorted(p.name for p in folder.glob("*.png"))
+    assert "spectrum.png" in drawn and sorted(p.name for p in (tmp_path / "redrawn").glob("*.png")) == drawn
+    assert (tmp_path / "redrawn" / "spectrum.png").read_bytes() == (folder / "spectrum.png").read_bytes()
 
 
 def test_the_figure_marks_each_responding_mode():

@@ -334,7 +334,8 @@ def _parser() -> argparse.ArgumentParser:
     exchange.set_defaults(command="export")
 
     plot = add("plot", help="redraw every figure from a results file, without re-running")
-    plot.add_argument("results", help="results file (results.h5 of a run)")
+    plot.add_argument("results", help="results file (results.h5 of a run, sweep.h5, design.h5, correlation.h5) "
+                      "or a folder: every results file in it")
     plot.add_argument("--out", help="folder for the PNG files (default: beside the results file)")
     plot.set_defaults(command="plot")
     return parser

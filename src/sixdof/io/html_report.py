@@ -71,6 +71,13 @@ FIGURE_CAPTIONS = {
                    "targets.",
     "decoupling": "The decoupling (kinetic energy in the dominant DOF) of each mode before and after "
                   "optimization.",
+    "sweep_frequencies": "Each mode's natural frequency over the sweep's variants (box: quartiles and median, "
+                         "whiskers: 5th and 95th percentiles), the nominal design dashed.",
+    "sweep_decoupling": "Each mode's decoupling (kinetic energy in its dominant DOF) over the sweep's variants, "
+                        "the nominal design marked.",
+    "sweep_peaks": "Each degree of freedom's peak displacement and acceleration over the sweep's variants.",
+    "sweep_sensitivity": "Which swept parameter moves each natural frequency most: the change of the frequency "
+                         "as the parameter goes across its range, from a linear fit over the variants.",
 }
 
 #: Markdown heading lines of the summary that the report shows in a section of its own.

@@ -20,6 +20,7 @@ from sixdof.design.record import design_record
 from sixdof.design.scenario_text import scenario_text
 from sixdof.errors import readonly
 from sixdof.io import html_report, output, report, study_report
+from sixdof.io.scenario import parse_scenario
 from sixdof.io.store import write_results
 from sixdof.plots import png
 from sixdof.plots.design import plot_design_decoupling, plot_design_frequencies
@@ -158,12 +159,13 @@ def _problem(scenario) -> DesignProblem:
         return DesignProblem(scenario.system, scenario.design, scenario.statics.gravity, scenario.statics.direction)
 
 
-def _save_into(stage: Path, run: DesignRun) -> None:
-    scenario, problem, system = run.scenario, run.problem, run.system
+def design_figures(scenario, problem: DesignProblem, system) -> dict:
+    """The figures of a design (file name -> :class:`matplotlib.figure.Figure`): the given design's modes
+    (``scenario.system``) against the optimized ``system``'s, frequencies and decoupling."""
     decoupling = next((t for t in problem.targets if t.kind == "decoupling"), None)
     coordinates = "body" if decoupling is None else decoupling.coordinates
     before, after = (_decoupling(s, scenario.design.torque_axis, coordinates) for s in (scenario.system, system))
-    figures = {
+    return {
         "frequencies.png": plot_design_frequencies(scenario.system.modes, system.modes, problem.targets,
                                                    name=scenario.name),
         "decoupling.png": plot_design_decoupling(
@@ -171,6 +173,21 @@ def _save_into(stage: Path, run: DesignRun) -> None:
             minimum=None if decoupling is None else decoupling.min_percent,
             covered=None if decoupling is None or decoupling.dof is None else [decoupling.dof]),
     }
+
+
+def record_figures(record, base_dir: str | Path = ".") -> dict:
+    """:func:`design_figures` of a stored design (a ``design.h5``'s :class:`~sixdof.design.record.DesignRecord`):
+    its scenario rebuilt from the text it stores (files it names read from ``base_dir``), the optimized design
+    from its variables ``x`` as the optimization wrote it (:func:`written_design`)."""
+    scenario = prepare(parse_scenario((record.provenance or {}).get("scenario_text", ""),
+                                      f"{record.name} (scenario text of design.h5)", base_dir=base_dir))
+    problem = _problem(scenario)
+    return design_figures(scenario, problem, written_design(scenario.system, problem.system_at(record.x)))
+
+
+def _save_into(stage: Path, run: DesignRun) -> None:
+    scenario, problem, system = run.scenario, run.problem, run.system
+    figures = design_figures(scenario, problem, system)
     (stage / "optimized.toml").write_text(optimized_toml(scenario, system), encoding="utf-8")
     write_results(stage / "design.h5", design_record(problem, run.result, run.robustness, scenario, run.peaks))
     for file_name, fig in figures.items():

@@ -37,6 +37,8 @@ from sixdof.io.report import moving_ground
 from sixdof.io.store import load_results, write_results
 from sixdof.io.stream import ResultsStream
 from sixdof.io.study_report import cross_check_text, summary_table, tracked_modes_table
+from sixdof.plots import png
+from sixdof.plots.sweep import draw_sweep, sweep_figure_names
 from sixdof.results import RunResults, axis_slice
 from sixdof.schema import naming
 from sixdof.workflows.prepare import prepare
@@ -48,9 +50,10 @@ _FINGERPRINT = "sweep.json"
 #: The temporary name of a chunk file being written (:func:`sixdof.io.store.save_results`).
 _DEBRIS = re.compile(r"\.chunk-\d{5,}\.h5\.[0-9a-f]{32}\.tmp")
 #: What a chunk file holds, raised when that changes (2: the modes followed by their shapes; 3: peaks of the
-#: time model, the loss factors' causal Maxwell models), so that a resumed sweep refuses chunks of an earlier kind
-#: up front instead of failing to merge them at the end (or merging peaks of another model).
-CHUNK_FORMAT = 3
+#: time model, the loss factors' causal Maxwell models; 4: the tracked modes' decoupling), so that a resumed sweep
+#: refuses chunks of an earlier kind up front instead of failing to merge them at the end (or merging peaks of
+#: another model).
+CHUNK_FORMAT = 4
 
 
 def _check(scenario, spec) -> None:
@@ -336,10 +339,21 @@ def _save_into(stage: Path, scenario, count: int, merge, command_line: str | Non
     summary = (f"# {scenario.name}: sweep of {count} variants\n\n{about}"
                + (f"## Warnings\n\n{listed}\n" if listed else "") + f"{table}\n" + (f"\n{check}\n" if check else ""))
     (stage / "summary.md").write_text(summary, encoding="utf-8")
+    write_sweep_figures(stage, load_results(path))
     html_report.write_report(stage, f"{scenario.name}: sweep of {count} variants", summary,
                              figures=sorted(stage.glob("*.png")), system=scenario.given_system,
                              scenario_text=scenario.text)
     return notes
+
+
+def write_sweep_figures(directory: Path, run) -> list[Path]:
+    """Draw every figure a sweep's results allow (:data:`sixdof.plots.sweep.SWEEP_FIGURES`: its variants'
+    frequencies, decoupling, peaks and what moves each frequency) into ``directory``; the files written."""
+    written = []
+    for name in sweep_figure_names(run):
+        (directory / name).write_bytes(png(draw_sweep(run, name)))
+        written.append(directory / name)
+    return written
 
 
 def _fit_reach(scenario, frequency_hz) -> list[str]:
@@ -353,4 +367,5 @@ def _fit_reach(scenario, frequency_hz) -> list[str]:
     return variants_fit_range(fits, [float(elastic.min()), float(elastic.max())]) if elastic.size else []
 
 
-__all__ = ["ChunkFolder", "fingerprint", "save_sweep", "sweep", "sweep_scenario", "sweep_tables"]
+__all__ = ["ChunkFolder", "fingerprint", "save_sweep", "sweep", "sweep_scenario", "sweep_tables",
+           "write_sweep_figures"]

@@ -14,6 +14,7 @@ from sixdof.analysis.batch.variants import (
     Variants,
     _assembled,
     check_batchable,
+    decoupling_percent,
     track_modes,
     variant_branches,
     variant_system,
@@ -52,6 +53,9 @@ class BatchResult(BriefRepr):
     tracked_mac : ndarray, shape (nv, 6), or None
         ``[v, j]``: how alike the shapes of that mode and nominal mode j are (mass-weighted MAC: 1 the same
         shape, 0 orthogonal); a low value means mode j is not clearly found in variant v.
+    tracked_decoupling_percent : ndarray, shape (nv, 6), or None
+        ``[v, j]``: the decoupling of that mode, the kinetic-energy share of its dominant DOF [%] (as
+        :attr:`sixdof.analysis.design.DesignMetrics.decoupling_percent`); ``None`` in files written before it was kept.
     peak_q : ndarray, shape (nv, 6) or None
         ``max |q|`` over the output samples per DOF [m, rad]; ``None`` without a simulation.
     peak_qdd : ndarray, shape (nv, 6) or None
@@ -94,6 +98,9 @@ class BatchResult(BriefRepr):
     tracked_mac: np.ndarray | None = quantity(
         "1", ("variant", "mode"), default=None,
         description="mass-weighted MAC of that mode with nominal mode j (1: the same shape)")
+    tracked_decoupling_percent: np.ndarray | None = quantity(
+        "percent", ("variant", "mode"), default=None,
+        description="kinetic-energy share of the dominant DOF of each variant's mode with the shape of nominal mode j")
     settings: Any = part(lambda: SimulationSettings, prefix="", default=None)
     peak_q: np.ndarray | None = quantity(UNITS["q"], ("variant", "dof"), default=None,
                                          description="max |q| over the output samples")
@@ -193,8 +200,9 @@ def run_batch(system: System, variants: Variants, excitation=None, settings=None
     start = time.perf_counter()
     K, C, lam, shapes = _assembled(system, variants)
     frequency = np.sqrt(lam) / (2.0 * np.pi)
-    tracked, mac = track_modes(system, frequency, shapes)
-    modal = dict(frequency_hz=readonly(frequency), tracked_frequency_hz=tracked, tracked_mac=mac)
+    tracked, mac, decoupling = track_modes(system, frequency, shapes, decoupling_percent(system, shapes))
+    modal = dict(frequency_hz=readonly(frequency), tracked_frequency_hz=tracked, tracked_mac=mac,
+                 tracked_decoupling_percent=decoupling)
     if excitation is None or settings is None:
         return BatchResult(variants=variants, **modal, engine=engine, wall_time_s=time.perf_counter() - start)
     if isinstance(excitation.initial, ModeRelease):

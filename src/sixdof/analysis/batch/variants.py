@@ -200,7 +200,17 @@ def variant_matrices(system: System, variants: Variants) -> tuple[np.ndarray, np
     return _assembled(system, variants)[:3]
 
 
-def track_modes(system: System, frequency_hz, shapes) -> tuple[np.ndarray, np.ndarray]:
+def decoupling_percent(system: System, shapes) -> np.ndarray:
+    """Each variant's decoupling of each mode, shape (nv, 6) [%]: the kinetic-energy share of its dominant DOF,
+    ``100 max_d phi_d (M phi)_d`` of the mass-normalized shapes (nv, 6, 6) (the shares of a mode sum to 1), as
+    :func:`sixdof.analysis.design.design_metrics` defines it for one system."""
+    shapes = np.asarray(shapes)
+    shares = shapes * np.einsum("de,vej->vdj", np.asarray(system.M), shapes)
+    return 100.0 * shares.max(axis=1)
+
+
+def track_modes(system: System, frequency_hz, shapes,
+                decoupling=None) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
     """Follow each nominal mode of ``system`` into its variants by shape.
 
     Ascending order mixes modes: where two frequencies cross from one variant to the next, "f1" is one mode in
@@ -221,11 +231,15 @@ def track_modes(system: System, frequency_hz, shapes) -> tuple[np.ndarray, np.nd
         The variants' natural frequencies, ascending [Hz].
     shapes : ndarray, shape (nv, 6, 6)
         Their mode shapes (columns), mass-normalized.
+    decoupling : ndarray, shape (nv, 6), optional
+        Their decoupling [%] (:func:`decoupling_percent`), in the order of ``frequency_hz``.
 
     Returns
     -------
     tracked_frequency_hz, tracked_mac : ndarray, shape (nv, 6)
         ``[v, j]``: the frequency [Hz] of variant v's mode paired with nominal mode j, and their MAC.
+    tracked_decoupling_percent : ndarray, shape (nv, 6), or None
+        ``[v, j]``: that mode's decoupling [%]; ``None`` without ``decoupling``.
     """
     # Both sets mass-normalized with the same M: MAC = (phi_i' M psi_j)^2 / (phi_i' M phi_i psi_j' M psi_j) is the
     # square of the mass-weighted product alone.
@@ -238,7 +252,8 @@ def track_modes(system: System, frequency_hz, shapes) -> tuple[np.ndarray, np.nd
         paired[:, group] = np.sort(paired[:, group], axis=1)
     rows, found = np.arange(len(mac))[:, None], paired >= 0
     frequency = np.where(found, np.asarray(frequency_hz)[rows, paired], np.nan)
-    return readonly(frequency), readonly(np.where(found, mac[rows, np.arange(6), paired], np.nan))
+    shares = None if decoupling is None else readonly(np.where(found, np.asarray(decoupling)[rows, paired], np.nan))
+    return readonly(frequency), readonly(np.where(found, mac[rows, np.arange(6), paired], np.nan)), shares
 
 
 def batch_frequencies(system: System, variants: Variants) -> np.ndarray:

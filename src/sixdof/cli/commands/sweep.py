@@ -47,7 +47,8 @@ def main(args, workers=None) -> int:
     if result.cross_check is not None:
         print(f"\n{study_report.cross_check_text(result)}")
     resumed = f", {result.resumed} of them resumed" if result.resumed else ""
-    print(f"\nWrote {directory / 'sweep.h5'}, summary.md and report.html ({spec.count} variants, "
+    figures = len(list(directory.glob("sweep_*.png")))
+    print(f"\nWrote {directory / 'sweep.h5'}, summary.md, report.html and {figures} figures ({spec.count} variants, "
           f"{result.engine} engine, {result.chunks} chunk{'s' if result.chunks != 1 else ''}{resumed}, "
           f"{result.backend} with {result.workers} worker{'s' if result.workers != 1 else ''}, "
           f"{result.wall_time_s:.2f} s)")

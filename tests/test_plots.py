@@ -561,6 +561,33 @@ def test_save_all_draws_what_the_run_holds(run, modal_only, tmp_path):
                                                                                 "ke_distribution.png"]
 
 
+def test_drawers_write_the_formats_and_dpi_of_the_run_scenario(modal_only, tmp_path):
+    """In this process and in worker processes, a run's figures are written in its scenario's ``[output]``
+    formats at its dpi, byte for byte alike."""
+    from PIL import Image
+
+    from sixdof.plots.drawer import InProcessDrawer
+    from systems import heavily_damped_box_toml
+
+    scenario = sixdof.parse_scenario('name = "box"\n' + heavily_damped_box_toml()
+                                     + '[output]\nformats = ["svg", "png"]\ndpi = 50\n')
+    asked = dataclasses.replace(modal_only, scenario=scenario)
+    expected = [f"{stem}.{kind}" for stem in ("mode_shapes", "ke_distribution") for kind in ("svg", "png")]
+    for drawer, folder in ((InProcessDrawer(), tmp_path / "here"), (FigureWorkers(processes=1), tmp_path / "workers")):
+        folder.mkdir()
+        with drawer:
+            drawer.submit(asked)
+            assert [p.name for p in drawer.save(folder)] == expected
+        with Image.open(folder / "ke_distribution.png") as image:
+            size = plots.plot_ke_distribution(modal_only.modes, name=modal_only.name).get_size_inches()
+            assert image.size == tuple(round(v * 50) for v in size)
+    assert (tmp_path / "here" / "mode_shapes.png").read_bytes() == (tmp_path / "workers" / "mode_shapes.png").read_bytes()
+    # Without a scenario (a loaded file's results): PNG only, at the default resolution.
+    assert plots.file_settings(modal_only) == (("png",), None)
+    with pytest.raises(InputError, match=r"formats: expected a non-empty list from png, svg, pdf, got \['gif'\]"):
+        plots.render_files(modal_only, "ke_distribution.png", ("gif",))
+
+
 def test_save_all_titles_start_with_the_run_name(run, monkeypatch, tmp_path):
     drawn = []
     monkeypatch.setattr(plots, "png", lambda fig, dpi=None: drawn.append(fig) or b"")

@@ -22,12 +22,12 @@ from matplotlib.ticker import FuncFormatter, NullFormatter, NullLocator
 from sixdof.errors import InputError
 from sixdof.model.modes import Modes
 
-#: Resolution of the PNG files [dots per inch].
-DPI = 120
+#: Resolution of the PNG files [dots per inch] when the scenario does not set ``[output] dpi``.
+DPI = 150
 #: Most points drawn per line of a time history: longer ones are drawn through the minimum and
 #: maximum of each of ``MAX_POINTS // 2`` equal slices (see :func:`envelope_indices`). A slice must
 #: stay narrower than a pixel column for the drawn line to look exactly like the full one: 2000
-#: slices cover axes up to 2000 px wide (16 inches at :data:`DPI`).
+#: slices cover axes up to 2000 px wide (13 inches at :data:`DPI`).
 MAX_POINTS = 4000
 #: zlib level of the PNG files: 1 writes several times faster than the default 6 for files about
 #: a third larger (the figures are mostly flat colour, which compresses well at any level).

@@ -19,7 +19,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.ticker import FuncFormatter, NullFormatter, NullLocator
 
-from sixdof.errors import InputError
+from sixdof.errors import InputError, Plain
 from sixdof.model.modes import Modes
 
 #: Resolution of the PNG files [dots per inch] when the scenario does not set ``[output] dpi``.
@@ -146,6 +146,19 @@ def margins(fig: Figure, left: float, right: float, top: float, bottom: float, w
         fig.subplots_adjust(**params)
     else:
         target.update(**params)
+
+
+def figure(fig: Figure | None, figsize: tuple[float, float]) -> Figure:
+    """The figure a multi-panel plot draws in: a new one of ``figsize`` [in], or ``fig``, a caller's empty
+    :class:`~matplotlib.figure.Figure`, set to that size (the plots lay their margins and rows out in inches)."""
+    if fig is None:
+        return Figure(figsize=figsize)
+    require(fig, "fig", Figure, "a matplotlib.figure.Figure (or None for a new one)")
+    if fig.axes:
+        raise InputError("fig", "an empty matplotlib Figure (the plot lays out its own panels)",
+                         Plain(f"a figure with {len(fig.axes)} axes"))
+    fig.set_size_inches(figsize)
+    return fig
 
 
 def panel_grid(n: int) -> tuple[int, int]:

@@ -8,10 +8,10 @@ from matplotlib.figure import Figure
 from sixdof.analysis.random import RandomResponse, RandomTimeCheck
 from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.dofs import AXES, DOFS
-from sixdof.plots.common import margins, merge_identical, plain_frequencies, plain_log_ticks, require, title
+from sixdof.plots.common import figure, margins, merge_identical, plain_frequencies, plain_log_ticks, require, title
 
 
-def plot_random(random: RandomResponse, *, name: str = "") -> Figure:
+def plot_random(random: RandomResponse, *, name: str = "", fig: Figure | None = None) -> Figure:
     """Input PSD (top, its RMS in the title) and the absolute acceleration PSDs of the CG's translations and of
     each body point along its most excited axis (bottom), log-log, with each curve's RMS in the legend.
 
@@ -21,13 +21,17 @@ def plot_random(random: RandomResponse, *, name: str = "") -> Figure:
     name : str
         Name of the run, put before the title.
 
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
+        one. Layout: the input PSD above the body's response PSDs.
+
     Returns
     -------
     matplotlib.figure.Figure
     """
     require(random, "random", RandomResponse, "a sixdof.analysis.random.RandomResponse")
     f = random.f_hz
-    fig = Figure(figsize=(10, 8))
+    fig = figure(fig, (10, 8))
     fig.suptitle(title(name, "random vibration: input and response acceleration PSDs"), fontsize=12)
     margins(fig, left=1.0, right=0.3, top=0.75, bottom=0.6, hspace=0.9, rows=2)
     top, bottom = fig.subplots(2, 1, sharex=True)
@@ -72,7 +76,7 @@ def plot_random(random: RandomResponse, *, name: str = "") -> Figure:
     return fig
 
 
-def plot_random_check(check, *, name: str = "") -> Figure:
+def plot_random_check(check, *, name: str = "", fig: Figure | None = None) -> Figure:
     """The random response against a time history: for each excited acceleration (the CG's DOFs, each point
     along its most excited axis; at most six), the record's Welch PSD over the FRFs' expected Welch PSD with
     the estimate's 90 % interval (chi-square), and both RMS values with their z in the panel's title.
@@ -82,6 +86,10 @@ def plot_random_check(check, *, name: str = "") -> Figure:
     check : sixdof.analysis.random.RandomTimeCheck
     name : str
         Name of the run, put before the title.
+
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
+        one. Layout: one row per point checked (the record's Welch PSD over the expected one).
 
     Returns
     -------
@@ -104,7 +112,7 @@ def plot_random_check(check, *, name: str = "") -> Figure:
               for welch, label, (key, expected, translation) in merge_identical(curves)][:6]
     columns = 1 if len(panels) <= 3 else 2
     rows = max(1, -(-len(panels) // columns))
-    fig = Figure(figsize=(10, 2.0 + 2.6 * rows))
+    fig = figure(fig, (10, 2.0 + 2.6 * rows))
     worst = check.worst
     fig.suptitle(title(name, f"random response against a {check.duration_s:.3g} s time history: {check.verdict} "
                              f"(largest |z| {abs(check.z[worst]):.2f}, limit {check.z_limit:.2f})"), fontsize=12)

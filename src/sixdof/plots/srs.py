@@ -13,7 +13,7 @@ from sixdof.plots.common import margins, merge_identical, plain_log_ticks, requi
 G = STANDARD_GRAVITY
 
 
-def plot_srs(spectra: ShockSpectra, *, name: str = "") -> Figure:
+def plot_srs(spectra: ShockSpectra, ax=None, *, name: str = "") -> Figure:
     """Maximax absolute-acceleration SRS [g] against natural frequency [Hz], log-log: the base acceleration's
     (black) and each body point's along each axis that sees at least 1 % of the largest peak.
 
@@ -23,17 +23,22 @@ def plot_srs(spectra: ShockSpectra, *, name: str = "") -> Figure:
     name : str
         Name of the run, put before the title.
 
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw into (the run's title is then left to the caller); default a new figure's.
+
     Returns
     -------
     matplotlib.figure.Figure
     """
     require(spectra, "spectra", ShockSpectra, "a sixdof.analysis.srs.ShockSpectra")
     f = spectra.f_hz
-    fig = Figure(figsize=(10, 6))
-    fig.suptitle(title(name, f"shock response spectra (maximax absolute acceleration, Q = {spectra.q:g})"),
-                 fontsize=12)
-    margins(fig, left=1.0, right=0.3, top=0.7, bottom=0.6)
-    ax = fig.add_subplot()
+    if ax is None:
+        fig = Figure(figsize=(10, 6))
+        fig.suptitle(title(name, f"shock response spectra (maximax absolute acceleration, Q = {spectra.q:g})"),
+                     fontsize=12)
+        margins(fig, left=1.0, right=0.3, top=0.7, bottom=0.6)
+        ax = fig.add_subplot()
+    fig = ax.figure
     if spectra.input is not None:
         ax.loglog(f, spectra.input / G, color="black", linewidth=1.8, label="base (input)")
     largest = float(np.max(spectra.points)) if spectra.points.size else 0.0

@@ -21,6 +21,7 @@ from sixdof.plots.common import (
     DOF_NAMES,
     ROTATION,
     TRANSLATION,
+    figure,
     margins,
     plot_long,
     require,
@@ -55,7 +56,8 @@ GROUND_COLOR = "0.45"
 
 
 def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
-                        events: Mapping[str, Event] | None = None, steady=None) -> Figure:
+                        events: Mapping[str, Event] | None = None, steady=None,
+                        fig: Figure | None = None) -> Figure:
     """The input on its own axis above, then the time history of each DOF that responds on its own axis:
     translations in mm, rotations in mrad.
 
@@ -88,6 +90,11 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
         The steady state at the operating frequencies (harmonic loads without end): its amplitude (the
         sum over the frequencies, the most their harmonics reach together) dotted at plus and minus, and
         given beside the peak, which a switch-on transient may dominate.
+
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
+        one. Layout: one row per input (the load or ground motion) above one row per DOF that responds, each
+        with its zoom on the right when the run has an event.
 
     Returns
     -------
@@ -131,7 +138,7 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
     # The figure's legend, from the first DOF drawn, when it has more than its one curve to explain.
     legend = bool(dofs) and (relative is not None or zoom is not None or amplitude[dofs[0]] > 0)
     fig, rows = _stacked_rows(t, [INPUT_HEIGHT] * len(inputs) + [height] * max(len(dofs), 1), zoom,
-                              title(name, heading), note, legend_line=legend or zoom is not None)
+                              title(name, heading), note, legend_line=legend or zoom is not None, fig=fig)
     for (draw, *_), axes in zip(inputs, rows):
         draw(axes, t, zoom)
     if not dofs:  # nothing moves: said on the one panel
@@ -152,7 +159,7 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
 
 
 def _stacked_rows(t: np.ndarray, heights: list[float], zoom, heading: str, note: str,
-                  legend_line: bool) -> tuple[Figure, list[list]]:
+                  legend_line: bool, fig: Figure | None = None) -> tuple[Figure, list[list]]:
     """A figure of one row per entry of ``heights`` [in] under ``heading``, the line ``note`` (if any) and a line
     for the legend and the zoom's heading (``legend_line``), and its axes, one list per row: its whole record, then
     its zoom when ``zoom`` (:func:`~sixdof.plots.zoom.event_window`) is given; one time axis per column, labelled
@@ -161,7 +168,7 @@ def _stacked_rows(t: np.ndarray, heights: list[float], zoom, heading: str, note:
     # From the top [in]: the title, the note, the line of the legend and the zoom's heading, the first row's title.
     legend_at = 0.55 + (0.3 if note else 0.0)
     top = legend_at + (0.25 if legend_line else -0.1) + 0.35
-    fig = Figure(figsize=(12, top + bottom + sum(heights) + gap * (len(heights) - 1)))
+    fig = figure(fig, (12, top + bottom + sum(heights) + gap * (len(heights) - 1)))
     height = fig.get_figheight()
     fig.suptitle(heading, fontsize=13, y=1 - 0.15 / height, va="top")
     if note:
@@ -365,7 +372,7 @@ OTHER_SCALE = 10.0
 
 def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agreement | None = None, *,
                        name: str = "", events: Mapping[str, Event] | None = None,
-                       contacts: ContactSummary | None = None) -> Figure:
+                       contacts: ContactSummary | None = None, fig: Figure | None = None) -> Figure:
     """Direct solution and modal superposition overlaid (left), and their difference divided by the
     DOF's peak (right, with the agreement tolerance dashed), one row per DOF that responds
     (:data:`RESPONDS_RTOL`); the others are named in one line under the title (``fig.texts``, starting "not
@@ -393,6 +400,11 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
     contacts : sixdof.analysis.contact.ContactSummary, optional
         What the nonlinear mounts did: the differences are drawn until its ``first_engaged_t`` [s] (nan:
         none engaged, the whole record).
+
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
+        one. Layout: one row per DOF that responds: both solutions overlaid (left, with its zoom when the run
+        has an event) and their difference (right).
 
     Returns
     -------
@@ -424,7 +436,8 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
     dofs = [int(i) for i in np.flatnonzero(drawn)] or [int(np.argmax(peaks))]
     note = not_excited_line(q_direct, [i for i in range(6) if i not in dofs], _UNITS["q"],
                             None if agreement is None else np.asarray(agreement.per_dof))
-    fig, axes, zooms = _superposition_panels(t, zoom, end, len(dofs), lines=3 if cut else 2, note=note)
+    fig, axes, zooms = _superposition_panels(t, zoom, end, len(dofs), lines=3 if cut else 2, note=note,
+                                             fig=fig)
     quiet_compared = unexcited(q_direct[compared])  # a DOF still at rest when the first mount engages
     span = f" for t ≤ {first:.4g} s" if cut else ""
     tolerance_drawn = False
@@ -454,7 +467,7 @@ SUPERPOSITION_ROW_RANGE = (1.6, 3.0)
 
 
 def _superposition_panels(t: np.ndarray, zoom, end: float, rows: int, lines: int,
-                          note: str) -> tuple[Figure, np.ndarray, list]:
+                          note: str, fig: Figure | None = None) -> tuple[Figure, np.ndarray, list]:
     """The figure of :func:`plot_superposition` and its axes: ``(fig, axes, zooms)``, the overlays and differences
     (rows, 2) (the differences' time axis to ``end`` [s]) and each row's zoom of the overlay (None without
     ``zoom``); room at the top for a title of ``lines`` lines and the line ``note`` (if any)."""
@@ -462,7 +475,7 @@ def _superposition_panels(t: np.ndarray, zoom, end: float, rows: int, lines: int
     gap, bottom = 0.45, 0.55
     note_at = 0.25 + 0.26 * lines
     top = note_at + (0.3 if note else 0.0) + 0.35  # the title, the note, the legend above the first row
-    fig = Figure(figsize=(13 if zoom is None else 15, top + bottom + rows * row + gap * (rows - 1)))
+    fig = figure(fig, (13 if zoom is None else 15, top + bottom + rows * row + gap * (rows - 1)))
     if note:
         fig.text(0.8 / fig.get_figwidth(), 1 - note_at / fig.get_figheight(), note, fontsize=9.5, color="0.3",
                  va="top", ha="left")
@@ -570,7 +583,7 @@ def _superscript(exponent: int) -> str:
     return str(exponent).translate(str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹"))
 
 
-def plot_mount_forces(forces: MountForces, t, *, name: str = "") -> Figure:
+def plot_mount_forces(forces: MountForces, t, *, name: str = "", fig: Figure | None = None) -> Figure:
     """Force of each mount on the foundation, one axis per component (x, y, z in body axes), one
     line per mount, in kN; the total foundation force dashed.
 
@@ -587,6 +600,10 @@ def plot_mount_forces(forces: MountForces, t, *, name: str = "") -> Figure:
     name : str
         Name of the run, put before the title.
 
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
+        one. Layout: three rows, the x, y and z components of the mount forces.
+
     Returns
     -------
     matplotlib.figure.Figure
@@ -599,7 +616,7 @@ def plot_mount_forces(forces: MountForces, t, *, name: str = "") -> Figure:
                          f"shape {values.shape}")
     names = forces.names
     total = forces.foundation_force
-    fig = Figure(figsize=(12, 8.5))
+    fig = figure(fig, (12, 8.5))
     fig.suptitle(title(name, "mount forces on the foundation (body axes)"), fontsize=13)
     margins(fig, left=0.8, right=0.15, top=0.75, bottom=0.55, hspace=0.2, rows=3)
     axes = fig.subplots(3, 1, sharex=True)
@@ -620,7 +637,8 @@ def plot_mount_forces(forces: MountForces, t, *, name: str = "") -> Figure:
     return fig
 
 
-def plot_mount_loads(check: MountCheck, t, *, name: str = "", events: Mapping[str, Event] | None = None) -> Figure:
+def plot_mount_loads(check: MountCheck, t, *, name: str = "", events: Mapping[str, Event] | None = None,
+                     fig: Figure | None = None) -> Figure:
     """Total normal force of each mount over the run (static preload plus dynamic, > 0 compression), one
     row per mount, all in one unit: the whole record on the left, tension shaded red and the static load
     dashed (the whole records share one force range); on the right a zoom, its span marked on the left and
@@ -639,6 +657,10 @@ def plot_mount_loads(check: MountCheck, t, *, name: str = "", events: Mapping[st
     events : mapping of str to sixdof.results.Event, optional
         The excitation's shocks and switch-ons, by load name (a run's ``events``).
 
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
+        one. Layout: one row per mount: the whole record (left) and its zoom (right).
+
     Returns
     -------
     matplotlib.figure.Figure
@@ -654,7 +676,7 @@ def plot_mount_loads(check: MountCheck, t, *, name: str = "", events: Mapping[st
     window = event_window(events or {}, t) or zoom_window(t, dynamic)
     factor, unit = display_unit(compression, "N")
     rows = len(check.names)
-    fig = Figure(figsize=(12, 1.4 + 1.55 * rows + 0.6))
+    fig = figure(fig, (12, 1.4 + 1.55 * rows + 0.6))
     fig.suptitle(title(name, "normal force of each mount (static + dynamic; > 0 compression, < 0 tension)"),
                  fontsize=12)
     columns = 1 if window is None else 2
@@ -709,7 +731,8 @@ def plot_mount_loads(check: MountCheck, t, *, name: str = "", events: Mapping[st
     return fig
 
 
-def plot_mount_shear(check: MountCheck, t, *, name: str = "", events: Mapping[str, Event] | None = None) -> Figure:
+def plot_mount_shear(check: MountCheck, t, *, name: str = "", events: Mapping[str, Event] | None = None,
+                     fig: Figure | None = None) -> Figure:
     """Shear load of each mount, the resultant of its u and v loads (static + dynamic), one row per mount in
     one unit: the whole record, and beside it the zoom of :func:`plot_mount_loads`; each row's title gives
     its peak shear load and peak shear deflection (the resultant of the u and v deflections), which sets
@@ -725,6 +748,10 @@ def plot_mount_shear(check: MountCheck, t, *, name: str = "", events: Mapping[st
         Name of the run, put before the title.
     events : mapping of str to sixdof.results.Event, optional
         The excitation's shocks and switch-ons, by load name (a run's ``events``).
+
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
+        one. Layout: one row per mount: the whole record (left) and its zoom (right).
 
     Returns
     -------
@@ -747,7 +774,7 @@ def plot_mount_shear(check: MountCheck, t, *, name: str = "", events: Mapping[st
     factor, unit = display_unit(shear, "N")
     rows = len(check.names)
     # Each row's title on two lines (on one it ran past its panel into the zoom's heading): 0.15 in more per row.
-    fig = Figure(figsize=(12, 1.4 + 1.7 * rows + 0.6))
+    fig = figure(fig, (12, 1.4 + 1.7 * rows + 0.6))
     fig.suptitle(title(name, "shear load of each mount (resultant of u and v, static + dynamic)"), fontsize=12)
     spec = fig.add_gridspec(rows, 1 if window is None else 2, width_ratios=None if window is None else (3, 2))
     margins(fig, left=0.9, right=0.2, top=0.9, bottom=0.55, wspace=0.8, hspace=0.6,

@@ -57,7 +57,7 @@ def test_each_mount_is_drawn_in_one_unit_with_its_static_load_and_a_zoom():
     fig = plot_mount_loads(check, t, name="machine")
     assert len(fig.axes) == 2 * len(check.names)
     units = {ax.get_ylabel() for ax in fig.axes[::2]}
-    assert units == {"N [kN]"}
+    assert units == {"normal force [kN]"}
     window = zoom_window(t, check.compression - check.compression[:, :1])
     for k in range(len(check.names)):
         whole, zoom = fig.axes[2 * k], fig.axes[2 * k + 1]
@@ -226,7 +226,7 @@ def test_time_dofs_of_a_ground_motion_draw_the_body_beside_the_ground():
     fig = plot_time_histories(response, "q")
     accelerations, *dofs = fig.axes
     assert accelerations.get_title(loc="left").startswith("ground and body acceleration along y, peaks: ground 2 m/s²")
-    assert accelerations.get_ylabel() == "ay [m/s²]"
+    assert accelerations.get_ylabel() == "acceleration [m/s²]"
     ground_line, body_line = accelerations.get_lines()
     assert (ground_line.get_label(), body_line.get_label()) == ("ground", "body (centre of gravity, absolute)")
     t = ground_line.get_xdata()
@@ -526,11 +526,11 @@ def test_random_png_draws_the_input_and_each_response_with_its_rms():
     # The point at the CG moves as the CG: its curves are the CG's, drawn once with both names.
     for i, dof in enumerate("xyz"):
         rms = random.qdd_rms[i] / STANDARD_GRAVITY
-        label = next(name for name in lines if name.startswith(f"CG {dof}"))
+        label = next(name for name in lines if name.startswith(f"centre of gravity along {dof}"))
         assert label.endswith(f": {rms:.3g} grms")
         np.testing.assert_allclose(lines[label].get_ydata(), random.qdd_psd[:, i] / g2)
     axis = int(np.argmax(random.point_acceleration_rms[0]))
-    assert any(name.startswith(f"CG {'xyz'[axis]} = cg {'xyz'[axis]}") for name in lines)
+    assert any(name.startswith(f"centre of gravity along {'xyz'[axis]} = cg along {'xyz'[axis]}") for name in lines)
     corner = next(name for name in lines if name.startswith("corner "))
     assert lines[corner].get_linestyle() == "--"
     # The input under the response (the isolation), and eight decades of response shown.
@@ -603,7 +603,7 @@ def test_mount_shear_png_is_drawn_for_a_shear_load_and_draws_each_resultant():
     assert len(whole) == len(check.names)
     for k, ax in enumerate(whole):
         shear = np.hypot(check.force[k, :, 0], check.force[k, :, 1])
-        assert ax.get_ylabel() == "shear |F_uv| [kN]"
+        assert ax.get_ylabel() == "shear force [kN]"
         np.testing.assert_allclose(ax.get_lines()[0].get_ydata().max(), shear.max() / 1e3)
         deflection = np.hypot(check.deflection[k, :, 0], check.deflection[k, :, 1])
         assert f"peak shear load {shear.max() / 1e3:.4g} kN" in ax.get_title(loc="left")

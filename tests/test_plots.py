@@ -20,6 +20,7 @@ from sixdof.dofs import DOFS
 from sixdof.errors import InputError
 from sixdof.model.modes import modal_analysis
 from sixdof.model.system import System
+from sixdof.plots.common import DOF_NAMES
 from sixdof.plots.time import responding
 from sixdof.results import RunResults, TimeHistory
 from store_cases import run_parts
@@ -233,7 +234,7 @@ def test_ke_distribution_annotates_percentages(parts):
     for (i, j), text in texts.items():
         assert float(text) == pytest.approx(ke[i, j], abs=0.5 if ke[i, j] >= 9.95 else 0.05)
         assert not text.startswith("-")
-    assert [t.get_text() for t in ax.get_yticklabels()] == ["x", "y", "z", "rx", "ry", "rz"]
+    assert [t.get_text() for t in ax.get_yticklabels()] == list(DOF_NAMES)
 
 
 def test_ke_distribution_draws_into_given_axes(parts):
@@ -400,7 +401,7 @@ def test_superposition_of_a_nonlinear_run_draws_the_differences_until_the_first_
             line = right.lines[0]
             assert line.get_xdata()[-1] <= first
             assert np.max(np.abs(drawn_relative(right))) == pytest.approx(agreement.per_dof[i], rel=1e-9)
-            assert title == f"{DOFS[i]}: max|Δ| / peak for t ≤ 0.4 s = {agreement.per_dof[i]:.2e}"
+            assert title == f"{DOF_NAMES[i]}: max|Δ| / peak for t ≤ 0.4 s = {agreement.per_dof[i]:.2e}"
             assert [line.get_label() for line in left.get_lines()] == ["direct integration", "modal superposition",
                                                                        "first engagement"]
             assert left.get_lines()[2].get_xdata()[0] == first
@@ -511,7 +512,7 @@ def test_mount_forces_of_given_arrays():
                        for k in range(4)])
     fig = plots.plot_mount_forces(_mount_forces(forces), t)
     assert labelled_axes(fig)
-    assert [ax.get_ylabel() for ax in fig.axes] == ["Fx [N]", "Fy [N]", "Fz [kN]"]
+    assert [ax.get_ylabel() for ax in fig.axes] == ["force along x [N]", "force along y [N]", "force along z [kN]"]
     np.testing.assert_allclose(fig.axes[2].lines[3].get_ydata(), 4e2 * np.cos(t), rtol=1e-15)
 
 

@@ -291,6 +291,22 @@ def test_formats_write_each_figure_in_each_format_at_the_dpi(tmp_path):
     assert "(mode_shapes.png)" in summary and "mode_shapes.svg" not in summary and "mode_shapes.pdf" not in summary
     assert {f"{stem}.{kind}" for stem in figures for kind in ("png", "svg", "pdf")} <= set(
         (folder / ".sixdof-files").read_text().splitlines())
+    # `sixdof plot` draws the file's figures again as the run did: the stored scenario's formats and dpi.
+    assert main(["plot", str(folder / "results.h5"), "--out", str(tmp_path / "again")]) == 0
+    assert {p.name for p in (tmp_path / "again").iterdir()} >= {f"{s}.{k}" for s in figures for k in ("png", "svg", "pdf")}
+    with Image.open(tmp_path / "again" / "ke_distribution.png") as image:
+        assert image.size == tuple(round(v * 60) for v in inches)
+
+
+def test_stored_figure_settings_read_the_scenario_text_else_the_defaults():
+    from sixdof.io.settings import stored_figure_settings
+
+    text = SCENARIO.replace("[simulation]", '[output]\nformats = ["pdf"]\ndpi = 300\n\n[simulation]')
+    assert stored_figure_settings({"scenario_text": text}) == (("pdf",), 300)
+    assert stored_figure_settings({"scenario_text": SCENARIO}) == (("png",), 150)
+    assert stored_figure_settings({}) == (("png",), 150)
+    with pytest.raises(InputError, match=r"output\.dpi: expected a whole number of dots per inch"):
+        stored_figure_settings({"scenario_text": text.replace("dpi = 300", "dpi = 3")})
 
 
 def test_default_dpi_is_150(tmp_path):

@@ -216,6 +216,27 @@ class OutputSettings(Frozen):
         return tuple(name for name in DERIVED if name not in self.derived)
 
 
+def stored_figure_settings(provenance) -> tuple[tuple[str, ...], int]:
+    """The ``[output]`` ``formats`` and ``dpi`` of the scenario a results file was computed from (its
+    ``provenance["scenario_text"]``), for ``sixdof plot`` to draw its figures as the run did; the defaults,
+    PNG at 150 dpi, for a file without the text or whose text holds neither key (older files).
+
+    Raises
+    ------
+    InputError
+        A stored ``formats`` or ``dpi`` that is not valid (a file edited by hand), naming the field.
+    """
+    import tomllib  # noqa: PLC0415 (only sixdof plot reads a stored scenario's text)
+
+    try:
+        table = tomllib.loads(str(provenance.get("scenario_text", ""))).get("output", {})
+    except tomllib.TOMLDecodeError:
+        table = {}
+    keys = {key: table[key] for key in ("formats", "dpi") if isinstance(table, dict) and key in table}
+    settings = build(OutputSettings, keys, "output")
+    return settings.formats, settings.dpi
+
+
 def frf_settings(table: dict) -> FrfSettings:
     frf = Table(table, "frf", tuple(table))  # keys checked by build(FrfSettings) below
     requests = {key: tuple(build(cls, t, f"frf.{key}[{i}]") for i, t in enumerate(frf.tables(key)))

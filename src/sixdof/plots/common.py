@@ -36,9 +36,22 @@ PNG_COMPRESS_LEVEL = 1
 TRANSLATION = "tab:blue"
 ROTATION = "tab:red"
 COMPONENT_COLORS = ("tab:blue", "tab:orange", "tab:green")
-#: Each DOF in words, for titles (``DOFS`` order: x, y, z, rx, ry, rz).
-DOF_NAMES = ("translation x", "translation y", "translation z", "rotation rx (about x)", "rotation ry (about y)",
-             "rotation rz (about z)")
+# Every figure's words for the DOFs, loads and axes, from here: titles and labels in words with their units,
+# never the internal codes (x, rx, Fz, dof_3) nor snake_case.
+#: Each DOF in words, for titles and legends (``DOFS`` order: x, y, z, rx, ry, rz): the centre of gravity's
+#: translations along the body axes and the small rotations about them.
+DOF_NAMES = ("translation along x", "translation along y", "translation along z", "rotation about x",
+             "rotation about y", "rotation about z")
+#: Each DOF's direction alone, for the axis label of a panel whose title names the DOF (``"about x [mrad]"``).
+DOF_DIRECTIONS = ("along x", "along y", "along z", "about x", "about y", "about z")
+#: Each generalized load in words (``LOADS`` order: Fx, Fy, Fz, Mx, My, Mz).
+LOAD_NAMES = ("force along x", "force along y", "force along z", "moment about x", "moment about y",
+              "moment about z")
+
+
+def axis_label(quantity: str, unit: str) -> str:
+    """An axis label: the quantity in words and its unit in brackets, ``"normal force [kN]"``."""
+    return f"{quantity} [{unit}]"
 
 
 def envelope_indices(values: np.ndarray, max_points: int = MAX_POINTS) -> np.ndarray:

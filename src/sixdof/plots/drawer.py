@@ -20,7 +20,11 @@ if TYPE_CHECKING:
 
 class FigureDrawer(Protocol):
     """Draws the figures of a run (:data:`sixdof.plots.FIGURES`) and writes them in the formats and at the
-    resolution of its scenario's ``[output]`` (:func:`sixdof.plots.file_settings`)."""
+    resolution of its scenario's ``[output]`` (:func:`sixdof.plots.file_settings`), unless its ``formats``
+    (sequence of str) and ``dpi`` (int [dots per inch]) are set before the first ``submit``."""
+
+    formats: tuple[str, ...] | None
+    dpi: int | None
 
     def submit(self, run: RunResults) -> None:
         """Take every figure ``run`` allows that was not submitted before."""

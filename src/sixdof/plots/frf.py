@@ -10,11 +10,12 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from sixdof.analysis.frf import FRF, ForceTransmissibility, FRFCrossCheck, GroundTransmissibility, PointFRF
-from sixdof.dofs import DOFS, LOADS
 from sixdof.errors import InputError, Plain
 from sixdof.model.modes import Modes
 from sixdof.plots.common import (
     COMPONENT_COLORS,
+    DOF_NAMES,
+    LOAD_NAMES,
     figure,
     margins,
     mark_modes,
@@ -116,7 +117,7 @@ def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, 
         mag, phase = axes[0, column], axes[1, column]
         for k, i in enumerate(block):
             h = H[:, i, i]
-            mag.plot(f, np.abs(h), color=COMPONENT_COLORS[k], label=f"{DOFS[i]} per {LOADS[i]}")
+            mag.plot(f, np.abs(h), color=COMPONENT_COLORS[k], label=f"{DOF_NAMES[i]} per {LOAD_NAMES[i]}")
             phase.plot(f, phase_deg(h), color=COMPONENT_COLORS[k])
         mag.set_yscale("log")
         mag.set_ylabel(f"|H| [{unit}]")

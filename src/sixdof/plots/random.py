@@ -8,7 +8,16 @@ from matplotlib.figure import Figure
 from sixdof.analysis.random import RandomResponse, RandomTimeCheck
 from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.dofs import AXES, DOFS
-from sixdof.plots.common import figure, margins, merge_identical, plain_frequencies, plain_log_ticks, require, title
+from sixdof.plots.common import (
+    DOF_DIRECTIONS,
+    figure,
+    margins,
+    merge_identical,
+    plain_frequencies,
+    plain_log_ticks,
+    require,
+    title,
+)
 
 
 def plot_random(random: RandomResponse, *, name: str = "", fig: Figure | None = None) -> Figure:
@@ -45,11 +54,11 @@ def plot_random(random: RandomResponse, *, name: str = "", fig: Figure | None = 
         top.set_ylabel("ground acceleration PSD [g²/Hz]")
         top.set_title(f"input: ground acceleration, {random.input_rms / STANDARD_GRAVITY:.3g} grms, "
                       f"PSD peak {np.max(random.input_psd) / STANDARD_GRAVITY**2:.3g} g²/Hz", fontsize=10)
-    curves = [(random.qdd_psd[:, i], f"CG {DOFS[i]}", random.qdd_rms[i]) for i in range(3)
+    curves = [(random.qdd_psd[:, i], f"centre of gravity {DOF_DIRECTIONS[i]}", random.qdd_rms[i]) for i in range(3)
               if np.any(random.qdd_psd[:, i] > 0)]
     for name_, psd, rms in zip(random.points, random.point_acceleration_psd, random.point_acceleration_rms):
         axis = int(np.argmax(rms))
-        curves.append((psd[:, axis], f"{name_} {AXES[axis]}", rms[axis]))
+        curves.append((psd[:, axis], f"{name_} along {AXES[axis]}", rms[axis]))
     for psd, label, rms in merge_identical(curves):
         bottom.loglog(f, psd / STANDARD_GRAVITY**2, linewidth=1.1, linestyle="-" if label.startswith("CG") else "--",
                       label=f"{label}: {rms / STANDARD_GRAVITY:.3g} grms")
@@ -99,13 +108,13 @@ def plot_random_check(check, *, name: str = "", fig: Figure | None = None) -> Fi
 
     require(check, "check", RandomTimeCheck, "a sixdof.analysis.random.RandomTimeCheck")
     rms = {n.removeprefix("rms:"): j for j, n in enumerate(check.judged) if n.startswith("rms:")}
-    curves = [(check.qdd_welch[:, i], f"CG {dof}", (f"qdd:{dof}", check.qdd_expected[:, i], i < 3))
-              for i, dof in enumerate(DOFS) if f"qdd:{dof}" in rms]
+    curves = [(check.qdd_welch[:, i], f"centre of gravity {DOF_DIRECTIONS[i]}",
+               (f"qdd:{dof}", check.qdd_expected[:, i], i < 3)) for i, dof in enumerate(DOFS) if f"qdd:{dof}" in rms]
     for p, point in enumerate(check.points):
         excited = [a for a in range(3) if f"point:{point}:{AXES[a]}" in rms]
         if excited:
             axis = max(excited, key=lambda a: check.frequency_rms[rms[f"point:{point}:{AXES[a]}"]])
-            curves.append((check.point_welch[p, :, axis], f"{point} {AXES[axis]}",
+            curves.append((check.point_welch[p, :, axis], f"{point} along {AXES[axis]}",
                            (f"point:{point}:{AXES[axis]}", check.point_expected[p, :, axis], True)))
     # Responses that are one (points moving with the CG) share a panel.
     panels = [(label, key, welch, expected, translation)

@@ -53,7 +53,7 @@ def plot_records(records, check, *, name: str = "", fig: Figure | None = None) -
     top.set_xlim(T[0], T[-1])
     top.set_ylim(0, None)
     top.set_xlabel("period T [s]")
-    top.set_ylabel("pseudo-acceleration S_a [m/s²]")
+    top.set_ylabel("pseudo-acceleration $S_a$ [m/s²]")
     top.grid(True, which="both", alpha=0.3)
     top.legend(fontsize=8, loc="lower center")
     t = records.t

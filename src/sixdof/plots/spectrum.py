@@ -66,7 +66,7 @@ def plot_spectrum(spectrum: ResponseSpectrum, ax=None, *, name: str = "") -> Fig
                     bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "edgecolor": "none", "alpha": 0.8})
     ax.plot([], [], "o", color="0.3", label="a mode at its period (hollow: its own damping)")
     ax.set_xlabel("period T [s]")
-    ax.set_ylabel("pseudo-acceleration S_a [m/s²]")
+    ax.set_ylabel("pseudo-acceleration $S_a$ [m/s²]")
     ax.set_xlim(T[0], T[-1])
     ax.set_ylim(0, 1.12 * max(float(np.max(spectrum.curve)), float(np.max(spectrum.spectral_acceleration))))
     ax.grid(True, alpha=0.3)

@@ -18,9 +18,11 @@ from sixdof.dofs import AXES, DOFS, FORCE_UNITS, LOADS, display_unit, dof_units
 from sixdof.errors import InputError
 from sixdof.plots.common import (
     COMPONENT_COLORS,
+    DOF_DIRECTIONS,
     DOF_NAMES,
     ROTATION,
     TRANSLATION,
+    axis_label,
     figure,
     margins,
     plot_long,
@@ -282,7 +284,7 @@ def _ground_panel(axes, t: np.ndarray, zoom, history: TimeHistory, c: int) -> No
         plot_long(ax, t[part], factor * body[part], color=TRANSLATION, linewidth=1.0,
                   label="body (centre of gravity, absolute)")
     peak_ground, peak_body = float(np.max(np.abs(ground))), float(np.max(np.abs(body)))
-    axes[0].set_ylabel(f"a{AXES[c]} [{unit}]")
+    axes[0].set_ylabel(axis_label("acceleration", unit))
     axes[0].set_title(f"ground and body acceleration along {AXES[c]}, peaks: ground {factor * peak_ground:.4g} {unit} "
                       f"({peak_ground / STANDARD_GRAVITY:.3g} g), body {factor * peak_body:.4g} {unit} "
                       f"({peak_body / STANDARD_GRAVITY:.3g} g, {peak_body / peak_ground:.2f} of the ground's)",
@@ -350,7 +352,7 @@ def _history_dof(fig: Figure, axes, i: int, t: np.ndarray, main: np.ndarray, oth
         fig.legend(*whole.get_legend_handles_labels(), fontsize=8, loc="upper left", frameon=False,
                    bbox_to_anchor=(0.8 / fig.get_figwidth(), 1 - (0.55 + 0.3 * bool(notes(fig))) / fig.get_figheight()),
                    ncols=4)
-    whole.set_ylabel(f"{DOFS[i]} [{label}]")
+    whole.set_ylabel(axis_label(DOF_DIRECTIONS[i], label))
     heading = f"{DOF_NAMES[i]}: peak {factor * main_peak:.4g} {label}"
     if other is not None:
         scale, other_unit = display_unit(other_peak, unit)
@@ -508,7 +510,7 @@ def _overlay_dof(left, zoomed, i: int, t: np.ndarray, q_direct: np.ndarray, q_mo
                   label="direct integration")
         plot_long(ax, t[part], factor * q_modal[part], color="tab:orange", linewidth=1.0, linestyle="--",
                   label="modal superposition")
-    left.set_ylabel(f"{DOFS[i]} [{label}]")
+    left.set_ylabel(axis_label(DOF_DIRECTIONS[i], label))
     if zoom is not None:
         left.axvspan(*zoom[:2], color="0.85", zorder=0)
     if first is not None:
@@ -542,15 +544,14 @@ def _difference_dof(right, i: int, t: np.ndarray, q_direct: np.ndarray, q_modal:
                    color="0.4")
         right.set_yticks([])
         # A DOF at rest until the first engagement may move after it: "not excited" only for the span compared.
-        right.set_title(f"{DOFS[i]}: not excited{span}", fontsize=9)
+        right.set_title(f"{DOF_NAMES[i]}: not excited{span}", fontsize=9)
         return False
     # The power of ten in the axis label, not in an offset text above the axes (where the title is).
     largest = float(np.max(np.abs(relative))) if relative.size else 0.0
     exponent = int(np.floor(np.log10(largest))) if largest > 0 else 0
     unit = 10.0 ** exponent
     plot_long(right, t[compared], relative / unit, color="tab:purple", linewidth=0.9)
-    right.set_ylabel(f"Δ{DOFS[i]} / {against} [×10{_superscript(exponent)}]" if exponent
-                     else f"Δ{DOFS[i]} / {against} [1]")
+    right.set_ylabel(axis_label(f"difference / {against}", f"×10{_superscript(exponent)}" if exponent else "1"))
     # Tolerance lines only where they do not flatten the curve into a line.
     tolerance_drawn = agreement is not None and largest > 0.1 * agreement.tolerance
     if tolerance_drawn:
@@ -559,7 +560,7 @@ def _difference_dof(right, i: int, t: np.ndarray, q_direct: np.ndarray, q_modal:
     if agreement is not None:
         # Drawn, so more than round-off: quiet only against the largest peak (see compare).
         note = " (quiet DOF)" if against != "peak" else ""
-        right.set_title(f"{DOFS[i]}: max|Δ| / {against}{span} = {agreement.per_dof[i]:.2e}{note}", fontsize=9)
+        right.set_title(f"{DOF_NAMES[i]}: max|Δ| / {against}{span} = {agreement.per_dof[i]:.2e}{note}", fontsize=9)
     return tolerance_drawn
 
 
@@ -630,7 +631,7 @@ def plot_mount_forces(forces: MountForces, t, *, name: str = "", fig: Figure | N
             plot_long(ax, t, factor * values[k, :, c], color=f"C{k % 10}", linewidth=width, label=f"mount {mount}")
         if total is not None:
             plot_long(ax, t, factor * total[:, c], color="black", linewidth=1.2, linestyle="--", label="total")
-        ax.set_ylabel(f"F{'xyz'[c]} [{label}]")
+        ax.set_ylabel(axis_label(f"force along {AXES[c]}", label))
     axes[0].legend(fontsize=9, loc="lower left", bbox_to_anchor=(0.0, 1.0), ncols=min(len(names) + 1, 8),
                    frameon=False)
     time_axes(axes, t)
@@ -700,7 +701,7 @@ def plot_mount_loads(check: MountCheck, t, *, name: str = "", events: Mapping[st
         whole = panels[0]
         whole.set_xlim(t[0], t[-1])
         whole.xaxis.set_major_locator(MaxNLocator(8, steps=[1, 2, 5, 10]))  # 0, 5, 10 s rather than 2.5 steps
-        whole.set_ylabel(f"N [{unit}]")
+        whole.set_ylabel(axis_label("normal force", unit))
         tension = "" if check.min_compression[k] >= 0 else f", TENSION first at t = {check.tension_start_t[k]:.4g} s"
         whole.set_title(f"mount {mount}: {factor * check.min_compression[k]:.4g} to "
                         f"{factor * check.max_compression[k]:.4g} {unit} "
@@ -788,7 +789,7 @@ def plot_mount_shear(check: MountCheck, t, *, name: str = "", events: Mapping[st
         for ax, part in zip(row, (slice(None), zoom_samples(t, window or (0, 0)))):
             plot_long(ax, t[part], factor * shear[k, part], color="tab:purple", linewidth=1.0)
             ax.set_ylim(0.0, top)
-        row[0].set_ylabel(f"shear |F_uv| [{unit}]")
+        row[0].set_ylabel(axis_label("shear force", unit))
         if window is not None:
             row[0].axvspan(*window[:2], color="0.85", zorder=0)
         j, i = int(np.argmax(sliding[k])), int(np.argmax(shear[k]))

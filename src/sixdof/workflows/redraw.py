@@ -6,6 +6,7 @@ from pathlib import Path
 
 from sixdof.errors import InputError, Plain
 from sixdof.io import output
+from sixdof.io.settings import stored_figure_settings
 from sixdof.io.store import load_results
 from sixdof.plots import figure_names
 from sixdof.workflows.drawing import drawer
@@ -18,8 +19,10 @@ def redraw(results: str | Path, directory: str | Path | None = None, *,
     (:func:`sixdof.io.output.replace_files`). A namesake that sixdof did not write is never replaced: it is
     refused before anything is drawn.
 
-    The figures are drawn by ``workers`` (:class:`sixdof.plots.drawer.FigureDrawer`; the command line
-    starts them before it reads the file); default: in this process.
+    Each figure is written in the ``[output] formats``, at the ``dpi``, of the scenario the file was computed
+    from (the text it stores), else as PNG at 150 dpi. The figures are drawn by ``workers``
+    (:class:`sixdof.plots.drawer.FigureDrawer`; the command line starts them before it reads the file); default:
+    in this process.
 
     Returns
     -------
@@ -41,7 +44,9 @@ def redraw(results: str | Path, directory: str | Path | None = None, *,
         raise InputError("results", "a results file with something to draw (the results.h5 of `sixdof run` or "
                          "`sixdof validate`)", Plain(f"{results}: {what}"))
     directory = Path(directory) if directory else Path(results).parent
-    output.check_files(directory, figure_names(run))
+    formats, dpi = stored_figure_settings(run.provenance)
+    output.check_files(directory, [f"{Path(name).stem}.{kind}" for name in figure_names(run) for kind in formats])
     with drawer(workers) as drawing:
+        drawing.formats, drawing.dpi = formats, dpi  # the results hold no scenario for the drawer to read them from
         drawing.submit(run)
         return output.replace_files(directory, drawing.save)

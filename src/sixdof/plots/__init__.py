@@ -24,7 +24,8 @@ from its module on first use, so that a process can decide which figures a run a
 and leave the drawing to worker processes (:mod:`sixdof.cli.figures`).
 
 Modules: :mod:`~sixdof.plots.common` (display units, envelope decimation, margins, panel grid,
-titles), :mod:`~sixdof.plots.modes`, :mod:`~sixdof.plots.time` (its zooms: :mod:`~sixdof.plots.zoom`),
+titles), :mod:`~sixdof.plots.modes`, :mod:`~sixdof.plots.time` (its zooms: :mod:`~sixdof.plots.zoom`;
+:mod:`~sixdof.plots.superposition`, :mod:`~sixdof.plots.mount_time`),
 :mod:`~sixdof.plots.frf`, :mod:`~sixdof.plots.validation`; a test against the model (``sixdof correlate``):
 :mod:`~sixdof.plots.correlation`, drawn by :func:`render_correlation` (:data:`CORRELATION_FIGURES`).
 """
@@ -51,10 +52,10 @@ _PUBLIC = {
     "body_box": "modes",
     "plot_ke_distribution": "modes",
     "plot_mode_shapes": "modes",
-    "plot_mount_forces": "time",
-    "plot_mount_loads": "time",
-    "plot_mount_shear": "time",
-    "plot_superposition": "time",
+    "plot_mount_forces": "mount_time",
+    "plot_mount_loads": "mount_time",
+    "plot_mount_shear": "mount_time",
+    "plot_superposition": "superposition",
     "plot_time_histories": "time",
     "plot_bode": "frf",
     "plot_point_frfs": "frf",

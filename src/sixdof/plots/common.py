@@ -44,6 +44,8 @@ DOF_NAMES = ("translation along x", "translation along y", "translation along z"
              "rotation about y", "rotation about z")
 #: Each DOF's direction alone, for the axis label of a panel whose title names the DOF (``"about x [mrad]"``).
 DOF_DIRECTIONS = ("along x", "along y", "along z", "about x", "about y", "about z")
+#: Tick label of the mode each DOF dominates, on two lines (``"translation\nalong x"``).
+DOF_MODE_TICKS = tuple(name.replace(" ", "\n", 1) for name in DOF_NAMES)
 #: Each generalized load in words (``LOADS`` order: Fx, Fy, Fz, Mx, My, Mz).
 LOAD_NAMES = ("force along x", "force along y", "force along z", "moment about x", "moment about y",
               "moment about z")

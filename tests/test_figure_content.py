@@ -529,7 +529,7 @@ def test_random_png_draws_the_input_and_each_response_with_its_rms():
     for i, dof in enumerate("xyz"):
         rms = random.qdd_rms[i] / STANDARD_GRAVITY
         label = next(name for name in lines if name.startswith(f"centre of gravity along {dof}"))
-        assert label.endswith(f": {rms:.3g} grms")
+        assert label.endswith(f": {rms:.3g} grms") and lines[label].get_linestyle() == "-"
         np.testing.assert_allclose(lines[label].get_ydata(), random.qdd_psd[:, i] / g2)
     axis = int(np.argmax(random.point_acceleration_rms[0]))
     assert any(name.startswith(f"centre of gravity along {'xyz'[axis]} = cg along {'xyz'[axis]}") for name in lines)

@@ -60,7 +60,8 @@ def plot_random(random: RandomResponse, *, name: str = "", fig: Figure | None = 
         axis = int(np.argmax(rms))
         curves.append((psd[:, axis], f"{name_} along {AXES[axis]}", rms[axis]))
     for psd, label, rms in merge_identical(curves):
-        bottom.loglog(f, psd / STANDARD_GRAVITY**2, linewidth=1.1, linestyle="-" if label.startswith("CG") else "--",
+        cg = label.startswith("centre of gravity")  # the body's own curves solid, the points' dashed
+        bottom.loglog(f, psd / STANDARD_GRAVITY**2, linewidth=1.1, linestyle="-" if cg else "--",
                       label=f"{label}: {rms / STANDARD_GRAVITY:.3g} grms")
     if random.input_kind != "force" and bottom.get_lines():  # the isolation: response against input
         bottom.loglog(f, random.input_psd / STANDARD_GRAVITY**2, color="0.55", linewidth=1.0, linestyle=":",

@@ -51,3 +51,13 @@ def assert_texts_clear(figure) -> None:
     for a in range(len(heads)):
         for b in range(a + 1, len(heads)):
             assert not heads[a][1].overlaps(heads[b][1]), (heads[a][0], heads[b][0])
+
+
+def dof_of(label: str) -> str:
+    """The DOF (``"x"``... ``"rz"``) a time panel's axis label names in words (``"about x [mrad]"`` -> ``"rx"``);
+    any other label's quantity as it is (``"force [N]"`` -> ``"force"``)."""
+    from sixdof.dofs import DOFS
+    from sixdof.plots.common import DOF_DIRECTIONS
+
+    quantity = label.split(" [", 1)[0]
+    return dict(zip(DOF_DIRECTIONS, DOFS)).get(quantity, quantity)

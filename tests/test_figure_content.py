@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from figures import dof_of
 from sixdof import (
     Excitation,
     GroundMotion,
@@ -28,7 +29,8 @@ from sixdof import (
 from sixdof.analysis.statics import STANDARD_GRAVITY, gravity_statics
 from sixdof.dofs import DOFS
 from sixdof.plots import plot_mount_loads
-from sixdof.plots.time import TENSION_LABEL, responding
+from sixdof.plots.mount_time import TENSION_LABEL
+from sixdof.plots.time import responding
 from sixdof.plots.zoom import ZOOM_PERIODS, ZOOM_PULSES, event_window, zoom_window
 from sixdof.results import Event
 from sixdof.workflows.prepare import prepare
@@ -57,7 +59,7 @@ def test_each_mount_is_drawn_in_one_unit_with_its_static_load_and_a_zoom():
     fig = plot_mount_loads(check, t, name="machine")
     assert len(fig.axes) == 2 * len(check.names)
     units = {ax.get_ylabel() for ax in fig.axes[::2]}
-    assert units == {"N [kN]"}
+    assert units == {"normal force [kN]"}
     window = zoom_window(t, check.compression - check.compression[:, :1])
     for k in range(len(check.names)):
         whole, zoom = fig.axes[2 * k], fig.axes[2 * k + 1]
@@ -106,11 +108,11 @@ def test_time_dofs_draws_the_input_above_and_only_the_dofs_that_move():
     fig = plot_time_histories(response, name="box")
     # Two rows: the applied force (the load's own signal, 500 N at 5 Hz), then z; a single DOF gets a tall panel.
     load, z = fig.axes
-    assert load.get_title(loc="left") == "applied force at the centre of gravity: peak Fz 500 N"
+    assert load.get_title(loc="left") == "applied force at the centre of gravity: peak along z 500 N"
     assert load.get_ylabel() == "force [N]" and len(load.get_lines()) == 1
     force = load.get_lines()[0].get_ydata()
     np.testing.assert_allclose(force, 500.0 * np.sin(2 * np.pi * 5.0 * load.get_lines()[0].get_xdata()), atol=1e-9)
-    assert z.get_ylabel().startswith("z [") and z.get_title(loc="left").startswith("translation z: peak")
+    assert z.get_ylabel().startswith("along z [") and z.get_title(loc="left").startswith("translation along z: peak")
     assert len(z.get_lines()) == 1 and not z.texts
     assert z.get_position().height * fig.get_figheight() >= 2.9  # inches
     assert load.get_position().y0 > z.get_position().y1  # the input above
@@ -129,7 +131,7 @@ def test_time_dofs_draws_the_input_above_and_only_the_dofs_that_move():
     modal = superpose(system, Excitation(loads=vertical), response.t)
     fig = plot_superposition(response, modal, compare(response.q, modal.q, length=0.5))
     left, right = fig.axes
-    assert left.get_ylabel().startswith("z [") and len(left.get_lines()) == 2 and right.get_lines()
+    assert left.get_ylabel().startswith("along z [") and len(left.get_lines()) == 2 and right.get_lines()
     (line,) = notes(fig)
     assert all(dof in line.split("): ", 1)[1] for dof in ("x", "y", "rx", "ry", "rz"))
     assert_figure_texts_clear(fig)
@@ -144,15 +146,15 @@ def test_time_dofs_draws_a_moment_of_its_own_and_quotes_the_moment_of_an_offset_
     offset = (Load("l", [0.2, 0.0, 0.0], force=[0, 0, 500.0], signal=Harmonic(f_hz=5.0)),)
     titles = [ax.get_title(loc="left") for ax in plot_time_histories(simulate(system, Excitation(loads=offset),
                                                                               settings)).axes]
-    assert titles[0].startswith("applied force at the centre of gravity: peak Fz 500 N; moments about it (not drawn)")
+    assert titles[0].startswith("applied force at the centre of gravity: peak along z 500 N; moments about it (not drawn)")
     assert not any(title.startswith("applied moment") for title in titles)
     # A torque of its own beside a force: both drawn, each on its axes.
     torque = offset + (Load("engine", [0.0, 0.0, 0.0], moment=[0.0, 0.0, 40.0], signal=Harmonic(f_hz=9.0)),)
     fig = plot_time_histories(simulate(system, Excitation(loads=torque), settings))
     force, moment = fig.axes[:2]
     assert force.get_ylabel() == "force [N]" and moment.get_ylabel() == "moment [N m]"
-    assert "Mz 40" in moment.get_title(loc="left")
-    assert {line.get_label() for line in moment.get_lines()} >= {"Mz"}
+    assert "about z 40" in moment.get_title(loc="left")
+    assert {line.get_label() for line in moment.get_lines()} >= {"moment about z"}
     assert_figure_texts_clear(fig)
 
 
@@ -226,7 +228,7 @@ def test_time_dofs_of_a_ground_motion_draw_the_body_beside_the_ground():
     fig = plot_time_histories(response, "q")
     accelerations, *dofs = fig.axes
     assert accelerations.get_title(loc="left").startswith("ground and body acceleration along y, peaks: ground 2 m/s²")
-    assert accelerations.get_ylabel() == "ay [m/s²]"
+    assert accelerations.get_ylabel() == "acceleration [m/s²]"
     ground_line, body_line = accelerations.get_lines()
     assert (ground_line.get_label(), body_line.get_label()) == ("ground", "body (centre of gravity, absolute)")
     t = ground_line.get_xdata()
@@ -235,9 +237,9 @@ def test_time_dofs_of_a_ground_motion_draw_the_body_beside_the_ground():
     ratio = np.max(np.abs(response.qdd[:, 1])) / np.max(np.abs(response.ground_acceleration[:, 1]))
     assert f"{ratio:.2f} of the ground's" in accelerations.get_title(loc="left")
     # The DOFs that move: y (the mount stroke, relative to the ground, with the absolute dashed) and what couples.
-    assert dofs[0].get_ylabel().startswith("y [")
+    assert dofs[0].get_ylabel().startswith("along y [")
     assert [line.get_label() for line in dofs[0].get_lines()] == ["relative to the ground", "absolute"]
-    assert [ax.get_ylabel().split(" ")[0] for ax in dofs] == [
+    assert [dof_of(ax.get_ylabel()) for ax in dofs] == [
         DOFS[i] for i in np.flatnonzero(responding(response.q_relative) | responding(response.q))]
 
 
@@ -437,7 +439,7 @@ def test_time_dofs_zooms_on_the_shock_beside_the_whole_record_and_the_file_keeps
     # Per row (the applied force, then each DOF that moves): the whole record, then the zoom.
     drawn = responding(response.q)
     assert len(fig.axes) == 2 * (1 + drawn.sum())
-    assert fig.axes[0].get_title(loc="left").startswith("applied force at the centre of gravity: peak Fz 5 kN")
+    assert fig.axes[0].get_title(loc="left").startswith("applied force at the centre of gravity: peak along z 5 kN")
     window = event_window(events, response.t)
     assert window[:2] == pytest.approx((2.0 - 0.1 * ZOOM_PULSES * 0.01, 2.0 + 0.9 * ZOOM_PULSES * 0.01))
     assert [text for text in fig.texts if text.get_text().startswith("zoom: impact (shock, 10 ms at t = 2 s")]
@@ -526,11 +528,11 @@ def test_random_png_draws_the_input_and_each_response_with_its_rms():
     # The point at the CG moves as the CG: its curves are the CG's, drawn once with both names.
     for i, dof in enumerate("xyz"):
         rms = random.qdd_rms[i] / STANDARD_GRAVITY
-        label = next(name for name in lines if name.startswith(f"CG {dof}"))
-        assert label.endswith(f": {rms:.3g} grms")
+        label = next(name for name in lines if name.startswith(f"centre of gravity along {dof}"))
+        assert label.endswith(f": {rms:.3g} grms") and lines[label].get_linestyle() == "-"
         np.testing.assert_allclose(lines[label].get_ydata(), random.qdd_psd[:, i] / g2)
     axis = int(np.argmax(random.point_acceleration_rms[0]))
-    assert any(name.startswith(f"CG {'xyz'[axis]} = cg {'xyz'[axis]}") for name in lines)
+    assert any(name.startswith(f"centre of gravity along {'xyz'[axis]} = cg along {'xyz'[axis]}") for name in lines)
     corner = next(name for name in lines if name.startswith("corner "))
     assert lines[corner].get_linestyle() == "--"
     # The input under the response (the isolation), and eight decades of response shown.
@@ -550,10 +552,10 @@ def test_srs_png_draws_the_input_and_each_excited_point_once():
                            q=10.0, input=base)
     fig = plot_srs(spectra, name="box")
     (ax,) = fig.axes
-    assert "Q = 10" in fig.get_suptitle() and ax.get_ylabel() == "SRS [g]"
+    assert "Q = 10" in fig.get_suptitle() and ax.get_ylabel() == "peak absolute acceleration [g]"
     assert ax.get_xlabel() == "natural frequency f [Hz]"
     labels = [line.get_label() for line in ax.lines]
-    assert labels == ["base (input)", "board z = twin z", "lid z"]  # x and y below 1 % of the largest: not drawn
+    assert labels == ["base (input)", "board along z = twin along z", "lid along z"]  # x and y below 1 % of the largest: not drawn
     np.testing.assert_allclose(ax.lines[1].get_ydata(), 2.0 * base / STANDARD_GRAVITY)
     np.testing.assert_allclose(ax.lines[0].get_ydata(), base / STANDARD_GRAVITY)
 
@@ -603,7 +605,7 @@ def test_mount_shear_png_is_drawn_for_a_shear_load_and_draws_each_resultant():
     assert len(whole) == len(check.names)
     for k, ax in enumerate(whole):
         shear = np.hypot(check.force[k, :, 0], check.force[k, :, 1])
-        assert ax.get_ylabel() == "shear |F_uv| [kN]"
+        assert ax.get_ylabel() == "shear force [kN]"
         np.testing.assert_allclose(ax.get_lines()[0].get_ydata().max(), shear.max() / 1e3)
         deflection = np.hypot(check.deflection[k, :, 0], check.deflection[k, :, 1])
         assert f"peak shear load {shear.max() / 1e3:.4g} kN" in ax.get_title(loc="left")
@@ -641,7 +643,7 @@ def test_time_dofs_gives_the_steady_state_amplitude_beside_the_switch_on_peak():
     steady = steady_state(system, excitation)
     fig = plot_time_histories(response, steady=steady, events={
         name: Event(*event) for name, event in excitation.events(0.0, 4.0).items()})
-    z = next(ax for ax in fig.axes if ax.get_ylabel().startswith("z ["))
+    z = next(ax for ax in fig.axes if ax.get_ylabel().startswith("along z ["))
     scale = 1e6 if "µm" in z.get_ylabel() else 1e3
     amplitude = abs(steady.q[0, 2])
     levels = sorted(line.get_ydata()[0] for line in z.get_lines() if line.get_linestyle() == ":")

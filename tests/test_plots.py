@@ -12,6 +12,7 @@ import pytest
 from matplotlib.figure import Figure
 
 import sixdof
+from figures import dof_of
 from sixdof import plots
 from sixdof.analysis.compare import relative_to_ground
 from sixdof.analysis.response import MountForces
@@ -20,6 +21,7 @@ from sixdof.dofs import DOFS
 from sixdof.errors import InputError
 from sixdof.model.modes import modal_analysis
 from sixdof.model.system import System
+from sixdof.plots.common import DOF_DIRECTIONS, DOF_NAMES
 from sixdof.plots.time import responding
 from sixdof.results import RunResults, TimeHistory
 from store_cases import run_parts
@@ -233,7 +235,7 @@ def test_ke_distribution_annotates_percentages(parts):
     for (i, j), text in texts.items():
         assert float(text) == pytest.approx(ke[i, j], abs=0.5 if ke[i, j] >= 9.95 else 0.05)
         assert not text.startswith("-")
-    assert [t.get_text() for t in ax.get_yticklabels()] == ["x", "y", "z", "rx", "ry", "rz"]
+    assert [t.get_text() for t in ax.get_yticklabels()] == list(DOF_NAMES)
 
 
 def test_ke_distribution_draws_into_given_axes(parts):
@@ -250,7 +252,7 @@ def test_time_histories_use_readable_units_per_dof(parts):
     assert labelled_axes(fig)
     q = response.q
     factors = {"mm": 1e3, "µm": 1e6, "nm": 1e9, "mrad": 1e3, "µrad": 1e6, "nrad": 1e9}
-    by_label = {ax.get_ylabel().split(" ")[0]: ax for ax in fig.axes}
+    by_label = {dof_of(ax.get_ylabel()): ax for ax in fig.axes}
     # The DOFs that move, each on its own axes (the others named in one line).
     drawn = responding(q)
     assert [dof for dof in by_label if dof in DOFS] == [dof for i, dof in enumerate(DOFS) if drawn[i]]
@@ -274,21 +276,21 @@ def test_time_histories_show_the_motion_relative_to_a_moving_ground():
                           ground_acceleration=ground)
     fig = plots.plot_time_histories(history)
     assert labelled_axes(fig)
-    y = {ax.get_ylabel(): ax for ax in fig.axes}["y [mm]"]
+    y = {ax.get_ylabel(): ax for ax in fig.axes}["along y [mm]"]
     # Displacements: the mount stroke, relative to the ground, first; the absolute dashed on the same scale.
     assert [line.get_label() for line in y.lines] == ["relative to the ground", "absolute"]
     assert_drawn_from(y.lines[0], t, 1e3 * (q[:, 1] - ground[:, 1]))
-    assert y.get_title(loc="left") == "translation y: peak relative to the ground 0.5 mm, absolute 2 mm"
+    assert y.get_title(loc="left") == "translation along y: peak relative to the ground 0.5 mm, absolute 2 mm"
     # Accelerations: what the body feels, absolute, first.
-    y = {ax.get_ylabel(): ax for ax in plots.plot_time_histories(history, "qdd").axes}["y [mm/s²]"]
+    y = {ax.get_ylabel(): ax for ax in plots.plot_time_histories(history, "qdd").axes}["along y [mm/s²]"]
     assert [line.get_label() for line in y.lines] == ["absolute", "relative to the ground"]
     # A ground that moves away (after a shock) would flatten the stroke: its peak is quoted, not drawn.
     away = TimeHistory(t=t, q=q + np.outer(t, [0.0, 0.5, 0.0, 0, 0, 0]), qd=q, qdd=q,
                        ground_displacement=ground + np.outer(t, [0.0, 0.5, 0.0]), ground_velocity=ground,
                        ground_acceleration=ground)
-    y = {ax.get_ylabel(): ax for ax in plots.plot_time_histories(away).axes}["y [µm]"]  # the stroke's own scale
+    y = {ax.get_ylabel(): ax for ax in plots.plot_time_histories(away).axes}["along y [µm]"]  # the stroke's own scale
     assert [line.get_label() for line in y.lines] == ["relative to the ground"]
-    assert y.get_title(loc="left") == "translation y: peak relative to the ground 500 µm, absolute 500 mm (not drawn)"
+    assert y.get_title(loc="left") == "translation along y: peak relative to the ground 500 µm, absolute 500 mm (not drawn)"
     # A ground that does not move draws no relative motion.
     still = TimeHistory(t=t, q=q, qd=q, qdd=q, ground_displacement=0 * ground, ground_velocity=0 * ground,
                         ground_acceleration=0 * ground)
@@ -311,7 +313,7 @@ def test_superposition_overlay_and_difference(parts):
     assert len(fig.axes) == 2 * len(drawn)  # per DOF that moves: the overlay and the difference
     assert f"{agreement.worst:.2e}" in fig.get_suptitle()
     for row, i in enumerate(drawn):
-        assert fig.axes[2 * row].get_ylabel().startswith(f"{DOFS[i]} [")
+        assert fig.axes[2 * row].get_ylabel().startswith(f"{DOF_DIRECTIONS[i]} [")
         right = fig.axes[2 * row + 1]
         relative = drawn_relative(right)
         # The plotted curve's peak is the agreement of that DOF (no DOF is quiet here).
@@ -344,7 +346,7 @@ def test_superposition_difference_of_a_quiet_dof_is_the_agreement():
     quiet = [agreement.per_dof[i] for i in range(6) if DOFS[i] in agreement.quiet and agreement.per_dof[i] > 0]
     assert (f"(round-off only, relative difference at most {max(quiet):.1e})" in line if quiet
             else line.endswith(f": {', '.join(agreement.quiet)} (exactly zero)"))
-    rows = {ax.get_ylabel().split(" ")[0]: k for k, ax in enumerate(fig.axes[::2])}
+    rows = {dof_of(ax.get_ylabel()): k for k, ax in enumerate(fig.axes[::2])}
     for i in range(6):
         if DOFS[i] in agreement.quiet:
             assert DOFS[i] not in rows
@@ -388,7 +390,7 @@ def test_superposition_of_a_nonlinear_run_draws_the_differences_until_the_first_
     fig = draw(run)  # as sixdof run and sixdof plot draw it: the run's contacts given
     assert f"t = {first:.4g} s; the superposition is not valid after it" in fig.get_suptitle()
     # x, z and rx move (z only after the engagement): a row each; y, ry and rz, at rest, are named in one line.
-    assert [ax.get_ylabel().split(" ")[0] for ax in fig.axes[::2]] == ["x", "z", "rx"]
+    assert [dof_of(ax.get_ylabel()) for ax in fig.axes[::2]] == ["x", "z", "rx"]
     assert [text.get_text() for text in fig.texts if text.get_text().startswith("not excited")][0].endswith(
         ": y, ry, rz (exactly zero)")
     for row, i in enumerate((0, 2, 3)):
@@ -400,13 +402,13 @@ def test_superposition_of_a_nonlinear_run_draws_the_differences_until_the_first_
             line = right.lines[0]
             assert line.get_xdata()[-1] <= first
             assert np.max(np.abs(drawn_relative(right))) == pytest.approx(agreement.per_dof[i], rel=1e-9)
-            assert title == f"{DOFS[i]}: max|Δ| / peak for t ≤ 0.4 s = {agreement.per_dof[i]:.2e}"
+            assert title == f"{DOF_NAMES[i]}: max|Δ| / peak for t ≤ 0.4 s = {agreement.per_dof[i]:.2e}"
             assert [line.get_label() for line in left.get_lines()] == ["direct integration", "modal superposition",
                                                                        "first engagement"]
             assert left.get_lines()[2].get_xdata()[0] == first
         else:  # z, at rest until the engagement: said so, its difference only until then (it moves after)
             assert not right.lines
-            assert title == "z: not excited for t ≤ 0.4 s"
+            assert title == "translation along z: not excited for t ≤ 0.4 s"
     # Without contacts (a linear run) the whole record is compared.
     whole = plots.plot_superposition(direct, modal, compare(q, q_modal, length=0.5))
     assert whole.axes[1].get_xlim() == (0.0, 1.0) and "first engagement" not in whole.get_suptitle()
@@ -511,7 +513,7 @@ def test_mount_forces_of_given_arrays():
                        for k in range(4)])
     fig = plots.plot_mount_forces(_mount_forces(forces), t)
     assert labelled_axes(fig)
-    assert [ax.get_ylabel() for ax in fig.axes] == ["Fx [N]", "Fy [N]", "Fz [kN]"]
+    assert [ax.get_ylabel() for ax in fig.axes] == ["force along x [N]", "force along y [N]", "force along z [kN]"]
     np.testing.assert_allclose(fig.axes[2].lines[3].get_ydata(), 4e2 * np.cos(t), rtol=1e-15)
 
 
@@ -559,6 +561,33 @@ def test_save_all_draws_what_the_run_holds(run, modal_only, tmp_path):
         assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert [p.name for p in plots.save_all(modal_only, tmp_path / "modal", dpi=30)] == ["mode_shapes.png",
                                                                                 "ke_distribution.png"]
+
+
+def test_drawers_write_the_formats_and_dpi_of_the_run_scenario(modal_only, tmp_path):
+    """In this process and in worker processes, a run's figures are written in its scenario's ``[output]``
+    formats at its dpi, byte for byte alike."""
+    from PIL import Image
+
+    from sixdof.plots.drawer import InProcessDrawer
+    from systems import heavily_damped_box_toml
+
+    scenario = sixdof.parse_scenario('name = "box"\n' + heavily_damped_box_toml()
+                                     + '[output]\nformats = ["svg", "png"]\ndpi = 50\n')
+    asked = dataclasses.replace(modal_only, scenario=scenario)
+    expected = [f"{stem}.{kind}" for stem in ("mode_shapes", "ke_distribution") for kind in ("svg", "png")]
+    for drawer, folder in ((InProcessDrawer(), tmp_path / "here"), (FigureWorkers(processes=1), tmp_path / "workers")):
+        folder.mkdir()
+        with drawer:
+            drawer.submit(asked)
+            assert [p.name for p in drawer.save(folder)] == expected
+        with Image.open(folder / "ke_distribution.png") as image:
+            size = plots.plot_ke_distribution(modal_only.modes, name=modal_only.name).get_size_inches()
+            assert image.size == tuple(round(v * 50) for v in size)
+    assert (tmp_path / "here" / "mode_shapes.png").read_bytes() == (tmp_path / "workers" / "mode_shapes.png").read_bytes()
+    # Without a scenario (a loaded file's results): PNG only, at the default resolution.
+    assert plots.file_settings(modal_only) == (("png",), None)
+    with pytest.raises(InputError, match=r"formats: expected a non-empty list from png, svg, pdf, got \['gif'\]"):
+        plots.render_files(modal_only, "ke_distribution.png", ("gif",))
 
 
 def test_save_all_titles_start_with_the_run_name(run, monkeypatch, tmp_path):

@@ -247,7 +247,7 @@ def test_the_figure_shows_each_excited_acceleration_with_its_interval():
     shown = [ax for ax in fig.axes if ax.get_visible()]
     assert len(shown) == 6  # six excited DOFs and one point: at most six panels
     assert "box: random response against a 30 s time history: PASS" in fig._suptitle.get_text()
-    assert shown[0].get_title().startswith("CG x: ") and "grms; z-score " in shown[0].get_title()
+    assert shown[0].get_title().startswith("centre of gravity along x: ") and "grms; z-score " in shown[0].get_title()
     assert all(ax.get_xlabel() == "frequency f [Hz]" for ax in shown[-2:])
     assert all("acceleration PSD" in ax.get_ylabel() for ax in shown)
     assert "(rad/s²)²/Hz" in shown[3].get_ylabel()  # rotations in their own unit

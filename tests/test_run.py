@@ -1,11 +1,13 @@
 """``sixdof run`` / ``run_scenario`` end to end: what is written, and that failures leave nothing behind."""
 
 
+import re
+
 import numpy as np
 import pytest
 
-from sixdof import InputError, modal_analysis, parse_scenario, run_scenario
-from sixdof.cli import main
+from sixdof import InputError, ScenarioError, load_scenario, modal_analysis, parse_scenario, run_scenario
+from sixdof.cli import EXIT_BAD_INPUT, main
 from sixdof.io.store import load_tree
 from sixdof.plots import figure_names
 from sixdof.workflows import run as run_module
@@ -240,10 +242,85 @@ def test_output_table_leaves_derived_quantities_out_and_reading_derives_them_aga
     ('derived = "all"', r"output\.derived: expected a list of names from mount_forces, mount_check"),
     ("keep = []", r"output"),
     ('animate_modes = "yes"', r"output\.animate_modes: expected true or false, got 'yes'"),
+    ('formats = "png"', r"output\.formats: expected a non-empty list of formats from 'png', 'svg', 'pdf', .*got 'png'"),
+    ("formats = []", r"output\.formats: expected a non-empty list of formats .*got \[\]"),
+    ('formats = ["png", "jpg"]', r"output\.formats\[1\]: expected 'png', 'svg' or 'pdf', got 'jpg'"),
+    ("dpi = 72.5", r"output\.dpi: expected a whole number of dots per inch from 50 to 600 \(default 150\), got 72\.5"),
+    ("dpi = 10", r"output\.dpi: expected a whole number of dots per inch from 50 to 600 \(default 150\), got 10"),
+    ('dpi = "300"', r"output\.dpi: expected a whole number of dots per inch .*got '300'"),
 ])
 def test_output_table_errors_name_the_field(table, message):
     with pytest.raises(InputError, match=message):
         parse_scenario(SCENARIO.replace("[simulation]", f"[output]\n{table}\n\n[simulation]"))
+
+
+def test_bad_formats_or_dpi_are_refused_naming_the_file_before_computing(tmp_path, capsys):
+    file = tmp_path / "bad.toml"
+    file.write_text(SCENARIO.replace("[simulation]", '[output]\nformats = ["png", "tiff"]\n\n[simulation]'))
+    with pytest.raises(ScenarioError, match=rf"^{re.escape(str(file))}: output\.formats\[1\]: expected 'png', "):
+        load_scenario(file)
+    file.write_text(SCENARIO.replace("[simulation]", "[output]\ndpi = 0\n\n[simulation]"))
+    assert main(["run", str(file), "--out", str(tmp_path / "out"), "--quiet"]) == EXIT_BAD_INPUT
+    err = capsys.readouterr().err
+    assert f"{file}: output.dpi: expected a whole number of dots per inch from 50 to 600" in err, err
+    assert not (tmp_path / "out").exists()  # refused before anything was computed or written
+
+
+def test_formats_write_each_figure_in_each_format_at_the_dpi(tmp_path):
+    from PIL import Image
+
+    modal = SCENARIO.split("[[loads]]")[0] + '\n[output]\nformats = ["png", "svg", "pdf"]\ndpi = 60\n'
+    scenario = parse_scenario(modal, "modal.toml")
+    assert scenario.output.formats == ("png", "svg", "pdf") and scenario.output.dpi == 60
+    assert parse_scenario(SCENARIO).output.formats == ("png",) and parse_scenario(SCENARIO).output.dpi == 150
+    results, folder = run_scenario(scenario, tmp_path, progress=False)
+    figures = ("mode_shapes", "ke_distribution")
+    for stem in figures:
+        assert (folder / f"{stem}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+        assert b"<svg" in (folder / f"{stem}.svg").read_bytes()[:1000]
+        assert (folder / f"{stem}.pdf").read_bytes()[:5] == b"%PDF-"
+    # The PNG is the figure's size in inches times the dpi asked for.
+    from sixdof.plots import plot_ke_distribution
+
+    inches = plot_ke_distribution(results.modes, name=results.name).get_size_inches()
+    with Image.open(folder / "ke_distribution.png") as image:
+        assert image.size == tuple(round(v * 60) for v in inches)
+        assert image.info["dpi"] == pytest.approx((60, 60), abs=0.01)
+    # The summary shows each figure once (its PNG); every file is sixdof's (replaced by the next run).
+    summary = (folder / "summary.md").read_text()
+    assert "(mode_shapes.png)" in summary and "mode_shapes.svg" not in summary and "mode_shapes.pdf" not in summary
+    assert {f"{stem}.{kind}" for stem in figures for kind in ("png", "svg", "pdf")} <= set(
+        (folder / ".sixdof-files").read_text().splitlines())
+    # `sixdof plot` draws the file's figures again as the run did: the stored scenario's formats and dpi.
+    assert main(["plot", str(folder / "results.h5"), "--out", str(tmp_path / "again")]) == 0
+    assert {p.name for p in (tmp_path / "again").iterdir()} >= {f"{s}.{k}" for s in figures for k in ("png", "svg", "pdf")}
+    with Image.open(tmp_path / "again" / "ke_distribution.png") as image:
+        assert image.size == tuple(round(v * 60) for v in inches)
+
+
+def test_stored_figure_settings_read_the_scenario_text_else_the_defaults():
+    from sixdof.io.settings import stored_figure_settings
+
+    text = SCENARIO.replace("[simulation]", '[output]\nformats = ["pdf"]\ndpi = 300\n\n[simulation]')
+    assert stored_figure_settings({"scenario_text": text}) == (("pdf",), 300)
+    assert stored_figure_settings({"scenario_text": SCENARIO}) == (("png",), 150)
+    assert stored_figure_settings({}) == (("png",), 150)
+    with pytest.raises(InputError, match=r"output\.dpi: expected a whole number of dots per inch"):
+        stored_figure_settings({"scenario_text": text.replace("dpi = 300", "dpi = 3")})
+
+
+def test_default_dpi_is_150(tmp_path):
+    from PIL import Image
+
+    from sixdof import plots
+
+    assert plots.DPI == 150
+    results, folder = run_scenario(parse_scenario(SCENARIO.split("[[loads]]")[0], "modal.toml"), tmp_path,
+                                   progress=False)
+    inches = plots.plot_ke_distribution(results.modes, name=results.name).get_size_inches()
+    assert sorted(p.suffix for p in folder.glob("ke_distribution.*")) == [".png"]
+    with Image.open(folder / "ke_distribution.png") as image:
+        assert image.size == tuple(round(v * 150) for v in inches)
 
 
 def test_animate_modes_writes_one_looping_gif_per_mode(tmp_path, monkeypatch):

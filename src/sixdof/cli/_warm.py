@@ -26,6 +26,8 @@ from matplotlib.figure import Figure  # noqa: E402
 
 import sixdof.plots.frf  # noqa: E402
 import sixdof.plots.modes  # noqa: E402
+import sixdof.plots.mount_time  # noqa: E402
+import sixdof.plots.superposition  # noqa: E402
 import sixdof.plots.time  # noqa: E402
 import sixdof.plots.validation  # noqa: E402, F401
 

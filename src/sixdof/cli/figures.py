@@ -22,7 +22,7 @@ from multiprocessing import forkserver
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from sixdof.plots import FIGURES, render
+from sixdof.plots import FIGURES, file_settings, render_files
 
 if TYPE_CHECKING:
     from sixdof.results import RunResults
@@ -52,7 +52,7 @@ class FigureWorkers:
 
     :meth:`submit` hands over every figure a :class:`~sixdof.results.RunResults` allows that was not
     submitted yet, so the modal and FRF figures are drawn while the solve runs; :meth:`save` waits for
-    them and writes the PNG bytes they come back as. Only this process writes files (into a run's
+    them and writes the files they come back as. Only this process writes files (into a run's
     staging folder: all or nothing, :mod:`sixdof.io.output`). A figure that fails, or a worker that
     dies, raises :class:`FigureError` in :meth:`save`. Use it as a context manager: leaving the block
     on an error or an interrupt stops the workers at once (they ignore SIGINT: Ctrl-C reaches the
@@ -64,11 +64,15 @@ class FigureWorkers:
         Number of workers; default: the CPUs this process may use (at least 2: the main process
         mostly waits once the solve is done).
     dpi : int, optional
-        Resolution of the PNG files [dots per inch]; default :data:`sixdof.plots.DPI`.
+        Resolution of the PNG files [dots per inch]; default the first run's ``[output] dpi``
+        (:func:`sixdof.plots.file_settings`).
+    formats : sequence of str, optional
+        The files each figure is written as (:data:`sixdof.plots.FORMATS`); default the first run's
+        ``[output] formats``.
     """
 
-    def __init__(self, processes: int | None = None, dpi: int | None = None) -> None:
-        self.dpi = dpi
+    def __init__(self, processes: int | None = None, dpi: int | None = None, formats=None) -> None:
+        self.dpi, self.formats = dpi, formats
         self._jobs: dict[str, Future] = {}  # each figure's PNG to come
         context = multiprocessing.get_context("forkserver")
         context.set_forkserver_preload(_PRELOAD)
@@ -81,11 +85,15 @@ class FigureWorkers:
 
     def submit(self, run: RunResults) -> None:
         """Start drawing every figure ``run`` allows that was not submitted before."""
+        if not self._jobs:  # the workers get only the fields a figure reads: the scenario's settings go with each job
+            formats, dpi = file_settings(run)
+            self.formats, self.dpi = self.formats or formats, self.dpi or dpi
         new = [(name, reads) for name, reads, drawable, _ in FIGURES if name not in self._jobs and drawable(run)]
         new.sort(key=lambda job: _SLOWEST_FIRST.index(job[0]) if job[0] in _SLOWEST_FIRST else len(_SLOWEST_FIRST))
         fields = _Drawn(run)
         for name, reads in new:
-            self._jobs[name] = self._handover.submit(self._pool.submit, _render, fields.run(reads), name, self.dpi)
+            self._jobs[name] = self._handover.submit(self._pool.submit, _render, fields.run(reads), name,
+                                                     self.formats or ("png",), self.dpi)
 
     def save(self, directory: Path) -> list[Path]:
         """Wait for the submitted figures and write them into ``directory``; the files, in the order of
@@ -93,12 +101,13 @@ class FigureWorkers:
         written = []
         for name in [name for name, *_ in FIGURES if name in self._jobs]:
             try:
-                png = self._jobs[name].result().result()
+                files = self._jobs[name].result().result()
             except BrokenProcessPool as exc:
                 raise FigureError(f"{name}: a figure worker ended abruptly ({exc})") from exc
-            path = directory / name
-            path.write_bytes(png)
-            written.append(path)
+            for file, content in files.items():
+                path = directory / file
+                path.write_bytes(content)
+                written.append(path)
         return written
 
     def close(self, cancel: bool = False) -> None:
@@ -136,11 +145,11 @@ def _sigint_ignored() -> Iterator[None]:
         signal.signal(signal.SIGINT, previous)
 
 
-def _render(run: RunResults, name: str, dpi: int | None) -> bytes:
-    """:func:`sixdof.plots.render` in a worker; its errors come back as :class:`FigureError` (sixdof's
+def _render(run: RunResults, name: str, formats: tuple[str, ...], dpi: int | None) -> dict[str, bytes]:
+    """:func:`sixdof.plots.render_files` in a worker; its errors come back as :class:`FigureError` (sixdof's
     own errors take arguments that do not survive the trip between processes)."""
     try:
-        return render(run, name, dpi)
+        return render_files(run, name, formats, dpi)
     except Exception as exc:
         raise FigureError(f"{name}: {type(exc).__name__}: {exc}") from exc
 

@@ -175,20 +175,66 @@ def _derived_check(value, field):
     return tuple(dict.fromkeys(value))
 
 
+#: File formats a run's figures can be written in (``[output] formats``), each figure once per format.
+FIGURE_FORMATS = ("png", "svg", "pdf")
+
+
+def _formats_check(value, field):
+    expected = f"a non-empty list of formats from {', '.join(repr(f) for f in FIGURE_FORMATS)}, e.g. [\"png\", \"pdf\"]"
+    if not isinstance(value, (list, tuple)) or not value or not all(isinstance(v, str) for v in value):
+        raise InputError(field, expected, value)
+    for i, name in enumerate(value):
+        choice_check(FIGURE_FORMATS)(name, f"{field}[{i}]")
+    return tuple(dict.fromkeys(value))
+
+
+def _dpi_check(value, field):
+    # Below 50 dpi the labels are illegible; at 600 (a print's) the widest figure, 13 x 10 in, is already
+    # 7800 x 6000 px, 190 MB of pixels to draw.
+    if isinstance(value, bool) or not isinstance(value, int) or not 50 <= value <= 600:
+        raise InputError(field, "a whole number of dots per inch from 50 to 600 (default 150)", value)
+    return value
+
+
 @dataclass(frozen=True)
 class OutputSettings(Frozen):
-    """What ``sixdof run`` stores in ``results.h5`` (``[output]``): ``derived`` names the derived quantities
-    written (default all of :data:`DERIVED`, today's file); those left out are derived again on reading.
-    ``animate_modes`` (default false) also writes each mode shape as an animated GIF, ``mode_1.gif``...
-    (:func:`sixdof.plots.modes.write_mode_animations`)."""
+    """What ``sixdof run`` stores in ``results.h5`` and how it writes its figures (``[output]``): ``derived``
+    names the derived quantities written (default all of :data:`DERIVED`, today's file); those left out are
+    derived again on reading. ``animate_modes`` (default false) also writes each mode shape as an animated GIF,
+    ``mode_1.gif``... (:func:`sixdof.plots.modes.write_mode_animations`). ``formats`` (from
+    :data:`FIGURE_FORMATS`, default ``("png",)``) are the files each figure is written as, and ``dpi`` (default
+    150) the resolution of its PNG [dots per inch] (and of the images inside a PDF or SVG)."""
 
     derived: tuple[str, ...] = checked(_derived_check, default=DERIVED)
     animate_modes: bool = checked(boolean, default=False)
+    formats: tuple[str, ...] = checked(_formats_check, default=("png",))
+    dpi: int = checked(_dpi_check, default=150)
 
     @property
     def omitted(self) -> tuple[str, ...]:
         """The derived quantities left out of the file."""
         return tuple(name for name in DERIVED if name not in self.derived)
+
+
+def stored_figure_settings(provenance) -> tuple[tuple[str, ...], int]:
+    """The ``[output]`` ``formats`` and ``dpi`` of the scenario a results file was computed from (its
+    ``provenance["scenario_text"]``), for ``sixdof plot`` to draw its figures as the run did; the defaults,
+    PNG at 150 dpi, for a file without the text or whose text holds neither key (older files).
+
+    Raises
+    ------
+    InputError
+        A stored ``formats`` or ``dpi`` that is not valid (a file edited by hand), naming the field.
+    """
+    import tomllib  # noqa: PLC0415 (only sixdof plot reads a stored scenario's text)
+
+    try:
+        table = tomllib.loads(str(provenance.get("scenario_text", ""))).get("output", {})
+    except tomllib.TOMLDecodeError:
+        table = {}
+    keys = {key: table[key] for key in ("formats", "dpi") if isinstance(table, dict) and key in table}
+    settings = build(OutputSettings, keys, "output")
+    return settings.formats, settings.dpi
 
 
 def frf_settings(table: dict) -> FrfSettings:

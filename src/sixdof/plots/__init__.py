@@ -12,8 +12,9 @@ Each function takes the objects it draws (:class:`~sixdof.analysis.modal.Modes`,
 :class:`~sixdof.results.TimeHistory`, :class:`~sixdof.analysis.frf.FRF`,
 :class:`~sixdof.validation.ValidationReport`...) and returns its figure so that tests and users can
 inspect or restyle it; :func:`save_all` draws every figure a :class:`~sixdof.results.RunResults`
-allows (a live run, or a stored one from :func:`sixdof.io.store.load_results`) and writes each as PNG,
-and :func:`render` draws one of them to PNG bytes (what the command line's figure workers do,
+allows (a live run, or a stored one from :func:`sixdof.io.store.load_results`) and writes each in the
+scenario's ``[output] formats`` (PNG, SVG, PDF) at its ``dpi``, and :func:`render` draws one of them to PNG
+bytes (:func:`render_files`, to each format's) (what the command line's figure workers do,
 :mod:`sixdof.cli.figures`); :mod:`~sixdof.plots.drawer` draws a run's figures as the workflows submit them.
 
 Figures are built as :class:`matplotlib.figure.Figure` objects without pyplot: no backend, no display
@@ -23,13 +24,15 @@ from its module on first use, so that a process can decide which figures a run a
 and leave the drawing to worker processes (:mod:`sixdof.cli.figures`).
 
 Modules: :mod:`~sixdof.plots.common` (display units, envelope decimation, margins, panel grid,
-titles), :mod:`~sixdof.plots.modes`, :mod:`~sixdof.plots.time` (its zooms: :mod:`~sixdof.plots.zoom`),
+titles), :mod:`~sixdof.plots.modes`, :mod:`~sixdof.plots.time` (its zooms: :mod:`~sixdof.plots.zoom`;
+:mod:`~sixdof.plots.superposition`, :mod:`~sixdof.plots.mount_time`),
 :mod:`~sixdof.plots.frf`, :mod:`~sixdof.plots.validation`; a test against the model (``sixdof correlate``):
 :mod:`~sixdof.plots.correlation`, drawn by :func:`render_correlation` (:data:`CORRELATION_FIGURES`).
 """
 
 from __future__ import annotations
 
+import io
 import sys
 from collections.abc import Callable, Mapping
 from pathlib import Path
@@ -49,10 +52,10 @@ _PUBLIC = {
     "body_box": "modes",
     "plot_ke_distribution": "modes",
     "plot_mode_shapes": "modes",
-    "plot_mount_forces": "time",
-    "plot_mount_loads": "time",
-    "plot_mount_shear": "time",
-    "plot_superposition": "time",
+    "plot_mount_forces": "mount_time",
+    "plot_mount_loads": "mount_time",
+    "plot_mount_shear": "mount_time",
+    "plot_superposition": "superposition",
     "plot_time_histories": "time",
     "plot_bode": "frf",
     "plot_point_frfs": "frf",
@@ -75,8 +78,9 @@ _PUBLIC = {
     "update_history": "correlation",
 }
 
-__all__ = sorted([*_PUBLIC, "CORRELATION_FIGURES", "FIGURES", "FIXED_TITLES", "correlation_figure_names",
-                  "figure_names", "png", "render", "render_correlation", "save_all"])
+__all__ = sorted([*_PUBLIC, "CORRELATION_FIGURES", "FIGURES", "FIXED_TITLES", "FORMATS", "correlation_figure_names",
+                  "figure_files", "figure_names", "file_settings", "png", "render", "render_correlation",
+                  "render_correlation_files", "render_files", "save_all"])
 
 
 __getattr__, __dir__ = lazy_names(__name__, _PUBLIC, __all__)
@@ -229,11 +233,16 @@ def render(run, file_name: str, dpi: int | None = None) -> bytes:
     One draw per figure (no layout engine), unlabelled ticks drawn as collections
     (:func:`~sixdof.plots.common.freeze_unlabelled_ticks`) and fast PNG writing (:func:`png`).
     """
+    return render_files(run, file_name, ("png",), dpi)[file_name]
+
+
+def render_files(run, file_name: str, formats=("png",), dpi: int | None = None) -> dict[str, bytes]:
+    """Draw the figure ``file_name`` of :data:`FIGURES` from a :class:`~sixdof.results.RunResults` once and
+    return it in each of ``formats`` (:func:`figure_files`): what every saved figure of a run goes through."""
     import matplotlib
 
     with matplotlib.rc_context(FIXED_TITLES):
-        figure = _DRAW[file_name](run)
-    return png(figure, dpi)
+        return figure_files(_DRAW[file_name](run), file_name, formats, dpi)
 
 
 def correlation_figure_names(run) -> list[str]:
@@ -244,11 +253,54 @@ def correlation_figure_names(run) -> list[str]:
 def render_correlation(run, file_name: str, dpi: int | None = None) -> bytes:
     """Draw the figure ``file_name`` of :data:`CORRELATION_FIGURES` from a correlation run and return it as PNG
     bytes, ``dpi`` dots per inch (default :data:`DPI`), as :func:`render` does."""
+    return render_correlation_files(run, file_name, ("png",), dpi)[file_name]
+
+
+def render_correlation_files(run, file_name: str, formats=("png",), dpi: int | None = None) -> dict[str, bytes]:
+    """:func:`render_files` for the figure ``file_name`` of :data:`CORRELATION_FIGURES`."""
     import matplotlib
 
     with matplotlib.rc_context(FIXED_TITLES):
-        figure = _DRAW_CORRELATION[file_name](run)
-    return png(figure, dpi)
+        return figure_files(_DRAW_CORRELATION[file_name](run), file_name, formats, dpi)
+
+
+#: File formats a figure can be written in (``[output] formats``; the scenario loader checks them against
+#: :data:`sixdof.io.settings.FIGURE_FORMATS`).
+FORMATS = ("png", "svg", "pdf")
+
+
+def file_settings(run) -> tuple[tuple[str, ...], int | None]:
+    """The formats and resolution [dots per inch] a run's figures are written in: its scenario's ``[output]``
+    ``formats`` and ``dpi``, or PNG at :data:`DPI` for results without their scenario (a loaded file's)."""
+    settings = getattr(getattr(run, "scenario", None), "output", None)
+    return tuple(getattr(settings, "formats", ("png",))), getattr(settings, "dpi", None)
+
+
+def figure_files(figure, file_name: str, formats=("png",), dpi: int | None = None) -> dict[str, bytes]:
+    """A finished figure as files: ``{name: bytes}``, one per format of ``formats`` (from :data:`FORMATS`),
+    each named ``file_name`` with the format's suffix, in the order of ``formats``.
+
+    PNG is written by :func:`png` at ``dpi`` dots per inch (default :data:`DPI`); SVG and PDF by matplotlib,
+    as vectors (``dpi`` then sets the resolution of any image inside them).
+    """
+    from sixdof.plots.common import freeze_unlabelled_ticks  # noqa: PLC0415 (loads matplotlib: the command's figure workers start first)
+
+    unknown = [f for f in formats if f not in FORMATS]
+    if unknown or not formats:
+        from sixdof.errors import InputError  # noqa: PLC0415 (loads NumPy: the command's figure workers start first)
+
+        raise InputError("formats", f"a non-empty list from {', '.join(FORMATS)}", list(formats))
+    freeze_unlabelled_ticks(figure)  # once: every format draws the same ticks
+    stem = Path(file_name).stem
+    files = {}
+    for kind in dict.fromkeys(formats):
+        if kind == "png":
+            files[f"{stem}.png"] = png(figure, dpi)
+        else:
+            buffer = io.BytesIO()
+            figure.savefig(buffer, format=kind, dpi=dpi or _plots.DPI)
+            files[f"{stem}.{kind}"] = buffer.getvalue()
+    return files
 
 
 def png(figure, dpi: int | None = None) -> bytes:
@@ -274,8 +326,8 @@ def png(figure, dpi: int | None = None) -> bytes:
         figure.set_canvas(shown)
 
 
-def save_all(run, directory: str | Path, dpi: int | None = None) -> list[Path]:
-    """Draw every figure the run allows, in this process, and write each as a PNG in ``directory``.
+def save_all(run, directory: str | Path, dpi: int | None = None, formats=None) -> list[Path]:
+    """Draw every figure the run allows, in this process, and write each in ``directory``, once per format.
 
     Titles start with the run's name.
 
@@ -286,19 +338,24 @@ def save_all(run, directory: str | Path, dpi: int | None = None) -> list[Path]:
     directory : str or pathlib.Path
         Created when missing.
     dpi : int, optional
-        Resolution of the PNG files [dots per inch]; default :data:`DPI`.
+        Resolution of the PNG files [dots per inch]; default the scenario's ``[output] dpi``
+        (:func:`file_settings`), else :data:`DPI`.
+    formats : sequence of str, optional
+        From :data:`FORMATS`; default the scenario's ``[output] formats``, else PNG only.
 
     Returns
     -------
     list of pathlib.Path
-        The files written, in the order of :data:`FIGURES`.
+        The files written, in the order of :data:`FIGURES` (each figure's in the order of ``formats``).
     """
     names = figure_names(run)
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
+    given_formats, given_dpi = file_settings(run)
     written = []
     for name in names:
-        path = directory / name
-        path.write_bytes(render(run, name, dpi))
-        written.append(path)
+        for file, content in render_files(run, name, formats or given_formats, dpi or given_dpi).items():
+            path = directory / file
+            path.write_bytes(content)
+            written.append(path)
     return written

@@ -19,15 +19,15 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.ticker import FuncFormatter, NullFormatter, NullLocator
 
-from sixdof.errors import InputError
+from sixdof.errors import InputError, Plain
 from sixdof.model.modes import Modes
 
-#: Resolution of the PNG files [dots per inch].
-DPI = 120
+#: Resolution of the PNG files [dots per inch] when the scenario does not set ``[output] dpi``.
+DPI = 150
 #: Most points drawn per line of a time history: longer ones are drawn through the minimum and
 #: maximum of each of ``MAX_POINTS // 2`` equal slices (see :func:`envelope_indices`). A slice must
 #: stay narrower than a pixel column for the drawn line to look exactly like the full one: 2000
-#: slices cover axes up to 2000 px wide (16 inches at :data:`DPI`).
+#: slices cover axes up to 2000 px wide (13 inches at :data:`DPI`).
 MAX_POINTS = 4000
 #: zlib level of the PNG files: 1 writes several times faster than the default 6 for files about
 #: a third larger (the figures are mostly flat colour, which compresses well at any level).
@@ -36,9 +36,24 @@ PNG_COMPRESS_LEVEL = 1
 TRANSLATION = "tab:blue"
 ROTATION = "tab:red"
 COMPONENT_COLORS = ("tab:blue", "tab:orange", "tab:green")
-#: Each DOF in words, for titles (``DOFS`` order: x, y, z, rx, ry, rz).
-DOF_NAMES = ("translation x", "translation y", "translation z", "rotation rx (about x)", "rotation ry (about y)",
-             "rotation rz (about z)")
+# Every figure's words for the DOFs, loads and axes, from here: titles and labels in words with their units,
+# never the internal codes (x, rx, Fz, dof_3) nor snake_case.
+#: Each DOF in words, for titles and legends (``DOFS`` order: x, y, z, rx, ry, rz): the centre of gravity's
+#: translations along the body axes and the small rotations about them.
+DOF_NAMES = ("translation along x", "translation along y", "translation along z", "rotation about x",
+             "rotation about y", "rotation about z")
+#: Each DOF's direction alone, for the axis label of a panel whose title names the DOF (``"about x [mrad]"``).
+DOF_DIRECTIONS = ("along x", "along y", "along z", "about x", "about y", "about z")
+#: Tick label of the mode each DOF dominates, on two lines (``"translation\nalong x"``).
+DOF_MODE_TICKS = tuple(name.replace(" ", "\n", 1) for name in DOF_NAMES)
+#: Each generalized load in words (``LOADS`` order: Fx, Fy, Fz, Mx, My, Mz).
+LOAD_NAMES = ("force along x", "force along y", "force along z", "moment about x", "moment about y",
+              "moment about z")
+
+
+def axis_label(quantity: str, unit: str) -> str:
+    """An axis label: the quantity in words and its unit in brackets, ``"normal force [kN]"``."""
+    return f"{quantity} [{unit}]"
 
 
 def envelope_indices(values: np.ndarray, max_points: int = MAX_POINTS) -> np.ndarray:
@@ -146,6 +161,19 @@ def margins(fig: Figure, left: float, right: float, top: float, bottom: float, w
         fig.subplots_adjust(**params)
     else:
         target.update(**params)
+
+
+def figure(fig: Figure | None, figsize: tuple[float, float]) -> Figure:
+    """The figure a multi-panel plot draws in: a new one of ``figsize`` [in], or ``fig``, a caller's empty
+    :class:`~matplotlib.figure.Figure`, set to that size (the plots lay their margins and rows out in inches)."""
+    if fig is None:
+        return Figure(figsize=figsize)
+    require(fig, "fig", Figure, "a matplotlib.figure.Figure (or None for a new one)")
+    if fig.axes:
+        raise InputError("fig", "an empty matplotlib Figure (the plot lays out its own panels)",
+                         Plain(f"a figure with {len(fig.axes)} axes"))
+    fig.set_size_inches(figsize)
+    return fig
 
 
 def panel_grid(n: int) -> tuple[int, int]:

@@ -9,7 +9,7 @@ from matplotlib.figure import Figure
 
 from sixdof.analysis.design import mode_of_each_dof
 from sixdof.dofs import DOFS
-from sixdof.plots.common import margins, title
+from sixdof.plots.common import DOF_MODE_TICKS, margins, title
 
 _BEFORE, _AFTER = "0.55", "tab:blue"
 
@@ -47,7 +47,7 @@ def plot_design_frequencies(before, after, targets, *, name: str = "") -> Figure
         row = DOFS.index(target.dof)
         ax.fill_betweenx([row - 0.35, row + 0.35], *target.f_hz, color="tab:green", alpha=0.25, linewidth=0,
                          label="target window" if k == 0 else None)
-    ax.set_yticks(rows, [f"{d} mode" for d in DOFS])
+    ax.set_yticks(rows, DOF_MODE_TICKS)
     ax.set_ylim(-0.6, rows[-1] + 0.6)
     top = max(np.max(pairs), *(t.f_hz[1] for t in windows)) if windows else np.max(pairs)
     ax.set_xlim(0, 1.25 * top)  # room for the values written beside the markers
@@ -89,7 +89,7 @@ def plot_design_decoupling(before, after, *, covered=None, minimum: float | None
             i = DOFS.index(dof)
             ax.plot([i - 0.45, i + 0.45], [minimum, minimum], color="tab:red", linestyle="--", linewidth=1.2,
                     label=f"target ≥ {minimum:g} %" if k == 0 else None)
-    ax.set_xticks(x, [f"{d} mode" for d in DOFS])
+    ax.set_xticks(x, DOF_MODE_TICKS)
     ax.set_ylim(0, 108)
     ax.set_ylabel("kinetic energy in the dominant coordinate [%]")
     ax.grid(True, axis="y", alpha=0.3)

@@ -12,14 +12,19 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Protocol
 
 from sixdof.interrupts import held_signals
-from sixdof.plots import FIGURES, render
+from sixdof.plots import FIGURES, file_settings, render_files
 
 if TYPE_CHECKING:
     from sixdof.results import RunResults
 
 
 class FigureDrawer(Protocol):
-    """Draws the figures of a run (:data:`sixdof.plots.FIGURES`) and writes them as PNG files."""
+    """Draws the figures of a run (:data:`sixdof.plots.FIGURES`) and writes them in the formats and at the
+    resolution of its scenario's ``[output]`` (:func:`sixdof.plots.file_settings`), unless its ``formats``
+    (sequence of str) and ``dpi`` (int [dots per inch]) are set before the first ``submit``."""
+
+    formats: tuple[str, ...] | None
+    dpi: int | None
 
     def submit(self, run: RunResults) -> None:
         """Take every figure ``run`` allows that was not submitted before."""
@@ -35,14 +40,21 @@ class InProcessDrawer:
     Parameters
     ----------
     dpi : int, optional
-        Resolution of the PNG files [dots per inch]; default :data:`sixdof.plots.DPI`.
+        Resolution of the PNG files [dots per inch]; default the first run's ``[output] dpi``
+        (:func:`sixdof.plots.file_settings`).
+    formats : sequence of str, optional
+        The files each figure is written as (:data:`sixdof.plots.FORMATS`); default the first run's
+        ``[output] formats``.
     """
 
-    def __init__(self, dpi: int | None = None) -> None:
-        self.dpi = dpi
+    def __init__(self, dpi: int | None = None, formats=None) -> None:
+        self.dpi, self.formats = dpi, formats
         self._runs: dict[str, RunResults] = {}  # each figure's name -> the run to draw it from
 
     def submit(self, run: RunResults) -> None:
+        if not self._runs:
+            formats, dpi = file_settings(run)
+            self.formats, self.dpi = self.formats or formats, self.dpi or dpi
         self._runs.update((name, run) for name, _, drawable, _ in FIGURES
                           if name not in self._runs and drawable(run))
 
@@ -50,10 +62,11 @@ class InProcessDrawer:
         written = []
         for name in [name for name, *_ in FIGURES if name in self._runs]:
             with held_signals():  # matplotlib's C code can swallow a KeyboardInterrupt
-                png = render(self._runs[name], name, self.dpi)
-            path = directory / name
-            path.write_bytes(png)
-            written.append(path)
+                files = render_files(self._runs[name], name, self.formats or ("png",), self.dpi)
+            for file, content in files.items():
+                path = directory / file
+                path.write_bytes(content)
+                written.append(path)
         return written
 
     def __enter__(self) -> InProcessDrawer:

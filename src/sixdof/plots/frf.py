@@ -10,11 +10,13 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from sixdof.analysis.frf import FRF, ForceTransmissibility, FRFCrossCheck, GroundTransmissibility, PointFRF
-from sixdof.dofs import DOFS, LOADS
 from sixdof.errors import InputError, Plain
 from sixdof.model.modes import Modes
 from sixdof.plots.common import (
     COMPONENT_COLORS,
+    DOF_NAMES,
+    LOAD_NAMES,
+    figure,
     margins,
     mark_modes,
     mark_operating,
@@ -59,7 +61,7 @@ def _finish(mag, phase, f: np.ndarray, frequency_hz: np.ndarray | None, operatin
 
 
 def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, name: str = "",
-              operating_hz=None) -> Figure:
+              operating_hz=None, fig: Figure | None = None) -> Figure:
     """Bode plot of the direct receptances ``H_ii`` (q_i per own generalized force).
 
     Magnitude on a log scale and phase; translations (m/N) and rotations (rad/(N m)) on separate
@@ -80,11 +82,15 @@ def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, 
         Name of the run, put before the title (new figure only).
     operating_hz : array_like, optional
         Operating frequencies [Hz] to mark (a run's harmonic loads: its ``steady_state.f_hz``).
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw the whole plot into, title included, given its size
+        (:func:`~sixdof.plots.common.figure`); instead of ``ax``. Layout: a 2 x 2 grid, magnitude above phase,
+        translations left and rotations right.
 
     Returns
     -------
     matplotlib.figure.Figure
-        The new figure, or the one holding ``ax``.
+        The new figure, ``fig``, or the one holding ``ax``.
     """
     if isinstance(frf, FRFCrossCheck):
         frf = frf.direct
@@ -92,7 +98,7 @@ def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, 
     frequency_hz = natural_frequencies(modes)
     f, H = frf.f_hz, frf.H
     if ax is None:
-        fig = Figure(figsize=(13, 8))
+        fig = figure(fig, (13, 8))
         margins(fig, left=0.85, right=0.15, top=0.9, bottom=0.55, wspace=1.05, hspace=0.15, columns=2, rows=2)
         marks = ["dotted: natural frequencies (mode numbers)" if frequency_hz is not None else "",
                  "dash-dot red: operating frequencies" if operating_hz is not None and np.size(operating_hz) else ""]
@@ -111,7 +117,7 @@ def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, 
         mag, phase = axes[0, column], axes[1, column]
         for k, i in enumerate(block):
             h = H[:, i, i]
-            mag.plot(f, np.abs(h), color=COMPONENT_COLORS[k], label=f"{DOFS[i]} per {LOADS[i]}")
+            mag.plot(f, np.abs(h), color=COMPONENT_COLORS[k], label=f"{DOF_NAMES[i]} per {LOAD_NAMES[i]}")
             phase.plot(f, phase_deg(h), color=COMPONENT_COLORS[k])
         mag.set_yscale("log")
         mag.set_ylabel(f"|H| [{unit}]")
@@ -151,7 +157,7 @@ def _point_item(key: str, item) -> tuple[str, bool, np.ndarray, np.ndarray | Non
 
 
 def plot_point_frfs(extras: Mapping[str, PointFRF | ForceTransmissibility | GroundTransmissibility],
-                    modes: Modes | None = None, *, name: str = "") -> Figure:
+                    modes: Modes | None = None, *, name: str = "", fig: Figure | None = None) -> Figure:
     """Point FRFs and transmissibilities: magnitude (log) and phase, one row each.
 
     The phase of a transmissibility is that of the resultant foundation force (or the absolute
@@ -168,6 +174,10 @@ def plot_point_frfs(extras: Mapping[str, PointFRF | ForceTransmissibility | Grou
     name : str
         Name of the run, put before the title.
 
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
+        one. Layout: one row per point FRF or transmissibility: magnitude (left) and phase (right).
+
     Returns
     -------
     matplotlib.figure.Figure
@@ -177,7 +187,7 @@ def plot_point_frfs(extras: Mapping[str, PointFRF | ForceTransmissibility | Grou
     if not items:
         raise InputError("extras", "at least one point FRF or transmissibility", Plain("none"))
     frequency_hz = natural_frequencies(modes)
-    fig = Figure(figsize=(13, 3.5 * len(items) + 1.3))
+    fig = figure(fig, (13, 3.5 * len(items) + 1.3))
     fig.suptitle(title(name, "point frequency responses and transmissibilities"), fontsize=13)
     # Room above each row for a title of two lines.
     margins(fig, left=0.85, right=0.15, top=0.95, bottom=0.55, wspace=0.85, hspace=0.8, columns=2, rows=len(items))

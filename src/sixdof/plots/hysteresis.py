@@ -7,7 +7,7 @@ from matplotlib.figure import Figure
 
 from sixdof.analysis.response import MountForces
 from sixdof.model.system import System
-from sixdof.plots.common import margins, require, title
+from sixdof.plots.common import figure, margins, require, title
 from sixdof.results import TimeHistory
 
 #: Axes whose peak deflection is below this share of the largest one's are left out (they barely moved).
@@ -16,7 +16,8 @@ DRAWN_SHARE = 1e-3
 COLUMNS = 4
 
 
-def plot_hysteresis(system: System, response: TimeHistory, forces: MountForces, *, name: str = "") -> Figure:
+def plot_hysteresis(system: System, response: TimeHistory, forces: MountForces, *, name: str = "",
+                    fig: Figure | None = None) -> Figure:
     """Force [kN] against deflection from rest [mm] of each hysteretic mount axis (Bouc-Wen, friction pendulum)
     that moved, one panel each: the loops of a direct solve, whose areas are the energy each axis dissipated.
     The linear paths' stiffness of the axis (initial or effective) is drawn dashed through the origin.
@@ -31,6 +32,13 @@ def plot_hysteresis(system: System, response: TimeHistory, forces: MountForces, 
         Of ``response``.
     name : str
         Name of the run, put before the title.
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
+        one. Layout: one panel (force against deflection) per mount axis that moved, in rows of up to a few columns.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
     """
     require(system, "system", System, "a sixdof.model.system.System")
     require(response, "response", TimeHistory, "a sixdof.results.TimeHistory")
@@ -42,7 +50,7 @@ def plot_hysteresis(system: System, response: TimeHistory, forces: MountForces, 
     drawn = [e for e in range(h.count) if peaks[e] > DRAWN_SHARE * max(peaks.max(), 1e-300)]
     columns = max(1, min(COLUMNS, len(drawn)))
     rows = max(1, -(-len(drawn) // columns))
-    fig = Figure(figsize=(3.2 * columns + 0.8, 2.9 * rows + 0.9))
+    fig = figure(fig, (3.2 * columns + 0.8, 2.9 * rows + 0.9))
     fig.suptitle(title(name, "hysteresis loops: force against deflection of each hysteretic mount axis"),
                  fontsize=12)
     margins(fig, left=0.8, right=0.2, top=0.7, bottom=0.6, wspace=0.75, hspace=0.7, columns=columns, rows=rows)

@@ -15,7 +15,7 @@ from sixdof.errors import InputError
 from sixdof.model.modes import Modes
 from sixdof.model.system import System
 from sixdof.plots import FIXED_TITLES
-from sixdof.plots.common import distinct_digits, margins, require, title
+from sixdof.plots.common import DOF_NAMES, distinct_digits, margins, require, title
 
 #: Largest displacement of the drawn body in a mode-shape panel, as a fraction of its largest size.
 MODE_SCALE = 0.15
@@ -517,8 +517,8 @@ def plot_ke_distribution(modes: Modes, ax=None, *, name: str = "") -> Figure:
     freqs = modes.frequency_hz
     n = percent.shape[1]
     if ax is None:
-        fig = Figure(figsize=(1.2 * n + 2.6, 5.0))
-        margins(fig, left=0.75, right=0.1, top=0.35, bottom=0.85)
+        fig = Figure(figsize=(1.2 * n + 3.7, 5.0))  # the DOFs' names at the left: 1.1 in
+        margins(fig, left=1.85, right=0.1, top=0.35, bottom=0.85)
         ax = fig.add_subplot()
     fig = ax.figure
     image = ax.imshow(percent, cmap="Blues", vmin=0.0, vmax=100.0, aspect="auto")
@@ -529,7 +529,7 @@ def plot_ke_distribution(modes: Modes, ax=None, *, name: str = "") -> Figure:
         ax.text(j, i, text, ha="center", va="center", fontsize=10, color="white" if value > 60 else "black")
     digits = distinct_digits(freqs, 3)
     ax.set_xticks(range(n), [f"{j + 1}\n{f:.{digits}g}" for j, f in enumerate(freqs)])  # close modes told apart
-    ax.set_yticks(range(len(DOFS)), DOFS)
+    ax.set_yticks(range(len(DOFS)), DOF_NAMES)
     ax.set_xlabel("mode (natural frequency [Hz])")
     ax.set_ylabel("degree of freedom")
     ax.set_title(title(name, "kinetic-energy distribution [%]"))

@@ -8,10 +8,19 @@ from matplotlib.figure import Figure
 from sixdof.analysis.random import RandomResponse, RandomTimeCheck
 from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.dofs import AXES, DOFS
-from sixdof.plots.common import margins, merge_identical, plain_frequencies, plain_log_ticks, require, title
+from sixdof.plots.common import (
+    DOF_DIRECTIONS,
+    figure,
+    margins,
+    merge_identical,
+    plain_frequencies,
+    plain_log_ticks,
+    require,
+    title,
+)
 
 
-def plot_random(random: RandomResponse, *, name: str = "") -> Figure:
+def plot_random(random: RandomResponse, *, name: str = "", fig: Figure | None = None) -> Figure:
     """Input PSD (top, its RMS in the title) and the absolute acceleration PSDs of the CG's translations and of
     each body point along its most excited axis (bottom), log-log, with each curve's RMS in the legend.
 
@@ -21,13 +30,17 @@ def plot_random(random: RandomResponse, *, name: str = "") -> Figure:
     name : str
         Name of the run, put before the title.
 
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
+        one. Layout: the input PSD above the body's response PSDs.
+
     Returns
     -------
     matplotlib.figure.Figure
     """
     require(random, "random", RandomResponse, "a sixdof.analysis.random.RandomResponse")
     f = random.f_hz
-    fig = Figure(figsize=(10, 8))
+    fig = figure(fig, (10, 8))
     fig.suptitle(title(name, "random vibration: input and response acceleration PSDs"), fontsize=12)
     margins(fig, left=1.0, right=0.3, top=0.75, bottom=0.6, hspace=0.9, rows=2)
     top, bottom = fig.subplots(2, 1, sharex=True)
@@ -41,13 +54,14 @@ def plot_random(random: RandomResponse, *, name: str = "") -> Figure:
         top.set_ylabel("ground acceleration PSD [g²/Hz]")
         top.set_title(f"input: ground acceleration, {random.input_rms / STANDARD_GRAVITY:.3g} grms, "
                       f"PSD peak {np.max(random.input_psd) / STANDARD_GRAVITY**2:.3g} g²/Hz", fontsize=10)
-    curves = [(random.qdd_psd[:, i], f"CG {DOFS[i]}", random.qdd_rms[i]) for i in range(3)
+    curves = [(random.qdd_psd[:, i], f"centre of gravity {DOF_DIRECTIONS[i]}", random.qdd_rms[i]) for i in range(3)
               if np.any(random.qdd_psd[:, i] > 0)]
     for name_, psd, rms in zip(random.points, random.point_acceleration_psd, random.point_acceleration_rms):
         axis = int(np.argmax(rms))
-        curves.append((psd[:, axis], f"{name_} {AXES[axis]}", rms[axis]))
+        curves.append((psd[:, axis], f"{name_} along {AXES[axis]}", rms[axis]))
     for psd, label, rms in merge_identical(curves):
-        bottom.loglog(f, psd / STANDARD_GRAVITY**2, linewidth=1.1, linestyle="-" if label.startswith("CG") else "--",
+        cg = label.startswith("centre of gravity")  # the body's own curves solid, the points' dashed
+        bottom.loglog(f, psd / STANDARD_GRAVITY**2, linewidth=1.1, linestyle="-" if cg else "--",
                       label=f"{label}: {rms / STANDARD_GRAVITY:.3g} grms")
     if random.input_kind != "force" and bottom.get_lines():  # the isolation: response against input
         bottom.loglog(f, random.input_psd / STANDARD_GRAVITY**2, color="0.55", linewidth=1.0, linestyle=":",
@@ -72,7 +86,7 @@ def plot_random(random: RandomResponse, *, name: str = "") -> Figure:
     return fig
 
 
-def plot_random_check(check, *, name: str = "") -> Figure:
+def plot_random_check(check, *, name: str = "", fig: Figure | None = None) -> Figure:
     """The random response against a time history: for each excited acceleration (the CG's DOFs, each point
     along its most excited axis; at most six), the record's Welch PSD over the FRFs' expected Welch PSD with
     the estimate's 90 % interval (chi-square), and both RMS values with their z in the panel's title.
@@ -83,6 +97,10 @@ def plot_random_check(check, *, name: str = "") -> Figure:
     name : str
         Name of the run, put before the title.
 
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
+        one. Layout: one row per point checked (the record's Welch PSD over the expected one).
+
     Returns
     -------
     matplotlib.figure.Figure
@@ -91,20 +109,20 @@ def plot_random_check(check, *, name: str = "") -> Figure:
 
     require(check, "check", RandomTimeCheck, "a sixdof.analysis.random.RandomTimeCheck")
     rms = {n.removeprefix("rms:"): j for j, n in enumerate(check.judged) if n.startswith("rms:")}
-    curves = [(check.qdd_welch[:, i], f"CG {dof}", (f"qdd:{dof}", check.qdd_expected[:, i], i < 3))
-              for i, dof in enumerate(DOFS) if f"qdd:{dof}" in rms]
+    curves = [(check.qdd_welch[:, i], f"centre of gravity {DOF_DIRECTIONS[i]}",
+               (f"qdd:{dof}", check.qdd_expected[:, i], i < 3)) for i, dof in enumerate(DOFS) if f"qdd:{dof}" in rms]
     for p, point in enumerate(check.points):
         excited = [a for a in range(3) if f"point:{point}:{AXES[a]}" in rms]
         if excited:
             axis = max(excited, key=lambda a: check.frequency_rms[rms[f"point:{point}:{AXES[a]}"]])
-            curves.append((check.point_welch[p, :, axis], f"{point} {AXES[axis]}",
+            curves.append((check.point_welch[p, :, axis], f"{point} along {AXES[axis]}",
                            (f"point:{point}:{AXES[axis]}", check.point_expected[p, :, axis], True)))
     # Responses that are one (points moving with the CG) share a panel.
     panels = [(label, key, welch, expected, translation)
               for welch, label, (key, expected, translation) in merge_identical(curves)][:6]
     columns = 1 if len(panels) <= 3 else 2
     rows = max(1, -(-len(panels) // columns))
-    fig = Figure(figsize=(10, 2.0 + 2.6 * rows))
+    fig = figure(fig, (10, 2.0 + 2.6 * rows))
     worst = check.worst
     fig.suptitle(title(name, f"random response against a {check.duration_s:.3g} s time history: {check.verdict} "
                              f"(largest |z| {abs(check.z[worst]):.2f}, limit {check.z_limit:.2f})"), fontsize=12)

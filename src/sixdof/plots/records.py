@@ -8,10 +8,10 @@ import textwrap
 import numpy as np
 from matplotlib.figure import Figure
 
-from sixdof.plots.common import margins, plain_log_ticks, plot_long, title
+from sixdof.plots.common import figure, margins, plain_log_ticks, plot_long, title
 
 
-def plot_records(records, check, *, name: str = "") -> Figure:
+def plot_records(records, check, *, name: str = "", fig: Figure | None = None) -> Figure:
     """Top: pseudo-acceleration [m/s^2] against period [s] (log): each record's 5 %-damped spectrum (thin), their
     mean (thick), the target and 90 % of it over the band 0.2 T1-2 T1 (shaded) that EN 1998-1 3.2.3.1.2(4)c checks.
     Bottom: the accelerograms [m/s^2] against time [s], the first in colour, with ``ag S``.
@@ -23,12 +23,16 @@ def plot_records(records, check, *, name: str = "") -> Figure:
     name : str
         Name of the run, put before the title.
 
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
+        one. Layout: the records' spectra above their accelerograms.
+
     Returns
     -------
     matplotlib.figure.Figure
     """
     count = records.acceleration.shape[0]
-    fig = Figure(figsize=(10, 8))
+    fig = figure(fig, (10, 8))
     verdict = "meet EN 1998-1 3.2.3.1.2" if check.passed else "do NOT meet EN 1998-1 3.2.3.1.2"
     fig.suptitle(title(name, f"{count} spectrum-compatible records ({verdict})"), fontsize=12)
     margins(fig, left=0.9, right=0.3, top=1.0, bottom=0.6, hspace=0.9, rows=2)
@@ -49,7 +53,7 @@ def plot_records(records, check, *, name: str = "") -> Figure:
     top.set_xlim(T[0], T[-1])
     top.set_ylim(0, None)
     top.set_xlabel("period T [s]")
-    top.set_ylabel("pseudo-acceleration S_a [m/s²]")
+    top.set_ylabel("pseudo-acceleration $S_a$ [m/s²]")
     top.grid(True, which="both", alpha=0.3)
     top.legend(fontsize=8, loc="lower center")
     t = records.t

@@ -14,7 +14,7 @@ from sixdof.plots.common import margins, merge_identical, require, title
 MARKED_SHARE = 0.01
 
 
-def plot_spectrum(spectrum: ResponseSpectrum, *, name: str = "") -> Figure:
+def plot_spectrum(spectrum: ResponseSpectrum, ax=None, *, name: str = "") -> Figure:
     """Pseudo-acceleration [m/s^2] against period [s]: the spectrum along each direction at the analysis's damping
     ratio (curves equal along two directions drawn once), and each mode that responds along a direction marked at
     its period and spectral value there, numbered (hollow where its damping differs from the curve's).
@@ -25,16 +25,21 @@ def plot_spectrum(spectrum: ResponseSpectrum, *, name: str = "") -> Figure:
     name : str
         Name of the run, put before the title.
 
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw into (the run's title is then left to the caller); default a new figure's.
+
     Returns
     -------
     matplotlib.figure.Figure
     """
     require(spectrum, "spectrum", ResponseSpectrum, "a sixdof.analysis.spectrum.ResponseSpectrum")
-    fig = Figure(figsize=(10, 6))
-    fig.suptitle(title(name, f"response spectrum and the modes ({spectrum.combination.upper()}, "
-                       f"{100 * spectrum.damping:g} % damping)"), fontsize=12)
-    margins(fig, left=0.9, right=0.3, top=0.9, bottom=0.6)
-    ax = fig.add_subplot()
+    if ax is None:
+        fig = Figure(figsize=(10, 6))
+        fig.suptitle(title(name, f"response spectrum and the modes ({spectrum.combination.upper()}, "
+                           f"{100 * spectrum.damping:g} % damping)"), fontsize=12)
+        margins(fig, left=0.9, right=0.3, top=0.9, bottom=0.6)
+        ax = fig.add_subplot()
+    fig = ax.figure
     ax.set_title(spectrum.spectrum, fontsize=8)
     T = spectrum.curve_period
     curves = [(curve, f"direction {d}", k) for k, (d, curve) in enumerate(zip(spectrum.direction, spectrum.curve))]
@@ -61,7 +66,7 @@ def plot_spectrum(spectrum: ResponseSpectrum, *, name: str = "") -> Figure:
                     bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "edgecolor": "none", "alpha": 0.8})
     ax.plot([], [], "o", color="0.3", label="a mode at its period (hollow: its own damping)")
     ax.set_xlabel("period T [s]")
-    ax.set_ylabel("pseudo-acceleration S_a [m/s²]")
+    ax.set_ylabel("pseudo-acceleration $S_a$ [m/s²]")
     ax.set_xlim(T[0], T[-1])
     ax.set_ylim(0, 1.12 * max(float(np.max(spectrum.curve)), float(np.max(spectrum.spectral_acceleration))))
     ax.grid(True, alpha=0.3)

@@ -1,5 +1,7 @@
-"""Time histories: the centre of gravity's motion per DOF under the input that drives it, the mount forces
-on the foundation, each mount's total normal force, and the direct solution against the modal superposition."""
+"""Time histories of the centre of gravity: its motion per DOF under the input that drives it, and the pieces the
+other time figures share (which DOFs respond, the time columns). The mounts' forces over time are in
+:mod:`sixdof.plots.mount_time`, the direct solution against the modal superposition in
+:mod:`sixdof.plots.superposition`."""
 
 from __future__ import annotations
 
@@ -9,25 +11,24 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
-from sixdof.analysis.compare import QUANTITIES, Agreement, relative_to_ground
-from sixdof.analysis.contact import ContactSummary
-from sixdof.analysis.mountcheck import MountCheck
-from sixdof.analysis.response import MountForces
 from sixdof.analysis.statics import STANDARD_GRAVITY
-from sixdof.dofs import AXES, DOFS, FORCE_UNITS, LOADS, display_unit, dof_units
+from sixdof.dofs import AXES, DOFS, FORCE_UNITS, display_unit, dof_units
 from sixdof.errors import InputError
 from sixdof.plots.common import (
     COMPONENT_COLORS,
+    DOF_DIRECTIONS,
     DOF_NAMES,
+    LOAD_NAMES,
     ROTATION,
     TRANSLATION,
+    axis_label,
+    figure,
     margins,
     plot_long,
     require,
-    time_axes,
     title,
 )
-from sixdof.plots.zoom import event_window, zoom_samples, zoom_window
+from sixdof.plots.zoom import event_window, zoom_samples
 from sixdof.results import Event, TimeHistory
 
 _HISTORY = "a sixdof.results.TimeHistory"
@@ -55,7 +56,8 @@ GROUND_COLOR = "0.45"
 
 
 def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
-                        events: Mapping[str, Event] | None = None, steady=None) -> Figure:
+                        events: Mapping[str, Event] | None = None, steady=None,
+                        fig: Figure | None = None) -> Figure:
     """The input on its own axis above, then the time history of each DOF that responds on its own axis:
     translations in mm, rotations in mrad.
 
@@ -88,6 +90,11 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
         The steady state at the operating frequencies (harmonic loads without end): its amplitude (the
         sum over the frequencies, the most their harmonics reach together) dotted at plus and minus, and
         given beside the peak, which a switch-on transient may dominate.
+
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
+        one. Layout: one row per input (the load or ground motion) above one row per DOF that responds, each
+        with its zoom on the right when the run has an event.
 
     Returns
     -------
@@ -131,7 +138,7 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
     # The figure's legend, from the first DOF drawn, when it has more than its one curve to explain.
     legend = bool(dofs) and (relative is not None or zoom is not None or amplitude[dofs[0]] > 0)
     fig, rows = _stacked_rows(t, [INPUT_HEIGHT] * len(inputs) + [height] * max(len(dofs), 1), zoom,
-                              title(name, heading), note, legend_line=legend or zoom is not None)
+                              title(name, heading), note, legend_line=legend or zoom is not None, fig=fig)
     for (draw, *_), axes in zip(inputs, rows):
         draw(axes, t, zoom)
     if not dofs:  # nothing moves: said on the one panel
@@ -152,7 +159,7 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
 
 
 def _stacked_rows(t: np.ndarray, heights: list[float], zoom, heading: str, note: str,
-                  legend_line: bool) -> tuple[Figure, list[list]]:
+                  legend_line: bool, fig: Figure | None = None) -> tuple[Figure, list[list]]:
     """A figure of one row per entry of ``heights`` [in] under ``heading``, the line ``note`` (if any) and a line
     for the legend and the zoom's heading (``legend_line``), and its axes, one list per row: its whole record, then
     its zoom when ``zoom`` (:func:`~sixdof.plots.zoom.event_window`) is given; one time axis per column, labelled
@@ -161,7 +168,7 @@ def _stacked_rows(t: np.ndarray, heights: list[float], zoom, heading: str, note:
     # From the top [in]: the title, the note, the line of the legend and the zoom's heading, the first row's title.
     legend_at = 0.55 + (0.3 if note else 0.0)
     top = legend_at + (0.25 if legend_line else -0.1) + 0.35
-    fig = Figure(figsize=(12, top + bottom + sum(heights) + gap * (len(heights) - 1)))
+    fig = figure(fig, (12, top + bottom + sum(heights) + gap * (len(heights) - 1)))
     height = fig.get_figheight()
     fig.suptitle(heading, fontsize=13, y=1 - 0.15 / height, va="top")
     if note:
@@ -275,7 +282,7 @@ def _ground_panel(axes, t: np.ndarray, zoom, history: TimeHistory, c: int) -> No
         plot_long(ax, t[part], factor * body[part], color=TRANSLATION, linewidth=1.0,
                   label="body (centre of gravity, absolute)")
     peak_ground, peak_body = float(np.max(np.abs(ground))), float(np.max(np.abs(body)))
-    axes[0].set_ylabel(f"a{AXES[c]} [{unit}]")
+    axes[0].set_ylabel(axis_label("acceleration", unit))
     axes[0].set_title(f"ground and body acceleration along {AXES[c]}, peaks: ground {factor * peak_ground:.4g} {unit} "
                       f"({peak_ground / STANDARD_GRAVITY:.3g} g), body {factor * peak_body:.4g} {unit} "
                       f"({peak_body / STANDARD_GRAVITY:.3g} g, {peak_body / peak_ground:.2f} of the ground's)",
@@ -291,13 +298,14 @@ def _load_panel(axes, t: np.ndarray, zoom, Q: np.ndarray, shown, quoted) -> None
     factor, unit = display_unit(Q[:, list(shown)], unit_si)
     for ax, part in zip(axes, (slice(None), zoom_samples(t, zoom or (0, 0)))):
         for j in shown:
-            plot_long(ax, t[part], factor * Q[part, j], color=COMPONENT_COLORS[j % 3], linewidth=1.0, label=LOADS[j])
+            plot_long(ax, t[part], factor * Q[part, j], color=COMPONENT_COLORS[j % 3], linewidth=1.0,
+                      label=LOAD_NAMES[j])
     what = "force" if unit_si == "N" else "moment"
-    peaks = ", ".join(f"{LOADS[j]} {factor * np.max(np.abs(Q[:, j])):.4g}" for j in shown)
+    peaks = ", ".join(f"{DOF_DIRECTIONS[j]} {factor * np.max(np.abs(Q[:, j])):.4g}" for j in shown)
     heading = f"applied {what} at the centre of gravity: peak {peaks} {unit}"
     if len(quoted):
         scale, moment_unit = display_unit(Q[:, list(quoted)], "N m")
-        moments = ", ".join(f"{LOADS[j]} {scale * np.max(np.abs(Q[:, j])):.4g}" for j in quoted)
+        moments = ", ".join(f"{DOF_DIRECTIONS[j]} {scale * np.max(np.abs(Q[:, j])):.4g}" for j in quoted)
         heading += f"; moments about it (not drawn): peak {moments} {moment_unit}"
     axes[0].set_ylabel(f"{what} [{unit}]")
     axes[0].set_title(heading, fontsize=10, loc="left")
@@ -343,7 +351,7 @@ def _history_dof(fig: Figure, axes, i: int, t: np.ndarray, main: np.ndarray, oth
         fig.legend(*whole.get_legend_handles_labels(), fontsize=8, loc="upper left", frameon=False,
                    bbox_to_anchor=(0.8 / fig.get_figwidth(), 1 - (0.55 + 0.3 * bool(notes(fig))) / fig.get_figheight()),
                    ncols=4)
-    whole.set_ylabel(f"{DOFS[i]} [{label}]")
+    whole.set_ylabel(axis_label(DOF_DIRECTIONS[i], label))
     heading = f"{DOF_NAMES[i]}: peak {factor * main_peak:.4g} {label}"
     if other is not None:
         scale, other_unit = display_unit(other_peak, unit)
@@ -355,200 +363,9 @@ def _history_dof(fig: Figure, axes, i: int, t: np.ndarray, main: np.ndarray, oth
     whole.set_title(heading, fontsize=10, loc="left")
 
 
-#: Legend of the tension shading: a mount that pulls on the body (a linear one holds; one with tension = false lifts
-#: off instead, spring, dashpot and branches together, so it is never shaded).
-TENSION_LABEL = "tension (the mount pulls; one with tension = false lifts off instead)"
 #: The second curve of a ground-driven run (absolute or relative motion) is drawn on the first's scale only
 #: while its peak is at most this many times the first's.
 OTHER_SCALE = 10.0
-
-
-def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agreement | None = None, *,
-                       name: str = "", events: Mapping[str, Event] | None = None,
-                       contacts: ContactSummary | None = None) -> Figure:
-    """Direct solution and modal superposition overlaid (left), and their difference divided by the
-    DOF's peak (right, with the agreement tolerance dashed), one row per DOF that responds
-    (:data:`RESPONDS_RTOL`); the others are named in one line under the title (``fig.texts``, starting "not
-    excited"), each with its peak and the agreement's relative difference.
-
-    With nonlinear mounts the (linear) superposition holds only until the first of them engages: the
-    overlays mark that time, and the differences, their peaks and the titles cover the record up to it
-    (what the run's agreement compares).
-
-    Parameters
-    ----------
-    direct : sixdof.results.TimeHistory
-        The direct solve; its absolute displacement ``q`` [m, rad] is compared.
-    modal : sixdof.results.TimeHistory
-        The modal superposition at the same times.
-    agreement : sixdof.analysis.compare.Agreement, optional
-        ``compare(direct, modal)``: its worst difference goes in the title, its per-DOF values in
-        the panels' titles, its tolerance [1] dashed, and its quiet DOFs are divided by the largest
-        peak (rotations times its ``length`` [m]).
-    name : str
-        Name of the run, put before the title.
-    events : mapping of str to sixdof.results.Event, optional
-        The excitation's shocks and switch-ons: the overlay of the one worth a zoom
-        (:func:`~sixdof.plots.zoom.event_window`) is drawn again in a middle column.
-    contacts : sixdof.analysis.contact.ContactSummary, optional
-        What the nonlinear mounts did: the differences are drawn until its ``first_engaged_t`` [s] (nan:
-        none engaged, the whole record).
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    require(direct, "direct", TimeHistory, _HISTORY)
-    require(modal, "modal", TimeHistory, _HISTORY)
-    require(agreement, "agreement", (Agreement, type(None)), "a sixdof.analysis.compare.Agreement (or None)")
-    require(contacts, "contacts", (ContactSummary, type(None)), "a sixdof.analysis.contact.ContactSummary (or None)")
-    if modal.q.shape != direct.q.shape:
-        raise InputError("modal.q", f"shape {direct.q.shape} (that of direct.q)", f"shape {modal.q.shape}")
-    t = direct.t
-    q_direct, q_modal = relative_to_ground(direct, modal)  # what the agreement compares
-    # After a nonlinear mount engages the two differ by design: the differences end there, as the agreement does.
-    first = np.nan if contacts is None else float(contacts.first_engaged_t)
-    cut = bool(first < t[-1])  # False for nan
-    compared = slice(0, max(int(np.searchsorted(t, first, side="right")), 1)) if cut else slice(None)
-    end = max(first, t[min(1, len(t) - 1)]) if cut else t[-1]
-    peaks = np.max(np.abs(q_direct[compared]), axis=0)
-    zoom = event_window(events or {}, t)
-    heading = "direct solution vs modal superposition" + (", relative to the ground" if direct.has_ground else "")
-    if agreement is not None:
-        verdict = "within" if agreement.ok else "EXCEEDS"
-        where = agreement.worst_dof + (f" {QUANTITIES[agreement.worst_quantity]}" if agreement.rates else "")
-        heading += (f"\nworst relative difference {agreement.worst:.2e} in {where}"
-                    f"{' before the first engagement' if cut else ''} ({verdict} tolerance {agreement.tolerance:.0e})")
-    # The DOFs that move get a row; the others are named in one line with their differences (the agreement's).
-    drawn = responding(q_direct)
-    dofs = [int(i) for i in np.flatnonzero(drawn)] or [int(np.argmax(peaks))]
-    note = not_excited_line(q_direct, [i for i in range(6) if i not in dofs], _UNITS["q"],
-                            None if agreement is None else np.asarray(agreement.per_dof))
-    fig, axes, zooms = _superposition_panels(t, zoom, end, len(dofs), lines=3 if cut else 2, note=note)
-    quiet_compared = unexcited(q_direct[compared])  # a DOF still at rest when the first mount engages
-    span = f" for t ≤ {first:.4g} s" if cut else ""
-    tolerance_drawn = False
-    for row, i in enumerate(dofs):
-        left, right = axes[row]
-        _overlay_dof(left, zooms[row], i, t, q_direct[:, i], q_modal[:, i], zoom=zoom, first=first if cut else None)
-        tolerance_drawn |= _difference_dof(right, i, t, q_direct, q_modal, compared, peaks, agreement,
-                                           quiet_compared=bool(quiet_compared[i]), span=span)
-    if tolerance_drawn:
-        heading += "; dashed red: ± tolerance"
-    if cut:
-        heading += (f"\ndash-dot red: a nonlinear mount first engages at t = {first:.4g} s; the superposition is not "
-                    "valid after it (differences drawn until then)")
-    fig.suptitle(title(name, heading), fontsize=13, y=1 - 0.15 / fig.get_figheight(), va="top")
-    # Above the first panel; compact, clear of the zoom's heading.
-    axes[0, 0].legend(*axes[0, 0].get_legend_handles_labels(), fontsize=9, loc="lower left",
-                      bbox_to_anchor=(0.0, 1.0), ncols=3, frameon=False, handlelength=1.5, columnspacing=1.0)
-    time_axes(axes, t)
-    axes[0, 1].set_xlim(t[0], end)  # the differences' column: the span compared (its axes share it)
-    return fig
-
-
-#: Height of a row of :func:`plot_superposition` [in]: :data:`SUPERPOSITION_HEIGHT` shared among the DOFs drawn,
-#: within these bounds.
-SUPERPOSITION_HEIGHT = 9.0
-SUPERPOSITION_ROW_RANGE = (1.6, 3.0)
-
-
-def _superposition_panels(t: np.ndarray, zoom, end: float, rows: int, lines: int,
-                          note: str) -> tuple[Figure, np.ndarray, list]:
-    """The figure of :func:`plot_superposition` and its axes: ``(fig, axes, zooms)``, the overlays and differences
-    (rows, 2) (the differences' time axis to ``end`` [s]) and each row's zoom of the overlay (None without
-    ``zoom``); room at the top for a title of ``lines`` lines and the line ``note`` (if any)."""
-    row = float(np.clip(SUPERPOSITION_HEIGHT / rows, *SUPERPOSITION_ROW_RANGE))
-    gap, bottom = 0.45, 0.55
-    note_at = 0.25 + 0.26 * lines
-    top = note_at + (0.3 if note else 0.0) + 0.35  # the title, the note, the legend above the first row
-    fig = Figure(figsize=(13 if zoom is None else 15, top + bottom + rows * row + gap * (rows - 1)))
-    if note:
-        fig.text(0.8 / fig.get_figwidth(), 1 - note_at / fig.get_figheight(), note, fontsize=9.5, color="0.3",
-                 va="top", ha="left")
-    if zoom is None:
-        margins(fig, left=0.8, right=0.3, top=top, bottom=bottom, wspace=1.1, hspace=gap, columns=2, rows=rows)
-        axes = np.asarray(fig.subplots(rows, 2, sharex="col", squeeze=False))
-        zooms = [None] * rows
-    else:  # the overlay's zoom between the overlay and the difference
-        spec = fig.add_gridspec(rows, 3, width_ratios=(3, 2, 3))
-        margins(fig, left=0.8, right=0.3, top=top, bottom=bottom, wspace=1.0, hspace=gap, columns=3, rows=rows,
-                target=spec)
-        grid = np.array([[fig.add_subplot(spec[i, c]) for c in range(3)] for i in range(rows)])
-        _time_column(grid[:, 0], (t[0], t[-1]))
-        _time_column(grid[:, 2], (t[0], end))
-        axes, zooms = grid[:, [0, 2]], list(grid[:, 1])
-        _time_column(zooms, zoom[:2], f"zoom: {zoom[2]}")
-    return fig, axes, zooms
-
-
-def _overlay_dof(left, zoomed, i: int, t: np.ndarray, q_direct: np.ndarray, q_modal: np.ndarray, *, zoom,
-                 first: float | None) -> None:
-    """DOF ``i``'s overlay of the direct solution ``q_direct`` and the superposition ``q_modal`` [m or rad] on
-    ``left`` and its zoom ``zoomed`` (or None); ``first``: the time [s] of the first engagement, marked (None: no
-    mount engaged before the end)."""
-    factor, label = display_unit(q_direct, _UNITS["q"][i])
-    for ax, part in ((left, slice(None)), (zoomed, None if zoom is None else zoom_samples(t, zoom))):
-        if ax is None:
-            continue
-        plot_long(ax, t[part], factor * q_direct[part], color="black", linewidth=1.6,
-                  label="direct integration")
-        plot_long(ax, t[part], factor * q_modal[part], color="tab:orange", linewidth=1.0, linestyle="--",
-                  label="modal superposition")
-    left.set_ylabel(f"{DOFS[i]} [{label}]")
-    if zoom is not None:
-        left.axvspan(*zoom[:2], color="0.85", zorder=0)
-    if first is not None:
-        for ax in (left, zoomed):
-            if ax is not None:
-                ax.axvline(first, color="tab:red", linestyle="-.", linewidth=1.0,
-                           label="first engagement")  # its time: in the name and the titles
-
-
-def _difference_dof(right, i: int, t: np.ndarray, q_direct: np.ndarray, q_modal: np.ndarray, compared: slice,
-                    peaks: np.ndarray, agreement: Agreement | None, *, quiet_compared: bool, span: str) -> bool:
-    """DOF ``i``'s difference of the superposition from the direct solution (both (n, 6) [m, rad]) over the
-    samples ``compared``, divided as the agreement divides it, on ``right``; ``span``: the titles' note of the
-    span compared. Returns whether the tolerance lines were drawn."""
-    # Divided as the agreement divides it: by the DOF's own peak, or for a quiet DOF (round-off
-    # only) by the largest peak of all DOFs, rotations times the agreement's length, or by the floor a
-    # moving ground sets (see compare).
-    denominator, against = float(peaks[i]), "peak"
-    if agreement is not None and DOFS[i] in tuple(agreement.quiet):
-        length = float(agreement.length)
-        largest = float(np.max(peaks * np.array([1.0, 1.0, 1.0, length, length, length])))
-        denominator = float(agreement.denominator[i])
-        against = "largest peak" if largest >= agreement.floor else "1e-6 of the absolute motion"
-    difference = q_modal[compared, i] - q_direct[compared, i]
-    relative = difference / denominator if denominator > 0 else difference
-    if quiet_compared or not np.any(relative):  # round-off against round-off: its size said, not drawn
-        size = float(np.max(np.abs(relative))) if relative.size else 0.0
-        text = ("identical: both exactly zero" if size == 0 else
-                f"round-off only: max|Δ| / {against} = {size:.1e}")
-        right.text(0.5, 0.5, text, transform=right.transAxes, ha="center", va="center", fontsize=10,
-                   color="0.4")
-        right.set_yticks([])
-        # A DOF at rest until the first engagement may move after it: "not excited" only for the span compared.
-        right.set_title(f"{DOFS[i]}: not excited{span}", fontsize=9)
-        return False
-    # The power of ten in the axis label, not in an offset text above the axes (where the title is).
-    largest = float(np.max(np.abs(relative))) if relative.size else 0.0
-    exponent = int(np.floor(np.log10(largest))) if largest > 0 else 0
-    unit = 10.0 ** exponent
-    plot_long(right, t[compared], relative / unit, color="tab:purple", linewidth=0.9)
-    right.set_ylabel(f"Δ{DOFS[i]} / {against} [×10{_superscript(exponent)}]" if exponent
-                     else f"Δ{DOFS[i]} / {against} [1]")
-    # Tolerance lines only where they do not flatten the curve into a line.
-    tolerance_drawn = agreement is not None and largest > 0.1 * agreement.tolerance
-    if tolerance_drawn:
-        for sign in (-1, 1):
-            right.axhline(sign * agreement.tolerance / unit, color="tab:red", linestyle="--", linewidth=0.8)
-    if agreement is not None:
-        # Drawn, so more than round-off: quiet only against the largest peak (see compare).
-        note = " (quiet DOF)" if against != "peak" else ""
-        right.set_title(f"{DOFS[i]}: max|Δ| / {against}{span} = {agreement.per_dof[i]:.2e}{note}", fontsize=9)
-    return tolerance_drawn
-
 
 def _time_column(column, span, heading: str | None = None) -> None:
     """A column of time panels: one shared time axis over ``span`` [s] with at most 6 ticks (a short zoom's
@@ -568,205 +385,3 @@ def _time_column(column, span, heading: str | None = None) -> None:
 def _superscript(exponent: int) -> str:
     """``-9`` as ``⁻⁹``: a power of ten in a label without mathtext."""
     return str(exponent).translate(str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹"))
-
-
-def plot_mount_forces(forces: MountForces, t, *, name: str = "") -> Figure:
-    """Force of each mount on the foundation, one axis per component (x, y, z in body axes), one
-    line per mount, in kN; the total foundation force dashed.
-
-    Components get their own axes because their sizes differ by decades (vertical bearing loads vs
-    horizontal ones).
-
-    Parameters
-    ----------
-    forces : sixdof.analysis.response.MountForces
-        ``total`` (n_mounts, n, 3) [N] of the mounts ``names``; ``foundation_force`` (n, 3) [N]
-        drawn when not ``None``.
-    t : array_like, shape (n,)
-        Times [s] of the forces (the response's ``t``).
-    name : str
-        Name of the run, put before the title.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    require(forces, "forces", MountForces, "a sixdof.analysis.response.MountForces")
-    t = np.asarray(t, dtype=float)
-    values = np.asarray(forces.total)
-    if values.ndim != 3 or values.shape[1:] != (len(t), 3) or values.shape[0] != len(forces.names):
-        raise InputError("forces.total", f"shape ({len(forces.names)}, {len(t)}, 3) (mounts, len(t), axes)",
-                         f"shape {values.shape}")
-    names = forces.names
-    total = forces.foundation_force
-    fig = Figure(figsize=(12, 8.5))
-    fig.suptitle(title(name, "mount forces on the foundation (body axes)"), fontsize=13)
-    margins(fig, left=0.8, right=0.15, top=0.75, bottom=0.55, hspace=0.2, rows=3)
-    axes = fig.subplots(3, 1, sharex=True)
-    for c, ax in enumerate(axes):
-        component = values[:, :, c]
-        shown = component if total is None else np.concatenate([component, total[None, :, c]])
-        factor, label = display_unit(shown, "N")
-        for k, mount in enumerate(names):
-            # Thinner lines for later mounts: symmetric mounts often carry equal forces and would hide.
-            width = max(2.4 - 0.4 * k, 0.8)
-            plot_long(ax, t, factor * values[k, :, c], color=f"C{k % 10}", linewidth=width, label=f"mount {mount}")
-        if total is not None:
-            plot_long(ax, t, factor * total[:, c], color="black", linewidth=1.2, linestyle="--", label="total")
-        ax.set_ylabel(f"F{'xyz'[c]} [{label}]")
-    axes[0].legend(fontsize=9, loc="lower left", bbox_to_anchor=(0.0, 1.0), ncols=min(len(names) + 1, 8),
-                   frameon=False)
-    time_axes(axes, t)
-    return fig
-
-
-def plot_mount_loads(check: MountCheck, t, *, name: str = "", events: Mapping[str, Event] | None = None) -> Figure:
-    """Total normal force of each mount over the run (static preload plus dynamic, > 0 compression), one
-    row per mount, all in one unit: the whole record on the left, tension shaded red and the static load
-    dashed (the whole records share one force range); on the right a zoom, its span marked on the left and
-    its force range its own, where single cycles and short events can be read: on the excitation's shock
-    or switch-on (:func:`~sixdof.plots.zoom.event_window`), else on the largest dynamic excursion
-    (:func:`~sixdof.plots.zoom.zoom_window`). A record too short for a zoom is drawn alone.
-
-    Parameters
-    ----------
-    check : sixdof.analysis.mountcheck.MountCheck
-        ``compression`` (n_mounts, n) [N] and ``static_force`` of the mounts ``names``.
-    t : array_like, shape (n,)
-        Times [s] of ``compression`` (the response's ``t``).
-    name : str
-        Name of the run, put before the title.
-    events : mapping of str to sixdof.results.Event, optional
-        The excitation's shocks and switch-ons, by load name (a run's ``events``).
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    require(check, "check", MountCheck, "a sixdof.analysis.mountcheck.MountCheck")
-    t = np.asarray(t, dtype=float)
-    compression = np.asarray(check.compression, dtype=float)
-    if compression.shape != (len(check.names), len(t)):
-        raise InputError("check.compression", f"shape ({len(check.names)}, {len(t)}) (mounts, len(t))",
-                         f"shape {compression.shape}")
-    static = -np.asarray(check.static_force)[:, 2] if check.preload else np.zeros(len(check.names))
-    dynamic = compression - static[:, None]
-    window = event_window(events or {}, t) or zoom_window(t, dynamic)
-    factor, unit = display_unit(compression, "N")
-    rows = len(check.names)
-    fig = Figure(figsize=(12, 1.4 + 1.55 * rows + 0.6))
-    fig.suptitle(title(name, "normal force of each mount (static + dynamic; > 0 compression, < 0 tension)"),
-                 fontsize=12)
-    columns = 1 if window is None else 2
-    grid = fig.add_gridspec(rows, columns, width_ratios=None if window is None else (3, 2))
-    # The zoom's y labels need room: 0.5 in let the record's last time label touch them.
-    margins(fig, left=0.9, right=0.2, top=1.05, bottom=0.55, wspace=0.8, hspace=0.45, columns=columns, rows=rows,
-            target=grid)
-    low, high = factor * compression.min(), factor * compression.max()
-    pad = 0.08 * max(high - low, 1e-30)
-    for k, mount in enumerate(check.names):
-        panels = [fig.add_subplot(grid[k, 0])] + ([] if window is None else [fig.add_subplot(grid[k, 1])])
-        for ax, part in zip(panels, (slice(None), zoom_samples(t, window or (0, 0)))):
-            force = compression[k, part]
-            plot_long(ax, t[part], factor * force, color="tab:blue", linewidth=1.0, label="normal force N")
-            ax.axhline(factor * static[k], color="0.35", linestyle="--", linewidth=0.9, label="static (gravity)")
-            ax.axhline(0.0, color="black", linewidth=0.6)
-            ax.fill_between(t[part], factor * np.minimum(force, 0.0), 0.0, where=force < 0,
-                            color="tab:red", alpha=0.35, linewidth=0, label=TENSION_LABEL)
-            ax.set_ylim(low - pad, high + pad)
-            ax.grid(True, alpha=0.3)
-        whole = panels[0]
-        whole.set_xlim(t[0], t[-1])
-        whole.xaxis.set_major_locator(MaxNLocator(8, steps=[1, 2, 5, 10]))  # 0, 5, 10 s rather than 2.5 steps
-        whole.set_ylabel(f"N [{unit}]")
-        tension = "" if check.min_compression[k] >= 0 else f", TENSION first at t = {check.tension_start_t[k]:.4g} s"
-        whole.set_title(f"mount {mount}: {factor * check.min_compression[k]:.4g} to "
-                        f"{factor * check.max_compression[k]:.4g} {unit} "
-                        f"(static {factor * static[k]:.4g} {unit}){tension}",
-                        fontsize=9, loc="left")
-        if window is not None:
-            whole.axvspan(*window[:2], color="0.85", zorder=0, label="zoomed span")
-            panels[1].set_xlim(*window[:2])
-            panels[1].xaxis.set_major_locator(MaxNLocator(6, steps=[1, 2, 5, 10]))
-            # The zoom's own force range, static load kept in view: its cycles are what it is for.
-            seen = np.concatenate([factor * compression[k, zoom_samples(t, window)], [factor * static[k], 0.0]
-                                   if np.any(compression[k] < 0) else [factor * static[k]]])
-            spread = max(float(np.ptp(seen)), 1e-12 * max(abs(float(seen.max())), 1.0))
-            panels[1].set_ylim(float(seen.min()) - 0.08 * spread, float(seen.max()) + 0.08 * spread)
-            if k == 0:
-                panels[1].set_title(f"zoom: {window[2]}", fontsize=9, loc="left")
-        if k == rows - 1:
-            for ax in panels:
-                ax.set_xlabel("time t [s]")
-        else:
-            for ax in panels:
-                ax.tick_params(labelbottom=False)
-    handles, labels = fig.axes[0].get_legend_handles_labels()
-    if not np.any(compression < 0):  # no tension: its patch would say what is not there
-        handles, labels = zip(*[(h, label) for h, label in zip(handles, labels) if label != TENSION_LABEL])
-    fig.legend(handles, labels, fontsize=9, loc="upper left", bbox_to_anchor=(0.9 / 12, 1 - 0.4 / fig.get_figheight()),
-               ncols=len(labels), frameon=False)
-    return fig
-
-
-def plot_mount_shear(check: MountCheck, t, *, name: str = "", events: Mapping[str, Event] | None = None) -> Figure:
-    """Shear load of each mount, the resultant of its u and v loads (static + dynamic), one row per mount in
-    one unit: the whole record, and beside it the zoom of :func:`plot_mount_loads`; each row's title gives
-    its peak shear load and peak shear deflection (the resultant of the u and v deflections), which sets
-    an elastomer's shear strain.
-
-    Parameters
-    ----------
-    check : sixdof.analysis.mountcheck.MountCheck
-        ``force`` and ``deflection`` (n_mounts, n, 3) along the mounts' axes [N, m].
-    t : array_like, shape (n,)
-        Times [s] of the check's series.
-    name : str
-        Name of the run, put before the title.
-    events : mapping of str to sixdof.results.Event, optional
-        The excitation's shocks and switch-ons, by load name (a run's ``events``).
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    require(check, "check", MountCheck, "a sixdof.analysis.mountcheck.MountCheck")
-    t = np.asarray(t, dtype=float)
-    force, deflection = (np.asarray(a, dtype=float) for a in (check.force, check.deflection))
-    if force.shape != (len(check.names), len(t), 3):
-        raise InputError("check.force", f"shape ({len(check.names)}, {len(t)}, 3) (mounts, len(t), axes)",
-                         f"shape {force.shape}")
-    shear = np.hypot(force[..., 0], force[..., 1])
-    sliding = np.hypot(deflection[..., 0], deflection[..., 1])
-    # The excitation's event where it loads the mounts in shear (a vertical impact may not), else the largest
-    # swing of the shear itself.
-    window = event_window(events or {}, t)
-    swing = float(np.ptp(shear)) if shear.size else 0.0
-    if window is None or float(np.ptp(shear[:, zoom_samples(t, window)])) < 0.25 * swing:
-        window = zoom_window(t, shear - shear[:, :1])
-    factor, unit = display_unit(shear, "N")
-    rows = len(check.names)
-    # Each row's title on two lines (on one it ran past its panel into the zoom's heading): 0.15 in more per row.
-    fig = Figure(figsize=(12, 1.4 + 1.7 * rows + 0.6))
-    fig.suptitle(title(name, "shear load of each mount (resultant of u and v, static + dynamic)"), fontsize=12)
-    spec = fig.add_gridspec(rows, 1 if window is None else 2, width_ratios=None if window is None else (3, 2))
-    margins(fig, left=0.9, right=0.2, top=0.9, bottom=0.55, wspace=0.8, hspace=0.6,
-            columns=1 if window is None else 2, rows=rows, target=spec)
-    panels = [[fig.add_subplot(spec[k, c]) for c in range(1 if window is None else 2)] for k in range(rows)]
-    _time_column([row[0] for row in panels], (t[0], t[-1]))
-    if window is not None:
-        _time_column([row[1] for row in panels], window[:2], f"zoom: {window[2]}")
-    top = 1.08 * factor * float(np.max(shear))
-    for k, (mount, row) in enumerate(zip(check.names, panels)):
-        for ax, part in zip(row, (slice(None), zoom_samples(t, window or (0, 0)))):
-            plot_long(ax, t[part], factor * shear[k, part], color="tab:purple", linewidth=1.0)
-            ax.set_ylim(0.0, top)
-        row[0].set_ylabel(f"shear |F_uv| [{unit}]")
-        if window is not None:
-            row[0].axvspan(*window[:2], color="0.85", zorder=0)
-        j, i = int(np.argmax(sliding[k])), int(np.argmax(shear[k]))
-        scale, shown = display_unit(sliding[k, j], "m")
-        row[0].set_title(f"mount {mount}: peak shear load {factor * shear[k, i]:.4g} {unit} at t = {t[i]:.4g} s,\n"
-                         f"peak shear deflection {scale * sliding[k, j]:.4g} {shown} at t = {t[j]:.4g} s",
-                         fontsize=9, loc="left")
-    return fig

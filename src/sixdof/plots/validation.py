@@ -9,7 +9,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from sixdof.errors import InputError, Plain
-from sixdof.plots.common import margins, panel_grid, plot_long, require, title
+from sixdof.plots.common import figure, margins, panel_grid, plot_long, require, title
 from sixdof.validation import ValidationReport
 
 if TYPE_CHECKING:  # sixdof.validation loads scipy.signal (about a second): imported where drawn
@@ -25,7 +25,7 @@ def _by_mode(report: ValidationReport, field: str, expected: str) -> tuple[list,
     return items, {int(row.mode): row for row in report.rows}
 
 
-def plot_validation_frf(report: ValidationReport, *, name: str = "") -> Figure:
+def plot_validation_frf(report: ValidationReport, *, name: str = "", fig: Figure | None = None) -> Figure:
     """H1 estimate (random run) against the model FRF of each mode's modal coordinate, one panel
     per mode over its band, with the natural frequency and the estimate's peak marked and the
     coherence below.
@@ -39,6 +39,10 @@ def plot_validation_frf(report: ValidationReport, *, name: str = "") -> Figure:
     name : str
         Name of the run, put before the title.
 
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
+        one. Layout: one column per mode (its FRF estimate above its coherence), up to a few columns a row.
+
     Returns
     -------
     matplotlib.figure.Figure
@@ -51,7 +55,7 @@ def plot_validation_frf(report: ValidationReport, *, name: str = "") -> Figure:
     runs, rows = _by_mode(report, "random_runs", "at least one random run")
     columns, grid = panel_grid(len(runs))
     # The top margin holds the figure's title above the first row's two-line panel titles.
-    fig = Figure(figsize=(5.0 * columns, 4.6 * grid + 0.35))
+    fig = figure(fig, (5.0 * columns, 4.6 * grid + 0.35))
     fig.suptitle(title(name, "modal FRFs: H1 estimate from a random force vs the model"), fontsize=12)
     cells = fig.add_gridspec(grid, columns)
     margins(fig, left=1.0, right=0.15, top=0.95, bottom=0.5, wspace=1.15, hspace=1.2, columns=columns, rows=grid,
@@ -98,7 +102,7 @@ def plot_validation_frf(report: ValidationReport, *, name: str = "") -> Figure:
     return fig
 
 
-def plot_free_decays(report: ValidationReport, *, name: str = "") -> Figure:
+def plot_free_decays(report: ValidationReport, *, name: str = "", fig: Figure | None = None) -> Figure:
     """Free decay of each mode's modal coordinate after release from its shape, with the located
     extrema and the fitted exponential envelope; estimated vs model damped frequency and damping in
     each title.
@@ -110,6 +114,10 @@ def plot_free_decays(report: ValidationReport, *, name: str = "") -> Figure:
         estimate) are drawn; its ``rows`` give the model's damped frequency [Hz] and damping ratio.
     name : str
         Name of the run, put before the title.
+
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
+        one. Layout: one panel per mode's free decay, up to a few columns a row.
 
     Returns
     -------
@@ -123,7 +131,7 @@ def plot_free_decays(report: ValidationReport, *, name: str = "") -> Figure:
     decays, rows = _by_mode(report, "decays", "at least one free decay")
     n = len(decays)
     columns, grid = panel_grid(n)
-    fig = Figure(figsize=(5.0 * columns, 3.6 * grid + 0.25))
+    fig = figure(fig, (5.0 * columns, 3.6 * grid + 0.25))
     fig.suptitle(title(name, "free decay from each damped mode shape: modal coordinate "
                        "$\\eta_r = \\phi_r^T M q$"), fontsize=12)
     margins(fig, left=1.0, right=0.15, top=0.85, bottom=0.5, wspace=1.1, hspace=0.95, columns=columns, rows=grid)

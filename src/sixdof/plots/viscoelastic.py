@@ -9,7 +9,7 @@ from matplotlib.figure import Figure
 
 from sixdof.errors import InputError
 from sixdof.model.viscoelastic import MaxwellFit
-from sixdof.plots.common import margins, plain_frequencies
+from sixdof.plots.common import figure, margins, plain_frequencies
 
 #: The fitted curves are drawn this factor beyond each end of their data's band: how the model leaves it.
 BEYOND_BAND = 2.0
@@ -19,7 +19,8 @@ BEYOND_BAND = 2.0
 LEGEND_ROW = 0.2
 
 
-def plot_dynamic_stiffness(fits: Sequence[tuple[str, MaxwellFit]], title: str | None = None) -> Figure:
+def plot_dynamic_stiffness(fits: Sequence[tuple[str, MaxwellFit]], title: str | None = None, *,
+                           fig: Figure | None = None) -> Figure:
     """Storage stiffness (top, log) and loss factor (bottom) against frequency: each fit's data as markers
     and its model as a line of the same colour over the data's band and a factor :data:`BEYOND_BAND` beyond
     each end, with the fit's worst errors in the legend.
@@ -31,6 +32,10 @@ def plot_dynamic_stiffness(fits: Sequence[tuple[str, MaxwellFit]], title: str | 
         :func:`~sixdof.model.viscoelastic.constant_loss_model`) per curve.
     title : str, optional
         Title of the figure; default "dynamic stiffness: data and generalized Maxwell fits".
+
+    fig : matplotlib.figure.Figure, optional
+        An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
+        one. Layout: the storage stiffness above the loss factor, the legend below.
 
     Returns
     -------
@@ -47,7 +52,7 @@ def plot_dynamic_stiffness(fits: Sequence[tuple[str, MaxwellFit]], title: str | 
                            and isinstance(item[1], MaxwellFit) for item in fits):
         raise InputError("fits", expected, fits)
     legend_height = LEGEND_ROW * len(fits)  # below the axes: inside them it hid the stiffest curve's data
-    fig = Figure(figsize=(9, 7.5 + legend_height))
+    fig = figure(fig, (9, 7.5 + legend_height))
     fig.suptitle(title or "dynamic stiffness: data and generalized Maxwell fits", fontsize=12)
     margins(fig, left=1.0, right=0.3, top=0.75, bottom=0.6 + legend_height, hspace=0.45, rows=2)
     top, bottom = fig.subplots(2, 1, sharex=True)
@@ -77,13 +82,28 @@ def plot_dynamic_stiffness(fits: Sequence[tuple[str, MaxwellFit]], title: str | 
     return fig
 
 
-def plot_mount_fits(fits: Sequence[MaxwellFit], name: str = "") -> Figure:
+def plot_mount_fits(fits: Sequence[MaxwellFit], name: str = "", *, fig: Figure | None = None) -> Figure:
     """:func:`plot_dynamic_stiffness` of a run's fits (:attr:`sixdof.results.RunResults.viscoelastic`), one curve
-    per distinct model: mount axes fitted to the same data alike share a label (``"B u, C u (loss factor 0.1)"``)."""
+    per distinct model: mount axes fitted to the same data alike share a label (``"B u, C u (loss factor 0.1)"``).
+
+    Parameters
+    ----------
+    fits : sequence of sixdof.model.viscoelastic.MaxwellFit
+        The run's fits, one per mount axis.
+    name : str
+        Name of the run, put before the title.
+    fig : matplotlib.figure.Figure, optional
+        As :func:`plot_dynamic_stiffness`'s. Layout: the storage stiffness above the loss factor, the legend below.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     curves: dict[tuple, list[MaxwellFit]] = {}
     for fit in fits:
         key = (fit.source, fit.long_term, *fit.stiffness, *fit.tau, *fit.f_hz, *fit.storage, *fit.loss_factor)
         curves.setdefault(key, []).append(fit)
     labelled = [(f"{', '.join(f.name for f in same) if len(same) <= 2 else f'{len(same)} mount axes'} "
                  f"({same[0].source})", same[0]) for same in curves.values()]
-    return plot_dynamic_stiffness(labelled, title=f"{name}: mount dynamic stiffness and Maxwell fits" if name else None)
+    return plot_dynamic_stiffness(labelled, title=f"{name}: mount dynamic stiffness and Maxwell fits" if name else None,
+                                  fig=fig)

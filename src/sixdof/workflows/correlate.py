@@ -26,7 +26,7 @@ from sixdof.io.scenario import Scenario, load_scenario, parse_scenario
 from sixdof.io.store import write_results
 from sixdof.io.study_report import correlation_text
 from sixdof.io.testfile import load_test
-from sixdof.plots import correlation_figure_names, render_correlation
+from sixdof.plots import correlation_figure_names, render_correlation_files
 from sixdof.progress import meter
 from sixdof.validation.correlation import channel_shapes, correlate_modes
 from sixdof.validation.estimation import check_resolution, estimate_frfs, resolving_segment_s, sharpest_bandwidth
@@ -197,7 +197,8 @@ def _save_into(stage: Path, run: CorrelationRun, command_line: str | None) -> No
     write_results(stage / "correlation.h5", run, command_line=command_line)
     figures = correlation_figure_names(run)
     for name in figures:
-        (stage / name).write_bytes(render_correlation(run, name))
+        for file, content in render_correlation_files(run, name).items():
+            (stage / file).write_bytes(content)
     if run.updated_text:
         (stage / "updated.toml").write_text(run.updated_text, encoding="utf-8")
     links = "\n".join(f"![{Path(name).stem}]({name})" for name in figures)

@@ -16,6 +16,7 @@ from pathlib import Path
 
 from sixdof.errors import InputError, Plain
 from sixdof.io import output
+from sixdof.io.settings import stored_figure_settings
 from sixdof.io.store import load_results
 from sixdof.io.store.tree import CORRELATION_FORMAT, DESIGN_FORMAT, FORMAT
 from sixdof.plots import correlation_figure_names, figure_names, png, render_correlation
@@ -66,8 +67,10 @@ def redraw(results: str | Path, directory: str | Path | None = None, *,
     replacing its namesake and all of a file's at once (:func:`sixdof.io.output.replace_files`). A namesake that
     sixdof did not write is never replaced: it is refused before anything is drawn.
 
-    The figures of a run are drawn by ``workers`` (:class:`sixdof.plots.drawer.FigureDrawer`; the command line
-    starts them before it reads the file); default: in this process. Those of the other kinds are drawn here.
+    A run's figures are written in the ``[output] formats``, at the ``dpi``, of the scenario the file was
+    computed from (the text it stores), else as PNG at 150 dpi, and drawn by ``workers``
+    (:class:`sixdof.plots.drawer.FigureDrawer`; the command line starts them before it reads the file); default:
+    in this process. Those of the other kinds are drawn here, as PNG.
 
     Returns
     -------
@@ -138,7 +141,9 @@ def _redraw_run(path: Path, directory: Path, workers) -> list[Path]:
     if not figure_names(run):
         raise InputError("results", "a results file with something to draw (the results.h5 of `sixdof run` or "
                          "`sixdof validate`)", Plain(f"{path}: nothing to draw"))
-    output.check_files(directory, figure_names(run))
+    formats, dpi = stored_figure_settings(run.provenance)
+    output.check_files(directory, [f"{Path(name).stem}.{kind}" for name in figure_names(run) for kind in formats])
     with drawer(workers) as drawing:
+        drawing.formats, drawing.dpi = formats, dpi  # the results hold no scenario for the drawer to read them from
         drawing.submit(run)
         return output.replace_files(directory, drawing.save)

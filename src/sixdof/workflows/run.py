@@ -362,7 +362,7 @@ def _save_into(stage: Path, results: RunResults, sink, drawing, command_line: st
 
         with held_signals():  # matplotlib's C code can swallow a KeyboardInterrupt
             figures = [*figures, *write_mode_animations(results.modes, results.system, stage)]
-    summary = report.summary_markdown(results, figures)
+    summary = report.summary_markdown(results, html_report.embeddable(figures))  # one image per figure
     (stage / "summary.md").write_text(summary, encoding="utf-8")
     html_report.write_run_report(stage, results, summary, figures)
 

@@ -23,8 +23,8 @@ from sixdof.excitation import Excitation
 from sixdof.results import Event, RunResults, envelope_samples, time_concat, time_slice
 
 #: Time bins in which a long run keeps each drawn series' extremes: at least one per pixel column of the
-#: widest figure with time axes (13 in at 120 dpi).
-ENVELOPE_BINS = 1600
+#: widest figure with time axes (13 in at the default 150 dpi).
+ENVELOPE_BINS = 2000
 #: Output samples per window of a run too long to hold in memory: a window's arrays (~4 kB per sample with its
 #: cross-check, mount forces and checks) stay near 30 MB, while a window costs ~1 ms besides its steps.
 LONG_RUN_WINDOW = 8192

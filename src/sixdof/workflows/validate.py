@@ -88,7 +88,7 @@ def _save_into(stage: Path, results: RunResults, drawing, command_line: str | No
     store.write_results(stage / "results.h5", results, command_line=command_line)
     drawing.submit(results)
     figures = drawing.save(stage)
-    links = "\n".join(f"![{p.stem}]({p.name})" for p in figures)
+    links = "\n".join(f"![{p.stem}]({p.name})" for p in html_report.embeddable(figures))
     text = (f"# {results.name}: modal results against time histories\n\n{validation_text(results.validation)}\n\n"
             f"{links}\n")
     (stage / "validation.md").write_text(text, encoding="utf-8")

@@ -1,0 +1,149 @@
+"""The figure API (issue 49): every public plot function takes ``ax=`` (one panel) or ``fig=`` (several, its
+layout stated in its docstring), draws there from the typed results alone, and returns the figure it drew in."""
+
+import dataclasses
+import functools
+import inspect
+from pathlib import Path
+
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+
+import sixdof
+from sixdof import plots
+
+SCENARIOS = Path(sixdof.__file__).parent / "scenarios"
+#: Public plot functions drawing one panel: they take ``ax=``; every other takes ``fig=``.
+SINGLE_PANEL = {"plot_ke_distribution", "plot_mac", "plot_spectrum", "plot_srs", "plot_stability"}
+#: Multi-panel functions that fit their panels to a caller's figure, at its size, without their title; the others lay
+#: their rows out in inches and give the caller's figure their size.
+FITTED = {"plot_frf_overlay", "plot_mode_shapes", "plot_transmissibility", "plot_update_history"}
+PLOT_FUNCTIONS = sorted(name for name in plots.__all__ if name.startswith("plot_"))
+
+
+@functools.cache
+def inputs() -> dict:
+    """Arguments of every public plot function, from small systems' typed results."""
+    from sixdof.analysis.isolation_summary import isolation_summary
+    from sixdof.analysis.random import PSD, RandomInput, random_response
+    from sixdof.analysis.spectrum import response_spectrum
+    from sixdof.analysis.srs import ShockSpectra
+    from sixdof.model.viscoelastic import constant_loss_model
+    from sixdof.plots.correlation import UpdateHistory
+    from sixdof.validation.correlation import channel_shapes, correlate_modes
+    from sixdof.validation.identify import identify_modes
+    from sixdof.validation.random_time import random_time_check
+    from store_cases import run_parts
+    from systems import four_mount, small_box
+    from test_hysteresis import SCENARIO as HYSTERETIC
+    from test_random_time import _force_on_the_box
+    from test_records_run import scenario_text
+    from test_spectrum import _ec8
+
+    parts = run_parts()
+    response, check, t = parts["response"], parts["mount_check"], parts["response"].t
+    box = four_mount(m=500.0, k=(2e5, 3e5, 8e5), damping=(300.0, 300.0, 600.0))
+    f = np.geomspace(0.5, 50.0, 200)
+    psd = PSD(f_hz=[2.0, 20.0, 60.0], value=[0.01, 0.04, 0.02], unit="g^2/Hz")
+    random = random_response(small_box(), RandomInput(input="ground_acceleration", direction=[0.0, 0.6, 0.8], psd=psd),
+                             {"corner": [0.3, 0.2, 0.1]})
+    force, settings = _force_on_the_box(duration=30.0)
+    random_check = random_time_check(small_box(zeta=0.04), force, {"corner": [0.3, 0.2, 0.1]}, settings)
+    shock = ShockSpectra(f_hz=np.geomspace(10.0, 2000.0, 40), points=np.ones((1, 3, 40)), names=("board",), q=10.0,
+                         input=np.full(40, 2.0))
+    extra = 'hysteresis = { law = "bouc_wen", axes = ["u"], yield_force = [500.0], post_yield_ratio = 0.1 }'
+    hysteretic = sixdof.run(sixdof.parse_scenario(HYSTERETIC.format(extra=extra)))
+    with pytest.warns(UserWarning):  # two records, fewer than EN 1998-1 asks
+        records = sixdof.run(sixdof.parse_scenario(scenario_text("{ count = 2, duration = 14.0, dt = 0.02 }",
+                                                                 "behaviour_factor = 1.5\n")))
+    tap = sixdof.load_scenario(SCENARIOS / "machine_tap_test.toml")
+    test = sixdof.load_test(SCENARIOS / "machine_tap_test.uff", tap)
+    identified = identify_modes(test.f_hz, test.H, test.quantity, band_hz=(2.0, 40.0), max_order=24)
+    modes = tap.system.modes
+    correlation = correlate_modes(identified.modes.frequency_hz, identified.modes.damping_ratio,
+                                  identified.modes.shapes, modes.frequency_hz, np.full(6, 0.02),
+                                  channel_shapes(test.response_rows(), modes.shapes))
+    history = UpdateHistory(np.array([0, 0, 1, 1, -1]), np.array([1.0, 0.3, 0.2, 0.1, 0.05]),
+                            np.column_stack([np.linspace(1.0, 0.9, 5), np.linspace(0.0, 0.006, 5)]),
+                            ("rear v", "cg_offset x"), [1.0, 0.0], ("1", "m"), "modal objective")
+    w = 2 * np.pi * test.f_hz[:, None, None]
+    model_H = -w**2 * (test.response_rows() @ np.linalg.inv(tap.system.K - w**2 * tap.system.M
+                                                             + 1j * w * tap.system.C) @ test.load_columns())
+    fit = constant_loss_model(1e6, 0.15, (5.0, 500.0))
+    return {
+        "plot_mode_shapes": ((parts["modes"], parts["system"]), {}),
+        "plot_ke_distribution": ((parts["modes"],), {}),
+        "plot_time_histories": ((response,), {"events": parts.get("events")}),
+        "plot_superposition": ((response, parts["superposition"], parts["agreement"]), {}),
+        "plot_mount_forces": ((parts["mount_forces"], t), {}),
+        "plot_mount_loads": ((check, t), {}),
+        "plot_mount_shear": ((check, t), {}),
+        "plot_bode": ((parts["frf"], parts["modes"]), {}),
+        "plot_point_frfs": ((parts["frf_extras"], parts["modes"]), {}),
+        "plot_transmissibility": ((isolation_summary(box, box.modes, f, [3.0], [[0, 0, 100.0, 0, 0, 0]]),
+                                   box.modes), {}),
+        "plot_validation_frf": ((parts["validation"],), {}),
+        "plot_free_decays": ((parts["validation"],), {}),
+        "plot_random": ((random,), {}),
+        "plot_random_check": ((random_check,), {}),
+        "plot_srs": ((shock,), {}),
+        "plot_spectrum": ((response_spectrum(small_box(), _ec8(directions=("x", "z"))),), {}),
+        "plot_hysteresis": ((hysteretic.system, hysteretic.response, hysteretic.mount_forces), {}),
+        "plot_records": ((records.spectrum_records, records.records_check), {}),
+        "plot_dynamic_stiffness": (([("constant loss factor 0.15", fit)],), {}),
+        "plot_mount_fits": (([dataclasses.replace(fit, name="A u")],), {}),
+        "plot_stability": ((identified,), {"H": test.H, "f_hz": test.f_hz}),
+        "plot_mac": ((correlation,), {}),
+        "plot_frf_overlay": ((test, model_H), {}),
+        "plot_update_history": ((history,), {}),
+    }
+
+
+def test_every_public_plot_function_takes_ax_or_fig_and_returns_a_figure():
+    """A new plot function without ``ax=`` or ``fig=`` fails here (and in the test below, which needs its inputs)."""
+    assert len(PLOT_FUNCTIONS) >= 24
+    for name in PLOT_FUNCTIONS:
+        function = getattr(plots, name)
+        parameters = inspect.signature(function).parameters
+        wanted = "ax" if name in SINGLE_PANEL else "fig"
+        assert wanted in parameters and parameters[wanted].default is None, name
+        assert inspect.signature(function).return_annotation in (Figure, "Figure"), name
+        assert f"    {wanted} : matplotlib." in function.__doc__, name  # documented: the layout it draws, for fig
+    assert set(inputs()) == set(PLOT_FUNCTIONS)  # each one is drawn below
+
+
+@pytest.mark.parametrize("name", PLOT_FUNCTIONS)
+def test_each_plot_function_draws_into_the_given_axes_or_figure(name):
+    args, kwargs = inputs()[name]
+    function = getattr(plots, name)
+    alone = function(*args, **kwargs)
+    assert isinstance(alone, Figure) and alone.axes
+    # A fitted layout's margins are in inches: it is given a figure of its own size; the others any size.
+    given = Figure(figsize=alone.get_size_inches() if name in FITTED else (6.0, 4.0))
+    if name in SINGLE_PANEL:
+        ax = given.add_subplot()
+        assert function(*args, ax=ax, **kwargs) is given
+        assert ax.has_data() or ax.images or ax.collections, name
+        assert given.axes[0] is ax  # drawn there, not into new axes (a colour bar may come beside it)
+    else:
+        assert function(*args, fig=given, **kwargs) is given
+        assert len(given.axes) == len(alone.axes), name  # the same panels as its own figure
+        if name not in FITTED:
+            assert tuple(given.get_size_inches()) == tuple(alone.get_size_inches()), name
+    if name not in SINGLE_PANEL | FITTED:  # no longer empty: refused, naming fig
+        with pytest.raises(sixdof.InputError, match=r"fig: expected an empty matplotlib Figure"):
+            function(*args, fig=given, **kwargs)
+
+
+def test_a_figure_drawn_into_must_be_an_empty_figure():
+    from sixdof.plots.common import figure
+
+    with pytest.raises(sixdof.InputError, match=r"fig: expected an empty matplotlib Figure \(the plot lays out its "
+                                                r"own panels\), got a figure with 1 axes"):
+        full = Figure()
+        full.add_subplot()
+        figure(full, (4, 3))
+    with pytest.raises(sixdof.InputError, match=r"fig: expected a matplotlib.figure.Figure \(or None for a new one\)"):
+        figure("figure", (4, 3))
+    assert tuple(figure(Figure(), (4.0, 3.0)).get_size_inches()) == (4.0, 3.0)

@@ -134,6 +134,9 @@ def _clearances(value, field: str) -> np.ndarray:
 class Mount(Frozen):
     """A triaxial visco-elastic mount (bearing, isolator) attached to the body.
 
+    The mount's ``w`` axis is its normal (compression) axis, pointing from the foundation towards
+    the body: the mount is compressed when its body point moves along ``-w`` relative to the ground.
+
     Parameters
     ----------
     name : str
@@ -168,9 +171,6 @@ class Mount(Frozen):
         False: the mount carries no tensile force along ``w`` from any of its parts (spring, dashpot, Maxwell
         branches) and lifts off instead (its static preload taken into account; it must be in compression at
         rest; :mod:`sixdof.model.nonlinear`). Default True.
-
-    The mount's ``w`` axis is its normal (compression) axis, pointing from the foundation towards
-    the body: the mount is compressed when its body point moves along ``-w`` relative to the ground.
     """
 
     name: str = checked(label_check)

@@ -178,12 +178,12 @@ def compare(direct_q, modal_q, tolerance: float = AGREEMENT_TOLERANCE, *, length
     direct_q, modal_q : array_like, shape (n, 6), or objects with a ``q`` attribute
         Reference and compared histories of q [m, rad] on the same time grid.
     tolerance : float
-        Largest acceptable relative error (default 1e-6).
+        Largest acceptable relative error [1] (default 1e-6).
     length : float
         Length [m] converting rotations into displacements for the quiet test (e.g. the body's
         half-size); default 1 m.
     quiet_rtol : float
-        Relative size below which a DOF is quiet (default 1e-6).
+        Relative size below which a DOF is quiet [1] (default 1e-6).
     absolute : array_like, shape (n, 6), optional
         The reference's absolute motion [m, rad] when ``direct_q`` is relative to a moving ground.
 
@@ -228,7 +228,7 @@ def compare_motion(direct, modal, tolerance: float = AGREEMENT_TOLERANCE, *, len
     direct, modal : sixdof.results.TimeHistory
         Reference (direct) and compared (modal) histories on the same time grid.
     tolerance, length, quiet_rtol : float
-        As in :func:`compare`.
+        As in :func:`compare`: relative error [1], length [m], relative size [1].
     omega : float, optional
         The highest natural angular frequency [rad/s] (``system.modes.omega.max()``): the scale from
         displacements to velocities and accelerations for their floors. Default: no such floor.

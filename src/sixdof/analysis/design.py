@@ -99,7 +99,7 @@ def design_metrics(system, torque_axis=None) -> DesignMetrics:
     ----------
     system : sixdof.model.system.System
     torque_axis : array_like, shape (3,), optional
-        Axis of the exciting torque in body axes (an engine's crankshaft); normalized. Without it there is
+        Axis of the exciting torque in body axes [1] (an engine's crankshaft); normalized. Without it there is
         no TRA, roll mode or TRA decoupling.
 
     Returns

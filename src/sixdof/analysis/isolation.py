@@ -118,7 +118,7 @@ def effective_linearization_loop(linearize: Callable, settings, axes: Sequence[t
     start : array_like, shape (n_axes,)
         The first design displacements [m], > 0.
     rtol : float
-        Convergence: the relative change of every stiffness and of the system's damping.
+        Convergence: the relative change [1] of every stiffness and of the system's damping.
     max_iterations : int
 
     Returns

@@ -317,7 +317,13 @@ class Haversine(Signal):
 
 @dataclass(frozen=True, eq=False)
 class Step(Signal):
-    """Unit step: 0 before ``start`` [s], 1 from ``start`` on (a suddenly applied, held load)."""
+    """Unit step: 0 before ``start``, 1 from ``start`` on (a suddenly applied, held load).
+
+    Parameters
+    ----------
+    start : float, optional
+        Switch-on time [s]. Default 0.
+    """
 
     kind: ClassVar[str] = "step"
     start: float = checked(_TIME, default=0.0)
@@ -473,7 +479,8 @@ class Random(Signal):
     f_hz : sequence of 2 floats
         Band ``[low, high]`` [Hz], 0 < low < high.
     rms : float
-        Root-mean-square value, > 0.
+        Root-mean-square value [signal unit: 1 for a load's multiplier, the record's for ground motion
+        before ``scale``], > 0.
     seed : int
         Seed, >= 0.
     components : int, optional

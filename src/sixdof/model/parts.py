@@ -148,9 +148,10 @@ class Mount(Frozen):
     damping : array_like, shape (3,), optional
         Viscous damping along the mount's own axes [N s/m], each >= 0. Default zero.
     axes : array_like, shape (3, 3), optional
-        Rows are the mount's axes expressed in body axes; must be orthonormal. Default: body axes.
+        Rows are the mount's unit axes u, v, w expressed in body axes [1]; must be orthonormal. Default: body
+        axes.
     loss_factor : array_like, shape (3,), optional
-        Hysteretic loss factor per axis (complex stiffness ``k (1 + i eta)``), used by frequency
+        Hysteretic loss factor per axis [1] (complex stiffness ``k (1 + i eta)``), used by frequency
         responses only. Default zero.
     max_deflection : float or array_like, shape (3,), optional
         Largest allowed deflection from the unloaded mount (static plus dynamic), one value for

@@ -45,12 +45,12 @@ def point_frf(system: System, f_hz, load_point, load_direction, response_point, 
     load_point : array_like, shape (3,)
         Where the load acts, from the CG in body axes [m].
     load_direction : str or array_like, shape (3,)
-        ``"x"``, ``"y"``, ``"z"`` or a nonzero 3-vector (normalized): a unit force along it; or
+        ``"x"``, ``"y"``, ``"z"`` or a nonzero 3-vector [1] (normalized): a unit force along it; or
         ``"rx"``, ``"ry"``, ``"rz"``: a unit moment about that body axis.
     response_point : array_like, shape (3,)
         Where the motion is observed, from the CG in body axes [m].
     response_direction : str or array_like, shape (3,)
-        ``"x"``, ``"y"``, ``"z"`` or a 3-vector: the point's translation along it; or ``"rx"``,
+        ``"x"``, ``"y"``, ``"z"`` or a 3-vector [1]: the point's translation along it; or ``"rx"``,
         ``"ry"``, ``"rz"``: the body's rotation about that axis (the same at every point).
     quantity : {"receptance", "mobility", "accelerance"}
         Displacement, velocity or acceleration per load.
@@ -148,7 +148,7 @@ def ground_transmissibility(system: System, f_hz, ground_direction, response_poi
     f_hz : array_like, shape (nf,)
         Frequencies [Hz].
     ground_direction : str or array_like, shape (3,)
-        ``"x"``, ``"y"``, ``"z"`` or a nonzero 3-vector (normalized): the ground's translation.
+        ``"x"``, ``"y"``, ``"z"`` or a nonzero 3-vector [1] (normalized): the ground's translation.
     response_point : array_like, shape (3,)
         Body point observed, from the CG in body axes [m].
     method : {"direct", "modal"}

@@ -524,10 +524,10 @@ class Random(Signal):
         return 4.0 * float(self.rms)
 
 
-#: TOML ``kind`` of a signal -> its class.
 SIGNAL_KINDS: dict[str, type[Signal]] = {
     cls.kind: cls for cls in (Harmonic, Sweep, HalfSine, Haversine, Step, Ramp, Table, Random)
 }
+"""TOML ``kind`` of a signal (``"harmonic"``, ``"sweep"``, ...) -> its class."""
 
 
 def make_signal(value: Signal | Mapping[str, Any]) -> Signal:

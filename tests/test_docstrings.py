@@ -1,10 +1,12 @@
-"""Every public name (``sixdof.__all__``) carries a numpydoc docstring the API reference can show.
+"""Every public name (``sixdof.__all__``), and every result class a public function returns, carries a
+numpydoc docstring the API reference can show, and the API reference shows it.
 
 A small parser of numpydoc sections (a title underlined with dashes; entries ``name : type`` at the
 section's indentation, their description indented below) is enough here: no docstring library needed.
 """
 
 import dataclasses
+import importlib
 import inspect
 import re
 from pathlib import Path
@@ -58,11 +60,40 @@ def documented(entries) -> set[str]:
     return {part.strip().lstrip("*") for name, _, _ in entries for part in name.split(",")}
 
 
+def _resolve(name: str, namespace: dict):
+    """The object a docstring's type names, looked up as the function's module sees it, else by its path."""
+    if name in namespace:
+        return namespace[name]
+    module, _, attr = name.rpartition(".")
+    try:
+        return getattr(importlib.import_module(module), attr) if module else getattr(sixdof, name, None)
+    except (ImportError, AttributeError):
+        return None
+
+
+def returned_classes() -> dict[str, type]:
+    """The sixdof classes the public functions' Returns sections name, by name (those outside ``__all__``)."""
+    found = {}
+    for name in sixdof.__all__:
+        obj = getattr(sixdof, name)
+        if not inspect.isfunction(obj):
+            continue
+        for kind, _, _ in sections(inspect.getdoc(obj) or "").get("Returns", []):
+            for word in re.findall(r"[A-Za-z_][\w.]*", kind):
+                cls = _resolve(word, obj.__globals__)
+                if (inspect.isclass(cls) and cls.__module__.startswith("sixdof.")
+                        and cls.__name__ not in sixdof.__all__):
+                    found[cls.__name__] = cls
+    return found
+
+
 def _public():
     for name in sixdof.__all__:
         obj = getattr(sixdof, name)
         if inspect.isclass(obj) or inspect.isfunction(obj):
             yield pytest.param(name, obj, id=name)
+    for name, cls in returned_classes().items():
+        yield pytest.param(name, cls, id=f"returned-{name}")
 
 
 def _problems_function(obj) -> list[str]:
@@ -104,15 +135,23 @@ def _problems_units(obj) -> list[str]:
 def test_public_name_has_numpydoc_docstring(name, obj):
     doc = inspect.getdoc(obj) or ""
     summary = sections(doc)[""][0][2].strip()
-    assert summary, f"sixdof.{name} has no docstring summary"
+    where = f"{obj.__module__}.{obj.__qualname__}"
+    assert summary, f"{where} has no docstring summary"
     problems = _problems_class(obj) if inspect.isclass(obj) else _problems_function(obj)
     problems += _problems_units(obj)
-    assert not problems, f"sixdof.{name}: " + "; ".join(problems)
+    assert not problems, f"{where}: " + "; ".join(problems)
 
 
-def test_api_page_shows_every_public_name():
+def test_api_page_shows_every_public_name_and_returned_class():
     shown = set(re.findall(r"^::: sixdof\.[\w.]*\.(\w+)$", API_PAGE.read_text(), re.M))
-    assert set(sixdof.__all__) - shown == set()
+    assert (set(sixdof.__all__) | set(returned_classes())) - shown == set()
+
+
+def test_returned_classes_are_found():
+    """The Returns sections' types resolve: the result classes receptance and mount_forces return among them."""
+    found = returned_classes()
+    assert {"FRF", "MountForces", "Agreement", "DesignMetrics"} <= set(found)
+    assert found["FRF"].__module__.startswith("sixdof.analysis.frf")
 
 
 def test_parser_reads_sections_entries_and_units():

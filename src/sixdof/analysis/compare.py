@@ -40,11 +40,11 @@ class Agreement:
     worst_dof : str
         Name of the DOF with the largest relative difference of all quantities compared.
     worst : float
-        That value.
+        That value [1].
     worst_quantity : str
         The quantity it is in: ``"q"``, ``"qd"`` or ``"qdd"``.
     tolerance : float
-        Largest acceptable value of ``worst``.
+        Largest acceptable value of ``worst`` [1].
     ok : bool
         ``worst <= tolerance``: the verdict over every quantity compared.
     peak : ndarray, shape (6,)

@@ -485,6 +485,11 @@ def to_xarray(result):
         One variable per quantity, with its dims, ``units`` (SI, as in the results file) and
         ``description`` attributes.
 
+    Raises
+    ------
+    ModuleNotFoundError
+        xarray is not installed.
+
     Examples
     --------
     >>> sixdof.to_xarray(sixdof.receptance(system, f_hz))["receptance"].sel(dof="z", load="Fz")

@@ -132,6 +132,13 @@ def save_correlation(run: CorrelationRun, out_root: str | Path = "outputs", *, c
     -------
     pathlib.Path
         The folder written.
+
+    Raises
+    ------
+    InputError
+        Before anything is written: a scenario name that is not one safe path component, an ``out_root``
+        that cannot be written, or a target that is a file, a link, or a folder sixdof did not write
+        (:func:`sixdof.io.output.check_target`).
     """
     target = output.check_target(out_root, run.name, "_correlation")
     return output.write_folder(target, lambda stage: _save_into(stage, run, command_line))

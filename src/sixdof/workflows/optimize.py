@@ -159,6 +159,15 @@ def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: b
     -------
     tuple of (DesignRun, pathlib.Path)
         The design and the folder written.
+
+    Raises
+    ------
+    InputError
+        Before the optimization: a scenario name that is not one safe path component, an ``out_root``
+        that cannot be written, or a target that is a file, a link, or a folder sixdof did not write
+        (:func:`sixdof.io.output.check_target`).
+        Or a bad ``[design]`` table, or ``workers``, ``scheduler`` and ``client`` that
+        :func:`sixdof.workflows.tasks.task_runner` refuses.
     """
     scenario = prepare(scenario)
     problem = _problem(scenario)  # its refusals before a cluster is started

@@ -238,6 +238,12 @@ def compare_motion(direct, modal, tolerance: float = AGREEMENT_TOLERANCE, *, len
     Returns
     -------
     Agreement
+
+    Raises
+    ------
+    InputError
+        A tolerance, length or ``omega`` that is not a positive number; ``direct``'s or ``modal``'s ``q``,
+        ``qd``, ``qdd`` not finite arrays of shape (n, 6), or of different shapes.
     """
     for name, value in (("tolerance", tolerance), ("length", length), ("quiet_rtol", quiet_rtol)):
         number(value, name, "a positive number", low=0.0, strict=True)

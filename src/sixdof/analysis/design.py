@@ -105,6 +105,11 @@ def design_metrics(system, torque_axis=None) -> DesignMetrics:
     Returns
     -------
     DesignMetrics
+
+    Raises
+    ------
+    InputError
+        A ``torque_axis`` that is not a nonzero 3-vector.
     """
     instance(system, "system", System)
     M, K, modes = system.M, system.K, system.modes

@@ -7,6 +7,7 @@ section's indentation, their description indented below) is enough here: no docs
 
 import dataclasses
 import importlib
+import importlib.util
 import inspect
 import re
 from pathlib import Path
@@ -182,3 +183,15 @@ def test_parser_reads_sections_entries_and_units():
     f.__doc__ = doc
     assert _problems_function(f) == ["parameters not under Parameters: ['m']"]
     assert _problems_units(f) == ["Parameters 'n' (float) states no unit"]
+
+
+def test_roles_hook_turns_sphinx_roles_into_cross_references():
+    spec = importlib.util.spec_from_file_location("docs_roles", ROOT / "scripts" / "docs_roles.py")
+    roles = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(roles)
+    html = ("see :func:<code>~sixdof.analysis.frf.receptance.receptance</code> and :class:<code>Modes</code>, "
+            ":attr:<code>K</code>; <code>:func:</code> and :func: alone stay")
+    assert roles.on_page_content(html) == (
+        'see <autoref identifier="sixdof.analysis.frf.receptance.receptance" optional><code>receptance</code>'
+        '</autoref> and <autoref identifier="Modes" optional><code>Modes</code></autoref>, '
+        '<autoref identifier="K" optional><code>K</code></autoref>; <code>:func:</code> and :func: alone stay')

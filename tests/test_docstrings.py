@@ -195,3 +195,9 @@ def test_roles_hook_turns_sphinx_roles_into_cross_references():
         'see <autoref identifier="sixdof.analysis.frf.receptance.receptance" optional><code>receptance</code>'
         '</autoref> and <autoref identifier="Modes" optional><code>Modes</code></autoref>, '
         '<autoref identifier="K" optional><code>K</code></autoref>; <code>:func:</code> and :func: alone stay')
+
+    page = ('<h3 id="sixdof.model.modes.Modes">Modes</h3><h3 id="sixdof.a.K"></h3><h3 id="sixdof.b.K"></h3>'
+            ':class:<code>Modes</code> :attr:<code>K</code>')
+    assert roles.on_page_content(page).endswith(   # the page's one Modes; two K: left unresolved
+        '<autoref identifier="sixdof.model.modes.Modes" optional><code>Modes</code></autoref> '
+        '<autoref identifier="K" optional><code>K</code></autoref>')

@@ -24,7 +24,7 @@ _ENTRY = re.compile(r"^(\*{0,2}[A-Za-z_]\w*(?:\s*,\s*\*{0,2}[A-Za-z_]\w*)*)\s*(?
 #: A unit in brackets (``[Hz]``, ``[N/m]``, ``[1]``) or words saying there is none.
 _UNIT = re.compile(r"\[[^\]]+\]|dimensionless|\bunits?\b|\bratio\b|\bcount\b|\bindex\b", re.I)
 #: Entry types that hold numbers, whose descriptions must state a unit.
-_NUMERIC = re.compile(r"\b(float|complex|ndarray|array_like)\b(?! of (bool|int|str))")
+_NUMERIC = re.compile(r"\b(floats?|complex|ndarray|array_like)\b(?! of (bool|int|str))")
 
 
 def sections(doc: str) -> dict[str, list[tuple[str, str, str]]]:

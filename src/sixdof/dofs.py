@@ -6,12 +6,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-#: The six generalized coordinates, in array order: translations of the centre of gravity along the
-#: body axes, then small rotations about the central axes.
 DOFS: tuple[str, ...] = ("x", "y", "z", "rx", "ry", "rz")
+"""The six generalized coordinates, in array order: translations of the centre of gravity along the
+body axes, then small rotations about the central axes."""
 
-#: Unit of each coordinate of ``q`` (SI).
 DOF_UNITS: tuple[str, ...] = ("m", "m", "m", "rad", "rad", "rad")
+"""Unit of each coordinate of ``q`` (SI)."""
 
 #: Unit of the generalized force conjugate to each coordinate.
 FORCE_UNITS: tuple[str, ...] = ("N", "N", "N", "N m", "N m", "N m")

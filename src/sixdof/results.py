@@ -473,6 +473,23 @@ def to_xarray(result):
     coordinate; ``dof``, ``load``, ``axis`` and ``mount_axis`` get their labels; scalar attributes
     (:func:`label` fields) go to the dataset's attributes. Needs xarray (``pip install xarray``).
 
+    Parameters
+    ----------
+    result : Result
+        A result whose fields are described (:class:`~sixdof.results.RunResults`,
+        :class:`~sixdof.model.modes.Modes`, a receptance, ...).
+
+    Returns
+    -------
+    xarray.Dataset
+        One variable per quantity, with its dims, ``units`` (SI, as in the results file) and
+        ``description`` attributes.
+
+    Raises
+    ------
+    ModuleNotFoundError
+        xarray is not installed.
+
     Examples
     --------
     >>> sixdof.to_xarray(sixdof.receptance(system, f_hz))["receptance"].sel(dof="z", load="Fz")

@@ -40,11 +40,11 @@ class Agreement:
     worst_dof : str
         Name of the DOF with the largest relative difference of all quantities compared.
     worst : float
-        That value.
+        That value [1].
     worst_quantity : str
         The quantity it is in: ``"q"``, ``"qd"`` or ``"qdd"``.
     tolerance : float
-        Largest acceptable value of ``worst``.
+        Largest acceptable value of ``worst`` [1].
     ok : bool
         ``worst <= tolerance``: the verdict over every quantity compared.
     peak : ndarray, shape (6,)
@@ -178,12 +178,12 @@ def compare(direct_q, modal_q, tolerance: float = AGREEMENT_TOLERANCE, *, length
     direct_q, modal_q : array_like, shape (n, 6), or objects with a ``q`` attribute
         Reference and compared histories of q [m, rad] on the same time grid.
     tolerance : float
-        Largest acceptable relative error (default 1e-6).
+        Largest acceptable relative error [1] (default 1e-6).
     length : float
         Length [m] converting rotations into displacements for the quiet test (e.g. the body's
         half-size); default 1 m.
     quiet_rtol : float
-        Relative size below which a DOF is quiet (default 1e-6).
+        Relative size below which a DOF is quiet [1] (default 1e-6).
     absolute : array_like, shape (n, 6), optional
         The reference's absolute motion [m, rad] when ``direct_q`` is relative to a moving ground.
 
@@ -228,7 +228,7 @@ def compare_motion(direct, modal, tolerance: float = AGREEMENT_TOLERANCE, *, len
     direct, modal : sixdof.results.TimeHistory
         Reference (direct) and compared (modal) histories on the same time grid.
     tolerance, length, quiet_rtol : float
-        As in :func:`compare`.
+        As in :func:`compare`: relative error [1], length [m], relative size [1].
     omega : float, optional
         The highest natural angular frequency [rad/s] (``system.modes.omega.max()``): the scale from
         displacements to velocities and accelerations for their floors. Default: no such floor.
@@ -238,6 +238,12 @@ def compare_motion(direct, modal, tolerance: float = AGREEMENT_TOLERANCE, *, len
     Returns
     -------
     Agreement
+
+    Raises
+    ------
+    InputError
+        A tolerance, length or ``omega`` that is not a positive number; ``direct``'s or ``modal``'s ``q``,
+        ``qd``, ``qdd`` not finite arrays of shape (n, 6), or of different shapes.
     """
     for name, value in (("tolerance", tolerance), ("length", length), ("quiet_rtol", quiet_rtol)):
         number(value, name, "a positive number", low=0.0, strict=True)

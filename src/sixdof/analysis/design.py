@@ -99,12 +99,17 @@ def design_metrics(system, torque_axis=None) -> DesignMetrics:
     ----------
     system : sixdof.model.system.System
     torque_axis : array_like, shape (3,), optional
-        Axis of the exciting torque in body axes (an engine's crankshaft); normalized. Without it there is
+        Axis of the exciting torque in body axes [1] (an engine's crankshaft); normalized. Without it there is
         no TRA, roll mode or TRA decoupling.
 
     Returns
     -------
     DesignMetrics
+
+    Raises
+    ------
+    InputError
+        A ``torque_axis`` that is not a nonzero 3-vector.
     """
     instance(system, "system", System)
     M, K, modes = system.M, system.K, system.modes

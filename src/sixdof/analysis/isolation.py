@@ -63,11 +63,12 @@ class EffectiveLinearization(Result):
     effective_period : ndarray, shape (iteration,)
         T_eff [s].
     change : ndarray, shape (iteration,)
-        The largest relative change of a stiffness or of the system's damping from the iteration before (inf
+        The largest relative change [1] of a stiffness or of the system's damping from the iteration before (inf
         for the first).
     response : ResponseSpectrum
         The analysis of the converged system.
     rtol : float
+        The convergence tolerance on ``change`` [1].
     """
 
     axes: tuple[str, ...] = quantity("", ("isolator_axis",), name="isolator_axis",
@@ -118,7 +119,7 @@ def effective_linearization_loop(linearize: Callable, settings, axes: Sequence[t
     start : array_like, shape (n_axes,)
         The first design displacements [m], > 0.
     rtol : float
-        Convergence: the relative change of every stiffness and of the system's damping.
+        Convergence: the relative change [1] of every stiffness and of the system's damping.
     max_iterations : int
 
     Returns

@@ -63,6 +63,11 @@ def point_motion(response: TimeHistory, position, *, relative: bool = False) -> 
     Returns
     -------
     PointMotion
+
+    Raises
+    ------
+    InputError
+        ``position`` is not 3 finite values [m].
     """
     p = point(position)
     T = point_map(p)

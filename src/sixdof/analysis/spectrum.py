@@ -79,18 +79,24 @@ class ResponseSpectrum(Result):
     participation : ndarray, shape (direction, 6)
         ``Gamma_i`` of the mass-normalized shapes [kg^0.5].
     effective_mass : ndarray, shape (direction, 6)
-        [kg]; ``mass_share`` (direction,) their sum over the total mass.
+        The modes' effective masses in each direction [kg].
+    mass_share : ndarray, shape (direction,)
+        Their sum over the total mass [1].
     modal_q : ndarray, shape (direction, 6, 6)
         ``Gamma_i S_De(T_i) phi_i`` per direction and mode [m, rad], relative to the ground.
     peak_q : ndarray, shape (direction, 6)
-        Combined over the modes [m, rad]; ``combined_q`` (6,) over the directions too.
+        Combined over the modes [m, rad].
+    combined_q : ndarray, shape (6,)
+        Combined over the modes and the directions [m, rad].
     mounts : tuple of str
     mount_deflection, mount_force : ndarray, shape (direction, mount, 3)
-        Along each mount's u, v, w [m], [N] (spring force); ``combined_mount_deflection`` and
-        ``combined_mount_force`` (mount, 3) over the directions.
+        Along each mount's u, v, w [m], [N] (spring force).
+    combined_mount_deflection, combined_mount_force : ndarray, shape (mount, 3)
+        The same combined over the directions too [m], [N].
     base_shear, base_moment : ndarray, shape (direction, 3)
-        Force of the mounts on the foundation [N] and its moment about the CG [N m], body axes;
-        ``combined_base_shear``, ``combined_base_moment`` (3,).
+        Force of the mounts on the foundation [N] and its moment about the CG [N m], body axes.
+    combined_base_shear, combined_base_moment : ndarray, shape (3,)
+        The same combined over the directions too [N], [N m].
     curve_period, curve : ndarray, shape (p,), (direction, p)
         The spectrum at the analysis's damping ratio [s], [m/s^2] (its figure).
     spectrum, combination, directional : str

@@ -81,7 +81,7 @@ def gravity_statics(system: System, g: float = STANDARD_GRAVITY, direction=(0.0,
     g : float
         Gravity acceleration [m/s^2], > 0.
     direction : array_like, shape (3,)
-        Direction of gravity in body axes (normalized here). Default ``-z``.
+        Direction of gravity in body axes [1] (normalized here). Default ``-z``.
 
     Returns
     -------

@@ -50,13 +50,13 @@ class CorrelationRun(Frozen, Result):
     correlation : Correlation
         The rigid test modes against the model's modes.
     model_H : ndarray, shape (nf, n_out, n_ref), complex
-        The model's FRF on the test's channels, in the test's quantity.
+        The model's FRF on the test's channels, in the test's quantity (SI units, as ``TestData.H``).
     update : sixdof.design.update.UpdateResult or None
         The update, when asked for.
     correlation_updated : Correlation or None
         The rigid test modes against the updated model's modes.
     updated_H : ndarray or None
-        The updated model's FRF on the test's channels.
+        The updated model's FRF on the test's channels (SI units, as ``model_H``).
     updated_text : str
         The updated scenario (TOML), ``""`` without an update.
     notes : tuple of str

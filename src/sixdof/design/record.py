@@ -86,20 +86,38 @@ class DesignRecord(Frozen, Result):
         Numbers of the optimizer's iterations, of its starts and of the robustness samples.
     percentile : ndarray, shape (3,)
         5, 50, 95 [percent].
-    response, dof, mode, mount, mount_axis : ndarray or None
-        Labels of the peak responses (with a simulation) and of the batch engine's arrays.
+    response, dof, mode, mount, mount_axis : ndarray of str or None
+        Labels of the peak responses (with a simulation) and of the batch engine's arrays (``mode``: numbers
+        1-6).
     starts, x_initial, x, lower_bound, upper_bound : ndarray
         Starting points, the given and the optimized variables, their bounds (units: :attr:`variable_units`).
     values_initial, values, violations_initial, violations, met : ndarray, shape (n_target,)
         Target values (units: :attr:`target_units`) and shortfalls [1] of the given and the optimized design;
         whether each target is met.
     peaks_initial, peaks : ndarray, shape (12,), or None
-        Peak responses of the given and the optimized design (:data:`PEAK_UNITS`).
+        Peak responses of the given and the optimized design (units: :data:`PEAK_UNITS`).
     history_start_index, history_objective, history_x, history_values, history_violations : ndarray
         Each iteration's start, objective [1], variables, target values and shortfalls (``/history``).
     robustness_probability : ndarray, shape (n_target,)
-        Share of the samples meeting each target [1]; the other ``robustness_*`` arrays are the samples'
-        percentiles, values and (from the batch engine) stiffness factors, frequencies, peaks and cross-check.
+        Share of the samples meeting each target [1].
+    robustness_percentiles : ndarray, shape (n_target, 3)
+        The 5th, 50th and 95th percentiles of each target's value over the samples (units: :attr:`target_units`).
+    robustness_values : ndarray, shape (n_sample, n_target)
+        Each sample's target values (units: :attr:`target_units`).
+    robustness_peak_percentiles : ndarray, shape (12, 3), or None
+        Percentiles of the peak responses over the samples (units: :data:`PEAK_UNITS`).
+    robustness_stiffness_factor : ndarray, shape (n_sample, n_mount, 3), or None
+        Each sample's factor [1] on each mount axis' stiffness (from the batch engine).
+    robustness_frequency_hz : ndarray, shape (n_sample, 6), or None
+        Each sample's natural frequencies [Hz].
+    robustness_peak_q, robustness_peak_qdd : ndarray, shape (n_sample, 6), or None
+        Each sample's peak displacement [m, rad] and acceleration [m/s^2, rad/s^2] per DOF.
+    robustness_checked_sample : ndarray of int or None
+        Indices of the samples the batch engine's results were cross-checked on by the direct solve.
+    robustness_cross_check_peak_q, robustness_cross_check_peak_qdd : ndarray, shape (n_checked, 6), or None
+        Their peaks from the direct solve [m, rad], [m/s^2, rad/s^2].
+    robustness_cross_check_per_dof : ndarray, shape (6,), or None
+        The cross-check's difference per DOF [1] (what it measures: ``robustness.cross_check_definition``).
     robustness : DesignRobustness
     name : str
         The scenario's.

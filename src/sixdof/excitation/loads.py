@@ -185,7 +185,7 @@ class GroundMotion(Frozen):
     quantity : {"displacement", "velocity", "acceleration"}
         What ``scale s(t)`` is: m, m/s or m/s^2.
     direction : array_like, shape (3,)
-        Direction in body axes (normalized here).
+        Direction in body axes [1] (normalized here).
     signal : Signal or mapping
         Shape in time (for an accelerogram: ``{kind = "table", file = "record.csv"}``).
     scale : float, optional

@@ -317,7 +317,13 @@ class Haversine(Signal):
 
 @dataclass(frozen=True, eq=False)
 class Step(Signal):
-    """Unit step: 0 before ``start`` [s], 1 from ``start`` on (a suddenly applied, held load)."""
+    """Unit step: 0 before ``start``, 1 from ``start`` on (a suddenly applied, held load).
+
+    Parameters
+    ----------
+    start : float, optional
+        Switch-on time [s]. Default 0.
+    """
 
     kind: ClassVar[str] = "step"
     start: float = checked(_TIME, default=0.0)
@@ -365,6 +371,11 @@ class Table(Signal):
     """Tabulated samples, linearly interpolated (a first-order hold), or with their slopes, interpolated by
     cubic Hermite polynomials (value and slope continuous).
 
+    Without slopes every sample time is a breakpoint (the slope changes there). With them only the
+    first and last are: inside, value and slope are continuous and only the second derivative jumps,
+    which the step control absorbs with a few rejected steps (stepping onto every knot instead was
+    measured 5x slower on a 16 kHz table).
+
     Parameters
     ----------
     t : sequence of float
@@ -379,11 +390,6 @@ class Table(Signal):
         The signal's time derivative at each sample [1/s]. Given, the table is a cubic Hermite spline
         (exact for cubics; a sine sampled 8 times per period keeps its amplitude within 1e-3): how
         :mod:`sixdof.validation.random_time` hands a synthesized random record to the direct solve.
-
-    Without slopes every sample time is a breakpoint (the slope changes there). With them only the
-    first and last are: inside, value and slope are continuous and only the second derivative jumps,
-    which the step control absorbs with a few rejected steps (stepping onto every knot instead was
-    measured 5x slower on a 16 kHz table).
     """
 
     kind: ClassVar[str] = "table"
@@ -473,7 +479,8 @@ class Random(Signal):
     f_hz : sequence of 2 floats
         Band ``[low, high]`` [Hz], 0 < low < high.
     rms : float
-        Root-mean-square value, > 0.
+        Root-mean-square value [signal unit: 1 for a load's multiplier, the record's for ground motion
+        before ``scale``], > 0.
     seed : int
         Seed, >= 0.
     components : int, optional
@@ -517,10 +524,10 @@ class Random(Signal):
         return 4.0 * float(self.rms)
 
 
-#: TOML ``kind`` of a signal -> its class.
 SIGNAL_KINDS: dict[str, type[Signal]] = {
     cls.kind: cls for cls in (Harmonic, Sweep, HalfSine, Haversine, Step, Ramp, Table, Random)
 }
+"""TOML ``kind`` of a signal (``"harmonic"``, ``"sweep"``, ...) -> its class."""
 
 
 def make_signal(value: Signal | Mapping[str, Any]) -> Signal:

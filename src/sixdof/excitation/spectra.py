@@ -126,7 +126,7 @@ class EC8Spectrum(Frozen):
     importance : float
         Importance factor gamma_I [1]: the design ground acceleration is ``importance * ag``. Default 1.
     behaviour_factor : float or None
-        q >= 1 for the design spectrum Sd of 3.2.2.5; ``None`` (default): the elastic spectrum Se.
+        q >= 1 [1] for the design spectrum Sd of 3.2.2.5; ``None`` (default): the elastic spectrum Se.
     """
 
     type: int = checked(_spectrum_type)

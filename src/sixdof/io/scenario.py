@@ -217,6 +217,11 @@ def load_scenario(path: str | Path) -> Scenario:
         A TOML scenario file. Relative file references inside it (tabulated signals) are resolved
         against its folder.
 
+    Returns
+    -------
+    Scenario
+        The validated scenario, its model not yet prepared (:func:`sixdof.workflows.prepare.prepare`).
+
     Raises
     ------
     ScenarioError
@@ -227,7 +232,28 @@ def load_scenario(path: str | Path) -> Scenario:
 
 
 def parse_scenario(text: str, source: str = "<string>", base_dir: str | Path = ".") -> Scenario:
-    """Validate scenario text (TOML). See :func:`load_scenario`."""
+    """Validate scenario text (TOML). See :func:`load_scenario`.
+
+    Parameters
+    ----------
+    text : str
+        The scenario, as a scenario file holds it (TOML).
+    source : str, optional
+        The name errors give the text (a file's path). Default ``"<string>"``.
+    base_dir : str or pathlib.Path, optional
+        The folder relative file references (tabulated signals) are resolved against. Default: the working
+        directory.
+
+    Returns
+    -------
+    Scenario
+        The validated scenario, its model not yet prepared.
+
+    Raises
+    ------
+    ScenarioError
+        Naming ``source``, the field, what was expected and what was received.
+    """
     return parse(text, source, lambda raw: _scenario(raw, text, Path(base_dir), source))
 
 

@@ -38,8 +38,8 @@ class Modes(Result):
     frequency_hz : ndarray, shape (6,)
         Natural frequencies [Hz].
     shapes : ndarray, shape (6, 6)
-        Column j is mode j, mass-normalized (``shapes.T @ M @ shapes = I``); each column's
-        largest-magnitude entry is positive.
+        Column j is mode j [kg^-0.5 for x, y, z; kg^-0.5 m^-1 for rx, ry, rz], mass-normalized
+        (``shapes.T @ M @ shapes = I``); each column's largest-magnitude entry is positive.
     ke_distribution : ndarray, shape (6, 6)
         ``[i, j]`` = share of mode j's kinetic energy in DOF i; each column sums to 1.
     dominant_dof : tuple of str

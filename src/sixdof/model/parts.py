@@ -134,6 +134,9 @@ def _clearances(value, field: str) -> np.ndarray:
 class Mount(Frozen):
     """A triaxial visco-elastic mount (bearing, isolator) attached to the body.
 
+    The mount's ``w`` axis is its normal (compression) axis, pointing from the foundation towards
+    the body: the mount is compressed when its body point moves along ``-w`` relative to the ground.
+
     Parameters
     ----------
     name : str
@@ -145,9 +148,10 @@ class Mount(Frozen):
     damping : array_like, shape (3,), optional
         Viscous damping along the mount's own axes [N s/m], each >= 0. Default zero.
     axes : array_like, shape (3, 3), optional
-        Rows are the mount's axes expressed in body axes; must be orthonormal. Default: body axes.
+        Rows are the mount's unit axes u, v, w expressed in body axes [1]; must be orthonormal. Default: body
+        axes.
     loss_factor : array_like, shape (3,), optional
-        Hysteretic loss factor per axis (complex stiffness ``k (1 + i eta)``), used by frequency
+        Hysteretic loss factor per axis [1] (complex stiffness ``k (1 + i eta)``), used by frequency
         responses only. Default zero.
     max_deflection : float or array_like, shape (3,), optional
         Largest allowed deflection from the unloaded mount (static plus dynamic), one value for
@@ -168,9 +172,6 @@ class Mount(Frozen):
         False: the mount carries no tensile force along ``w`` from any of its parts (spring, dashpot, Maxwell
         branches) and lifts off instead (its static preload taken into account; it must be in compression at
         rest; :mod:`sixdof.model.nonlinear`). Default True.
-
-    The mount's ``w`` axis is its normal (compression) axis, pointing from the foundation towards
-    the body: the mount is compressed when its body point moves along ``-w`` relative to the ground.
     """
 
     name: str = checked(label_check)

@@ -135,6 +135,16 @@ class System(Frozen):
         :func:`sixdof.analysis.statics.with_gravity_preload` gives both fields, and
         :func:`~sixdof.analysis.statics.replace_with_preload` solves them again for a copy with other mounts
         (``dataclasses.replace`` keeps the preload it was given). Default ``None``.
+    bouc_wen : sequence of BoucWen, optional
+        Bouc-Wen hysteretic laws of mount axes (lead-rubber, high-damping rubber bearings;
+        :mod:`sixdof.model.hysteresis`): the time paths integrate the hysteresis, the linear paths take its
+        stated linearization. Default none.
+    friction_pendulum : sequence of FrictionPendulum, optional
+        Friction pendulum bearings on mounts' ``u`` and ``v`` axes (:mod:`sixdof.model.hysteresis`).
+        Default none.
+    rayleigh_excludes_hysteresis : bool, optional
+        True (default): the Rayleigh term ``beta K`` leaves out the hysteretic axes' stiffness (their
+        damping is the hysteresis'); False keeps it in.
     """
 
     body: RigidBody = part(lambda: RigidBody, prefix="body_")

@@ -85,8 +85,8 @@ class TestData(Frozen, Result):
     f_hz : ndarray, shape (nf,), or None
         FRF frequencies [Hz].
     H : ndarray, shape (nf, n_out, n_ref), complex, or None
-        The FRFs, SI: m/N, (m/s)/N, (m/s^2)/N for translations per force; rad per N m etc. for rotations and
-        moments.
+        The FRFs, SI: [m/N], [(m/s)/N], [(m/s^2)/N] for translations per force; [rad/(N m)] etc. for
+        rotations and moments.
     t : ndarray, shape (n,), or None
         Times [s], evenly spaced.
     inputs : ndarray, shape (n, n_ref), or None

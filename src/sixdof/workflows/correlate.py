@@ -118,7 +118,28 @@ def model_frf(system, measured: TestData) -> np.ndarray:
 def save_correlation(run: CorrelationRun, out_root: str | Path = "outputs", *, command_line: str | None = None) -> Path:
     """Write a correlation (:func:`correlation_run`) into ``out_root/<name>_correlation/``: ``correlation.h5``,
     ``summary.md``, the figures and, after an update, ``updated.toml``; all or nothing, whatever the verdict.
-    Returns the folder."""
+
+    Parameters
+    ----------
+    run : CorrelationRun
+        What :func:`correlation_run` returned.
+    out_root : str or pathlib.Path, optional
+        The folder the ``<name>_correlation/`` folder is written into. Default ``"outputs"``.
+    command_line : str, optional
+        Stored as provenance.
+
+    Returns
+    -------
+    pathlib.Path
+        The folder written.
+
+    Raises
+    ------
+    InputError
+        Before anything is written: a scenario name that is not one safe path component, an ``out_root``
+        that cannot be written, or a target that is a file, a link, or a folder sixdof did not write
+        (:func:`sixdof.io.output.check_target`).
+    """
     target = output.check_target(out_root, run.name, "_correlation")
     return output.write_folder(target, lambda stage: _save_into(stage, run, command_line))
 

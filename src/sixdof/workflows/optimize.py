@@ -139,10 +139,36 @@ def optimize_scenario(scenario, out_root: str | Path = "outputs", *, progress: b
     (``workers``, ``scheduler``, ``client``: :func:`sixdof.workflows.tasks.task_runner`) checked before the
     optimization.
 
+    Parameters
+    ----------
+    scenario : sixdof.io.scenario.Scenario or str or pathlib.Path
+        With ``[[design.target]]`` and ``[[design.vary]]`` entries.
+    out_root : str or pathlib.Path, optional
+        The folder the ``<name>_design/`` folder is written into. Default ``"outputs"``.
+    progress : bool, optional
+        Show the starts done. Default True.
+    log : callable, optional
+        Receives the terminal's tables. Default ``print``.
+    workers : int, optional
+        Run the robustness study on a local Dask cluster of that many worker processes.
+    scheduler : str, optional
+        Address of an existing Dask scheduler to run it on.
+    client : distributed.Client, optional
+        An existing Dask client to run it with (left open).
+
     Returns
     -------
     tuple of (DesignRun, pathlib.Path)
         The design and the folder written.
+
+    Raises
+    ------
+    InputError
+        Before the optimization: a scenario name that is not one safe path component, an ``out_root``
+        that cannot be written, or a target that is a file, a link, or a folder sixdof did not write
+        (:func:`sixdof.io.output.check_target`).
+        Or a bad ``[design]`` table, or ``workers``, ``scheduler`` and ``client`` that
+        :func:`sixdof.workflows.tasks.task_runner` refuses.
     """
     scenario = prepare(scenario)
     problem = _problem(scenario)  # its refusals before a cluster is started

@@ -29,6 +29,18 @@ def prepare(scenario: Scenario | str | Path) -> Scenario:
 
     A scenario prepared already is returned as it is.
 
+    Parameters
+    ----------
+    scenario : Scenario or str or pathlib.Path
+        A scenario, or the path of a scenario file.
+
+    Returns
+    -------
+    Scenario
+        The same scenario with its ``model`` set: the systems the frequency and time paths take
+        (measured dynamic stiffness and loss factors as Maxwell models, gravity's preload, nonlinear
+        mounts at their static equilibrium).
+
     Raises
     ------
     sixdof.errors.ScenarioError

@@ -276,6 +276,14 @@ def save(results: RunResults, out_root: str | Path = "outputs", *, sink=None, dr
     -------
     pathlib.Path
         The folder written.
+
+    Raises
+    ------
+    InputError
+        Before anything is written: ``results`` without their scenario (not from :func:`run`), a run's
+        results thinned for the figures without the ``sink`` that holds them whole, a scenario name that is
+        not one safe path component, an ``out_root`` that cannot be written, or a target that is a file, a
+        link, or a folder sixdof did not write (:func:`sixdof.io.output.check_target`).
     """
     _check_saveable(results, sink)
     target = output.check_target(out_root, results.name)
@@ -306,6 +314,18 @@ def run_scenario(scenario, out_root: str | Path = "outputs", *, progress: bool =
     -------
     tuple of (sixdof.results.RunResults, pathlib.Path)
         The results and the folder written.
+
+    Raises
+    ------
+    InputError
+        Before anything is computed: a scenario name that is not one safe path component, an ``out_root``
+        that cannot be written, or a target that is a file, a link, or a folder sixdof did not write
+        (:func:`sixdof.io.output.check_target`).
+        Or what :func:`load_scenario`, :func:`~sixdof.workflows.prepare.prepare` and :func:`run` raise
+        (:class:`~sixdof.errors.ScenarioError` among them).
+    OSError
+        Before the solve: no room on the disk (``ENOSPC``) or a file-size limit (``EFBIG``) too small for
+        the run's time series.
     """
     if not isinstance(scenario, Scenario):
         scenario = load_scenario(scenario)

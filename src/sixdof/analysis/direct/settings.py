@@ -70,9 +70,9 @@ class SimulationSettings(Frozen):
         a process's first run of a structure. Choose ``"Dopri8"`` for long runs, or with tolerances of
         1e-11 for a 7x smaller error at about Tsit5's cost.
     rtol : float, optional
-        Relative tolerance per step. Default 1e-9.
+        Relative tolerance per step [1]. Default 1e-9.
     atol : float, optional
-        Absolute tolerance per step *as a fraction of each state component's scale*
+        Absolute tolerance per step [1] *as a fraction of each state component's scale*
         (:func:`state_scale`). Default 1e-9. Both hold for runs of up to :data:`CYCLES_PER_TOLERANCE`
         cycles of the highest natural frequency; a longer run is solved at tolerances divided by its
         cycles over that (:func:`cycle_scaled`), since the global error grows with the number of cycles

@@ -45,21 +45,31 @@ def point_frf(system: System, f_hz, load_point, load_direction, response_point, 
     load_point : array_like, shape (3,)
         Where the load acts, from the CG in body axes [m].
     load_direction : str or array_like, shape (3,)
-        ``"x"``, ``"y"``, ``"z"`` or a nonzero 3-vector (normalized): a unit force along it; or
+        ``"x"``, ``"y"``, ``"z"`` or a nonzero 3-vector [1] (normalized): a unit force along it; or
         ``"rx"``, ``"ry"``, ``"rz"``: a unit moment about that body axis.
     response_point : array_like, shape (3,)
         Where the motion is observed, from the CG in body axes [m].
     response_direction : str or array_like, shape (3,)
-        ``"x"``, ``"y"``, ``"z"`` or a 3-vector: the point's translation along it; or ``"rx"``,
+        ``"x"``, ``"y"``, ``"z"`` or a 3-vector [1]: the point's translation along it; or ``"rx"``,
         ``"ry"``, ``"rz"``: the body's rotation about that axis (the same at every point).
     quantity : {"receptance", "mobility", "accelerance"}
         Displacement, velocity or acceleration per load.
     method : {"direct", "modal"}
+        How the body's receptance is computed (:func:`~sixdof.analysis.frf.receptance.receptance`).
 
     Returns
     -------
     PointFRF
         ``values`` in m/N, m/(s N), m/(s^2 N) for force in, translation out (``unit`` says which).
+
+    Raises
+    ------
+    InputError
+        A point that is not 3 finite values [m], a direction that is neither a label nor a nonzero
+        3-vector, a ``quantity`` not one of the three, or what
+        :func:`~sixdof.analysis.frf.receptance.receptance` refuses (frequencies, ``method``).
+    SolverError
+        As :func:`~sixdof.analysis.frf.receptance.receptance`.
     """
     _check_quantity(quantity, "quantity")
     lp = point(load_point, "load_point")
@@ -87,7 +97,7 @@ def force_transmissibility(system: System, f_hz, load_point, load_direction,
     load_point : array_like, shape (3,)
         Where the load acts, from the CG in body axes [m].
     load_direction : str or array_like, shape (3,)
-        ``"x"``, ``"y"``, ``"z"`` or a nonzero 3-vector (unit force), or ``"rx"``, ``"ry"``,
+        ``"x"``, ``"y"``, ``"z"`` or a nonzero 3-vector [1] (unit force), or ``"rx"``, ``"ry"``,
         ``"rz"`` (unit moment).
     method : {"direct", "modal"}
         How the body's receptance is computed.
@@ -95,8 +105,18 @@ def force_transmissibility(system: System, f_hz, load_point, load_direction,
     Returns
     -------
     ForceTransmissibility
-        Mount forces (nf, n_mounts, 3) and resultant (nf, 6) per unit load, complex: the mounts'
-        stiffness, loss factor and dashpots, and the global (Rayleigh, modal) damping's force.
+        Mount forces (nf, n_mounts, 3) [N] and resultant (nf, 6) [N, N m] per unit load (per N of a force,
+        per N m of a moment), complex: the mounts' stiffness, loss factor and dashpots, and the global
+        (Rayleigh, modal) damping's force.
+
+    Raises
+    ------
+    InputError
+        A point that is not 3 finite values [m], a direction that is neither a label nor a nonzero
+        3-vector, or what :func:`~sixdof.analysis.frf.receptance.receptance` refuses
+        (frequencies, ``method``).
+    SolverError
+        As :func:`~sixdof.analysis.frf.receptance.receptance`.
     """
 
     lp = point(load_point, "load_point")
@@ -148,16 +168,26 @@ def ground_transmissibility(system: System, f_hz, ground_direction, response_poi
     f_hz : array_like, shape (nf,)
         Frequencies [Hz].
     ground_direction : str or array_like, shape (3,)
-        ``"x"``, ``"y"``, ``"z"`` or a nonzero 3-vector (normalized): the ground's translation.
+        ``"x"``, ``"y"``, ``"z"`` or a nonzero 3-vector [1] (normalized): the ground's translation.
     response_point : array_like, shape (3,)
         Body point observed, from the CG in body axes [m].
     method : {"direct", "modal"}
+        How the body's receptance is computed (:func:`~sixdof.analysis.frf.receptance.receptance`).
 
     Returns
     -------
     GroundTransmissibility
         Absolute and relative point motion per unit ground motion [m/m] (also the ratio of
         velocities or of accelerations), and the generalized motion ``q`` per unit ground motion.
+
+    Raises
+    ------
+    InputError
+        A point that is not 3 finite values [m], a direction that is neither x, y, z nor a nonzero
+        3-vector, or what :func:`~sixdof.analysis.frf.receptance.receptance` refuses
+        (frequencies, ``method``).
+    SolverError
+        As :func:`~sixdof.analysis.frf.receptance.receptance`.
     """
     d, _ = parse_direction(ground_direction, "ground_direction", rotations=False)
     rp = point(response_point, "response_point")

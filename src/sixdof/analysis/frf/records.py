@@ -190,6 +190,7 @@ class ForceTransmissibility(schema.Result):
         Generalized force of the Rayleigh and modal damping on the foundation, ``i w (C - C_mounts) q``,
         per unit load (zero without them).
     load_point, load_direction : ndarray, shape (3,)
+        Where the load acts, from the CG in body axes [m], and its unit direction [1].
     load_kind : str
         ``"force"`` or ``"moment"``.
     method : str
@@ -256,6 +257,7 @@ class GroundTransmissibility(schema.Result):
     relative : ndarray, shape (nf, 3), complex
         Displacement of the response point relative to the ground, ``absolute - d`` [m/m].
     ground_direction, response_point : ndarray, shape (3,)
+        The ground's unit direction of translation [1] and the response point, from the CG in body axes [m].
     method : str
     """
 

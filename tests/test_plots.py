@@ -695,6 +695,26 @@ def test_fixed_titles_draw_the_same_pixels(run):
             np.testing.assert_array_equal(pixels(fixed), pixels(draw(run)), err_msg=name)
 
 
+def test_frozen_y_ticks_draw_over_the_x_axis_as_matplotlib_orders_them():
+    """On a log axis of 2-60 Hz the x minor ticks are labelled (kept) and the y minor ticks are frozen: a y tick
+    mark crosses the x grid line at the 2 Hz limit, and the two blend in matplotlib's order (x axis, then y axis),
+    so the picture is the same to the last level."""
+    from matplotlib.figure import Figure
+
+    from figures import frozen_tick_difference
+
+    def draw():
+        fig = Figure(figsize=(4, 3))
+        ax = fig.subplots()
+        ax.loglog()
+        ax.axvspan(2, 60, color="0.9", lw=0)
+        ax.set(xlim=(2, 60), ylim=(1e-3, 1e2))
+        ax.grid(True, which="both", alpha=0.25)
+        return fig
+
+    assert frozen_tick_difference(draw).max() == 0
+
+
 @pytest.mark.slow  # over 10 s on the 2-core machine
 def test_frozen_ticks_draw_the_same_pixels(run):
     """render() draws unlabelled ticks (minor log ticks, the time ticks of panels above a shared time

@@ -307,6 +307,11 @@ def _inside(axis, values: np.ndarray) -> np.ndarray:
 def _draw_ticks(axis, values: np.ndarray, tick) -> None:
     """Grid lines and tick marks at ``values`` along ``axis``, styled as its tick object ``tick``."""
     ax, zorder = axis.axes, axis.get_zorder()
+    if axis is ax.yaxis:
+        # matplotlib draws the x axis before the y axis, and artists of equal zorder in the axes' children
+        # before either: just above the axes' zorder, the y ticks stay over the x axis' labelled ones (a y
+        # tick mark over an x grid line at the view's limit, as drawn before freezing).
+        zorder = np.nextafter(zorder, np.inf)
 
     def at(across: float) -> tuple[np.ndarray, np.ndarray]:
         """(x, y) of the positions, ``across`` in axes coordinates the other way."""

@@ -119,7 +119,7 @@ def test_time_dofs_draws_the_input_above_and_only_the_dofs_that_move():
     (line,) = notes(fig)
     assert line.startswith(f"not excited (peak at most {RESPONDS_RTOL:g} of the largest of its kind")
     named = line.split("): ", 1)[1]
-    for dof in ("x", "y", "rx", "ry", "rz"):
+    for dof in ("along x", "along y", "about x", "about y", "about z"):
         assert dof in named
     assert fig.get_suptitle() == "box: displacement of the centre of gravity, with the input above"
     assert_figure_texts_clear(fig)
@@ -133,7 +133,7 @@ def test_time_dofs_draws_the_input_above_and_only_the_dofs_that_move():
     left, right = fig.axes
     assert left.get_ylabel().startswith("along z [") and len(left.get_lines()) == 2 and right.get_lines()
     (line,) = notes(fig)
-    assert all(dof in line.split("): ", 1)[1] for dof in ("x", "y", "rx", "ry", "rz"))
+    assert all(dof in line.split("): ", 1)[1] for dof in ("along x", "along y", "about x", "about y", "about z"))
     assert_figure_texts_clear(fig)
 
 
@@ -210,11 +210,12 @@ def test_the_not_excited_line_groups_zeros_and_round_off_and_quotes_small_peaks(
 
     values = np.outer([0.0, 1.0, -0.5], [1e-2, 0.0, 5e-7, 0.0, 1e-20, 2e-6])
     line = not_excited_line(values, [1, 2, 3, 4], dof_units(0))
-    assert line.endswith("): y, rx (exactly zero); ry (round-off only); z (peak 500 nm)")
+    assert line.endswith("): along y, about x (exactly zero); about y (round-off only); along z (peak 500 nm)")
     difference = np.array([1e-9, 0.0, 3e-8, 0.0, 2e-12, 1e-9])
     line = not_excited_line(values, [1, 2, 3, 4], dof_units(0), difference)
-    assert line.endswith("): y, rx (exactly zero); ry (round-off only, relative difference at most 2.0e-12); "
-                         "z (peak 500 nm, relative difference 3.0e-08)")
+    assert line.endswith("): along y, about x (exactly zero); about y (round-off only, relative difference at most "
+                         "2.0e-12); "
+                         "along z (peak 500 nm, relative difference 3.0e-08)")
     assert not_excited_line(values, [], dof_units(0)) == ""
 
 

@@ -311,7 +311,8 @@ def test_superposition_overlay_and_difference(parts):
     assert labelled_axes(fig)
     drawn = np.flatnonzero(responding(relative_to_ground(direct, modal)[0]))
     assert len(fig.axes) == 2 * len(drawn)  # per DOF that moves: the overlay and the difference
-    assert f"{agreement.worst:.2e}" in fig.get_suptitle()
+    worst = DOF_NAMES[DOFS.index(agreement.worst_dof)]  # in words, never the code ("rx")
+    assert f"worst relative difference {agreement.worst:.2e} in {worst}" in fig.get_suptitle()
     for row, i in enumerate(drawn):
         assert fig.axes[2 * row].get_ylabel().startswith(f"{DOF_DIRECTIONS[i]} [")
         right = fig.axes[2 * row + 1]
@@ -345,12 +346,12 @@ def test_superposition_difference_of_a_quiet_dof_is_the_agreement():
     (line,) = [text.get_text() for text in fig.texts if text.get_text().startswith("not excited")]
     quiet = [agreement.per_dof[i] for i in range(6) if DOFS[i] in agreement.quiet and agreement.per_dof[i] > 0]
     assert (f"(round-off only, relative difference at most {max(quiet):.1e})" in line if quiet
-            else line.endswith(f": {', '.join(agreement.quiet)} (exactly zero)"))
+            else line.endswith(f": {', '.join(DOF_DIRECTIONS[DOFS.index(dof)] for dof in agreement.quiet)} (exactly zero)"))
     rows = {dof_of(ax.get_ylabel()): k for k, ax in enumerate(fig.axes[::2])}
     for i in range(6):
         if DOFS[i] in agreement.quiet:
             assert DOFS[i] not in rows
-            assert DOFS[i] in line.split("): ", 1)[1]
+            assert DOF_DIRECTIONS[i] in line.split("): ", 1)[1]
             continue
         ax = fig.axes[2 * rows[DOFS[i]] + 1]
         assert np.max(np.abs(drawn_relative(ax))) == pytest.approx(agreement.per_dof[i], rel=1e-9)
@@ -392,7 +393,7 @@ def test_superposition_of_a_nonlinear_run_draws_the_differences_until_the_first_
     # x, z and rx move (z only after the engagement): a row each; y, ry and rz, at rest, are named in one line.
     assert [dof_of(ax.get_ylabel()) for ax in fig.axes[::2]] == ["x", "z", "rx"]
     assert [text.get_text() for text in fig.texts if text.get_text().startswith("not excited")][0].endswith(
-        ": y, ry, rz (exactly zero)")
+        ": along y, about y, about z (exactly zero)")
     for row, i in enumerate((0, 2, 3)):
         left, right = fig.axes[2 * row], fig.axes[2 * row + 1]
         assert right.get_xlim() == (0.0, first) and left.get_xlim() == (0.0, 1.0)

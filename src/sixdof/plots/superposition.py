@@ -93,7 +93,9 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
     heading = "direct solution vs modal superposition" + (", relative to the ground" if direct.has_ground else "")
     if agreement is not None:
         verdict = "within" if agreement.ok else "EXCEEDS"
-        where = agreement.worst_dof + (f" {QUANTITIES[agreement.worst_quantity]}" if agreement.rates else "")
+        worst = DOFS.index(agreement.worst_dof)  # "velocity about x" where rates are compared too
+        where = (f"{QUANTITIES[agreement.worst_quantity]} {DOF_DIRECTIONS[worst]}" if agreement.rates
+                 else DOF_NAMES[worst])
         heading += (f"\nworst relative difference {agreement.worst:.2e} in {where}"
                     f"{' before the first engagement' if cut else ''} ({verdict} tolerance {agreement.tolerance:.0e})")
     # The DOFs that move get a row; the others are named in one line with their differences (the agreement's).

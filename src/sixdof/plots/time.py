@@ -12,7 +12,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
 from sixdof.analysis.statics import STANDARD_GRAVITY
-from sixdof.dofs import AXES, DOFS, FORCE_UNITS, display_unit, dof_units
+from sixdof.dofs import AXES, FORCE_UNITS, display_unit, dof_units
 from sixdof.errors import InputError
 from sixdof.plots.common import (
     COMPONENT_COLORS,
@@ -224,17 +224,17 @@ def not_excited_line(values: np.ndarray, quiet: list[int], units, difference: np
     roundoff = unexcited(values)
     zero = [i for i in quiet if peaks[i] == 0 and (difference is None or difference[i] == 0)]
     tiny = [i for i in quiet if roundoff[i] and i not in zero]
-    parts = [f"{', '.join(DOFS[i] for i in zero)} (exactly zero)"] if zero else []
+    parts = [f"{', '.join(DOF_DIRECTIONS[i] for i in zero)} (exactly zero)"] if zero else []
     if tiny:
         most = "" if difference is None else f", relative difference at most {max(difference[i] for i in tiny):.1e}"
-        parts.append(f"{', '.join(DOFS[i] for i in tiny)} (round-off only{most})")
+        parts.append(f"{', '.join(DOF_DIRECTIONS[i] for i in tiny)} (round-off only{most})")
     for i in quiet:
         if i not in zero and i not in tiny:
             factor, unit = display_unit(peaks[i], units[i])
             what = f"peak {factor * peaks[i]:.3g} {unit}"
             if difference is not None:
                 what += f", relative difference {difference[i]:.1e}"
-            parts.append(f"{DOFS[i]} ({what})")
+            parts.append(f"{DOF_DIRECTIONS[i]} ({what})")
     return (f"not excited (peak at most {RESPONDS_RTOL:g} of the largest of its kind, not drawn): "
             + "; ".join(parts))
 

@@ -173,7 +173,6 @@ def plot_point_frfs(extras: Mapping[str, PointFRF | ForceTransmissibility | Grou
         Natural frequencies [Hz] to mark.
     name : str
         Name of the run, put before the title.
-
     fig : matplotlib.figure.Figure, optional
         An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
         one. Layout: one row per point FRF or transmissibility: magnitude (left) and phase (right).

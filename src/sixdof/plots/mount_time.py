@@ -49,7 +49,6 @@ def plot_mount_forces(forces: MountForces, t, *, name: str = "", fig: Figure | N
         Times [s] of the forces (the response's ``t``).
     name : str
         Name of the run, put before the title.
-
     fig : matplotlib.figure.Figure, optional
         An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
         one. Layout: three rows, the x, y and z components of the mount forces.
@@ -106,7 +105,6 @@ def plot_mount_loads(check: MountCheck, t, *, name: str = "", events: Mapping[st
         Name of the run, put before the title.
     events : mapping of str to sixdof.results.Event, optional
         The excitation's shocks and switch-ons, by load name (a run's ``events``).
-
     fig : matplotlib.figure.Figure, optional
         An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
         one. Layout: one row per mount: the whole record (left) and its zoom (right).
@@ -198,7 +196,6 @@ def plot_mount_shear(check: MountCheck, t, *, name: str = "", events: Mapping[st
         Name of the run, put before the title.
     events : mapping of str to sixdof.results.Event, optional
         The excitation's shocks and switch-ons, by load name (a run's ``events``).
-
     fig : matplotlib.figure.Figure, optional
         An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
         one. Layout: one row per mount: the whole record (left) and its zoom (right).

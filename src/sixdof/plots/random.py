@@ -29,7 +29,6 @@ def plot_random(random: RandomResponse, *, name: str = "", fig: Figure | None = 
     random : sixdof.analysis.random.RandomResponse
     name : str
         Name of the run, put before the title.
-
     fig : matplotlib.figure.Figure, optional
         An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
         one. Layout: the input PSD above the body's response PSDs.
@@ -96,7 +95,6 @@ def plot_random_check(check, *, name: str = "", fig: Figure | None = None) -> Fi
     check : sixdof.analysis.random.RandomTimeCheck
     name : str
         Name of the run, put before the title.
-
     fig : matplotlib.figure.Figure, optional
         An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
         one. Layout: one row per point checked (the record's Welch PSD over the expected one).

@@ -22,7 +22,6 @@ def plot_records(records, check, *, name: str = "", fig: Figure | None = None) -
     check : sixdof.analysis.matching.RecordCheck
     name : str
         Name of the run, put before the title.
-
     fig : matplotlib.figure.Figure, optional
         An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
         one. Layout: the records' spectra above their accelerograms.

@@ -65,7 +65,6 @@ def plot_superposition(direct: TimeHistory, modal: TimeHistory, agreement: Agree
     contacts : sixdof.analysis.contact.ContactSummary, optional
         What the nonlinear mounts did: the differences are drawn until its ``first_engaged_t`` [s] (nan:
         none engaged, the whole record).
-
     fig : matplotlib.figure.Figure, optional
         An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
         one. Layout: one row per DOF that responds: both solutions overlaid (left, with its zoom when the run

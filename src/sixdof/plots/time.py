@@ -90,7 +90,6 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
         The steady state at the operating frequencies (harmonic loads without end): its amplitude (the
         sum over the frequencies, the most their harmonics reach together) dotted at plus and minus, and
         given beside the peak, which a switch-on transient may dominate.
-
     fig : matplotlib.figure.Figure, optional
         An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
         one. Layout: one row per input (the load or ground motion) above one row per DOF that responds, each

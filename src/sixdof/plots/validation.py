@@ -38,7 +38,6 @@ def plot_validation_frf(report: ValidationReport, *, name: str = "", fig: Figure
         and the median H1 error of each mode.
     name : str
         Name of the run, put before the title.
-
     fig : matplotlib.figure.Figure, optional
         An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
         one. Layout: one column per mode (its FRF estimate above its coherence), up to a few columns a row.
@@ -114,7 +113,6 @@ def plot_free_decays(report: ValidationReport, *, name: str = "", fig: Figure | 
         estimate) are drawn; its ``rows`` give the model's damped frequency [Hz] and damping ratio.
     name : str
         Name of the run, put before the title.
-
     fig : matplotlib.figure.Figure, optional
         An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
         one. Layout: one panel per mode's free decay, up to a few columns a row.

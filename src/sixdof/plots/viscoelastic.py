@@ -32,7 +32,6 @@ def plot_dynamic_stiffness(fits: Sequence[tuple[str, MaxwellFit]], title: str | 
         :func:`~sixdof.model.viscoelastic.constant_loss_model`) per curve.
     title : str, optional
         Title of the figure; default "dynamic stiffness: data and generalized Maxwell fits".
-
     fig : matplotlib.figure.Figure, optional
         An empty figure to draw into, given the layout's size (:func:`~sixdof.plots.common.figure`); default a new
         one. Layout: the storage stiffness above the loss factor, the legend below.

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import shutil
 from pathlib import Path
 
 import h5py
@@ -307,6 +308,35 @@ def test_optimize_writes_a_scenario_that_reproduces_the_design_and_a_labelled_fi
     # The V mounts stayed mirror images of each other (x -> -x): their compression axes w.
     left, right = optimized.system.mounts[:2]
     np.testing.assert_allclose(left.axes[2] * [-1, 1, 1], right.axes[2], atol=1e-12)
+
+
+def test_sixdof_plot_redraws_a_design_from_any_folder_with_the_files_its_scenario_names(tmp_path, monkeypatch):
+    # The redraw rebuilds the scenario from the text design.h5 stores: its relative CSV reference is read from the
+    # scenario's own folder (stored beside the text), not from where `sixdof plot` is run.
+    model, elsewhere = tmp_path / "model", tmp_path / "elsewhere"
+    model.mkdir(), elsewhere.mkdir()
+    shutil.copy("scenarios/elastomer_mount.csv", model)
+    text = _v_pair(THETA0, """
+[design]
+starts = 2
+[[design.target]]
+kind = "frequency"
+dof = "z"
+f_hz = [5.0, 40.0]
+[[design.vary]]
+parameter = "stiffness"
+axes = ["u"]
+bounds = [0.5, 2.0]
+""").replace("stiffness = [", 'dynamic_stiffness = { file = "elastomer_mount.csv", axis = "w" }\nstiffness = [', 1)
+    (model / "v.toml").write_text(text)
+    assert main(["optimize", str(model / "v.toml"), "--out", str(tmp_path / "out"), "--quiet"]) == 0
+    folder = tmp_path / "out" / "v_pair_design"
+    with h5py.File(folder / "design.h5") as f:
+        assert f.attrs["scenario_folder"] == str(model.resolve())
+    monkeypatch.chdir(elsewhere)
+    assert main(["plot", str(folder / "design.h5"), "--out", str(tmp_path / "redrawn")]) == 0
+    for name in ("decoupling.png", "frequencies.png"):
+        assert (tmp_path / "redrawn" / name).read_bytes() == (folder / name).read_bytes()
 
 
 def test_an_infeasible_target_set_is_reported_with_its_shortfall(tmp_path, capsys):

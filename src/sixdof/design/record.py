@@ -248,4 +248,7 @@ def design_record(problem, result, spread, scenario, peaks=None) -> DesignRecord
         robust_samples=problem.spec.robust_samples if robust else 0,
         variable_units=tuple(VARIABLE_UNITS[v.parameter] for v in problem.variables),
         target_units=tuple(TARGET_UNITS[t.kind] for t in problem.targets),
-        provenance={"scenario_text": scenario.text})
+        # Where the scenario's relative file references (CSV tables) are read from, for `sixdof plot` to rebuild
+        # it: a redraw from another folder would not find them.
+        provenance={"scenario_text": scenario.text,
+                    **({"scenario_folder": str(scenario.path.resolve().parent)} if scenario.path else {})})

@@ -121,7 +121,7 @@ def _redraw_file(path: Path, directory: Path, workers) -> list[Path]:
     else:
         from sixdof.workflows.optimize import record_figures  # noqa: PLC0415 (JAX: a design's figures only)
 
-        drawn = record_figures(run)
+        drawn = record_figures(run, base_dir=(run.provenance or {}).get("scenario_folder") or ".")
         names = list(drawn)
         figures = {name: (lambda name=name: png(drawn[name])) for name in names}
     if not names:

@@ -87,6 +87,29 @@ def test_the_isolation_region_starts_above_the_modes_the_load_excites():
         isolation_summary(system, modes, f, [30.0, 40.0], [[1.0, 0, 0, 0, 0, 0]])
 
 
+def test_on_maxwell_mounts_the_region_starts_above_the_full_models_resonances():
+    # Elastomer mounts stiffer at their resonances than at rest: the undamped modes of the long-term stiffness lie
+    # 11-15 % below the peaks; the region (and the marks) start from where the curve peaks, the full model's poles.
+    from sixdof.io.scenario import load_scenario
+    from sixdof.workflows.prepare import prepare
+
+    system = prepare(load_scenario(SCENARIOS / "equipment_elastomer.toml")).system
+    modes = system.modes
+    f = np.geomspace(2.0, 60.0, 6000)
+    summary = isolation_summary(system, modes, f, [48.33], [[0, 0, 1.0, 0, 0, 0]])
+    bounce = summary.loads[0]
+    r = int(np.argmax(bounce.participation))  # the vertical force drives the bounce mode
+    peak = f[np.argmax(bounce.values)]
+    assert summary.natural_hz[r] == pytest.approx(peak, rel=0.01)
+    assert modes.frequency_hz[r] < 0.9 * peak
+    assert bounce.isolation_hz == pytest.approx(math.sqrt(2) * summary.natural_hz[list(bounce.excited_modes)].max(),
+                                                rel=RTOL_LINALG)
+    # Without branches the natural frequencies are the modes' own.
+    plain = four_mount(m=500.0, k=(2e5, 3e5, 8e5), damping=(300.0, 300.0, 600.0))
+    np.testing.assert_array_equal(isolation_summary(plain, plain.modes, f, [30.0], [[0, 0, 1.0, 0, 0, 0]]).natural_hz,
+                                  plain.modes.frequency_hz)
+
+
 def test_a_torque_and_a_ground_motion_get_their_own_panels():
     system = four_mount(m=500.0, k=(2e5, 3e5, 8e5), damping=(300.0, 300.0, 600.0))
     f_z = math.sqrt(4 * 8e5 / 500.0) / (2 * math.pi)  # the bounce mode, decoupled: a single DOF

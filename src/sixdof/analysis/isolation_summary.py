@@ -14,7 +14,9 @@ ground moving along ``d`` is the amplitude of the CG's absolute translation per 
 the mounts amplify).
 
 The isolation region of a pattern starts at ``sqrt(2)`` times the highest natural frequency of the modes it
-excites: above it every excited mode's single-DOF transmissibility is below 1, whatever its damping. A mode
+excites: above it every excited mode's single-DOF transmissibility is below 1, whatever its damping. A mode's
+natural frequency is where it resonates (:func:`natural_frequencies`): its undamped frequency, or, on mounts
+with Maxwell branches (an elastomer stiffer at its resonances than at rest), its pole in the full model. A mode
 is excited when it holds at least :data:`EXCITED_FRACTION` of the pattern's participation
 ``e_r = |phi_r' Q|^2 / (Q^H M^-1 Q)`` (mass-normalized modes; the shares sum to 1 over all modes, and for
 ``Q = M r`` of a rigid translation ``r`` they are the modal effective-mass fractions along it).
@@ -27,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from sixdof.analysis.frf import foundation_forces, ground_transmissibility, receptance
+from sixdof.analysis.statespace import damped_modes
 from sixdof.analysis.steady import CANCELLED_RTOL, vector_amplitude
 from sixdof.errors import InputError, readonly
 
@@ -86,10 +89,14 @@ class IsolationSummary:
         ``"force"``, or ``"moment"`` for a pattern without a force (a torque).
     motion : TransmissibilityCurve or None
         The ground's (None without a ground motion at an operating frequency).
+    natural_hz : ndarray, shape (6,)
+        The natural frequency of each mode that the isolation regions are reckoned from [Hz]
+        (:func:`natural_frequencies`).
     """
 
     loads: tuple[TransmissibilityCurve, ...]
     motion: TransmissibilityCurve | None
+    natural_hz: np.ndarray
 
     @property
     def curves(self) -> tuple[TransmissibilityCurve, ...]:
@@ -108,9 +115,23 @@ def participation(modes, M, Q) -> np.ndarray:
     return modal / total
 
 
-def _boundary(modes, shares) -> tuple[tuple[int, ...], float]:
+def natural_frequencies(system, modes) -> np.ndarray:
+    """The frequency each of ``modes`` (the undamped modes of ``system``) resonates at [Hz] (6,): its undamped
+    frequency; on mounts with Maxwell branches, whose stiffness rises with frequency, the magnitude of its pole in
+    the full visco-elastic model, ``|lambda| / 2 pi`` (:func:`~sixdof.analysis.statespace.damped_modes`: 12-18 %
+    above the long-term stiffness' modes for ``equipment_elastomer``), where the peaks of its FRFs are. A mode
+    without an oscillating pole keeps its undamped frequency."""
+    undamped = np.asarray(modes.frequency_hz, dtype=float)
+    if not system.branches.count:
+        return readonly(undamped.copy())
+    poles, _ = damped_modes(system.C, modes, system.branches)
+    full = np.abs(poles) / (2 * np.pi)
+    return readonly(np.where(np.isfinite(full), full, undamped))
+
+
+def _boundary(natural_hz, shares) -> tuple[tuple[int, ...], float]:
     excited = tuple(int(r) for r in np.flatnonzero(shares >= EXCITED_FRACTION))
-    return excited, float(np.sqrt(2.0) * np.max(modes.frequency_hz[list(excited)]))
+    return excited, float(np.sqrt(2.0) * np.max(natural_hz[list(excited)]))
 
 
 def _load_values(system, f_hz, Q, part: slice) -> np.ndarray:
@@ -172,11 +193,12 @@ def isolation_summary(system, modes, f_hz, operating_hz=(), applied=None, ground
     if applied.shape[0] != operating_hz.size:
         raise InputError("applied", f"one load phasor (6,) per operating frequency ({operating_hz.size})",
                          applied.shape)
+    natural_hz = natural_frequencies(system, modes)
     loads = []
     for Q, frequencies in _patterns(operating_hz, applied):
         at = np.array(frequencies)
         shares = participation(modes, system.M, Q)
-        excited, boundary = _boundary(modes, shares)
+        excited, boundary = _boundary(natural_hz, shares)
         # A pattern without a force (a torque, or forces that cancel) passes a moment: its ratio is the moments'.
         force = vector_amplitude(Q[:3])[()] > CANCELLED_RTOL * np.linalg.norm(Q)
         part = slice(0, 3) if force else slice(3, 6)
@@ -191,12 +213,12 @@ def isolation_summary(system, modes, f_hz, operating_hz=(), applied=None, ground
         d = np.asarray(ground_direction, dtype=float)
         d = d / np.linalg.norm(d)
         shares = participation(modes, system.M, np.asarray(system.M) @ np.concatenate([d, np.zeros(3)]))
-        excited, boundary = _boundary(modes, shares)
+        excited, boundary = _boundary(natural_hz, shares)
         values = vector_amplitude(ground_transmissibility(system, f_hz, d, np.zeros(3)).absolute)
         at_operating = vector_amplitude(ground_transmissibility(system, ground_hz, d, np.zeros(3)).absolute)
         motion = TransmissibilityCurve("motion", f_hz, readonly(values), readonly(ground_hz), readonly(at_operating),
                                        readonly(1.0 - at_operating), excited, readonly(shares), boundary)
-    return IsolationSummary(tuple(loads), motion)
+    return IsolationSummary(tuple(loads), motion, natural_hz)
 
 
 def ground_operating(run) -> tuple[np.ndarray | None, np.ndarray]:

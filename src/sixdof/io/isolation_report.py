@@ -28,13 +28,16 @@ def _frequencies_part(results, summary) -> list[str]:
     curves = () if summary is None else summary.curves
     operating = np.unique(np.concatenate([c.operating_hz for c in curves])) if curves else np.zeros(0)
     excited = {r for c in curves for r in c.excited_modes}
-    headers = ["mode #", "f_n [Hz]", "dominant DOF", *(["excited"] if curves else []),
-               *(f"r = {f:.4g} Hz / f_n" for f in operating)]
-    digits = next((d for d in range(4, 9) if len({f"{f:.{d}g}" for f in modes.frequency_hz})
-                   == len(set(modes.frequency_hz))), 9)  # close modes printed apart
+    # Where the modes resonate: on Maxwell mounts the full model's poles, above the long-term stiffness' modes.
+    natural = modes.frequency_hz if summary is None else summary.natural_hz
+    full = not np.array_equal(natural, modes.frequency_hz)
+    headers = ["mode #", "f_n, full model [Hz]" if full else "f_n [Hz]", "dominant DOF",
+               *(["excited"] if curves else []), *(f"r = {f:.4g} Hz / f_n" for f in operating)]
+    digits = next((d for d in range(4, 9) if len({f"{f:.{d}g}" for f in natural})
+                   == len(set(natural))), 9)  # close modes printed apart
     rows = [[str(j + 1), f"{f:.{digits}g}", dof, *(["yes" if j in excited else "-"] if curves else []),
              *("-" if f <= 0 else f"{f_op / f:.3g}" for f_op in operating)]
-            for j, (f, dof) in enumerate(zip(modes.frequency_hz, modes.dominant_dof))]
+            for j, (f, dof) in enumerate(zip(natural, modes.dominant_dof))]
     if not curves:
         return ["No operating frequency (no harmonic load or ground motion without end): natural frequencies",
                 table(headers, rows)]

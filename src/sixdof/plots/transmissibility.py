@@ -73,7 +73,9 @@ def plot_transmissibility(summary: IsolationSummary, modes=None, fig: Figure | N
     summary : sixdof.analysis.isolation_summary.IsolationSummary
         The curves (:func:`~sixdof.analysis.isolation_summary.isolation_summary`).
     modes : sixdof.model.modes.Modes, optional
-        Natural frequencies [Hz] to mark (dotted, numbered).
+        Given, the modes' natural frequencies are marked (dotted, numbered) where the summary reckons them
+        (:attr:`~sixdof.analysis.isolation_summary.IsolationSummary.natural_hz`: with Maxwell branches, the
+        full model's poles, where the curves peak).
     fig : matplotlib.figure.Figure, optional
         Draw into this figure: one panel per kind of curve (force, moment of a torque, ground motion, from the
         top), sharing the frequency axis;
@@ -86,7 +88,8 @@ def plot_transmissibility(summary: IsolationSummary, modes=None, fig: Figure | N
     matplotlib.figure.Figure
     """
     require(summary, "summary", IsolationSummary, "a sixdof.analysis.isolation_summary.IsolationSummary")
-    frequency_hz = natural_frequencies(modes)
+    # The frequencies the isolation regions are reckoned from: on Maxwell mounts the full model's, not the modes'.
+    frequency_hz = None if natural_frequencies(modes) is None else summary.natural_hz
     kinds = [curves for curves in ([c for c in summary.loads if c.kind == kind] for kind in ("force", "moment"))
              if curves] + ([[summary.motion]] if summary.motion is not None else [])
     if not kinds:

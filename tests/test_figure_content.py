@@ -144,9 +144,11 @@ def test_time_dofs_draws_a_moment_of_its_own_and_quotes_the_moment_of_an_offset_
     settings = SimulationSettings(duration=0.5, sample_rate_hz=500.0)
     # A force 0.2 m off the centre of gravity: its moment (0.2 m x 500 N about y) is quoted, not drawn again.
     offset = (Load("l", [0.2, 0.0, 0.0], force=[0, 0, 500.0], signal=Harmonic(f_hz=5.0)),)
-    titles = [ax.get_title(loc="left") for ax in plot_time_histories(simulate(system, Excitation(loads=offset),
-                                                                              settings)).axes]
-    assert titles[0].startswith("applied force at the centre of gravity: peak along z 500 N; moments about it (not drawn)")
+    offset_fig = plot_time_histories(simulate(system, Excitation(loads=offset), settings))
+    titles = [ax.get_title(loc="left") for ax in offset_fig.axes]
+    # The moments on a line of their own, with room above the panel for it.
+    assert titles[0].startswith("applied force at the centre of gravity: peak along z 500 N\nmoments about it (not drawn)")
+    assert_figure_texts_clear(offset_fig)
     assert not any(title.startswith("applied moment") for title in titles)
     # A torque of its own beside a force: both drawn, each on its axes.
     torque = offset + (Load("engine", [0.0, 0.0, 0.0], moment=[0.0, 0.0, 40.0], signal=Harmonic(f_hz=9.0)),)

@@ -137,7 +137,8 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
     # The figure's legend, from the first DOF drawn, when it has more than its one curve to explain.
     legend = bool(dofs) and (relative is not None or zoom is not None or amplitude[dofs[0]] > 0)
     fig, rows = _stacked_rows(t, [INPUT_HEIGHT] * len(inputs) + [height] * max(len(dofs), 1), zoom,
-                              title(name, heading), note, legend_line=legend or zoom is not None, fig=fig)
+                              title(name, heading), note, legend_line=legend or zoom is not None, fig=fig,
+                              first_title_lines=inputs[0][2] if inputs else 1)
     for (draw, *_), axes in zip(inputs, rows):
         draw(axes, t, zoom)
     if not dofs:  # nothing moves: said on the one panel
@@ -157,16 +158,16 @@ def plot_time_histories(history: TimeHistory, key: str = "q", *, name: str = "",
     return fig
 
 
-def _stacked_rows(t: np.ndarray, heights: list[float], zoom, heading: str, note: str,
-                  legend_line: bool, fig: Figure | None = None) -> tuple[Figure, list[list]]:
+def _stacked_rows(t: np.ndarray, heights: list[float], zoom, heading: str, note: str, legend_line: bool,
+                  fig: Figure | None = None, first_title_lines: int = 1) -> tuple[Figure, list[list]]:
     """A figure of one row per entry of ``heights`` [in] under ``heading``, the line ``note`` (if any) and a line
     for the legend and the zoom's heading (``legend_line``), and its axes, one list per row: its whole record, then
     its zoom when ``zoom`` (:func:`~sixdof.plots.zoom.event_window`) is given; one time axis per column, labelled
-    under the last row."""
+    under the last row. The first row's title has ``first_title_lines`` lines (the others' fit between rows)."""
     gap, bottom = 0.55, 0.55  # between rows (each has a title), under the last (its time labels)
     # From the top [in]: the title, the note, the line of the legend and the zoom's heading, the first row's title.
     legend_at = 0.55 + (0.3 if note else 0.0)
-    top = legend_at + (0.25 if legend_line else -0.1) + 0.35
+    top = legend_at + (0.25 if legend_line else -0.1) + 0.35 + 0.17 * (first_title_lines - 1)
     fig = figure(fig, (12, top + bottom + sum(heights) + gap * (len(heights) - 1)))
     height = fig.get_figheight()
     fig.suptitle(heading, fontsize=13, y=1 - 0.15 / height, va="top")
@@ -239,17 +240,18 @@ def not_excited_line(values: np.ndarray, quiet: list[int], units, difference: np
 
 
 def input_panels(history: TimeHistory) -> list[tuple]:
-    """The input panels of :func:`plot_time_histories` a history calls for, each ``(draw, what)``: ``draw(axes, t,
-    zoom)`` draws it on a row's axes; ``what`` is "ground y" or "applied force". The ground's acceleration along
-    each axis it moves along (with the body's beside it), then the applied force at the centre of gravity, or
-    the moment when no force is applied."""
+    """The input panels of :func:`plot_time_histories` a history calls for, each ``(draw, what, lines)``:
+    ``draw(axes, t, zoom)`` draws it on a row's axes; ``what`` is "ground y" or "applied force"; ``lines``, those
+    of its title (2: an applied force's, with the moments about the centre of gravity it implies quoted). The
+    ground's acceleration along each axis it moves along (with the body's beside it), then the applied force at
+    the centre of gravity, or the moment when no force is applied."""
     panels = []
     ground = history.ground_acceleration
     if ground is not None and np.any(ground != 0):
         moving = responding(np.hstack([ground, np.zeros_like(ground)]))[:3]
         for c in np.flatnonzero(moving):
             panels.append((lambda axes, t, zoom, c=int(c): _ground_panel(axes, t, zoom, history, c),
-                           f"ground {AXES[c]}"))
+                           f"ground {AXES[c]}", 1))
     Q = history.Q
     if Q is not None and np.any(Q != 0):
         applied = responding(Q)
@@ -257,9 +259,9 @@ def input_panels(history: TimeHistory) -> list[tuple]:
         implied = len(forces) and len(moments) and _implied(Q[:, forces], Q[:, moments])
         if len(forces):
             panels.append((lambda axes, t, zoom: _load_panel(axes, t, zoom, Q, forces, moments if implied else ()),
-                           "applied force"))
+                           "applied force", 2 if implied else 1))
         if len(moments) and not implied:
-            panels.append((lambda axes, t, zoom: _load_panel(axes, t, zoom, Q, moments, ()), "applied moment"))
+            panels.append((lambda axes, t, zoom: _load_panel(axes, t, zoom, Q, moments, ()), "applied moment", 1))
     return panels
 
 
@@ -305,7 +307,7 @@ def _load_panel(axes, t: np.ndarray, zoom, Q: np.ndarray, shown, quoted) -> None
     if len(quoted):
         scale, moment_unit = display_unit(Q[:, list(quoted)], "N m")
         moments = ", ".join(f"{DOF_DIRECTIONS[j]} {scale * np.max(np.abs(Q[:, j])):.4g}" for j in quoted)
-        heading += f"; moments about it (not drawn): peak {moments} {moment_unit}"
+        heading += f"\nmoments about it (not drawn): peak {moments} {moment_unit}"  # a line of its own: long
     axes[0].set_ylabel(f"{what} [{unit}]")
     axes[0].set_title(heading, fontsize=10, loc="left")
     if len(shown) > 1:

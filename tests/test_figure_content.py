@@ -271,6 +271,20 @@ def test_bode_marks_the_operating_frequency_and_close_modes_stay_legible():
         assert any(text.get_text() == " operating 2 Hz" for text in ax.texts)
 
 
+def test_a_bode_title_with_a_long_name_puts_the_name_on_its_own_line():
+    from sixdof import receptance
+    from sixdof.plots import plot_bode
+    from systems import bridge
+
+    system = bridge()
+    frf = receptance(system, np.geomspace(0.1, 100.0, 50))
+    name = "equipment_snubbed_shock (linear model, exact until a nonlinear mount engaged at t = 0.02294 s)"
+    fig = plot_bode(frf, system.modes, operating_hz=[2.0], name=name)
+    assert fig.get_suptitle().startswith(f"{name}:\nreceptance")
+    assert_figure_texts_clear(fig)  # inside the figure, clear of the panels' titles
+    assert plot_bode(frf, system.modes, name="bridge").get_suptitle().startswith("bridge: receptance")
+
+
 def test_the_phase_is_drawn_unwrapped():
     from sixdof.plots.frf import phase_deg
 

@@ -60,6 +60,11 @@ def _finish(mag, phase, f: np.ndarray, frequency_hz: np.ndarray | None, operatin
             plain_frequencies(ax)
 
 
+#: The most characters of a Bode figure's title line: about 150 fill its 13 in at 12 pt (a long name's line
+#: measured), and wide letters take more room.
+TITLE_LINE_CHARS = 120
+
+
 def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, name: str = "",
               operating_hz=None, fig: Figure | None = None) -> Figure:
     """Bode plot of the direct receptances ``H_ii`` (q_i per own generalized force).
@@ -99,13 +104,17 @@ def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, 
     f, H = frf.f_hz, frf.H
     if ax is None:
         fig = figure(fig, (13, 8))
-        margins(fig, left=0.85, right=0.15, top=0.9, bottom=0.55, wspace=1.05, hspace=0.15, columns=2, rows=2)
         marks = ["dotted: natural frequencies (mode numbers)" if frequency_hz is not None else "",
                  "dash-dot red: operating frequencies" if operating_hz is not None and np.size(operating_hz) else ""]
         heading = "receptance $H_{ii}$ (response of each DOF to its own generalized force)"
         if any(marks):
             heading += "\n" + "; ".join(m for m in marks if m)
-        fig.suptitle(title(name, heading), fontsize=12)
+        # A long name (a nonlinear run's "(linear model, exact until ...)") on a line of its own: one line of
+        # both would run past the figure's edges.
+        long_name = len(title(name, heading.split("\n")[0])) > TITLE_LINE_CHARS
+        margins(fig, left=0.85, right=0.15, top=0.9 + 0.2 * long_name, bottom=0.55, wspace=1.05, hspace=0.15,
+                columns=2, rows=2)
+        fig.suptitle(f"{name}:\n{heading}" if long_name else title(name, heading), fontsize=12)
         axes = fig.subplots(2, 2, sharex=True, height_ratios=[2, 1])
     else:
         axes = np.asarray(ax, dtype=object)

@@ -234,6 +234,16 @@ def test_a_scenario_run_checks_hysteresis_by_energy_and_a_second_solve():
     assert results.agreement is None  # the superposition of the linearization is not a check of hysteresis
     assert results.energy.ok and results.refined.ok
     assert results.response.hysteretic_state.shape == (results.response.t.size, 4)
+    # Its superposition.png says which curve is which model, and that the difference is no failed check.
+    from sixdof.plots import FIGURES  # noqa: PLC0415 (matplotlib: this test's figure only)
+
+    draw = next(draw for name, _, _, draw in FIGURES if name == "superposition.png")
+    fig = draw(results)
+    heading = fig.get_suptitle()
+    assert heading.startswith(f"{results.name}: hysteretic bearings (direct integration) vs their linearization")
+    assert "\nnot a cross-check: the difference is the hysteresis" in heading
+    assert {line.get_label() for line in fig.axes[0].get_lines()} >= {"direct integration (hysteretic)",
+                                                                      "modal superposition (linearized)"}
 
 
 G = 9.80665

@@ -109,6 +109,13 @@ def _isolation_summary(run):
     return run_isolation_summary(run)
 
 
+def _superposition_name(run) -> str:
+    """The run's name in superposition.png's title: :func:`_linear_name`, but for hysteretic bearings, which the
+    figure's heading names itself (against their linearization)."""
+    hysteretic = run.system is not None and run.system.hysteretic.count
+    return run.name if hysteretic else _linear_name(run)
+
+
 def _linear_name(run) -> str:
     """The run's name in the title of a figure of its linear model, saying so when its mounts are nonlinear or
     hysteretic."""
@@ -153,8 +160,8 @@ FIGURES: tuple[tuple[str, tuple[str, ...], Callable[[object], bool], Callable[[o
      lambda run: _plots.plot_hysteresis(run.system, run.response, run.mount_forces, name=run.name)),
     ("superposition.png", ("response", "superposition", "agreement", "events", "system", "contacts"),
      lambda run: run.response is not None and run.superposition is not None,
-     lambda run: _plots.plot_superposition(run.response, run.superposition, run.agreement, name=_linear_name(run),
-                                           events=run.events, contacts=run.contacts)),
+     lambda run: _plots.plot_superposition(run.response, run.superposition, run.agreement,
+                                           name=_superposition_name(run), events=run.events, contacts=run.contacts)),
     ("bode.png", ("frf", "modes", "steady_state", "system"), lambda run: run.frf is not None,
      lambda run: _plots.plot_bode(run.frf, run.modes, name=_linear_name(run),
                                   operating_hz=None if run.steady_state is None else run.steady_state.f_hz)),

@@ -125,9 +125,18 @@ def test_the_mac_matrix_writes_each_cell_and_outlines_the_pairs(correlation):
         x, y = text.get_position()
         cells[int(y)][int(x)] = text.get_text()
     assert cells == [[f"{v:.2f}" for v in row] for row in matrix]
-    outlined = sorted((int(round(p.get_y() + 0.5)), int(round(p.get_x() + 0.5))) for p in ax.patches
-                      if isinstance(p, Rectangle) and not p.get_fill())
-    assert outlined == sorted(zip(correlation.pair_test.tolist(), correlation.pair_model.tolist()))
+    outlines = {(int(round(p.get_y() + 0.5)), int(round(p.get_x() + 0.5))): p for p in ax.patches
+                if isinstance(p, Rectangle) and not p.get_fill()}
+    assert sorted(outlines) == sorted(zip(correlation.pair_test.tolist(), correlation.pair_model.tolist()))
+    # Green where the pair meets both limits (from the frequencies and the channels' MAC), red dashed where not.
+    from matplotlib.colors import to_rgba
+
+    for (t, m), patch in outlines.items():
+        error = 100 * abs(correlation.f_model[m] - correlation.f_test[t]) / correlation.f_test[t]
+        ok = error <= correlation.max_frequency_error_percent and matrix[t, m] >= correlation.min_mac
+        assert patch.get_edgecolor() == to_rgba("tab:green" if ok else "tab:red")
+        assert patch.get_linestyle() == ("-" if ok else "--")
+        assert ok or not correlation.correlated
     assert [t.get_text() for t in ax.get_yticklabels()] == [f"{i + 1}: {f:.4g} Hz"
                                                             for i, f in enumerate(correlation.f_test)]
     assert [t.get_text() for t in ax.get_xticklabels()] == [f"{j + 1}\n{f:.4g} Hz"
@@ -135,7 +144,7 @@ def test_the_mac_matrix_writes_each_cell_and_outlines_the_pairs(correlation):
     assert ax.get_xlabel() == "model mode (natural frequency)" and ax.get_ylabel() == "test mode (identified frequency)"
     assert bar.get_ylabel() == "MAC on the measured channels [1]" and bar.get_ylim() == (0.0, 1.0)
     verdict = "correlated" if correlation.correlated else "not correlated"
-    assert f"pairs outlined: {verdict}" in fig._suptitle.get_text()
+    assert f"MAC on the measured channels: {verdict}; pairs outlined, green within the limits" in fig._suptitle.get_text()
     with pytest.raises(InputError, match=r"correlation.mac_body: expected a MAC on the six body DOFs"):
         plots.plot_mac(correlation, body=True)
 

@@ -177,9 +177,13 @@ def plot_stability(identification: Identification, ax=None, H=None, f_hz=None, *
 # ----------------------------------------------------------------------------------------------------
 
 
+#: The outline of a MAC pair within the verdict's limits (True) and outside them (False).
+PAIR_COLORS = {True: "tab:green", False: "tab:red"}
+
+
 def plot_mac(correlation: Correlation, ax=None, *, body: bool = False, name: str = "") -> Figure:
     """The MAC matrix of the test modes (rows) against the model modes (columns), each cell's value written in
-    it, the pairs outlined in red, and a colour bar from 0 to 1.
+    it, the pairs outlined (green within the verdict's limits, red dashed not), and a colour bar from 0 to 1.
 
     Modes are numbered from 1, with their frequency [Hz] in the tick labels; the title states the verdict's
     limits and whether the pairs meet them.
@@ -223,9 +227,9 @@ def plot_mac(correlation: Correlation, ax=None, *, body: bool = False, name: str
         # The colour bar in the right margin: 0.25 in from the matrix, 0.22 in wide, its label beside it.
         bar_axes = fig.add_axes((box.x1 + 0.25 / width, box.y0, 0.22 / width, box.height))
         verdict = "correlated" if correlation.correlated else "not correlated"
-        fig.suptitle(title(name, f"MAC on {where}, pairs outlined: {verdict}\n"
+        fig.suptitle(title(name, f"MAC on {where}: {verdict}; pairs outlined, green within the limits, red not\n"
                                  f"(limits: |frequency error| <= {correlation.max_frequency_error_percent:g} %, "
-                                 f"MAC >= {correlation.min_mac:g})"), fontsize=11)
+                                 f"MAC on the channels >= {correlation.min_mac:g})"), fontsize=11)
     fig = ax.figure
     image = ax.imshow(matrix, cmap="Blues", vmin=0.0, vmax=1.0, aspect="auto")
     for i in range(n_test):
@@ -233,8 +237,12 @@ def plot_mac(correlation: Correlation, ax=None, *, body: bool = False, name: str
             value = float(matrix[i, j])
             ax.text(j, i, f"{value:.2f}", ha="center", va="center", fontsize=9,
                     color="white" if value > 0.6 else "black")
-    for t, m in zip(correlation.pair_test, correlation.pair_model):
-        ax.add_patch(Rectangle((m - 0.5, t - 0.5), 1.0, 1.0, fill=False, edgecolor="tab:red", linewidth=2.2))
+    # Each pair judged as the verdict judges it (on the channels' MAC, whichever MAC is drawn).
+    within = ((np.abs(correlation.frequency_error_percent) <= correlation.max_frequency_error_percent)
+              & (correlation.pair_mac >= correlation.min_mac))
+    for t, m, ok in zip(correlation.pair_test, correlation.pair_model, within):
+        ax.add_patch(Rectangle((m - 0.5, t - 0.5), 1.0, 1.0, fill=False, linewidth=2.2,
+                               edgecolor=PAIR_COLORS[bool(ok)], linestyle="-" if ok else "--"))
     ax.set_xticks(range(n_model), [f"{j + 1}\n{f:.4g} Hz" for j, f in enumerate(correlation.f_model)], fontsize=8)
     ax.set_yticks(range(n_test), [f"{i + 1}: {f:.4g} Hz" for i, f in enumerate(correlation.f_test)], fontsize=8)
     ax.set_xlabel("model mode (natural frequency)")

@@ -326,9 +326,11 @@ def test_mode_shapes_draw_each_mode_at_the_scale_their_title_says_with_every_mou
     corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], float) * size / 2
     for j, ax in enumerate(fig.axes):
         scale_line = ax.get_title().splitlines()[-1]
-        words = re.fullmatch(r"drawn: largest motion (\S+) % of body size \((\S+) m\)(?:, turned (\S+)°)?", scale_line)
+        words = re.fullmatch(r"drawn: largest motion (\S+) % of body size \((\S+) m\)(?:, turned (\S+)° about (.+))?",
+                             scale_line)
         assert words, scale_line
-        percent, of, turned = (float(v or 0.0) for v in words.groups())
+        percent, of, turned = (float(v or 0.0) for v in words.groups()[:3])
+        about = words.group(4)
         assert of == pytest.approx(np.max(size), rel=5e-3)
         # What is drawn is mode j itself, scaled: translation and rotation in the proportions of scipy's shape.
         t, r, rotation = _drawn_rigid_motion(ax)
@@ -337,6 +339,11 @@ def test_mode_shapes_draw_each_mode_at_the_scale_their_title_says_with_every_mou
         np.testing.assert_allclose(q, factor * phi[:, j], atol=1e-9 * np.max(np.abs(q)))
         # ... at the scale said: the rotation, and the largest motion of a corner or mount.
         assert np.degrees(np.linalg.norm(r)) == pytest.approx(turned, rel=0.05, abs=0.01)
+        if about is not None:  # the body axis within 25 deg of the rotation's, else its direction
+            direction = r / np.linalg.norm(r)
+            k = int(np.argmax(np.abs(direction)))
+            assert about == ("xyz"[k] if abs(direction[k]) >= np.cos(np.radians(25)) else
+                             "(" + ", ".join(f"{v:.2f}" for v in direction) + ")")
         points = np.vstack([corners, system.positions])
         largest = np.max(np.linalg.norm(t + rotation.apply(points) - points, axis=1))
         assert 100 * largest / np.max(size) == pytest.approx(percent, rel=0.05)
@@ -404,7 +411,9 @@ def test_every_bridge_mode_moves_visibly_and_its_roll_is_seen_end_on_undistorted
     width, height = np.ptp(rest, axis=0)
     assert width / height == pytest.approx(1.2 / 2.0, rel=1e-3)
     # Turned by the angle the title says, and still the same rectangle (no shear, no stretch).
-    turned = float(roll.get_title().rsplit("turned ", 1)[1].rstrip("°"))
+    angle, about = roll.get_title().rsplit("turned ", 1)[1].split("° about ")
+    turned = float(angle)
+    assert about == "y"  # the axis it is seen along
     centre = moved.mean(axis=0)
     np.testing.assert_allclose(centre, rest.mean(axis=0), atol=1.0)  # about the CG: a pure roll
     order = np.argsort(np.arctan2(*(moved - centre).T[::-1]))

@@ -374,6 +374,16 @@ def _mode_title(modes: Modes, j: int, digits: int, scene: _Scene, view: _View) -
             f"{_scale_words(scene, modes.shapes[:, j], view)}")
 
 
+def _rotation_axis(rotation: np.ndarray) -> str:
+    """The axis of a rotation vector in words: the body axis it lies within 25° of ("y": a long beam's roll,
+    which its thin section hides in the drawing), else its direction."""
+    axis = rotation / np.linalg.norm(rotation)
+    k = int(np.argmax(np.abs(axis)))
+    if abs(axis[k]) >= np.cos(np.radians(25.0)):
+        return "xyz"[k]
+    return "(" + ", ".join(f"{v:.2f}" for v in axis) + ")"
+
+
 def _scale_words(scene: _Scene, shape: np.ndarray, view: _View) -> str:
     """The drawing scale of one panel in words: how large its largest motion is drawn, and its rotation."""
     q = view.scale(scene, shape) * shape
@@ -383,7 +393,7 @@ def _scale_words(scene: _Scene, shape: np.ndarray, view: _View) -> str:
     size = f"{100 * peak / view.largest:.2g} % of {of} ({view.largest:.3g} m)"
     words = f"drawn: largest motion {size}"
     if turned >= 0.01:  # a translation's round-off rotation (1e-15 deg) is none
-        words += f", turned {turned:.2g}°"
+        words += f", turned {turned:.2g}° about {_rotation_axis(q[3:])}"
     if view.along is None:
         return words
     axis = "xyz"[view.along]

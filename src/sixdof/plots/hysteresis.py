@@ -60,14 +60,14 @@ def plot_hysteresis(system: System, response: TimeHistory, forces: MountForces, 
         ax.plot(1e3 * d[:, e], 1e-3 * force[:, e], color="C0", linewidth=0.9)
         span = np.array([-peaks[e], peaks[e]])
         ax.plot(1e3 * span, 1e-3 * linear[e] * span, color="0.4", linewidth=0.8, linestyle="--",
-                label=f"{h.linearization[e]} {1e-3 * linear[e]:.4g} kN/m" + (
-                    f" (D = {1e3 * h.design_displacement[e]:.4g} mm)" if h.linearization[e] == "effective" else ""))
+                label=f"{h.linearization[e]}: {1e-3 * linear[e]:.4g} kN/m" + (
+                    f" at D = {1e3 * h.design_displacement[e]:.4g} mm" if h.linearization[e] == "effective" else ""))
         ax.axhline(0.0, color="0.8", linewidth=0.6)
         ax.axvline(0.0, color="0.8", linewidth=0.6)
         law = "friction pendulum" if h.pendulum[e] else "Bouc-Wen"
-        ax.set_title(f"{h.names[e]} ({law})", fontsize=10)
-        ax.set_xlabel("deflection d [mm]")
-        ax.set_ylabel("force r [kN]")
+        ax.set_title(f"mount {system.mounts[h.mount[e]].name}, axis {'uvw'[h.axis[e]]} ({law})", fontsize=10)
+        ax.set_xlabel("deflection along the axis [mm]")
+        ax.set_ylabel("force along the axis [kN]")
         ax.set_ylim(*(1.15 * np.array([-1, 1]) * max(1e-3 * np.abs(force[:, e]).max(), 1e-12)))
         ax.grid(True, alpha=0.25)
         ax.legend(fontsize=7, loc="upper left")

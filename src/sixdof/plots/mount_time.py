@@ -30,7 +30,7 @@ from sixdof.results import Event
 
 #: Legend of the tension shading: a mount that pulls on the body (a linear one holds; one with tension = false lifts
 #: off instead, spring, dashpot and branches together, so it is never shaded).
-TENSION_LABEL = "tension (the mount pulls; one with tension = false lifts off instead)"
+TENSION_LABEL = "tension (the mount pulls; one that cannot pull lifts off instead)"
 
 
 def plot_mount_forces(forces: MountForces, t, *, name: str = "", fig: Figure | None = None) -> Figure:

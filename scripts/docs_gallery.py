@@ -55,6 +55,7 @@ WORDS = {
     "mode_shapes.png": "the body on its mounts at rest and deformed, one panel per mode",
     "ke_distribution.png": "each mode's kinetic energy per DOF",
     "time_dofs.png": "the six DOFs over the run, with a zoom on the shock or the switch-on",
+    "time_points.png": "the named body points' accelerations over the run",
     "mount_forces.png": "each mount's total normal force, static preload included",
     "mount_shear.png": "each mount's shear load",
     "superposition.png": "the direct solve and the modal superposition overlaid, and their difference per DOF",

@@ -678,3 +678,34 @@ def test_time_dofs_gives_the_steady_state_amplitude_beside_the_switch_on_peak():
     # The record ends in that steady state: its last two periods reach the amplitude, to the decay left.
     last = response.t > response.t[-1] - 2 / 7.0
     assert np.max(np.abs(response.q[last, 2])) == pytest.approx(amplitude, rel=0.02)
+
+
+def test_time_points_png_draws_each_point_that_moves_along_the_axes_it_moves_along():
+    # A torque about z at the CG of the doubly symmetric box turns it about z alone: a point on the z axis stays at
+    # rest (named, not drawn); a corner at (0.3, 0.2, 0) m moves along x and y only, a = rz'' (-0.2, 0.3, 0).
+    from sixdof.analysis.response import points_motion
+    from sixdof.plots import FIGURES, figure_names, plot_point_accelerations
+
+    system = four_mount(m=MASS, k=(2e5, 3e5, 8e5), damping=(100.0, 100.0, 300.0))
+    torque = (Load("motor", [0.0, 0.0, 0.0], moment=[0.0, 0.0, 40.0], signal=Harmonic(f_hz=9.0)),)
+    response = simulate(system, Excitation(loads=torque), SimulationSettings(duration=1.0, sample_rate_hz=1000.0))
+    points = points_motion(response, {"corner": [0.3, 0.2, 0.0], "on_axis": [0.0, 0.0, 0.2]})
+    fig = plot_point_accelerations(points, response.t, name="box")
+    assert fig.get_suptitle() == "box: absolute acceleration of the named body points, along the body axes"
+    (line,) = [text.get_text() for text in fig.texts if text.get_text().startswith("not excited")]
+    assert line.endswith("): on_axis")
+    whole = fig.axes[0]
+    peak = float(np.max(np.abs(response.qdd[:, 5])))
+    assert whole.get_title(loc="left") == (f"point corner: peak along x {1e3 * 0.2 * peak:.4g}, along y "
+                                           f"{1e3 * 0.3 * peak:.4g} mm/s² (largest {0.3 * peak / STANDARD_GRAVITY:.3g} g)")
+    assert whole.get_ylabel() == "acceleration [mm/s²]"
+    lines = {line.get_label(): line for line in whole.get_lines()}
+    assert set(lines) == {"along x", "along y"}
+    np.testing.assert_allclose(lines["along y"].get_ydata(), 1e3 * 0.3 * response.qdd[:, 5], rtol=1e-9,
+                               atol=1e-9 * 1e3 * peak)
+    assert len(fig.axes) == 1  # the corner's row alone (no zoom: nine periods of 1 s need none)
+    assert_figure_texts_clear(fig)
+    run = RunResults(name="box", system=system, response=response, points=points)
+    assert "time_points.png" in figure_names(run)
+    draw = next(draw for name, _, _, draw in FIGURES if name == "time_points.png")
+    assert draw(run).axes[0].get_title(loc="left") == whole.get_title(loc="left")

@@ -27,6 +27,7 @@ def inputs() -> dict:
     """Arguments of every public plot function, from small systems' typed results."""
     from sixdof.analysis.isolation_summary import isolation_summary
     from sixdof.analysis.random import PSD, RandomInput, random_response
+    from sixdof.analysis.response import points_motion
     from sixdof.analysis.spectrum import response_spectrum
     from sixdof.analysis.srs import ShockSpectra
     from sixdof.model.viscoelastic import constant_loss_model
@@ -79,6 +80,7 @@ def inputs() -> dict:
         "plot_mount_forces": ((parts["mount_forces"], t), {}),
         "plot_mount_loads": ((check, t), {}),
         "plot_mount_shear": ((check, t), {}),
+        "plot_point_accelerations": ((points_motion(response, {"corner": [0.3, 0.2, 0.1]}), t), {}),
         "plot_bode": ((parts["frf"], parts["modes"]), {}),
         "plot_point_frfs": ((parts["frf_extras"], parts["modes"]), {}),
         "plot_transmissibility": ((isolation_summary(box, box.modes, f, [3.0], [[0, 0, 100.0, 0, 0, 0]]),

@@ -22,6 +22,7 @@ from sixdof.errors import InputError
 from sixdof.model.modes import modal_analysis
 from sixdof.model.system import System
 from sixdof.plots.common import DOF_DIRECTIONS, DOF_NAMES
+from sixdof.plots.modes import drawn_mode, write_mode_animations
 from sixdof.plots.time import responding
 from sixdof.results import RunResults, TimeHistory
 from store_cases import run_parts
@@ -30,7 +31,7 @@ from tolerances import RTOL_DRAWN
 
 UNIT_WORDS = ("[m]", "[kg^1/2 m]", "[mm]", "[µm]", "[nm]", "[mrad]", "[µrad]", "[nrad]", "[s]", "[Hz]", "[kN]", "[N]", "[deg]", "[%]",
               "[m/N]", "[rad/(N m)]", "[1]", "[N/N]", "[m/m]", "[(m/s^2)/N]")
-FIGURE_NAMES = ["mode_shapes.png", "ke_distribution.png", "time_dofs.png", "mount_forces.png", "superposition.png",
+FIGURE_NAMES = ["mode_shapes.png", "ke_distribution.png", "time_dofs.png", "time_points.png", "mount_forces.png", "superposition.png",
                 "bode.png", "point_frfs.png", "validation_frf.png", "free_decays.png"]
 
 
@@ -177,17 +178,17 @@ def test_mode_shapes_draw_into_a_given_figure_or_subfigure(parts):
 def test_mode_animations_want_at_least_two_frames(parts, tmp_path):
     for frames in (1, 2.5, True):
         with pytest.raises(InputError, match="frames: expected an integer number of frames per period, at least 2"):
-            plots.modes.write_mode_animations(parts["modes"], parts["system"], tmp_path, frames=frames)
+            write_mode_animations(parts["modes"], parts["system"], tmp_path, frames=frames)
     assert not list(tmp_path.iterdir())
 
 
 def test_mode_drawing_scales_translations_and_caps_rotations():
     points = np.array([[1.0, 2.0, 3.0], [-1.0, 0.0, 0.5]])
     translation = np.array([0.0, 0.0, 2e-3, 0.0, 0.0, 0.0])
-    moved = plots.modes.drawn_mode(points, translation, largest=10.0)
+    moved = drawn_mode(points, translation, largest=10.0)
     np.testing.assert_allclose(moved - points, [[0, 0, plots.MODE_SCALE * 10.0]] * 2, rtol=RTOL_DRAWN)
     rotation = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 1e-3])
-    moved = plots.modes.drawn_mode(points, rotation, largest=1000.0)  # 15 % of 1000 m would need 60 rad
+    moved = drawn_mode(points, rotation, largest=1000.0)  # 15 % of 1000 m would need 60 rad
     angle = np.arctan2(moved[0, 1], moved[0, 0]) - np.arctan2(points[0, 1], points[0, 0])
     assert angle == pytest.approx(plots.MAX_DRAWN_ROTATION, rel=RTOL_DRAWN)
     np.testing.assert_allclose(np.linalg.norm(moved, axis=1), np.linalg.norm(points, axis=1), rtol=RTOL_DRAWN)

@@ -35,6 +35,8 @@ FIGURE_CAPTIONS = {
                        "with nearly all of it in one degree of freedom is decoupled.",
     "time_dofs": "The motion of the centre of gravity over time, one panel per degree of freedom that "
                  "responds, with a zoom on the start or the shock.",
+    "time_points": "The acceleration of each named body point over time, one panel per point that responds, "
+                   "with its peak along each body axis and in g.",
     "mount_forces": "The total normal force on each mount over time, the static preload included; tension "
                     "(uplift) is shaded.",
     "mount_shear": "The shear load on each mount over time, with its peak shear deflection.",

@@ -282,6 +282,9 @@ def test_a_bode_title_with_a_long_name_puts_the_name_on_its_own_line():
     fig = plot_bode(frf, system.modes, operating_hz=[2.0], name=name)
     assert fig.get_suptitle().startswith(f"{name}:\nreceptance")
     assert_figure_texts_clear(fig)  # inside the figure, clear of the panels' titles
+    # The legends under the phases, where they hide neither the curves nor the mode numbers.
+    for magnitude, phase in zip(fig.axes[:2], fig.axes[2:]):  # subplots(2, 2): magnitudes first
+        assert magnitude.get_legend() is None and phase.get_legend() is not None
     assert plot_bode(frf, system.modes, name="bridge").get_suptitle().startswith("bridge: receptance")
 
 

@@ -112,8 +112,8 @@ def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, 
         # A long name (a nonlinear run's "(linear model, exact until ...)") on a line of its own: one line of
         # both would run past the figure's edges.
         long_name = len(title(name, heading.split("\n")[0])) > TITLE_LINE_CHARS
-        margins(fig, left=0.85, right=0.15, top=0.9 + 0.2 * long_name, bottom=0.55, wspace=1.05, hspace=0.15,
-                columns=2, rows=2)
+        margins(fig, left=0.85, right=0.15, top=0.9 + 0.2 * long_name, bottom=1.3, wspace=1.05, hspace=0.15,
+                columns=2, rows=2)  # the legends under the phases
         fig.suptitle(f"{name}:\n{heading}" if long_name else title(name, heading), fontsize=12)
         axes = fig.subplots(2, 2, sharex=True, height_ratios=[2, 1])
     else:
@@ -131,7 +131,11 @@ def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, 
         mag.set_yscale("log")
         mag.set_ylabel(f"|H| [{unit}]")
         mag.set_title("translations" if column == 0 else "rotations", fontsize=11)
-        mag.legend(fontsize=9)
+        if ax is None:  # under the phase, clear of the curves and of the mode numbers and operating labels
+            phase.legend(*mag.get_legend_handles_labels(), fontsize=9, loc="upper center", frameon=False,
+                         bbox_to_anchor=(0.5, -0.3))
+        else:
+            mag.legend(fontsize=9)
         phase.set_xlabel("frequency f [Hz]")
         _finish(mag, phase, f, frequency_hz, operating_hz)
     return fig

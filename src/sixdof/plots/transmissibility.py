@@ -45,7 +45,7 @@ def _panel(ax, curves, frequency_hz) -> None:
             {"force": "force on the foundation / applied force", "moment": "moment on the foundation / applied moment",
              "motion": "CG / ground translation"}[curve.kind])
         ax.loglog(curve.f_hz, curve.values, color=COMPONENT_COLORS[k % len(COMPONENT_COLORS)], linewidth=1.4,
-                  label=label)
+                  label=label, zorder=4)  # over the operating frequencies' labels: they never hide it
     ax.set_xlim(f[0], f[-1])
     ax.set_ylabel(LABELS[curves[0].kind])
     ax.grid(True, which="major", alpha=0.4)
@@ -56,8 +56,8 @@ def _panel(ax, curves, frequency_hz) -> None:
             ax.axvline(f_op, color="tab:red", linewidth=1.0, linestyle="-.", zorder=2)
             ax.plot([f_op], [t], "o", color="tab:red", markersize=5, zorder=3)
             ax.annotate(f"operating {f_op:.4g} Hz\n|T| = {t:.3g}, {_efficiency(eff)}", (f_op, t),
-                        xytext=(6, 6), textcoords="offset points", fontsize=8, color="tab:red", va="bottom",
-                        bbox={"facecolor": "white", "alpha": 0.8, "edgecolor": "none", "pad": 1.0})
+                        xytext=(6, 12), textcoords="offset points", fontsize=8, color="tab:red", va="bottom",
+                        bbox={"facecolor": "white", "alpha": 0.8, "edgecolor": "none", "pad": 1.0}, zorder=3.5)
     ax.legend(loc="lower left", fontsize=8)
     plain_frequencies(ax)
 

@@ -5,6 +5,7 @@ writes, and bad design input."""
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 import shutil
 from pathlib import Path
@@ -310,24 +311,29 @@ def test_optimize_writes_a_scenario_that_reproduces_the_design_and_a_labelled_fi
     np.testing.assert_allclose(left.axes[2] * [-1, 1, 1], right.axes[2], atol=1e-12)
 
 
+def _z_frequency_design(f_hz, axes) -> str:
+    """A [design] of two starts: the z mode's frequency in ``f_hz`` [Hz], varying the stiffness along ``axes``."""
+    return f"""
+[design]
+starts = 2
+[[design.target]]
+kind = "frequency"
+dof = "z"
+f_hz = {list(f_hz)}
+[[design.vary]]
+parameter = "stiffness"
+axes = {json.dumps(list(axes))}
+bounds = [0.5, 2.0]
+"""
+
+
 def test_sixdof_plot_redraws_a_design_from_any_folder_with_the_files_its_scenario_names(tmp_path, monkeypatch):
     # The redraw rebuilds the scenario from the text design.h5 stores: its relative CSV reference is read from the
     # scenario's own folder (stored beside the text), not from where `sixdof plot` is run.
     model, elsewhere = tmp_path / "model", tmp_path / "elsewhere"
     model.mkdir(), elsewhere.mkdir()
     shutil.copy("scenarios/elastomer_mount.csv", model)
-    text = _v_pair(THETA0, """
-[design]
-starts = 2
-[[design.target]]
-kind = "frequency"
-dof = "z"
-f_hz = [5.0, 40.0]
-[[design.vary]]
-parameter = "stiffness"
-axes = ["u"]
-bounds = [0.5, 2.0]
-""").replace("stiffness = [", 'dynamic_stiffness = { file = "elastomer_mount.csv", axis = "w" }\nstiffness = [', 1)
+    text = _v_pair(THETA0, _z_frequency_design([5.0, 40.0], ["u"])).replace("stiffness = [", 'dynamic_stiffness = { file = "elastomer_mount.csv", axis = "w" }\nstiffness = [', 1)
     (model / "v.toml").write_text(text)
     assert main(["optimize", str(model / "v.toml"), "--out", str(tmp_path / "out"), "--quiet"]) == 0
     folder = tmp_path / "out" / "v_pair_design"
@@ -340,18 +346,7 @@ bounds = [0.5, 2.0]
 
 
 def test_an_infeasible_target_set_is_reported_with_its_shortfall(tmp_path, capsys):
-    text = _v_pair(THETA0, """
-[design]
-starts = 2
-[[design.target]]
-kind = "frequency"
-dof = "z"
-f_hz = [1.0, 2.0]
-[[design.vary]]
-parameter = "stiffness"
-axes = ["u", "w"]
-bounds = [0.5, 2.0]
-""")
+    text = _v_pair(THETA0, _z_frequency_design([1.0, 2.0], ["u", "w"]))
     path = tmp_path / "v.toml"
     path.write_text(text)
     assert main(["optimize", str(path), "--out", str(tmp_path), "--quiet"]) == 3

@@ -204,3 +204,18 @@ def test_sixdof_plot_refuses_a_file_of_no_known_kind(tmp_path, capsys):
         assert err.startswith("sixdof: error: results: expected a sixdof results file: the results.h5 of")
         assert f"got {path}: {found}" in err, err
     assert list(tmp_path.rglob("*.png")) == []
+
+
+def test_each_sweep_figure_draws_into_the_given_figure_or_axes(run):
+    # As tests/test_plot_api.py holds for the run's figures: a caller's figure (or axes) is drawn into and returned.
+    from matplotlib.figure import Figure
+
+    fit = sweep_sensitivity(run.sweep, run.system)
+    for draw in (lambda fig: plot_sweep_frequencies(run.sweep, run.system.modes, fig=fig),
+                 lambda fig: plot_sweep_peaks(run.sweep, fig=fig),
+                 lambda fig: plot_sweep_sensitivity(fit, run.system.modes, fig=fig)):
+        given = Figure()
+        assert draw(given) is given and given.axes
+    given = Figure()
+    ax = given.add_subplot()
+    assert plot_sweep_decoupling(run.sweep, run.system.modes, ax=ax) is given and len(ax.patches) > 0

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from sixdof.analysis.isolation_summary import has_operating, run_isolation_summary
+from sixdof.analysis.isolation_summary import has_operating, natural_frequencies, run_isolation_summary
 from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.analysis.steady import vector_amplitude
 from sixdof.dofs import display_unit
@@ -29,7 +29,8 @@ def _frequencies_part(results, summary) -> list[str]:
     operating = np.unique(np.concatenate([c.operating_hz for c in curves])) if curves else np.zeros(0)
     excited = {r for c in curves for r in c.excited_modes}
     # Where the modes resonate: on Maxwell mounts the full model's poles, above the long-term stiffness' modes.
-    natural = modes.frequency_hz if summary is None else summary.natural_hz
+    natural = (summary.natural_hz if summary is not None else modes.frequency_hz if results.system is None
+               else natural_frequencies(results.system, modes))
     full = not np.array_equal(natural, modes.frequency_hz)
     headers = ["mode #", "f_n, full model [Hz]" if full else "f_n [Hz]", "dominant DOF",
                *(["excited"] if curves else []), *(f"r = {f:.4g} Hz / f_n" for f in operating)]

@@ -29,8 +29,12 @@ def _frequencies_part(results, summary) -> list[str]:
     operating = np.unique(np.concatenate([c.operating_hz for c in curves])) if curves else np.zeros(0)
     excited = {r for c in curves for r in c.excited_modes}
     # Where the modes resonate: on Maxwell mounts the full model's poles, above the long-term stiffness' modes.
-    natural = (summary.natural_hz if summary is not None else modes.frequency_hz if results.system is None
-               else natural_frequencies(results.system, modes))
+    if summary is not None:
+        natural = summary.natural_hz
+    elif results.system is not None:
+        natural = natural_frequencies(results.system, modes)
+    else:
+        natural = modes.frequency_hz
     full = not np.array_equal(natural, modes.frequency_hz)
     headers = ["mode #", "f_n, full model [Hz]" if full else "f_n [Hz]", "dominant DOF",
                *(["excited"] if curves else []), *(f"r = {f:.4g} Hz / f_n" for f in operating)]

@@ -19,6 +19,7 @@ from sixdof.plots.time import (
     RESPONDS_RTOL,
     _shade_zoom,
     _stacked_rows,
+    legend_line,
 )
 from sixdof.plots.zoom import event_window, zoom_samples, zoom_window
 from sixdof.results import Event
@@ -104,7 +105,5 @@ def plot_point_accelerations(points: Mapping[str, PointMotion], t, *, name: str 
         for handle, label in zip(*axes[0].get_legend_handles_labels()):
             handles.setdefault(label, handle)
     order = [label for label in ("along x", "along y", "along z", "zoomed span") if label in handles]
-    fig.legend([handles[label] for label in order], order, fontsize=8, loc="upper left", frameon=False,
-               bbox_to_anchor=(0.8 / fig.get_figwidth(), 1 - (0.55 + 0.3 * bool(note)) / fig.get_figheight()),
-               ncols=len(order))
+    legend_line(fig, [handles[label] for label in order], order, ncols=len(order))
     return fig

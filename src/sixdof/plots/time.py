@@ -166,7 +166,7 @@ def _stacked_rows(t: np.ndarray, heights: list[float], zoom, heading: str, note:
     under the last row. The first row's title has ``first_title_lines`` lines (the others' fit between rows)."""
     gap, bottom = 0.55, 0.55  # between rows (each has a title), under the last (its time labels)
     # From the top [in]: the title, the note, the line of the legend and the zoom's heading, the first row's title.
-    legend_at = 0.55 + (0.3 if note else 0.0)
+    legend_at = _legend_at(bool(note))
     top = legend_at + (0.25 if legend_line else -0.1) + 0.35 + 0.17 * (first_title_lines - 1)
     fig = figure(fig, (12, top + bottom + sum(heights) + gap * (len(heights) - 1)))
     height = fig.get_figheight()
@@ -315,6 +315,19 @@ def _load_panel(axes, t: np.ndarray, zoom, Q: np.ndarray, shown, quoted) -> None
     _shade_zoom(axes, zoom)
 
 
+def _legend_at(note: bool) -> float:
+    """Where [in from the top] :func:`_stacked_rows` keeps the line of the legend and the zoom's heading: under
+    the title, and the note when there is one."""
+    return 0.55 + (0.3 if note else 0.0)
+
+
+def legend_line(fig: Figure, handles, labels, ncols: int) -> None:
+    """The legend of a figure of :func:`_stacked_rows`, on the line kept for it above the panels (inside one it
+    would sit on a curve)."""
+    fig.legend(handles, labels, fontsize=8, loc="upper left", frameon=False, ncols=ncols,
+               bbox_to_anchor=(0.8 / fig.get_figwidth(), 1 - _legend_at(bool(notes(fig))) / fig.get_figheight()))
+
+
 def _shade_zoom(axes, zoom) -> None:
     """The zoomed span shaded on a row's whole record."""
     if zoom is not None:
@@ -348,10 +361,7 @@ def _history_dof(fig: Figure, axes, i: int, t: np.ndarray, main: np.ndarray, oth
                            label=what if sign > 0 else None)
     _shade_zoom(axes, zoom)
     if legend:
-        # Above the panels, under the title (and the note): inside one it would sit on a curve.
-        fig.legend(*whole.get_legend_handles_labels(), fontsize=8, loc="upper left", frameon=False,
-                   bbox_to_anchor=(0.8 / fig.get_figwidth(), 1 - (0.55 + 0.3 * bool(notes(fig))) / fig.get_figheight()),
-                   ncols=4)
+        legend_line(fig, *whole.get_legend_handles_labels(), ncols=4)
     whole.set_ylabel(axis_label(DOF_DIRECTIONS[i], label))
     heading = f"{DOF_NAMES[i]}: peak {factor * main_peak:.4g} {label}"
     if other is not None:

@@ -300,7 +300,7 @@ def build_results(run=None, *, command_line: str | None = None, created_utc: str
     tree.set_attrs("", format=kind, format_version=FORMAT_VERSION,
                    scenario_text=run.provenance.get("scenario_text", "") or "", created_utc=created_utc,
                    command_line=command_line, python_version=sys.version.split()[0], derived_omitted=tuple(omit),
-                   **{key: str(run.provenance[key]) for key in ("scenario_folder",) if run.provenance.get(key)},
+                   **({"scenario_folder": str(folder)} if (folder := run.provenance.get("scenario_folder")) else {}),
                    **{f"version_{p}": _version(p) for p in PROVENANCE_PACKAGES})
     tree.encode(run, "")
     for path, dataset in (extra or {}).items():

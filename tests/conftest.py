@@ -18,6 +18,13 @@ jax.config.update("jax_enable_x64", True)
 os.environ.setdefault("SIXDOF_JAX_CACHE", "off")
 
 
+def pytest_collection_modifyitems(config, items):
+    """A ``long`` test (over 10 s) is ``slow`` too: the quick loop, ``-m "not slow"``, leaves out both."""
+    for item in items:
+        if item.get_closest_marker("long") is not None:
+            item.add_marker("slow")
+
+
 def pytest_collection_finish(session):
     """Freeze what the collected modules imported out of the garbage collector's sight.
 

@@ -81,6 +81,7 @@ def batch(request, beam, variants):
     return run_batch(beam, variants, EXCITATION, SETTINGS, histories=(2,), chunk_size=CHUNK, engine=request.param)
 
 
+@pytest.mark.slow  # 4 s on the 2-core machine
 def test_batch_peaks_equal_direct_simulation_one_by_one(beam, variants, batch):
     assert batch.chunk_size == CHUNK
     for i in range(variants.count):
@@ -96,6 +97,7 @@ def test_batch_peaks_equal_direct_simulation_one_by_one(beam, variants, batch):
     assert np.all(np.ptp(batch.frequency_hz, axis=0) > 1e-3)
 
 
+@pytest.mark.slow  # the batches it reads: 2 s each on the 2-core machine
 def test_kept_history_is_the_engines_response(beam, variants, batch):
     assert set(batch.histories) == {2}
     history = batch.histories[2]
@@ -109,6 +111,7 @@ def test_kept_history_is_the_engines_response(beam, variants, batch):
         assert np.all(error < RTOL_BATCH_DIRECT)
 
 
+@pytest.mark.slow  # the batches it reads: 2 s each on the 2-core machine
 def test_a_sample_is_cross_checked_by_diffrax(beam, variants, batch):
     # The default: three variants (here all of them), solved by simulate, their peaks against the engine's.
     np.testing.assert_array_equal(batch.cross_check_variants, [0, 1, 2])
@@ -148,7 +151,7 @@ def test_exact_batch_equals_superpose_per_variant_and_chunking_changes_nothing(b
                 assert np.all(np.abs(getattr(result, peak)[i] - expected) <= RTOL_BATCH_CHUNKS * expected), (i, name)
 
 
-@pytest.mark.slow  # ~26 CPU s: a batch and scipy's DOP853 at tight tolerances
+@pytest.mark.long  # ~26 CPU s: a batch and scipy's DOP853 at tight tolerances
 def test_exact_batch_peaks_equal_scipy_dop853(beam, variants):
     # An independent integration of one variant's state-space system (scipy, tight tolerances, stepping
     # onto the pulse's edges), sampled at the output times.
@@ -168,6 +171,7 @@ def test_exact_batch_peaks_equal_scipy_dop853(beam, variants):
     assert np.all(np.abs(batch.peak_q[1] - peaks[:6]) <= RTOL_BATCH_SCIPY * peaks[:6])
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_ground_motion_in_an_exact_batch_equals_simulate(beam, variants):
     ground = Excitation(loads=EXCITATION.loads, ground=GroundMotion("acceleration", [0.3, 1.0, 0.2],
                                                                      Harmonic(f_hz=2.0), scale=0.5))
@@ -324,6 +328,7 @@ def test_spec_names_the_engine_and_the_cross_check():
     assert spec.engine == "diffrax" and spec.cross_check == 0
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_sweep_command_prints_the_cross_check(tmp_path, capsys):
     from sixdof.cli import main
 
@@ -354,6 +359,7 @@ def test_sweep_command_prints_the_cross_check(tmp_path, capsys):
         assert 1.0 <= shown.max() < 1000.0 or unit in ("nm", "nrad")
 
 
+@pytest.mark.slow  # 4 s on the 2-core machine
 def test_a_sweep_under_a_moving_ground_says_its_peaks_are_absolute(tmp_path):
     from sixdof.io.scenario import load_scenario
     from sixdof.workflows.prepare import prepare
@@ -521,12 +527,14 @@ def test_bad_variants_and_unsupported_excitations_are_named(beam, variants):
         run_batch(beam, variants, EXCITATION, SETTINGS, histories=(3,))
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_step_limit_raises_a_solver_error_naming_the_variant(beam, variants):
     tight = SimulationSettings(duration=1.5, sample_rate_hz=400.0, max_steps=50)
     with pytest.raises(SolverError, match=r"failed for 3 of 3 variants \(first: index 0\)"):
         run_batch(beam, variants, EXCITATION, tight, chunk_size=CHUNK, engine="diffrax", cross_check=0)
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_the_specs_engine_and_cross_check_reach_the_batch():
     spec = parse_sweep_spec(SPEC.replace("count = ", 'engine = "diffrax"\ncross_check = 1\ncount = ', 1))
     result = sweep(SCENARIO, spec, chunk_size=CHUNK)
@@ -561,7 +569,7 @@ def bounce_by_hand(fit, factor, t):
     return np.array([(scipy.linalg.expm(A * s) @ x0)[0] for s in t])
 
 
-@pytest.mark.slow  # ~12 CPU s
+@pytest.mark.long  # ~12 CPU s
 def test_a_sweep_carries_the_causal_loss_factor_model():
     scenario = prepare(parse_scenario(BOUNCE_TOML))
     assert scenario.loss_factor_model == "causal" and scenario.time_system.branches.count
@@ -601,6 +609,7 @@ def test_a_sweep_carries_the_causal_loss_factor_model():
     assert np.max(np.abs(z[-len(t) // 4:])) < 0.2 * np.max(np.abs(z))
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_chunks_of_a_lossy_sweep_change_nothing():
     scenario = prepare(parse_scenario(BOUNCE_TOML.replace(
         "[initial]\n", "[[loads]]\nname = \"tap\"\npoint = [0.1, 0.2, 0.0]\nforce = [50.0, 20.0, 400.0]\nsignal = "
@@ -616,6 +625,7 @@ def test_chunks_of_a_lossy_sweep_change_nothing():
     assert whole.cross_check.ok and chunked.cross_check.ok
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_a_sweep_of_measured_dynamic_stiffness_tables_runs_and_checks():
     path = "scenarios/equipment_elastomer.toml"
     text = Path(path).read_text(encoding="utf-8")  # its blow sooner, and 0.3 s of it
@@ -642,6 +652,7 @@ def test_a_vary_table_repeated_is_refused_and_an_overlapping_one_composes():
     assert [v.parameter for v in spec.vary] == ["stiffness", "damping", "stiffness"]
 
 
+@pytest.mark.slow  # 2 s each on the 2-core machine
 @pytest.mark.parametrize("low, high, warned", [(0.2, 0.3, True), (0.97, 1.03, False)])
 def test_a_sweep_says_where_its_variants_leave_the_causal_models_checked_range(tmp_path, capsys, low, high, warned):
     """The variants share the nominal's causal models of the loss factors, checked at the nominal's natural and

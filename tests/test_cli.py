@@ -49,6 +49,7 @@ def test_modes_json_has_the_documented_keys(capsys):
     assert data["subsystems"] == [["x", "ry", "rz"], ["y", "z", "rx"]]
 
 
+@pytest.mark.slow  # 4 s on the 2-core machine
 def test_modes_json_keys_are_the_results_file_s_names(tmp_path, capsys):
     """Every dataset and attribute of the file's modal and statics groups under its own name, same values."""
     from sixdof.io.store import load_tree
@@ -122,6 +123,7 @@ def test_plot_of_a_sweep_file_is_an_error_not_an_empty_success(tmp_path, capsys)
     assert list(tmp_path.glob("*.png")) == []
 
 
+@pytest.mark.slow  # 4 s on the 2-core machine
 def test_warnings_go_to_stderr_and_prose_lines_stay_short(tmp_path, capsys):
     """``modes`` and ``run`` warn of uplift on stderr, as every command warns; the run's report has no line over 120
     characters (the agreement's per-DOF values on a line of their own)."""
@@ -188,6 +190,7 @@ def sweep_files(tmp_path) -> tuple[Path, Path]:
     return scenario, spec
 
 
+@pytest.mark.slow  # 4 s on the 2-core machine
 def test_sweep_writes_distributions(tmp_path, capsys):
     scenario, spec = sweep_files(tmp_path)
     assert main(["sweep", str(scenario), "--spec", str(spec), "--out", str(tmp_path / "out")]) == 0
@@ -239,7 +242,7 @@ def test_help_and_import_load_no_numerics():
                           "except SystemExit:\n    pass") == []
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_plot_never_imports_jax(tmp_path):
     path = tmp_path / "results.h5"
     write_results(path, **run_parts())
@@ -247,6 +250,7 @@ def test_plot_never_imports_jax(tmp_path):
     assert len(list(tmp_path.glob("*.png"))) == 9
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_plot_of_modal_results_imports_no_jax(tmp_path):
     path = tmp_path / "results.h5"
     system = bridge("equal")
@@ -255,6 +259,7 @@ def test_plot_of_modal_results_imports_no_jax(tmp_path):
     assert sorted(p.name for p in tmp_path.glob("*.png")) == ["ke_distribution.png", "mode_shapes.png"]
 
 
+@pytest.mark.slow  # 2 s each on the 2-core machine
 @pytest.mark.parametrize(("arguments", "status"), [(["modes", "scenarios/bridge_beam.toml", "--json"], 0),
                                                     (["modes", "missing.toml"], 2)])
 def test_the_command_ends_with_its_status_and_all_its_output(arguments, status):
@@ -269,6 +274,7 @@ def test_the_command_ends_with_its_status_and_all_its_output(arguments, status):
         assert result.stderr.startswith("sixdof: error: ") and "missing.toml" in result.stderr
 
 
+@pytest.mark.slow  # 1-2 s each on the 2-core machine
 @pytest.mark.parametrize("command", ["modes", "examples"])
 def test_a_reader_that_went_away_ends_the_command_quietly(command, tmp_path):
     """``sixdof modes ... | head -1``: output to a closed pipe ends the command with 128 + SIGPIPE, as a shell
@@ -284,6 +290,7 @@ def test_a_reader_that_went_away_ends_the_command_quietly(command, tmp_path):
         assert sorted(p.name for p in tmp_path.iterdir()) == sorted(p.name for p in Path("scenarios").iterdir())
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_a_broken_pipe_that_is_not_the_output_s_is_a_failed_write():
     """A BrokenPipeError with stdout and stderr still read (a socket's, say) is reported as any failed write."""
     code = ("import sys\nfrom sixdof import cli\nfrom sixdof.cli.commands import modes\n"
@@ -295,6 +302,7 @@ def test_a_broken_pipe_that_is_not_the_output_s_is_a_failed_write():
     assert result.stderr == "sixdof: could not write: Broken pipe; results already in place are unchanged\n"
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_only_the_command_s_own_process_collects_garbage_less_often():
     """The ``sixdof`` command collects every COLLECT_EVERY allocations; a program calling main() keeps its settings."""
     from sixdof.cli._process import COLLECT_EVERY
@@ -310,6 +318,7 @@ def test_only_the_command_s_own_process_collects_garbage_less_often():
     assert command == (COLLECT_EVERY, *before[1:])
 
 
+@pytest.mark.slow  # 1-2 s each on the 2-core machine
 @pytest.mark.parametrize("user_flags", [None, "--xla_cpu_use_fusion_emitters=true --xla_dump_to=/dev/null"])
 def test_only_the_command_s_own_process_compiles_without_xla_s_fusion_emitters(user_flags):
     """The ``sixdof`` command turns XLA's CPU fusion emitters off (they slow its compilation) and keeps any
@@ -328,6 +337,7 @@ def test_only_the_command_s_own_process_compiles_without_xla_s_fusion_emitters(u
     assert command == (user_flags or "--xla_cpu_use_fusion_emitters=false")
 
 
+@pytest.mark.slow  # 3 s each on the 2-core machine
 @pytest.mark.skipif(platform.libc_ver()[0] != "glibc", reason="glibc's allocator")
 @pytest.mark.parametrize("user_setting", [None, "MALLOC_TRIM_THRESHOLD_", "GLIBC_TUNABLES"])
 def test_the_command_s_own_process_keeps_the_memory_it_frees(user_setting):
@@ -364,6 +374,7 @@ def test_the_command_s_own_process_keeps_the_memory_it_frees(user_setting):
         assert command > pages // 2
 
 
+@pytest.mark.slow  # 3 s each on the 2-core machine
 @pytest.mark.parametrize("user_setting", [None, "OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS"])
 def test_commands_drawing_in_workers_run_blas_on_one_thread_unless_the_user_chose(tmp_path, user_setting):
     """``run``, ``validate`` and ``plot`` as the ``sixdof`` command set OpenBLAS to one thread before NumPy loads
@@ -418,6 +429,7 @@ def test_examples_are_copied_runnable_and_never_overwritten(tmp_path, capsys):
     assert not (folder / "machine_unbalance.toml").exists()  # nothing copied at all
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_a_sweep_shows_its_progress(capsys):
     from sixdof.analysis.batch import make_variants, run_batch
     from sixdof.analysis.direct import SimulationSettings
@@ -446,6 +458,7 @@ def test_the_damping_ratios_say_what_they_include():
     assert "from mount dashpots;" in note and "not the mounts' loss factors" in note.replace("\n", " ")
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_plot_and_export_of_a_damaged_results_file_fail_in_one_line(tmp_path, capsys):
     """200 KB of random bytes over the middle of a results file: exit 2, one line naming the file, nothing drawn
     or exported (before checksums: plotted and exported with 2.7e306 and NaN, exit 0)."""
@@ -463,6 +476,7 @@ def test_plot_and_export_of_a_damaged_results_file_fail_in_one_line(tmp_path, ca
     assert sorted(p.name for p in (tmp_path / "run").iterdir()) == ["results.h5"]
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_modes_and_run_mark_modes_without_an_oscillating_pole_overdamped(tmp_path, capsys):
     """Two modes of the heavily damped box have no complex pole (tests/test_model.py checks this against the
     state matrix's eigenvalues): the modes table, the run's and summary.md say "overdamped" there, never the

@@ -29,7 +29,7 @@ def _system() -> System:
     return System(body=body, mounts=[mount])
 
 
-@pytest.mark.slow  # ~14 CPU s
+@pytest.mark.long  # ~14 CPU s
 def test_sub_millisecond_contacts_in_a_20_s_run_are_each_located():
     w1, w2 = np.sqrt(4 * K / MASS), np.sqrt(4 * (K + K_STOP) / MASS)
     amplitude = 1.0006 * CLEARANCE

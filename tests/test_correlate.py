@@ -74,6 +74,7 @@ def test_the_model_s_frf_on_the_channels_is_the_file_s_without_its_noise_and_dev
     assert np.median(ratio) == pytest.approx(1.0, abs=0.05)
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_a_saved_correlation_reads_back_as_it_was(run, tmp_path):
     folder = save_correlation(run, tmp_path)
     assert folder == tmp_path / "machine_tap_test_correlation"
@@ -94,6 +95,7 @@ def test_a_saved_correlation_reads_back_as_it_was(run, tmp_path):
     assert cells[cells.index("model against the test") + 2] == "FAIL"
 
 
+@pytest.mark.slow  # 3 s on the 2-core machine
 def test_sixdof_plot_redraws_a_correlation_by_its_metadata_not_its_name(run, tmp_path):
     from sixdof.cli import main
 
@@ -133,6 +135,7 @@ def _time_test(seconds: float, rate_hz: float, seed: int):
                                          sample_rate_hz=rate_hz)
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_time_histories_are_correlated_through_their_h1_estimate():
     """Random forces into the model itself: the H1 estimate (several references at once) identifies its modes
     (frequencies measured within 0.01 %, shapes at MAC 0.9999; the Hann window's leakage adds ~4 % to the
@@ -147,7 +150,7 @@ def test_time_histories_are_correlated_through_their_h1_estimate():
     assert np.min(run.estimate.coherence[(run.estimate.f_hz > 5) & (run.estimate.f_hz < 30)]) > 0.9
 
 
-@pytest.mark.slow  # the update compiles its JAX objective (~10-20 s on the 2-core machine)
+@pytest.mark.long  # the update compiles its JAX objective (~10-20 s on the 2-core machine)
 def test_the_command_updates_the_model_back_to_the_as_built_truth(tmp_path):
     """``sixdof correlate --update --json``: the deviations the test was synthesized with come back (the
     stiffness factors within 1 %, the CG within 1 mm), every variable determined, the updated model correlated
@@ -175,6 +178,7 @@ def test_the_command_updates_the_model_back_to_the_as_built_truth(tmp_path):
     np.testing.assert_allclose(updated.system.modes.frequency_hz, back.update.frequency_hz, rtol=1e-9)
 
 
+@pytest.mark.slow  # 4 s on the 2-core machine
 def test_the_command_says_not_correlated_with_status_3_and_writes_its_results(tmp_path):
     result = subprocess.run([sys.executable, "-m", "sixdof", "correlate", str(SCENARIO), "--test", str(TEST),
                              "--out", str(tmp_path), "--quiet"], capture_output=True, text=True)
@@ -184,6 +188,7 @@ def test_the_command_says_not_correlated_with_status_3_and_writes_its_results(tm
     assert (tmp_path / "machine_tap_test_correlation" / "correlation.h5").exists()
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_update_without_an_update_table_is_refused_before_anything_is_computed(tmp_path):
     text = SCENARIO.read_text()
     bare = tmp_path / "bare.toml"

@@ -88,6 +88,7 @@ def _finite_differences(system):
     return frequency, decoupling
 
 
+@pytest.mark.slow  # 1-2 s each on the 2-core machine
 @pytest.mark.parametrize("system", [bridge(), skewed_box()], ids=["bridge", "skewed_box"])
 def test_sensitivities_match_finite_differences(system):
     found = sensitivities(system)
@@ -99,6 +100,7 @@ def test_sensitivities_match_finite_differences(system):
         assert np.max(np.abs(exact - estimate) / scale) < FD_RTOL
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_repeated_frequencies_get_the_group_mean_derivative_and_no_nan():
     # Isotropic mounts on a square around the CG, Jxx = Jyy: x, y, z translations share one frequency, rx and
     # ry another.

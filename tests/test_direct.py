@@ -93,6 +93,7 @@ def harmonic_run(beam):
     return excitation, simulate(beam, excitation, THREE_SECONDS)
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_harmonic_load_matches_matrix_exponential(beam, harmonic_run):
     f, phase = 5.0, 30.0
     run = harmonic_run[1]
@@ -130,6 +131,7 @@ def pulse_run(beam):
                     SimulationSettings(duration=end, sample_rate_hz=5000.0))
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_short_pulse_after_rest_is_seen_and_right(beam, pulse_run):
     # From rest the adaptive step grows without bound; a 50 ms pulse at t = 4 s would be stepped
     # over without the breakpoints.
@@ -143,6 +145,7 @@ def test_short_pulse_after_rest_is_seen_and_right(beam, pulse_run):
     assert_each_dof((run.q, q), (run.qd, qd))
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_tabulated_load_matches_first_order_hold(beam):
     rng = np.random.default_rng(7)
     knots = np.concatenate([[0.2], np.sort(rng.uniform(0.25, 2.2, 25)), [2.3]])
@@ -180,6 +183,7 @@ def test_slow_ramp_follows_static_deflection(beam):
     assert np.all(np.abs(lag) < 0.05 * np.abs(static))
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_energy_balance_after_a_shock(beam, pulse_run):
     start, length, end = PULSE
     run = pulse_run
@@ -201,6 +205,7 @@ def test_energy_balance_after_a_shock(beam, pulse_run):
     assert abs(work - dissipated - stored) < RTOL_ENERGY_BALANCE * work
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_step_from_static_deflection_stays_put(beam):
     static = np.linalg.solve(beam.K, Q0)
     run = simulate(beam, load(Step(start=0.0), InitialState(q=static)),
@@ -209,6 +214,7 @@ def test_step_from_static_deflection_stays_put(beam):
     assert np.all(np.abs(run.qd).max(axis=0) < RTOL_DIRECT_EXACT * np.abs(static) * 240.0)
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_mode_release_vibrates_in_that_mode(beam):
     modes = modal_analysis(beam.M, beam.K)
     release = ModeRelease(mode=5, amplitude=1e-4)
@@ -225,6 +231,7 @@ def test_mode_release_vibrates_in_that_mode(beam):
 # --- ground motion ---------------------------------------------------------------------------------
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_harmonic_ground_acceleration_matches_matrix_exponential(beam):
     a0, f = 0.5, 1.5  # m/s^2, Hz, along the beam
     w = 2 * np.pi * f
@@ -244,6 +251,7 @@ def test_harmonic_ground_acceleration_matches_matrix_exponential(beam):
     assert np.allclose(run.qdd, absolute_qdd, rtol=0, atol=RTOL_RELATIVE_MOTION * np.abs(run.qdd).max())
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_ground_velocity_is_the_same_motion_as_its_acceleration(beam):
     v0, f = 0.05, 2.0
     w = 2 * np.pi * f
@@ -258,6 +266,7 @@ def test_ground_velocity_is_the_same_motion_as_its_acceleration(beam):
     assert np.allclose(run.ground_displacement[:, 1], u, rtol=0, atol=RTOL_DIRECT_EXACT * u.max())
 
 
+@pytest.mark.slow  # 3 s on the 2-core machine
 def test_tabulated_ground_displacement_matches_first_order_hold(beam):
     # Absolute form: M q'' + C q' + K q = K r u_g + C r u_g', with u_g piecewise linear.
     rng = np.random.default_rng(3)
@@ -276,6 +285,7 @@ def test_tabulated_ground_displacement_matches_first_order_hold(beam):
     assert np.allclose(run.ground_displacement, np.outer(u, direction), rtol=0, atol=ATOL_UNIT_ROUNDOFF)
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_stiff_mounts_carry_the_body_with_the_ground():
     stiff = bridge("elastomer", stiffness_factor=100.0)  # 6 to 380 Hz
     amplitude, length = 0.01, 3.0
@@ -312,12 +322,14 @@ def test_new_parameters_reuse_the_compiled_solver(beam):
     assert not [name for name in compiled if "_solve" in name], compiled
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_step_limit_raises_a_solver_error(beam):
     settings = SimulationSettings(duration=2.0, sample_rate_hz=100.0, max_steps=20)
     with pytest.raises(SolverError, match=r"failed in \[0, 2\] s: .*maximum number of solver steps"):
         simulate(beam, load(Harmonic(f_hz=5.0)), settings)
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_step_limit_applies_per_window(beam):
     # A run that needs more steps than max_steps in all runs through in windows that each need fewer.
     settings = SimulationSettings(duration=2.0, sample_rate_hz=100.0, max_steps=400)
@@ -327,11 +339,13 @@ def test_step_limit_applies_per_window(beam):
     assert run.stats.num_windows == 11 and run.stats.num_steps > settings.max_steps
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_no_excitation_stays_at_rest(beam):
     run = simulate(beam, None, SimulationSettings(duration=1.5, sample_rate_hz=1000.0))
     assert run.q.shape == (1501, 6) and np.all(run.q == 0) and np.all(run.qdd == 0)
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_state_scale_balances_translations_and_rotations(beam, harmonic_run):
     excitation, run = harmonic_run
     ratio = np.abs(run.q).max(axis=0) / state_scale(beam, excitation, THREE_SECONDS)[:6]
@@ -373,6 +387,7 @@ def test_sample_times_never_pass_the_end(rate):
 # --- windows ---------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow  # 3 s on the 2-core machine
 def test_windows_carry_the_state_across_a_breakpoint(beam, pulse_run):
     # Windows of 2000 samples: one ends exactly at the pulse's start (sample 20000), the next holds the
     # pulse's end. The solver restarts from the state it reached, and the run stays exact.
@@ -391,6 +406,7 @@ def test_windows_carry_the_state_across_a_breakpoint(beam, pulse_run):
     assert_each_dof((run.q, q), (run.qd, qd), (run.q, pulse_run.q))
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_windows_carry_the_ground_integration(beam):
     # A ground acceleration is integrated twice inside the solve: its velocity and displacement states
     # cross every window boundary.
@@ -407,6 +423,7 @@ def test_windows_carry_the_ground_integration(beam):
     assert np.allclose(run.ground_velocity[:, 1], v, rtol=0, atol=RTOL_DIRECT_EXACT * v.max())
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_simulate_is_the_join_of_its_windows(beam):
     excitation = load(Harmonic(f_hz=5.0, phase_deg=30.0))
     windows = list(simulate_windows(beam, excitation, THREE_SECONDS, window_samples=512))
@@ -424,6 +441,7 @@ def test_window_length(samples, most, expected):
     assert window_length(samples, most) == expected
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_progress_is_shown_between_windows(beam, capsys):
     simulate(beam, load(Harmonic(f_hz=5.0)), SimulationSettings(duration=1.0, sample_rate_hz=100.0),
              progress="text", window_samples=40)
@@ -436,6 +454,7 @@ def test_progress_is_shown_between_windows(beam, capsys):
 # --- the solver's stages ---------------------------------------------------------------------------
 
 
+@pytest.mark.slow  # 2 s each on the 2-core machine
 @pytest.mark.parametrize("name", ["Tsit5", "Dopri8", "Heun"])  # first same as last, or not; 7 and 14 stages
 def test_unrolled_stages_are_diffrax_s_method(name):
     # The same tableau, error estimate, first-same-as-last reuse across a jump and dense output as
@@ -462,6 +481,7 @@ def test_unrolled_stages_are_diffrax_s_method(name):
     assert np.abs(ys - expected).max() < 1e-12 * np.abs(expected).max()
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_without_breakpoints_no_clipping_takes_the_same_steps():
     # A run without breakpoints traces no step clipping (jump_ts of length 0): it must step exactly as the
     # clipped solve does when its breakpoints lie beyond the end.
@@ -488,6 +508,7 @@ def test_without_breakpoints_no_clipping_takes_the_same_steps():
     assert np.abs(unclipped[0] - clipped[0]).max() <= 1e-13 * np.abs(clipped[0]).max()
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_default_tolerances_keep_a_long_ringing_within_the_promise():
     """A 0.002 kg body on four mounts with modes from 1 to 600 Hz rings 5000 cycles of its 600 Hz mode: at a fixed
     1e-9 it ended 1.01e-6 of a DOF's peak off the exact answer (the global error grows with the cycles of the
@@ -516,6 +537,7 @@ def test_default_tolerances_keep_a_long_ringing_within_the_promise():
     assert_each_dof((run.q, x[:, :6]), (run.qd, x[:, 6:]), (run.qdd, (x @ A.T)[:, 6:]))
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_default_tolerances_hold_for_a_tone_far_above_the_modes():
     """The bundled compressor made 5000 t (mass and inertia x 10^4: modes at 0.05-0.15 Hz) under its 24.7 Hz
     unbalance: the tone is mass-controlled and the switch-on rings at 1 / (omega_r Omega), 160 times below the

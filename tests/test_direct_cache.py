@@ -50,7 +50,7 @@ def entries(tmp_path):
     return sorted((tmp_path / "jax" / "sixdof_solves").glob("*.jaxexport"))
 
 
-@pytest.mark.slow  # ~21 CPU s
+@pytest.mark.long  # ~21 CPU s
 def test_a_repeated_run_neither_traces_nor_imports_diffrax(tmp_path):
     first, traced = run_fresh(tmp_path, "first")
     assert traced and len(entries(tmp_path)) == 1

@@ -115,6 +115,7 @@ def test_chunks_draw_their_own_variants_and_grids_span_the_chunks():
     assert len(grid.chunks()) == 3
 
 
+@pytest.mark.slow  # 3 s on the 2-core machine
 def test_in_process_sweep_against_diffrax_and_the_unchunked_batch(in_process):
     system = SCENARIO.system
     variants = SPEC.variants(system)
@@ -137,7 +138,7 @@ def test_in_process_sweep_against_diffrax_and_the_unchunked_batch(in_process):
     np.testing.assert_allclose(in_process.cross_check_peak_q[0], np.max(np.abs(again.q), axis=0), rtol=1e-12)
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_two_workers_give_the_in_process_result_bit_for_bit(cluster, in_process):
     on_dask = sweep(SCENARIO, SPEC, scheduler=cluster.scheduler.address)  # as --scheduler ADDRESS connects
     assert on_dask.backend == "dask" and on_dask.workers == 2 and on_dask.chunks == 5
@@ -149,7 +150,7 @@ def test_two_workers_give_the_in_process_result_bit_for_bit(cluster, in_process)
     np.testing.assert_array_equal(on_dask.cross_check.per_dof, in_process.cross_check.per_dof)
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_workers_run_single_threaded_with_the_compilation_cache(tmp_path, monkeypatch):
     monkeypatch.setenv("SIXDOF_JAX_CACHE", str(tmp_path / "cache"))
     with task_runner(workers=2) as runner:
@@ -174,7 +175,7 @@ def test_workers_run_single_threaded_with_the_compilation_cache(tmp_path, monkey
     assert any((tmp_path / "cache").glob("jit_*")) and any((tmp_path / "cache" / "sixdof_solves").glob("*.jaxexport"))
 
 
-@pytest.mark.slow  # 8-10 s: a sweep in process and on a two-worker cluster
+@pytest.mark.long  # 8-10 s: a sweep in process and on a two-worker cluster
 def test_files_equal_in_process_and_on_two_workers(tmp_path, cluster):
     a, a_folder = sweep_scenario(SCENARIO, SPEC, tmp_path / "a")
     _, b_folder = sweep_scenario(SCENARIO, SPEC, tmp_path / "b", client=cluster, progress="text")
@@ -194,7 +195,7 @@ def test_progress_over_chunks_shows_variants_per_second(tmp_path, capsys):
     assert "2 / 2 chunks (100%)" in err and "variants/s" in err
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_a_killed_worker_costs_only_its_chunk(tmp_path):
     """SIGKILL of a worker mid-sweep while it holds chunks: they run again, nothing is lost or doubled."""
     long = dataclasses.replace(SCENARIO, simulation=dataclasses.replace(SCENARIO.simulation, duration=40.0))
@@ -233,6 +234,7 @@ def test_a_killed_worker_costs_only_its_chunk(tmp_path):
     assert attrs["count"] == 400 and not chunks.exists()
 
 
+@pytest.mark.slow  # 10-14 s on the 2-core machine, with the cluster's start (a module fixture)
 def test_an_interrupted_sweep_resumes_from_its_chunks(tmp_path, monkeypatch, cluster):
     _, reference = sweep_scenario(SCENARIO, SPEC, tmp_path / "reference")
     computed = []
@@ -269,6 +271,7 @@ def test_an_interrupted_sweep_resumes_from_its_chunks(tmp_path, monkeypatch, clu
     assert not chunks.exists()
 
 
+@pytest.mark.slow  # 5 s on the 2-core machine
 def test_robustness_chunks_on_two_workers(cluster):
     from sixdof._jax import jax
     from sixdof.chunks import InProcess
@@ -291,6 +294,7 @@ def test_robustness_chunks_on_two_workers(cluster):
     np.testing.assert_allclose(here.values[650:], expected, rtol=1e-12)
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_where_the_chunks_run_is_checked_before_computing(tmp_path, monkeypatch):
     with pytest.raises(InputError, match=r"--workers: expected a number of worker processes >= 1, got 0"):
         sweep(SCENARIO, SPEC, workers=0)
@@ -304,6 +308,7 @@ def test_where_the_chunks_run_is_checked_before_computing(tmp_path, monkeypatch)
     assert list(tmp_path.iterdir()) == []  # nothing left behind, no chunk folder
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_the_command_line_says_where_the_chunks_of_an_interrupted_sweep_are(tmp_path, monkeypatch, capsys):
     from sixdof.cli import main
 
@@ -332,6 +337,7 @@ def test_the_command_line_says_where_the_chunks_of_an_interrupted_sweep_are(tmp_
     assert "60 variants, exact engine, 3 chunks, 2 of them resumed, in-process with 1 worker," in out
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_the_command_line_runs_the_chunks_on_a_scheduler(tmp_path, cluster, capsys):
     from sixdof.cli import main
 
@@ -347,6 +353,7 @@ def test_the_command_line_runs_the_chunks_on_a_scheduler(tmp_path, cluster, caps
         assert (f["sweep"].attrs["backend"], f["sweep"].attrs["workers"]) == ("dask", 2)
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_a_sweep_s_fingerprint_is_the_same_in_another_process():
     """--resume runs in a new process: the fingerprint of the same files must be the same bytes there."""
     import json
@@ -395,7 +402,7 @@ def _interrupted(command, ready):
     return process.returncode, err.strip().splitlines()
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 @pytest.mark.skipif(not os.path.isdir("/proc"), reason="finds the process group's processes in /proc")
 def test_ctrl_c_at_a_sweep_on_two_workers_is_one_line_and_its_chunks_are_kept(tmp_path):
     """Ctrl-C at a terminal signals the Dask workers too: they ignore it (a worker's event loop stopped by it
@@ -408,6 +415,7 @@ def test_ctrl_c_at_a_sweep_on_two_workers_is_one_line_and_its_chunks_are_kept(tm
                         r"command with --resume computes only the others", err[0]), err
 
 
+@pytest.mark.slow  # 3 s on the 2-core machine
 @pytest.mark.skipif(not os.path.isdir("/proc"), reason="finds the process group's processes in /proc")
 def test_ctrl_c_while_the_workers_start_is_one_line(tmp_path):
     """Ctrl-C while the worker processes import (before Dask runs their setup): they are started with SIGINT
@@ -420,6 +428,7 @@ def test_ctrl_c_while_the_workers_start_is_one_line(tmp_path):
     assert status == 130 and err == ["sixdof: interrupted; no partial results were left"], err
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_the_workers_of_a_local_cluster_log_nothing(capfd):
     """A worker's heartbeat in flight as the scheduler closes is logged as an error by Dask ("Failed to communicate
     with scheduler during heartbeat", about 30 lines with its traceback) on a loaded machine, after a run that
@@ -461,7 +470,7 @@ SMALL_SPEC = ("count = 30\nseed = 3\nchunk_size = 10\ncross_check = 0\n[[vary]]\
               "distribution = 'uniform'\nlow = 0.8\nhigh = 1.2\n")
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_a_sweep_killed_while_it_writes_a_chunk_leaves_debris_the_next_run_removes(tmp_path):
     """SIGKILL of ``sweep --workers 2`` in the middle of a chunk file: its ``.chunk-00001.h5.<id>.tmp`` goes with
     the next --resume, which removes no other file; while a live sweep holds the folder, nothing is removed."""

@@ -102,6 +102,7 @@ def _both_paths(system, excitation):
     return direct, superpose(system, excitation, direct.t)
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_a_table_load_ending_on_a_sample_is_off_there():
     # The table ends at 0.2 s, on a sample, with its load still on: from 0.2 s on it is zero.
     beam = bridge("elastomer")
@@ -120,6 +121,7 @@ def test_a_table_load_ending_on_a_sample_is_off_there():
         assert np.all(np.abs(Minv @ excitation.generalized_force([0.2 - 1e-9])[0]) > 1e3 * RTOL_LINALG * scale)
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_a_ground_ramp_gives_its_right_slope_at_both_ends():
     # The ground rises by 1 mm from 0.05 s to 0.25 s (samples): velocity 5 mm/s from 0.05 s, zero from
     # 0.25 s, and the dashpots and the foundation force follow that velocity at those very samples.
@@ -153,6 +155,7 @@ DAMPING_MODELS = {
 }
 
 
+@pytest.mark.slow  # 1-2 s each on the 2-core machine
 @pytest.mark.parametrize("f_hz", [1.4, 25.0])
 @pytest.mark.parametrize("model", DAMPING_MODELS)
 def test_time_domain_foundation_force_has_the_frf_amplitude(model, f_hz):
@@ -189,6 +192,7 @@ CONSTANT_GROUNDS = {
 }
 
 
+@pytest.mark.slow  # 3 s each on the 2-core machine
 @pytest.mark.parametrize("case", CONSTANT_GROUNDS)
 def test_a_constant_ground_displacement_leaves_the_body_at_rest(case):
     signal, scale = CONSTANT_GROUNDS[case]
@@ -296,6 +300,7 @@ def test_loads_acting_for_a_moment_of_the_run_are_not_idle():
         "ground motion: its half_sine signal is zero outside [2, 2.1) s",)
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_both_time_paths_warn_of_a_load_that_never_acts():
     beam = bridge("elastomer")
     excitation = Excitation(loads=(ACTING, IDLE["pulse after the end"][0]))
@@ -307,6 +312,7 @@ def test_both_time_paths_warn_of_a_load_that_never_acts():
         superpose(beam, excitation, direct.t)
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_rotations_beyond_small_angles_are_warned_with_the_numbers():
     beam = bridge("elastomer")
     excitation = Excitation(initial=InitialState(q=[0, 0, 0, 0.0, 0.15, 0.0]))
@@ -402,6 +408,7 @@ sample_rate_hz = 1000.0
 """
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_a_run_warns_once_of_a_load_that_never_acts(tmp_path):
     # The superposition cross-check would say it again: a run says it once.
     with pytest.warns(RangeWarning) as caught:

@@ -57,6 +57,7 @@ def function_sets(path) -> list[dict]:
         return [data for data in (uff.read_sets(k) for k in range(uff.get_n_sets())) if data["type"] == 58]
 
 
+@pytest.mark.slow  # 3 s on the 2-core machine
 def test_uff58_carries_every_history_and_receptance_with_its_dof_and_units(results, tmp_path, capsys):
     pytest.importorskip("pyuff")
     assert main(["export", str(results), "--out", str(tmp_path)]) == 0
@@ -91,6 +92,7 @@ def test_uff58_carries_every_history_and_receptance_with_its_dof_and_units(resul
         np.testing.assert_array_equal(data["data"], frf.H[:, i, j])
 
 
+@pytest.mark.slow  # the run it reads: 4 s on the 2-core machine
 def test_uff58_unit_exponents_follow_the_unit_labels(results):
     # Records 8-11: a test tool that reads the exponents (length, force) rather than the label gets the same unit.
     pytest.importorskip("pyuff")
@@ -104,6 +106,7 @@ def test_uff58_unit_exponents_follow_the_unit_labels(results):
             assert (data[f"{axis}_len_unit_exp"], data[f"{axis}_force_unit_exp"]) == expected[label], (data["id1"], axis)
 
 
+@pytest.mark.slow  # the run it reads: 4 s on the 2-core machine
 def test_uff58_keeps_the_node_and_direction_of_a_point_with_a_long_name(results, tmp_path):
     # Record 6 has 10 characters for an entity name: a longer one shifted the node and direction out of their
     # columns (read back as node 0). The whole name stays in the ID line.
@@ -126,6 +129,7 @@ def test_uff58_keeps_the_node_and_direction_of_a_point_with_a_long_name(results,
         np.testing.assert_array_equal(data["data"], run.points["circuit_board_corner"].acceleration[:, axis])
 
 
+@pytest.mark.slow  # the run it reads: 4 s on the 2-core machine
 def test_csv_columns_name_their_quantity_and_unit_and_hold_the_results(results, tmp_path):
     from sixdof.io.exchange import export
 
@@ -149,6 +153,7 @@ def test_csv_columns_name_their_quantity_and_unit_and_hold_the_results(results, 
     np.testing.assert_array_equal(table[:, column] + 1j * table[:, column + 1], run.frf.direct.H[:, 2, 4])
 
 
+@pytest.mark.slow  # the run it reads: 4 s on the 2-core machine
 def test_a_format_or_file_of_the_wrong_kind_is_refused(results, tmp_path):
     from sixdof.io.exchange import export
 
@@ -160,6 +165,7 @@ def test_a_format_or_file_of_the_wrong_kind_is_refused(results, tmp_path):
         export(bad, tmp_path, "csv")
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_each_format_replaces_its_own_files_and_keeps_the_other_s(results, tmp_path, capsys):
     """UFF58 then CSV into one folder: both kept; CSV again from a run with FRFs only replaces the CSVs (the
     time history's, no longer in the results, goes) and leaves the UFF58 file and the user's file alone."""
@@ -185,6 +191,7 @@ def test_each_format_replaces_its_own_files_and_keeps_the_other_s(results, tmp_p
         assert len(list(csv.reader(stream))) == 1 + 30  # the header and the new run's frequencies
 
 
+@pytest.mark.slow  # 4 s on the 2-core machine
 def test_uff58_of_a_base_excited_run_carries_the_ground_motion_as_input_channels(shaken, tmp_path):
     """The ground's displacement, velocity and acceleration per axis after the body's histories: node 0, entity
     GROUND, its own DOF as reference, each equal to the results file's dataset and labelled with its units."""
@@ -213,6 +220,7 @@ def test_uff58_of_a_base_excited_run_carries_the_ground_motion_as_input_channels
                                                            "small: top acceleration x (absolute)"]
 
 
+@pytest.mark.slow  # the run it reads: 4 s on the 2-core machine
 def test_csv_of_a_base_excited_run_carries_the_ground_motion_after_the_body_s_columns(shaken, tmp_path):
     from sixdof.io.exchange import export
 
@@ -236,6 +244,7 @@ def test_csv_of_a_base_excited_run_carries_the_ground_motion_after_the_body_s_co
     np.testing.assert_array_equal(table[:, 1:7], tree.array("time/q"))
 
 
+@pytest.mark.slow  # the run it reads: 4 s on the 2-core machine
 def test_csv_export_read_back_as_test_data_gives_the_run_s_data_exactly(results, tmp_path):
     """The loads' generalized force at the CG are the references, the points' accelerations the responses."""
     from sixdof import load_test
@@ -255,6 +264,7 @@ def test_csv_export_read_back_as_test_data_gives_the_run_s_data_exactly(results,
     assert test.sample_rate_hz == pytest.approx(1000.0, rel=1e-12)
 
 
+@pytest.mark.slow  # the run it reads: 4 s on the 2-core machine
 def test_modes_are_exported_as_uff55_at_the_points_with_uff15_geometry(results, tmp_path):
     pyuff = pytest.importorskip("pyuff")
     from sixdof.model.kinematics import point_map
@@ -275,6 +285,7 @@ def test_modes_are_exported_as_uff55_at_the_points_with_uff15_geometry(results, 
         np.testing.assert_allclose(shape, expected[:, j], rtol=0, atol=RTOL_UFF_ASCII * np.abs(expected[:, j]).max())
 
 
+@pytest.mark.slow  # the run it reads: 4 s on the 2-core machine
 def test_modes_go_to_the_test_nodes_in_the_test_frame(results):
     """With [test.nodes], origin and axes: the shapes at origin + p @ axes, turned into the test frame."""
     import dataclasses

@@ -102,6 +102,7 @@ def read_csv(path) -> tuple[list[str], np.ndarray]:
     return rows[0], np.array(rows[1:], dtype=float)
 
 
+@pytest.mark.slow  # 3 s on the 2-core machine
 def test_the_header_numbers_the_nodes_and_dataset_15_places_them(uff):
     assert [data["type"] for data in uff[:2]] == [151, 15]
     assert uff[0]["description"].strip() == "nodes: 0 ground, 1 CG, 2 point, 3-6 mounts, 7 frf place"
@@ -112,6 +113,7 @@ def test_the_header_numbers_the_nodes_and_dataset_15_places_them(uff):
     assert not np.any(nodes["def_cs"]) and not np.any(nodes["disp_cs"])  # body axes, no system of their own
 
 
+@pytest.mark.slow  # the run it reads: 3 s on the 2-core machine
 def test_every_id_line_fits_uff58_s_80_characters(run):
     # A longer one is cut (pyuff writes 80): the ID lines say which request and channel a dataset is.
     from sixdof.io.exchange import uff58_sets
@@ -122,6 +124,7 @@ def test_every_id_line_fits_uff58_s_80_characters(run):
     assert len({data["id1"] for data in sets}) == len(sets)  # and no two alike
 
 
+@pytest.mark.slow  # the run it reads: 3 s on the 2-core machine
 def test_mount_forces_are_reaction_force_responses_at_the_mounts_nodes(uff, run):
     sets, forces = by_id(uff), run.mount_forces
     assert forces.names == MOUNTS and np.abs(forces.total).max() > 10.0  # the hit loads the mounts
@@ -138,6 +141,7 @@ def test_mount_forces_are_reaction_force_responses_at_the_mounts_nodes(uff, run)
     np.testing.assert_allclose(total, forces.foundation_force, rtol=1e-12, atol=1e-9 * np.abs(total).max())
 
 
+@pytest.mark.slow  # the run it reads: 3 s on the 2-core machine
 def test_point_frfs_carry_their_response_and_reference_dofs_and_agree_with_the_receptance(uff, run):
     sets = by_id(uff)
     receptance = np.empty((run.frf.direct.f_hz.size, 6, 6), complex)
@@ -165,6 +169,7 @@ def test_point_frfs_carry_their_response_and_reference_dofs_and_agree_with_the_r
     np.testing.assert_allclose(sets["point FRF drive (mobility)"]["data"], drive, rtol=1e-10)
 
 
+@pytest.mark.slow  # the run it reads: 3 s on the 2-core machine
 def test_transmissibilities_are_responses_per_their_reference(uff, run):
     sets = by_id(uff)
     floor, base = run.frf_extras["to_floor"], run.frf_extras["base"]
@@ -188,6 +193,7 @@ def test_transmissibilities_are_responses_per_their_reference(uff, run):
     np.testing.assert_allclose(resultant, floor.total_force, rtol=1e-12, atol=1e-12 * np.abs(resultant).max())
 
 
+@pytest.mark.slow  # the run it reads: 3 s on the 2-core machine
 def test_csv_carries_the_mounts_points_and_frf_requests_with_their_units(results, run, tmp_path):
     from sixdof.io.exchange import export
 
@@ -222,6 +228,7 @@ def test_csv_carries_the_mounts_points_and_frf_requests_with_their_units(results
     np.testing.assert_array_equal(values, run.frf_extras["base"].absolute[:, 2])
 
 
+@pytest.mark.slow  # the run it reads: 3 s on the 2-core machine
 @pytest.mark.parametrize("quantity", ["acceleration", "velocity", "displacement"])
 def test_the_points_export_reads_back_exactly_as_test_data(results, run, tmp_path, quantity):
     """UFF58 of the points and the loads: what ``sixdof correlate`` reads (load_test), the nodes placed from the
@@ -244,6 +251,7 @@ def test_the_points_export_reads_back_exactly_as_test_data(results, run, tmp_pat
         np.testing.assert_allclose(test.t, run.response.t, rtol=1e-14, atol=1e-15)
 
 
+@pytest.mark.slow  # the run it reads: 3 s on the 2-core machine
 def test_the_whole_uff58_export_is_refused_by_load_test_in_one_line(results, tmp_path):
     # Time histories and FRFs in one file: load_test reads one kind of data per file, and says so.
     pytest.importorskip("pyuff")
@@ -260,6 +268,7 @@ def test_the_whole_uff58_export_is_refused_by_load_test_in_one_line(results, tmp
         load_test(path)
 
 
+@pytest.mark.slow  # the run it reads: 3 s on the 2-core machine
 def test_an_export_is_the_same_bytes_each_time_dated_by_its_run(results, run, tmp_path):
     pytest.importorskip("pyuff")
     from sixdof.io.exchange import export
@@ -273,6 +282,7 @@ def test_an_export_is_the_same_bytes_each_time_dated_by_its_run(results, run, tm
     assert lines[5].startswith(f"{created:%d-%b-%y} {created:%H:%M:%S}") and lines[6].startswith(lines[5][:18])
 
 
+@pytest.mark.slow  # the run it reads: 3 s on the 2-core machine
 def test_what_picks_the_parts_and_a_bad_choice_is_one_clear_error(results, run, tmp_path, capsys):
     from sixdof.io.exchange import export
 
@@ -296,6 +306,7 @@ def test_what_picks_the_parts_and_a_bad_choice_is_one_clear_error(results, run, 
                    "'cg,,points'"]
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_an_frf_only_run_exports_its_requests_numbered_by_the_scenario_s_points(tmp_path):
     """No time response: the points' numbers come from the scenario's text; mounts asked for are refused."""
     pytest.importorskip("pyuff")

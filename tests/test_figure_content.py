@@ -54,6 +54,7 @@ def drawn(ax):
     return lines[0].get_xdata(), lines[0].get_ydata(), flat
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_each_mount_is_drawn_in_one_unit_with_its_static_load_and_a_zoom():
     check, t = checked(300.0, Harmonic(f_hz=7.0), 4.0)
     fig = plot_mount_loads(check, t, name="machine")
@@ -137,6 +138,7 @@ def test_time_dofs_draws_the_input_above_and_only_the_dofs_that_move():
     assert_figure_texts_clear(fig)
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_time_dofs_draws_a_moment_of_its_own_and_quotes_the_moment_of_an_offset_force():
     from sixdof.plots import plot_time_histories
 
@@ -191,6 +193,7 @@ def assert_figure_texts_clear(fig) -> None:
             assert other == text or not box.overlaps(other_box), (text, other)
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_time_dofs_of_a_ground_shock_keeps_its_lines_of_text_apart():
     from sixdof.plots import plot_time_histories
 
@@ -221,6 +224,7 @@ def test_the_not_excited_line_groups_zeros_and_round_off_and_quotes_small_peaks(
     assert not_excited_line(values, [], dof_units(0)) == ""
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_time_dofs_of_a_ground_motion_draw_the_body_beside_the_ground():
     from sixdof.plots import plot_time_histories
 
@@ -381,6 +385,7 @@ def _pixels(ax, collection):
     return np.array([np.mean(c, axis=0) for c in corners])
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_every_bridge_mode_moves_visibly_and_its_roll_is_seen_end_on_undistorted():
     import matplotlib
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -455,6 +460,7 @@ def test_event_window_prefers_the_shortest_shock_and_needs_a_long_enough_record(
     assert event_window({}, t) is None and event_window({"motor": Event("switch-on", 0.0, 1.0)}, t) is None
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_time_dofs_zooms_on_the_shock_beside_the_whole_record_and_the_file_keeps_the_events(tmp_path):
     from sixdof.plots import plot_time_histories
 
@@ -488,6 +494,7 @@ def test_time_dofs_zooms_on_the_shock_beside_the_whole_record_and_the_file_keeps
         "shock", 2.0, 0.01)
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_time_dofs_keeps_the_last_time_label_of_a_zoom_inside_the_figure():
     from figures import assert_texts_clear
     from sixdof.plots import plot_time_histories
@@ -505,6 +512,7 @@ def test_time_dofs_keeps_the_last_time_label_of_a_zoom_inside_the_figure():
     assert [label.get_text() for label in zoom.get_xticklabels()][-1] == "0.10"
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_superposition_zooms_on_the_shock_beside_the_whole_overlay():
     from sixdof.analysis.compare import compare
     from sixdof.analysis.superposition import superpose
@@ -619,7 +627,7 @@ def test_design_figures_draw_before_and_after_with_the_targets():
     assert ax.get_ylabel() == "kinetic energy in the dominant coordinate [%]"
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_mount_shear_png_is_drawn_for_a_shear_load_and_draws_each_resultant():
     from sixdof.analysis.mountcheck import SHEAR_SHARE, carries_shear
     from sixdof.plots import plot_mount_shear
@@ -662,6 +670,7 @@ def test_mount_shear_png_is_drawn_for_a_shear_load_and_draws_each_resultant():
     assert not carries_shear(vertical)
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_time_dofs_gives_the_steady_state_amplitude_beside_the_switch_on_peak():
     from sixdof.analysis.steady import steady_state
     from sixdof.plots import plot_time_histories
@@ -683,6 +692,7 @@ def test_time_dofs_gives_the_steady_state_amplitude_beside_the_switch_on_peak():
     assert np.max(np.abs(response.q[last, 2])) == pytest.approx(amplitude, rel=0.02)
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_time_points_png_draws_each_point_that_moves_along_the_axes_it_moves_along():
     # A torque about z at the CG of the doubly symmetric box turns it about z alone: a point on the z axis stays at
     # rest (named, not drawn); a corner at (0.3, 0.2, 0) m moves along x and y only, a = rz'' (-0.2, 0.3, 0).

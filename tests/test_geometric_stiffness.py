@@ -115,6 +115,7 @@ def test_each_batch_variant_has_the_geometric_stiffness_of_its_own_statics():
                                    atol=RTOL_LINALG * np.abs(one.K).max())
 
 
+@pytest.mark.slow  # 3 s on the 2-core machine
 def test_frequency_gradients_flow_through_each_designs_statics():
     # Four inclined mounts: statically indeterminate, so each mount's preload, and K_G, depends on the stiffnesses.
     system = preloaded(skewed_machine())

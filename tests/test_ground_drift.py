@@ -218,7 +218,7 @@ def test_peaks_relative_to_a_moving_ground_come_first():
     assert not peaks_text(still).startswith("Relative")
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_a_run_on_a_drifting_record_warns_and_puts_relative_motion_first(tmp_path):
     scenario = _scenario(tmp_path, offset=0.001, duration=20.0)
     with pytest.warns(GroundDriftWarning, match=r"ends at .* mm at t = 20 s, 100 % of its peak"):
@@ -241,6 +241,7 @@ def test_a_run_on_a_drifting_record_warns_and_puts_relative_motion_first(tmp_pat
     assert absolute[0] > 50 * relative[0]  # the drift: metres against the mounts' millimetres
 
 
+@pytest.mark.slow  # 4 s on the 2-core machine
 def test_a_run_on_the_corrected_record_does_not_warn_and_says_what_it_changed(tmp_path, capsys):
     path = _scenario_file(tmp_path, 'baseline = "polynomial"\n', offset=0.001, duration=20.0)
     assert main(["run", str(path), "--out", str(tmp_path / "out"), "--quiet"]) == 0

@@ -28,12 +28,14 @@ def outcome(tmp_path_factory):
     return results, folder, (folder / REPORT).read_text(encoding="utf-8")
 
 
+@pytest.mark.slow  # 4 s on the 2-core machine
 def test_every_figure_is_in_the_report_and_nothing_outside_it(outcome):
     _, folder, _ = outcome
     page = check_report(folder)
     assert len([tag for tag, _ in page.tags if tag == "img"]) == len(list(folder.glob("*.png"))) >= 6
 
 
+@pytest.mark.slow  # the run it reads: 4 s on the 2-core machine
 def test_the_report_holds_the_sections_the_checks_and_the_scenario_itself(outcome):
     results, folder, text = outcome
     page = parsed(text)
@@ -117,6 +119,7 @@ def _browser() -> str | None:
     return shutil.which("chromium") or next((p for p in ("/usr/bin/chromium",) if Path(p).exists()), None)
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 @pytest.mark.skipif(_browser() is None, reason="no Chromium installed (.ci/run installs Debian's chromium where "
                                                "apt-get may run; elsewhere: apt-get install chromium)")
 def test_chromium_renders_the_report(outcome, tmp_path):

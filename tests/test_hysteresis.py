@@ -44,6 +44,7 @@ def wen_rate(z, rate, d_y, n, beta=0.5, gamma=0.5):
     return rate / d_y * (1.0 - abs(z) ** n * (beta * np.sign(rate * z) + gamma))
 
 
+@pytest.mark.slow  # 4 s each on the 2-core machine
 @pytest.mark.parametrize("n", [1.0, 2.0])
 def test_single_mass_bouc_wen_matches_a_scipy_solve_of_the_same_ode(n):
     system = single_mass(BoucWen(mount="b", axes=["u"], yield_force=[FY], post_yield_ratio=RATIO, exponent=n))
@@ -70,6 +71,7 @@ def test_single_mass_bouc_wen_matches_a_scipy_solve_of_the_same_ode(n):
     assert np.all(np.diff(balance.dissipated) >= -1e-9 * balance.energy_scale)  # hysteresis only dissipates
 
 
+@pytest.mark.slow  # 10 s on the 2-core machine
 def test_biaxial_park_wen_matches_a_scipy_solve_and_is_isotropic():
     """Ground shaking along x and an initial velocity along y: a two-dimensional orbit on one circular yield
     surface, against scipy's solve of Park-Wen's equations written here."""
@@ -119,6 +121,7 @@ def bilinear_force(d, k, fy, a):
     return force
 
 
+@pytest.mark.slow  # 3 s on the 2-core machine
 def test_large_exponent_tends_to_the_bilinear_loop():
     errors = []
     for n in (5.0, 25.0):
@@ -226,6 +229,7 @@ def test_a_friction_pendulum_on_a_mount_that_carries_no_load_is_refused():
     assert "carries" in caught.value.expected or "not all zero" in caught.value.expected
 
 
+@pytest.mark.slow  # 4 s on the 2-core machine
 def test_a_scenario_run_checks_hysteresis_by_energy_and_a_second_solve():
     import sixdof  # noqa: PLC0415 (the public run, as a user calls it)
 
@@ -264,6 +268,7 @@ def pendulums(radius: float, mu, yield_displacement: float = 5e-4) -> System:
     return at_equilibrium(system, gravity_statics(system, G, [0.0, 0.0, -1.0]))
 
 
+@pytest.mark.slow  # 4 s on the 2-core machine
 def test_friction_pendulum_swings_with_the_period_of_its_radius():
     """Released from D = 0.1 m with little friction: the pendulum's period 2 pi sqrt(R / g), whatever the mass. (Near
     each turning point the bearing sticks over ~2 d_y with the stiffer mu N / d_y, which shortens the period by about
@@ -285,6 +290,7 @@ def test_friction_pendulum_swings_with_the_period_of_its_radius():
     assert energy_balance(system, history).ok
 
 
+@pytest.mark.slow  # 5 s each on the 2-core machine
 @pytest.mark.parametrize("yield_displacement", [2e-3, 2e-4])
 def test_friction_pendulum_loop_area_tends_to_four_mu_n_d(yield_displacement):
     """The friction's loop (force less the pendulum's N d / R, against d) over a cycle from one turning point to the
@@ -354,6 +360,7 @@ def test_isolated_spectrum_iterates_to_the_design_displacement_a_hand_iteration_
     assert loop.response.mode_damping.max() == pytest.approx(xi, rel=5e-3)
 
 
+@pytest.mark.slow  # 8 s on the 2-core machine
 def test_the_bundled_lead_rubber_bridge():
     """scenarios/bridge_beam_lrb.toml: the time run checks itself (energy, second solve); the bearings' peak force
     is the loop's, Q_d + a k D past yield, at their peak deflection; the spectrum's isolation modes sit at
@@ -388,7 +395,7 @@ def test_the_bundled_lead_rubber_bridge():
     assert spectrum.combined_mount_deflection[0, 1] == pytest.approx(S_d, rel=5e-3)
 
 
-@pytest.mark.slow  # 20 s on the 2-core machine: lift-off events on every rocking cycle
+@pytest.mark.long  # 20 s on the 2-core machine: lift-off events on every rocking cycle
 def test_friction_pendulums_that_lift_off_with_velocity_dependent_friction_balance_their_energy():
     """Four pendulums under the CG with tension = false and Constantinou's friction, shaken until the body rocks:
     the run's energy balance (the pendulums' load changing with the rocking) and its second solve hold."""

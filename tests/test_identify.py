@@ -123,6 +123,7 @@ def test_the_band_limits_the_modes_found():
     assert np.linalg.norm(high.modes.lower_residual) > 0
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_a_flexible_mode_above_the_band_is_no_mode_inside_it_is_one():
     outside = identified(flexible_hz=100.0)  # three times the highest rigid-body mode, above the 50 Hz data
     np.testing.assert_allclose(outside.modes.frequency_hz, TRUE_F, rtol=RTOL_F_EXACT)

@@ -218,7 +218,7 @@ AS_A_TERMINAL = ("import os, signal, sys; signal.signal(signal.SIGINT, signal.SI
                  "os.execv(sys.executable, [sys.executable, *sys.argv[1:]])")
 
 
-@pytest.mark.slow
+@pytest.mark.long
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
 def test_a_signal_while_the_command_starts_is_one_line_and_its_status(tmp_path, signum):
     """At each delay the signal comes while the command's modules (sixdof._entry handles it from its first line),

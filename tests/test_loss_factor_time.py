@@ -137,7 +137,7 @@ def late_over_steady(response, steady, t_late=5.0):
     return late[moving] / amplitude[moving]
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_the_fan_s_switch_on_transient_decays_to_the_exact_steady_state(tmp_path):
     from sixdof.analysis.validity import RangeWarning
     from sixdof.workflows.run import run_scenario

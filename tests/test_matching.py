@@ -48,6 +48,7 @@ def seven():
 
 # --- the pseudo-acceleration spectrum --------------------------------------------------------------------------
 
+@pytest.mark.slow  # 3 s on the 2-core machine
 def test_relative_displacement_matches_solve_ivp_of_the_oscillator():
     """A random record (linear between its samples, starting off zero) against DOP853 at tight tolerances: the
     recurrence is exact, the difference is the integrator's (measured <= 1e-7); the spectrum omega^2 max |u|
@@ -92,6 +93,7 @@ def test_spectrum_refuses_bad_input():
 
 # --- generated records -------------------------------------------------------------------------------------------
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_seven_records_match_the_ec8_spectrum(seven):
     """The mean spectrum of 7 records within [0.9, 1.3] of the target over 0.2 T1-2 T1 for T1 from 0.25 to 2 s
     (measured: 0.94-1.14 over the whole 0.02-4 s; within 0.1-4 s 1.00-1.14)."""
@@ -107,6 +109,7 @@ def test_seven_records_match_the_ec8_spectrum(seven):
     np.testing.assert_allclose(seven.spectra[3], again, rtol=1e-12)
 
 
+@pytest.mark.slow  # the records it reads: 2-3 s on the 2-core machine
 def test_records_meet_the_zero_period_and_duration_clauses(seven):
     pga = np.max(np.abs(seven.acceleration), axis=1)
     assert pga.mean() >= AG_S
@@ -118,6 +121,7 @@ def test_records_meet_the_zero_period_and_duration_clauses(seven):
     assert plateau.sum() * 0.01 >= EC8_STATIONARY_S
 
 
+@pytest.mark.slow  # the records it reads: 2-3 s on the 2-core machine
 def test_records_end_at_rest(seven):
     """Baseline-corrected: the velocity and displacement of the table (exact integrals) end at round-off."""
     v, d = integrate_record(seven.t, seven.acceleration.T)
@@ -194,6 +198,7 @@ def test_design_value_is_the_mean_from_seven_records_else_the_largest():
         design_value(np.zeros((0, 3)))
 
 
+@pytest.mark.slow  # 5 s on the 2-core machine
 def test_record_peaks_match_a_scipy_solve_of_the_ground_driven_body():
     """Two 2 s records through the direct solve on the 6-DOF box, against solve_ivp of
     M z'' + C z' + K z = -M r a_g(t) (z relative to the ground): peak |z| per DOF and the foundation's force

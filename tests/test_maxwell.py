@@ -56,6 +56,7 @@ def test_receptance_is_the_standard_linear_solid():
         np.testing.assert_allclose(H, closed, rtol=RTOL_FRF_CLOSED_FORM)
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_step_response_and_relaxation_of_the_standard_linear_solid():
     force = 1.0e3
     excitation = Excitation(loads=[Load("step", [0.0, 0.0, 0.0], force=[0.0, 0.0, force], signal=Step(start=0.0))])
@@ -108,6 +109,7 @@ def visco_machine() -> System:
     return dataclasses.replace(system, maxwell=tuple(branches))
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_free_response_matches_the_exact_matrix_exponential():
     system = visco_machine()
     q0, qd0 = np.array([1e-3, -5e-4, 2e-3, 1e-3, -2e-3, 5e-4]), np.array([0.01, 0.0, -0.02, 0.0, 0.03, 0.01])
@@ -125,6 +127,7 @@ def test_free_response_matches_the_exact_matrix_exponential():
     assert modal.superposition.method == "complex" and "Maxwell" in modal.superposition.reason
 
 
+@pytest.mark.slow  # 2 s each on the 2-core machine
 @pytest.mark.parametrize("quantity", ["displacement", "velocity", "acceleration"])
 def test_direct_and_superposition_agree_under_loads_and_ground_motion(quantity):
     system = visco_machine()
@@ -216,7 +219,7 @@ def visco_variants():
                                  position_offset=rng.normal(0.0, 0.03, (3, n, 3)))
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 @pytest.mark.parametrize("engine", ["exact", "diffrax"])
 def test_a_batch_of_visco_elastic_variants_is_the_exact_matrix_exponential_of_each(visco_variants, engine):
     # A free response: each variant's branches scaled with its mount axes' stiffness factors and moved with its
@@ -257,7 +260,7 @@ def test_variant_system_keeps_the_branches_scaled_and_moved(visco_variants):
     np.testing.assert_allclose(augmented(one), augmented(by_hand), rtol=1e-14, atol=0)
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 @pytest.mark.parametrize("engine", ["exact", "diffrax"])
 def test_a_visco_elastic_batch_under_loads_equals_each_variant_alone(visco_variants, engine):
     # Loads, and ground motion (the exact engine: the ground's velocity drives each variant's own branches),

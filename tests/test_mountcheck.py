@@ -49,6 +49,7 @@ def run(load_z: float, signal):
     return system, response, mount_check(system, mount_forces(system, response), response.t, statics)
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_each_mount_carries_a_quarter_of_the_weight_in_compression():
     statics = gravity_statics(body())
     assert statics.support == pytest.approx(np.full(4, WEIGHT / 4), rel=RTOL_STATICS)
@@ -62,6 +63,7 @@ def test_each_mount_carries_a_quarter_of_the_weight_in_compression():
     assert check.violations == ()
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_harmonic_load_adds_to_the_preload_with_the_right_sign():
     f_hz, amplitude = 11.0, 800.0
     system, response, check = run(amplitude, Harmonic(f_hz=f_hz))
@@ -88,6 +90,7 @@ def test_harmonic_load_adds_to_the_preload_with_the_right_sign():
     assert dynamic.in_tension == ("m0", "m1", "m2", "m3")
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_lift_off_is_reported_with_its_peak_and_times():
     # A step of twice the weight upward: z = F / K (1 - cos wn t), so each mount's compression
     # mg/4 - F/4 (1 - cos wn t) crosses zero at wn t = pi/3 and bottoms out at -3 mg / 4 at t = PERIOD / 2.
@@ -145,6 +148,7 @@ sample_rate_hz = 1000.0
 """
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_limits_turn_into_one_warning_per_mount(tmp_path):
     scenario = parse_scenario(LIFTED, "lifted.toml")
     # m0: tension not allowed, and w beyond 1 mm: the deflection from the unloaded mount is
@@ -178,6 +182,7 @@ def test_limits_turn_into_one_warning_per_mount(tmp_path):
     assert [m.allow_tension for m in loaded.system.mounts] == [False, True, True, True]
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_cli_prints_the_mount_checks_and_warns(tmp_path, capsys):
     path = tmp_path / "lifted.toml"
     path.write_text(LIFTED)

@@ -85,6 +85,7 @@ def bilinear_system() -> System:
     return System(RigidBody(BI_MASS, [10.0, 12.0, 14.0]), mounts, force_deflection=tables)
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_bilinear_free_vibration_period_and_peaks():
     system = bilinear_system()
     w1, w2 = np.sqrt(4 * BI_K1 / BI_MASS), np.sqrt(4 * BI_K2 / BI_MASS)  # extension (up), compression (down)
@@ -189,6 +190,7 @@ def drop_closed_form(t):
     return z, zd, impact
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_drop_onto_a_bump_stop():
     system = drop_system()
     settings = SimulationSettings(duration=0.26, sample_rate_hz=1500.0)
@@ -358,6 +360,7 @@ def lifting():
     return system, history, reference, events
 
 
+@pytest.mark.slow  # 4 s on the 2-core machine
 def test_lift_off_matches_an_event_driven_reference(lifting):
     system, history, reference, events = lifting
     assert system.nonlinear.names == ("m0 w", "m1 w", "m2 w", "m3 w")
@@ -382,6 +385,7 @@ def test_lift_off_matches_an_event_driven_reference(lifting):
     assert any(mount == 2 and b == 0 for _, mount, _, b in events)  # onto the stop
 
 
+@pytest.mark.slow  # 4 s on the 2-core machine
 def test_contacts_changing_within_one_step_are_located_in_time_order():
     """A stronger pulse: m2 lifts off 44 us before m0 reaches its stop, inside one step of the solve. Both are
     found, the earlier first: a solve that root-finds only one change per step records the lift-off late, at
@@ -455,6 +459,7 @@ def kelvin_voigt_reference(times, branch: float):
     return out, events
 
 
+@pytest.mark.slow  # 3 s each on the 2-core machine
 @pytest.mark.parametrize("branch", [0.0, 2.0e4], ids=["spring and dashpot", "with a Maxwell branch"])
 def test_a_spring_and_dashpot_that_cannot_pull_lift_off_where_their_load_turns(branch):
     system = kelvin_voigt_system(branch)
@@ -548,7 +553,7 @@ def dropping_ground_reference(times):
     return out, events
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_lift_off_when_the_ground_drops_away_with_a_jump_in_its_velocity():
     """The ground's velocity jumps at the pulse's ends: the mounts' dashpot load jumps past zero there, which no step
     brackets (it changes between one step's end and the next one's start). The body lifts off at the pulse's start,
@@ -574,7 +579,7 @@ def test_lift_off_when_the_ground_drops_away_with_a_jump_in_its_velocity():
     assert energy_balance(system, history).ok
 
 
-@pytest.mark.slow  # ~30 s on 2 cores: 4 s of the bridge at a 0.5 ms step cap
+@pytest.mark.long  # ~30 s on 2 cores: 4 s of the bridge at a 0.5 ms step cap
 def test_bridge_bearings_that_cannot_pull_never_pull():
     """bridge_beam_uplift: bearings 3 and 4 lift off, and none of the four, all tension = false, ever pulls (its
     largest w load, static included, is <= 0 but for round-off; the dashpots used to pull 0.82 kN first)."""
@@ -614,6 +619,7 @@ def stored_by_hand(q):
     return potential(q) - potential(np.zeros((1, 6)))
 
 
+@pytest.mark.slow  # the run it reads: 2-4 s on the 2-core machine
 def test_energy_balance_of_a_run_with_contacts(lifting):
     system, history, reference, _ = lifting
     assert np.any(history.contacts.region_to == 0)  # a stop took part, as well as the lift-off
@@ -659,6 +665,7 @@ def linear_pair():
     return plain, System(body, replaced, rayleigh=Rayleigh(1.0, 1e-4), force_deflection=tables)
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_a_linear_table_is_the_linear_mount():
     plain, tabled = linear_pair()
     assert tabled.nonlinear.count == 5 and not is_nonlinear(tabled)

@@ -192,6 +192,7 @@ def test_rigid_body_elastic_against_the_exact_solution():
 HYSTERESIS = [{"u": (150.0, 0.1, 1.0, 0.5, 0.5), "v": (150.0, 0.1, 1.0, 0.5, 0.5)}] * 4  # d_y 0.4-0.6 mm
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_rigid_body_hysteretic_against_scipy():
     """Bouc-Wen on u and v of all four mounts (ductility ~12 along u, ~2 along v), against solve_ivp of the
     6-DOF ODE."""
@@ -213,6 +214,7 @@ def test_rigid_body_hysteretic_against_scipy():
     assert np.all(richardson < RTOL_OPENSEES_RICHARDSON_BODY * errors[1])
 
 
+@pytest.mark.slow  # 7 s on the 2-core machine
 def test_sixdof_and_opensees_are_the_same_model_to_opensees_step_error():
     """Item 7's cross-check: sixdof's direct solve of the same body, bearings and record (Bouc-Wen on u and v of
     every mount, uncoupled as OpenSees' two materials) against OpenSees. What separates them is OpenSees' first-order

@@ -54,6 +54,7 @@ def _coupling(system) -> float:
     return K[0, 4] / math.sqrt(K[0, 0] * K[4, 4])
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_a_v_pair_is_turned_to_the_angle_that_decouples_x_from_ry():
     # Closed form: the x-ry stiffness coupling of the pair vanishes when h (ku + kw t^2) = a t (kw - ku),
     # t = tan(inclination); its smaller root is about 6.7 deg. From 30 deg (coupled), a tied angle turns both
@@ -126,7 +127,7 @@ tied = true
 """
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_the_robust_objective_keeps_the_scattered_designs_inside_the_window():
     # Four mounts in the CG's plane: the z mode is pure, f = sqrt(sum k_w / m) / 2 pi, 10.07 Hz as given. The
     # nominal optimum stops just inside the window's low edge, where stiffness scatter of +-15 % drops many
@@ -163,7 +164,7 @@ def test_a_robust_objective_needs_a_tolerance():
         parse_scenario(text)
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_robustness_without_scatter_is_the_design_itself():
     scenario = prepare(load_scenario("scenarios/engine_inclined_mounts.toml"))
     problem = DesignProblem(scenario.system, _with(scenario.design, tolerance=0.0, samples=5))
@@ -178,6 +179,7 @@ def test_robustness_without_scatter_is_the_design_itself():
     np.testing.assert_array_equal(spread.probability, met.astype(float))
 
 
+@pytest.mark.slow  # 4 s on the 2-core machine
 def test_robustness_runs_the_scattered_samples_on_the_exact_batch_engine():
     import dataclasses
 
@@ -215,6 +217,7 @@ def test_robustness_runs_the_scattered_samples_on_the_exact_batch_engine():
     assert len(batch.cross_check_variants) == 3
 
 
+@pytest.mark.slow  # 5 s each on the 2-core machine
 @pytest.mark.parametrize("model", ["maxwell", "causal"])
 def test_robustness_responses_carry_the_loss_factors_causal_models(model):
     """The samples' peaks integrate the mounts' loss factors as their causal Maxwell models (in the frequency system
@@ -248,7 +251,7 @@ def _with(spec, **changes):
     return dataclasses.replace(spec, **changes)
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_optimize_writes_a_scenario_that_reproduces_the_design_and_a_labelled_file(tmp_path, capsys):
     assert main(["optimize", "scenarios/engine_inclined_mounts.toml", "--out", str(tmp_path), "--quiet"]) == 0
     out = capsys.readouterr().out
@@ -327,6 +330,7 @@ bounds = [0.5, 2.0]
 """
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_sixdof_plot_redraws_a_design_from_any_folder_with_the_files_its_scenario_names(tmp_path, monkeypatch):
     # The redraw rebuilds the scenario from the text design.h5 stores: its relative CSV reference is read from the
     # scenario's own folder (stored beside the text), not from where `sixdof plot` is run.
@@ -345,6 +349,7 @@ def test_sixdof_plot_redraws_a_design_from_any_folder_with_the_files_its_scenari
         assert (tmp_path / "redrawn" / name).read_bytes() == (folder / name).read_bytes()
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_an_infeasible_target_set_is_reported_with_its_shortfall(tmp_path, capsys):
     text = _v_pair(THETA0, _z_frequency_design([1.0, 2.0], ["u", "w"]))
     path = tmp_path / "v.toml"
@@ -392,6 +397,7 @@ def test_bad_design_input_is_one_clear_error(design, message):
         parse_scenario(_v_pair(THETA0, "[design]\n" + design))
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_optimize_without_targets_is_refused_before_computing(tmp_path, capsys, monkeypatch):
     """Named with the scenario's file, as its other errors are, before a Dask cluster is started."""
     monkeypatch.setattr("sixdof.workflows.optimize.task_runner", lambda *args, **kwargs: pytest.fail("workers started"))
@@ -454,6 +460,7 @@ samples = 20
 """
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_a_tied_offset_moves_mounts_all_below_the_cg_along_the_axis_and_a_mirrored_pair_symmetrically():
     from sixdof.io.study_report import design_tables
 
@@ -498,6 +505,7 @@ tied = true
     assert "| position z: a, b, c, d | along +z" in text and "| position x: a, b       | mirrored across x = 0" in text
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_the_verdict_counts_the_samples_that_meet_every_target():
     # The nominal optimum of BOX stops just inside its window's low edge: met by the design, by few samples.
     from sixdof.io.study_report import design_tables, share_percent
@@ -551,6 +559,7 @@ RATIO_BOX = BOX.replace('f_hz = [10.2, 14.0]', 'f_hz = [12.0, 14.0]').replace(
     'axes = ["w"]', 'axes = ["u", "v", "w"]')
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_a_stiffness_ratio_keeps_the_optimum_buildable():
     # Four mounts in the CG's plane: the z mode is pure, f_z = sqrt(sum k_w / m) / 2 pi, 10.07 Hz as given, so
     # the window [12, 14] Hz needs k_w x (12 / 10.07)^2 = 1.42 at least. Alone, the optimizer raises k_w only,

@@ -127,6 +127,7 @@ def test_a_scenario_name_is_one_safe_path_component(name, tmp_path, monkeypatch)
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_a_rerun_keeps_the_users_files_and_says_so(previous, tmp_path):
     out = tmp_path / "out"
     (out / "pump" / "drawings").mkdir()
@@ -140,6 +141,7 @@ def test_a_rerun_keeps_the_users_files_and_says_so(previous, tmp_path):
     assert debris(out) == []
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_an_export_inside_the_previous_results_is_kept_and_said_to_be_sixdof_s_stale_one(previous, tmp_path):
     """``sixdof export`` writes into the results folder by default: a re-run keeps that folder (nobody asked for it
     to go) and says it is sixdof's, made from the results replaced, not a file sixdof did not write."""
@@ -156,6 +158,7 @@ def test_an_export_inside_the_previous_results_is_kept_and_said_to_be_sixdof_s_s
     assert (out / "pump" / "pump_export" / output.MANIFEST).is_file() and debris(out) == []
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_files_sixdof_wrote_before_are_replaced_not_kept(previous, tmp_path):
     # A figure the previous run drew and this one does not is sixdof's own: it goes with the old folder.
     out = tmp_path / "out"
@@ -176,6 +179,7 @@ def test_a_folder_sixdof_did_not_write_is_never_replaced(tmp_path, monkeypatch):
     assert snapshot(theirs) == {"thesis.tex": b"years of work"}
 
 
+@pytest.mark.slow  # 3 s each on the 2-core machine
 @pytest.mark.parametrize(("signum", "status", "word"), [(signal.SIGINT, EXIT_INTERRUPTED, "interrupted"),
                                                        (signal.SIGTERM, EXIT_TERMINATED, "terminated")])
 def test_a_signal_during_the_write_keeps_the_previous_results(previous, scenario_file, tmp_path, signum, status,
@@ -191,7 +195,7 @@ def test_a_signal_during_the_write_keeps_the_previous_results(previous, scenario
     assert debris(out) == []
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 @pytest.mark.parametrize(("signum", "status", "word"), [(signal.SIGINT, EXIT_INTERRUPTED, "interrupted"),
                                                        (signal.SIGTERM, EXIT_TERMINATED, "terminated (SIGTERM)")])
 def test_a_signal_during_the_swap_is_acted_on_once_the_results_are_in_place_and_said_so(
@@ -239,6 +243,7 @@ def test_a_second_ctrl_c_does_not_cut_the_cleanup_short(tmp_path, monkeypatch):
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.slow  # 2 s each on the 2-core machine
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
 def test_a_run_stopped_before_its_results_are_in_place_leaves_no_folder_it_made(scenario_file, tmp_path, signum):
     out = tmp_path / "new" / "out"
@@ -279,6 +284,7 @@ def test_a_failed_write_removes_the_folders_it_made_unless_something_was_put_in_
     assert sorted(os.listdir(tmp_path)) == ["a"]
 
 
+@pytest.mark.slow  # 3 s on the 2-core machine
 def test_ctrl_c_reaches_the_whole_process_group_and_leaves_no_process(previous, scenario_file, tmp_path):
     """Ctrl-C at a terminal signals every process of the command's group, the figure workers and their
     server too: the main process alone reports it, in one line, and no process of the run outlives it."""
@@ -299,7 +305,7 @@ def test_ctrl_c_reaches_the_whole_process_group_and_leaves_no_process(previous, 
     assert_group_ends(process.pid, within_s=5.0)
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_sigkill_debris_is_removed_by_the_next_run(previous, scenario_file, tmp_path, own_tmpdir):
     out = tmp_path / "out"
     returncode, _ = signal_at(child("write", "run", str(scenario_file), "--out", str(out), **own_tmpdir), "WRITING",
@@ -312,6 +318,7 @@ def test_sigkill_debris_is_removed_by_the_next_run(previous, scenario_file, tmp_
     assert debris(out) == []
 
 
+@pytest.mark.slow  # 5 s each on the 2-core machine
 @pytest.mark.parametrize("hook", ["swap", "swapped"])
 def test_sigkill_in_the_middle_of_a_swap_is_settled_by_the_next_run(previous, scenario_file, tmp_path, hook,
                                                                      own_tmpdir):
@@ -335,6 +342,7 @@ def test_sigkill_in_the_middle_of_a_swap_is_settled_by_the_next_run(previous, sc
     assert debris(out) == []
 
 
+@pytest.mark.slow  # 3 s on the 2-core machine
 def test_a_file_size_limit_is_one_line_and_keeps_the_previous_results(previous, scenario_file, tmp_path):
     out = tmp_path / "out"
     process = child("none", "run", str(scenario_file), "--out", str(out), SIXDOF_TEST_FSIZE="20000")
@@ -346,6 +354,7 @@ def test_a_file_size_limit_is_one_line_and_keeps_the_previous_results(previous, 
     assert debris(out) == []
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_a_full_filesystem_is_one_line_and_leaves_nothing(scenario_file, tmp_path):
     disk = tmp_path / "disk"
     disk.mkdir()
@@ -433,6 +442,7 @@ def test_folders_and_files_follow_the_umask(tmp_path, umask):
     assert (target / "results.h5").stat().st_mode & 0o777 == 0o666 & ~umask
 
 
+@pytest.mark.slow  # 3 s on the 2-core machine
 def test_a_reader_that_went_away_is_no_failed_write(scenario_file, tmp_path):
     """``sixdof run ... | head -3`` with the reader gone before the tables are printed: the results are written
     in full, and the command ends with 128 + SIGPIPE and no word of a failed write."""
@@ -447,7 +457,7 @@ def test_a_reader_that_went_away_is_no_failed_write(scenario_file, tmp_path):
     assert load_results(folder / "results.h5").frf is not None
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_plot_replaces_the_figures_all_or_nothing(previous, tmp_path):
     folder = tmp_path / "out" / "pump"
     returncode, err = signal_at(child("plot", "plot", str(folder / "results.h5")), "PLOTTED", signal.SIGINT)
@@ -460,6 +470,7 @@ def test_plot_replaces_the_figures_all_or_nothing(previous, tmp_path):
     assert set(snapshot(folder)) == set(previous) and debris(folder) == []
 
 
+@pytest.mark.slow  # 4 s on the 2-core machine
 def test_plot_never_overwrites_a_file_sixdof_did_not_write(previous, tmp_path, capsys):
     results = tmp_path / "out" / "pump" / "results.h5"
     theirs = tmp_path / "mine"

@@ -110,6 +110,7 @@ def test_an_inertia_box_is_a_slip_only_beyond_its_limit(factor, flagged):
         assert "Check the units of mass [kg], inertia [kg m^2] and dimensions [m]" in found[0]
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_modes_and_run_warn_of_a_slip(tmp_path, capsys):
     path = tmp_path / "fan.toml"
     path.write_text(MACHINE.replace("speed_rpm = 1480.0", "f_hz = 1480.0").replace("duration = 3.0", "duration = 0.01")

@@ -481,6 +481,7 @@ def test_mount_forces(parts):
         assert_drawn_from(ax.lines[-1], t, factor * forces.foundation_force[:, c])
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_validation_figures(parts):
     report = parts["validation"]
     fig = plots.plot_validation_frf(report)
@@ -556,6 +557,7 @@ def test_wrong_or_missing_data_is_named(parts, modal_only):
         plots.save_all({"modal": None}, "unused")
 
 
+@pytest.mark.slow  # 3 s on the 2-core machine
 def test_save_all_draws_what_the_run_holds(run, modal_only, tmp_path):
     written = plots.save_all(run, tmp_path / "full", dpi=30)  # low resolution: only the files matter
     assert [p.name for p in written] == FIGURE_NAMES
@@ -565,6 +567,7 @@ def test_save_all_draws_what_the_run_holds(run, modal_only, tmp_path):
                                                                                 "ke_distribution.png"]
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_drawers_write_the_formats_and_dpi_of_the_run_scenario(modal_only, tmp_path):
     """In this process and in worker processes, a run's figures are written in its scenario's ``[output]``
     formats at its dpi, byte for byte alike."""
@@ -592,6 +595,7 @@ def test_drawers_write_the_formats_and_dpi_of_the_run_scenario(modal_only, tmp_p
         plots.render_files(modal_only, "ke_distribution.png", ("gif",))
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_save_all_titles_start_with_the_run_name(run, monkeypatch, tmp_path):
     drawn = []
     monkeypatch.setattr(plots, "png", lambda fig, dpi=None: drawn.append(fig) or b"")
@@ -610,6 +614,7 @@ def runs_without_pyplot(code: str) -> None:
     assert result.returncode == 0, result.stderr
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_save_all_never_loads_pyplot(tmp_path):
     runs_without_pyplot(
         "from sixdof import Mount, RigidBody, System, modal_analysis, plots\n"
@@ -623,6 +628,7 @@ def test_save_all_never_loads_pyplot(tmp_path):
     )
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_plot_from_a_file_never_loads_pyplot(modal_only, tmp_path):
     path = tmp_path / "results.h5"
     from sixdof.io.store import write_results
@@ -635,7 +641,7 @@ def test_plot_from_a_file_never_loads_pyplot(modal_only, tmp_path):
     )
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_workers_draw_what_save_all_draws(run, tmp_path):
     """The figures drawn in worker processes, submitted as the run's parts appear, are the files save_all
     draws in this process, byte for byte."""
@@ -660,7 +666,7 @@ def test_a_figure_failing_in_a_worker_fails_loudly(parts, tmp_path):
             workers.save(tmp_path)
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_png_files_hold_the_pixels_savefig_draws(run):
     """plots.png writes the figure's pixels itself (unfiltered rows, Pillow's filter search skipped): every
     figure decodes to the pixels matplotlib's own PNG holds, at the resolution it says, and the figure keeps
@@ -682,7 +688,7 @@ def test_png_files_hold_the_pixels_savefig_draws(run):
             np.testing.assert_array_equal(np.asarray(mine), np.asarray(theirs), err_msg=name)
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_fixed_titles_draw_the_same_pixels(run):
     """render() draws with titles at a fixed height (plots.FIXED_TITLES): every figure is the one matplotlib's
     automatic title placement draws (a 3-D panel's title once sat on its legend)."""
@@ -717,7 +723,7 @@ def test_frozen_y_ticks_draw_over_the_x_axis_as_matplotlib_orders_them():
     assert frozen_tick_difference(draw).max() == 0
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_frozen_ticks_draw_the_same_pixels(run):
     """render() draws unlabelled ticks (minor log ticks, the time ticks of panels above a shared time
     axis) as two collections per axis (fast): at the resolution of the files, every figure is the one

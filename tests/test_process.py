@@ -26,7 +26,7 @@ def faults():
 CHURN_PAGES = 10 * 6 * 400_000 * 8 // 4096
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_a_program_calling_the_library_keeps_its_process_settings():
     """``import sixdof``, parsing a bundled scenario, its modes and a simulation leave the garbage collector's
     thresholds, the environment (XLA_FLAGS, OpenBLAS's threads), the nice level and glibc's allocator (freed

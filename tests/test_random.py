@@ -130,7 +130,7 @@ def test_the_input_and_its_psd_unit_must_agree():
         RandomInput(input="pressure", psd=g_psd)
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_a_run_with_a_random_table_stores_prints_and_draws_it(tmp_path, capsys):
     from sixdof import load_results
     from sixdof.cli import main

@@ -29,7 +29,7 @@ from systems import sdof, skewed_box, small_box
 from tolerances import RTOL_TIME_CHECK_RMS
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_a_table_with_slopes_is_a_cubic_hermite_spline():
     t = np.array([0.0, 0.3, 0.5, 1.2, 2.0])
     cubic = lambda x: 1 + 2 * x - 3 * x**2 + 0.7 * x**3  # noqa: E731
@@ -50,6 +50,7 @@ def test_a_table_with_slopes_is_a_cubic_hermite_spline():
         Table(t=t, values=cubic(t), slopes=[1.0, 2.0])
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_the_synthesized_record_is_the_fourier_series_of_its_psd():
     psd = PSD(f_hz=[10.0, 40.0, 100.0], value=[0.5, 2.0, 1.0], unit="(m/s^2)^2/Hz")
     record = synthesize(psd, 4.0, seed=3)
@@ -116,7 +117,7 @@ def _force_on_the_box(duration=None, seed=0):
     return random, TimeCheckSettings(duration=duration, seed=seed)
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_a_coupled_box_under_a_random_force_agrees_with_its_time_history():
     system = small_box(zeta=0.04)  # every DOF coupled, modes 10 to 49 Hz
     random, settings = _force_on_the_box()
@@ -145,6 +146,7 @@ def test_a_coupled_box_under_a_random_force_agrees_with_its_time_history():
         assert shown[name] == pytest.approx(value, rel=RTOL_TIME_CHECK_RMS), name
 
 
+@pytest.mark.slow  # 4 s on the 2-core machine
 def test_a_model_three_percent_too_stiff_fails_the_check(monkeypatch):
     """The FRF side computed for mounts 3 % stiffer (1.5 % in frequency) than the ones integrated."""
     system = small_box(zeta=0.04)
@@ -158,7 +160,7 @@ def test_a_model_three_percent_too_stiff_fails_the_check(monkeypatch):
     assert np.max(np.abs(check.z)) > check.z_limit
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_loss_factors_are_left_out_of_both_sides_and_said():
     system = skewed_box()  # loss factors on mounts a and c
     random = RandomInput(input="ground_acceleration", direction=[1.0, 0.5, 1.0],
@@ -175,7 +177,7 @@ def test_a_free_body_is_refused():
         random_time_check(sdof(), random)
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_the_check_is_stored_with_its_labels_and_read_back(tmp_path):
     """Also a file whose random response has points but no time history: the points' labels arrive after an
     array along them (they used to collide with the index scale made for it)."""
@@ -236,6 +238,7 @@ def test_a_bad_time_check_is_one_clear_error(line, message):
         parse_scenario(text, "box.toml", "scenarios")
 
 
+@pytest.mark.slow  # 4 s on the 2-core machine
 def test_the_figure_shows_each_excited_acceleration_with_its_interval():
     from figures import frozen_tick_difference
     from sixdof import plots
@@ -291,7 +294,7 @@ def test_z_is_the_normal_equivalent_of_a_chi_square_ratio():
         assert float(z_score(chi2.ppf(p, nu) / nu, sigma)) == pytest.approx(norm.ppf(p), abs=0.02)
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_the_causal_models_of_the_loss_factors_are_carried_on_both_sides():
     # The time model of a run (loss factors as their causal Maxwell models): the record is damped by them and the
     # FRF side is that model's; nothing is left out, and the check still passes.

@@ -25,7 +25,7 @@ def blocks(pattern: str) -> list:
     return found
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 @pytest.mark.parametrize("code", blocks(r"```python\n(.*?)```"))
 def test_python_examples_run(code, tmp_path):
     """Each block runs saved as a script and run from the repository, warnings as errors: as a reader who

@@ -140,6 +140,7 @@ def _check_against_ec8(records, check, count):
     np.testing.assert_allclose(records.target, se(records.periods), rtol=1e-14)
 
 
+@pytest.mark.slow  # 4 s on the 2-core machine
 def test_sixdof_run_with_three_records_stores_them_and_takes_the_most_unfavourable(tmp_path, capsys):
     from sixdof.cli import main
     from sixdof.io.store import load_results
@@ -211,7 +212,7 @@ def test_a_suite_failing_a_clause_is_warned_of_and_still_run():
             f"{float(se(t1)):.4g} m/s² (the 5 %-damped elastic spectrum" in " ".join(text.split()))
 
 
-@pytest.mark.slow
+@pytest.mark.long
 def test_seven_records_of_20_s_give_the_mean_of_their_peaks(tmp_path):
     """The measured case: 7 records of 20 s at 0.01 s on the bridge (about 15 s)."""
     from sixdof import run_scenario
@@ -233,6 +234,7 @@ def test_seven_records_of_20_s_give_the_mean_of_their_peaks(tmp_path):
     assert 1.0 <= peaks.design_q[0] / stored.spectrum.peak_q[0, 0] <= 1.15
 
 
+@pytest.mark.slow  # 3 s on the 2-core machine
 def test_a_step_too_long_for_t1_and_peaks_sampled_coarser_than_asked_are_said():
     """A run finds T1 only once it has the modes: a step longer than 0.1 T1 is refused then, naming the key. Bearings
     300 times stiffer vertically put the highest mode at 38 sqrt(300) = 659 Hz: 10 samples per its period at 0.01 s

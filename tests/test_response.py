@@ -91,6 +91,7 @@ def test_foundation_force_balances_the_body_inertia(harmonic):
                        atol=RTOL_LINALG * np.abs(expected_damping[:, :3]).max())
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_ground_motion_deforms_mounts_by_the_relative_motion():
     beam = bridge("elastomer")
     ground = GroundMotion("acceleration", [0.0, 1.0, 0.0], Harmonic(f_hz=1.5), scale=0.5)

@@ -92,6 +92,7 @@ def outcome(scenario, tmp_path_factory):
     return run_scenario(scenario, tmp_path_factory.mktemp("out"), progress=False)
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_run_writes_results_figures_and_summary(outcome):
     computed, folder = outcome
     assert sorted(p.name for p in folder.iterdir()) == sorted(
@@ -132,6 +133,7 @@ def test_unwritable_output_is_an_error_before_any_computing(scenario, tmp_path, 
         run_scenario(scenario, blocker / "out", progress=False)
 
 
+@pytest.mark.slow  # 4 s each on the 2-core machine
 @pytest.mark.parametrize("error", [KeyboardInterrupt, OSError])
 def test_interrupted_run_keeps_the_previous_results_and_leaves_no_partial_output(outcome, scenario, monkeypatch, error):
     folder = outcome[1]
@@ -159,7 +161,7 @@ def test_sample_rate_too_low_is_warned_with_the_numbers(scenario):
     assert sampling_warnings(scenario, modal_analysis(scenario.system.M, scenario.system.K)) == []
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_cli_run_and_plot(tmp_path, capsys):
     path = tmp_path / "small.toml"
     path.write_text(SCENARIO.replace("duration = 0.6", "duration = 0.2"))
@@ -188,6 +190,7 @@ def test_cli_bad_input_writes_nothing(tmp_path, capsys):
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_truncated_superposition_reports_its_error_and_warns(tmp_path):
     from sixdof.workflows.time_response import AgreementWarning
 
@@ -204,7 +207,7 @@ def test_truncated_superposition_reports_its_error_and_warns(tmp_path):
     assert "Truncated to modes 1, 2, 3" in (folder / "summary.md").read_text()
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_output_table_leaves_derived_quantities_out_and_reading_derives_them_again(outcome, tmp_path):
     import dataclasses
 
@@ -266,6 +269,7 @@ def test_bad_formats_or_dpi_are_refused_naming_the_file_before_computing(tmp_pat
     assert not (tmp_path / "out").exists()  # refused before anything was computed or written
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_formats_write_each_figure_in_each_format_at_the_dpi(tmp_path):
     from PIL import Image
 
@@ -323,6 +327,7 @@ def test_default_dpi_is_150(tmp_path):
         assert image.size == tuple(round(v * 150) for v in inches)
 
 
+@pytest.mark.slow  # 4 s on the 2-core machine
 def test_animate_modes_writes_one_looping_gif_per_mode(tmp_path, monkeypatch):
     from PIL import Image, ImageSequence
 

@@ -164,7 +164,7 @@ position = [0.0, 0.0, 0.5]
     assert "from the random response, its velocity PSD integrated over 10-1000 Hz" in " ".join(run_text(results).split())
 
 
-@pytest.mark.slow
+@pytest.mark.long
 def test_the_time_history_severity_of_a_single_dof_is_the_closed_form(tmp_path):
     text = SDOF_TOML + "[simulation]\nduration = 3.0\nsample_rate_hz = 4000.0\n"
     results = run_text_of(tmp_path, text + severity_toml(zones_mm_s=[1.0, 2.0, 4.5], source="time",
@@ -190,7 +190,7 @@ def test_zones_and_the_standard_boundaries():
     assert SeveritySettings(group=1, foundation="flexible").boundaries_mm_s == (3.5, 7.1, 11.0)
 
 
-@pytest.mark.slow
+@pytest.mark.long
 def test_machine_unbalance_prints_and_stores_its_severity(tmp_path):
     from sixdof.workflows.run import run_scenario
 

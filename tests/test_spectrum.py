@@ -290,6 +290,7 @@ def test_the_effective_linearization_matches_a_hand_fixed_point_iteration():
 
 # --- end to end ----------------------------------------------------------------------------------------------
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_a_scenario_with_a_spectrum_runs_stores_and_reads_back(tmp_path):
     from sixdof import run_scenario
     from sixdof.io.store import load_results

@@ -20,6 +20,7 @@ def _half_sine(t):
     return np.where(t < PULSE, PEAK * np.sin(np.pi * t / PULSE), 0.0)
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_the_ramp_invariant_filter_matches_an_independent_integration():
     t = np.arange(0.0, 0.3, 1.0 / RATE)
     f = np.array([10.0, 45.0, 90.0, 200.0, 1000.0])
@@ -38,6 +39,7 @@ def test_the_ramp_invariant_filter_matches_an_independent_integration():
         assert value == pytest.approx(np.max(np.abs(absolute)), rel=1e-4)
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_peaks_between_the_record_s_samples_are_found():
     """Oscillators up to near the Nyquist frequency of a 10 kHz record of a tone burst and noise, against the peak
     of the exact response to the same input (linear between samples) at 100 points per sample: found to within
@@ -99,7 +101,7 @@ def test_bad_spectrum_tables_are_one_clear_error(change, message):
         parse_scenario(text.replace(*change))
 
 
-@pytest.mark.slow  # ~17 CPU s
+@pytest.mark.long  # ~17 CPU s
 def test_the_electronics_box_prints_stores_and_draws_its_spectra(tmp_path, capsys):
     from sixdof import load_results
     from sixdof.cli import main

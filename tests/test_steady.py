@@ -110,6 +110,7 @@ def test_the_time_response_settles_on_the_steady_state():
         np.testing.assert_allclose(fitted[k], steady.q[k], rtol=1e-6, atol=1e-6 * np.abs(steady.q[k]).max())
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_a_run_stores_prints_and_summarizes_its_steady_state(tmp_path, capsys):
     from pathlib import Path
 
@@ -134,6 +135,7 @@ def test_a_run_stores_prints_and_summarizes_its_steady_state(tmp_path, capsys):
     assert "Peaks over the whole run, the switch-on transient included." in summary
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_the_run_shows_its_body_points(tmp_path, capsys):
     from sixdof.analysis.response import point_motion
     from sixdof.cli import main

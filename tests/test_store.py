@@ -290,6 +290,7 @@ def test_superposition_without_direct_response_is_refused(parts):
 # ----------------------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_xarray_opens_every_group_with_labelled_axes_and_reads_complex(written, parts):
     xr = pytest.importorskip("xarray")
     pytest.importorskip("h5netcdf")

@@ -36,6 +36,7 @@ def run():
                       agreement=compare(response, modal))
 
 
+@pytest.mark.slow  # the run it reads: 2 s on the 2-core machine
 def test_windows_append_to_the_same_file(run, tmp_path):
     whole = write_results(tmp_path / "whole.h5", run, created_utc="then")
     n = run.response.t.size
@@ -58,6 +59,7 @@ def test_windows_append_to_the_same_file(run, tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["streamed.h5", "whole.h5"]  # no temporary file left
 
 
+@pytest.mark.slow  # the run it reads: 2 s on the 2-core machine
 def test_an_unfinished_stream_leaves_nothing(run, tmp_path):
     (tmp_path / "results.h5").write_bytes(b"before")
     with pytest.raises(RuntimeError), ResultsStream(tmp_path / "results.h5") as stream:
@@ -67,6 +69,7 @@ def test_an_unfinished_stream_leaves_nothing(run, tmp_path):
     assert (tmp_path / "results.h5").read_bytes() == b"before"
 
 
+@pytest.mark.slow  # the run it reads: 2 s on the 2-core machine
 def test_window_agreements_merge_to_the_whole_run_agreement(run):
     parts = (slice(0, 7), slice(7, 50), slice(50, None))
     merged = merge_agreements([compare(run.response.q[p], run.superposition.q[p]) for p in parts])
@@ -95,7 +98,7 @@ def test_window_envelopes_hold_every_bin_extreme_of_the_whole_run():
     assert len(envelope_samples(t, np.zeros((t.size, 1)), 0.0, 10.0, bins)) <= bins + 2  # flat: one per bin
 
 
-@pytest.mark.slow  # ~16 CPU s
+@pytest.mark.long  # ~16 CPU s
 def test_a_long_run_streams_its_windows_and_keeps_only_what_its_figures_draw(tmp_path, monkeypatch):
     from sixdof.workflows import run as workflows
     from sixdof.workflows import time_response
@@ -138,6 +141,7 @@ def test_a_run_whose_file_cannot_fit_on_the_disk_is_refused_before_it_starts(tmp
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_ctrl_c_stops_a_long_run_at_once_and_leaves_nothing(tmp_path, monkeypatch):
     """SIGINT is held back only while a file is written: a run interrupted while it computes stops in the window
     it is in, not after the whole run, and leaves no partial output."""
@@ -187,7 +191,7 @@ if __name__ == "__main__":
 """
 
 
-@pytest.mark.slow  # ~12 CPU s
+@pytest.mark.long  # ~12 CPU s
 def test_a_disk_that_fills_while_a_long_run_streams_ends_in_one_line_and_leaves_nothing(tmp_path):
     """The file-size limit (``ulimit -f``) met in the middle of the streamed results.h5 (28 MB), as a full disk
     is: HDF5's write fails in its caches; the run ends with exit 74, one line naming the file, no staging folder,

@@ -429,7 +429,7 @@ def direct(system_name, kind):
     return simulate(SYSTEMS[system_name], EXCITATIONS[kind], SETTINGS)
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 @pytest.mark.parametrize("system_name", DIRECT_SYSTEMS)
 @pytest.mark.parametrize("kind", list(EXCITATIONS))
 def test_agrees_with_direct_solver(system_name, kind):
@@ -446,6 +446,7 @@ def test_agrees_with_direct_solver(system_name, kind):
     assert result.superposition.method == ("real" if system_name in CLASSICAL else "complex")
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_real_modes_on_dashpots_disagree_with_direct_solver():
     reference = direct("dashpots", "harmonic_step_half_sine")
     result = superpose(SYSTEMS["dashpots"], EXCITATIONS["harmonic_step_half_sine"], reference.t,
@@ -455,6 +456,7 @@ def test_real_modes_on_dashpots_disagree_with_direct_solver():
     assert not result.superposition.approximation.ok
 
 
+@pytest.mark.slow  # 3 s on the 2-core machine
 def test_truncated_superposition_reports_error_against_full_set():
     reference = direct("combined", "sweeps_ramp")
     truncated = superpose(SYSTEMS["combined"], EXCITATIONS["sweeps_ramp"], reference.t, n_modes=5)
@@ -636,6 +638,7 @@ def test_compare_floors_relative_motion_at_the_absolute_motion():
     assert riding.ok and riding.quiet == DOFS
 
 
+@pytest.mark.slow  # 3 s on the 2-core machine
 def test_a_body_riding_a_pre_displaced_ground_agrees_to_round_off():
     """The ground held 5 cm away from the start: the body rides it at rest on its mounts (q = the ground's
     translation, no rotation: the exact answer), the two solutions differ by round-off, and the cross-check

@@ -65,6 +65,7 @@ def _medians(ax) -> list[float]:
     return [float(line.get_ydata()[0]) for line in ax.lines if line.get_linewidth() == 2]
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_the_sweep_writes_its_figures_and_its_report_shows_them(written):
     assert sorted(p.name for p in written.glob("*.png")) == FIGURES
     page = (written / "report.html").read_text(encoding="utf-8")
@@ -72,6 +73,7 @@ def test_the_sweep_writes_its_figures_and_its_report_shows_them(written):
         assert f"<code>{name}</code>" in page
 
 
+@pytest.mark.slow  # the sweep it reads: 3 s on the 2-core machine
 def test_frequencies_one_box_per_mode_at_the_variants_median(run):
     fig = plot_sweep_frequencies(run.sweep, run.system.modes, name=run.name)
     axes = fig.axes
@@ -86,6 +88,7 @@ def test_frequencies_one_box_per_mode_at_the_variants_median(run):
         np.testing.assert_allclose(nominal[0].get_ydata(), run.system.modes.frequency_hz[j], rtol=1e-12)
 
 
+@pytest.mark.slow  # the sweep it reads: 3 s on the 2-core machine
 def test_decoupling_is_each_variants_own_and_drawn_one_box_per_mode(run, scenario):
     shares = run.sweep.tracked_decoupling_percent
     # Independent: each variant built as a system of its own, its decoupling by the design metrics. The tracked
@@ -102,6 +105,7 @@ def test_decoupling_is_each_variants_own_and_drawn_one_box_per_mode(run, scenari
     np.testing.assert_allclose(nominal, design_metrics(scenario.system).decoupling_percent, rtol=1e-9)
 
 
+@pytest.mark.slow  # the sweep it reads: 3 s on the 2-core machine
 def test_decoupling_needs_the_decoupling(run):
     import dataclasses
 
@@ -110,6 +114,7 @@ def test_decoupling_needs_the_decoupling(run):
         plot_sweep_decoupling(older, run.system.modes)
 
 
+@pytest.mark.slow  # the sweep it reads: 3 s on the 2-core machine
 def test_peaks_one_panel_per_dof_and_quantity_in_display_units(run):
     fig = plot_sweep_peaks(run.sweep, name=run.name)
     assert len(fig.axes) == 12
@@ -127,6 +132,7 @@ def test_peaks_one_panel_per_dof_and_quantity_in_display_units(run):
         plot_sweep_peaks(dataclasses.replace(run.sweep, peak_q=None))
 
 
+@pytest.mark.slow  # the sweep it reads: 3 s on the 2-core machine
 def test_tornado_one_bar_per_parameter_of_the_fitted_effect(run):
     fit = sweep_sensitivity(run.sweep, run.system)
     assert len(fit.parameters) == 12 and fit.parameters[0] == "stiffness of mount 1 (u)"
@@ -178,6 +184,7 @@ def test_a_shared_draw_is_one_parameter(scenario):
     assert all(len(ax.patches) == 2 for ax in fig.axes if ax.get_visible())
 
 
+@pytest.mark.slow  # 3 s on the 2-core machine
 def test_sixdof_plot_redraws_a_sweep_and_a_folder(written, tmp_path, capsys):
     assert main(["plot", str(written / "sweep.h5"), "--out", str(tmp_path / "one")]) == 0
     assert sorted(p.name for p in (tmp_path / "one").glob("*.png")) == FIGURES
@@ -189,6 +196,7 @@ def test_sixdof_plot_redraws_a_sweep_and_a_folder(written, tmp_path, capsys):
     assert sorted(p.name for p in (tmp_path / "all" / written.name).glob("*.png")) == FIGURES
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_sixdof_plot_refuses_a_file_of_no_known_kind(tmp_path, capsys):
     theirs = tmp_path / "theirs.h5"
     with h5py.File(theirs, "w") as f:
@@ -206,6 +214,7 @@ def test_sixdof_plot_refuses_a_file_of_no_known_kind(tmp_path, capsys):
     assert list(tmp_path.rglob("*.png")) == []
 
 
+@pytest.mark.slow  # the sweep it reads: 3 s on the 2-core machine
 def test_each_sweep_figure_draws_into_the_given_figure_or_axes(run):
     # As tests/test_plot_api.py holds for the run's figures: a caller's figure (or axes) is drawn into and returned.
     from matplotlib.figure import Figure

@@ -141,7 +141,7 @@ def unbalanced(tmp_path_factory):
     return run(path)
 
 
-@pytest.mark.slow
+@pytest.mark.long
 def test_transmissibility_png_marks_the_operating_frequency_its_efficiency_and_the_isolation_region(unbalanced):
     assert has_operating(unbalanced) and "transmissibility.png" in figure_names(unbalanced)
     summary = run_isolation_summary(unbalanced)
@@ -173,7 +173,7 @@ def test_transmissibility_png_marks_the_operating_frequency_its_efficiency_and_t
     assert frozen_tick_difference(lambda: plot_transmissibility(summary, unbalanced.modes)).max() <= 1.01 / 255
 
 
-@pytest.mark.slow
+@pytest.mark.long
 def test_the_run_text_and_summary_start_with_the_isolation_summary(unbalanced):
     steady = unbalanced.steady_state
     lines = run_text(unbalanced).splitlines()

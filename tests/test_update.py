@@ -70,6 +70,7 @@ def w_truth(system):
     return with_mounts(system, np.column_stack([np.ones(4), np.ones(4), W_TRUTH]))
 
 
+@pytest.mark.slow  # 4 s on the 2-core machine
 def test_exact_modes_recover_the_stiffness_factors():
     scenario = scenario_with(PER_MOUNT_W + TIED_SHEAR)
     truth = w_truth(scenario.system)
@@ -83,6 +84,7 @@ def test_exact_modes_recover_the_stiffness_factors():
     assert list(result.variable[:2]) == ["stiffness w: front_left", "stiffness w: front_right"]
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_noisy_modes_recover_the_factors_within_their_standard_errors():
     """0.1 % frequency noise and 1 % shape noise (of each shape's RMS), seeded: each factor within
     UPDATE_NOISE_SIGMAS standard errors of the truth, and each standard error within 10 % (determined)."""
@@ -101,6 +103,7 @@ def test_noisy_modes_recover_the_factors_within_their_standard_errors():
     assert np.all(result.standard_error < 0.1 * expected)
 
 
+@pytest.mark.slow  # 4 s on the 2-core machine
 def test_a_close_pair_that_swaps_order_converges_the_same():
     """A truth whose x-pitch and y-roll modes lie within 2 % of each other, in the other order than the given
     model's: the eigen-equation residual needs no pairing, so the update lands on the truth, and the same with
@@ -130,6 +133,7 @@ def test_a_close_pair_that_swaps_order_converges_the_same():
 CLOSE_U, CLOSE_V = 0.7, 1.1
 
 
+@pytest.mark.slow  # 4 s on the 2-core machine
 def test_mass_and_every_stiffness_together_are_not_determined():
     """Scaling the mass, the inertia and every stiffness alike leaves the modes as they are: the test cannot tell
     them apart (one direction it does not see: infinite standard errors, correlations +-1)."""
@@ -141,6 +145,7 @@ def test_mass_and_every_stiffness_together_are_not_determined():
     assert np.all(np.abs(result.correlation) > 0.95)
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_shear_stiffness_that_the_measured_mode_does_not_see_is_flagged():
     """Only the bounce mode measured: in the symmetric layout it deflects no mount in shear, so the test cannot
     tell the shear stiffness (no sensitivity beyond round-off: a standard error far beyond the factor itself)."""
@@ -152,6 +157,7 @@ def test_shear_stiffness_that_the_measured_mode_does_not_see_is_flagged():
     assert np.all(result.standard_error > 1e3)
 
 
+@pytest.mark.slow  # 3 s on the 2-core machine
 def test_inertia_is_recovered_and_stays_positive_definite():
     scenario = scenario_with(keys="inertia = {bounds = [0.5, 2.0]}\n")
     given = scenario.system
@@ -167,7 +173,7 @@ def test_inertia_is_recovered_and_stays_positive_definite():
         assert moments.max() <= moments.sum() - moments.max()
 
 
-@pytest.mark.slow  # 8-11 s: an update, then the updated scenario loaded and solved
+@pytest.mark.long  # 8-11 s: an update, then the updated scenario loaded and solved
 def test_updated_scenario_text_runs_with_the_updated_modes():
     """Mass, CG offset and mount stiffnesses updated; the text written reads back with the updated model's
     modes, its points and loads moved with the CG."""

@@ -119,7 +119,7 @@ def test_harmonic_simulation_steady_state_matches_frf():
     assert np.max(np.abs(run.q - expected) / np.abs(ss)) <= RTOL_DIRECT_STEADY_STATE
 
 
-@pytest.mark.slow  # ~15 s on 2 cores, mostly two solver compilations
+@pytest.mark.long  # ~15 s on 2 cores, mostly two solver compilations
 def test_validation_of_a_small_system():
     system = small_box()
     report = validate(system)
@@ -156,7 +156,7 @@ def test_validation_of_a_small_system():
         np.testing.assert_allclose(between, np.abs(run.model[bins, 0]), rtol=1e-3)
 
 
-@pytest.mark.slow  # ~39 and ~15 CPU s: the nonlinear solve's compilation, then its runs
+@pytest.mark.long  # ~39 and ~15 CPU s: the nonlinear solve's compilation, then its runs
 @pytest.mark.parametrize("clearance", [0.4e-3, 1.0])
 def test_a_nonlinear_model_s_histories_check_its_linearization(clearance):
     """Bump stops on the small box's vertical axes: the modal results are the linearization's, the histories the
@@ -196,7 +196,7 @@ def _state_matrix_poles(system):
     return np.sort_complex(poles[poles.imag > 0] * -1j) * 1j  # by imaginary part
 
 
-@pytest.mark.slow  # ~20 s on 2 cores: two compilations, 6 decays and 6 random runs of 362 s in all
+@pytest.mark.long  # ~20 s on 2 cores: two compilations, 6 decays and 6 random runs of 362 s in all
 def test_engine_scenario_passes_through_the_command(tmp_path, capsys):
     # The bundled engine: mount dashpots (non-proportional damping) and loss factors 0.1-0.12, which
     # the time integration carries as their causal Maxwell models (issue 45; before, it left them out).
@@ -236,7 +236,7 @@ def _more_damped(system, factor):
                                                     for m in system.mounts))
 
 
-@pytest.mark.slow  # ~15 s on 2 cores
+@pytest.mark.long  # ~15 s on 2 cores
 def test_a_model_that_disagrees_fails_with_exit_status_3(tmp_path, capsys, monkeypatch):
     # The engine's time histories checked against a model with 1.5 times its mount damping: the
     # damped frequencies barely move (the decay frequency check passes), but the damping ratios and
@@ -303,6 +303,7 @@ def test_hysteresis_is_left_out_of_the_model_and_named():
     assert again is integrated and none == ()
 
 
+@pytest.mark.slow  # 1-2 s on the 2-core machine
 def test_bad_estimation_input():
     with pytest.raises(InputError, match=r"^nperseg: expected an integer from 8 to the number of "
                                          r"samples 100, got 1000"):

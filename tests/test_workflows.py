@@ -40,6 +40,7 @@ def _same_datasets(a: Path, b: Path) -> None:
             np.testing.assert_array_equal(value, two.attrs[group][key], err_msg=f"{group}@{key}")
 
 
+@pytest.mark.slow  # 8 s on the 2-core machine
 def test_run_writes_nothing_and_save_writes_what_run_scenario_writes(tmp_path, monkeypatch):
     scenario = sixdof.parse_scenario(SCENARIO, "small.toml")
     monkeypatch.chdir(tmp_path)
@@ -64,6 +65,7 @@ def test_run_takes_a_path_and_reports_its_warnings(tmp_path):
     assert results.scenario.path == path
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_a_run_too_long_for_memory_needs_a_sink_and_streams_into_it(tmp_path, monkeypatch):
     from sixdof.workflows import run as run_module
     from sixdof.workflows import time_response
@@ -148,7 +150,7 @@ def _same_folder(a: Path, b: Path, results: str) -> None:
             assert timed.sub(b"", (a / name).read_bytes()) == timed.sub(b"", (b / name).read_bytes()), name
 
 
-@pytest.mark.slow  # over 10 s on the 2-core machine
+@pytest.mark.long  # over 10 s on the 2-core machine
 def test_a_validation_computed_then_saved_is_what_validate_scenario_writes(tmp_path):
     from sixdof.workflows.validate import save_validation, validate_scenario, validation_run
 
@@ -161,6 +163,7 @@ def test_a_validation_computed_then_saved_is_what_validate_scenario_writes(tmp_p
     _same_folder(folder, written, "results.h5")
 
 
+@pytest.mark.slow  # 3 s on the 2-core machine
 def test_a_sweep_computed_then_saved_is_what_sweep_scenario_writes(tmp_path):
     from sixdof.io.sweep import parse_sweep_spec
     from sixdof.workflows.sweep import save_sweep, sweep, sweep_scenario
@@ -181,6 +184,7 @@ def test_a_sweep_computed_then_saved_is_what_sweep_scenario_writes(tmp_path):
         np.testing.assert_array_equal(dataset.data, two.datasets[path].data, err_msg=path)
 
 
+@pytest.mark.slow  # 2 s on the 2-core machine
 def test_a_design_computed_then_saved_is_what_optimize_scenario_writes(tmp_path):
     from sixdof.workflows.optimize import DESIGN_FILES, design_run, optimize_scenario, save_design
     from test_optimize import THETA0, _v_pair

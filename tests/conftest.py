@@ -10,6 +10,7 @@ os.environ["XLA_FLAGS"] = with_xla_defaults(os.environ.get("XLA_FLAGS", ""))
 
 import jax  # noqa: E402
 import matplotlib  # noqa: E402
+import pytest  # noqa: E402
 
 matplotlib.use("Agg")
 jax.config.update("jax_enable_x64", True)
@@ -18,6 +19,7 @@ jax.config.update("jax_enable_x64", True)
 os.environ.setdefault("SIXDOF_JAX_CACHE", "off")
 
 
+@pytest.hookimpl(tryfirst=True)  # before pytest's own hook deselects by -m
 def pytest_collection_modifyitems(config, items):
     """A ``long`` test (over 10 s) is ``slow`` too: the quick loop, ``-m "not slow"``, leaves out both."""
     for item in items:

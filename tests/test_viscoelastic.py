@@ -197,7 +197,7 @@ def test_dynamic_stiffness_figure():
     texts = [t.get_text() for t in legend.get_texts()]
     assert len(texts) == 2 and texts[0].endswith(f"worst errors {100 * measured.modulus_error:.2g} % in |K*|, "
                                                  f"{100 * measured.loss_factor_error:.2g} % in loss factor")
-    assert "loss angle" not in texts[0] and "natural and operating frequencies checked" in top.get_title()
+    assert "loss angle" not in texts[0] and "constant loss factor at the natural and operating frequencies" in top.get_title()
     line, markers = top.lines[0], top.lines[1]  # the first fit: its model, then its data
     assert line.get_xdata()[0] == pytest.approx(2.5) and line.get_xdata()[-1] == pytest.approx(1000.0)
     np.testing.assert_allclose(line.get_ydata(), measured.dynamic_stiffness(line.get_xdata()).real, rtol=1e-12)

@@ -67,8 +67,8 @@ def plot_dynamic_stiffness(fits: Sequence[tuple[str, MaxwellFit]], title: str | 
         top.plot(fit.f_hz, fit.storage, "o", color=line.get_color(), markersize=4, markerfacecolor="none")
         bottom.plot(fit.f_hz, fit.loss_factor, "o", color=line.get_color(), markersize=4, markerfacecolor="none")
     top.set_ylabel("storage stiffness K' [N/m]")
-    top.set_title("markers: data (a loss factor's: the natural and operating frequencies checked); lines: Maxwell "
-                  "fit", fontsize=10)
+    top.set_title("markers: measured, or a constant loss factor at the natural and operating frequencies; lines: "
+                  "Maxwell fits", fontsize=10)
     fig.legend(*top.get_legend_handles_labels(), fontsize=8, loc="lower left", frameon=False,
                bbox_to_anchor=(1.0 / fig.get_figwidth(), 0.05 / fig.get_figheight()))
     bottom.set_ylabel("loss factor η = K''/K' [1]")

@@ -153,7 +153,7 @@ def test_transmissibility_png_marks_the_operating_frequency_its_efficiency_and_t
     (ax,) = fig.axes
     assert ax.get_xscale() == ax.get_yscale() == "log"
     assert ax.get_xlabel() == "frequency [Hz]"
-    assert ax.get_ylabel() == LABELS["force"] == "force transmissibility |F_foundation / F_applied| [-]"
+    assert ax.get_ylabel() == LABELS["force"] == "force transmissibility |F_foundation / F_applied| [1]"
     (drawn,) = [line for line in ax.get_lines() if line.get_label() == "force on the foundation / applied force"]
     np.testing.assert_allclose(drawn.get_ydata(), curve.values)
     f_op = steady.f_hz[0]

@@ -51,9 +51,9 @@ def _frequencies_part(results, summary) -> list[str]:
     headers, rows = ["at the operating frequency", *(f"{f:.4g} Hz" for f in operating)], []
     for curve in curves:
         at = dict(zip(curve.operating_hz, curve.at_operating))
-        what = {"force": "force transmissibility F_foundation / F_applied [-]",
-                "moment": "moment transmissibility M_foundation / M_applied [-]",
-                "motion": "motion transmissibility x_body / x_ground [-]"}[curve.kind]
+        what = {"force": "force transmissibility F_foundation / F_applied [1]",
+                "moment": "moment transmissibility M_foundation / M_applied [1]",
+                "motion": "motion transmissibility x_body / x_ground [1]"}[curve.kind]
         rows.append([what, *(f"{at[f]:.3g}" if f in at else "-" for f in operating)])
         rows.append([f"isolation efficiency ({curve.kind})",
                      *(_efficiency_cell(1.0 - at[f]) if f in at else "-" for f in operating)])

@@ -17,9 +17,9 @@ from sixdof.plots.common import (
 )
 
 #: The y label of each kind of curve: dimensionless ratios of amplitudes.
-LABELS = {"force": "force transmissibility |F_foundation / F_applied| [-]",
-          "moment": "moment transmissibility |M_foundation / M_applied| [-]",
-          "motion": "motion transmissibility |x_body / x_ground| [-]"}
+LABELS = {"force": "force transmissibility |F_foundation / F_applied| [1]",
+          "moment": "moment transmissibility |M_foundation / M_applied| [1]",
+          "motion": "motion transmissibility |x_body / x_ground| [1]"}
 #: Face colour of the isolation region (|T| < 1 for every excited mode).
 ISOLATION_COLOR = "tab:green"
 

@@ -7,6 +7,8 @@ figures draw the values they are given, identical curves once."""
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -317,8 +319,7 @@ def _drawn_rigid_motion(ax):
 
 @pytest.mark.parametrize("scenario", ["engine_inclined_mounts", "cabinet_earthquake"])  # V mounts at 40 degrees;
 def test_mode_shapes_draw_each_mode_at_the_scale_their_title_says_with_every_mount_and_axis(scenario):
-    import re  # ... a tall cabinet whose yaw is drawn at the largest rotation
-
+    # ... a tall cabinet whose yaw is drawn at the largest rotation
     from scipy.linalg import eigh
 
     from sixdof.io.scenario import load_scenario
@@ -332,10 +333,11 @@ def test_mode_shapes_draw_each_mode_at_the_scale_their_title_says_with_every_mou
     size = np.asarray(system.body.dimensions, float)
     corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], float) * size / 2
     for j, ax in enumerate(fig.axes):
-        scale_line = ax.get_title().splitlines()[-1]
-        words = re.fullmatch(r"drawn: largest motion (\S+) % of body size \((\S+) m\)(?:, turned (\S+)° about (.+))?",
-                             scale_line)
-        assert words, scale_line
+        # The scale, then the turn on a line of its own (beside it, the line ran into the next panel's title).
+        scale_lines = "\n".join(ax.get_title().splitlines()[2:])
+        words = re.fullmatch(r"drawn: largest motion (\S+) % of body size \((\S+) m\)(?:\nturned (\S+)° about (.+))?",
+                             scale_lines)
+        assert words, scale_lines
         percent, of, turned = (float(v or 0.0) for v in words.groups()[:3])
         about = words.group(4)
         assert of == pytest.approx(np.max(size), rel=5e-3)
@@ -419,9 +421,10 @@ def test_every_bridge_mode_moves_visibly_and_its_roll_is_seen_end_on_undistorted
     width, height = np.ptp(rest, axis=0)
     assert width / height == pytest.approx(1.2 / 2.0, rel=1e-3)
     # Turned by the angle the title says, and still the same rectangle (no shear, no stretch).
-    angle, about = roll.get_title().rsplit("turned ", 1)[1].split("° about ")
-    turned = float(angle)
-    assert about == "y"  # the axis it is seen along
+    seen = re.search(r"seen end-on, along (\S), the axis it is turned (\S+)° about\n", roll.get_title())
+    assert seen, roll.get_title()
+    turned = float(seen.group(2))
+    assert seen.group(1) == "y"  # the axis it is seen along, and turned about
     centre = moved.mean(axis=0)
     np.testing.assert_allclose(centre, rest.mean(axis=0), atol=1.0)  # about the CG: a pure roll
     order = np.argsort(np.arctan2(*(moved - centre).T[::-1]))

@@ -392,12 +392,12 @@ def _scale_words(scene: _Scene, shape: np.ndarray, view: _View) -> str:
     of = "body size" if view.along is None else "section"
     size = f"{100 * peak / view.largest:.2g} % of {of} ({view.largest:.3g} m)"
     words = f"drawn: largest motion {size}"
-    if turned >= 0.01:  # a translation's round-off rotation (1e-15 deg) is none
-        words += f", turned {turned:.2g}° about {_rotation_axis(q[3:])}"
-    if view.along is None:
-        return words
-    axis = "xyz"[view.along]
-    return f"seen end-on, along {axis}, the axis it turns about\n{words}"
+    rotates = turned >= 0.01  # a translation's round-off rotation (1e-15 deg) is none
+    if view.along is not None:
+        angle = f" {turned:.2g}°" if rotates else ""
+        return f"seen end-on, along {'xyz'[view.along]}, the axis it is turned{angle} about\n{words}"
+    # The turn on a line of its own: beside the scale, the line outgrows a panel and runs into the next one's.
+    return f"{words}\nturned {turned:.2g}° about {_rotation_axis(q[3:])}" if rotates else words
 
 
 def _legend(fig, scene: _Scene, top: float, columns: int | None = None) -> None:

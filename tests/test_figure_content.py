@@ -7,6 +7,7 @@ figures draw the values they are given, identical curves once."""
 
 from __future__ import annotations
 
+import dataclasses
 import re
 
 import numpy as np
@@ -292,6 +293,46 @@ def test_a_bode_title_with_a_long_name_puts_the_name_on_its_own_line():
     for magnitude, phase in zip(fig.axes[:2], fig.axes[2:]):  # subplots(2, 2): magnitudes first
         assert magnitude.get_legend() is None and phase.get_legend() is not None
     assert plot_bode(frf, system.modes, name="bridge").get_suptitle().startswith("bridge: receptance")
+
+
+
+@pytest.mark.parametrize(("scenario", "model"), [
+    ("bridge_beam_lrb", "linear model: bearings at their effective linearization"),
+    ("equipment_snubbed_shock", "linearized about the static equilibrium"),
+])
+def test_figures_of_the_linear_model_say_so_with_a_long_name_on_its_own_line(scenario, model):
+    """Mode shapes, kinetic energy and FRFs of hysteretic or nonlinear mounts are of the linear model, and say so
+    from the system alone: the command draws them before the time response (and its contacts) is in, and
+    ``sixdof plot`` redraws them from the file with the same titles. The long name then takes its own line, and
+    every title stays inside the figure and clear of the others (the panels' scale lines too)."""
+    from types import SimpleNamespace
+
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from figures import assert_texts_clear
+    from sixdof import load_scenario
+    from sixdof.plots import _DRAW, _linear_name, _superposition_name
+
+    system = prepare(load_scenario(f"scenarios/{scenario}.toml")).system
+    run = RunResults(name=scenario, system=system, modes=system.modes)
+    energy = _DRAW["ke_distribution.png"](run)
+    assert energy.axes[0].get_title().startswith(f"{scenario} ({model}):")  # on one line where it fits
+    assert_texts_clear(energy)
+    shapes = _DRAW["mode_shapes.png"](run)
+    assert shapes.get_suptitle().startswith(f"{scenario} ({model}):\n")
+    # The 3-D panels' labels have no 2-D place before projection: the titles and the key, inside and apart.
+    FigureCanvasAgg(shapes).draw()
+    renderer, (width, height) = shapes.canvas.get_renderer(), shapes.canvas.get_width_height()
+    boxes = [artist.get_window_extent(renderer) for artist in [shapes._suptitle, *shapes.legends,
+                                                                *(ax.title for ax in shapes.axes)]]
+    assert all(box.x0 >= 0 and box.y0 >= 0 and box.x1 <= width and box.y1 <= height for box in boxes)
+    assert not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1:])
+    # Once a mount engaged, only the superposition's title says until when the linear model was exact.
+    engaged = dataclasses.replace(run, contacts=SimpleNamespace(first_engaged_t=0.02294))
+    assert _linear_name(engaged) == _linear_name(run) == f"{scenario} ({model})"
+    assert _superposition_name(engaged) == (scenario if system.hysteretic.count else
+                                            f"{scenario} (linear model, exact until a nonlinear mount engaged at "
+                                            "t = 0.02294 s)")
 
 
 def test_the_phase_is_drawn_unwrapped():

@@ -111,26 +111,28 @@ def _isolation_summary(run):
 
 
 def _superposition_name(run) -> str:
-    """The run's name in superposition.png's title: :func:`_linear_name`, but for hysteretic bearings, which the
-    figure's heading names itself (against their linearization)."""
-    hysteretic = run.system is not None and run.system.hysteretic.count
-    return run.name if hysteretic else _linear_name(run)
+    """The run's name in superposition.png's title. Hysteretic bearings: the figure's heading names them (against
+    their linearization). Nonlinear mounts: the linear model is exact until one engaged, when one did."""
+    system = run.system
+    if system is None or system.hysteretic.count or not system.nonlinear.count:
+        return run.name
+    first = None if run.contacts is None else run.contacts.first_engaged_t
+    if first is not None and first == first:  # not nan: a mount engaged
+        return f"{run.name} (linear model, exact until a nonlinear mount engaged at t = {first:.4g} s)"
+    return _linear_name(run)
 
 
 def _linear_name(run) -> str:
-    """The run's name in the title of a figure of its linear model, saying so when its mounts are nonlinear or
-    hysteretic."""
+    """The run's name in the title of a figure of its linear model (modes, FRFs), saying so when its mounts are
+    nonlinear or hysteretic. From the system alone: these figures are drawn before the time response is in."""
     if run.system is None:
         return run.name
     if run.system.hysteretic.count:  # the bearings' linearization, which the run does not compare with
         kinds = " or ".join(sorted(set(run.system.hysteretic.linearization)))
         return f"{run.name} (linear model: bearings at their {kinds} linearization)"
-    if not run.system.nonlinear.count:
-        return run.name
-    first = None if run.contacts is None else run.contacts.first_engaged_t
-    if first is not None and first == first:  # not nan: a mount engaged
-        return f"{run.name} (linear model, exact until a nonlinear mount engaged at t = {first:.4g} s)"
-    return f"{run.name} (linearized about the static equilibrium)"
+    if run.system.nonlinear.count:
+        return f"{run.name} (linearized about the static equilibrium)"
+    return run.name
 
 
 def _file_order(extras: Mapping[str, object]) -> dict[str, object]:
@@ -144,9 +146,9 @@ def _file_order(extras: Mapping[str, object]) -> dict[str, object]:
 #: from, whether a run allows it, and how it is drawn (returns a :class:`matplotlib.figure.Figure`).
 FIGURES: tuple[tuple[str, tuple[str, ...], Callable[[object], bool], Callable[[object], object]], ...] = (
     ("mode_shapes.png", ("modes", "system"), lambda run: run.modes is not None,
-     lambda run: _plots.plot_mode_shapes(run.modes, run.system, name=run.name)),
-    ("ke_distribution.png", ("modes",), lambda run: run.modes is not None,
-     lambda run: _plots.plot_ke_distribution(run.modes, name=run.name)),
+     lambda run: _plots.plot_mode_shapes(run.modes, run.system, name=_linear_name(run))),
+    ("ke_distribution.png", ("modes", "system"), lambda run: run.modes is not None,
+     lambda run: _plots.plot_ke_distribution(run.modes, name=_linear_name(run))),
     ("time_dofs.png", ("response", "events", "steady_state"), lambda run: run.response is not None,
      lambda run: _plots.plot_time_histories(run.response, name=run.name, events=run.events,
                                             steady=run.steady_state)),

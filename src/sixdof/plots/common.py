@@ -187,6 +187,23 @@ def title(name: str, what: str) -> str:
     return f"{name}: {what}" if name else what
 
 
+#: Width of an average title glyph [em], with room for wide letters: about 150 characters of a long name fill a
+#: 13 in line at 12 pt (0.52 em each, measured); a line is given 0.65 em a character.
+TITLE_GLYPH_EM = 0.65
+
+
+def name_apart(name: str, what: str, width: float, fontsize: float) -> bool:
+    """Whether ``title(name, what)`` on one line would run past ``width`` [in] at ``fontsize`` [pt]: a long run
+    name (a nonlinear run's "(linear model, exact until ...)") then goes on a line of its own
+    (:func:`name_line`)."""
+    return bool(name) and len(title(name, what)) * TITLE_GLYPH_EM * fontsize / 72.0 > width
+
+
+def name_line(name: str, what: str, width: float, fontsize: float) -> str:
+    """:func:`title`, with the name on a line of its own where :func:`name_apart` says one line is too long."""
+    return f"{name}:\n{what}" if name_apart(name, what, width, fontsize) else title(name, what)
+
+
 def require(value, field: str, kind: type | tuple[type, ...], expected: str):
     """``value`` when it is a ``kind``; otherwise an :class:`InputError` naming ``field``."""
     if not isinstance(value, kind):

@@ -20,6 +20,7 @@ from sixdof.plots.common import (
     margins,
     mark_modes,
     mark_operating,
+    name_apart,
     natural_frequencies,
     plain_frequencies,
     require,
@@ -58,11 +59,6 @@ def _finish(mag, phase, f: np.ndarray, frequency_hz: np.ndarray | None, operatin
     if mag.get_xscale() == "log":
         for ax in (mag, phase):
             plain_frequencies(ax)
-
-
-#: The most characters of a Bode figure's title line: about 150 fill its 13 in at 12 pt (a long name's line
-#: measured), and wide letters take more room.
-TITLE_LINE_CHARS = 120
 
 
 def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, name: str = "",
@@ -109,9 +105,7 @@ def plot_bode(frf: FRF | FRFCrossCheck, modes: Modes | None = None, ax=None, *, 
         heading = "receptance $H_{ii}$ (response of each DOF to its own generalized force)"
         if any(marks):
             heading += "\n" + "; ".join(m for m in marks if m)
-        # A long name (a nonlinear run's "(linear model, exact until ...)") on a line of its own: one line of
-        # both would run past the figure's edges.
-        long_name = len(title(name, heading.split("\n")[0])) > TITLE_LINE_CHARS
+        long_name = name_apart(name, heading.split("\n")[0], 13.0, 12)  # the name, then on a line of its own
         margins(fig, left=0.85, right=0.15, top=0.9 + 0.2 * long_name, bottom=1.3, wspace=1.05, hspace=0.15,
                 columns=2, rows=2)  # the legends under the phases
         fig.suptitle(f"{name}:\n{heading}" if long_name else title(name, heading), fontsize=12)

@@ -15,7 +15,7 @@ from sixdof.errors import InputError
 from sixdof.model.modes import Modes
 from sixdof.model.system import System
 from sixdof.plots import FIXED_TITLES
-from sixdof.plots.common import DOF_NAMES, distinct_digits, margins, require, title
+from sixdof.plots.common import DOF_NAMES, distinct_digits, margins, name_apart, name_line, require
 
 #: Largest displacement of the drawn body in a mode-shape panel, as a fraction of its largest size.
 MODE_SCALE = 0.15
@@ -278,15 +278,17 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, fig=None, na
     digits = distinct_digits(modes.frequency_hz, 4)
     titles = [_mode_title(modes, j, digits, scene, view) for j, view in enumerate(views)]
     lines = [t.count("\n") + 1 for t in titles]  # 3, or 4 for a coupled mode or an end-on view
-    new = fig is None
+    new, apart = fig is None, 0.0  # apart: a long name's own line above a new figure [in]
     if new:
         # Room above each row for its longest title (0.18 inch a line), under the title and key for the first.
         first, longest = max(lines[:columns]), max(lines)
-        extra = 0.18 * (first - 3 + (longest - 3) * (rows - 1))  # beyond three lines a title
+        heading = "mode shapes (each drawn to its own scale)"
+        apart = 0.22 * name_apart(name, heading, PANEL[0] * columns, 13)
+        extra = 0.18 * (first - 3 + (longest - 3) * (rows - 1)) + apart  # beyond three lines a title
         fig = Figure(figsize=(PANEL[0] * columns, PANEL[1] * rows + 0.75 + extra))
-        fig.suptitle(title(name, "mode shapes (each drawn to its own scale)"), fontsize=13)
+        fig.suptitle(name_line(name, heading, PANEL[0] * columns, 13), fontsize=13)
         grid = fig.add_gridspec(rows, columns)
-        margins(fig, left=0.3, right=0.2, top=1.06 + 0.18 * first, bottom=0.25, wspace=0.4,
+        margins(fig, left=0.3, right=0.2, top=1.06 + 0.18 * first + apart, bottom=0.25, wspace=0.4,
                 hspace=0.56 + 0.18 * longest, columns=columns, rows=rows, target=grid)
     else:
         grid = fig.add_gridspec(rows, columns, left=0.05, right=0.97, top=0.85, bottom=0.04, wspace=0.08,
@@ -298,7 +300,7 @@ def plot_mode_shapes(modes: Modes, system: System | None = None, *, fig=None, na
         # At the axes' top: 3-D axes lower a title to 0.92 of their height, which only matplotlib's automatic
         # placement (off in sixdof.plots.render) raises again at each draw.
         ax.title.set_y(1.0)
-    _legend(fig, scene, 1.0 - 0.62 / fig.get_size_inches()[1] if new else 0.99)
+    _legend(fig, scene, 1.0 - (0.62 + apart) / fig.get_size_inches()[1] if new else 0.99)
     return fig.get_figure(root=True)
 
 
@@ -526,9 +528,12 @@ def plot_ke_distribution(modes: Modes, ax=None, *, name: str = "") -> Figure:
     percent = 100.0 * np.asarray(modes.ke_distribution)
     freqs = modes.frequency_hz
     n = percent.shape[1]
+    heading = "kinetic-energy distribution [%]"
+    width = 1.2 * n + 3.7  # the DOFs' names at the left: 1.1 in
     if ax is None:
-        fig = Figure(figsize=(1.2 * n + 3.7, 5.0))  # the DOFs' names at the left: 1.1 in
-        margins(fig, left=1.85, right=0.1, top=0.35, bottom=0.85)
+        apart = 0.22 * name_apart(name, heading, width, 12)  # a long name's own line [in]
+        fig = Figure(figsize=(width, 5.0 + apart))
+        margins(fig, left=1.85, right=0.1, top=0.35 + apart, bottom=0.85)
         ax = fig.add_subplot()
     fig = ax.figure
     image = ax.imshow(percent, cmap="Blues", vmin=0.0, vmax=100.0, aspect="auto")
@@ -542,6 +547,6 @@ def plot_ke_distribution(modes: Modes, ax=None, *, name: str = "") -> Figure:
     ax.set_yticks(range(len(DOFS)), DOF_NAMES)
     ax.set_xlabel("mode (natural frequency [Hz])")
     ax.set_ylabel("degree of freedom")
-    ax.set_title(title(name, "kinetic-energy distribution [%]"))
+    ax.set_title(name_line(name, heading, width, 12))
     fig.colorbar(image, ax=ax, label="share of the mode's kinetic energy [%]")
     return fig

@@ -156,3 +156,10 @@ def display_unit(values, unit: str) -> tuple[float, str]:
         if peak * factor >= threshold:
             return factor, label
     return choices[0][0], choices[0][1]
+
+
+def distinct_digits(values, least: int) -> int:
+    """The fewest significant digits, at least ``least``, that print every one of ``values`` differently
+    (two close modes at 15.229 and 15.234 Hz are not both "15.23 Hz"): for the tables and the figures alike."""
+    values = list(values)
+    return next((d for d in range(least, 9) if len({f"{v:.{d}g}" for v in values}) == len(set(values))), 9)

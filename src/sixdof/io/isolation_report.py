@@ -9,7 +9,7 @@ import numpy as np
 from sixdof.analysis.isolation_summary import has_operating, natural_frequencies, run_isolation_summary
 from sixdof.analysis.statics import STANDARD_GRAVITY
 from sixdof.analysis.steady import vector_amplitude
-from sixdof.dofs import display_unit
+from sixdof.dofs import display_unit, distinct_digits
 from sixdof.io.severity_report import severity_part
 from sixdof.io.tables import table, without_round_off, wrapped
 
@@ -38,8 +38,7 @@ def _frequencies_part(results, summary) -> list[str]:
     full = not np.array_equal(natural, modes.frequency_hz)
     headers = ["mode #", "f_n, full model [Hz]" if full else "f_n [Hz]", "dominant DOF",
                *(["excited"] if curves else []), *(f"r = {f:.4g} Hz / f_n" for f in operating)]
-    digits = next((d for d in range(4, 9) if len({f"{f:.{d}g}" for f in natural})
-                   == len(set(natural))), 9)  # close modes printed apart
+    digits = distinct_digits(natural, 4)  # close modes printed apart
     rows = [[str(j + 1), f"{f:.{digits}g}", dof, *(["yes" if j in excited else "-"] if curves else []),
              *("-" if f <= 0 else f"{f_op / f:.3g}" for f_op in operating)]
             for j, (f, dof) in enumerate(zip(natural, modes.dominant_dof))]

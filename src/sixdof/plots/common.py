@@ -222,13 +222,6 @@ def natural_frequencies(modes) -> np.ndarray | None:
 CLOSE_MODES = 1.12
 
 
-def distinct_digits(values, least: int) -> int:
-    """The fewest significant digits, at least ``least``, that print every one of ``values`` differently
-    (two close modes at 15.229 and 15.234 Hz are not both "15.23 Hz")."""
-    values = list(values)
-    return next((d for d in range(least, 9) if len({f"{v:.{d}g}" for v in values}) == len(set(values))), 9)
-
-
 #: Fraction of a magnitude panel's height, at its top, kept for the mode numbers.
 LABEL_BAND = 0.2
 

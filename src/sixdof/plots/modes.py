@@ -10,12 +10,12 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
-from sixdof.dofs import DOFS
+from sixdof.dofs import DOFS, distinct_digits
 from sixdof.errors import InputError
 from sixdof.model.modes import Modes
 from sixdof.model.system import System
 from sixdof.plots import FIXED_TITLES
-from sixdof.plots.common import DOF_NAMES, distinct_digits, margins, name_apart, name_line, require
+from sixdof.plots.common import DOF_NAMES, margins, name_apart, name_line, require
 
 #: Largest displacement of the drawn body in a mode-shape panel, as a fraction of its largest size.
 MODE_SCALE = 0.15

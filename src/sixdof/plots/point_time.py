@@ -20,6 +20,7 @@ from sixdof.plots.time import (
     _shade_zoom,
     _stacked_rows,
     legend_line,
+    responding,
 )
 from sixdof.plots.zoom import event_window, zoom_samples, zoom_window
 from sixdof.results import Event
@@ -89,7 +90,7 @@ def plot_point_accelerations(points: Mapping[str, PointMotion], t, *, name: str 
     for point, axes in zip(drawn, rows):
         a = np.asarray(points[point].acceleration, dtype=float)
         peaks = np.max(np.abs(a), axis=0)
-        shown = [c for c in range(3) if peaks[c] > RESPONDS_RTOL * peaks.max()]
+        shown = np.flatnonzero(responding(np.hstack([a, np.zeros_like(a)]))[:3])  # the axes it moves along
         for ax, part in zip(axes, (slice(None), zoom_samples(t, zoom or (0, 0)))):
             for c in shown:
                 plot_long(ax, t[part], factor * a[part, c], color=COMPONENT_COLORS[c], linewidth=1.0,

@@ -75,9 +75,10 @@ def test_verdict_limits_and_unpaired_modes():
         "test mode 2 (6 Hz) with model mode 2 (5.688 Hz): frequency error -5.20 % beyond +-5 %",
         "test mode 3 (8 Hz) with model mode 3 (8 Hz): MAC 0.890 below 0.9",
     )
+    np.testing.assert_array_equal(c.pair_within, [True, False, False])  # the pairs the reasons name
     relaxed = correlate_modes(f_test, [0.02, 0.03, 0.04], phi[:, :3], f_model, [0.01] * 4, model,
                               max_frequency_error_percent=5.5, min_mac=0.85)
-    assert relaxed.correlated and relaxed.reasons == ()
+    assert relaxed.correlated and relaxed.reasons == () and relaxed.pair_within.all()
     # A test mode no model mode resembles stays unpaired, and the verdict says so.
     lone = correlate_modes([4.0, 9.5], [0.02, 0.02], np.column_stack([phi[:, 0], phi[:, 3]]), [4.0], [0.01],
                            phi[:, :1])

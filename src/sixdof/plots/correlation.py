@@ -238,9 +238,7 @@ def plot_mac(correlation: Correlation, ax=None, *, body: bool = False, name: str
             ax.text(j, i, f"{value:.2f}", ha="center", va="center", fontsize=9,
                     color="white" if value > 0.6 else "black")
     # Each pair judged as the verdict judges it (on the channels' MAC, whichever MAC is drawn).
-    within = ((np.abs(correlation.frequency_error_percent) <= correlation.max_frequency_error_percent)
-              & (correlation.pair_mac >= correlation.min_mac))
-    for t, m, ok in zip(correlation.pair_test, correlation.pair_model, within):
+    for t, m, ok in zip(correlation.pair_test, correlation.pair_model, correlation.pair_within):
         ax.add_patch(Rectangle((m - 0.5, t - 0.5), 1.0, 1.0, fill=False, linewidth=2.2,
                                edgecolor=PAIR_COLORS[bool(ok)], linestyle="-" if ok else "--"))
     ax.set_xticks(range(n_model), [f"{j + 1}\n{f:.4g} Hz" for j, f in enumerate(correlation.f_model)], fontsize=8)

@@ -161,6 +161,13 @@ class Correlation(Result):
         """MAC on the measured channels per pair, shape (n_pairs,)."""
         return self.mac[self.pair_test, self.pair_model]
 
+    @property
+    def pair_within(self) -> np.ndarray:
+        """Whether each pair is within both of the verdict's limits (its frequency error and its MAC on the
+        channels), shape (n_pairs,), bool."""
+        return ((np.abs(self.frequency_error_percent) <= self.max_frequency_error_percent)
+                & (self.pair_mac >= self.min_mac))
+
 
 def _positive(value, field: str, size: int | None = None) -> np.ndarray:
     array = np.asarray(value, dtype=float).ravel()
